@@ -1,0 +1,197 @@
+#pragma once
+// Parameter structs: plain aggregates with defaults, one field list drives YAML load, save,
+// validation and the effective config each run writes beside its results.
+//
+//   struct FooParams {
+//     double max_range = 30.0;  ///< m, (0, 1000]
+//     int rays = 7;             ///< count, [1, 64]
+//     template <class V> void Visit(V& v) {
+//       v("max_range", max_range, Bounds{1e-9, 1000.0});
+//       v("rays", rays, Bounds{1, 64});
+//     }
+//   };
+//   FooParams p = LoadParamsFile<FooParams>("foo.yaml");   // defaults, then the file
+//
+// Loading starts from the defaults, rejects unknown keys and wrong types with
+// `file:line: error: ...`, and checks every bound. Nested structs with Visit() nest in YAML.
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "common/error.h"
+
+namespace mopad {
+
+/// Closed interval a numeric field must lie in.
+struct Bounds {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+};
+
+/// "file:line" for a YAML node (line is 1-based); just "file" if the node has no mark.
+std::string YamlWhere(const std::string& file, const YAML::Node& node);
+/// Reads a YAML file, translating missing files and parser errors into InputError.
+YAML::Node LoadYamlFile(const std::string& path);
+/// Parses YAML text (for tests and embedded defaults); `name` is used in messages.
+YAML::Node LoadYamlString(const std::string& text, const std::string& name);
+/// Throws InputError for any key of `node` (a map) that is not in `known`.
+void RejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& known,
+                       const std::string& file, const std::string& context);
+
+template <class T, class = void>
+struct HasVisit : std::false_type {};
+template <class T>
+struct HasVisit<T, std::void_t<decltype(std::declval<T&>().Visit(std::declval<int&>()))>>
+    : std::true_type {};
+
+namespace detail {
+
+template <class T>
+std::string TypeName() {
+  if constexpr (std::is_same_v<T, bool>) return "a boolean";
+  else if constexpr (std::is_integral_v<T>) return "an integer";
+  else if constexpr (std::is_floating_point_v<T>) return "a number";
+  else if constexpr (std::is_same_v<T, std::string>) return "a string";
+  else return "a value";
+}
+
+template <class T>
+void CheckBounds(const std::string& where, const std::string& key, const T& value, Bounds b) {
+  if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+    const double v = static_cast<double>(value);
+    if (!std::isfinite(v) || v < b.lo || v > b.hi) {
+      throw InputError(where, "parameter '" + key + "' out of range", std::to_string(value),
+                       "[" + std::to_string(b.lo) + ", " + std::to_string(b.hi) + "]");
+    }
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    for (double x : value) CheckBounds(where, key, x, b);
+  }
+}
+
+/// Reads fields from a YAML map, starting from the struct's current (default) values.
+class YamlReader {
+ public:
+  YamlReader(const YAML::Node& node, std::string file, std::string prefix)
+      : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {}
+
+  template <class T>
+  void operator()(const char* key, T& value, Bounds b = {}) {
+    known_.insert(key);
+    const YAML::Node child = node_[key];
+    const std::string name = prefix_ + key;
+    if (!child) return;  // keep the default
+    const std::string where = YamlWhere(file_, child);
+    if constexpr (HasVisit<T>::value) {
+      if (!child.IsMap()) throw InputError(where, "'" + name + "' must be a map");
+      YamlReader sub(child, file_, name + ".");
+      value.Visit(sub);
+      sub.Finish();
+    } else {
+      try {
+        if constexpr (std::is_same_v<T, std::vector<double>>) {
+          if (!child.IsSequence()) throw YAML::Exception(child.Mark(), "not a sequence");
+        } else if (!child.IsScalar()) {
+          throw YAML::Exception(child.Mark(), "not a scalar");
+        }
+        value = child.as<T>();
+      } catch (const YAML::Exception&) {
+        throw InputError(where, "wrong type for '" + name + "'", Describe(child),
+                         TypeName<T>());
+      }
+      CheckBounds(where, name, value, b);
+    }
+  }
+  void Finish() const { RejectUnknownKeys(node_, known_, file_, prefix_); }
+
+ private:
+  static std::string Describe(const YAML::Node& n) {
+    if (n.IsScalar()) return "'" + n.Scalar() + "'";
+    if (n.IsSequence()) return "a sequence";
+    if (n.IsMap()) return "a map";
+    return "null";
+  }
+  const YAML::Node& node_;
+  std::string file_, prefix_;
+  std::set<std::string> known_;
+};
+
+/// Writes fields into a YAML map.
+class YamlWriter {
+ public:
+  explicit YamlWriter(YAML::Node& node) : node_(node) {}
+  template <class T>
+  void operator()(const char* key, const T& value, Bounds = {}) {
+    if constexpr (HasVisit<T>::value) {
+      YAML::Node child(YAML::NodeType::Map);
+      YamlWriter sub(child);
+      const_cast<T&>(value).Visit(sub);
+      node_[key] = child;
+    } else {
+      node_[key] = value;
+    }
+  }
+
+ private:
+  YAML::Node& node_;
+};
+
+/// Checks every field's bounds (for structs built in code rather than loaded).
+class BoundsChecker {
+ public:
+  explicit BoundsChecker(std::string context) : context_(std::move(context)) {}
+  template <class T>
+  void operator()(const char* key, const T& value, Bounds b = {}) {
+    if constexpr (HasVisit<T>::value) {
+      BoundsChecker sub(context_ + key + ".");
+      const_cast<T&>(value).Visit(sub);
+    } else {
+      CheckBounds("", context_ + key, value, b);
+    }
+  }
+
+ private:
+  std::string context_;
+};
+
+}  // namespace detail
+
+/// Loads a params struct from a YAML map node (defaults for absent keys).
+template <class T>
+T LoadParams(const YAML::Node& node, const std::string& file) {
+  T params;
+  if (!node || node.IsNull()) return params;
+  if (!node.IsMap()) throw InputError(YamlWhere(file, node), "parameters must be a YAML map");
+  detail::YamlReader reader(node, file, "");
+  params.Visit(reader);
+  reader.Finish();
+  return params;
+}
+
+template <class T>
+T LoadParamsFile(const std::string& path) {
+  return LoadParams<T>(LoadYamlFile(path), path);
+}
+
+/// Serialises every field (the effective config).
+template <class T>
+YAML::Node SaveParams(const T& params) {
+  YAML::Node node(YAML::NodeType::Map);
+  detail::YamlWriter writer(node);
+  const_cast<T&>(params).Visit(writer);
+  return node;
+}
+
+/// Throws InputError naming the first field outside its bounds.
+template <class T>
+void ValidateParams(const T& params, const std::string& context = "") {
+  detail::BoundsChecker checker(context);
+  const_cast<T&>(params).Visit(checker);
+}
+
+}  // namespace mopad

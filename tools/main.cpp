@@ -1,0 +1,27 @@
+// `mopad`: thin command line over the OpenMoPAD libraries.
+#include <cstdio>
+#include <exception>
+
+#include "common/error.h"
+#include "tools/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"OpenMoPAD: simulation-driven autonomous scan-to-BIM"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "mopad 0.1.0");
+  mopad::tools::RegisterSceneCommands(app);
+  mopad::tools::RegisterSimCommands(app);
+  mopad::tools::RegisterRunCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);  // usage errors: CLI11 prints the message; exit code 2 wherever it fails
+  } catch (const mopad::InputError& e) {
+    std::fprintf(stderr, "mopad: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mopad: internal error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}
