@@ -1,1 +1,138 @@
+#include "common/params.h"
+
 #include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace mopad {
+namespace {
+
+struct InnerParams {
+  double gain = 2.0;  ///< -, [0, 10]
+  template <class V>
+  void Visit(V& v) {
+    v("gain", gain, Bounds{0.0, 10.0});
+  }
+};
+
+struct TestParams {
+  double max_range = 30.0;  ///< m, (0, 1000]
+  int rays = 7;             ///< count, [1, 64]
+  bool enabled = true;
+  std::string name = "default";
+  std::vector<double> weights{1.0, 2.0};
+  InnerParams inner;
+  template <class V>
+  void Visit(V& v) {
+    v("max_range", max_range, Bounds{1e-9, 1000.0});
+    v("rays", rays, Bounds{1, 64});
+    v("enabled", enabled);
+    v("name", name);
+    v("weights", weights, Bounds{0.0, 100.0});
+    v("inner", inner);
+  }
+};
+
+TEST(Params, AbsentKeysKeepDefaults) {
+  const auto p = LoadParams<TestParams>(LoadYamlString("rays: 3\n", "t.yaml"), "t.yaml");
+  EXPECT_EQ(p.rays, 3);
+  EXPECT_DOUBLE_EQ(p.max_range, 30.0);
+  EXPECT_EQ(p.name, "default");
+  EXPECT_DOUBLE_EQ(p.inner.gain, 2.0);
+}
+
+TEST(Params, UnknownKeyIsRejectedWithFileAndLine) {
+  try {
+    LoadParams<TestParams>(LoadYamlString("rays: 3\nmax_rnage: 5\n", "t.yaml"), "t.yaml");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("t.yaml:2: error: unknown key 'max_rnage'"), std::string::npos) << m;
+    EXPECT_NE(m.find("max_range"), std::string::npos) << m;  // lists the known keys
+  }
+}
+
+TEST(Params, NestedUnknownKeyNamesItsPath) {
+  try {
+    LoadParams<TestParams>(LoadYamlString("inner:\n  gian: 1\n", "t.yaml"), "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.yaml:2: error: unknown key 'inner.gian'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Params, WrongTypeAndOutOfRangeAreClear) {
+  try {
+    LoadParams<TestParams>(LoadYamlString("rays: many\n", "t.yaml"), "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.yaml:1: error: wrong type for 'rays'; got 'many', "
+                                         "expected an integer"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    LoadParams<TestParams>(LoadYamlString("max_range: -1\n", "t.yaml"), "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+  try {
+    LoadParams<TestParams>(LoadYamlString("max_range: .nan\n", "t.yaml"), "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'max_range' out of range"), std::string::npos);
+  }
+}
+
+TEST(Params, SaveLoadRoundTrip) {
+  TestParams p;
+  p.max_range = 12.5;
+  p.rays = 9;
+  p.name = "x";
+  p.weights = {0.5};
+  p.inner.gain = 7.0;
+  const YAML::Node saved = SaveParams(p);
+  const auto q = LoadParams<TestParams>(LoadYamlString(YAML::Dump(saved), "s.yaml"), "s.yaml");
+  EXPECT_EQ(YAML::Dump(SaveParams(q)), YAML::Dump(saved));
+  EXPECT_EQ(q.rays, 9);
+  EXPECT_EQ(q.weights, std::vector<double>{0.5});
+  EXPECT_DOUBLE_EQ(q.inner.gain, 7.0);
+}
+
+TEST(Params, ValidateNamesTheField) {
+  TestParams p;
+  p.inner.gain = 11.0;
+  try {
+    ValidateParams(p, "test.");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'test.inner.gain' out of range"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Params, MissingFileAndBadYamlAreOneLineErrors) {
+  try {
+    LoadYamlFile("/nonexistent/p.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("/nonexistent/p.yaml: error: cannot open file", 0), 0u)
+        << e.what();
+  }
+  const std::string path = testing::TempDir() + "/bad.yaml";
+  std::ofstream(path) << "a: [1, 2\nb: 3\n";
+  try {
+    LoadYamlFile(path);
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos);
+    EXPECT_EQ(m.rfind(path + ":", 0), 0u) << m;
+  }
+}
+
+}  // namespace
+}  // namespace mopad

@@ -1,0 +1,116 @@
+// The robot never sees ground truth (brief; STYLE.md §2). perception/, modelling/ and autonomy/
+// consume only sensor data and object models: they must neither link nor include the scene
+// model, the simulator or the evaluator, nor the libraries that read scene files.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using Graph = std::map<std::string, std::vector<std::string>>;
+
+const std::vector<std::string> kRobotTargets = {"mopad_perception", "mopad_modelling",
+                                                "mopad_autonomy"};
+const std::vector<std::string> kRobotDirs = {"perception", "modelling", "autonomy"};
+// Targets and third-party libraries that carry or read the truth.
+const std::set<std::string> kTruthTargets = {"mopad_scenes", "mopad_sim", "mopad_evaluation",
+                                             "tinygltf", "assimp::assimp", "embree"};
+
+Graph ReadGraph() {
+  Graph g;
+  std::ifstream in(MOPAD_LINK_GRAPH);
+  EXPECT_TRUE(in.good()) << "missing " << MOPAD_LINK_GRAPH;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::istringstream deps(line.substr(colon + 1));
+    auto& list = g[line.substr(0, colon)];
+    for (std::string d; deps >> d;) list.push_back(d);
+  }
+  return g;
+}
+
+std::set<std::string> Closure(const Graph& g, const std::string& root) {
+  std::set<std::string> seen;
+  std::vector<std::string> stack{root};
+  while (!stack.empty()) {
+    const std::string t = stack.back();
+    stack.pop_back();
+    const auto it = g.find(t);
+    if (it == g.end()) continue;
+    for (const auto& d : it->second)
+      if (seen.insert(d).second) stack.push_back(d);
+  }
+  return seen;
+}
+
+TEST(TruthIsolation, LinkGraphIsReadAndTheWalkerFindsKnownEdges) {
+  // Positive controls: if these fail, the checks below could not fail either.
+  const Graph g = ReadGraph();
+  ASSERT_TRUE(g.count("mopad_sim"));
+  EXPECT_TRUE(Closure(g, "mopad_sim").count("mopad_scenes"));
+  EXPECT_TRUE(Closure(g, "mopad_evaluation").count("mopad_scenes"));
+  EXPECT_TRUE(Closure(g, "mopad_autonomy").count("mopad_interfaces"));
+}
+
+TEST(TruthIsolation, RobotLibrariesDoNotLinkTruth) {
+  const Graph g = ReadGraph();
+  for (const auto& t : kRobotTargets) {
+    ASSERT_TRUE(g.count(t)) << t << " missing from the link graph";
+    for (const auto& dep : Closure(g, t)) {
+      EXPECT_FALSE(kTruthTargets.count(dep)) << t << " links " << dep;
+    }
+  }
+}
+
+const std::regex& ForbiddenInclude() {
+  static const std::regex re(
+      R"(#\s*include\s*[<"]\s*(scenes/|sim/|evaluation/|tiny_gltf\.h|assimp/|embree3/))");
+  return re;
+}
+
+TEST(TruthIsolation, ForbiddenIncludePatternMatchesWhatItShould) {
+  EXPECT_TRUE(std::regex_search("#include \"scenes/scene.h\"", ForbiddenInclude()));
+  EXPECT_TRUE(std::regex_search("#  include <sim/embree_world.h>", ForbiddenInclude()));
+  EXPECT_TRUE(std::regex_search("#include <assimp/scene.h>", ForbiddenInclude()));
+  EXPECT_FALSE(std::regex_search("#include \"interfaces/tls_scan.h\"", ForbiddenInclude()));
+  EXPECT_FALSE(std::regex_search("#include \"perception/scenes_like.h\"", ForbiddenInclude()));
+}
+
+TEST(TruthIsolation, RobotSourcesDoNotIncludeTruth) {
+  const fs::path root(MOPAD_SOURCE_DIR);
+  int files = 0;
+  for (const auto& dir : kRobotDirs) {
+    ASSERT_TRUE(fs::is_directory(root / dir)) << dir;
+    for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
+      if (!e.is_regular_file()) continue;
+      const auto ext = e.path().extension().string();
+      if (ext != ".h" && ext != ".hpp" && ext != ".cpp" && ext != ".cc" && ext != ".txt") continue;
+      ++files;
+      std::ifstream in(e.path());
+      std::string line;
+      for (int n = 1; std::getline(in, line); ++n) {
+        EXPECT_FALSE(std::regex_search(line, ForbiddenInclude()))
+            << e.path().string() << ":" << n << ": " << line;
+        const bool cmake_comment = ext == ".txt" && line.find_first_not_of(" \t") != std::string::npos &&
+                                   line[line.find_first_not_of(" \t")] == '#';
+        if (ext == ".txt" && !cmake_comment) {  // CMakeLists: no truth targets by name either
+          EXPECT_EQ(line.find("mopad::scenes"), std::string::npos) << e.path() << ":" << n;
+          EXPECT_EQ(line.find("mopad::sim"), std::string::npos) << e.path() << ":" << n;
+        }
+      }
+    }
+  }
+  EXPECT_GE(files, 3);  // at least the three CMakeLists were read
+}
+
+}  // namespace
