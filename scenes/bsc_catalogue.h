@@ -19,6 +19,10 @@ struct BscSpec {
   double height = 0.0;  ///< m, along the host's vertical axis (ceiling: along world y)
   double depth = 0.0;   ///< m, protrusion (0 for flush/built-in components)
   double default_mount_height = 0.0;  ///< m above floor (wall-mounted), for generators
+  // default_mount_height is the height of the model's centre (local origin), not of its lower
+  // edge; it is 0 for ceiling-mounted classes. For a ceiling mount the local z axis points down
+  // into the room: map the model with a proper rotation (e.g. 180° about x, so local y is
+  // world -y) to keep triangle winding; the ceiling class (smoke_detector) is symmetric.
 };
 
 /// The paper's 18 classes: electrical_panel, socket_x1, socket_x2, socket_x4, built_in_socket,
