@@ -1,1 +1,279 @@
-// placeholder: replaced by its owner
+#include "scenes/scene_check.h"
+
+#include <cmath>
+#include <deque>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "common/frames.h"
+#include "scenes/geometry.h"
+
+namespace mopad::scenes {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kSurfaceTol = 1e-3;  // m, "on its host within 1 mm"
+
+std::string F(double v) {
+  std::ostringstream s;
+  s.precision(4);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::string CheckReport::Summary() const {
+  std::ostringstream s;
+  s << "rooms " << rooms << ", walls " << walls << ", floors " << floors << ", ceilings "
+    << ceilings << ", columns " << columns << "\n"
+    << "doors " << doors << " (open " << doors_open << ", semi-open " << doors_semi_open
+    << ", closed " << doors_closed << "), windows " << windows << "\n"
+    << "service components " << service_components << ", furniture " << furniture << ", triangles "
+    << triangles << "\n";
+  for (const auto& e : errors) s << "error: " << e << "\n";
+  for (const auto& w : warnings) s << "warning: " << w << "\n";
+  s << (errors.empty() ? "valid" : "INVALID: " + std::to_string(errors.size()) + " error(s)")
+    << "\n";
+  return s.str();
+}
+
+CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
+  CheckReport rep;
+  rep.triangles = scene.TriangleCount();
+  rep.rooms = static_cast<int>(t.rooms.size());
+  for (const auto& e : t.elements) {
+    rep.walls += e.element_class == ElementClass::kWall;
+    rep.floors += e.element_class == ElementClass::kFloor;
+    rep.ceilings += e.element_class == ElementClass::kCeiling;
+    rep.columns += e.element_class == ElementClass::kColumn;
+  }
+  for (const auto& o : t.openings) {
+    if (o.type == OpeningType::kWindow) {
+      ++rep.windows;
+      continue;
+    }
+    ++rep.doors;
+    rep.doors_open += o.state == DoorState::kOpen;
+    rep.doors_semi_open += o.state == DoorState::kSemiOpen;
+    rep.doors_closed += o.state == DoorState::kClosed;
+  }
+  rep.service_components = static_cast<int>(t.service_components.size());
+  rep.furniture = static_cast<int>(t.furniture.size());
+  auto err = [&](const std::string& m) { rep.errors.push_back(m); };
+
+  // 1. Ids both ways, and classes.
+  enum class Kind { kElement, kOpening, kBsc, kFurniture };
+  std::map<std::string, std::pair<Kind, std::size_t>> truth_ids;
+  for (std::size_t i = 0; i < t.elements.size(); ++i)
+    truth_ids[t.elements[i].id] = {Kind::kElement, i};
+  for (std::size_t i = 0; i < t.openings.size(); ++i)
+    truth_ids[t.openings[i].id] = {Kind::kOpening, i};
+  for (std::size_t i = 0; i < t.service_components.size(); ++i)
+    truth_ids[t.service_components[i].id] = {Kind::kBsc, i};
+  for (std::size_t i = 0; i < t.furniture.size(); ++i)
+    truth_ids[t.furniture[i].id] = {Kind::kFurniture, i};
+  std::map<std::string, std::vector<const MeshPart*>> parts_of;
+  for (const MeshPart& p : scene.parts) {
+    if (p.triangles.empty()) continue;
+    if (p.element_id.empty()) {
+      err("part '" + p.name + "' has no truth id");
+      continue;
+    }
+    auto it = truth_ids.find(p.element_id);
+    if (it == truth_ids.end()) {
+      err("part '" + p.name + "' has id '" + p.element_id + "' that is not in the truth");
+      continue;
+    }
+    parts_of[p.element_id].push_back(&p);
+    const auto [kind, idx] = it->second;
+    const ElementClass c = p.element_class;
+    bool ok = true;
+    switch (kind) {
+      case Kind::kElement:
+        ok = c == t.elements[idx].element_class;
+        break;
+      case Kind::kOpening:
+        ok = t.openings[idx].type == OpeningType::kDoor
+                 ? (c == ElementClass::kDoorFrame || c == ElementClass::kDoorLeaf)
+                 : (c == ElementClass::kWindowFrame || c == ElementClass::kWindowGlass);
+        break;
+      case Kind::kBsc:
+        ok = c == ElementClass::kServiceComponent &&
+             p.subclass == t.service_components[idx].bsc_class;
+        break;
+      case Kind::kFurniture:
+        ok = c == ElementClass::kFurniture && p.subclass == t.furniture[idx].type;
+        break;
+    }
+    if (!ok)
+      err("part '" + p.name + "' class '" + std::string(ToString(c)) + "/" + p.subclass +
+          "' disagrees with the truth of '" + p.element_id + "'");
+  }
+  for (const auto& [id, kind] : truth_ids)
+    if (!parts_of.count(id)) err("truth id '" + id + "' has no triangles");
+
+  // 2. Openings cut into their walls.
+  for (const Opening& o : t.openings) {
+    for (const std::string& wid : o.host_walls) {
+      const StructuralElement* w = t.FindElement(wid);
+      if (!w) {
+        err("opening '" + o.id + "' host wall '" + wid + "' missing");
+        continue;
+      }
+      auto uv = [&](const Vector3d& p) {
+        return Vector2d((p - w->origin).dot(w->u_axis), p.z() - w->origin.z());
+      };
+      Eigen::AlignedBox2d rect;
+      for (const auto& c : o.corners) rect.extend(uv(c));
+      const Polygon2 inner{{rect.min().x() + kSurfaceTol, rect.min().y() + kSurfaceTol},
+                           {rect.max().x() - kSurfaceTol, rect.min().y() + kSurfaceTol},
+                           {rect.max().x() - kSurfaceTol, rect.max().y() - kSurfaceTol},
+                           {rect.min().x() + kSurfaceTol, rect.max().y() - kSurfaceTol}};
+      int covering = 0;
+      for (const MeshPart* p : parts_of[wid]) {
+        for (const auto& tri : p->triangles) {
+          Polygon2 q;
+          for (int k = 0; k < 3; ++k) q.push_back(uv(p->positions[tri[k]].cast<double>()));
+          if (std::abs(SignedArea(q)) < 1e-12) continue;
+          if (ConvexOverlap(q, inner)) ++covering;
+        }
+      }
+      if (covering > 0)
+        err("opening '" + o.id + "' is not cut into wall '" + wid +
+            "': " + std::to_string(covering) + " wall triangle(s) cover it");
+    }
+  }
+
+  // 3. BSCs on their host surface, inside its extent, not over an opening.
+  for (const ServiceComponent& b : t.service_components) {
+    const StructuralElement* h = t.FindElement(b.host);
+    if (!h) {
+      err("bsc '" + b.id + "' host '" + b.host + "' missing");
+      continue;
+    }
+    const auto it = parts_of.find(b.id);
+    if (it == parts_of.end()) continue;
+    double dmin = 1e9;
+    bool outside = false;
+    Eigen::AlignedBox2d footprint;
+    if (h->element_class == ElementClass::kWall) {
+      for (const MeshPart* p : it->second)
+        for (const auto& v : p->positions) {
+          const Vector3d q = v.cast<double>();
+          dmin = std::min(dmin, (q - h->origin).dot(h->normal));
+          const Vector2d uv((q - h->origin).dot(h->u_axis), q.z() - h->origin.z());
+          footprint.extend(uv);
+          outside = outside || uv.x() < -kSurfaceTol || uv.x() > h->length + kSurfaceTol ||
+                    uv.y() < -kSurfaceTol || uv.y() > h->height + kSurfaceTol;
+        }
+      if (std::abs((b.centre - h->origin).dot(h->normal)) > kSurfaceTol)
+        err("bsc '" + b.id + "' truth centre is not on wall '" + h->id + "'");
+      for (const Opening& o : t.openings) {
+        if (o.host_walls.empty()) continue;
+        bool hosted = false;
+        for (const auto& wid : o.host_walls) hosted = hosted || wid == h->id;
+        if (!hosted) continue;
+        Eigen::AlignedBox2d r;
+        for (const auto& c : o.corners)
+          r.extend(Vector2d((c - h->origin).dot(h->u_axis), c.z() - h->origin.z()));
+        if (!r.intersection(footprint).isEmpty() && r.intersection(footprint).volume() > 1e-8)
+          err("bsc '" + b.id + "' overlaps opening '" + o.id + "'");
+      }
+    } else if (h->element_class == ElementClass::kCeiling && !h->polygons.empty()) {
+      const double zc = h->polygons[0][0].z();
+      Polygon2 poly;
+      for (const auto& p : h->polygons[0]) poly.emplace_back(p.x(), p.y());
+      if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
+      for (const MeshPart* p : it->second)
+        for (const auto& v : p->positions) {
+          dmin = std::min(dmin, zc - static_cast<double>(v.z()));
+          const Vector2d xy(v.x(), v.y());
+          outside =
+              outside || (!PointInPolygon(xy, poly) && DistanceToBoundary(xy, poly) > kSurfaceTol);
+        }
+      if (std::abs(b.centre.z() - zc) > kSurfaceTol)
+        err("bsc '" + b.id + "' truth centre is not on ceiling '" + h->id + "'");
+    } else {
+      err("bsc '" + b.id + "' host '" + h->id + "' is neither a wall nor a ceiling");
+      continue;
+    }
+    if (std::abs(dmin) > kSurfaceTol)
+      err("bsc '" + b.id + "' back is " + F(dmin * 1000.0) + " mm from its host '" + h->id + "'");
+    if (outside) err("bsc '" + b.id + "' extends outside its host '" + h->id + "'");
+  }
+
+  // 4. Rooms do not overlap.
+  for (std::size_t i = 0; i < t.rooms.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (t.rooms[i].polygon.size() >= 3 && t.rooms[j].polygon.size() >= 3 &&
+          PolygonsIntersect(t.rooms[i].polygon, t.rooms[j].polygon))
+        err("rooms '" + t.rooms[i].id + "' and '" + t.rooms[j].id + "' overlap");
+
+  // 5. Reachability through open doors wide enough for the robot.
+  if (!t.rooms.empty()) {
+    std::map<std::string, std::vector<std::string>> graph;
+    for (const RoomConnection& c : t.connections) {
+      const Opening* o = t.FindOpening(c.door);
+      if (!o || c.room_b.empty()) continue;
+      if (o->state != DoorState::kOpen) continue;
+      if ((o->u1 - o->u0) - o->leaf_thickness < kMinClearDoorWidth) continue;
+      graph[c.room_a].push_back(c.room_b);
+      graph[c.room_b].push_back(c.room_a);
+    }
+    std::set<std::string> seen{t.rooms[0].id};
+    std::deque<std::string> queue{t.rooms[0].id};
+    while (!queue.empty()) {
+      const std::string r = queue.front();
+      queue.pop_front();
+      for (const auto& n : graph[r])
+        if (seen.insert(n).second) queue.push_back(n);
+    }
+    for (const Room& r : t.rooms)
+      if (!seen.count(r.id))
+        err("room '" + r.id + "' is not reachable from '" + t.rooms[0].id +
+            "' through open doors of clear width >= " + F(kMinClearDoorWidth) + " m");
+  }
+
+  // 6. Door leaves at their angle; states consistent.
+  for (const Opening& o : t.openings) {
+    if (o.type != OpeningType::kDoor) continue;
+    if (o.state != DoorStateFromAngle(o.opening_angle))
+      err("door '" + o.id + "' state '" + std::string(ToString(o.state)) +
+          "' does not match its angle " + F(RadToDeg(o.opening_angle)) + " deg");
+    const StructuralElement* w = o.host_walls.empty() ? nullptr : t.FindElement(o.host_walls[0]);
+    if (!w) continue;
+    Vector3d sum = Vector3d::Zero();
+    std::size_t n = 0;
+    const auto it = parts_of.find(o.id);
+    if (it == parts_of.end()) continue;
+    for (const MeshPart* p : it->second) {
+      if (p->element_class != ElementClass::kDoorLeaf) continue;
+      for (const auto& v : p->positions) {
+        sum += v.cast<double>();
+        ++n;
+      }
+    }
+    if (n == 0) {
+      err("door '" + o.id + "' has no leaf");
+      continue;
+    }
+    const Vector3d c = sum / static_cast<double>(n);
+    const double u_c = 0.5 * (o.u0 + o.u1);
+    const double u_h = (o.hinge_point - w->origin).dot(w->u_axis);
+    const Vector3d d = w->u_axis * (u_c > u_h ? 1.0 : -1.0);
+    const Vector3d nn = o.hinge_axis.cross(d);
+    const Vector3d rel = c - o.hinge_point;
+    const double measured = std::atan2(rel.dot(nn), rel.dot(d));
+    const double expected = o.opening_angle - std::atan2(o.leaf_thickness, o.u1 - o.u0);
+    if (std::abs(WrapAngle(measured - expected)) > DegToRad(0.5))
+      err("door '" + o.id + "' leaf is at " + F(RadToDeg(measured)) + " deg, expected " +
+          F(RadToDeg(expected)) + " deg for lambda " + F(RadToDeg(o.opening_angle)));
+  }
+  return rep;
+}
+
+}  // namespace mopad::scenes

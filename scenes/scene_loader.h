@@ -11,11 +11,27 @@
 
 namespace mopad::scenes {
 
+/// Which axis of the coordinates a file (as its importer delivers them) points up. The world is
+/// Z-up; Y-up data is rotated by mopad::ZupFromYup(), Z-up data is taken as is.
+enum class UpAxis {
+  kAuto,  ///< per format: Y for .gltf/.glb (the spec), .ifc (assimp turns IFC's Z-up into Y-up),
+          ///< .dae (assimp applies <up_axis> and delivers Y-up), .obj/.ply/.fbx (no reliable
+          ///< convention; Y-up is what Blender and most DCC exporters write); Z for .stl (CAD).
+  kY,     ///< force Y-up (e.g. a PLY from a Y-up tool)
+  kZ,     ///< force Z-up (e.g. an OBJ written by a Z-up CAD or our own Z-up OBJ export)
+};
+
 struct LoadOptions {
   /// Drop zero-area triangles instead of keeping them (they never hit anything).
   bool drop_degenerate_triangles = true;
   /// Use assimp for glTF files tinygltf cannot decode (Draco).
   bool allow_assimp_fallback = true;
+  /// Up axis of the file's coordinates; kAuto picks the per-format default above. Only override
+  /// it for files that break their format's convention.
+  UpAxis up_axis = UpAxis::kAuto;
+  /// IFC: also import IfcSpace volumes (class kSpace). Off by default: spaces are air, and a
+  /// ray caster would hit their closed shells.
+  bool import_ifc_spaces = false;
 };
 
 /// Dispatches on the file extension; validates the result (finite vertices, indices in range,

@@ -1,1 +1,136 @@
-// placeholder: replaced by its owner
+// The KIT FZK-Haus through both paths: IFC 2x3 via assimp, and the same model converted to .glb
+// by assimp, via tinygltf. Same triangles, same elements per class, Z-up world.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+#include "scenes/scene_loader.h"
+
+namespace mopad::scenes {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kKit =
+    fs::path(MOPAD_SOURCE_DIR) / ".." / "shared" / "testdata" / "external" / "kit_fzk_haus";
+
+// Distinct element ids per class.
+std::map<ElementClass, std::set<std::string>> ElementsPerClass(const Scene& s) {
+  std::map<ElementClass, std::set<std::string>> out;
+  for (const MeshPart& p : s.parts) out[p.element_class].insert(p.element_id);
+  return out;
+}
+
+std::map<ElementClass, std::size_t> TrianglesPerClass(const Scene& s) {
+  std::map<ElementClass, std::size_t> out;
+  for (const MeshPart& p : s.parts) out[p.element_class] += p.triangles.size();
+  return out;
+}
+
+class KitHouse : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::is_directory(kKit)) GTEST_SKIP() << "no KIT house at " << kKit;
+  }
+  std::string Ifc() const { return (kKit / "AC14-FZK-Haus.ifc").string(); }
+  std::string Glb() const { return (kKit / "AC14-FZK-Haus.assimp.glb").string(); }
+};
+
+TEST_F(KitHouse, IfcAndGlbAgreeOnTrianglesAndElementsPerClass) {
+  LoadOptions keep;
+  keep.drop_degenerate_triangles = false;
+  const Scene ifc = LoadScene(Ifc(), keep);
+  const Scene glb = LoadScene(Glb(), keep);
+  EXPECT_EQ(ifc.TriangleCount(), 35906u);  // README: assimp and tinygltf both count 35,906
+  EXPECT_EQ(glb.TriangleCount(), 35906u);
+
+  const auto ifc_elements = ElementsPerClass(ifc);
+  const auto glb_elements = ElementsPerClass(glb);
+  const auto ifc_tris = TrianglesPerClass(ifc);
+  const auto glb_tris = TrianglesPerClass(glb);
+  std::printf("\nKIT FZK-Haus: elements (distinct element_id) and triangles per class\n");
+  std::printf("  %-18s %8s %8s %10s %10s\n", "class", "ifc", "glb", "ifc tris", "glb tris");
+  std::set<ElementClass> classes;
+  for (const auto& [c, ids] : ifc_elements) classes.insert(c);
+  for (const auto& [c, ids] : glb_elements) classes.insert(c);
+  for (ElementClass c : classes) {
+    const std::size_t ni = ifc_elements.count(c) ? ifc_elements.at(c).size() : 0;
+    const std::size_t ng = glb_elements.count(c) ? glb_elements.at(c).size() : 0;
+    const std::size_t ti = ifc_tris.count(c) ? ifc_tris.at(c) : 0;
+    const std::size_t tg = glb_tris.count(c) ? glb_tris.at(c) : 0;
+    std::printf("  %-18s %8zu %8zu %10zu %10zu\n", std::string(ToString(c)).c_str(), ni, ng, ti,
+                tg);
+    EXPECT_EQ(ni, ng) << ToString(c);
+    EXPECT_EQ(ti, tg) << ToString(c);
+  }
+  EXPECT_EQ(ifc_elements, glb_elements);  // the very same ids, not only the same counts
+  // No triangle without a class: every mesh hangs under an IFC element.
+  EXPECT_EQ(ifc_elements.count(ElementClass::kUnknown), 0u);
+  // The README's inventory.
+  EXPECT_EQ(ifc_elements.at(ElementClass::kDoorLeaf).size(), 5u);
+  EXPECT_EQ(ifc_elements.at(ElementClass::kWindowFrame).size(), 11u);
+  EXPECT_EQ(ifc_elements.at(ElementClass::kWall).size(), 13u);
+  EXPECT_EQ(ifc_elements.at(ElementClass::kBeam).size(), 51u);
+  EXPECT_EQ(ifc_elements.at(ElementClass::kSite).size(), 1u);
+
+  // Four zero-area triangles (3 exactly, 1 numerically) drop out of both paths alike.
+  EXPECT_EQ(LoadScene(Ifc()).TriangleCount(), 35902u);
+  EXPECT_EQ(LoadScene(Glb()).TriangleCount(), 35902u);
+
+  // IFC glass (transparency 0.88) arrives as a BLEND material in the .glb: same transmission.
+  auto glass_triangles = [](const Scene& s) {
+    std::size_t n = 0;
+    for (const MeshPart& p : s.parts)
+      if (p.material >= 0 && std::abs(s.materials[p.material].transmission - 0.88f) < 1e-3f)
+        n += p.triangles.size();
+    return n;
+  };
+  EXPECT_EQ(glass_triangles(ifc), 820u);
+  EXPECT_EQ(glass_triangles(glb), 820u);
+
+  // Same place in the world through both paths.
+  const Eigen::AlignedBox3d bi = ifc.Bounds(), bg = glb.Bounds();
+  EXPECT_TRUE(bi.min().isApprox(bg.min(), 1e-4)) << bi.min().transpose() << " / " << bg.min().transpose();
+  EXPECT_TRUE(bi.max().isApprox(bg.max(), 1e-4)) << bi.max().transpose() << " / " << bg.max().transpose();
+}
+
+TEST_F(KitHouse, WorldIsZupWithTheHouseStandingOnZ) {
+  const Scene s = LoadScene(Ifc());
+  Eigen::AlignedBox3d house;  // everything but the terrain
+  Eigen::AlignedBox3d walls;
+  for (const MeshPart& p : s.parts)
+    for (const auto& v : p.positions) {
+      if (p.element_class != ElementClass::kSite) house.extend(v.cast<double>());
+      if (p.element_class == ElementClass::kWall) walls.extend(v.cast<double>());
+    }
+  const Eigen::Vector3d size = house.sizes();
+  std::printf("house bbox min %s max %s (m)\n",
+              (std::to_string(house.min().x()) + " " + std::to_string(house.min().y()) + " " +
+               std::to_string(house.min().z())).c_str(),
+              (std::to_string(house.max().x()) + " " + std::to_string(house.max().y()) + " " +
+               std::to_string(house.max().z())).c_str());
+  // Two storeys under a pitched roof: a few metres high, wider than high.
+  EXPECT_GT(size.z(), 4.0);
+  EXPECT_LT(size.z(), 10.0);
+  EXPECT_GT(size.x(), size.z());
+  EXPECT_GT(size.y(), size.z());
+  // Ground floor (Erdgeschoss) at 0.0 m: walls start near z = 0, not below the terrain.
+  EXPECT_NEAR(walls.min().z(), 0.0, 0.5);
+}
+
+TEST_F(KitHouse, IfcSpacesOnlyWhenAskedFor) {
+  LoadOptions with_spaces;
+  with_spaces.import_ifc_spaces = true;
+  const auto spaces = ElementsPerClass(LoadScene(Ifc(), with_spaces));
+  ASSERT_TRUE(spaces.count(ElementClass::kSpace));
+  EXPECT_EQ(spaces.at(ElementClass::kSpace).size(), 7u);  // README: 7 IfcSpace
+  EXPECT_EQ(ElementsPerClass(LoadScene(Ifc())).count(ElementClass::kSpace), 0u);
+}
+
+}  // namespace
+}  // namespace mopad::scenes
