@@ -1,0 +1,561 @@
+#include "autonomy/global_planner.h"
+
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/StateSampler.h>
+#include <ompl/base/objectives/StateCostIntegralObjective.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/base/terminationconditions/IterationTerminationCondition.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <mutex>
+
+#include "common/error.h"
+#include "common/rng.h"
+
+namespace mopad::autonomy {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+using perception::Cell;
+using perception::DistanceField;
+using perception::OccupancyGrid;
+
+void GlobalPlannerParams::Validate() const {
+  ValidateParams(*this, "global_planner.");
+  if (min_start_clearance > robot_radius) {
+    throw InputError("", "parameter 'global_planner.min_start_clearance' exceeds robot_radius",
+                     std::to_string(min_start_clearance), "<= " + std::to_string(robot_radius));
+  }
+}
+
+const char* ToString(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::kFound: return "found";
+    case PlanStatus::kStartInvalid: return "start_invalid";
+    case PlanStatus::kGoalInvalid: return "goal_invalid";
+    case PlanStatus::kUnreachable: return "unreachable";
+    case PlanStatus::kNoPathInBudget: return "no_path_in_budget";
+  }
+  return "?";
+}
+
+namespace {
+
+/// Seeds OMPL's global generator once per process, before any planner exists (PITFALLS.md).
+void SeedOmplOnce(std::uint64_t seed) {
+  static std::once_flag once;
+  std::call_once(once, [seed] {
+    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+    // OMPL treats 0 as "from the clock": keep the seed non-zero.
+    ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(Mix64(seed) % 0x7FFFFFFFull) + 1);
+  });
+}
+
+std::string Fmt(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+/// What the sampler draws from: valid cells of the start's component, and its medial axis.
+struct SamplerData {
+  std::vector<Vec2> cells, medial;
+  Vec2 goal;
+  double resolution = 0.05;
+  double goal_bias = 0.0, medial_bias = 0.0;
+  std::uint64_t key = 0;
+  std::uint64_t draws = 0;  // sequential draw counter: samples are a function of (key, draw)
+};
+
+/// MAPRM-style sampler over the component (see header). Only the planner's thread calls it.
+class ComponentSampler : public ob::StateSampler {
+ public:
+  ComponentSampler(const ob::StateSpace* space, std::shared_ptr<SamplerData> data)
+      : ob::StateSampler(space), data_(std::move(data)) {}
+
+  void sampleUniform(ob::State* state) override {
+    CounterRng rng(DeriveKey(data_->key, data_->draws++));
+    Vec2 p;
+    const double u = rng.Uniform();
+    if (u < data_->goal_bias) {
+      p = data_->goal;
+    } else {
+      const bool medial = u < data_->goal_bias + data_->medial_bias && !data_->medial.empty();
+      const auto& from = medial ? data_->medial : data_->cells;
+      p = from[rng.Below(from.size())];
+      // Jitter within the cell (medial samples stay near the axis).
+      const double r = data_->resolution;
+      p += Vec2(rng.Uniform(-0.5, 0.5) * r, rng.Uniform(-0.5, 0.5) * r);
+    }
+    Set(state, p);
+  }
+  void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
+    CounterRng rng(DeriveKey(data_->key, data_->draws++));
+    const auto* n = near->as<ob::RealVectorStateSpace::StateType>();
+    Set(state, Vec2(n->values[0] + rng.Uniform(-distance, distance),
+                    n->values[1] + rng.Uniform(-distance, distance)));
+  }
+  void sampleGaussian(ob::State* state, const ob::State* mean, double sigma) override {
+    CounterRng rng(DeriveKey(data_->key, data_->draws++));
+    const auto* m = mean->as<ob::RealVectorStateSpace::StateType>();
+    Set(state, Vec2(m->values[0] + sigma * rng.Normal(), m->values[1] + sigma * rng.Normal()));
+  }
+
+ private:
+  void Set(ob::State* state, const Vec2& p) const {
+    auto* s = state->as<ob::RealVectorStateSpace::StateType>();
+    s->values[0] = p.x();
+    s->values[1] = p.y();
+    space_->enforceBounds(state);
+  }
+  std::shared_ptr<SamplerData> data_;
+};
+
+Vec2 ToVec(const ob::State* s) {
+  const auto* r = s->as<ob::RealVectorStateSpace::StateType>();
+  return {r->values[0], r->values[1]};
+}
+
+}  // namespace
+
+struct GlobalPlanner::Impl {
+  OccupancyGrid map;
+  DistanceField field;
+  Impl(const OccupancyGrid& m, bool unknown_is_obstacle)
+      : map(m), field(m, unknown_is_obstacle) {}
+
+  bool Valid(const Vec2& p, double radius) const { return field.IsFree(p, radius); }
+
+  /// Minimum clearance along the straight segment a-b, sampled every half cell.
+  double SegmentClearance(const Vec2& a, const Vec2& b) const {
+    const double len = (b - a).norm();
+    const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * map.Resolution()))));
+    double c = std::numeric_limits<double>::infinity();
+    for (int k = 0; k <= n; ++k) c = std::min(c, field.Clearance(Vec2(a + (b - a) * (double(k) / n))));
+    return c;
+  }
+};
+
+GlobalPlanner::GlobalPlanner(const OccupancyGrid& map, const GlobalPlannerParams& params,
+                             std::uint64_t seed)
+    : params_(params), seed_(seed) {
+  params_.Validate();
+  SeedOmplOnce(seed);
+  impl_ = std::make_unique<Impl>(map, params_.unknown_is_obstacle);
+}
+
+GlobalPlanner::~GlobalPlanner() = default;
+GlobalPlanner::GlobalPlanner(GlobalPlanner&&) noexcept = default;
+GlobalPlanner& GlobalPlanner::operator=(GlobalPlanner&&) noexcept = default;
+
+void GlobalPlanner::SetMap(const OccupancyGrid& map) {
+  impl_ = std::make_unique<Impl>(map, params_.unknown_is_obstacle);
+}
+
+void GlobalPlanner::AddObstacles(const std::vector<Vec2>& points_M) {
+  OccupancyGrid map = impl_->map;
+  for (const auto& p : points_M) map.SetState(map.CellOf(p), perception::CellState::kOccupied);
+  impl_ = std::make_unique<Impl>(map, params_.unknown_is_obstacle);
+}
+
+double GlobalPlanner::Clearance(const Vec2& p) const { return impl_->field.Clearance(p); }
+
+GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
+  const std::uint64_t query = query_++;
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  const double res = map.Resolution();
+  GlobalPlan plan;
+  const Vec2 s0(start.x, start.y), g0(goal.x, goal.y);
+
+  // 1. Start and goal.
+  const double start_clear = m.field.Clearance(s0);
+  if (!map.Contains(map.CellOf(s0)) || !m.field.IsFree(s0, P.min_start_clearance) ||
+      start_clear < P.min_start_clearance) {
+    plan.status = PlanStatus::kStartInvalid;
+    plan.message = Fmt("start (%.2f, %.2f) is off the map, not known free, or too close to an "
+                       "obstacle (clearance %.2f m)", s0.x(), s0.y(), start_clear) +
+                   Fmt(", needs >= %.2f m", P.min_start_clearance);
+    return plan;
+  }
+  const double goal_clear = m.field.Clearance(g0);
+  if (!m.Valid(g0, P.robot_radius)) {
+    plan.status = PlanStatus::kGoalInvalid;
+    plan.message = Fmt("goal (%.2f, %.2f) is off the map, not known free, or too close to an "
+                       "obstacle (clearance %.2f m)", g0.x(), g0.y(), goal_clear) +
+                   Fmt(", needs >= %.2f m (robot radius)", P.robot_radius);
+    return plan;
+  }
+  const int w = map.Width(), h = map.Height();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<std::uint8_t> valid(static_cast<std::size_t>(w) * h, 0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      valid[idx({i, j})] = m.field.ClearanceOfCell({i, j}) >= P.robot_radius &&
+                           m.field.IsFree(map.CentreOf({i, j}), P.robot_radius);
+  const int di[8] = {1, -1, 0, 0, 1, 1, -1, -1}, dj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  // A start inside the clearance margin is led out along cells with min_start_clearance.
+  Vec2 s = s0;
+  Cell sc = map.CellOf(s0);
+  if (!valid[idx(sc)] || !m.Valid(s0, P.robot_radius)) {
+    std::vector<int> seen(valid.size(), 0);
+    std::deque<Cell> q{sc};
+    seen[idx(sc)] = 1;
+    bool found = false;
+    while (!q.empty() && !found) {
+      const Cell c = q.front();
+      q.pop_front();
+      for (int k = 0; k < 8; ++k) {
+        const Cell n{c.i + di[k], c.j + dj[k]};
+        if (!map.Contains(n) || seen[idx(n)]) continue;
+        seen[idx(n)] = 1;
+        if ((map.CentreOf(n) - s0).norm() > 1.0) continue;
+        if (valid[idx(n)]) {
+          sc = n;
+          found = true;
+          break;
+        }
+        if (m.field.IsFree(map.CentreOf(n), P.min_start_clearance)) q.push_back(n);
+      }
+    }
+    if (!found) {
+      plan.status = PlanStatus::kStartInvalid;
+      plan.message = Fmt("start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
+                         "robot radius", s0.x(), s0.y(), start_clear);
+      return plan;
+    }
+    s = map.CentreOf(sc);
+  }
+  // Flood fill of the start's component (8-connected).
+  std::vector<std::uint8_t> comp(valid.size(), 0);
+  std::vector<Vec2> cells;
+  {
+    std::deque<Cell> q{sc};
+    comp[idx(sc)] = 1;
+    while (!q.empty()) {
+      const Cell c = q.front();
+      q.pop_front();
+      for (int k = 0; k < 8; ++k) {
+        const Cell n{c.i + di[k], c.j + dj[k]};
+        if (!map.Contains(n) || comp[idx(n)] || !valid[idx(n)]) continue;
+        comp[idx(n)] = 1;
+        q.push_back(n);
+      }
+    }
+  }
+  const Cell gc = map.CellOf(g0);
+  if (!comp[idx(gc)]) {
+    plan.status = PlanStatus::kUnreachable;
+    plan.message = Fmt("goal (%.2f, %.2f) is not connected to the start in free space with "
+                       "%.2f m clearance (closed door or blocked passage?)",
+                       g0.x(), g0.y(), P.robot_radius);
+    return plan;
+  }
+  auto data = std::make_shared<SamplerData>();
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      if (!comp[idx({i, j})]) continue;
+      cells.push_back(map.CentreOf({i, j}));
+      // Medial axis: a local maximum of clearance along x or along y.
+      const double c = m.field.ClearanceOfCell({i, j});
+      const bool ridge_x = c >= m.field.ClearanceOfCell({i - 1, j}) &&
+                           c >= m.field.ClearanceOfCell({i + 1, j});
+      const bool ridge_y = c >= m.field.ClearanceOfCell({i, j - 1}) &&
+                           c >= m.field.ClearanceOfCell({i, j + 1});
+      if (ridge_x || ridge_y) data->medial.push_back(cells.back());
+    }
+  }
+  data->cells = cells;
+  data->goal = g0;
+  data->resolution = res;
+  data->goal_bias = P.goal_bias;
+  data->medial_bias = P.medial_axis_bias;
+
+  // 2. OMPL RRT* in R^2 over the map's extent.
+  std::vector<Vec2> vertices;
+  if ((g0 - s).norm() < P.goal_tolerance || m.SegmentClearance(s, g0) >= P.robot_radius + P.shortcut_margin) {
+    vertices = {s, g0};  // trivially straight
+  } else {
+    auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+    ob::RealVectorBounds bounds(2);
+    bounds.setLow(0, map.Origin().x());
+    bounds.setLow(1, map.Origin().y());
+    bounds.setHigh(0, map.Origin().x() + w * res);
+    bounds.setHigh(1, map.Origin().y() + h * res);
+    space->setBounds(bounds);
+    space->setStateSamplerAllocator(
+        [data](const ob::StateSpace* sp) { return std::make_shared<ComponentSampler>(sp, data); });
+    auto si = std::make_shared<ob::SpaceInformation>(space);
+    const double radius = P.robot_radius;
+    si->setStateValidityChecker(
+        [&m, radius](const ob::State* st) { return m.Valid(ToVec(st), radius); });
+    si->setStateValidityCheckingResolution(0.5 * res / space->getMaximumExtent());
+    si->setup();
+    // Cost per metre of every cell, precomputed: the objective samples it millions of times.
+    std::vector<float> cell_cost(valid.size());
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        cell_cost[idx({i, j})] = static_cast<float>(
+            1.0 + P.clearance_weight *
+                      std::max(0.0, 1.0 - m.field.ClearanceOfCell({i, j}) / P.preferred_clearance));
+    class ClearanceObjective : public ob::StateCostIntegralObjective {
+     public:
+      ClearanceObjective(const ob::SpaceInformationPtr& si, const OccupancyGrid& map,
+                         const std::vector<float>& cost)
+          : ob::StateCostIntegralObjective(si, true), map_(map), cost_(cost) {}
+      ob::Cost stateCost(const ob::State* s) const override { return ob::Cost(Cost(ToVec(s))); }
+      // Trapezoidal integral of the state cost along the segment, sampled every 10 cm on plain
+      // vectors (OMPL's generic interpolation allocates a state per sample: far slower).
+      ob::Cost motionCost(const ob::State* s1, const ob::State* s2) const override {
+        const Vec2 a = ToVec(s1), b = ToVec(s2);
+        const double len = (b - a).norm();
+        const int n = std::max(1, static_cast<int>(std::ceil(len / 0.1)));
+        double sum = 0.5 * (Cost(a) + Cost(b));
+        for (int k = 1; k < n; ++k) sum += Cost(Vec2(a + (b - a) * (double(k) / n)));
+        return ob::Cost(sum * len / n);
+      }
+
+     private:
+      double Cost(const Vec2& p) const {
+        const Cell c = map_.CellOf(p);
+        if (!map_.Contains(c)) return 1e3;
+        return cost_[map_.Index(c)];
+      }
+      const OccupancyGrid& map_;
+      const std::vector<float>& cost_;
+    };
+    for (int attempt = 0; attempt < P.max_attempts && vertices.empty(); ++attempt) {
+      data->key = DeriveKey(DeriveKey(DeriveKey(Mix64(seed_), HashName("planner/samples")), query),
+                            static_cast<std::uint64_t>(attempt));
+      data->draws = 0;
+      auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+      ob::ScopedState<ob::RealVectorStateSpace> st(space), gl(space);
+      st->values[0] = s.x();
+      st->values[1] = s.y();
+      gl->values[0] = g0.x();
+      gl->values[1] = g0.y();
+      pdef->setStartAndGoalStates(st, gl, P.goal_tolerance);
+      pdef->setOptimizationObjective(std::make_shared<ClearanceObjective>(si, map, cell_cost));
+      auto rrt = std::make_shared<og::RRTstar>(si);
+      rrt->setRange(P.range);
+      rrt->setGoalBias(0.0);  // the sampler does goal biasing from our keyed stream
+      rrt->setProblemDefinition(pdef);
+      rrt->setup();
+      ob::IterationTerminationCondition itc(static_cast<unsigned>(P.max_iterations));
+      rrt->solve(itc);
+      plan.iterations += static_cast<int>(rrt->numIterations());
+      if (pdef->hasExactSolution()) {
+        const auto& path = static_cast<const og::PathGeometric&>(*pdef->getSolutionPath());
+        for (std::size_t k = 0; k < path.getStateCount(); ++k) vertices.push_back(ToVec(path.getState(k)));
+      }
+    }
+    if (vertices.empty()) {
+      plan.status = PlanStatus::kNoPathInBudget;
+      plan.message = "goal is connected to the start but RRT* found no path in " +
+                     std::to_string(plan.iterations) + " iterations (raise max_iterations)";
+      return plan;
+    }
+    // 3a. Deterministic shortcutting that keeps local clearance.
+    {
+      std::vector<Vec2> out{vertices.front()};
+      std::size_t i = 0;
+      while (i + 1 < vertices.size()) {
+        std::size_t j = vertices.size() - 1;
+        for (; j > i + 1; --j) {
+          double sub = std::numeric_limits<double>::infinity();
+          for (std::size_t k = i; k < j; ++k) sub = std::min(sub, m.SegmentClearance(vertices[k], vertices[k + 1]));
+          const double need = std::min(P.robot_radius + P.shortcut_margin, sub);
+          if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need) break;
+        }
+        out.push_back(vertices[j]);
+        i = j;
+      }
+      vertices.swap(out);
+    }
+    // 3b. B-spline smoothing (OMPL; only valid changes are kept).
+    if (P.smoothing_steps > 0 && vertices.size() > 2) {
+      og::PathGeometric path(si);
+      for (const auto& v : vertices) {
+        ob::ScopedState<ob::RealVectorStateSpace> x(space);
+        x->values[0] = v.x();
+        x->values[1] = v.y();
+        path.append(x.get());
+      }
+      og::PathSimplifier simplifier(si);
+      simplifier.smoothBSpline(path, static_cast<unsigned>(P.smoothing_steps));
+      std::vector<Vec2> smooth;
+      bool ok = true;
+      for (std::size_t k = 0; k < path.getStateCount(); ++k) smooth.push_back(ToVec(path.getState(k)));
+      for (std::size_t k = 0; k + 1 < smooth.size() && ok; ++k)
+        ok = m.SegmentClearance(smooth[k], smooth[k + 1]) >= P.robot_radius;
+      if (ok && smooth.size() >= 2) vertices.swap(smooth);
+    }
+  }
+  if (!(vertices.front() - s0).isZero(0.0)) vertices.insert(vertices.begin(), s0);
+  if (!(vertices.back() - g0).isZero(0.0)) vertices.push_back(g0);
+
+  // 4. Doorways: measure the jambs on the map and cross straight through their midpoint.
+  auto cumulative = [](const std::vector<Vec2>& v) {
+    std::vector<double> s(v.size(), 0.0);
+    for (std::size_t k = 1; k < v.size(); ++k) s[k] = s[k - 1] + (v[k] - v[k - 1]).norm();
+    return s;
+  };
+  auto point_at = [](const std::vector<Vec2>& v, const std::vector<double>& cs, double sq) {
+    std::size_t k = 1;
+    while (k + 1 < v.size() && cs[k] < sq) ++k;
+    const double seg = cs[k] - cs[k - 1];
+    const double f = seg > 0 ? std::clamp((sq - cs[k - 1]) / seg, 0.0, 1.0) : 0.0;
+    return Vec2(v[k - 1] + f * (v[k] - v[k - 1]));
+  };
+  auto is_obstacle = [&](const Cell& c) {
+    return map.Contains(c) && !m.field.IsFree(map.CentreOf(c), 0.0);
+  };
+  std::vector<Passage> passages;
+  {
+    const std::vector<double> cs = cumulative(vertices);
+    const double total = cs.back();
+    const double step_s = 0.5 * res;
+    std::vector<std::pair<double, double>> runs;  // (s_begin, s_end) of low clearance
+    double run_begin = -1.0;
+    for (double sq = 0.0; sq <= total + 1e-9; sq += step_s) {
+      const bool low = m.field.Clearance(point_at(vertices, cs, sq)) < P.passage_clearance;
+      if (low && run_begin < 0.0) run_begin = sq;
+      if (!low && run_begin >= 0.0) {
+        runs.emplace_back(run_begin, sq);
+        run_begin = -1.0;
+      }
+    }
+    for (const auto& [b, e] : runs) {
+      if (b <= 0.0 || e - b > P.max_passage_length) continue;  // start area or corridor
+      double s_c = b, best = std::numeric_limits<double>::infinity();
+      for (double sq = b; sq <= e; sq += step_s) {
+        const double c = m.field.Clearance(point_at(vertices, cs, sq));
+        if (c < best) {
+          best = c;
+          s_c = sq;
+        }
+      }
+      const Vec2 c = point_at(vertices, cs, s_c);
+      Vec2 d = point_at(vertices, cs, s_c + 0.2) - point_at(vertices, cs, s_c - 0.2);
+      if (d.norm() < 1e-9) continue;
+      d.normalize();
+      // Nearest obstacle cells left and right of the path (the jambs).
+      // The narrowest point of a slanted approach can lie before the doorway: look far enough
+      // for both jambs.
+      const double reach = std::max(best + 3.0 * res, P.passage_clearance + 0.3);
+      const Cell cc = map.CellOf(c);
+      const int rc = static_cast<int>(std::ceil(reach / res)) + 1;
+      double dl = std::numeric_limits<double>::infinity(), dr = dl;
+      Vec2 jl = Vec2::Zero(), jr = Vec2::Zero();
+      for (int dj2 = -rc; dj2 <= rc; ++dj2) {
+        for (int di2 = -rc; di2 <= rc; ++di2) {
+          const Cell q{cc.i + di2, cc.j + dj2};
+          if (!is_obstacle(q)) continue;
+          const Vec2 qc = map.CentreOf(q);
+          const Vec2 off = qc - c;
+          const double dist = off.norm();
+          if (dist > reach) continue;
+          const double side = d.x() * off.y() - d.y() * off.x();
+          if (side > 0 && dist < dl) {
+            dl = dist;
+            jl = qc;
+          } else if (side < 0 && dist < dr) {
+            dr = dist;
+            jr = qc;
+          }
+        }
+      }
+      if (!std::isfinite(dl) || !std::isfinite(dr)) continue;
+      const Vec2 u = jl - jr;
+      if (u.norm() > 2.0 * (P.passage_clearance + res)) continue;  // not a narrow gap
+      Vec2 a(u.y(), -u.x());
+      a.normalize();
+      if (a.dot(d) < 0) a = -a;
+      if (a.dot(d) < 0.5) continue;  // not a doorway across the path
+      Passage pass;
+      pass.centre = 0.5 * (jl + jr);
+      pass.axis_yaw = std::atan2(a.y(), a.x());
+      pass.width = u.norm() - res;
+      pass.s = s_c;
+      passages.push_back(pass);
+    }
+    // Reroute straight through each passage, last first (earlier arc lengths stay valid).
+    for (auto it = passages.rbegin(); it != passages.rend(); ++it) {
+      const std::vector<double> cv = cumulative(vertices);
+      const double L = P.passage_straight;
+      const double s_in = it->s - L, s_out = it->s + L;
+      if (s_in <= 0.0 || s_out >= cv.back() || L <= 0.0) continue;
+      const Vec2 a(std::cos(it->axis_yaw), std::sin(it->axis_yaw));
+      const Vec2 p_in = it->centre - L * a, p_out = it->centre + L * a;
+      const Vec2 q_in = point_at(vertices, cv, s_in), q_out = point_at(vertices, cv, s_out);
+      const double need = P.robot_radius;
+      if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
+          m.SegmentClearance(p_in, p_out) < need || m.SegmentClearance(p_out, q_out) < need)
+        continue;
+      std::vector<Vec2> next;
+      for (std::size_t k = 0; k < vertices.size() && cv[k] < s_in; ++k) next.push_back(vertices[k]);
+      next.insert(next.end(), {q_in, p_in, it->centre, p_out, q_out});
+      for (std::size_t k = 0; k < vertices.size(); ++k)
+        if (cv[k] > s_out) next.push_back(vertices[k]);
+      // Drop zero-length steps.
+      std::vector<Vec2> clean{next.front()};
+      for (std::size_t k = 1; k < next.size(); ++k)
+        if ((next[k] - clean.back()).norm() > 1e-6) clean.push_back(next[k]);
+      vertices.swap(clean);
+    }
+  }
+
+  // 5. Resample with yaw along the path.
+  const double step = P.waypoint_spacing;
+  double s_acc = 0.0;
+  for (std::size_t k = 0; k + 1 < vertices.size(); ++k) {
+    const Vec2 a = vertices[k], b = vertices[k + 1];
+    const double len = (b - a).norm();
+    if (len < 1e-9) continue;
+    const double yaw = std::atan2(b.y() - a.y(), b.x() - a.x());
+    const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
+    for (int q = 0; q < n; ++q) {
+      const Vec2 p = a + (b - a) * (double(q) / n);
+      plan.path.push_back({{p.x(), p.y(), yaw}, m.field.Clearance(p), s_acc + len * q / n});
+    }
+    s_acc += len;
+  }
+  plan.path.push_back({goal, goal_clear, s_acc});
+  for (auto& pass : passages) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& pp : plan.path) {
+      const double dd = (Vec2(pp.pose.x, pp.pose.y) - pass.centre).norm();
+      if (dd < best) {
+        best = dd;
+        pass.s = pp.s;
+      }
+    }
+  }
+  plan.passages = passages;
+  plan.length = s_acc;
+  plan.min_clearance = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < plan.path.size(); ++k) {
+    // The lead-out from a start inside the margin is exempt (it is where the robot already is).
+    if ((Vec2(plan.path[k].pose.x, plan.path[k].pose.y) - s0).norm() <= (s - s0).norm() + 1e-9 &&
+        !(s - s0).isZero(0.0))
+      continue;
+    plan.min_clearance = std::min(plan.min_clearance, plan.path[k].clearance);
+  }
+  plan.status = PlanStatus::kFound;
+  plan.message = Fmt("path %.2f m, min clearance %.2f m, ", plan.length, plan.min_clearance) +
+                 std::to_string(plan.passages.size()) + " passages, " +
+                 std::to_string(plan.iterations) + " RRT* iterations";
+  return plan;
+}
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,514 @@
+#include "autonomy/local_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "common/error.h"
+
+namespace mopad::autonomy {
+
+using perception::LocalisationStatus;
+
+void LocalControllerParams::Validate() const {
+  ValidateParams(*this, "local_controller.");
+  if (min_speed > max_linear_speed || passage_speed > max_linear_speed) {
+    throw InputError("", "local_controller min_speed and passage_speed must not exceed "
+                     "max_linear_speed", std::to_string(std::max(min_speed, passage_speed)),
+                     "<= " + std::to_string(max_linear_speed));
+  }
+  if (slowdown_distance < stop_distance) {
+    throw InputError("", "parameter 'local_controller.slowdown_distance' below stop_distance",
+                     std::to_string(slowdown_distance), ">= " + std::to_string(stop_distance));
+  }
+}
+
+const char* ToString(NavStatus s) {
+  switch (s) {
+    case NavStatus::kIdle: return "idle";
+    case NavStatus::kFollowing: return "following";
+    case NavStatus::kDoorPassage: return "door_passage";
+    case NavStatus::kRecovering: return "recovering";
+    case NavStatus::kBlocked: return "blocked";
+    case NavStatus::kArrived: return "arrived";
+    case NavStatus::kUnreachable: return "unreachable";
+    case NavStatus::kLocalisationLost: return "localisation_lost";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string Fmt(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+/// Pose after moving along the arc (v, w) for time t from the identity.
+Pose2 Arc(double v, double w, double t) {
+  const double th = w * t;
+  if (std::abs(th) < 1e-9) return {v * t, 0.0, th};
+  const double r = v / w;
+  return {r * std::sin(th), r * (1.0 - std::cos(th)), th};
+}
+
+/// `p` (in the parent frame of `X`) expressed in the frame X.
+Vec2 InFrame(const Pose2& X, const Vec2& p) {
+  const double c = std::cos(X.yaw), s = std::sin(X.yaw);
+  const Vec2 d = p - Vec2(X.x, X.y);
+  return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
+}
+
+}  // namespace
+
+LocalController::LocalController(const LocalControllerParams& params) : params_(params) {
+  params_.Validate();
+  terminal_.status = NavStatus::kIdle;
+  terminal_.message = "no path";
+}
+
+void LocalController::InstallPlan(const GlobalPlan& plan) {
+  path_ = plan.path;
+  passages_.clear();
+  for (const Passage& p : plan.passages) passages_.push_back({p, false, false});
+  closest_ = 0;
+}
+
+void LocalController::SetPlan(const GlobalPlan& plan) {
+  if (!plan.ok() || plan.path.empty()) {
+    throw InputError("", "LocalController::SetPlan needs a found plan", ToString(plan.status),
+                     "found");
+  }
+  InstallPlan(plan);
+  goal_ = plan.path.back().pose;
+  mode_ = Mode::kFollow;
+  recoveries_ = 0;
+  s_at_last_recovery_ = 0.0;
+  blocked_since_.reset();
+  lost_since_.reset();
+  last_time_.reset();
+  last_cmd_ = {};
+  terminal_ = {};
+}
+
+ControlOutput LocalController::Finish(NavStatus s, const std::string& message) {
+  mode_ = Mode::kDone;
+  terminal_.cmd = {};
+  terminal_.status = s;
+  terminal_.message = message;
+  terminal_.finished = true;
+  terminal_.recoveries = recoveries_;
+  last_cmd_ = {};
+  return terminal_;
+}
+
+bool LocalController::InCollision(const std::vector<Vec2>& points_B, const Pose2& X_B0B,
+                                  double margin) const {
+  const double hx = 0.5 * params_.footprint_length + margin;
+  const double hy = 0.5 * params_.footprint_width + margin;
+  for (const Vec2& p : points_B) {
+    const Vec2 q = InFrame(X_B0B, p);
+    if (std::abs(q.x() - params_.footprint_offset_x) <= hx && std::abs(q.y()) <= hy) return true;
+  }
+  return false;
+}
+
+double LocalController::FreeTravel(const std::vector<Vec2>& points_B, double v, double w,
+                                   double margin, double horizon) const {
+  const double radius = std::hypot(0.5 * params_.footprint_length + std::abs(params_.footprint_offset_x),
+                                   0.5 * params_.footprint_width) + margin;
+  const double reach = std::abs(v) < 1e-9 ? radius : radius + horizon;
+  std::vector<Vec2> near;
+  for (const Vec2& p : points_B)
+    if (p.norm() <= reach) near.push_back(p);
+  if (near.empty()) return horizon;
+  if (std::abs(v) < 1e-9) {  // rotation in place: horizon is an angle
+    const double dir = w >= 0 ? 1.0 : -1.0;
+    for (double a = 0.0; a <= horizon; a += 0.02) {
+      if (InCollision(near, {0.0, 0.0, dir * a}, margin)) return a;
+    }
+    return horizon;
+  }
+  const double speed = std::abs(v);
+  for (double s = 0.0; s <= horizon; s += 0.02) {
+    if (InCollision(near, Arc(v, w, s / speed), margin)) return s;
+  }
+  return horizon;
+}
+
+interfaces::VelocityCommand LocalController::Limit(interfaces::VelocityCommand cmd,
+                                                   double dt) const {
+  const LocalControllerParams& P = params_;
+  cmd.v = std::clamp(cmd.v, -P.max_linear_speed, P.max_linear_speed);
+  cmd.w = std::clamp(cmd.w, -P.max_angular_speed, P.max_angular_speed);
+  if (dt > 0.0) {
+    // Acceleration limits on speeding up only: stopping must never be delayed here.
+    if (std::abs(cmd.v) > std::abs(last_cmd_.v) && cmd.v * last_cmd_.v >= 0.0)
+      cmd.v = std::copysign(std::min(std::abs(cmd.v), std::abs(last_cmd_.v) + P.max_linear_acceleration * dt), cmd.v);
+    if (std::abs(cmd.w) > std::abs(last_cmd_.w) && cmd.w * last_cmd_.w >= 0.0)
+      cmd.w = std::copysign(std::min(std::abs(cmd.w), std::abs(last_cmd_.w) + P.max_angular_acceleration * dt), cmd.w);
+  }
+  return cmd;
+}
+
+ControlOutput LocalController::StartRecovery(double time, const Pose2& X_MB,
+                                             const std::string& reason) {
+  const LocalControllerParams& P = params_;
+  blocked_since_.reset();
+  if (recoveries_ >= P.max_recoveries) {
+    return Finish(NavStatus::kBlocked,
+                  reason + "; giving up after " + std::to_string(recoveries_) + " recoveries");
+  }
+  ++recoveries_;
+  recovery_reason_ = reason;
+  recovery_start_ = X_MB;
+  recovery_turned_ = 0.0;
+  recovery_last_yaw_ = X_MB.yaw;
+  s_at_last_recovery_ = closest_ < path_.size() ? path_[closest_].s : 0.0;
+  mode_ = recoveries_ % 2 == 1 ? Mode::kBackUp : Mode::kRotate;
+  anchor_pose_ = X_MB;
+  anchor_time_ = time;
+  ControlOutput out;
+  out.status = NavStatus::kRecovering;
+  out.recoveries = recoveries_;
+  out.message = "recovery " + std::to_string(recoveries_) + "/" + std::to_string(P.max_recoveries) +
+                (mode_ == Mode::kBackUp ? ": backing up" : ": rotating in place") + " (" + reason + ")";
+  return out;
+}
+
+ControlOutput LocalController::AfterRecoveryMotion(double time, const Pose2& X_MB,
+                                                   const std::vector<Vec2>& points_B) {
+  const LocalControllerParams& P = params_;
+  mode_ = Mode::kFollow;
+  anchor_pose_ = X_MB;
+  anchor_time_ = time;
+  ControlOutput out;
+  out.status = NavStatus::kRecovering;
+  out.recoveries = recoveries_;
+  if (!replan_) {
+    out.message = "recovery " + std::to_string(recoveries_) + ": motion done, resuming (no replanner)";
+    return out;
+  }
+  std::vector<Vec2> obstacles;
+  const double c = std::cos(X_MB.yaw), s = std::sin(X_MB.yaw);
+  for (const Vec2& p : points_B) {
+    if (p.norm() > P.replan_radius) continue;
+    obstacles.emplace_back(X_MB.x + c * p.x() - s * p.y(), X_MB.y + s * p.x() + c * p.y());
+  }
+  const GlobalPlan plan = replan_(X_MB, obstacles);
+  if (plan.ok()) {
+    InstallPlan(plan);
+    out.message = "recovery " + std::to_string(recoveries_) + ": replanned around " +
+                  std::to_string(obstacles.size()) + " LRF points (" + plan.message + ")";
+    return out;
+  }
+  if (plan.status == PlanStatus::kUnreachable || plan.status == PlanStatus::kGoalInvalid) {
+    return Finish(NavStatus::kUnreachable,
+                  recovery_reason_ + "; replanning with the LRF obstacles: " + plan.message);
+  }
+  out.message = "recovery " + std::to_string(recoveries_) + ": replan failed (" + plan.message +
+                "), resuming the old path";
+  return out;
+}
+
+ControlOutput LocalController::Update(double time, const Pose2& X_MB, LocalisationStatus loc,
+                                      const interfaces::LrfScan& scan) {
+  const LocalControllerParams& P = params_;
+  if (mode_ == Mode::kDone) return terminal_;
+  const double dt = last_time_ ? std::max(0.0, time - *last_time_) : 0.0;
+  if (!last_time_) {
+    anchor_pose_ = X_MB;
+    anchor_time_ = time;
+  }
+  last_time_ = time;
+  auto emit = [&](ControlOutput out, bool limit = true) {
+    out.cmd = limit ? Limit(out.cmd, dt) : out.cmd;
+    out.recoveries = recoveries_;
+    last_cmd_ = out.cmd;
+    return out;
+  };
+
+  // LRF returns in base_link.
+  std::vector<Vec2> pts;
+  pts.reserve(scan.ranges.size());
+  for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
+    const double r = scan.ranges[k];
+    if (!std::isfinite(r) || r < scan.range_min || r >= scan.range_max) continue;
+    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
+    const Eigen::Vector3d q = scan.X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
+    pts.emplace_back(q.x(), q.y());
+  }
+
+  // Localisation first: never drive on a pose the filter does not trust.
+  if (loc == LocalisationStatus::kLost || loc == LocalisationStatus::kRelocalising ||
+      loc == LocalisationStatus::kNotInitialised) {
+    if (!lost_since_) lost_since_ = time;
+    if (time - *lost_since_ > P.lost_timeout) {
+      return Finish(NavStatus::kLocalisationLost,
+                    Fmt("localisation lost for %.0f s (AMCL: ", time - *lost_since_) +
+                        perception::ToString(loc) + "); stopped");
+    }
+    ControlOutput out;
+    out.status = NavStatus::kLocalisationLost;
+    const bool can_turn = FreeTravel(pts, 0.0, 1.0, P.stop_distance, 0.3) >= 0.3;
+    out.cmd = {0.0, can_turn ? P.lost_rotation_speed : 0.0};
+    out.message = std::string("localisation ") + perception::ToString(loc) +
+                  (can_turn ? ": rotating in place to re-localise" : ": stopped (no room to rotate)");
+    anchor_pose_ = X_MB;
+    anchor_time_ = time;
+    return emit(out);
+  }
+  if (lost_since_) {  // re-localised: the pose may have jumped, so pick the path up again
+    lost_since_.reset();
+    closest_ = 0;
+    anchor_pose_ = X_MB;
+    anchor_time_ = time;
+    if (replan_) {
+      const GlobalPlan plan = replan_(X_MB, {});
+      if (plan.ok()) InstallPlan(plan);
+    }
+  }
+
+  // Recovery motions.
+  if (mode_ == Mode::kBackUp) {
+    const double moved = std::hypot(X_MB.x - recovery_start_.x, X_MB.y - recovery_start_.y);
+    const double free = FreeTravel(pts, -P.backup_speed, 0.0, P.stop_distance, 0.3);
+    if (moved >= P.backup_distance || free < 0.05 || time - anchor_time_ > P.stuck_timeout) {
+      return emit(AfterRecoveryMotion(time, X_MB, pts));
+    }
+    ControlOutput out;
+    out.status = NavStatus::kRecovering;
+    out.cmd = {-P.backup_speed, 0.0};
+    out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
+    return emit(out);
+  }
+  if (mode_ == Mode::kRotate) {
+    recovery_turned_ += std::abs(WrapAngle(X_MB.yaw - recovery_last_yaw_));
+    recovery_last_yaw_ = X_MB.yaw;
+    const bool can_turn = FreeTravel(pts, 0.0, 1.0, P.stop_distance, 0.2) >= 0.2;
+    if (recovery_turned_ >= 2.0 * kPi || !can_turn || time - anchor_time_ > 4.0 * kPi / P.lost_rotation_speed) {
+      return emit(AfterRecoveryMotion(time, X_MB, pts));
+    }
+    ControlOutput out;
+    out.status = NavStatus::kRecovering;
+    out.cmd = {0.0, std::max(P.lost_rotation_speed, 0.3)};
+    out.message = Fmt("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_, RadToDeg(recovery_turned_));
+    return emit(out);
+  }
+
+  // Progress along the path: closest point within a forward window.
+  {
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_k = closest_;
+    const double s_max = path_[closest_].s + 2.0;
+    for (std::size_t k = closest_; k < path_.size() && path_[k].s <= s_max; ++k) {
+      const double d = std::hypot(path_[k].pose.x - X_MB.x, path_[k].pose.y - X_MB.y);
+      if (d < best) {
+        best = d;
+        best_k = k;
+      }
+    }
+    if (best > 1.0) {  // far off (e.g. after a jump): search the whole path
+      for (std::size_t k = 0; k < path_.size(); ++k) {
+        const double d = std::hypot(path_[k].pose.x - X_MB.x, path_[k].pose.y - X_MB.y);
+        if (d < best) {
+          best = d;
+          best_k = k;
+        }
+      }
+    }
+    closest_ = best_k;
+  }
+  const double s_here = path_[closest_].s;
+  if (recoveries_ > 0 && s_here - s_at_last_recovery_ > 1.0) recoveries_ = 0;  // made good
+
+  const Vec2 goal_p(goal_.x, goal_.y);
+  const Vec2 here(X_MB.x, X_MB.y);
+  const double d_goal = (goal_p - here).norm();
+  const double yaw_err_goal = WrapAngle(goal_.yaw - X_MB.yaw);
+
+  ControlOutput out;
+  out.status = NavStatus::kFollowing;
+  double margin = P.safety_margin;
+
+  // Goal: final approach and rotation.
+  if (mode_ == Mode::kFinalRotate && d_goal > 2.5 * P.goal_tolerance_xy) mode_ = Mode::kFollow;
+  if (mode_ != Mode::kFinalRotate && d_goal < P.goal_tolerance_xy) mode_ = Mode::kFinalRotate;
+  if (mode_ == Mode::kFinalRotate) {
+    if (std::abs(yaw_err_goal) < DegToRad(P.goal_tolerance_yaw_deg)) {
+      return Finish(NavStatus::kArrived,
+                    Fmt("arrived: %.3f m and %.2f deg from the goal", d_goal,
+                        RadToDeg(std::abs(yaw_err_goal))));
+    }
+    const double w = std::clamp(P.heading_gain * yaw_err_goal, -P.max_angular_speed, P.max_angular_speed);
+    out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.08), w)};
+    out.message = Fmt("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)", d_goal,
+                      RadToDeg(yaw_err_goal));
+  } else {
+    // Which passage (if any) are we in or approaching?
+    PassageState* passage = nullptr;
+    for (auto& p : passages_) {
+      if (p.done) continue;
+      if (s_here > p.passage.s + 0.5 * P.footprint_length + 0.2) {
+        p.done = true;
+        continue;
+      }
+      if (s_here >= p.passage.s - P.passage_entry_distance - 0.05) {
+        passage = &p;
+        break;
+      }
+    }
+    const double axis_yaw = passage ? passage->passage.axis_yaw : 0.0;
+    const Vec2 axis(std::cos(axis_yaw), std::sin(axis_yaw));
+    if (passage && !passage->aligned) {
+      const double herr = WrapAngle(axis_yaw - X_MB.yaw);
+      if (std::abs(herr) < DegToRad(P.passage_align_deg)) {
+        passage->aligned = true;
+      } else {
+        out.status = NavStatus::kDoorPassage;
+        const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
+        out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.08), w)};
+        out.message = Fmt("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
+                          "before its centre", RadToDeg(herr), passage->passage.s - s_here);
+      }
+    }
+    if (passage && passage->aligned) {
+      // Crossing: follow the axis, centred between the jambs the LRF sees.
+      out.status = NavStatus::kDoorPassage;
+      margin = P.passage_side_margin;
+      const Vec2 off = here - passage->passage.centre;
+      const double lateral = axis.x() * off.y() - axis.y() * off.x();  // + = left of the axis
+      double d_left = std::numeric_limits<double>::infinity(), d_right = d_left;
+      // Jambs: returns beside the body (within its length, outside its half width's inner
+      // half: anything closer to the axis is ahead and is the forward check's business).
+      const double half_w = 0.5 * P.footprint_width;
+      for (const Vec2& p : pts) {
+        if (std::abs(p.x() - P.footprint_offset_x) > 0.5 * P.footprint_length + 0.05) continue;
+        if (std::abs(p.y()) < 0.5 * half_w || std::abs(p.y()) > 1.0) continue;
+        if (p.y() > 0) d_left = std::min(d_left, p.y());
+        else d_right = std::min(d_right, -p.y());
+      }
+      double centring = -lateral;  // desired leftward shift (m)
+      std::string source = "map";
+      if (std::isfinite(d_left) && std::isfinite(d_right)) {
+        centring = 0.5 * (d_left - d_right);
+        source = "LRF";
+        if (std::min(d_left, d_right) - half_w < P.passage_side_margin) {
+          out.cmd = {};
+          out.status = NavStatus::kBlocked;
+          out.message = Fmt("door passage: side clearance %.3f m (left %.2f, right %.2f) below "
+                            "the %.2f m margin",
+                            std::min(d_left, d_right) - half_w, d_left, d_right,
+                            P.passage_side_margin);
+        }
+      }
+      if (out.status != NavStatus::kBlocked) {
+        const double herr = WrapAngle(axis_yaw - X_MB.yaw);
+        const double w = P.heading_gain * herr + P.centring_gain * centring;
+        out.cmd = {P.passage_speed, std::clamp(w, -0.5 * P.max_angular_speed, 0.5 * P.max_angular_speed)};
+        out.message = Fmt("door passage: crossing at %.2f m/s, %.3f m off centre (", P.passage_speed,
+                          -centring) + source + ")";
+      }
+    } else if (!passage) {
+      // Pure pursuit.
+      std::size_t t = closest_;
+      while (t + 1 < path_.size() && path_[t].s < s_here + P.lookahead) ++t;
+      const Vec2 target = InFrame(X_MB, Vec2(path_[t].pose.x, path_[t].pose.y));
+      const double alpha = std::atan2(target.y(), target.x());
+      const double L2 = std::max(target.squaredNorm(), 1e-6);
+      if (d_goal < 0.3 && t + 1 == path_.size()) {
+        // Final approach to a point: drive forward or back onto it, then rotate.
+        const double v = std::clamp(0.8 * target.x(), -0.1, 0.1);
+        const double w = std::abs(target.x()) > 0.02 || std::abs(target.y()) > 0.02
+                             ? P.heading_gain * std::atan2(target.y(), std::abs(target.x())) *
+                                   (target.x() >= 0 ? 1.0 : -1.0)
+                             : 0.0;
+        if (std::abs(target.y()) > 0.5 * std::abs(target.x()) + 0.02 && d_goal > 0.08) {
+          out.cmd = {0.0, std::clamp(P.heading_gain * alpha, -0.6, 0.6)};
+        } else {
+          out.cmd = {std::copysign(std::max(std::abs(v), 0.02), v), std::clamp(w, -0.6, 0.6)};
+        }
+        out.message = Fmt("final approach: %.3f m to the goal", d_goal);
+      } else if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
+        const double w = std::clamp(P.heading_gain * alpha, -P.max_angular_speed, P.max_angular_speed);
+        out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.1), w)};
+        out.message = Fmt("turning toward the path (%.0f deg)", RadToDeg(alpha));
+      } else {
+        const double kappa = 2.0 * target.y() / L2;
+        double v = P.max_linear_speed * std::min(1.0, d_goal / P.approach_distance);
+        // Slow for an upcoming passage.
+        for (const auto& p : passages_) {
+          const double to_go = p.passage.s - s_here;
+          if (!p.done && to_go > 0.0 && to_go < P.passage_entry_distance + 1.0)
+            v = std::min(v, std::max(P.passage_speed, v * (to_go - P.passage_entry_distance)));
+        }
+        v = std::max(P.min_speed, v * std::max(0.3, std::cos(alpha)));
+        double w = v * kappa;
+        if (std::abs(w) > P.max_angular_speed) {
+          v = P.max_angular_speed / std::abs(kappa);
+          w = std::copysign(P.max_angular_speed, w);
+        }
+        out.cmd = {v, w};
+        out.message = Fmt("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
+      }
+    }
+  }
+
+  // Obstacles the map lacks: forward check of the footprint along the commanded arc.
+  if (out.status != NavStatus::kBlocked) {
+    const double v = out.cmd.v, w = out.cmd.w;
+    if (std::abs(v) > 1e-6) {
+      const double horizon = std::max(0.3, std::abs(v) * P.collision_horizon);
+      const double free = FreeTravel(pts, v, w, margin, horizon);
+      if (free < P.stop_distance + 1e-9) {
+        out.cmd = {};
+        out.status = NavStatus::kBlocked;
+        out.message = Fmt("blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
+                          "of free travel", free);
+      } else if (free < P.slowdown_distance && free < horizon) {
+        const double k = (free - P.stop_distance) / (P.slowdown_distance - P.stop_distance);
+        const double vmin = std::min(P.min_speed, std::abs(v));
+        const double vs = std::max(vmin, std::abs(v) * k);
+        out.cmd.w *= vs / std::abs(v);
+        out.cmd.v = std::copysign(vs, v);
+      }
+    } else if (std::abs(w) > 1e-6) {
+      if (FreeTravel(pts, 0.0, w, std::min(margin, P.passage_side_margin), 0.15) < 0.15) {
+        out.cmd = {};
+        out.status = NavStatus::kBlocked;
+        out.message = "blocked: no room to rotate in place (obstacle in the base LRF)";
+      }
+    }
+  }
+
+  // Blocked: wait, then recover. Stuck: no progress while commanding motion.
+  if (out.status == NavStatus::kBlocked) {
+    last_blocked_time_ = time;
+    if (!blocked_since_) blocked_since_ = time;
+    if (time - *blocked_since_ >= P.blocked_wait) {
+      return emit(StartRecovery(time, X_MB, out.message + Fmt(" for %.1f s", time - *blocked_since_)), false);
+    }
+    out.message += Fmt("; waiting %.1f s before recovery", P.blocked_wait - (time - *blocked_since_));
+    anchor_pose_ = X_MB;
+    anchor_time_ = time;
+    return emit(out);
+  }
+  // Hysteresis: a base creeping at the edge of the stop distance stays "blocked" for the
+  // recovery timer until it has been free for a second.
+  if (time - last_blocked_time_ > 1.0) blocked_since_.reset();
+  const double moved = std::hypot(X_MB.x - anchor_pose_.x, X_MB.y - anchor_pose_.y);
+  const double turned = std::abs(WrapAngle(X_MB.yaw - anchor_pose_.yaw));
+  if (moved > P.progress_distance || turned > 0.1 ||
+      (std::abs(out.cmd.v) < 1e-6 && std::abs(out.cmd.w) < 1e-6)) {
+    anchor_pose_ = X_MB;
+    anchor_time_ = time;
+  } else if (time - anchor_time_ > P.stuck_timeout) {
+    return emit(StartRecovery(time, X_MB, Fmt("stuck: moved %.3f m in %.1f s while commanded",
+                                              moved, time - anchor_time_)), false);
+  }
+  return emit(out);
+}
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,202 @@
+#pragma once
+// Local control along a global path (paper §3.1 step (2): MoPAD used a TEB local planner;
+// issue 4, item 5). A pure-pursuit follower (Coulter 1992) with:
+//  - speed limits, acceleration limits on speeding up, slow approach and final rotation to the
+//    goal yaw;
+//  - a forward collision check of the rectangular footprint (plus a margin) swept along the
+//    commanded arc against the base LRF's points: obstacles the map lacks slow the base and
+//    then stop it with status kBlocked (explained, never a silent stop);
+//  - a door-passage mode for the passages the planner found on the map (GlobalPlan::passages):
+//    reduced speed, stop and align with the passage axis before entering, then cross
+//    centred between the jambs seen by the LRF, checking the clearance on both sides;
+//  - recovery when blocked for `blocked_wait` or making no progress for `stuck_timeout`:
+//    alternately back up or rotate in place, then ask the replanner (the owner's callback,
+//    usually GlobalPlanner with the LRF obstacles added) for a new path; an unreachable
+//    replan ends in kUnreachable, exhausted recoveries in kBlocked;
+//  - localisation: while AMCL reports lost / re-localising the base rotates slowly in place to
+//    give the filter new views (kLocalisationLost), and gives up after `lost_timeout`.
+//
+// Frames: path and pose in `map` (REP-105), scan points projected into base_link via the
+// scan's X_BL. Time is simulation time passed in by the loop (no wall clock). Units SI.
+// Not thread-safe.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "autonomy/global_planner.h"
+#include "common/frames.h"
+#include "common/params.h"
+#include "interfaces/lrf_scan.h"
+#include "interfaces/odometry.h"
+#include "perception/amcl.h"
+
+namespace mopad::autonomy {
+
+struct LocalControllerParams {
+  double max_linear_speed = 0.5;         ///< m/s, (0, 5]
+  double max_angular_speed = 1.0;        ///< rad/s, (0, 10]
+  double max_linear_acceleration = 0.8;  ///< m/s^2, speeding up only, (0, 20]
+  double max_angular_acceleration = 2.0; ///< rad/s^2, speeding up only, (0, 50]
+  double lookahead = 0.5;                ///< m, pure-pursuit lookahead, (0, 5]
+  double rotate_in_place_deg = 40.0;     ///< deg, heading error above which it turns on the spot
+  double heading_gain = 2.0;             ///< 1/s, yaw-rate per radian of heading error, (0, 20]
+  double approach_distance = 0.8;        ///< m, slow down within this of the goal, (0, 10]
+  double min_speed = 0.05;               ///< m/s, floor of the slowed speed, (0, max]
+  double goal_tolerance_xy = 0.04;       ///< m, position tolerance at the goal, (0, 1]
+  double goal_tolerance_yaw_deg = 2.0;   ///< deg, yaw tolerance at the goal, (0, 90]
+  double footprint_length = 0.6;         ///< m, along base_link x, (0, 5]
+  double footprint_width = 0.5;          ///< m, along base_link y, (0, 5]
+  double footprint_offset_x = 0.0;       ///< m, footprint centre ahead of base_link, [-2, 2]
+  double safety_margin = 0.06;           ///< m, added around the footprint when checking, [0, 1]
+  double collision_horizon = 2.0;        ///< s, forward simulation of the command, (0, 20]
+  double stop_distance = 0.04;           ///< m, free travel below which the base stops, [0, 1]
+  double slowdown_distance = 0.8;        ///< m, free travel below which speed scales down
+  double passage_speed = 0.2;            ///< m/s, speed through passages, (0, max]
+  double passage_align_deg = 4.0;        ///< deg, heading tolerance before entering, (0, 45]
+  double passage_entry_distance = 0.7;   ///< m before the narrowest point where it aligns
+  double passage_side_margin = 0.03;     ///< m, minimum side clearance while crossing, [0, 1]
+  double centring_gain = 2.0;            ///< rad/s per m of off-centre, [0, 50]
+  double blocked_wait = 2.0;             ///< s blocked before a recovery starts, [0, 600]
+  double stuck_timeout = 4.0;            ///< s without progress before a recovery, (0, 600]
+  double progress_distance = 0.05;       ///< m of motion that counts as progress, (0, 5]
+  double backup_distance = 0.25;         ///< m, recovery back-up length, (0, 5]
+  double backup_speed = 0.12;            ///< m/s, (0, 1]
+  int max_recoveries = 4;                ///< recoveries before giving up as blocked, [0, 100]
+  double replan_radius = 2.5;            ///< m, LRF points within this are passed to replans
+  double lost_rotation_speed = 0.3;      ///< rad/s while localisation is lost, [0, 5]
+  double lost_timeout = 30.0;            ///< s lost before giving up, (0, 3600]
+
+  template <class V>
+  void Visit(V& v) {
+    v("max_linear_speed", max_linear_speed, Bounds{1e-3, 5.0});
+    v("max_angular_speed", max_angular_speed, Bounds{1e-3, 10.0});
+    v("max_linear_acceleration", max_linear_acceleration, Bounds{1e-3, 20.0});
+    v("max_angular_acceleration", max_angular_acceleration, Bounds{1e-3, 50.0});
+    v("lookahead", lookahead, Bounds{1e-3, 5.0});
+    v("rotate_in_place_deg", rotate_in_place_deg, Bounds{1.0, 180.0});
+    v("heading_gain", heading_gain, Bounds{1e-3, 20.0});
+    v("approach_distance", approach_distance, Bounds{1e-3, 10.0});
+    v("min_speed", min_speed, Bounds{1e-3, 5.0});
+    v("goal_tolerance_xy", goal_tolerance_xy, Bounds{1e-4, 1.0});
+    v("goal_tolerance_yaw_deg", goal_tolerance_yaw_deg, Bounds{1e-2, 90.0});
+    v("footprint_length", footprint_length, Bounds{1e-3, 5.0});
+    v("footprint_width", footprint_width, Bounds{1e-3, 5.0});
+    v("footprint_offset_x", footprint_offset_x, Bounds{-2.0, 2.0});
+    v("safety_margin", safety_margin, Bounds{0.0, 1.0});
+    v("collision_horizon", collision_horizon, Bounds{1e-3, 20.0});
+    v("stop_distance", stop_distance, Bounds{0.0, 1.0});
+    v("slowdown_distance", slowdown_distance, Bounds{0.0, 10.0});
+    v("passage_speed", passage_speed, Bounds{1e-3, 5.0});
+    v("passage_align_deg", passage_align_deg, Bounds{1e-2, 45.0});
+    v("passage_entry_distance", passage_entry_distance, Bounds{0.0, 5.0});
+    v("passage_side_margin", passage_side_margin, Bounds{0.0, 1.0});
+    v("centring_gain", centring_gain, Bounds{0.0, 50.0});
+    v("blocked_wait", blocked_wait, Bounds{0.0, 600.0});
+    v("stuck_timeout", stuck_timeout, Bounds{1e-3, 600.0});
+    v("progress_distance", progress_distance, Bounds{1e-3, 5.0});
+    v("backup_distance", backup_distance, Bounds{1e-3, 5.0});
+    v("backup_speed", backup_speed, Bounds{1e-3, 1.0});
+    v("max_recoveries", max_recoveries, Bounds{0, 100});
+    v("replan_radius", replan_radius, Bounds{0.0, 100.0});
+    v("lost_rotation_speed", lost_rotation_speed, Bounds{0.0, 5.0});
+    v("lost_timeout", lost_timeout, Bounds{1e-3, 3600.0});
+  }
+  /// ValidateParams plus cross-field checks; throws InputError.
+  void Validate() const;
+};
+
+/// Why the controller commands what it commands. Terminal ones end the run (finished = true).
+enum class NavStatus {
+  kIdle,              ///< no path
+  kFollowing,         ///< following the path (includes the final rotation)
+  kDoorPassage,       ///< aligning with or crossing a narrow passage
+  kRecovering,        ///< backing up / rotating / replanning
+  kBlocked,           ///< an obstacle stops the base (waiting; terminal once recoveries run out)
+  kArrived,           ///< terminal: at the goal within tolerance
+  kUnreachable,       ///< terminal: the replanner found no route
+  kLocalisationLost,  ///< rotating to re-localise; terminal after lost_timeout
+};
+const char* ToString(NavStatus s);
+
+struct ControlOutput {
+  interfaces::VelocityCommand cmd;
+  NavStatus status = NavStatus::kIdle;
+  std::string message;  ///< one line: what and why (distances in m)
+  bool finished = false;
+  int recoveries = 0;   ///< recoveries used so far on this goal
+};
+
+/// Replanner callback: a new plan from `X_MB` to the goal, avoiding `obstacles_M` (LRF points
+/// in the map frame that the map may lack).
+using ReplanFn = std::function<GlobalPlan(const Pose2& X_MB, const std::vector<Vec2>& obstacles_M)>;
+
+class LocalController {
+ public:
+  /// Throws InputError for invalid params.
+  explicit LocalController(const LocalControllerParams& params);
+  LocalController(const LocalController&) = default;
+  LocalController& operator=(const LocalController&) = default;
+  LocalController(LocalController&&) noexcept = default;
+  LocalController& operator=(LocalController&&) noexcept = default;
+
+  /// Starts following `plan` (status must be kFound); resets recoveries and terminal state.
+  void SetPlan(const GlobalPlan& plan);
+  /// Optional: used by recoveries. Without it recoveries only back up / rotate.
+  void SetReplanner(ReplanFn replan) { replan_ = std::move(replan); }
+
+  /// One control step at simulation time `time` (s) with the pose estimate `X_MB`, the
+  /// localiser's status and the latest base LRF scan.
+  ControlOutput Update(double time, const Pose2& X_MB, perception::LocalisationStatus loc,
+                       const interfaces::LrfScan& scan);
+
+  const std::vector<PathPoint>& Path() const { return path_; }
+  const LocalControllerParams& Params() const { return params_; }
+
+  /// Distance (m) the footprint inflated by `margin` can travel along the arc (v, w) before
+  /// touching one of `points_B` (base_link), up to `horizon` m; for v = 0 the arc is a
+  /// rotation and the result is in rad of yaw. Exposed for tests and the integration step.
+  double FreeTravel(const std::vector<Vec2>& points_B, double v, double w, double margin,
+                    double horizon) const;
+
+ private:
+  enum class Mode { kFollow, kFinalRotate, kBackUp, kRotate, kDone };
+  struct PassageState {
+    Passage passage;
+    bool aligned = false;
+    bool done = false;
+  };
+
+  ControlOutput Finish(NavStatus s, const std::string& message);
+  ControlOutput StartRecovery(double time, const Pose2& X_MB, const std::string& reason);
+  ControlOutput AfterRecoveryMotion(double time, const Pose2& X_MB,
+                                    const std::vector<Vec2>& points_B);
+  void InstallPlan(const GlobalPlan& plan);
+  bool InCollision(const std::vector<Vec2>& points_B, const Pose2& X_B0B, double margin) const;
+  interfaces::VelocityCommand Limit(interfaces::VelocityCommand cmd, double dt) const;
+
+  LocalControllerParams params_;
+  ReplanFn replan_;
+  std::vector<PathPoint> path_;
+  std::vector<PassageState> passages_;
+  Pose2 goal_;
+  Mode mode_ = Mode::kDone;
+  std::size_t closest_ = 0;
+  std::optional<double> last_time_;
+  interfaces::VelocityCommand last_cmd_;
+  // Progress, blocking, recovery and localisation bookkeeping.
+  Pose2 anchor_pose_;
+  double anchor_time_ = 0.0;
+  std::optional<double> blocked_since_;
+  double last_blocked_time_ = -1e9;
+  std::optional<double> lost_since_;
+  int recoveries_ = 0;
+  double s_at_last_recovery_ = 0.0;
+  Pose2 recovery_start_;
+  double recovery_turned_ = 0.0, recovery_last_yaw_ = 0.0;
+  std::string recovery_reason_;
+  ControlOutput terminal_;
+};
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,507 @@
+#include "perception/occupancy_grid.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace mopad::perception {
+
+namespace {
+
+double Logit(double p) { return std::log(p / (1.0 - p)); }
+
+/// Bresenham's line between two cells (inclusive), calling f(cell) in order from a to b.
+template <class F>
+void TraceLine(Cell a, const Cell& b, F&& f) {
+  const int dx = std::abs(b.i - a.i), dy = -std::abs(b.j - a.j);
+  const int sx = a.i < b.i ? 1 : -1, sy = a.j < b.j ? 1 : -1;
+  int err = dx + dy;
+  while (true) {
+    f(a);
+    if (a == b) break;
+    const int e2 = 2 * err;
+    if (e2 >= dy) {
+      err += dy;
+      a.i += sx;
+    }
+    if (e2 <= dx) {
+      err += dx;
+      a.j += sy;
+    }
+  }
+}
+
+}  // namespace
+
+void OccupancyGridParams::Validate() const {
+  ValidateParams(*this, "occupancy_grid.");
+  if (obstacle_z_max <= obstacle_z_min) {
+    throw InputError("", "parameter 'occupancy_grid.obstacle_z_max' must exceed obstacle_z_min",
+                     std::to_string(obstacle_z_max), "> " + std::to_string(obstacle_z_min));
+  }
+  if (log_odds_max <= Logit(occupied_thresh) || log_odds_min >= Logit(free_thresh)) {
+    throw InputError("", "occupancy_grid log-odds clamps cannot reach the thresholds",
+                     "[" + std::to_string(log_odds_min) + ", " + std::to_string(log_odds_max) + "]",
+                     "log_odds_max > logit(occupied_thresh) and log_odds_min < logit(free_thresh)");
+  }
+}
+
+// --- OccupancyGrid ----------------------------------------------------------------------------
+
+OccupancyGrid::OccupancyGrid(const OccupancyGridParams& params, const Vec2& origin, int width,
+                             int height)
+    : params_(params), origin_(origin), width_(width), height_(height) {
+  params_.Validate();
+  if (width <= 0 || height <= 0 || static_cast<double>(width) * height > 4e8) {
+    throw InputError("", "occupancy grid size out of range",
+                     std::to_string(width) + " x " + std::to_string(height),
+                     "positive, at most 4e8 cells");
+  }
+  if (!origin.allFinite()) throw InputError("", "occupancy grid origin must be finite");
+  l_occ_ = static_cast<float>(Logit(params_.occupied_thresh));
+  l_free_ = static_cast<float>(Logit(params_.free_thresh));
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  log_odds_.assign(n, 0.0f);
+  return_dx_.assign(n, 0.0f);
+  return_dy_.assign(n, 0.0f);
+  return_n_.assign(n, 0);
+  return_xx_.assign(n, 0.0f);
+  return_xy_.assign(n, 0.0f);
+  return_yy_.assign(n, 0.0f);
+}
+
+OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params,
+                                      const std::vector<Eigen::Vector3d>& points_M,
+                                      double margin) {
+  Vec2 lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+  Vec2 hi = -lo;
+  for (const auto& p : points_M) {
+    if (!p.allFinite()) continue;
+    lo = lo.cwiseMin(p.head<2>());
+    hi = hi.cwiseMax(p.head<2>());
+  }
+  if (!lo.allFinite()) throw InputError("", "cannot size an occupancy grid from no points");
+  const double r = params.resolution;
+  // Snap the origin to a multiple of the resolution so maps of the same site line up.
+  const Vec2 origin((std::floor((lo.x() - margin) / r)) * r, (std::floor((lo.y() - margin) / r)) * r);
+  const int w = static_cast<int>(std::ceil((hi.x() + margin - origin.x()) / r)) + 1;
+  const int h = static_cast<int>(std::ceil((hi.y() + margin - origin.y()) / r)) + 1;
+  return OccupancyGrid(params, origin, w, h);
+}
+
+Cell OccupancyGrid::CellOf(const Vec2& p) const {
+  return {static_cast<int>(std::floor((p.x() - origin_.x()) / params_.resolution)),
+          static_cast<int>(std::floor((p.y() - origin_.y()) / params_.resolution))};
+}
+
+Vec2 OccupancyGrid::CentreOf(const Cell& c) const {
+  return origin_ + params_.resolution * Vec2(c.i + 0.5, c.j + 0.5);
+}
+
+void OccupancyGrid::Add(const Cell& c, double delta) {
+  float& l = log_odds_[Index(c)];
+  l = static_cast<float>(std::clamp(static_cast<double>(l) + delta, params_.log_odds_min,
+                                    params_.log_odds_max));
+}
+
+void OccupancyGrid::AddReturn(const Cell& c, const Vec2& p) {
+  const std::size_t k = Index(c);
+  const Vec2 d = p - CentreOf(c);
+  return_dx_[k] += static_cast<float>(d.x());
+  return_dy_[k] += static_cast<float>(d.y());
+  return_xx_[k] += static_cast<float>(d.x() * d.x());
+  return_xy_[k] += static_cast<float>(d.x() * d.y());
+  return_yy_[k] += static_cast<float>(d.y() * d.y());
+  ++return_n_[k];
+}
+
+OccupancyGrid::ReturnSegment OccupancyGrid::ObstacleSegment(const Cell& c) const {
+  ReturnSegment seg;
+  seg.centre = ObstaclePosition(c);
+  const std::size_t k = Index(c);
+  const double n = return_n_[k];
+  if (n < 3) return seg;
+  const double mx = return_dx_[k] / n, my = return_dy_[k] / n;
+  const double sxx = return_xx_[k] / n - mx * mx, sxy = return_xy_[k] / n - mx * my,
+               syy = return_yy_[k] / n - my * my;
+  // Principal axes of the 2x2 covariance.
+  const double tr = sxx + syy, det = sxx * syy - sxy * sxy;
+  const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
+  if (!(l1 > 0.0) || l2 > 0.1 * l1) return seg;
+  Vec2 dir = std::abs(sxy) > 1e-12 ? Vec2(l1 - syy, sxy) : (sxx >= syy ? Vec2::UnitX() : Vec2::UnitY());
+  seg.direction = dir.normalized();
+  // Uniform spread along a segment of length L has variance L^2 / 12.
+  // A wall crosses the whole cell, however sparse the returns in it.
+  seg.half_length = std::clamp(std::sqrt(3.0 * l1), 0.5 * params_.resolution,
+                               0.75 * params_.resolution);
+  return seg;
+}
+
+Vec2 OccupancyGrid::ObstaclePosition(const Cell& c) const {
+  const std::size_t k = Index(c);
+  const Vec2 centre = CentreOf(c);
+  if (return_n_[k] == 0) return centre;
+  return centre + Vec2(return_dx_[k], return_dy_[k]) / static_cast<double>(return_n_[k]);
+}
+
+void OccupancyGrid::InsertPoints(const std::vector<Eigen::Vector3d>& points_M) {
+  // Per-batch counts, so that one dense scan counts as one observation of a cell.
+  std::vector<std::uint32_t> band(log_odds_.size(), 0), floor(log_odds_.size(), 0);
+  for (const auto& p : points_M) {
+    if (!p.allFinite()) continue;
+    const Cell c = CellOf(p.head<2>());
+    if (!Contains(c)) continue;
+    if (p.z() >= params_.obstacle_z_min && p.z() <= params_.obstacle_z_max) {
+      ++band[Index(c)];
+      AddReturn(c, p.head<2>());
+    } else if (std::abs(p.z()) <= params_.floor_z_max) {
+      ++floor[Index(c)];
+    }
+  }
+  for (std::size_t k = 0; k < log_odds_.size(); ++k) {
+    const Cell c{static_cast<int>(k % static_cast<std::size_t>(width_)),
+                 static_cast<int>(k / static_cast<std::size_t>(width_))};
+    if (band[k] >= static_cast<std::uint32_t>(params_.min_points_per_cell)) {
+      Add(c, params_.cloud_log_odds_hit);
+    } else if (band[k] == 0 && floor[k] > 0) {
+      Add(c, params_.cloud_log_odds_floor);
+    }
+  }
+}
+
+void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB) {
+  const Pose3 X_ML = X_MB.To3d() * scan.X_BL;
+  const Eigen::Vector3d o = X_ML.translation();
+  const Cell origin_cell = CellOf(o.head<2>());
+  const double range_cap = std::max(0.0, static_cast<double>(scan.range_max));
+  for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
+    const double r = scan.ranges[k];
+    if (!std::isfinite(r) || r < scan.range_min) continue;
+    const bool hit = r < scan.range_max;
+    if (!hit && !params_.clear_on_no_return) continue;
+    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
+    const double len = hit ? r : range_cap;
+    const Eigen::Vector3d p = X_ML * Eigen::Vector3d(len * std::cos(a), len * std::sin(a), 0.0);
+    const Cell end = CellOf(p.head<2>());
+    TraceLine(origin_cell, end, [&](const Cell& c) {
+      if (!Contains(c)) return;
+      if (c == end && hit) {
+        Add(c, params_.log_odds_hit);
+        AddReturn(c, p.head<2>());
+      } else if (!(c == end)) {
+        Add(c, params_.log_odds_miss);
+      }
+    });
+  }
+}
+
+void OccupancyGrid::SetState(const Cell& c, CellState state) {
+  if (!Contains(c)) return;
+  float& l = log_odds_[Index(c)];
+  switch (state) {
+    case CellState::kOccupied: l = static_cast<float>(params_.log_odds_max); break;
+    case CellState::kFree: l = static_cast<float>(params_.log_odds_min); break;
+    case CellState::kUnknown: l = 0.0f; break;
+  }
+}
+
+void OccupancyGrid::FillBox(const Vec2& lo, const Vec2& hi, CellState state) {
+  const Cell a = CellOf(lo), b = CellOf(hi);
+  for (int j = std::max(0, a.j); j <= std::min(height_ - 1, b.j); ++j) {
+    for (int i = std::max(0, a.i); i <= std::min(width_ - 1, b.i); ++i) {
+      const Vec2 c = CentreOf({i, j});
+      if ((c.array() >= lo.array()).all() && (c.array() <= hi.array()).all()) {
+        SetState({i, j}, state);
+      }
+    }
+  }
+}
+
+CellState OccupancyGrid::State(const Cell& c) const {
+  if (!Contains(c)) return CellState::kUnknown;
+  const float l = log_odds_[Index(c)];
+  if (l > l_occ_) return CellState::kOccupied;
+  if (l < l_free_) return CellState::kFree;
+  return CellState::kUnknown;
+}
+
+int OccupancyGrid::Count(CellState state) const {
+  int n = 0;
+  for (int j = 0; j < height_; ++j)
+    for (int i = 0; i < width_; ++i) n += State(Cell{i, j}) == state ? 1 : 0;
+  return n;
+}
+
+OccupancyGrid OccupancyGrid::Inflated(double radius, bool unknown_is_obstacle) const {
+  const DistanceField field(*this, unknown_is_obstacle);
+  OccupancyGrid out = *this;
+  for (int j = 0; j < height_; ++j) {
+    for (int i = 0; i < width_; ++i) {
+      const CellState s = State(Cell{i, j});
+      if (s == CellState::kOccupied) continue;
+      if (s == CellState::kUnknown && !unknown_is_obstacle) continue;
+      if (field.ClearanceOfCell(Cell{i, j}) < radius) out.SetState({i, j}, CellState::kOccupied);
+    }
+  }
+  return out;
+}
+
+// --- DistanceField ----------------------------------------------------------------------------
+
+DistanceField::DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle,
+                             double max_distance)
+    : origin_(grid.Origin()),
+      resolution_(grid.Resolution()),
+      width_(grid.Width()),
+      height_(grid.Height()),
+      max_distance_(max_distance) {
+  cv::Mat src(height_, width_, CV_8U);
+  free_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), 0);
+  bool any_obstacle = false;
+  for (int j = 0; j < height_; ++j) {
+    for (int i = 0; i < width_; ++i) {
+      const CellState s = grid.State(Cell{i, j});
+      const bool obstacle =
+          s == CellState::kOccupied || (unknown_is_obstacle && s == CellState::kUnknown);
+      src.at<std::uint8_t>(j, i) = obstacle ? 0 : 255;
+      free_[grid.Index({i, j})] = obstacle ? 0 : 1;
+      any_obstacle |= obstacle;
+    }
+  }
+  centre_distance_.assign(free_.size(), static_cast<float>(max_distance));
+  nearest_.assign(free_.size(), std::numeric_limits<std::uint32_t>::max());
+  if (!any_obstacle) return;
+  // Nearest obstacle cell of every cell (Voronoi labels; the 5x5 mask picks the nearest cell
+  // up to rare ties), then the segment of its returns.
+  {
+    cv::Mat approx, labels;
+    cv::distanceTransform(src, approx, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+    std::vector<std::uint32_t> label_segment;
+    for (int j = 0; j < height_; ++j) {
+      for (int i = 0; i < width_; ++i) {
+        if (src.at<std::uint8_t>(j, i) != 0) continue;
+        const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
+        if (label_segment.size() <= l) label_segment.resize(l + 1, std::numeric_limits<std::uint32_t>::max());
+        label_segment[l] = static_cast<std::uint32_t>(segments_.size());
+        segments_.push_back(grid.ObstacleSegment(Cell{i, j}));
+      }
+    }
+    for (int j = 0; j < height_; ++j) {
+      for (int i = 0; i < width_; ++i) {
+        const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
+        if (l < label_segment.size()) nearest_[static_cast<std::size_t>(j) * width_ + i] = label_segment[l];
+      }
+    }
+  }
+  cv::Mat dist;
+  cv::distanceTransform(src, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  for (int j = 0; j < height_; ++j) {
+    for (int i = 0; i < width_; ++i) {
+      const double d = static_cast<double>(dist.at<float>(j, i)) * resolution_;
+      centre_distance_[static_cast<std::size_t>(j) * width_ + i] =
+          static_cast<float>(std::min(d, max_distance));
+    }
+  }
+}
+
+Cell DistanceField::CellOf(const Vec2& p) const {
+  return {static_cast<int>(std::floor((p.x() - origin_.x()) / resolution_)),
+          static_cast<int>(std::floor((p.y() - origin_.y()) / resolution_))};
+}
+
+double DistanceField::ClearanceOfCell(const Cell& c) const {
+  if (c.i < 0 || c.j < 0 || c.i >= width_ || c.j >= height_) return 0.0;
+  const std::size_t k = static_cast<std::size_t>(c.j) * width_ + c.i;
+  if (!free_[k]) return 0.0;
+  return std::max(0.0, static_cast<double>(centre_distance_[k]) - 0.5 * resolution_);
+}
+
+double DistanceField::Clearance(const Vec2& p) const { return ClearanceOfCell(CellOf(p)); }
+
+bool DistanceField::IsFree(const Vec2& p, double radius) const {
+  const Cell c = CellOf(p);
+  if (c.i < 0 || c.j < 0 || c.i >= width_ || c.j >= height_) return false;
+  if (!free_[static_cast<std::size_t>(c.j) * width_ + c.i]) return false;
+  return ClearanceOfCell(c) >= radius;
+}
+
+double DistanceField::CentreDistance(const Vec2& p, double outside) const {
+  const double u = (p.x() - origin_.x()) / resolution_ - 0.5;
+  const double v = (p.y() - origin_.y()) / resolution_ - 0.5;
+  if (!(u > -0.5 && v > -0.5 && u < width_ - 0.5 && v < height_ - 0.5)) return outside;
+  const int i0 = std::clamp(static_cast<int>(std::floor(u)), 0, width_ - 1);
+  const int j0 = std::clamp(static_cast<int>(std::floor(v)), 0, height_ - 1);
+  const int i1 = std::min(i0 + 1, width_ - 1), j1 = std::min(j0 + 1, height_ - 1);
+  const double fu = std::clamp(u - i0, 0.0, 1.0), fv = std::clamp(v - j0, 0.0, 1.0);
+  auto at = [&](int i, int j) {
+    return static_cast<double>(centre_distance_[static_cast<std::size_t>(j) * width_ + i]);
+  };
+  return (1 - fv) * ((1 - fu) * at(i0, j0) + fu * at(i1, j0)) +
+         fv * ((1 - fu) * at(i0, j1) + fu * at(i1, j1));
+}
+
+double DistanceField::ObstacleDistance(const Vec2& p, double outside) const {
+  const Cell c = CellOf(p);
+  if (c.i < 0 || c.j < 0 || c.i >= width_ || c.j >= height_) return outside;
+  // The nearest-cell labels are exact only up to ties and to where in its cell p lies: take
+  // the best of the segments labelled in the 3x3 neighbourhood.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::uint32_t seen[9];
+  int n_seen = 0;
+  double best = max_distance_;
+  for (int dj = -1; dj <= 1; ++dj) {
+    for (int di = -1; di <= 1; ++di) {
+      const int i = c.i + di, j = c.j + dj;
+      if (i < 0 || j < 0 || i >= width_ || j >= height_) continue;
+      const std::uint32_t n = nearest_[static_cast<std::size_t>(j) * width_ + i];
+      if (n == kNone || std::find(seen, seen + n_seen, n) != seen + n_seen) continue;
+      seen[n_seen++] = n;
+      const auto& seg = segments_[n];
+      const Vec2 v = p - seg.centre;
+      const double along = seg.direction.dot(v);
+      const double perp = seg.direction.x() * v.y() - seg.direction.y() * v.x();
+      const double excess = std::max(0.0, std::abs(along) - seg.half_length);
+      best = std::min(best, std::sqrt(perp * perp + excess * excess));
+    }
+  }
+  return best;
+}
+
+// --- map_server I/O ---------------------------------------------------------------------------
+
+void WriteMap(const OccupancyGrid& grid, const std::string& yaml_path) {
+  namespace fs = std::filesystem;
+  const fs::path yaml(yaml_path);
+  fs::path png = yaml;
+  png.replace_extension(".png");
+  cv::Mat img(grid.Height(), grid.Width(), CV_8U);
+  for (int j = 0; j < grid.Height(); ++j) {
+    for (int i = 0; i < grid.Width(); ++i) {
+      std::uint8_t v = 205;
+      switch (grid.State(Cell{i, j})) {
+        case CellState::kFree: v = 254; break;
+        case CellState::kOccupied: v = 0; break;
+        case CellState::kUnknown: v = 205; break;
+      }
+      img.at<std::uint8_t>(grid.Height() - 1 - j, i) = v;  // top row = highest y
+    }
+  }
+  bool ok = false;
+  try {
+    ok = cv::imwrite(png.string(), img);
+  } catch (const cv::Exception& e) {
+    throw InputError(png.string(), "cannot write map image", e.what());
+  }
+  if (!ok) throw InputError(png.string(), "cannot write map image");
+  std::ofstream out(yaml);
+  if (!out) throw InputError(yaml.string(), "cannot write map YAML");
+  const auto& p = grid.Params();
+  out << std::setprecision(17);
+  out << "image: " << png.filename().string() << "\n"
+      << "mode: trinary\n"
+      << "resolution: " << grid.Resolution() << "\n"
+      << "origin: [" << grid.Origin().x() << ", " << grid.Origin().y() << ", 0.0]\n"
+      << "negate: 0\n"
+      << "occupied_thresh: " << p.occupied_thresh << "\n"
+      << "free_thresh: " << p.free_thresh << "\n";
+  if (!out) throw InputError(yaml.string(), "cannot write map YAML");
+}
+
+OccupancyGrid ReadMap(const std::string& yaml_path, const OccupancyGridParams& params) {
+  namespace fs = std::filesystem;
+  const YAML::Node root = LoadYamlFile(yaml_path);
+  if (!root.IsMap()) throw InputError(YamlWhere(yaml_path, root), "map YAML must be a map");
+  RejectUnknownKeys(root,
+                    {"image", "mode", "resolution", "origin", "negate", "occupied_thresh",
+                     "free_thresh"},
+                    yaml_path, "");
+  auto need = [&](const char* key) {
+    const YAML::Node n = root[key];
+    if (!n) throw InputError(yaml_path, std::string("map YAML lacks '") + key + "'");
+    return n;
+  };
+  auto number = [&](const char* key) {
+    const YAML::Node n = need(key);
+    try {
+      return n.as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(YamlWhere(yaml_path, n), std::string("wrong type for '") + key + "'",
+                       n.IsScalar() ? "'" + n.Scalar() + "'" : "not a scalar", "a number");
+    }
+  };
+  OccupancyGridParams p = params;
+  p.resolution = number("resolution");
+  p.occupied_thresh = number("occupied_thresh");
+  p.free_thresh = number("free_thresh");
+  const double negate = number("negate");
+  if (negate != 0.0 && negate != 1.0) {
+    throw InputError(YamlWhere(yaml_path, root["negate"]), "'negate' must be 0 or 1",
+                     std::to_string(negate), "0 or 1");
+  }
+  if (root["mode"]) {
+    const std::string mode = root["mode"].as<std::string>("");
+    if (mode != "trinary" && mode != "scale") {
+      throw InputError(YamlWhere(yaml_path, root["mode"]), "unsupported map mode", mode,
+                       "trinary or scale");
+    }
+  }
+  const YAML::Node origin = need("origin");
+  if (!origin.IsSequence() || origin.size() != 3) {
+    throw InputError(YamlWhere(yaml_path, origin), "'origin' must be [x, y, yaw]", "",
+                     "a sequence of 3 numbers");
+  }
+  double o[3];
+  for (int k = 0; k < 3; ++k) {
+    try {
+      o[k] = origin[k].as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(YamlWhere(yaml_path, origin), "'origin' must hold numbers");
+    }
+  }
+  if (o[2] != 0.0) {
+    throw InputError(YamlWhere(yaml_path, origin), "rotated maps are not supported",
+                     std::to_string(o[2]), "origin yaw 0");
+  }
+  try {
+    p.Validate();
+  } catch (const InputError& e) {
+    throw InputError(yaml_path + ": " + e.what());
+  }
+  const YAML::Node image = need("image");
+  fs::path png(image.as<std::string>(""));
+  if (png.empty()) throw InputError(YamlWhere(yaml_path, image), "'image' must be a file name");
+  if (png.is_relative()) png = fs::path(yaml_path).parent_path() / png;
+  const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
+  if (img.empty()) {
+    throw InputError(YamlWhere(yaml_path, image), "cannot read map image", png.string(),
+                     "a readable PNG/PGM");
+  }
+  OccupancyGrid grid(p, Vec2(o[0], o[1]), img.cols, img.rows);
+  for (int r = 0; r < img.rows; ++r) {
+    for (int i = 0; i < img.cols; ++i) {
+      const double v = img.at<std::uint8_t>(r, i);
+      const double occ = negate != 0.0 ? v / 255.0 : (255.0 - v) / 255.0;
+      const Cell c{i, img.rows - 1 - r};
+      if (occ > p.occupied_thresh) {
+        grid.SetState(c, CellState::kOccupied);
+      } else if (occ < p.free_thresh) {
+        grid.SetState(c, CellState::kFree);
+      }
+    }
+  }
+  return grid;
+}
+
+}  // namespace mopad::perception

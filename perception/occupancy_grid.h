@@ -1,0 +1,207 @@
+#pragma once
+// The robot's 2D obstacle map (paper §3.1 step (2): "the robot obtains an obstacle map from the
+// previously acquired point cloud"; issue 4, item 3).
+//
+// A log-odds occupancy grid in the map frame (REP-105 `map`, Z up, floor at z = 0): built from
+// a height band of the robot's own registered 3D points and updated by LRF scans (Bresenham ray
+// tracing of free space, Probabilistic Robotics ch. 9, Thrun/Burgard/Fox 2005). Cell (i, j) —
+// column i along +x, row j along +y — covers [origin + (i, j) * resolution, + resolution).
+// Cells start unknown (log-odds 0). A cell is occupied when its probability exceeds
+// `occupied_thresh`, free below `free_thresh`, unknown between (ROS map_server semantics).
+//
+// DistanceField turns a grid into clearances (Euclidean distance transform), used for
+// inflation by the footprint radius, the planner's validity checks and AMCL's likelihood field.
+// Maps are written and read as PNG + YAML in ROS map_server conventions (ReadMap/WriteMap).
+// Not thread-safe for concurrent writes; const queries may run concurrently.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/frames.h"
+#include "common/params.h"
+#include "interfaces/lrf_scan.h"
+
+namespace mopad::perception {
+
+enum class CellState : std::uint8_t { kUnknown = 0, kFree = 1, kOccupied = 2 };
+
+struct OccupancyGridParams {
+  double resolution = 0.05;      ///< m per cell, [0.005, 1]
+  double obstacle_z_min = 0.08;  ///< m, lower edge of the obstacle band (map z), [-1, 5]
+  double obstacle_z_max = 1.90;  ///< m, upper edge of the obstacle band (map z), [-1, 10]
+  double floor_z_max = 0.04;     ///< m, points with |z| <= this are floor: free evidence, [0, 0.5]
+  int min_points_per_cell = 2;   ///< obstacle points of one batch needed to mark a cell, [1, 1000]
+  double log_odds_hit = 0.85;    ///< added to a cell with an obstacle return, (0, 10]
+  double log_odds_miss = -0.4;   ///< added to a cell a beam passed through, [-10, 0)
+  double log_odds_min = -2.0;    ///< clamp (keeps the map able to change), [-20, 0)
+  double log_odds_max = 3.5;     ///< clamp, (0, 20]
+  double occupied_thresh = 0.65; ///< probability above which a cell is occupied, (0.5, 1)
+  double free_thresh = 0.196;    ///< probability below which a cell is free, (0, 0.5)
+  double cloud_log_odds_hit = 2.0;    ///< InsertPoints: added to a cell with band points, (0, 20]
+  double cloud_log_odds_floor = -2.0; ///< InsertPoints: added to a floor-only cell, [-20, 0)
+  bool clear_on_no_return = false;  ///< LRF: trace free space along no-return beams
+
+  template <class V>
+  void Visit(V& v) {
+    v("resolution", resolution, Bounds{0.005, 1.0});
+    v("obstacle_z_min", obstacle_z_min, Bounds{-1.0, 5.0});
+    v("obstacle_z_max", obstacle_z_max, Bounds{-1.0, 10.0});
+    v("floor_z_max", floor_z_max, Bounds{0.0, 0.5});
+    v("min_points_per_cell", min_points_per_cell, Bounds{1, 1000});
+    v("log_odds_hit", log_odds_hit, Bounds{1e-6, 10.0});
+    v("log_odds_miss", log_odds_miss, Bounds{-10.0, -1e-6});
+    v("log_odds_min", log_odds_min, Bounds{-20.0, -1e-6});
+    v("log_odds_max", log_odds_max, Bounds{1e-6, 20.0});
+    v("occupied_thresh", occupied_thresh, Bounds{0.5 + 1e-6, 1.0 - 1e-6});
+    v("free_thresh", free_thresh, Bounds{1e-6, 0.5 - 1e-6});
+    v("cloud_log_odds_hit", cloud_log_odds_hit, Bounds{1e-6, 20.0});
+    v("cloud_log_odds_floor", cloud_log_odds_floor, Bounds{-20.0, -1e-6});
+    v("clear_on_no_return", clear_on_no_return);
+  }
+  /// ValidateParams plus cross-field checks (band order); throws InputError.
+  void Validate() const;
+};
+
+/// Integer cell index; (0, 0) is the cell at the origin (lower-left).
+struct Cell {
+  int i = 0;  ///< column, along +x
+  int j = 0;  ///< row, along +y
+  bool operator==(const Cell&) const = default;
+};
+
+class OccupancyGrid {
+ public:
+  /// An all-unknown grid of width x height cells whose lower-left corner is `origin` (map, m).
+  OccupancyGrid(const OccupancyGridParams& params, const Vec2& origin, int width, int height);
+  /// A grid covering the x-y extent of `points_M` plus `margin` (m) on every side.
+  static OccupancyGrid Covering(const OccupancyGridParams& params,
+                                const std::vector<Eigen::Vector3d>& points_M, double margin);
+  OccupancyGrid(const OccupancyGrid&) = default;
+  OccupancyGrid& operator=(const OccupancyGrid&) = default;
+  OccupancyGrid(OccupancyGrid&&) noexcept = default;
+  OccupancyGrid& operator=(OccupancyGrid&&) noexcept = default;
+
+  // Geometry.
+  const OccupancyGridParams& Params() const { return params_; }
+  double Resolution() const { return params_.resolution; }
+  const Vec2& Origin() const { return origin_; }
+  int Width() const { return width_; }
+  int Height() const { return height_; }
+  bool Contains(const Cell& c) const { return c.i >= 0 && c.j >= 0 && c.i < width_ && c.j < height_; }
+  Cell CellOf(const Vec2& p_M) const;
+  Vec2 CentreOf(const Cell& c) const;
+  std::size_t Index(const Cell& c) const {
+    return static_cast<std::size_t>(c.j) * static_cast<std::size_t>(width_) +
+           static_cast<std::size_t>(c.i);
+  }
+
+  // Updates.
+  /// Adds a batch of 3D points (map frame, m), e.g. one registered TLS scan: a cell with at
+  /// least `min_points_per_cell` points in the obstacle band gains `cloud_log_odds_hit` once; a
+  /// cell with floor points and no band points gains `cloud_log_odds_floor` once. Points outside
+  /// the grid are ignored.
+  void InsertPoints(const std::vector<Eigen::Vector3d>& points_M);
+  /// Ray-traces one LRF scan taken with the base at `X_MB` (map frame): cells along each beam
+  /// become freer, the end cell of each return more occupied. Beams outside the grid are clipped.
+  void InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB);
+  /// Sets a cell's state directly (maps drawn in code, closing a door in a test).
+  void SetState(const Cell& c, CellState state);
+  /// Marks every cell whose centre lies in the axis-aligned box [lo, hi] (map, m).
+  void FillBox(const Vec2& lo, const Vec2& hi, CellState state);
+
+  // Queries.
+  CellState State(const Cell& c) const;  ///< kUnknown outside the grid
+  CellState StateAt(const Vec2& p_M) const { return State(CellOf(p_M)); }
+  bool IsFree(const Vec2& p_M) const { return StateAt(p_M) == CellState::kFree; }
+  bool IsOccupied(const Vec2& p_M) const { return StateAt(p_M) == CellState::kOccupied; }
+  float LogOdds(const Cell& c) const { return log_odds_[Index(c)]; }
+  /// Mean position (map, m) of the obstacle returns that fell into the cell (band points and
+  /// LRF hits), or its centre if none did (e.g. maps read from PNG). Sub-cell obstacle
+  /// positions keep the likelihood field free of the half-cell bias a 5 cm grid would add.
+  Vec2 ObstaclePosition(const Cell& c) const;
+  /// The returns of a cell as a short segment: centre (map, m), unit direction and half
+  /// length (m). When the returns are not line-like (fewer than 3, or the smaller principal
+  /// spread above 10 % of the larger) the half length is 0: a point.
+  struct ReturnSegment {
+    Vec2 centre = Vec2::Zero();
+    Vec2 direction = Vec2::UnitX();
+    double half_length = 0.0;
+  };
+  ReturnSegment ObstacleSegment(const Cell& c) const;
+  const std::vector<float>& LogOddsData() const { return log_odds_; }
+  /// A copy in which every cell within `radius` (m) of an occupied cell (and of an unknown
+  /// one if `unknown_is_obstacle`) is occupied: the map inflated by the footprint.
+  OccupancyGrid Inflated(double radius, bool unknown_is_obstacle) const;
+  /// Counts of cells per state (for summaries and tests).
+  int Count(CellState state) const;
+
+ private:
+  void Add(const Cell& c, double delta);
+  void AddReturn(const Cell& c, const Vec2& p);
+  OccupancyGridParams params_;
+  Vec2 origin_;
+  int width_ = 0, height_ = 0;
+  float l_occ_ = 0.0f, l_free_ = 0.0f;  // log-odds thresholds
+  std::vector<float> log_odds_;
+  std::vector<float> return_dx_, return_dy_;  // sums of return offsets from the cell centre, m
+  std::vector<float> return_xx_, return_xy_, return_yy_;  // sums of their products, m^2
+  std::vector<std::uint32_t> return_n_;
+};
+
+/// Clearance of every cell: distance (m) from its centre to the boundary of the nearest
+/// obstacle cell, i.e. the centre-to-centre Euclidean distance minus half a cell (exact
+/// Euclidean distance transform, OpenCV DIST_MASK_PRECISE). 0 on obstacle cells and outside
+/// the grid; capped at `max_distance`.
+class DistanceField {
+ public:
+  /// Obstacles are occupied cells, plus unknown cells if `unknown_is_obstacle`.
+  DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle,
+                double max_distance = 1e9);
+  DistanceField(const DistanceField&) = default;
+  DistanceField& operator=(const DistanceField&) = default;
+  DistanceField(DistanceField&&) noexcept = default;
+  DistanceField& operator=(DistanceField&&) noexcept = default;
+
+  /// Clearance of the cell containing `p_M` (m); 0 outside.
+  double Clearance(const Vec2& p_M) const;
+  /// Bilinear interpolation between cell centres of the centre-to-centre distance (m; not
+  /// reduced by half a cell). `outside` is returned beyond the grid.
+  double CentreDistance(const Vec2& p_M, double outside) const;
+  /// Distance (m) from `p_M` to the returns of the obstacle cell nearest to p's cell (the
+  /// segment of OccupancyGrid::ObstacleSegment: a wall's returns give a short line, so the
+  /// distance is perpendicular to the wall), capped at `max_distance` — the field AMCL's
+  /// likelihood model uses. `outside` is returned beyond the grid.
+  double ObstacleDistance(const Vec2& p_M, double outside) const;
+  /// True if the cell is known free (not an obstacle) and its clearance is >= `radius`.
+  bool IsFree(const Vec2& p_M, double radius) const;
+  double ClearanceOfCell(const Cell& c) const;  ///< m; 0 outside or on obstacles
+  const Vec2& Origin() const { return origin_; }
+  double Resolution() const { return resolution_; }
+  int Width() const { return width_; }
+  int Height() const { return height_; }
+  Cell CellOf(const Vec2& p_M) const;
+
+ private:
+  Vec2 origin_;
+  double resolution_ = 0.0;
+  int width_ = 0, height_ = 0;
+  double max_distance_ = 0.0;
+  std::vector<float> centre_distance_;  // m, centre to nearest obstacle centre
+  std::vector<std::uint32_t> nearest_;  // per cell: index into segments_ (UINT32_MAX = none)
+  std::vector<OccupancyGrid::ReturnSegment> segments_;
+  std::vector<std::uint8_t> free_;      // known free (for IsFree)
+};
+
+/// Writes `yaml_path` and the PNG beside it (same stem), ROS map_server "trinary" convention:
+/// free 254, occupied 0, unknown 205, top image row = highest y, origin [x, y, 0], negate 0.
+/// Throws InputError if a file cannot be written.
+void WriteMap(const OccupancyGrid& grid, const std::string& yaml_path);
+/// Reads a map_server YAML + image (path relative to the YAML). Pixels are classified with the
+/// file's occupied/free thresholds and `negate`; cells get log-odds at the clamps (or 0).
+/// `params` supplies everything the file does not (the file's resolution wins). Throws
+/// InputError with file:line for malformed files, a non-zero yaw, or an unsupported mode.
+OccupancyGrid ReadMap(const std::string& yaml_path, const OccupancyGridParams& params = {});
+
+}  // namespace mopad::perception

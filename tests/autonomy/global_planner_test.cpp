@@ -1,0 +1,129 @@
+// Global planner: OMPL RRT* over the obstacle map with clearance, exact unreachability,
+// determinism for a seed (issue 4, item 5).
+#include "autonomy/global_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "common/error.h"
+#include "tests/perception/synthetic_world.h"
+
+namespace mopad::autonomy {
+namespace {
+
+using perception::DistanceField;
+using perception::OccupancyGrid;
+
+const OccupancyGrid& OpenMap() {
+  static const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms(false));
+  return g;
+}
+
+/// Minimum clearance along the whole polyline, sampled every centimetre, by our own field.
+double PathClearance(const GlobalPlan& plan, const OccupancyGrid& map) {
+  const DistanceField f(map, true);
+  double c = 1e9;
+  for (std::size_t k = 0; k + 1 < plan.path.size(); ++k) {
+    const Vec2 a(plan.path[k].pose.x, plan.path[k].pose.y);
+    const Vec2 b(plan.path[k + 1].pose.x, plan.path[k + 1].pose.y);
+    const int n = std::max(1, static_cast<int>((b - a).norm() / 0.01));
+    for (int q = 0; q <= n; ++q) c = std::min(c, f.Clearance(Vec2(a + (b - a) * (double(q) / n))));
+  }
+  return c;
+}
+
+TEST(GlobalPlanner, FindsAPathThroughTheDoorGapWithRobotRadiusClearance) {
+  GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, 1);
+  const Pose2 start{2.0, 3.8, 0.0}, goal{8.0, 2.0, kPi / 2};
+  const GlobalPlan plan = planner.Plan(start, goal);
+  ASSERT_TRUE(plan.ok()) << plan.message;
+  std::printf("[ PLANNER  ] %s\n", plan.message.c_str());
+  const double r = GlobalPlannerParams{}.robot_radius;
+  EXPECT_GE(PathClearance(plan, OpenMap()), r - 1e-9);
+  EXPECT_GE(plan.min_clearance, r);
+  // Crosses the partition through the gap, near its middle (clearance-weighted objective).
+  bool crossed = false;
+  for (std::size_t k = 0; k + 1 < plan.path.size(); ++k) {
+    const auto& a = plan.path[k].pose;
+    const auto& b = plan.path[k + 1].pose;
+    if ((a.x - 5.0) * (b.x - 5.0) <= 0.0) {
+      crossed = true;
+      EXPECT_NEAR(0.5 * (a.y + b.y), 3.0, 0.1);
+    }
+  }
+  EXPECT_TRUE(crossed);
+  EXPECT_NEAR(plan.path.front().pose.x, start.x, 1e-9);
+  EXPECT_NEAR(plan.path.back().pose.x, goal.x, 1e-9);
+  EXPECT_NEAR(plan.path.back().pose.yaw, goal.yaw, 1e-12);
+  for (std::size_t k = 0; k + 1 < plan.path.size(); ++k) {
+    const double d = std::hypot(plan.path[k + 1].pose.x - plan.path[k].pose.x,
+                                plan.path[k + 1].pose.y - plan.path[k].pose.y);
+    EXPECT_LE(d, GlobalPlannerParams{}.waypoint_spacing + 1e-9);
+  }
+  EXPECT_LT(plan.length, 1.3 * (std::hypot(3.0, 0.8) + std::hypot(3.0, 1.0)));
+  EXPECT_NEAR(plan.path.back().s, plan.length, 1e-9);
+}
+
+TEST(GlobalPlanner, ReportsUnreachableWhenTheDoorIsClosed) {
+  const OccupancyGrid closed = testing::BuildGrid(testing::TwoRooms(true));
+  GlobalPlanner planner(closed, GlobalPlannerParams{}, 1);
+  const GlobalPlan plan = planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
+  EXPECT_EQ(plan.status, PlanStatus::kUnreachable) << plan.message;
+  EXPECT_NE(plan.message.find("not connected"), std::string::npos) << plan.message;
+  EXPECT_TRUE(plan.path.empty());
+  EXPECT_EQ(plan.iterations, 0);  // decided before sampling
+  // The same map still plans within the room.
+  EXPECT_TRUE(planner.Plan({2.0, 3.8, 0.0}, {3.5, 1.9, 0.0}).ok());
+}
+
+TEST(GlobalPlanner, ObstaclesAddedFromTheLrfCloseTheDoor) {
+  GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, 1);
+  std::vector<Vec2> leaf;
+  for (double y = 2.55; y <= 3.45; y += 0.02) leaf.emplace_back(5.0, y);
+  planner.AddObstacles(leaf);
+  EXPECT_EQ(planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0}).status, PlanStatus::kUnreachable);
+}
+
+TEST(GlobalPlanner, SameSeedSamePathBytes) {
+  auto run = [](std::uint64_t seed) {
+    GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, seed);
+    planner.Plan({1.0, 2.0, 0.0}, {3.5, 5.0, 0.0});  // a first query, as in a mission
+    const GlobalPlan plan = planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
+    std::vector<double> v;
+    for (const auto& p : plan.path) v.insert(v.end(), {p.pose.x, p.pose.y, p.pose.yaw, p.s});
+    return v;
+  };
+  const auto a = run(5), b = run(5);
+  ASSERT_FALSE(a.empty());
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
+}
+
+TEST(GlobalPlanner, ExplainsInvalidStartsAndGoals) {
+  GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, 1);
+  auto goal_in_wall = planner.Plan({2.0, 3.8, 0.0}, {4.96, 1.0, 0.0});
+  EXPECT_EQ(goal_in_wall.status, PlanStatus::kGoalInvalid);
+  EXPECT_NE(goal_in_wall.message.find("goal"), std::string::npos);
+  auto goal_near_wall = planner.Plan({2.0, 3.8, 0.0}, {0.2, 3.0, 0.0});
+  EXPECT_EQ(goal_near_wall.status, PlanStatus::kGoalInvalid);
+  EXPECT_EQ(planner.Plan({-3.0, 3.0, 0.0}, {2.0, 3.0, 0.0}).status, PlanStatus::kStartInvalid);
+  EXPECT_EQ(planner.Plan({0.05, 3.0, 0.0}, {2.0, 3.0, 0.0}).status, PlanStatus::kStartInvalid);
+  // A start ~0.2 m from the wall (inside the 0.3 m margin) is led out and planned.
+  const GlobalPlan lead_out = planner.Plan({0.25, 3.0, 0.0}, {3.0, 3.0, 0.0});
+  EXPECT_TRUE(lead_out.ok()) << lead_out.message;
+}
+
+TEST(GlobalPlanner, ParamsRoundTripAndValidation) {
+  GlobalPlannerParams p;
+  p.robot_radius = 0.35;
+  EXPECT_EQ(LoadParams<GlobalPlannerParams>(SaveParams(p), "p.yaml").robot_radius, 0.35);
+  GlobalPlannerParams bad;
+  bad.min_start_clearance = 0.5;
+  EXPECT_THROW(bad.Validate(), InputError);
+  EXPECT_THROW(GlobalPlanner(OpenMap(), bad, 0), InputError);
+}
+
+}  // namespace
+}  // namespace mopad::autonomy

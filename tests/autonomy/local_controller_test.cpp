@@ -1,0 +1,316 @@
+// Local controller on a unicycle simulated in the test, with the base LRF ray cast against the
+// test's own boxes (which may hold obstacles the robot's map lacks) (issue 4, item 5).
+#include "autonomy/local_controller.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <functional>
+#include <set>
+
+#include "common/error.h"
+#include "perception/amcl.h"
+#include "tests/perception/synthetic_world.h"
+
+namespace mopad::autonomy {
+namespace {
+
+using perception::LocalisationStatus;
+using testing::Box2;
+
+/// True if the 0.6 m x 0.5 m footprint at `p` overlaps a box (perimeter sampled every 1 cm,
+/// plus box corners inside the footprint).
+bool FootprintHits(const Pose2& p, const std::vector<Box2>& boxes) {
+  const double hx = 0.3, hy = 0.25, c = std::cos(p.yaw), s = std::sin(p.yaw);
+  auto inside_box = [&](const Vec2& q) {
+    for (const auto& b : boxes)
+      if (q.x() > b.lo.x() && q.x() < b.hi.x() && q.y() > b.lo.y() && q.y() < b.hi.y()) return true;
+    return false;
+  };
+  for (double u = -1.0; u <= 1.0; u += 0.01 / hx) {
+    for (const Vec2& l : {Vec2(u * hx, hy), Vec2(u * hx, -hy), Vec2(hx, u * hy), Vec2(-hx, u * hy)}) {
+      if (inside_box(Vec2(p.x + c * l.x() - s * l.y(), p.y + s * l.x() + c * l.y()))) return true;
+    }
+  }
+  for (const auto& b : boxes) {
+    for (const Vec2& q : {b.lo, b.hi, Vec2(b.lo.x(), b.hi.y()), Vec2(b.hi.x(), b.lo.y())}) {
+      const Vec2 d = q - Vec2(p.x, p.y);
+      if (std::abs(c * d.x() + s * d.y()) < hx && std::abs(-s * d.x() + c * d.y()) < hy) return true;
+    }
+  }
+  return false;
+}
+
+struct RunResult {
+  ControlOutput last;
+  Pose2 final_pose;
+  double time = 0.0;
+  std::set<NavStatus> seen;
+  bool collided = false;
+  int replans = 0;
+  std::vector<std::string> log;  // status changes
+};
+
+struct Scenario {
+  std::vector<Box2> world = testing::TwoRooms();  // the truth the LRF sees
+  std::vector<Box2> map_boxes = testing::TwoRooms();  // what the robot's map was built from
+  Pose2 start{2.0, 3.8, 0.0};
+  Pose2 goal{8.0, 2.0, kPi / 2};
+  LocalControllerParams params;
+  bool replanner = true;
+  double max_time = 120.0;
+  /// Called every step before sensing; may edit the world, mark the base stuck, change the
+  /// localisation status.
+  std::function<void(double t, const Pose2& pose, std::vector<Box2>& world, bool& stuck,
+                     LocalisationStatus& loc)>
+      events;
+};
+
+RunResult Drive(Scenario sc) {
+  RunResult r;
+  const perception::OccupancyGrid map = testing::BuildGrid(sc.map_boxes);
+  GlobalPlanner planner(map, GlobalPlannerParams{}, 7);
+  const GlobalPlan plan = planner.Plan(sc.start, sc.goal);
+  EXPECT_TRUE(plan.ok()) << plan.message;
+  if (!plan.ok()) return r;
+  LocalController ctl(sc.params);
+  ctl.SetPlan(plan);
+  if (sc.replanner) {
+    ctl.SetReplanner([&](const Pose2& from, const std::vector<Vec2>& obstacles) {
+      ++r.replans;
+      planner.AddObstacles(obstacles);
+      return planner.Plan(from, sc.goal);
+    });
+  }
+  Pose2 pose = sc.start;
+  double v = 0.0, w = 0.0;
+  const double dt = 0.05;
+  bool stuck = false;
+  LocalisationStatus loc = LocalisationStatus::kLocalised;
+  NavStatus prev = NavStatus::kIdle;
+  for (int k = 0; k * dt < sc.max_time; ++k) {
+    const double t = k * dt;
+    if (sc.events) sc.events(t, pose, sc.world, stuck, loc);
+    const auto scan = testing::SimulateScan(sc.world, pose, 3, static_cast<std::uint64_t>(k), 0.005);
+    r.last = ctl.Update(t, pose, loc, scan);
+    r.seen.insert(r.last.status);
+    if (r.last.status != prev) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "t=%.2f (%.2f, %.2f): ", t, pose.x, pose.y);
+      r.log.push_back(buf + std::string(ToString(r.last.status)) + " - " + r.last.message);
+      prev = r.last.status;
+    }
+    r.time = t;
+    if (r.last.finished) break;
+    // The unicycle: acceleration-limited, exact arcs; a stuck base does not move.
+    v += std::clamp(r.last.cmd.v - v, -1.0 * dt, 1.0 * dt);
+    w += std::clamp(r.last.cmd.w - w, -3.0 * dt, 3.0 * dt);
+    if (stuck) {
+      v = w = 0.0;
+    } else {
+      const double th = w * dt;
+      pose.x += v * dt * std::cos(pose.yaw + 0.5 * th);
+      pose.y += v * dt * std::sin(pose.yaw + 0.5 * th);
+      pose.yaw = WrapAngle(pose.yaw + th);
+    }
+    r.collided |= FootprintHits(pose, sc.world);
+  }
+  r.final_pose = pose;
+  return r;
+}
+
+void PrintLog(const RunResult& r) {
+  for (const auto& l : r.log) std::printf("    %s\n", l.c_str());
+}
+
+TEST(LocalController, ReachesTheGoalThroughTheDoorWithinTolerance) {
+  const RunResult r = Drive(Scenario{});
+  const Scenario sc;
+  const double exy = std::hypot(r.final_pose.x - sc.goal.x, r.final_pose.y - sc.goal.y);
+  const double eyaw = std::abs(WrapAngle(r.final_pose.yaw - sc.goal.yaw));
+  std::printf("[ CONTROL  ] arrived in %.1f s: %.1f mm, %.2f deg from the goal\n", r.time,
+              1000 * exy, RadToDeg(eyaw));
+  EXPECT_EQ(r.last.status, NavStatus::kArrived) << r.last.message;
+  EXPECT_TRUE(r.last.finished);
+  EXPECT_LT(exy, 0.10);
+  EXPECT_LT(eyaw, DegToRad(5.0));
+  EXPECT_FALSE(r.collided);
+  EXPECT_TRUE(r.seen.count(NavStatus::kDoorPassage)) << "door-passage mode never engaged";
+  EXPECT_FALSE(r.seen.count(NavStatus::kBlocked));
+  EXPECT_FALSE(r.seen.count(NavStatus::kRecovering));
+  if (HasFailure()) PrintLog(r);
+}
+
+TEST(LocalController, StopsBlockedWhenAnUnmappedObstacleAppearsInTheLrf) {
+  Scenario sc;
+  sc.params.blocked_wait = 500.0;  // wait, do not recover
+  sc.replanner = false;
+  sc.max_time = 12.0;
+  bool placed = false;
+  sc.events = [&](double t, const Pose2& p, std::vector<Box2>& world, bool&, LocalisationStatus&) {
+    if (!placed && t >= 2.0) {  // a person steps in front of the base
+      placed = true;
+      const Vec2 c(p.x + 0.9 * std::cos(p.yaw), p.y + 0.9 * std::sin(p.yaw));
+      world.push_back({c - Vec2(0.15, 0.15), c + Vec2(0.15, 0.15)});
+    }
+  };
+  const RunResult r = Drive(sc);
+  EXPECT_EQ(r.last.status, NavStatus::kBlocked) << r.last.message;
+  EXPECT_FALSE(r.last.finished);
+  EXPECT_EQ(r.last.cmd.v, 0.0);
+  EXPECT_NE(r.last.message.find("not in the map"), std::string::npos) << r.last.message;
+  EXPECT_FALSE(r.collided);
+  std::printf("[ CONTROL  ] %s\n", r.last.message.c_str());
+  if (HasFailure()) PrintLog(r);
+}
+
+TEST(LocalController, RecoversAndReplansAroundAPermanentUnmappedObstacle) {
+  Scenario sc;
+  sc.world.push_back({{3.2, 2.0}, {3.5, 4.6}});  // a cabinet moved in after the map was made
+  const RunResult r = Drive(sc);
+  std::printf("[ CONTROL  ] %s after %d replans, %.1f s\n", ToString(r.last.status), r.replans, r.time);
+  EXPECT_EQ(r.last.status, NavStatus::kArrived) << r.last.message;
+  EXPECT_TRUE(r.seen.count(NavStatus::kBlocked));
+  EXPECT_TRUE(r.seen.count(NavStatus::kRecovering));
+  EXPECT_GE(r.replans, 1);
+  EXPECT_FALSE(r.collided);
+  if (HasFailure()) PrintLog(r);
+}
+
+TEST(LocalController, EndsUnreachableWhenAnUnmappedLeafClosesTheOnlyDoor) {
+  Scenario sc;
+  sc.world.push_back({{4.97, 2.55}, {5.03, 3.45}});  // closed leaf, absent from the map
+  const RunResult r = Drive(sc);
+  std::printf("[ CONTROL  ] %s at t=%.1f s: %s\n", ToString(r.last.status), r.time, r.last.message.c_str());
+  EXPECT_EQ(r.last.status, NavStatus::kUnreachable) << r.last.message;
+  EXPECT_TRUE(r.last.finished);
+  EXPECT_NE(r.last.message.find("not connected"), std::string::npos);
+  EXPECT_FALSE(r.collided);
+  EXPECT_LT(r.time, 60.0);
+  if (HasFailure()) PrintLog(r);
+}
+
+TEST(LocalController, NoProgressTriggersRecoveryThenItArrives) {
+  Scenario sc;
+  sc.events = [](double t, const Pose2&, std::vector<Box2>&, bool& stuck, LocalisationStatus&) {
+    stuck = t >= 3.0 && t < 9.0;  // wheels caught on a cable for 6 s
+  };
+  const RunResult r = Drive(sc);
+  EXPECT_TRUE(r.seen.count(NavStatus::kRecovering));
+  bool said_stuck = false;
+  for (const auto& l : r.log) said_stuck |= l.find("stuck") != std::string::npos;
+  EXPECT_TRUE(said_stuck);
+  EXPECT_EQ(r.last.status, NavStatus::kArrived) << r.last.message;
+  EXPECT_FALSE(r.collided);
+  if (HasFailure()) PrintLog(r);
+}
+
+TEST(LocalController, RotatesWhileLocalisationIsLostAndGivesUpAfterTheTimeout) {
+  Scenario sc;
+  sc.params.lost_timeout = 5.0;
+  sc.events = [](double t, const Pose2&, std::vector<Box2>&, bool&, LocalisationStatus& loc) {
+    if (t >= 2.0) loc = LocalisationStatus::kRelocalising;
+  };
+  const RunResult r = Drive(sc);
+  EXPECT_TRUE(r.seen.count(NavStatus::kLocalisationLost));
+  EXPECT_EQ(r.last.status, NavStatus::kLocalisationLost);
+  EXPECT_TRUE(r.last.finished);
+  EXPECT_NEAR(r.time, 7.0, 0.2);
+  EXPECT_FALSE(r.collided);
+  // While lost it rotated in place.
+  bool rotated = false;
+  for (const auto& l : r.log) rotated |= l.find("rotating in place") != std::string::npos;
+  EXPECT_TRUE(rotated);
+}
+
+// The whole robot side in the loop: the controller drives on AMCL's estimate (drifting
+// odometry + LRF), the test's unicycle is the truth.
+TEST(LocalController, ClosedLoopWithAmclReachesTheGoalMeasuredAgainstTheTruth) {
+  const auto world = testing::TwoRooms();
+  const perception::OccupancyGrid map = testing::BuildGrid(world);
+  const Pose2 start{2.0, 3.8, 0.0}, goal{8.0, 2.0, kPi / 2};
+  GlobalPlanner planner(map, GlobalPlannerParams{}, 11);
+  perception::Amcl amcl(map, perception::AmclParams{}, 11);
+  amcl.SetInitialPose({2.03, 3.78, 0.02}, Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+  LocalController ctl(LocalControllerParams{});
+  Pose2 truth = start;
+  interfaces::Odometry odom;
+  double v = 0, w = 0, max_loc_err = 0, sum_sq = 0;
+  int n = 0;
+  const double dt = 0.05;
+  bool planned = false, collided = false;
+  ControlOutput out;
+  for (int k = 0; k * dt < 120.0; ++k) {
+    const auto scan = testing::SimulateScan(world, truth, 5, static_cast<std::uint64_t>(k), 0.01);
+    amcl.Update(odom, scan);
+    const auto& est = amcl.Estimate();
+    const Pose2 X_MB = est.PoseAt(odom.X_OB);
+    if (!planned) {
+      const GlobalPlan plan = planner.Plan(X_MB, goal);
+      ASSERT_TRUE(plan.ok()) << plan.message;
+      ctl.SetPlan(plan);
+      ctl.SetReplanner([&](const Pose2& from, const std::vector<Vec2>& obs) {
+        planner.AddObstacles(obs);
+        return planner.Plan(from, goal);
+      });
+      planned = true;
+    }
+    const double e = std::hypot(X_MB.x - truth.x, X_MB.y - truth.y);
+    max_loc_err = std::max(max_loc_err, e);
+    sum_sq += e * e;
+    ++n;
+    out = ctl.Update(k * dt, X_MB, est.status, scan);
+    if (out.finished) break;
+    v += std::clamp(out.cmd.v - v, -1.0 * dt, 1.0 * dt);
+    w += std::clamp(out.cmd.w - w, -3.0 * dt, 3.0 * dt);
+    const double ds = v * dt, th = w * dt;
+    truth.x += ds * std::cos(truth.yaw + 0.5 * th);
+    truth.y += ds * std::sin(truth.yaw + 0.5 * th);
+    truth.yaw = WrapAngle(truth.yaw + th);
+    // Odometry: 2 % long, 3 % short in rotation.
+    const double ods = 1.02 * ds, oth = 0.97 * th;
+    odom.X_OB.x += ods * std::cos(odom.X_OB.yaw + 0.5 * oth);
+    odom.X_OB.y += ods * std::sin(odom.X_OB.yaw + 0.5 * oth);
+    odom.X_OB.yaw = WrapAngle(odom.X_OB.yaw + oth);
+    odom.timestamp += dt;
+    collided |= FootprintHits(truth, world);
+  }
+  const double exy = std::hypot(truth.x - goal.x, truth.y - goal.y);
+  const double eyaw = std::abs(WrapAngle(truth.yaw - goal.yaw));
+  std::printf("[ CONTROL  ] closed loop with AMCL: %s; true error %.1f mm, %.2f deg; localisation "
+              "RMS %.1f mm, max %.1f mm\n",
+              ToString(out.status), 1000 * exy, RadToDeg(eyaw), 1000 * std::sqrt(sum_sq / n),
+              1000 * max_loc_err);
+  EXPECT_EQ(out.status, NavStatus::kArrived) << out.message;
+  EXPECT_LT(exy, 0.10);
+  EXPECT_LT(eyaw, DegToRad(5.0));
+  EXPECT_LT(max_loc_err, 0.10);
+  EXPECT_FALSE(collided);
+}
+
+TEST(LocalController, FreeTravelOfTheFootprint) {
+  LocalController ctl(LocalControllerParams{});
+  const std::vector<Vec2> wall = {{1.0, -0.1}, {1.0, 0.0}, {1.0, 0.1}};
+  EXPECT_NEAR(ctl.FreeTravel(wall, 0.5, 0.0, 0.0, 2.0), 0.7, 0.021);   // front face at 0.3 m
+  EXPECT_NEAR(ctl.FreeTravel(wall, 0.5, 0.0, 0.1, 2.0), 0.6, 0.021);
+  EXPECT_NEAR(ctl.FreeTravel(wall, -0.5, 0.0, 0.0, 2.0), 2.0, 1e-9);   // behind: free
+  // A post beside the front-left: turning left sweeps the left side into it after ~0.22 rad
+  // (0.3 cos a - 0.2 sin a = 0.25); turning right moves away from it.
+  EXPECT_NEAR(ctl.FreeTravel({{0.2, 0.3}}, 0.0, 1.0, 0.0, 1.0), 0.22, 0.021);
+  EXPECT_NEAR(ctl.FreeTravel({{0.2, 0.3}}, 0.0, -1.0, 0.0, 1.0), 1.0, 1e-9);
+  EXPECT_NEAR(ctl.FreeTravel({}, 0.5, 0.3, 0.0, 1.5), 1.5, 1e-9);
+}
+
+TEST(LocalController, ParamsRoundTripAndValidation) {
+  LocalControllerParams p;
+  p.lookahead = 0.7;
+  EXPECT_EQ(LoadParams<LocalControllerParams>(SaveParams(p), "c.yaml").lookahead, 0.7);
+  LocalControllerParams bad;
+  bad.passage_speed = 2.0;
+  EXPECT_THROW(bad.Validate(), InputError);
+  LocalController ctl(LocalControllerParams{});
+  EXPECT_THROW(ctl.SetPlan(GlobalPlan{}), InputError);
+}
+
+}  // namespace
+}  // namespace mopad::autonomy

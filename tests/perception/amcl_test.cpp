@@ -1,0 +1,264 @@
+// AMCL on a synthetic two-room world: the LRF is simulated in the test by ray casting its own
+// boxes; the map is what the robot built from scan points of the same boxes (issue 4, item 4).
+#include "perception/amcl.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <functional>
+
+#include "common/error.h"
+#include "tests/perception/synthetic_world.h"
+
+namespace mopad::perception {
+namespace {
+
+struct Err {
+  double xy = 0, yaw = 0;
+};
+Err PoseError(const Pose2& a, const Pose2& b) {
+  return {std::hypot(a.x - b.x, a.y - b.y), std::abs(WrapAngle(a.yaw - b.yaw))};
+}
+
+/// A robot driving through the test world: true unicycle motion, drifting odometry (scale
+/// errors and noise of the test's own), a scan every step.
+class Drive {
+ public:
+  Drive(const std::vector<testing::Box2>& world, const Pose2& start, std::uint64_t seed)
+      : world_(world), truth_(start), seed_(seed) {}
+
+  void Step(double v, double w, double dt = 0.1) {
+    CounterRng rng(DeriveKey(seed_ ^ 0x5EED, step_++));
+    const double ds = v * dt, dth = w * dt;
+    truth_.x += ds * std::cos(truth_.yaw + 0.5 * dth);
+    truth_.y += ds * std::sin(truth_.yaw + 0.5 * dth);
+    truth_.yaw = WrapAngle(truth_.yaw + dth);
+    // Odometry: +2 % distance, -2 % rotation, plus noise.
+    const double ods = ds * 1.02 + 0.003 * std::sqrt(std::abs(ds)) * rng.Normal();
+    const double odth = dth * 0.98 + 0.002 * std::sqrt(std::abs(ds)) * rng.Normal();
+    Pose2& o = odom_.X_OB;
+    o.x += ods * std::cos(o.yaw + 0.5 * odth);
+    o.y += ods * std::sin(o.yaw + 0.5 * odth);
+    o.yaw = WrapAngle(o.yaw + odth);
+    odom_.timestamp += dt;
+  }
+  /// Drives toward (x, y) with a simple proportional law on the true pose.
+  void GoTo(double x, double y, const std::function<void()>& after_step) {
+    for (int k = 0; k < 2000; ++k) {
+      const double dx = x - truth_.x, dy = y - truth_.y;
+      if (std::hypot(dx, dy) < 0.05) return;
+      const double err = WrapAngle(std::atan2(dy, dx) - truth_.yaw);
+      const double w = std::clamp(2.0 * err, -1.0, 1.0);
+      const double v = std::abs(err) < 0.4 ? std::min(0.4, std::hypot(dx, dy)) : 0.0;
+      Step(v, w);
+      after_step();
+    }
+  }
+  interfaces::LrfScan Scan() const {
+    return testing::SimulateScan(world_, truth_, seed_, step_, 0.01);
+  }
+  const Pose2& Truth() const { return truth_; }
+  void Teleport(const Pose2& p) { truth_ = p; }
+  const interfaces::Odometry& Odom() const { return odom_; }
+
+ private:
+  std::vector<testing::Box2> world_;
+  Pose2 truth_;
+  interfaces::Odometry odom_;
+  std::uint64_t seed_;
+  std::uint64_t step_ = 0;
+};
+
+Eigen::Matrix3d Cov(double sxy, double syaw) {
+  return Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal();
+}
+
+struct Fixture {
+  std::vector<testing::Box2> world = testing::TwoRooms();
+  OccupancyGrid map = testing::BuildGrid(world);
+};
+
+const Fixture& World() {
+  static const Fixture f;
+  return f;
+}
+
+/// The convergence scenario: small initial error, a short drive; returns the final filter.
+Amcl RunConvergence(std::uint64_t seed, Err* final_error = nullptr) {
+  const Pose2 start{2.5, 3.0, 0.2};
+  Drive drive(World().world, start, 7);
+  Amcl amcl(World().map, AmclParams{}, seed);
+  amcl.SetInitialPose({2.65, 2.9, 0.2 + DegToRad(5.0)}, Cov(0.15, DegToRad(8.0)));
+  auto update = [&] { amcl.Update(drive.Odom(), drive.Scan()); };
+  update();
+  drive.GoTo(3.5, 3.8, update);
+  drive.GoTo(2.5, 4.0, update);
+  drive.GoTo(2.0, 2.5, update);
+  if (final_error) {
+    *final_error = PoseError(amcl.Estimate().PoseAt(drive.Odom().X_OB), drive.Truth());
+  }
+  return amcl;
+}
+
+TEST(Amcl, ConvergesFromASmallInitialErrorToCentimetres) {
+  Err e;
+  const Amcl amcl = RunConvergence(42, &e);
+  std::printf("[ AMCL     ] converged: error %.1f mm, %.2f deg; %s\n", 1000 * e.xy,
+              RadToDeg(e.yaw), amcl.Estimate().message.c_str());
+  EXPECT_LT(e.xy, 0.03);
+  EXPECT_LT(e.yaw, DegToRad(1.0));
+  EXPECT_EQ(amcl.Estimate().status, LocalisationStatus::kLocalised) << amcl.Estimate().message;
+  EXPECT_GT(amcl.Estimate().n_eff, 1.0);
+  EXPECT_LE(amcl.Estimate().particles, AmclParams{}.max_particles);
+  EXPECT_LT(amcl.Estimate().particles, AmclParams{}.max_particles);  // KLD shrank the set
+  EXPECT_LT(std::sqrt(amcl.Estimate().covariance(0, 0)), 0.05);
+}
+
+TEST(Amcl, TracksARobotThroughTheDoorWithDriftingOdometry) {
+  const Pose2 start{1.5, 3.0, 0.0};
+  Drive drive(World().world, start, 9);
+  Amcl amcl(World().map, AmclParams{}, 3);
+  amcl.SetInitialPose({1.55, 2.97, 0.02}, Cov(0.05, DegToRad(3.0)));
+  double sum_sq = 0, max_xy = 0, max_yaw = 0, odom_max = 0;
+  int n = 0;
+  auto update = [&] {
+    if (!amcl.Update(drive.Odom(), drive.Scan()).updated) return;
+    const Err e = PoseError(amcl.Estimate().X_MB, drive.Truth());
+    sum_sq += e.xy * e.xy;
+    max_xy = std::max(max_xy, e.xy);
+    max_yaw = std::max(max_yaw, e.yaw);
+    if (getenv("AMCL_DEBUG")) std::printf("u %d truth %.2f %.2f %.2f err %.3f %.2f %s\n", n, drive.Truth().x, drive.Truth().y, drive.Truth().yaw, e.xy, RadToDeg(e.yaw), amcl.Estimate().message.c_str());
+    const Pose2 raw = Compose(start, drive.Odom().X_OB);
+    odom_max = std::max(odom_max, PoseError(raw, drive.Truth()).xy);
+    ++n;
+  };
+  update();
+  for (auto [x, y] : {std::pair{4.0, 3.0}, {6.5, 3.0}, {6.5, 1.5}, {8.3, 2.5}, {8.5, 5.0},
+                      {8.3, 3.2}, {6.0, 3.1}, {3.0, 3.0}, {2.8, 2.0}}) {
+    drive.GoTo(x, y, update);
+  }
+  const double rms = std::sqrt(sum_sq / n);
+  std::printf("[ AMCL     ] tracking over %d updates: RMS %.1f mm, max %.1f mm, max yaw %.2f deg "
+              "(raw odometry drifted up to %.0f mm)\n",
+              n, 1000 * rms, 1000 * max_xy, RadToDeg(max_yaw), 1000 * odom_max);
+  EXPECT_GT(n, 100);
+  EXPECT_LT(rms, 0.03);
+  EXPECT_LT(max_xy, 0.08);
+  EXPECT_LT(max_yaw, DegToRad(3.0));
+  EXPECT_GT(odom_max, 0.2);  // the filter did real work
+  EXPECT_EQ(amcl.Estimate().status, LocalisationStatus::kLocalised) << amcl.Estimate().message;
+}
+
+struct KidnapCase {
+  Pose2 to;                                // where the robot is carried
+  std::vector<std::pair<double, double>> route;  // where it drives afterwards
+};
+
+class AmclKidnap : public ::testing::TestWithParam<KidnapCase> {};
+
+TEST_P(AmclKidnap, IsDetectedAndTheFilterRelocalisesGlobally) {
+  const KidnapCase kc = GetParam();
+  Drive drive(World().world, {1.5, 3.0, 0.0}, 5);
+  Amcl amcl(World().map, AmclParams{}, 8);
+  amcl.SetInitialPose({1.5, 3.0, 0.0}, Cov(0.05, DegToRad(3.0)));
+  bool lost = false;
+  int updates_to_loss = -1, updates_to_relocalise = -1, updates = 0;
+  auto update = [&] {
+    const auto r = amcl.Update(drive.Odom(), drive.Scan());
+    if (!r.updated) return;
+    ++updates;
+    if (r.lost_detected && !lost) {
+      lost = true;
+      updates_to_loss = updates;
+    }
+    if (lost && updates_to_relocalise < 0 &&
+        amcl.Estimate().status == LocalisationStatus::kLocalised) {
+      updates_to_relocalise = updates;
+    }
+  };
+  update();
+  drive.GoTo(3.0, 3.0, update);
+  ASSERT_EQ(amcl.Estimate().status, LocalisationStatus::kLocalised);
+  ASSERT_FALSE(lost);
+  // Kidnap: the robot is carried away; odometry knows nothing.
+  drive.Teleport(kc.to);
+  updates = 0;
+  // Keep moving (a lost robot rotates and creeps to gather evidence).
+  for (auto [x, y] : kc.route) drive.GoTo(x, y, update);
+  ASSERT_TRUE(lost) << amcl.Estimate().message;
+  const Err e = PoseError(amcl.Estimate().PoseAt(drive.Odom().X_OB), drive.Truth());
+  std::printf("[ AMCL     ] kidnap to (%.1f, %.1f): detected after %d updates, re-localised after "
+              "%d more; at the end: error %.1f mm, %.2f deg\n",
+              kc.to.x, kc.to.y, updates_to_loss, updates_to_relocalise - updates_to_loss,
+              1000 * e.xy, RadToDeg(e.yaw));
+  EXPECT_LE(updates_to_loss, 6);
+  EXPECT_GT(updates_to_relocalise, 0);
+  EXPECT_EQ(amcl.Estimate().status, LocalisationStatus::kLocalised) << amcl.Estimate().message;
+  EXPECT_LT(e.xy, 0.03);
+  EXPECT_LT(e.yaw, DegToRad(1.0));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Destinations, AmclKidnap,
+    ::testing::Values(
+        // Into the other room (its walls mirror the first one's under a half turn).
+        KidnapCase{{7.0, 2.0, 1.2}, {{7.5, 3.0}, {6.5, 3.5}, {8.0, 3.0}, {7.0, 1.8}, {6.0, 2.5}}},
+        // Within the same room, turned around.
+        KidnapCase{{3.5, 4.0, -2.5}, {{2.5, 3.5}, {3.5, 2.5}, {2.0, 2.0}, {3.0, 3.0}}},
+        // Near the door, facing the wall.
+        KidnapCase{{6.0, 4.5, 1.6}, {{6.0, 3.5}, {7.0, 3.0}, {6.0, 2.0}, {8.0, 2.5}}}));
+
+TEST(Amcl, SameSeedGivesTheSameParticleBytesWithOneOrManyThreads) {
+  auto bytes = [](const Amcl& a) {
+    const auto& p = a.Particles();
+    return std::vector<unsigned char>(reinterpret_cast<const unsigned char*>(p.data()),
+                                      reinterpret_cast<const unsigned char*>(p.data() + p.size()));
+  };
+  std::vector<unsigned char> one, many, other;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = bytes(RunConvergence(42));
+  }
+  many = bytes(RunConvergence(42));
+  other = bytes(RunConvergence(43));
+  EXPECT_EQ(one, many);
+  EXPECT_NE(one, other);
+}
+
+TEST(Amcl, DoesNotUpdateWithoutMotionAndReportsNotInitialised) {
+  Amcl amcl(World().map, AmclParams{}, 1);
+  interfaces::Odometry odom;
+  const auto scan = testing::SimulateScan(World().world, {2.5, 3.0, 0.0}, 1, 0);
+  EXPECT_FALSE(amcl.Update(odom, scan).updated);
+  EXPECT_EQ(amcl.Estimate().status, LocalisationStatus::kNotInitialised);
+  amcl.SetInitialPose({2.5, 3.0, 0.0}, Cov(0.02, 0.02));
+  EXPECT_TRUE(amcl.Update(odom, scan).updated);   // first scan after initialisation
+  EXPECT_FALSE(amcl.Update(odom, scan).updated);  // no motion
+  EXPECT_TRUE(amcl.Update(odom, scan, true).updated);
+}
+
+TEST(Amcl, ParamsRoundTripAndValidation) {
+  AmclParams p;
+  p.sigma_hit = 0.07;
+  EXPECT_EQ(LoadParams<AmclParams>(SaveParams(p), "a.yaml").sigma_hit, 0.07);
+  AmclParams bad;
+  bad.min_particles = 9000;
+  EXPECT_THROW(bad.Validate(), InputError);
+  EXPECT_THROW(Amcl(World().map, bad, 0), InputError);
+  Amcl amcl(World().map, AmclParams{}, 0);
+  EXPECT_THROW(amcl.SetInitialPose({}, -Eigen::Matrix3d::Identity()), InputError);
+}
+
+TEST(Pose2Math, ComposeAndInverse) {
+  const Pose2 a{1.0, 2.0, 0.5}, b{-0.3, 0.7, -1.2};
+  const Pose2 c = Compose(Inverse(a), Compose(a, b));
+  EXPECT_NEAR(c.x, b.x, 1e-12);
+  EXPECT_NEAR(c.y, b.y, 1e-12);
+  EXPECT_NEAR(c.yaw, b.yaw, 1e-12);
+}
+
+}  // namespace
+}  // namespace mopad::perception

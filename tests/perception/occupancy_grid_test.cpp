@@ -1,0 +1,196 @@
+// Obstacle map: built from a height band of 3D points, updated by LRF ray tracing, inflated by
+// a distance transform, written and read in ROS map_server conventions (issue 4, item 3).
+#include "perception/occupancy_grid.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/error.h"
+#include "tests/perception/synthetic_world.h"
+
+namespace mopad::perception {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Box2;
+
+fs::path TempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("mopad_perception_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(OccupancyGrid, BuiltFromPointsOfTwoRoomsWithADoorGap) {
+  const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms());
+  EXPECT_TRUE(g.IsOccupied({4.95, 1.0}));  // partition face (its inside is never seen)
+  EXPECT_TRUE(g.IsOccupied({0.0, 3.0}));   // west wall
+  EXPECT_TRUE(g.IsOccupied({2.0, 0.6}));   // edge of the table block
+  EXPECT_TRUE(g.IsFree({5.0, 3.0}));       // the door gap
+  EXPECT_TRUE(g.IsFree({2.5, 3.0}));       // west room
+  EXPECT_TRUE(g.IsFree({7.5, 2.0}));       // east room
+  EXPECT_EQ(g.StateAt({-0.4, -0.4}), CellState::kUnknown);  // never observed
+  EXPECT_EQ(g.StateAt({2.0, 0.9}), CellState::kUnknown);    // inside the block: no returns
+  EXPECT_EQ(g.StateAt({50.0, 50.0}), CellState::kUnknown);  // outside the grid
+  EXPECT_GT(g.Count(CellState::kFree), 15000);
+}
+
+TEST(OccupancyGrid, PointsOutsideTheHeightBandAreNotObstacles) {
+  OccupancyGridParams p;
+  OccupancyGrid g(p, {0.0, 0.0}, 20, 20);
+  std::vector<Eigen::Vector3d> pts;
+  for (int k = 0; k < 10; ++k) {
+    pts.emplace_back(0.22, 0.22, 2.5);   // ceiling lamp, above the band
+    pts.emplace_back(0.52, 0.52, 1.0);   // in the band
+    pts.emplace_back(0.82, 0.82, 0.0);   // floor
+  }
+  pts.emplace_back(0.72, 0.22, 1.0);     // a single stray point: below min_points_per_cell
+  g.InsertPoints(pts);
+  EXPECT_EQ(g.StateAt({0.22, 0.22}), CellState::kUnknown);
+  EXPECT_EQ(g.StateAt({0.52, 0.52}), CellState::kOccupied);
+  EXPECT_EQ(g.StateAt({0.82, 0.82}), CellState::kFree);
+  EXPECT_EQ(g.StateAt({0.72, 0.22}), CellState::kUnknown);
+}
+
+TEST(OccupancyGrid, LrfScanClearsAlongBeamsAndMarksReturns) {
+  OccupancyGridParams p;
+  OccupancyGrid g(p, {-1.0, -1.0}, 140, 100);  // unknown, 7 m x 5 m
+  const std::vector<Box2> world = {{{-0.6, -0.6}, {5.6, -0.5}}, {{-0.6, 3.5}, {5.6, 3.6}},
+                                   {{-0.6, -0.6}, {-0.5, 3.6}}, {{5.5, -0.6}, {5.6, 3.6}}};
+  for (int k = 0; k < 5; ++k) {
+    g.InsertScan(testing::SimulateScan(world, {2.0, 1.5, 0.0}, 1, k, 0.0), {2.0, 1.5, 0.0});
+    g.InsertScan(testing::SimulateScan(world, {2.0, 1.5, kPi}, 1, k, 0.0), {2.0, 1.5, kPi});
+  }
+  EXPECT_EQ(g.StateAt({3.0, 1.5}), CellState::kFree);
+  EXPECT_EQ(g.StateAt({0.5, 2.5}), CellState::kFree);
+  EXPECT_EQ(g.StateAt({5.52, 1.5}), CellState::kOccupied);
+  EXPECT_EQ(g.StateAt({2.0, 3.52}), CellState::kOccupied);
+  EXPECT_EQ(g.StateAt({5.8, 1.5}), CellState::kUnknown);  // behind the wall
+}
+
+TEST(DistanceField, ClearanceInTheDoorGapAndInflation) {
+  const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms());
+  const DistanceField f(g, true);
+  EXPECT_NEAR(f.Clearance(Vec2(5.0, 3.0)), 0.45, 0.03);  // half the 0.9 m gap
+  EXPECT_NEAR(f.Clearance(Vec2(2.5, 3.0)), 1.8, 0.05);   // 1.8 m to the block
+  EXPECT_EQ(f.Clearance(Vec2(5.0, 1.0)), 0.0);
+  EXPECT_TRUE(f.IsFree({5.0, 3.0}, 0.3));
+  EXPECT_FALSE(f.IsFree({5.0, 3.0}, 0.5));
+  EXPECT_FALSE(f.IsFree({-0.4, -0.4}, 0.0));  // unknown counts as obstacle here
+  const OccupancyGrid inflated = g.Inflated(0.3, true);
+  EXPECT_TRUE(inflated.IsFree({5.0, 3.0}));
+  EXPECT_TRUE(inflated.IsOccupied({5.0, 2.75}));  // 0.2 m from the frame
+  EXPECT_TRUE(inflated.IsOccupied({0.2, 3.0}));
+  EXPECT_TRUE(inflated.IsFree({0.4, 3.0}));
+  EXPECT_LT(inflated.Count(CellState::kFree), g.Count(CellState::kFree));
+  // The interpolated centre distance is continuous across cells.
+  const double a = f.CentreDistance({2.5, 3.0}, -1.0), b = f.CentreDistance({2.52, 3.0}, -1.0);
+  EXPECT_NEAR(a, b, 0.03);
+  EXPECT_EQ(f.CentreDistance({100.0, 0.0}, -1.0), -1.0);
+}
+
+TEST(DistanceField, ObstacleDistanceIsPerpendicularToTheWallWhateverTheCellAlignment) {
+  // A wall along y at x = wall_x, sampled densely; the grid's cell boundaries fall at
+  // multiples of 5 cm, so wall_x = 1.0 lies on a boundary and 1.0125 inside a cell.
+  for (double wall_x : {1.0, 1.0125, 1.025}) {
+    OccupancyGrid g(OccupancyGridParams{}, {0.0, 0.0}, 40, 40);
+    std::vector<Eigen::Vector3d> pts;
+    for (double y = 0.2; y <= 1.8; y += 0.01) pts.emplace_back(wall_x, y, 1.0);
+    g.InsertPoints(pts);
+    const DistanceField f(g, false, 2.0);
+    for (double y : {0.5, 0.51, 0.525, 0.549, 1.2}) {
+      for (double dx : {-0.2, -0.03, 0.0, 0.03, 0.2}) {
+        EXPECT_NEAR(f.ObstacleDistance({wall_x + dx, y}, -1.0), std::abs(dx), 2e-3)
+            << "wall at " << wall_x << ", query (" << wall_x + dx << ", " << y << ")";
+      }
+    }
+    EXPECT_EQ(f.ObstacleDistance({-1.0, 0.5}, -1.0), -1.0);
+  }
+}
+
+TEST(MapIo, PngYamlRoundTripKeepsEveryCell) {
+  const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms());
+  const fs::path dir = TempDir("roundtrip");
+  WriteMap(g, (dir / "map.yaml").string());
+  ASSERT_TRUE(fs::exists(dir / "map.png"));
+  const OccupancyGrid r = ReadMap((dir / "map.yaml").string());
+  ASSERT_EQ(r.Width(), g.Width());
+  ASSERT_EQ(r.Height(), g.Height());
+  EXPECT_DOUBLE_EQ(r.Resolution(), g.Resolution());
+  EXPECT_DOUBLE_EQ(r.Origin().x(), g.Origin().x());
+  EXPECT_DOUBLE_EQ(r.Origin().y(), g.Origin().y());
+  int differ = 0;
+  for (int j = 0; j < g.Height(); ++j)
+    for (int i = 0; i < g.Width(); ++i) differ += g.State(Cell{i, j}) != r.State(Cell{i, j});
+  EXPECT_EQ(differ, 0);
+  // map_server conventions: top image row is the highest y; free 254, occupied 0.
+  const cv::Mat img = cv::imread((dir / "map.png").string(), cv::IMREAD_GRAYSCALE);
+  const Cell wall = g.CellOf({4.95, 1.0});
+  EXPECT_EQ(img.at<std::uint8_t>(g.Height() - 1 - wall.j, wall.i), 0);
+  const Cell room = g.CellOf({2.5, 3.0});
+  EXPECT_EQ(img.at<std::uint8_t>(g.Height() - 1 - room.j, room.i), 254);
+}
+
+TEST(MapIo, ReadsAHandWrittenMapServerFileWithNegate) {
+  const fs::path dir = TempDir("negate");
+  cv::Mat img(2, 3, CV_8U);
+  // negate 1: occupancy = value / 255. Row 0 is the top (y = 1).
+  img.at<std::uint8_t>(0, 0) = 255;  // occupied
+  img.at<std::uint8_t>(0, 1) = 0;    // free
+  img.at<std::uint8_t>(0, 2) = 100;  // unknown (0.39)
+  img.at<std::uint8_t>(1, 0) = 0;
+  img.at<std::uint8_t>(1, 1) = 0;
+  img.at<std::uint8_t>(1, 2) = 240;
+  cv::imwrite((dir / "tiny.pgm").string(), img);
+  std::ofstream(dir / "tiny.yaml") << "image: tiny.pgm\nresolution: 0.5\norigin: [1.0, 2.0, 0]\n"
+                                      "negate: 1\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  const OccupancyGrid g = ReadMap((dir / "tiny.yaml").string());
+  EXPECT_EQ(g.Width(), 3);
+  EXPECT_EQ(g.Height(), 2);
+  EXPECT_EQ(g.State(Cell{0, 1}), CellState::kOccupied);
+  EXPECT_EQ(g.State(Cell{1, 1}), CellState::kFree);
+  EXPECT_EQ(g.State(Cell{2, 1}), CellState::kUnknown);
+  EXPECT_EQ(g.State(Cell{2, 0}), CellState::kOccupied);
+  EXPECT_EQ(g.StateAt(Vec2(1.2, 2.2)), CellState::kFree);  // cell (0, 0)
+}
+
+TEST(MapIo, MalformedFilesFailWithFileAndLine) {
+  const fs::path dir = TempDir("errors");
+  auto expect_error = [&](const std::string& yaml, const std::string& needle) {
+    std::ofstream(dir / "bad.yaml") << yaml;
+    try {
+      ReadMap((dir / "bad.yaml").string());
+      ADD_FAILURE() << "no error for: " << yaml;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("bad.yaml"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+    }
+  };
+  const std::string ok_tail = "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  expect_error("image: none.png\nresolution: 0.05\norigin: [0, 0, 0]\n" + ok_tail,
+               "cannot read map image");
+  expect_error("image: m.png\nresolution: 0.05\norigin: [0, 0, 0.5]\n" + ok_tail,
+               "rotated maps");
+  expect_error("image: m.png\nresolution: 0.05\norigin: [0, 0, 0]\nnegat: 1\n" + ok_tail,
+               "negat");
+  expect_error("image: m.png\nresolution: fine\norigin: [0, 0, 0]\n" + ok_tail, ":2:");
+  expect_error("image: m.png\norigin: [0, 0, 0]\n" + ok_tail, "resolution");
+}
+
+TEST(OccupancyGridParams, RoundTripAndValidation) {
+  OccupancyGridParams p;
+  p.resolution = 0.025;
+  const auto q = LoadParams<OccupancyGridParams>(SaveParams(p), "t.yaml");
+  EXPECT_EQ(q.resolution, 0.025);
+  OccupancyGridParams bad;
+  bad.obstacle_z_max = 0.0;
+  EXPECT_THROW(bad.Validate(), InputError);
+  EXPECT_THROW(OccupancyGrid(OccupancyGridParams{}, {0, 0}, 0, 5), InputError);
+}
+
+}  // namespace
+}  // namespace mopad::perception
