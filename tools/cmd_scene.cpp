@@ -1,5 +1,130 @@
+// `mopad scene ...`: generate, random, info, validate, catalogue.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "common/error.h"
+#include "interfaces/object_model_catalogue.h"
+#include "scenes/bsc_catalogue.h"
+#include "scenes/generator.h"
+#include "scenes/ground_truth.h"
+#include "scenes/random_floor.h"
+#include "scenes/scene_check.h"
+#include "scenes/scene_loader.h"
+#include "scenes/scene_spec.h"
 #include "tools/commands.h"
+#include "tools/scene_paths.h"
+#include "tools/scene_summary.h"
+
 namespace mopad::tools {
-void RegisterSceneCommands(CLI::App&) {}
-void RegisterRunCommand(CLI::App&) {}
+namespace {
+
+void PrintSummary(const SceneSummary& s) {
+  std::printf("%s\n", FormatSceneSummary(s).c_str());
+}
+
+void GenerateAndWrite(const scenes::SceneSpec& spec, const std::string& out_dir) {
+  const scenes::GeneratedScene g = scenes::Generate(spec);
+  scenes::WriteGeneratedScene(g, out_dir);
+  PrintSummary(Summarise(g.scene, &g.truth, out_dir + "/scene.glb"));
+  std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out_dir.c_str(), out_dir.c_str());
+}
+
+}  // namespace
+
+void RegisterSceneCommands(CLI::App& app) {
+  auto* scene = app.add_subcommand("scene", "Generate, inspect and validate scenes");
+  scene->require_subcommand(1);
+
+  {
+    auto* cmd = scene->add_subcommand("generate", "Generate scene.glb + scene.truth.json from a "
+                                                  "YAML spec (docs/scene-spec.md)");
+    auto spec = std::make_shared<std::string>();
+    auto out = std::make_shared<std::string>();
+    auto seed = std::make_shared<std::int64_t>(-1);
+    cmd->add_option("spec", *spec, "Scene spec YAML (e.g. scenes/office_5rooms.yaml)")
+        ->required();
+    cmd->add_option("-o,--output", *out, "Output folder")->required();
+    cmd->add_option("--seed", *seed, "Override the spec's seed (furniture, rule-based BSCs)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->callback([=] {
+      scenes::SceneSpec s = scenes::LoadSceneSpec(*spec);
+      if (*seed >= 0) s.seed = static_cast<std::uint64_t>(*seed);
+      GenerateAndWrite(s, *out);
+    });
+  }
+  {
+    auto* cmd = scene->add_subcommand("random", "Generate a random connected office floor");
+    auto out = std::make_shared<std::string>();
+    auto seed = std::make_shared<std::uint64_t>(1);
+    auto rooms = std::make_shared<int>(5);
+    cmd->add_option("--seed", *seed, "Seed of the layout")->required();
+    cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10")->default_val(5);
+    cmd->add_option("-o,--output", *out, "Output folder")->required();
+    cmd->callback([=] { GenerateAndWrite(scenes::RandomFloorSpec(*seed, *rooms), *out); });
+  }
+  {
+    auto* cmd = scene->add_subcommand("info", "Counts per class, bounding box, triangles, rooms");
+    auto path = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("scene", *path, "Scene folder (scene.glb + scene.truth.json) or file (.glb, "
+                                    ".gltf, .obj, .ply, .fbx, .ifc)")
+        ->required();
+    cmd->add_flag("--json", *json, "Print JSON instead of a table");
+    cmd->callback([=] {
+      const ScenePaths p = ResolveScene(*path);
+      const scenes::Scene sc = scenes::LoadScene(p.geometry);
+      std::optional<scenes::GroundTruth> truth;
+      if (p.truth) truth = scenes::ReadGroundTruth(*p.truth);
+      const SceneSummary s = Summarise(sc, truth ? &*truth : nullptr, p.geometry);
+      if (*json)
+        std::printf("%s\n", SceneSummaryJson(s).c_str());
+      else
+        PrintSummary(s);
+    });
+  }
+  {
+    auto* cmd = scene->add_subcommand("validate", "Check a generated scene's truth against its "
+                                                  "geometry (exit 1 if it finds errors)");
+    auto path = std::make_shared<std::string>();
+    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")
+        ->required();
+    cmd->callback([=] {
+      const ScenePaths p = ResolveScene(*path);
+      if (!p.truth)
+        throw InputError(*path, "no ground truth next to the scene", "",
+                         "scene.truth.json beside scene.glb");
+      const scenes::Scene sc = scenes::LoadScene(p.geometry);
+      const scenes::GroundTruth truth = scenes::ReadGroundTruth(*p.truth);
+      const scenes::CheckReport report = scenes::CheckScene(sc, truth);
+      for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
+      for (const auto& e : report.errors) std::printf("error: %s\n", e.c_str());
+      std::printf("%s: %zu errors, %zu warnings\n", p.geometry.c_str(), report.errors.size(),
+                  report.warnings.size());
+      if (!report.errors.empty()) throw CLI::RuntimeError(1);
+    });
+  }
+  {
+    auto* cmd = scene->add_subcommand("catalogue", "Write the BSC object-model catalogue (sizes, "
+                                                   "colour and depth images): what a robot may "
+                                                   "know, never where objects are");
+    auto out = std::make_shared<std::string>();
+    auto pixel = std::make_shared<double>(0.002);
+    cmd->add_option("-o,--output", *out, "Output folder")->required();
+    cmd->add_option("--pixel-size", *pixel, "Metres per image pixel")
+        ->check(CLI::Range(0.0002, 0.05))
+        ->default_val(0.002);
+    cmd->callback([=] {
+      const auto catalogue = scenes::MakeObjectModelCatalogue(*pixel);
+      interfaces::WriteCatalogue(catalogue, *out);
+      std::printf("wrote %zu object models to %s/catalogue.yaml\n", catalogue.models.size(),
+                  out->c_str());
+    });
+  }
+}
+
 }  // namespace mopad::tools

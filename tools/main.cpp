@@ -15,7 +15,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);  // usage errors: CLI11 prints the message; exit code 2 wherever it fails
+    // CLI11 prints help/version (exit 0) or the usage error; usage errors all exit 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a command's own verdict (e.g. `scene validate` found errors)
   } catch (const mopad::InputError& e) {
     std::fprintf(stderr, "mopad: %s\n", e.what());
     return 2;

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages OpenMoPAD needs, skipping those already present (idempotent).
+#   scripts/install-deps.sh          build + run dependencies
+#   scripts/install-deps.sh --test   also what the test suite uses (GoogleTest; Node.js for the
+#                                    Khronos glTF validator, installed from npm into build/_npm)
+# Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config ca-certificates
+  libeigen3-dev libembree-dev libbullet-dev libopencv-dev libompl-dev liboctomap-dev
+  libtinygltf-dev libassimp-dev libyaml-cpp-dev libtbb-dev libcli11-dev libspdlog-dev
+  nlohmann-json3-dev libnanoflann-dev libgtest-dev
+)
+with_tests=0
+[[ "${1:-}" == "--test" ]] && with_tests=1
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if (( with_tests )) && ! command -v node >/dev/null 2>&1; then
+  missing+=(nodejs npm)
+fi
+
+if (( ${#missing[@]} )); then
+  echo "install-deps: installing ${missing[*]}"
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then
+    command -v sudo >/dev/null || { echo "install-deps: error: need root or sudo to install ${missing[*]}" >&2; exit 1; }
+    SUDO=sudo
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "install-deps: all Debian packages present"
+fi

@@ -1,0 +1,187 @@
+// The `mopad` CLI end to end: it is what users and CI call.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out;  ///< stdout and stderr together
+};
+
+Result Mopad(const std::string& args) {
+  const std::string cmd = std::string(MOPAD_BINARY) + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string Src(const std::string& rel) { return std::string(MOPAD_SOURCE_DIR) + "/" + rel; }
+
+std::string TempDir(const std::string& name) {
+  const fs::path d = fs::path(testing::TempDir()) / ("mopad_cli_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d.string();
+}
+
+// The default scene is generated once and shared by the tests that read it.
+const std::string& OfficeDir() {
+  static const std::string dir = [] {
+    const std::string d = TempDir("office");
+    const Result r = Mopad("scene generate " + Src("scenes/office_5rooms.yaml") + " -o " + d);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return d;
+  }();
+  return dir;
+}
+
+TEST(Cli, HelpListsTheCommandsAndExitsZero) {
+  const Result r = Mopad("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* c : {"scene", "scan", "lrf", "bench", "run"})
+    EXPECT_NE(r.out.find(c), std::string::npos) << c << "\n" << r.out;
+  EXPECT_EQ(Mopad("scene generate --help").code, 0);
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(Mopad("").code, 2);
+  EXPECT_EQ(Mopad("no-such-command").code, 2);
+  EXPECT_EQ(Mopad("scene generate").code, 2);  // missing spec and -o
+}
+
+TEST(Cli, MissingSceneIsOneLineErrorExitTwo) {
+  const Result r = Mopad("scene info /nonexistent/scene.glb");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out, "mopad: /nonexistent/scene.glb: error: no such scene file or folder\n");
+}
+
+TEST(Cli, SpecWithUnknownKeyNamesFileAndLine) {
+  const std::string d = TempDir("badspec");
+  const std::string spec = d + "/bad.yaml";
+  std::ifstream in(Src("scenes/one_room.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::ofstream(spec) << text.str() << "colour_of_the_sky: blue\n";
+  const Result r = Mopad("scene generate " + spec + " -o " + d + "/out");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find(spec + ":"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("colour_of_the_sky"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+TEST(Cli, DefaultSceneHasThePapersCounts) {
+  const Result r = Mopad("scene info --json " + OfficeDir());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& t = j.at("truth");
+  EXPECT_EQ(t.at("rooms"), 5);
+  EXPECT_EQ(t.at("walls"), 24);
+  EXPECT_EQ(t.at("doors").at("total"), 13);
+  EXPECT_EQ(t.at("windows"), 10);
+  const auto& b = t.at("service_components");
+  EXPECT_EQ(b.at("total"), 116);
+  const std::map<std::string, int> table3 = {
+      {"electrical_panel", 4}, {"socket_x1", 20},       {"socket_x2", 6},
+      {"socket_x4", 11},       {"built_in_socket", 6},  {"switch", 16},
+      {"fire_extinguisher", 9}, {"radiator", 6},        {"fire_alarm_switch", 8},
+      {"smoke_detector", 10},  {"exit_light", 3},       {"extinguisher_sign", 9},
+      {"fire_alarm_switch_sign", 8}};
+  for (const auto& [cls, n] : table3) EXPECT_EQ(b.at("per_class").value(cls, -1), n) << cls;
+  // Doors: at least one open, the rest a mix of closed and semi-open.
+  EXPECT_GE(t.at("doors").at("open"), 1);
+  EXPECT_GE(t.at("doors").at("closed"), 1);
+  EXPECT_GE(t.at("doors").at("semi_open"), 1);
+  // Geometry labels agree with the truth: 24 wall elements carry triangles.
+  EXPECT_EQ(j.at("classes").at("wall").at("elements"), 24);
+  // Footprint 22.9 m x 19.4 m (outer dimensions, walls included).
+  const auto& mn = j.at("bounds").at("min");
+  const auto& mx = j.at("bounds").at("max");
+  EXPECT_NEAR(mx[0].get<double>() - mn[0].get<double>(), 22.9, 0.05);
+  EXPECT_NEAR(mx[1].get<double>() - mn[1].get<double>(), 19.4, 0.05);
+}
+
+TEST(Cli, DefaultSceneValidates) {
+  const Result r = Mopad("scene validate " + OfficeDir());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find(": 0 errors"), std::string::npos) << r.out;
+}
+
+TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
+  const fs::path modules(MOPAD_NODE_MODULES);
+  if (std::system("node --version >/dev/null 2>&1") != 0 ||
+      !fs::exists(modules / "gltf-validator" / "package.json")) {
+    GTEST_SKIP() << "node or npm gltf-validator not installed (scripts/test.sh installs it)";
+  }
+  const std::string cmd = "node " + Src("tools/validators/validate_gltf.js") + " " + OfficeDir() +
+                          "/scene.glb " + modules.string() + " 2>&1";
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
+  const int status = pclose(p);
+  std::printf("%s", out.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+  EXPECT_NE(out.find("errors=0 "), std::string::npos) << out;
+}
+
+TEST(Cli, SameSpecGivesIdenticalBytes) {
+  const std::string d = TempDir("twice");
+  ASSERT_EQ(Mopad("scene generate " + Src("scenes/two_rooms_door.yaml") + " -o " + d + "/a").code, 0);
+  ASSERT_EQ(Mopad("scene generate " + Src("scenes/two_rooms_door.yaml") + " -o " + d + "/b").code, 0);
+  for (const char* f : {"scene.glb", "scene.truth.json"}) {
+    std::ifstream a(d + "/a/" + f, std::ios::binary), b(d + "/b/" + f, std::ios::binary);
+    const std::string sa((std::istreambuf_iterator<char>(a)), {});
+    const std::string sb((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_FALSE(sa.empty());
+    EXPECT_TRUE(sa == sb) << f;
+  }
+}
+
+TEST(Cli, RandomFloorValidates) {
+  const std::string d = TempDir("random");
+  const Result g = Mopad("scene random --seed 11 --rooms 6 -o " + d);
+  ASSERT_EQ(g.code, 0) << g.out;
+  const Result v = Mopad("scene validate " + d);
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_EQ(Mopad("scene random --seed 1 --rooms 11 -o " + d + "/x").code, 2);
+}
+
+TEST(Cli, CatalogueHasTheEighteenModels) {
+  const std::string d = TempDir("catalogue");
+  const Result r = Mopad("scene catalogue -o " + d);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("wrote 18 object models"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(d + "/catalogue.yaml"));
+}
+
+TEST(Cli, KitHouseInfoThroughBothLoaders) {
+  const std::string ifc = Src("../shared/testdata/external/kit_fzk_haus/AC14-FZK-Haus.ifc");
+  const std::string glb = Src("../shared/testdata/external/kit_fzk_haus/AC14-FZK-Haus.assimp.glb");
+  if (!fs::exists(ifc)) GTEST_SKIP() << "shared test data absent";
+  const Result a = Mopad("scene info --json " + ifc);
+  const Result b = Mopad("scene info --json " + glb);
+  ASSERT_EQ(a.code, 0) << a.out;
+  ASSERT_EQ(b.code, 0) << b.out;
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(ja.at("triangles"), jb.at("triangles"));
+  EXPECT_EQ(ja.at("classes"), jb.at("classes"));
+}
+
+}  // namespace

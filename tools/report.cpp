@@ -1,0 +1,195 @@
+#include "tools/report.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace mopad::tools {
+namespace {
+
+std::string Escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+std::string Fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+const char* DoorColour(scenes::DoorState s) {
+  switch (s) {
+    case scenes::DoorState::kOpen: return "#2e9d3a";
+    case scenes::DoorState::kSemiOpen: return "#e69500";
+    case scenes::DoorState::kClosed: return "#c62828";
+  }
+  return "#000";
+}
+
+// Maps world (x, y) to SVG pixels (y down).
+struct PlanView {
+  double min_x, max_y, scale;
+  std::string P(double x, double y) const {
+    return Fmt((x - min_x) * scale + 20) + "," + Fmt((max_y - y) * scale + 20);
+  }
+  double X(double x) const { return (x - min_x) * scale + 20; }
+  double Y(double y) const { return (max_y - y) * scale + 20; }
+};
+
+void WriteOrThrow(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw InputError(path, "cannot write file");
+  out << text;
+  if (!out) throw InputError(path, "write failed");
+}
+
+}  // namespace
+
+std::string PlanSvg(const ReportInput& in) {
+  Eigen::AlignedBox2d box;
+  if (in.truth)
+    for (const auto& r : in.truth->rooms)
+      for (const auto& p : r.polygon) box.extend(p);
+  for (const auto& s : in.scans) {
+    box.extend(s.position.head<2>());
+    for (const auto& p : s.plan_points) box.extend(p.cast<double>());
+  }
+  if (box.isEmpty()) return "";
+  const double width_px = 900.0;
+  const double scale = width_px / std::max(1e-6, box.sizes().x());
+  const PlanView v{box.min().x(), box.max().y(), scale};
+  const double h_px = box.sizes().y() * scale + 40;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << Fmt(width_px + 40) << "' height='"
+    << Fmt(h_px) << "' viewBox='0 0 " << Fmt(width_px + 40) << " " << Fmt(h_px)
+    << "' font-family='sans-serif' font-size='12'>\n";
+  if (in.truth) {
+    for (const auto& r : in.truth->rooms) {
+      s << "<polygon fill='#f3f1ea' stroke='#333' stroke-width='2' points='";
+      for (const auto& p : r.polygon) s << v.P(p.x(), p.y()) << " ";
+      s << "'/>\n";
+    }
+    for (const auto& e : in.truth->elements) {
+      if (e.element_class != scenes::ElementClass::kColumn) continue;
+      for (const auto& poly : e.polygons) {
+        if (poly.size() < 2) continue;
+        s << "<line stroke='#555' stroke-width='3' x1='" << Fmt(v.X(poly[0].x())) << "' y1='"
+          << Fmt(v.Y(poly[0].y())) << "' x2='" << Fmt(v.X(poly[1].x())) << "' y2='"
+          << Fmt(v.Y(poly[1].y())) << "'/>\n";
+      }
+    }
+    for (const auto& f : in.truth->furniture) {
+      s << "<g transform='translate(" << v.P(f.centre.x(), f.centre.y()) << ") rotate("
+        << Fmt(-f.yaw * 180.0 / 3.14159265358979) << ")'><rect fill='#bbb' fill-opacity='0.6' x='"
+        << Fmt(-f.size.x() * scale / 2) << "' y='" << Fmt(-f.size.y() * scale / 2)
+        << "' width='" << Fmt(f.size.x() * scale) << "' height='" << Fmt(f.size.y() * scale)
+        << "'/></g>\n";
+    }
+    for (const auto& o : in.truth->openings) {
+      if (o.corners.size() < 2) continue;
+      const bool door = o.type == scenes::OpeningType::kDoor;
+      s << "<line stroke='" << (door ? DoorColour(o.state) : "#1e88e5") << "' stroke-width='"
+        << (door ? 6 : 4) << "' x1='" << Fmt(v.X(o.corners[0].x())) << "' y1='"
+        << Fmt(v.Y(o.corners[0].y())) << "' x2='" << Fmt(v.X(o.corners[1].x())) << "' y2='"
+        << Fmt(v.Y(o.corners[1].y())) << "'><title>" << Escape(o.id) << "</title></line>\n";
+    }
+    for (const auto& b : in.truth->service_components) {
+      s << "<circle r='3' fill='#8e24aa' cx='" << Fmt(v.X(b.centre.x())) << "' cy='"
+        << Fmt(v.Y(b.centre.y())) << "'><title>" << Escape(b.id + " " + b.bsc_class)
+        << "</title></circle>\n";
+    }
+  }
+  for (const auto& sc : in.scans) {
+    s << "<g fill='#1565c0' fill-opacity='0.35'>";
+    for (const auto& p : sc.plan_points)
+      s << "<rect width='1' height='1' x='" << Fmt(v.X(p.x())) << "' y='" << Fmt(v.Y(p.y()))
+        << "'/>";
+    s << "</g>\n";
+  }
+  for (const auto& sc : in.scans) {
+    const double x = v.X(sc.position.x()), y = v.Y(sc.position.y());
+    s << "<g stroke='#000' stroke-width='2'><line x1='" << Fmt(x - 6) << "' y1='" << Fmt(y - 6)
+      << "' x2='" << Fmt(x + 6) << "' y2='" << Fmt(y + 6) << "'/><line x1='" << Fmt(x - 6)
+      << "' y1='" << Fmt(y + 6) << "' x2='" << Fmt(x + 6) << "' y2='" << Fmt(y - 6)
+      << "'/></g><text x='" << Fmt(x + 8) << "' y='" << Fmt(y - 8) << "'>" << Escape(sc.name)
+      << "</text>\n";
+  }
+  if (in.truth)
+    for (const auto& r : in.truth->rooms) {
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      for (const auto& p : r.polygon) c += p;
+      if (!r.polygon.empty()) c /= static_cast<double>(r.polygon.size());
+      s << "<text font-weight='bold' x='" << Fmt(v.X(c.x())) << "' y='" << Fmt(v.Y(c.y()))
+        << "'>" << Escape(r.id) << "</text>\n";
+    }
+  s << "</svg>\n";
+  return s.str();
+}
+
+void WriteHtmlReport(const ReportInput& in, const std::string& path) {
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>"
+    << Escape(in.title) << "</title>\n<style>body{font-family:sans-serif;margin:2em;color:#222}"
+    << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 10px;"
+    << "text-align:right}th{background:#eee}td:first-child{text-align:left}"
+    << ".legend span{display:inline-block;margin-right:1.5em}</style></head><body>\n";
+  h << "<h1>" << Escape(in.title) << "</h1>\n<p>" << Escape(in.subtitle) << "</p>\n";
+  const std::string svg = PlanSvg(in);
+  if (!svg.empty()) {
+    h << "<h2>Plan view</h2>\n<p class='legend'><span style='color:#2e9d3a'>&#9632; open door"
+      << "</span><span style='color:#e69500'>&#9632; semi-open door</span><span "
+      << "style='color:#c62828'>&#9632; closed door</span><span style='color:#1e88e5'>&#9632; "
+      << "window</span><span style='color:#8e24aa'>&#9679; service component</span><span>&#10005;"
+      << " scan position</span></p>\n"
+      << svg;
+  }
+  for (const auto& t : in.tables) {
+    h << "<h2>" << Escape(t.title) << "</h2>\n<table><tr>";
+    for (const auto& c : t.header) h << "<th>" << Escape(c) << "</th>";
+    h << "</tr>\n";
+    for (const auto& r : t.rows) {
+      h << "<tr>";
+      for (const auto& c : r) h << "<td>" << Escape(c) << "</td>";
+      h << "</tr>\n";
+    }
+    h << "</table>\n";
+  }
+  h << "</body></html>\n";
+  WriteOrThrow(path, h.str());
+}
+
+void WriteMarkdownReport(const ReportInput& in, const std::string& path) {
+  std::ostringstream m;
+  m << "# " << in.title << "\n\n" << in.subtitle << "\n";
+  for (const auto& t : in.tables) {
+    m << "\n## " << t.title << "\n\n|";
+    for (const auto& c : t.header) m << " " << c << " |";
+    m << "\n|";
+    for (std::size_t i = 0; i < t.header.size(); ++i) m << (i == 0 ? " --- |" : " ---: |");
+    m << "\n";
+    for (const auto& r : t.rows) {
+      m << "|";
+      for (const auto& c : r) m << " " << c << " |";
+      m << "\n";
+    }
+  }
+  WriteOrThrow(path, m.str());
+}
+
+}  // namespace mopad::tools

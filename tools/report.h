@@ -1,0 +1,41 @@
+#pragma once
+// Self-contained HTML report of a run: summary tables and a plan-view SVG of the scene (rooms,
+// doors coloured by state, windows, service components, furniture) with the scan positions and
+// a plan-view slice of the scanned points. No external files, scripts or fonts.
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scenes/ground_truth.h"
+
+namespace mopad::tools {
+
+struct ReportScan {
+  std::string name;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world, m
+  std::vector<Eigen::Vector2f> plan_points;            ///< world x, y of a subsample, m
+};
+
+struct ReportTable {
+  std::string title;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+struct ReportInput {
+  std::string title;
+  std::string subtitle;
+  const scenes::GroundTruth* truth = nullptr;  ///< plan drawn from it when set
+  std::vector<ReportTable> tables;
+  std::vector<ReportScan> scans;
+};
+
+/// Plan-view SVG (also embedded in the HTML). Empty string if there is nothing to draw.
+std::string PlanSvg(const ReportInput& input);
+void WriteHtmlReport(const ReportInput& input, const std::string& path);
+/// The same tables as GitHub-flavoured Markdown (for CI summaries).
+void WriteMarkdownReport(const ReportInput& input, const std::string& path);
+
+}  // namespace mopad::tools
