@@ -59,6 +59,42 @@ void WriteOrThrow(const std::string& path, const std::string& text) {
   if (!out) throw InputError(path, "write failed");
 }
 
+bool Inside(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
+        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) +
+                     poly[i].x())
+      in = !in;
+  return in;
+}
+
+// A point well inside a (possibly non-convex) room: the vertex mean if it is inside, else the
+// inside point of a coarse grid nearest to it.
+Eigen::Vector2d LabelPoint(const std::vector<Eigen::Vector2d>& poly) {
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  if (poly.empty()) return c;
+  Eigen::AlignedBox2d box;
+  for (const auto& p : poly) {
+    c += p;
+    box.extend(p);
+  }
+  c /= static_cast<double>(poly.size());
+  if (Inside(c, poly)) return c;
+  Eigen::Vector2d best = c;
+  double best_d = 1e18;
+  for (int i = 1; i < 40; ++i)
+    for (int j = 1; j < 40; ++j) {
+      const Eigen::Vector2d p = box.min() + Eigen::Vector2d(box.sizes().x() * i / 40.0,
+                                                            box.sizes().y() * j / 40.0);
+      if (Inside(p, poly) && (p - c).squaredNorm() < best_d) {
+        best_d = (p - c).squaredNorm();
+        best = p;
+      }
+    }
+  return best;
+}
+
 }  // namespace
 
 std::string PlanSvg(const ReportInput& in) {
@@ -103,11 +139,22 @@ std::string PlanSvg(const ReportInput& in) {
     }
     for (const auto& o : in.truth->openings) {
       if (o.corners.size() < 2) continue;
+      // The opening's plan extent: the two corners farthest apart in plan view.
+      std::size_t a = 0, b = 1;
+      for (std::size_t i = 0; i < o.corners.size(); ++i)
+        for (std::size_t j = i + 1; j < o.corners.size(); ++j)
+          if ((o.corners[i] - o.corners[j]).head<2>().norm() >
+              (o.corners[a] - o.corners[b]).head<2>().norm()) {
+            a = i;
+            b = j;
+          }
       const bool door = o.type == scenes::OpeningType::kDoor;
       s << "<line stroke='" << (door ? DoorColour(o.state) : "#1e88e5") << "' stroke-width='"
-        << (door ? 6 : 4) << "' x1='" << Fmt(v.X(o.corners[0].x())) << "' y1='"
-        << Fmt(v.Y(o.corners[0].y())) << "' x2='" << Fmt(v.X(o.corners[1].x())) << "' y2='"
-        << Fmt(v.Y(o.corners[1].y())) << "'><title>" << Escape(o.id) << "</title></line>\n";
+        << (door ? 6 : 4) << "' x1='" << Fmt(v.X(o.corners[a].x())) << "' y1='"
+        << Fmt(v.Y(o.corners[a].y())) << "' x2='" << Fmt(v.X(o.corners[b].x())) << "' y2='"
+        << Fmt(v.Y(o.corners[b].y())) << "'><title>" << Escape(o.id) << " ("
+        << (door ? std::string(scenes::ToString(o.state)) : std::string("window"))
+        << ")</title></line>\n";
     }
     for (const auto& b : in.truth->service_components) {
       s << "<circle r='3' fill='#8e24aa' cx='" << Fmt(v.X(b.centre.x())) << "' cy='"
@@ -132,9 +179,7 @@ std::string PlanSvg(const ReportInput& in) {
   }
   if (in.truth)
     for (const auto& r : in.truth->rooms) {
-      Eigen::Vector2d c = Eigen::Vector2d::Zero();
-      for (const auto& p : r.polygon) c += p;
-      if (!r.polygon.empty()) c /= static_cast<double>(r.polygon.size());
+      const Eigen::Vector2d c = LabelPoint(r.polygon);
       s << "<text font-weight='bold' x='" << Fmt(v.X(c.x())) << "' y='" << Fmt(v.Y(c.y()))
         << "'>" << Escape(r.id) << "</text>\n";
     }

@@ -9,7 +9,7 @@ if (process.argv.length < 3) {
 }
 const file = process.argv[2];
 const modules = process.argv[3];
-const validator = require(modules ? path.join(modules, 'gltf-validator') : 'gltf-validator');
+const validator = require(modules ? path.resolve(modules, 'gltf-validator') : 'gltf-validator');
 let bytes;
 try {
   bytes = new Uint8Array(fs.readFileSync(file));
