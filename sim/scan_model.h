@@ -103,14 +103,6 @@ double Ziggurat::SlowPath(Rng& rng, double u, unsigned i) const {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-/// Two independent standard normals.
-template <class Rng>
-inline void NormalPair(Rng& rng, double* a, double* b) {
-  const Ziggurat& z = Ziggurat::Get();
-  *a = z.Normal(rng);
-  *b = z.Normal(rng);
-}
-
 /// One sub-ray's trace: where it started, where it went, what it hit (after glass).
 struct SubHit {
   RayHit hit;

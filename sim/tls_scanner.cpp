@@ -182,8 +182,8 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
   pt.b = rgb[2];
 }
 
-// Completes a sub-ray from Embree's packet result: resolve, re-trace a miss in the watertight
-// scene, pass glass.
+// Completes a sub-ray from Embree's packet result (misses already re-traced watertight): resolve,
+// pass glass.
 void CompleteSubHit(const ScanContext& ctx, const RTCRayHit16& rh, int j, std::uint64_t pulse, int k, SubHit* s) {
   s->transmitted = false;
   s->origin = Eigen::Vector3f(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);

@@ -16,9 +16,10 @@
 // angles x measured range). The true scanner pose X_WS = X_WB * X_BS * tilt goes to the truth
 // sidecar only.
 //
-// Determinism: every random draw is a function of (seed, scan_id, pulse index[, sub-ray]) via
-// CounterRng (pulse index = column * rows + row), never of thread or call order: the same
-// request gives the same bytes with 1 or N threads.
+// Determinism: every random draw is a counter-based function of (seed, scan_id, purpose, pulse
+// index [, sub-ray]) (pulse index = column * rows + row; sim/scan_model.h PulseStream), never of
+// thread or call order: the same request gives the same bytes with 1 or N threads, and on CPUs
+// with or without AVX-512 (sim/pulse_kernel.h).
 //
 // Thread-safety: Scan/ScanStreamed are const and may run concurrently on one scanner (and one
 // world) as long as nobody calls EmbreeWorld::SetDoorAngle meanwhile.
