@@ -16,6 +16,7 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 constexpr double kSurfaceTol = 1e-3;  // m, "on its host within 1 mm"
+constexpr double kPlacementTol = 5e-3;  // m, BSC geometry centre/size vs its truth entry
 
 std::string F(double v) {
   std::ostringstream s;
@@ -172,6 +173,13 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
         }
       if (std::abs((b.centre - h->origin).dot(h->normal)) > kSurfaceTol)
         err("bsc '" + b.id + "' truth centre is not on wall '" + h->id + "'");
+      // The geometry sits where the truth says: footprint centre and size in the wall's (u, v).
+      const Vector2d c_uv((b.centre - h->origin).dot(h->u_axis), b.centre.z() - h->origin.z());
+      if (!footprint.isEmpty() && ((footprint.center() - c_uv).norm() > kPlacementTol ||
+                                   std::abs(footprint.sizes().x() - b.size.x()) > kPlacementTol ||
+                                   std::abs(footprint.sizes().y() - b.size.y()) > kPlacementTol))
+        err("bsc '" + b.id + "' geometry does not match its truth centre/size on wall '" + h->id +
+            "'; got centre offset " + F((footprint.center() - c_uv).norm() * 1000.0) + " mm");
       for (const Opening& o : t.openings) {
         if (o.host_walls.empty()) continue;
         bool hosted = false;
@@ -195,6 +203,13 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
           outside =
               outside || (!PointInPolygon(xy, poly) && DistanceToBoundary(xy, poly) > kSurfaceTol);
         }
+      Eigen::AlignedBox2d xy_box;
+      for (const MeshPart* p : it->second)
+        for (const auto& v : p->positions) xy_box.extend(Vector2d(v.x(), v.y()));
+      if (!xy_box.isEmpty() && (xy_box.center() - b.centre.head<2>()).norm() > kPlacementTol)
+        err("bsc '" + b.id + "' geometry does not match its truth centre on ceiling '" + h->id +
+            "'; got centre offset " + F((xy_box.center() - b.centre.head<2>()).norm() * 1000.0) +
+            " mm");
       if (std::abs(b.centre.z() - zc) > kSurfaceTol)
         err("bsc '" + b.id + "' truth centre is not on ceiling '" + h->id + "'");
     } else {

@@ -14,11 +14,13 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterRunCommand(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    // A command's own verdict (e.g. `scene validate` found errors). RuntimeError derives from
+    // ParseError in CLI11 2.x, so it must be caught first.
+    return e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     // CLI11 prints help/version (exit 0) or the usage error; usage errors all exit 2.
     return app.exit(e) == 0 ? 0 : 2;
-  } catch (const CLI::RuntimeError& e) {
-    return e.get_exit_code();  // a command's own verdict (e.g. `scene validate` found errors)
   } catch (const mopad::InputError& e) {
     std::fprintf(stderr, "mopad: %s\n", e.what());
     return 2;

@@ -23,7 +23,7 @@ ScenePaths ResolveScene(const std::string& arg) {
   out.geometry = arg;
   // A sidecar beside the file: X.glb -> X.truth.json, or scene.truth.json in the same folder.
   const fs::path p(arg);
-  for (const fs::path cand : {fs::path(p).replace_extension(".truth.json"),
+  for (const fs::path& cand : {fs::path(p).replace_extension(".truth.json"),
                               p.parent_path() / "scene.truth.json"}) {
     if (fs::is_regular_file(cand, ec)) {
       out.truth = cand.string();

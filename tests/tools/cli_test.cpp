@@ -122,6 +122,23 @@ TEST(Cli, DefaultSceneValidates) {
   EXPECT_NE(r.out.find(": 0 errors"), std::string::npos) << r.out;
 }
 
+TEST(Cli, ValidateCatchesTruthThatDisagreesWithGeometry) {
+  // Regression: a service component moved along its wall in the truth only was not caught.
+  const std::string d = TempDir("badtruth");
+  fs::copy(OfficeDir(), d, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  std::ifstream in(d + "/scene.truth.json");
+  auto truth = nlohmann::json::parse(in);
+  in.close();
+  truth["service_components"][0]["centre"][0] = truth["service_components"][0]["centre"][0]
+                                                    .get<double>() + 0.5;
+  truth["service_components"][0]["centre"][1] = truth["service_components"][0]["centre"][1]
+                                                    .get<double>() + 0.5;
+  std::ofstream(d + "/scene.truth.json") << truth.dump();
+  const Result r = Mopad("scene validate " + d);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("does not match its truth centre"), std::string::npos) << r.out;
+}
+
 TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
   const fs::path modules(MOPAD_NODE_MODULES);
   if (std::system("node --version >/dev/null 2>&1") != 0 ||
