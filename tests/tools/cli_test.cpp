@@ -139,6 +139,28 @@ TEST(Cli, ValidateCatchesTruthThatDisagreesWithGeometry) {
   EXPECT_NE(r.out.find("does not match its truth centre"), std::string::npos) << r.out;
 }
 
+TEST(Cli, MainJobWritesScansSummaryAndReportDeterministically) {
+  const std::string d = TempDir("run");
+  const Result a = Mopad("run --step-deg 1.0 -o " + d + "/a");
+  ASSERT_EQ(a.code, 0) << a.out;
+  const Result b = Mopad("run --step-deg 1.0 -o " + d + "/b");
+  ASSERT_EQ(b.code, 0) << b.out;
+  std::ifstream in(d + "/a/summary.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("scans").size(), 5u);
+  for (const auto& scan : j.at("scans")) EXPECT_GT(scan.at("valid_points").get<int>(), 10000);
+  for (const char* f : {"report.html", "report.md", "scene/scene.glb", "scene/scene.truth.json"})
+    EXPECT_TRUE(fs::exists(d + "/a/" + f)) << f;
+  for (int i = 0; i < 5; ++i) {
+    const std::string f = "/scans/scan_00" + std::to_string(i) + ".ply";
+    std::ifstream fa(d + "/a" + f, std::ios::binary), fb(d + "/b" + f, std::ios::binary);
+    const std::string sa((std::istreambuf_iterator<char>(fa)), {});
+    const std::string sb((std::istreambuf_iterator<char>(fb)), {});
+    EXPECT_FALSE(sa.empty()) << f;
+    EXPECT_TRUE(sa == sb) << f << " differs between two runs with the same seed";
+  }
+}
+
 TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
   const fs::path modules(MOPAD_NODE_MODULES);
   if (std::system("node --version >/dev/null 2>&1") != 0 ||
