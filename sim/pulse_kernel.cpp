@@ -259,6 +259,81 @@ MOPAD_AVX512 void KernelAvx512(const PulseKernelConstants& k, PulseLanes& L) {
   }
 }
 
+MOPAD_AVX512 std::uint32_t ResolveAvx512(const ResolveTables& T, const HitLanes& H, int n, PulseLanes& L,
+                                         std::int32_t* part_out, std::uint32_t* too_close) {
+  const __m512i zero_i = _mm512_setzero_si512();
+  const __m512i invalid = _mm512_set1_epi32(-1);
+  *too_close = 0;
+  __mmask16 m = static_cast<__mmask16>(n >= 16 ? 0xFFFFu : ((1u << n) - 1u));
+  const __m512i geom = _mm512_loadu_si512(H.geom);
+  const __m512i inst = _mm512_loadu_si512(H.inst);
+  m = static_cast<__mmask16>(m & _mm512_cmpneq_epi32_mask(geom, invalid) & _mm512_cmpeq_epi32_mask(inst, invalid));
+  if (!m) return 0;
+  // Lanes of a packet mostly hit one part (often one triangle): then the per-part terms are
+  // broadcast instead of gathered (the same values either way).
+  const int j0 = __builtin_ctz(static_cast<unsigned>(m));
+  const std::uint32_t g0 = H.geom[j0];
+  const bool one_geom = static_cast<__mmask16>(_mm512_cmpeq_epi32_mask(geom, _mm512_set1_epi32(static_cast<int>(g0))) & m) == m;
+  __m512i part, first, rho_off;
+  __m512 base[3];
+  const __m512 zero = _mm512_setzero_ps();
+  if (one_geom) {
+    const std::int32_t p0 = T.geom_to_part[g0];
+    if (!T.part_simple[p0]) return 0;
+    part = _mm512_set1_epi32(p0);
+    first = _mm512_set1_epi32(static_cast<int>(T.first_triangle[p0]));
+    rho_off = _mm512_set1_epi32(T.part_rho_offset[p0]);
+    for (int ch = 0; ch < 3; ++ch) base[ch] = _mm512_set1_ps(T.part_base[3 * static_cast<std::size_t>(p0) + static_cast<std::size_t>(ch)]);
+  } else {
+    part = _mm512_mask_i32gather_epi32(zero_i, m, geom, T.geom_to_part, 4);
+    const __m512i simple = _mm512_mask_i32gather_epi32(zero_i, m, part, T.part_simple, 4);
+    m = static_cast<__mmask16>(m & _mm512_cmpneq_epi32_mask(simple, zero_i));
+    if (!m) return 0;
+    first = _mm512_mask_i32gather_epi32(zero_i, m, part, T.first_triangle, 4);
+    rho_off = _mm512_mask_i32gather_epi32(zero_i, m, part, T.part_rho_offset, 4);
+    const __m512i p3 = _mm512_add_epi32(_mm512_add_epi32(part, part), part);
+    for (int ch = 0; ch < 3; ++ch) base[ch] = _mm512_mask_i32gather_ps(zero, m, p3, T.part_base + ch, 4);
+  }
+  const __m512 t = _mm512_loadu_ps(H.tfar);
+  const __mmask16 close = static_cast<__mmask16>(m & _mm512_cmp_ps_mask(t, _mm512_set1_ps(T.range_min), _CMP_LT_OQ));
+  const __mmask16 act = static_cast<__mmask16>(m & ~close);
+  _mm512_mask_storeu_epi32(part_out, m, part);
+  _mm512_mask_storeu_ps(L.t, m, t);
+  *too_close = close;
+  if (act) {
+    const __m512i prim = _mm512_loadu_si512(H.prim);
+    __m512 nx, ny, nz;
+    const int a0 = __builtin_ctz(static_cast<unsigned>(act));
+    if (one_geom && static_cast<__mmask16>(_mm512_cmpeq_epi32_mask(prim, _mm512_set1_epi32(static_cast<int>(H.prim[a0]))) & act) == act) {
+      const float* nrm = T.normals + 3 * static_cast<std::size_t>(static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm512_castsi512_si128(first))) + H.prim[a0]);
+      nx = _mm512_set1_ps(nrm[0]);
+      ny = _mm512_set1_ps(nrm[1]);
+      nz = _mm512_set1_ps(nrm[2]);
+    } else {
+      const __m512i tri = _mm512_add_epi32(first, prim);
+      const __m512i i3 = _mm512_add_epi32(_mm512_add_epi32(tri, tri), tri);
+      nx = _mm512_mask_i32gather_ps(zero, act, i3, T.normals, 4);
+      ny = _mm512_mask_i32gather_ps(zero, act, i3, T.normals + 1, 4);
+      nz = _mm512_mask_i32gather_ps(zero, act, i3, T.normals + 2, 4);
+    }
+    const __m512 dot = _mm512_add_ps(
+        _mm512_add_ps(_mm512_mul_ps(nx, _mm512_loadu_ps(H.dir_x)), _mm512_mul_ps(ny, _mm512_loadu_ps(H.dir_y))),
+        _mm512_mul_ps(nz, _mm512_loadu_ps(H.dir_z)));
+    const __m512 sign = _mm512_castsi512_ps(_mm512_set1_epi32(static_cast<int>(0x80000000u)));
+    __m512 ca = _mm512_andnot_ps(sign, dot);
+    const __m512 lo = _mm512_set1_ps(1e-4f), hi = _mm512_set1_ps(1.0f);
+    ca = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(ca, lo, _CMP_LT_OQ), ca, lo);
+    ca = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(hi, ca, _CMP_LT_OQ), ca, hi);
+    _mm512_mask_storeu_ps(L.cos_a, act, ca);
+    const __m512 fnz = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(dot, zero, _CMP_GT_OQ), nz, _mm512_xor_ps(nz, sign));
+    _mm512_mask_storeu_ps(L.facing_nz, act, fnz);
+    _mm512_mask_storeu_epi32(L.rho_offset, act, rho_off);
+    for (int ch = 0; ch < 3; ++ch) _mm512_mask_storeu_ps(L.albedo[ch], act, base[ch]);
+    _mm512_mask_storeu_epi32(L.active, act, _mm512_set1_epi32(1));
+  }
+  return m;
+}
+
 #pragma GCC diagnostic pop
 
 bool CpuHasAvx512() {
@@ -278,6 +353,14 @@ void RunPulseKernel(const PulseKernelConstants& k, PulseLanes& lanes) {
   } else {
     KernelBaseline(k, lanes);
   }
+}
+
+std::uint32_t ResolveStaticLanes(const ResolveTables& t, const HitLanes& h, int n, PulseLanes& lanes,
+                                 std::int32_t* part, std::uint32_t* too_close) {
+  static const bool avx512 = CpuHasAvx512();
+  *too_close = 0;
+  if (!avx512 || g_force_baseline.load(std::memory_order_relaxed)) return 0;
+  return ResolveAvx512(t, h, n, lanes, part, too_close);
 }
 
 void ForceBaselinePulseKernel(bool force) { g_force_baseline.store(force); }

@@ -49,6 +49,36 @@ struct PulseKernelConstants {
   const float* rho_tables = nullptr;   ///< SurfaceTable::rho_tables()
 };
 
+/// Flat per-scan tables for resolving Embree hits inside the 16-wide path (ResolveStaticLanes).
+struct ResolveTables {
+  const std::int32_t* geom_to_part = nullptr;    ///< top-level geomID -> part
+  const float* normals = nullptr;                ///< unit triangle normals, xyz per triangle
+  const std::uint32_t* first_triangle = nullptr; ///< per part
+  const std::int32_t* part_simple = nullptr;     ///< per part: 1 = opaque and untextured
+  const std::int32_t* part_rho_offset = nullptr; ///< per part: SurfaceProps::rho_offset
+  const float* part_base = nullptr;              ///< per part: base_linear rgb (3 floats)
+  float range_min = 0.0f;
+};
+
+/// Embree's hit fields of one 16-wide packet (pointers into RTCRayHit16).
+struct HitLanes {
+  const std::uint32_t* geom;
+  const std::uint32_t* inst;
+  const std::uint32_t* prim;
+  const float* tfar;
+  const float* dir_x;
+  const float* dir_y;
+  const float* dir_z;
+};
+
+/// The exact counterpart of the scalar hit resolution of the single-ray path, for lanes j < n
+/// that hit a static (non-instanced), opaque, untextured part: sets lanes.t, and unless
+/// t < range_min (bit set in *too_close) also cos_a, rho_offset, facing_nz, albedo and
+/// active = 1; part[j]. Returns the mask of lanes it handled; other lanes are untouched and go
+/// through the scalar resolution. Returns 0 (handles nothing) without AVX-512.
+std::uint32_t ResolveStaticLanes(const ResolveTables& t, const HitLanes& h, int n, PulseLanes& lanes,
+                                 std::int32_t* part, std::uint32_t* too_close);
+
 /// Runs the kernel on the best variant for this CPU.
 void RunPulseKernel(const PulseKernelConstants& k, PulseLanes& lanes);
 /// For tests: force the baseline variant (true) or restore automatic choice (false).

@@ -10,5 +10,6 @@ namespace mopad::tools {
 void RegisterSceneCommands(CLI::App& app);  // scene generate|random|info|validate|catalogue
 void RegisterSimCommands(CLI::App& app);    // scan, lrf, bench raycast
 void RegisterRunCommand(CLI::App& app);     // run: the main job
+void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
 
 }  // namespace mopad::tools

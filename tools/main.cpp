@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterSceneCommands(app);
   mopad::tools::RegisterSimCommands(app);
   mopad::tools::RegisterRunCommand(app);
+  mopad::tools::RegisterDriveCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {

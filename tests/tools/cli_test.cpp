@@ -1,6 +1,7 @@
 // The `mopad` CLI end to end: it is what users and CI call.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -34,7 +35,9 @@ Result Mopad(const std::string& args) {
 std::string Src(const std::string& rel) { return std::string(MOPAD_SOURCE_DIR) + "/" + rel; }
 
 std::string TempDir(const std::string& name) {
-  const fs::path d = fs::path(testing::TempDir()) / ("mopad_cli_" + name);
+  // Per process: ctest runs each test case in its own process, possibly in parallel.
+  const fs::path d =
+      fs::path(testing::TempDir()) / ("mopad_cli_" + std::to_string(getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d.string();

@@ -1,0 +1,145 @@
+#pragma once
+// The closed loop of `mopad drive` (issue 4): the one place where the world (scenes, sim) and
+// the robot (perception, autonomy) meet (STYLE.md §1). Only plain interface values cross:
+// TlsScan, LrfScan, Odometry, VelocityCommand.
+//
+// Loop (simulation time, fixed `control_dt` steps; no algorithm reads the wall clock):
+//  1. TLS scan at the start. map frame := the robot's start pose (base_link at t = 0), so the
+//     first scan is registered with the identity; later scans with the AMCL estimate. The
+//     obstacle map is rebuilt from the height band of all the robot's scans (never from the
+//     truth geometry).
+//  2. Each step: body step under the last command -> drifting wheel odometry; base and top LRF
+//     sweeps at their profile rates; AMCL on the top LRF; LocalController on the base LRF;
+//     GlobalPlanner (with LRF obstacles) for plans and replans.
+//  3. Scan-and-go: a goal plan is driven only as far as the map around it is well known
+//     (typically into the next doorway), then the robot scans again; a goal outside the known
+//     free space: drive to the reachable point nearest to it and scan. No progress (or
+//     `max_scans` spent) ends in `unreachable`.
+//  4. Ends with an explained status: arrived, unreachable, blocked, localisation_lost, timeout.
+//
+// Truth is read only here: the body's true pose for the true trajectory and the evaluation
+// figures (expressed in the map frame: X_MW = X_WB(0)^-1).
+// Determinism: same world + params + request (seed) -> same trajectories (bytes).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "autonomy/global_planner.h"
+#include "autonomy/local_controller.h"
+#include "common/frames.h"
+#include "common/params.h"
+#include "perception/amcl.h"
+#include "perception/occupancy_grid.h"
+#include "sim/embree_world.h"
+#include "sim/robot_body.h"
+
+namespace mopad::runner {
+
+struct DriveParams {
+  double control_dt = 0.02;        ///< s, physics/control step, [0.001, 0.2]
+  double max_time = 600.0;         ///< s of simulation time before `timeout`, (0, 1e5]
+  std::string lrf_profile = "hokuyo_utm30lx";  ///< profile of both LRFs (sim/lrf.h)
+  std::string tls_profile = "riegl_vz400";     ///< TLS profile (sim/tls_params.h)
+  double tls_step_deg = 0.2;       ///< deg, TLS angular step used for obstacle maps, [0.05, 5]
+  int max_scans = 20;              ///< TLS scans per mission (scan-and-go), [1, 100]
+  double min_scan_progress = 0.1;  ///< m, a new scan target must be this much closer, (0, 10]
+  double goal_known_radius = 1.0;    ///< m, neighbourhood of the goal checked before the last leg
+  double goal_known_fraction = 0.85; ///< mapped share of it needed to drive there directly, [0, 1]
+  double scan_target_clearance = 0.55; ///< m, clearance of scan-and-go targets, (0, 5]
+  double doorway_margin = 0.1;       ///< m, scan stops keep this clearance beyond robot_radius, [0, 2]
+  double scan_blind_radius = 0.5;    ///< m, around scan positions the map counts as known, [0, 10]
+  double initial_sigma_xy = 0.01;  ///< m, AMCL initial std (the map is built at the start)
+  double initial_sigma_yaw_deg = 0.5;  ///< deg, AMCL initial std
+  double map_margin = 1.0;         ///< m, grid margin around the scanned points, [0, 20]
+  std::uint64_t max_points_per_scan = 400000;  ///< cap of band points kept per scan
+
+  sim::RobotBodyParams body = DefaultBody();
+  perception::OccupancyGridParams grid;
+  perception::AmclParams amcl = DefaultAmcl();
+  autonomy::GlobalPlannerParams planner = DefaultPlanner();
+  autonomy::LocalControllerParams controller = DefaultController();
+
+  static sim::RobotBodyParams DefaultBody();
+  static perception::AmclParams DefaultAmcl();
+  static autonomy::GlobalPlannerParams DefaultPlanner();
+  static autonomy::LocalControllerParams DefaultController();
+
+  template <class V>
+  void Visit(V& v) {
+    v("control_dt", control_dt, Bounds{0.001, 0.2});
+    v("max_time", max_time, Bounds{1e-3, 1e5});
+    v("lrf_profile", lrf_profile);
+    v("tls_profile", tls_profile);
+    v("tls_step_deg", tls_step_deg, Bounds{0.05, 5.0});
+    v("max_scans", max_scans, Bounds{1, 100});
+    v("min_scan_progress", min_scan_progress, Bounds{1e-3, 10.0});
+    v("goal_known_radius", goal_known_radius, Bounds{0.05, 10.0});
+    v("goal_known_fraction", goal_known_fraction, Bounds{0.0, 1.0});
+    v("scan_target_clearance", scan_target_clearance, Bounds{1e-3, 5.0});
+    v("doorway_margin", doorway_margin, Bounds{0.0, 2.0});
+    v("scan_blind_radius", scan_blind_radius, Bounds{0.0, 10.0});
+    v("initial_sigma_xy", initial_sigma_xy, Bounds{1e-4, 10.0});
+    v("initial_sigma_yaw_deg", initial_sigma_yaw_deg, Bounds{1e-3, 180.0});
+    v("map_margin", map_margin, Bounds{0.0, 20.0});
+    v("body", body);
+    v("occupancy_grid", grid);
+    v("amcl", amcl);
+    v("global_planner", planner);
+    v("local_controller", controller);
+  }
+};
+
+enum class DriveStatus { kArrived, kUnreachable, kBlocked, kLocalisationLost, kTimeout };
+const char* ToString(DriveStatus s);
+
+struct DriveRequest {
+  Pose2 X_WB_start;          ///< true start pose (world) — where the simulator puts the body
+  Pose2 X_WB_goal;           ///< goal (world); handed to the robot in its map frame
+  std::uint64_t seed = 1;    ///< run seed: sensor noise, odometry drift, AMCL, planner
+};
+
+struct TrajectorySample {
+  double t = 0.0;  ///< s, simulation time
+  Pose2 pose;      ///< base_link in map
+};
+
+struct DriveResult {
+  DriveStatus status = DriveStatus::kTimeout;
+  std::string message;
+  std::vector<TrajectorySample> estimated;  ///< AMCL estimate (with odometry between updates)
+  std::vector<TrajectorySample> truth;      ///< true pose expressed in the map frame
+  std::vector<std::vector<Pose2>> plans;    ///< every global plan followed (map frame)
+  std::vector<Pose2> scan_poses;            ///< estimated base poses of the TLS scans (map)
+  perception::OccupancyGrid map{perception::OccupancyGridParams{}, Vec2::Zero(), 1, 1};
+  Pose2 goal_M;                  ///< goal in the map frame
+  Pose2 final_true_M;            ///< final true pose, map frame
+  double goal_error_xy = 0.0;    ///< m, |true final - goal|
+  double goal_error_yaw_deg = 0.0;
+  double loc_rms = 0.0, loc_max = 0.0;  ///< m, |estimate - truth| over all steps
+  double loc_yaw_rms_deg = 0.0, loc_yaw_max_deg = 0.0;
+  int contacts = 0;              ///< body contact episodes
+  std::vector<sim::ContactEvent> contact_events;  ///< where and when (truth, world frame)
+  int blocked_steps = 0;
+  double path_length = 0.0;      ///< m, true distance travelled
+  double sim_time = 0.0;         ///< s
+  double wall_time = 0.0;        ///< s (reporting only)
+  int tls_scans = 0, lrf_sweeps = 0, amcl_updates = 0, replans = 0, lost_events = 0;
+  double RealTimeFactor() const { return wall_time > 0 ? sim_time / wall_time : 0.0; }
+};
+
+/// Runs one mission in `world` (door leaves as the world has them). The body's collision mesh
+/// is the world's triangles, door leaves included at their current (truth) angle.
+/// Throws InputError for invalid params or a start pose in collision.
+DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
+                     const DriveRequest& request);
+
+/// Writes trajectory_estimated.tum, trajectory_true.tum, map.png + map.yaml, map_path.png and
+/// summary.json into `dir` (created).
+void WriteDriveOutputs(const DriveResult& result, const DriveParams& params,
+                       const DriveRequest& request, const std::string& dir);
+
+/// TUM trajectory text ("t tx ty tz qx qy qz qw" per line).
+std::string ToTum(const std::vector<TrajectorySample>& samples);
+
+}  // namespace mopad::runner

@@ -1,0 +1,109 @@
+// `mopad drive SCENE --from x,y,yaw --to x,y,yaw [--seed N] [--max-time S] -o DIR`: one
+// closed-loop navigation mission (runner/drive_mission.h). Parse -> load world -> run -> write.
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/params.h"
+#include "runner/drive_mission.h"
+#include "scenes/generator.h"
+#include "scenes/ground_truth.h"
+#include "scenes/scene_loader.h"
+#include "scenes/scene_spec.h"
+#include "sim/embree_world.h"
+#include "tools/commands.h"
+#include "tools/scene_paths.h"
+
+namespace mopad::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+Pose2 ParsePose(const std::string& opt, const std::string& text) {
+  std::stringstream ss(text);
+  std::string item;
+  std::vector<double> v;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError(opt + ": error: bad number; got '" + text + "', expected x,y,yaw_deg");
+    }
+  }
+  if (v.size() != 3)
+    throw InputError(opt + ": error: wrong count; got '" + text + "', expected x,y,yaw_deg");
+  return Pose2{v[0], v[1], DegToRad(v[2])};
+}
+
+}  // namespace
+
+void RegisterDriveCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("drive", "Closed-loop navigation from one pose to another");
+  auto scene = std::make_shared<std::string>();
+  auto from = std::make_shared<std::string>();
+  auto to = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>("out/drive");
+  auto seed = std::make_shared<std::uint64_t>(1);
+  auto max_time = std::make_shared<double>(600.0);
+  auto config = std::make_shared<std::string>();
+  auto doors = std::make_shared<std::vector<std::string>>();
+  cmd->add_option("SCENE", *scene, "Generated scene folder, scene file, or scene spec (.yaml)")
+      ->required();
+  cmd->add_option("--from", *from, "Start pose x,y,yaw_deg (world frame)")->required();
+  cmd->add_option("--to", *to, "Goal pose x,y,yaw_deg (world frame)")->required();
+  cmd->add_option("--seed", *seed, "Run seed")->default_val(1);
+  cmd->add_option("--max-time", *max_time, "Simulation time limit (s)")->default_val(600.0);
+  cmd->add_option("--config", *config, "YAML overriding DriveParams fields");
+  cmd->add_option("--door", *doors, "ID=DEG: set a door's opening angle (spec .yaml only)");
+  cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/drive");
+  cmd->callback([=] {
+    runner::DriveParams params;
+    if (!config->empty()) params = LoadParamsFile<runner::DriveParams>(*config);
+    params.max_time = *max_time;
+    runner::DriveRequest req;
+    req.X_WB_start = ParsePose("--from", *from);
+    req.X_WB_goal = ParsePose("--to", *to);
+    req.seed = *seed;
+
+    std::optional<sim::EmbreeWorld> world;
+    const std::string ext = fs::path(*scene).extension().string();
+    if (ext == ".yaml" || ext == ".yml") {
+      scenes::SceneSpec spec = scenes::LoadSceneSpec(*scene);
+      for (const auto& d : *doors) {
+        const auto eq = d.find('=');
+        bool found = false;
+        if (eq != std::string::npos)
+          for (auto& door : spec.doors)
+            if (door.id == d.substr(0, eq)) door.angle_deg = std::stod(d.substr(eq + 1)), found = true;
+        if (!found)
+          throw InputError("--door: error: unknown door or bad syntax; got '" + d +
+                           "', expected ID=DEG with ID a door of the spec");
+      }
+      scenes::GeneratedScene g = scenes::Generate(spec);
+      const scenes::GroundTruth truth = g.truth;
+      world.emplace(std::move(g.scene), &truth);
+    } else {
+      if (!doors->empty()) throw InputError("--door: error: only with a scene spec (.yaml)");
+      const ScenePaths paths = ResolveScene(*scene);
+      std::optional<scenes::GroundTruth> truth;
+      if (paths.truth) truth = scenes::ReadGroundTruth(*paths.truth);
+      world.emplace(scenes::LoadScene(paths.geometry), truth ? &*truth : nullptr);
+    }
+    const runner::DriveResult r = runner::RunDrive(*world, params, req);
+    runner::WriteDriveOutputs(r, params, req, *out);
+    std::printf("%s: %s\n", runner::ToString(r.status), r.message.c_str());
+    std::printf("final error %.3f m / %.2f deg; localisation RMS %.3f m, max %.3f m; contacts %d; "
+                "path %.2f m; %d TLS scans; sim %.1f s, wall %.1f s, %.1fx real time\n",
+                r.goal_error_xy, r.goal_error_yaw_deg, r.loc_rms, r.loc_max, r.contacts,
+                r.path_length, r.tls_scans, r.sim_time, r.wall_time, r.RealTimeFactor());
+    std::printf("wrote %s/{trajectory_estimated.tum,trajectory_true.tum,map.png,map.yaml,"
+                "map_path.png,summary.json}\n", out->c_str());
+  });
+}
+
+}  // namespace mopad::tools
