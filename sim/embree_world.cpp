@@ -69,10 +69,10 @@ EmbreeWorld::Impl::~Impl() {
   if (device) rtcReleaseDevice(device);
 }
 
-void EmbreeWorld::Impl::RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far,
-                                     RayHit* out) const {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
+namespace {
+
+// One ray for rtcIntersect1. Debian's Embree is built with ray masks: mask 0 hits nothing.
+RTCRayHit MakeRayHit(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far) {
   RTCRayHit rh;
   rh.ray.org_x = o.x();
   rh.ray.org_y = o.y();
@@ -88,6 +88,16 @@ void EmbreeWorld::Impl::RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vecto
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+}  // namespace
+
+void EmbreeWorld::Impl::RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far,
+                                     RayHit* out) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh = MakeRayHit(o, d, t_near, t_far);
   rtcIntersect1(robust, &ctx, &rh);
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
     Resolve(rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.ray.tfar, rh.hit.u, rh.hit.v, out);
@@ -273,21 +283,7 @@ RayHit EmbreeWorld::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector
                               float t_far) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  rh.ray.org_x = origin.x();
-  rh.ray.org_y = origin.y();
-  rh.ray.org_z = origin.z();
-  rh.ray.dir_x = direction.x();
-  rh.ray.dir_y = direction.y();
-  rh.ray.dir_z = direction.z();
-  rh.ray.tnear = t_near;
-  rh.ray.tfar = t_far;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xFFFFFFFFu;  // Debian's Embree is built with ray masks
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = MakeRayHit(origin, direction, t_near, t_far);
   rtcIntersect1(impl_->top, &ctx, &rh);
   RayHit out;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
