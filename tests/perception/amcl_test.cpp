@@ -201,6 +201,13 @@ TEST_P(AmclKidnap, IsDetectedAndTheFilterRelocalisesGlobally) {
   EXPECT_LT(e.yaw, DegToRad(1.0));
 }
 
+// Readable names instead of gtest's byte dump of the parameter.
+std::string KidnapCaseName(const ::testing::TestParamInfo<KidnapCase>& info) {
+  static const char* kNames[] = {"IntoTheOtherRoom", "SameRoomTurnedAround",
+                                 "NearTheDoorFacingTheWall"};
+  return info.index < 3 ? kNames[info.index] : "Case" + std::to_string(info.index);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Destinations, AmclKidnap,
     ::testing::Values(
@@ -209,7 +216,8 @@ INSTANTIATE_TEST_SUITE_P(
         // Within the same room, turned around.
         KidnapCase{{3.5, 4.0, -2.5}, {{2.5, 3.5}, {3.5, 2.5}, {2.0, 2.0}, {3.0, 3.0}}},
         // Near the door, facing the wall.
-        KidnapCase{{6.0, 4.5, 1.6}, {{6.0, 3.5}, {7.0, 3.0}, {6.0, 2.0}, {8.0, 2.5}}}));
+        KidnapCase{{6.0, 4.5, 1.6}, {{6.0, 3.5}, {7.0, 3.0}, {6.0, 2.0}, {8.0, 2.5}}}),
+    KidnapCaseName);
 
 TEST(Amcl, SameSeedGivesTheSameParticleBytesWithOneOrManyThreads) {
   auto bytes = [](const Amcl& a) {
