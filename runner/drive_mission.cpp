@@ -281,7 +281,7 @@ DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
     std::vector<Pose2> poses;
     for (const auto& p : plan.path) poses.push_back(p.pose);
     res.plans.push_back(std::move(poses));
-    if (std::getenv("MOPAD_DRIVE_DEBUG")) {
+    if (params.trace) {
       std::fprintf(stderr, "t=%.2f plan to (%.2f %.2f) final=%d len %.2f minclr %.2f passages %zu\n", t,
                    target_M.x, target_M.y, final, plan.length, plan.min_clearance, plan.passages.size());
       for (const auto& q : plan.passages)
@@ -418,7 +418,7 @@ DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
     const bool lost = est.status == perception::LocalisationStatus::kLost ||
                       est.status == perception::LocalisationStatus::kRelocalising;
     if (lost && !was_lost) ++res.lost_events;
-    if (std::getenv("MOPAD_DRIVE_DEBUG") && res.estimated.size() % 50 == 0) {
+    if (params.trace && res.estimated.size() % 50 == 0) {
       const Pose2 tm = Compose(X_MW, body.TruePose());
       std::fprintf(stderr, "   amcl est (%.2f %.2f) %s (%s) n=%d inl=%.2f true (%.2f %.2f %.2f) odom (%.2f %.2f)\n", X_MB_est.x, X_MB_est.y, perception::ToString(est.status),
                    est.message.c_str(), est.particles, est.inlier_ratio, tm.x, tm.y, tm.yaw, odom.X_OB.x, odom.X_OB.y);
@@ -428,7 +428,7 @@ DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
     record();
     const autonomy::ControlOutput out = controller.Update(t, X_MB_est, est.status, base_scan);
     cmd = out.cmd;
-    if (std::getenv("MOPAD_DRIVE_DEBUG") && (res.estimated.size() % 50 == 0 || out.finished))
+    if (params.trace && (res.estimated.size() % 50 == 0 || out.finished))
       std::fprintf(stderr, "t=%.2f est (%.2f %.2f %.2f) %s: %s\n", t, X_MB_est.x, X_MB_est.y, X_MB_est.yaw,
                    autonomy::ToString(out.status), out.message.c_str());
     if (!out.finished) continue;

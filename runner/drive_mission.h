@@ -59,6 +59,7 @@ struct DriveParams {
   perception::AmclParams amcl = DefaultAmcl();
   autonomy::GlobalPlannerParams planner = DefaultPlanner();
   autonomy::LocalControllerParams controller = DefaultController();
+  bool trace = false;  ///< print plans and localisation to stderr every 50 steps (debugging)
 
   static sim::RobotBodyParams DefaultBody();
   static perception::AmclParams DefaultAmcl();
@@ -68,6 +69,7 @@ struct DriveParams {
   template <class V>
   void Visit(V& v) {
     v("control_dt", control_dt, Bounds{0.001, 0.2});
+    v("trace", trace);
     v("max_time", max_time, Bounds{1e-3, 1e5});
     v("lrf_profile", lrf_profile);
     v("tls_profile", tls_profile);
