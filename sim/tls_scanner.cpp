@@ -72,6 +72,18 @@ std::vector<std::string> TlsProfileNames() { return {"riegl_vz400", "riegl_vz400
 
 namespace {
 
+// Everything of packet lane j but origin and direction: full range, all masks (Debian's Embree
+// is built with ray masks: mask 0 hits nothing), no hit yet.
+inline void ResetLane(RTCRayHit16* rh, int j) {
+  rh->ray.tnear[j] = 0.0f;
+  rh->ray.tfar[j] = std::numeric_limits<float>::infinity();
+  rh->ray.time[j] = 0.0f;
+  rh->ray.mask[j] = 0xFFFFFFFFu;
+  rh->ray.id[j] = static_cast<unsigned>(j);
+  rh->ray.flags[j] = 0;
+  rh->hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
+  rh->hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+}
 
 std::uint32_t CountRows(const TlsParams& p) {
   const double vstep = p.vertical_step_deg > 0 ? p.vertical_step_deg : p.step_deg;
@@ -328,14 +340,7 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           rh.ray.org_x[j] = ox;
           rh.ray.org_y[j] = oy;
           rh.ray.org_z[j] = oz;
-          rh.ray.tnear[j] = 0.0f;
-          rh.ray.tfar[j] = std::numeric_limits<float>::infinity();
-          rh.ray.time[j] = 0.0f;
-          rh.ray.mask[j] = 0xFFFFFFFFu;  // Debian's Embree is built with ray masks
-          rh.ray.id[j] = static_cast<unsigned>(j);
-          rh.ray.flags[j] = 0;
-          rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
-          rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+          ResetLane(&rh, j);
         }
         rtcIntersect16(valid, w.top, &rctx, &rh);
         if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
@@ -382,14 +387,7 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           rh.ray.dir_x[j] = d.x();
           rh.ray.dir_y[j] = d.y();
           rh.ray.dir_z[j] = d.z();
-          rh.ray.tnear[j] = 0.0f;
-          rh.ray.tfar[j] = std::numeric_limits<float>::infinity();
-          rh.ray.time[j] = 0.0f;
-          rh.ray.mask[j] = 0xFFFFFFFFu;  // Debian's Embree is built with ray masks
-          rh.ray.id[j] = static_cast<unsigned>(j);
-          rh.ray.flags[j] = 0;
-          rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
-          rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+          ResetLane(&rh, j);
         }
         rtcIntersect16(valid, w.top, &rctx, &rh);
         if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
