@@ -21,6 +21,7 @@
 #include "sim/tls_truth.h"
 #include "tools/commands.h"
 #include "tools/default_scene.h"
+#include "tools/mission_world.h"
 #include "tools/report.h"
 #include "tools/scene_summary.h"
 
@@ -32,58 +33,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point a) {
   return std::chrono::duration<double>(Clock::now() - a).count();
-}
-
-double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                         const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
-bool InsidePolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
-        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) /
-                        (poly[j].y() - poly[i].y()) +
-                    poly[i].x())
-      in = !in;
-  }
-  return in;
-}
-
-// Harness placement: the point of a 10 cm grid inside the room that is farthest from walls,
-// furniture and columns (a "pole of inaccessibility"), deterministic.
-Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::Room& room) {
-  Eigen::AlignedBox2d box;
-  for (const auto& p : room.polygon) box.extend(p);
-  Eigen::Vector2d best = box.center();
-  double best_clear = -1.0;
-  for (double x = box.min().x() + 0.05; x < box.max().x(); x += 0.1) {
-    for (double y = box.min().y() + 0.05; y < box.max().y(); y += 0.1) {
-      const Eigen::Vector2d p(x, y);
-      if (!InsidePolygon(p, room.polygon)) continue;
-      double clear = 1e9;
-      for (std::size_t i = 0; i < room.polygon.size(); ++i)
-        clear = std::min(clear, DistanceToSegment(p, room.polygon[i],
-                                                  room.polygon[(i + 1) % room.polygon.size()]));
-      for (const auto& f : truth.furniture) {
-        const double r = 0.5 * f.size.head<2>().norm();
-        clear = std::min(clear, (p - f.centre.head<2>()).norm() - r);
-      }
-      for (const auto& e : truth.elements) {
-        if (e.element_class != scenes::ElementClass::kColumn) continue;
-        for (const auto& poly : e.polygons)
-          for (const auto& v : poly) clear = std::min(clear, (p - v.head<2>()).norm());
-      }
-      if (clear > best_clear + 1e-9) {
-        best_clear = clear;
-        best = p;
-      }
-    }
-  }
-  return best;
 }
 
 std::string Fixed(double v, int digits) {

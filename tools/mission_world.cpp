@@ -1,0 +1,103 @@
+#include "tools/mission_world.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "common/error.h"
+#include "scenes/generator.h"
+#include "scenes/scene_loader.h"
+#include "scenes/scene_spec.h"
+#include "tools/scene_paths.h"
+
+namespace mopad::tools {
+namespace {
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+bool InsidePolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
+        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) /
+                        (poly[j].y() - poly[i].y()) +
+                    poly[i].x())
+      in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+MissionWorld LoadMissionWorld(const std::string& scene_arg,
+                              const std::vector<std::string>& door_overrides) {
+  MissionWorld out;
+  const std::string ext = std::filesystem::path(scene_arg).extension().string();
+  if (ext == ".yaml" || ext == ".yml") {
+    scenes::SceneSpec spec = scenes::LoadSceneSpec(scene_arg);
+    for (const auto& d : door_overrides) {
+      const auto eq = d.find('=');
+      bool found = false;
+      if (eq != std::string::npos)
+        for (auto& door : spec.doors)
+          if (door.id == d.substr(0, eq)) {
+            try {
+              door.angle_deg = std::stod(d.substr(eq + 1));
+            } catch (const std::exception&) {
+              break;
+            }
+            found = true;
+          }
+      if (!found)
+        throw InputError("--door: error: unknown door or bad syntax; got '" + d +
+                         "', expected ID=DEG with ID a door of the spec");
+    }
+    scenes::GeneratedScene g = scenes::Generate(spec);
+    out.truth = std::move(g.truth);
+    out.world = std::make_unique<sim::EmbreeWorld>(std::move(g.scene), &*out.truth);
+    return out;
+  }
+  if (!door_overrides.empty()) throw InputError("--door: error: only with a scene spec (.yaml)");
+  const ScenePaths paths = ResolveScene(scene_arg);
+  if (paths.truth) out.truth = scenes::ReadGroundTruth(*paths.truth);
+  out.world = std::make_unique<sim::EmbreeWorld>(scenes::LoadScene(paths.geometry),
+                                                 out.truth ? &*out.truth : nullptr);
+  return out;
+}
+
+Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::Room& room) {
+  Eigen::AlignedBox2d box;
+  for (const auto& p : room.polygon) box.extend(p);
+  Eigen::Vector2d best = box.center();
+  double best_clear = -1.0;
+  for (double x = box.min().x() + 0.05; x < box.max().x(); x += 0.1) {
+    for (double y = box.min().y() + 0.05; y < box.max().y(); y += 0.1) {
+      const Eigen::Vector2d p(x, y);
+      if (!InsidePolygon(p, room.polygon)) continue;
+      double clear = 1e9;
+      for (std::size_t i = 0; i < room.polygon.size(); ++i)
+        clear = std::min(clear, DistanceToSegment(p, room.polygon[i],
+                                                  room.polygon[(i + 1) % room.polygon.size()]));
+      for (const auto& f : truth.furniture) {
+        const double r = 0.5 * f.size.head<2>().norm();
+        clear = std::min(clear, (p - f.centre.head<2>()).norm() - r);
+      }
+      for (const auto& e : truth.elements) {
+        if (e.element_class != scenes::ElementClass::kColumn) continue;
+        for (const auto& poly : e.polygons)
+          for (const auto& v : poly) clear = std::min(clear, (p - v.head<2>()).norm());
+      }
+      if (clear > best_clear + 1e-9) {
+        best_clear = clear;
+        best = p;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace mopad::tools
