@@ -1,0 +1,474 @@
+#include "perception/registration.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <unordered_set>
+#include <utility>
+
+#include "common/error.h"
+#include "common/frames.h"
+
+namespace mopad::perception {
+namespace {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+constexpr std::size_t kBlock = 1024;  // points per reduction block (fixed: determinism)
+
+enum class Kernel { kNone, kHuber, kTukey, kCauchy };
+
+Kernel ParseKernel(const std::string& name) {
+  if (name == "none") return Kernel::kNone;
+  if (name == "huber") return Kernel::kHuber;
+  if (name == "tukey") return Kernel::kTukey;
+  if (name == "cauchy") return Kernel::kCauchy;
+  throw InputError("", "parameter 'robust_kernel' unknown", "'" + name + "'", "none | huber | tukey | cauchy");
+}
+
+// IRLS weight of a residual r for kernel scale k.
+double KernelWeight(Kernel kernel, double r, double k) {
+  const double a = std::abs(r);
+  switch (kernel) {
+    case Kernel::kNone: return 1.0;
+    case Kernel::kHuber: return a <= k ? 1.0 : k / a;
+    case Kernel::kTukey: {
+      if (a >= k) return 0.0;
+      const double u = 1.0 - (r / k) * (r / k);
+      return u * u;
+    }
+    case Kernel::kCauchy: return 1.0 / (1.0 + (r / k) * (r / k));
+  }
+  return 1.0;
+}
+
+// Sums of one correspondence pass (per block, then reduced in block order).
+struct Accum {
+  Mat6 H = Mat6::Zero();  // sum w J J^T, J = [(p - c) x n; n]
+  Vec6 g = Vec6::Zero();  // sum w J r
+  double weight = 0.0;    // sum w
+  double lever2 = 0.0;    // sum w |p - c|^2
+  double r2 = 0.0;        // sum r^2 (unweighted) over planar matches
+  std::size_t matched = 0;  // source points with a map point within the distance
+  std::size_t planar = 0;   // of which the map point has a usable normal
+  void Add(const Accum& o) {
+    H += o.H;
+    g += o.g;
+    weight += o.weight;
+    lever2 += o.lever2;
+    r2 += o.r2;
+    matched += o.matched;
+    planar += o.planar;
+  }
+};
+
+Accum Correspond(const Points& src, const Eigen::Isometry3d& T, const Eigen::Vector3d& c, const PointMap& map,
+                 double max_dist, Kernel kernel, double kernel_scale, double max_curvature) {
+  const std::size_t blocks = (src.size() + kBlock - 1) / kBlock;
+  std::vector<Accum> partial(blocks);
+  const Points& q = map.points();
+  const std::vector<Normal>& normals = map.normals();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const auto& range) {
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      Accum& acc = partial[b];
+      const std::size_t end = std::min(src.size(), (b + 1) * kBlock);
+      for (std::size_t i = b * kBlock; i < end; ++i) {
+        const Eigen::Vector3d p = T * src[i];
+        const std::int64_t j = map.tree().Nearest(p, max_dist);
+        if (j < 0) continue;
+        ++acc.matched;
+        const Normal& nm = normals[static_cast<std::size_t>(j)];
+        if (!nm.valid || nm.curvature > max_curvature) continue;
+        ++acc.planar;
+        const double r = nm.n.dot(p - q[static_cast<std::size_t>(j)]);
+        acc.r2 += r * r;
+        const double w = KernelWeight(kernel, r, kernel_scale);
+        if (w <= 0.0) continue;
+        const Eigen::Vector3d arm = p - c;
+        Vec6 J;
+        J.head<3>() = arm.cross(nm.n);
+        J.tail<3>() = nm.n;
+        acc.H.noalias() += w * J * J.transpose();
+        acc.g.noalias() += (w * r) * J;
+        acc.weight += w;
+        acc.lever2 += w * arm.squaredNorm();
+      }
+    }
+  });
+  Accum total;
+  for (const Accum& a : partial) total.Add(a);
+  return total;
+}
+
+// The Gauss-Newton system restricted to the active DoF, in homogeneous units (rotation scaled by
+// the RMS lever arm L) and normalised by the total weight. idx maps reduced -> full parameters.
+struct Reduced {
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  std::vector<int> idx;
+  double lever = 1.0;
+};
+
+Reduced Reduce(const Accum& a, int dof) {
+  Reduced red;
+  red.idx = dof == 6 ? std::vector<int>{0, 1, 2, 3, 4, 5} : std::vector<int>{2, 3, 4, 5};
+  red.lever = a.weight > 0.0 ? std::max(std::sqrt(a.lever2 / a.weight), 1e-3) : 1.0;
+  const int n = static_cast<int>(red.idx.size());
+  red.H.resize(n, n);
+  red.g.resize(n);
+  for (int r = 0; r < n; ++r) {
+    const double sr = red.idx[r] < 3 ? 1.0 / red.lever : 1.0;
+    red.g[r] = a.g[red.idx[r]] * sr / a.weight;
+    for (int c = 0; c < n; ++c) {
+      const double sc = red.idx[c] < 3 ? 1.0 / red.lever : 1.0;
+      red.H(r, c) = a.H(red.idx[r], red.idx[c]) * sr * sc / a.weight;
+    }
+  }
+  return red;
+}
+
+std::string Fmt(const char* f, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, a);
+  return buf;
+}
+
+}  // namespace
+
+void IcpParams::Validate() const {
+  ValidateParams(*this);
+  if (dof != 4 && dof != 6) {
+    throw InputError("", "parameter 'dof' must be 4 or 6", std::to_string(dof), "4 | 6");
+  }
+  ParseKernel(robust_kernel);
+  if (max_correspondence.empty()) {
+    throw InputError("", "parameter 'max_correspondence' is empty", "[]", "one distance per stage");
+  }
+  if (!(min_range < max_range)) {
+    throw InputError("", "parameter 'min_range' must be below 'max_range'",
+                     std::to_string(min_range) + " >= " + std::to_string(max_range), "min_range < max_range");
+  }
+}
+
+// ---- PointMap ----------------------------------------------------------------------------------
+
+// Nearest return per direction bin of one added scan, seen from its origin.
+struct RangeImage {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  int n_az = 0, n_el = 0;
+  double bin = 0.0;  // rad
+  std::vector<float> nearest;   // n_el * n_az, +inf = no return
+  std::vector<float> farthest;  // idem, 0 = no return
+  // Bin of direction d (non-zero), or -1.
+  std::int64_t Bin(const Eigen::Vector3d& d, double r) const {
+    const int a = std::clamp(static_cast<int>((std::atan2(d.y(), d.x()) + kPi) / bin), 0, n_az - 1);
+    const int e = std::clamp(static_cast<int>((std::asin(std::clamp(d.z() / r, -1.0, 1.0)) + 0.5 * kPi) / bin), 0,
+                             n_el - 1);
+    return static_cast<std::int64_t>(e) * n_az + a;
+  }
+};
+
+struct PointMap::Impl {
+  IcpParams params;
+  std::vector<VoxelCell> cells;
+  std::unique_ptr<KdTree3> tree;
+  std::vector<Normal> normals;
+  std::vector<RangeImage> images;
+  std::size_t last_recomputed = 0;
+  Points empty_points;
+};
+
+PointMap::PointMap(const IcpParams& params) : impl_(std::make_unique<Impl>()) {
+  params.Validate();
+  impl_->params = params;
+}
+PointMap::~PointMap() = default;
+PointMap::PointMap(PointMap&&) noexcept = default;
+PointMap& PointMap::operator=(PointMap&&) noexcept = default;
+
+void PointMap::Add(const Points& points_M) {
+  const IcpParams& p = impl_->params;
+  const std::vector<VoxelCell> fresh = Voxelize(points_M, p.voxel_size);
+  if (fresh.empty()) return;
+  // Merge the key-sorted cell lists, remembering which cells changed (old and new centroids).
+  const std::vector<VoxelCell>& old = impl_->cells;
+  std::vector<VoxelCell> merged;
+  merged.reserve(old.size() + fresh.size());
+  std::vector<std::int64_t> from_old;  // per merged cell: index in `old`, or -1 if new
+  std::vector<char> changed;
+  Points moved;  // centroids (before and after) of changed cells
+  std::size_t i = 0, j = 0;
+  while (i < old.size() || j < fresh.size()) {
+    if (j == fresh.size() || (i < old.size() && old[i].key < fresh[j].key)) {
+      merged.push_back(old[i]);
+      from_old.push_back(static_cast<std::int64_t>(i++));
+      changed.push_back(0);
+      continue;
+    }
+    if (i < old.size() && old[i].key == fresh[j].key) {
+      moved.push_back(old[i].Centroid());
+      VoxelCell c = old[i];
+      c.sum += fresh[j].sum;
+      c.count += fresh[j].count;
+      merged.push_back(c);
+      from_old.push_back(static_cast<std::int64_t>(i++));
+    } else {
+      merged.push_back(fresh[j]);
+      from_old.push_back(-1);
+    }
+    moved.push_back(merged.back().Centroid());
+    changed.push_back(1);
+    ++j;
+  }
+  Points centroids(merged.size());
+  for (std::size_t k = 0; k < merged.size(); ++k) centroids[k] = merged[k].Centroid();
+  auto tree = std::make_unique<KdTree3>(std::move(centroids));
+  // A normal depends only on the points within normal_radius of its point (EstimateNormals), so
+  // only cells that changed or lie within the radius of a changed centroid are recomputed:
+  // those in the 27 coarse cells (edge = radius) around a coarse cell holding a moved centroid.
+  const double g = p.normal_radius;
+  std::unordered_set<std::int64_t> seeds, dirty;
+  for (const auto& c : moved) seeds.insert(VoxelKey(c, g));
+  constexpr std::int64_t kX = std::int64_t{1} << 42, kY = std::int64_t{1} << 21;
+  for (const std::int64_t key : seeds)
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) dirty.insert(key + dx * kX + dy * kY + dz);
+  std::vector<Normal> normals(merged.size());
+  std::vector<std::uint32_t> which;
+  for (std::size_t k = 0; k < merged.size(); ++k) {
+    if (changed[k] || dirty.count(VoxelKey(tree->points()[k], g))) {
+      which.push_back(static_cast<std::uint32_t>(k));
+    } else {
+      normals[k] = impl_->normals[static_cast<std::size_t>(from_old[k])];
+    }
+  }
+  EstimateNormalsAt(*tree, which, p.normal_neighbours, p.normal_radius, std::min(5, p.normal_neighbours),
+                    Eigen::Vector3d::Zero(), normals);
+  impl_->cells = std::move(merged);
+  impl_->tree = std::move(tree);
+  impl_->normals = std::move(normals);
+  impl_->last_recomputed = which.size();
+}
+
+std::size_t PointMap::last_normals_recomputed() const { return impl_->last_recomputed; }
+
+void PointMap::Add(const Points& points_M, const Eigen::Vector3d& origin_M) {
+  if (!origin_M.allFinite()) throw InputError("", "scan origin is not finite", "", "a finite point");
+  Add(points_M);
+  RangeImage img;
+  img.origin = origin_M;
+  img.bin = DegToRad(impl_->params.free_space_bin_deg);
+  img.n_az = static_cast<int>(std::ceil(2.0 * kPi / img.bin));
+  img.n_el = static_cast<int>(std::ceil(kPi / img.bin)) + 1;
+  img.nearest.assign(static_cast<std::size_t>(img.n_az) * img.n_el, std::numeric_limits<float>::infinity());
+  img.farthest.assign(img.nearest.size(), 0.0f);
+  for (const auto& p : points_M) {
+    const Eigen::Vector3d d = p - origin_M;
+    const double r = d.norm();
+    if (!std::isfinite(r) || r < 1e-6) continue;
+    const auto b = static_cast<std::size_t>(img.Bin(d, r));
+    img.nearest[b] = std::min(img.nearest[b], static_cast<float>(r));
+    img.farthest[b] = std::max(img.farthest[b], static_cast<float>(r));
+  }
+  impl_->images.push_back(std::move(img));
+}
+
+double PointMap::FreeSpaceViolation(const Points& points_M) const {
+  if (points_M.empty() || impl_->images.empty()) return 0.0;
+  const double margin = impl_->params.free_space_margin;
+  std::size_t violating = 0;
+  for (const auto& p : points_M) {
+    for (const RangeImage& img : impl_->images) {
+      const Eigen::Vector3d d = p - img.origin;
+      const double r = d.norm();
+      if (!(r > 1e-6)) continue;
+      const auto b = static_cast<std::size_t>(img.Bin(d, r));
+      const double nearest = img.nearest[b];
+      // Evidence only from bins that saw one surface squarely (range spread within the margin):
+      // grazing floors and depth edges spread over a bin and would accuse good points.
+      if (!(img.farthest[b] - nearest <= margin)) continue;  // also skips empty bins (inf)
+      if (r < nearest - margin - 0.02 * nearest) {
+        ++violating;
+        break;
+      }
+    }
+  }
+  return static_cast<double>(violating) / static_cast<double>(points_M.size());
+}
+
+bool PointMap::empty() const { return !impl_->tree || impl_->tree->size() == 0; }
+std::size_t PointMap::size() const { return impl_->tree ? impl_->tree->size() : 0; }
+const Points& PointMap::points() const { return impl_->tree ? impl_->tree->points() : impl_->empty_points; }
+const std::vector<Normal>& PointMap::normals() const { return impl_->normals; }
+const KdTree3& PointMap::tree() const { return *impl_->tree; }
+const IcpParams& PointMap::params() const { return impl_->params; }
+
+// ---- ICP -----------------------------------------------------------------------------------------
+
+RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, const Eigen::Isometry3d& prior_X_MS,
+                                const IcpParams& params) {
+  params.Validate();
+  if (!prior_X_MS.matrix().allFinite()) {
+    throw InputError("", "registration prior is not finite", "", "a finite pose");
+  }
+  const Kernel kernel = ParseKernel(params.robust_kernel);
+  RegistrationResult res;
+  res.X_MS = prior_X_MS;
+
+  // Source: range gate, then voxel centroids in the scanner frame.
+  Points gated;
+  gated.reserve(source_S.size());
+  const double rmin2 = params.min_range * params.min_range, rmax2 = params.max_range * params.max_range;
+  for (const auto& p : source_S) {
+    const double r2 = p.squaredNorm();
+    if (std::isfinite(r2) && r2 >= rmin2 && r2 <= rmax2) gated.push_back(p);
+  }
+  const Points src = VoxelDownsample(gated, params.source_voxel_size);
+  res.source_points = src.size();
+  res.target_points = target.size();
+  if (src.empty() || target.empty()) {
+    res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") + " (" +
+                  std::to_string(src.size()) + " source / " + std::to_string(target.size()) + " map points)";
+    return res;
+  }
+  Eigen::Vector3d src_centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : src) src_centroid += p;
+  src_centroid /= static_cast<double>(src.size());
+
+  Eigen::Isometry3d T = prior_X_MS;
+  const double min_dt = params.min_delta_translation;
+  const double min_dr = DegToRad(params.min_delta_rotation_deg);
+  double last_dt = 0.0, last_dr = 0.0;
+  bool stage_converged = false;
+  std::string failure;
+  for (std::size_t stage = 0; stage < params.max_correspondence.size() && failure.empty(); ++stage) {
+    const double dist = params.max_correspondence[stage];
+    const double scale = params.kernel_scale_ratio * dist;
+    stage_converged = false;
+    for (int it = 0; it < params.max_iterations; ++it) {
+      const Eigen::Vector3d c = T * src_centroid;
+      const Accum a = Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
+      if (a.planar < 12 || a.weight <= 0.0) {
+        failure = "only " + std::to_string(a.planar) + " correspondences within " + Fmt("%.3g", dist) + " m";
+        break;
+      }
+      const Reduced red = Reduce(a, params.dof);
+      // Solve in the eigenbasis; directions with too little information keep the prior
+      // (solution remapping, Zhang et al. 2016).
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
+      const Eigen::VectorXd ev = es.eigenvalues();
+      const Eigen::VectorXd proj = es.eigenvectors().transpose() * red.g;
+      Eigen::VectorXd y = Eigen::VectorXd::Zero(red.H.rows());
+      const double floor_ev = std::max(params.degeneracy_threshold, 1e-9);
+      for (int k = 0; k < ev.size(); ++k) {
+        if (ev[k] >= floor_ev) y -= es.eigenvectors().col(k) * (proj[k] / ev[k]);
+      }
+      Vec6 x = Vec6::Zero();
+      for (int k = 0; k < static_cast<int>(red.idx.size()); ++k) {
+        x[red.idx[k]] = red.idx[k] < 3 ? y[k] / red.lever : y[k];
+      }
+      const Eigen::Vector3d w = x.head<3>(), dt = x.tail<3>();
+      const double angle = w.norm();
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      if (angle > 0.0) R = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+      // Step about the current source centroid c: p -> R (p - c) + c + dt.
+      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+      step.linear() = R;
+      step.translation() = c - R * c + dt;
+      T = step * T;
+      T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+      ++res.iterations;
+      last_dt = dt.norm();
+      last_dr = angle;
+      if (last_dt < min_dt && last_dr < min_dr) {
+        stage_converged = true;
+        break;
+      }
+    }
+  }
+  res.X_MS = T;
+  res.converged = failure.empty() && stage_converged;
+
+  // Health at the result, with the last stage's distance and no kernel.
+  const double last_dist = params.max_correspondence.back();
+  const Accum fin = Correspond(src, T, T * src_centroid, target, last_dist, Kernel::kNone, 1.0,
+                               params.max_normal_curvature);
+  res.fitness = static_cast<double>(fin.matched) / static_cast<double>(src.size());
+  res.rmse = fin.planar > 0 ? std::sqrt(fin.r2 / static_cast<double>(fin.planar)) : 0.0;
+  // Free space: only points without a map point within the last stage's distance can float
+  // in observed empty space (matched ones lie on known surfaces; near depth edges they would
+  // only add noise).
+  Points unmatched;
+  for (const auto& p : src) {
+    const Eigen::Vector3d q = T * p;
+    if (target.tree().Nearest(q, last_dist) < 0) unmatched.push_back(q);
+  }
+  res.free_space_violation = target.FreeSpaceViolation(unmatched) * static_cast<double>(unmatched.size()) /
+                             static_cast<double>(src.size());
+  if (fin.planar >= 12 && fin.weight > 0.0) {
+    const Reduced red = Reduce(fin, params.dof);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
+    res.information.assign(es.eigenvalues().data(), es.eigenvalues().data() + es.eigenvalues().size());
+    for (int k = 0; k < static_cast<int>(red.idx.size()); ++k) {
+      res.weakest_direction[red.idx[k]] = es.eigenvectors()(k, 0);
+    }
+    res.degenerate = res.information.front() < params.degeneracy_threshold;
+  } else {
+    res.information.assign(params.dof, 0.0);
+    res.degenerate = true;
+  }
+
+  std::vector<std::string> why;
+  if (!failure.empty()) why.push_back(failure);
+  else if (!res.converged) why.push_back("not converged in " + std::to_string(params.max_iterations) +
+                                         " iterations of the last stage (step " + Fmt("%.2g", last_dt) + " m, " +
+                                         Fmt("%.2g", RadToDeg(last_dr)) + " deg)");
+  if (res.fitness < params.min_fitness) {
+    why.push_back("fitness " + Fmt("%.3f", res.fitness) + " < min_fitness " + Fmt("%.3f", params.min_fitness));
+  }
+  if (res.rmse > params.max_rmse) {
+    why.push_back("rmse " + Fmt("%.4f", res.rmse) + " m > max_rmse " + Fmt("%.4f", params.max_rmse));
+  }
+  if (res.free_space_violation > params.max_free_space_violation) {
+    why.push_back("free-space violation " + Fmt("%.3f", res.free_space_violation) + " > " +
+                  Fmt("%.3f", params.max_free_space_violation) + " (source points where the map saw empty space)");
+  }
+  if (res.degenerate) {
+    const Vec6& d = res.weakest_direction;
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "degenerate: information %.3g < %.3g along (rx %.2f ry %.2f rz %.2f tx %.2f ty %.2f tz %.2f)",
+                  res.information.front(), params.degeneracy_threshold, d[0], d[1], d[2], d[3], d[4], d[5]);
+    why.push_back(buf);
+  }
+  res.ok = why.empty();
+  char figures[320];
+  std::snprintf(figures, sizeof figures,
+                "fitness %.3f, rmse %.2f mm, free-space violation %.4f, %d iterations, last step %.2g m / %.2g deg, "
+                "min information %.3g, %zu source / %zu map points",
+                res.fitness, res.rmse * 1e3, res.free_space_violation, res.iterations, last_dt, RadToDeg(last_dr),
+                res.information.empty() ? 0.0 : res.information.front(), res.source_points, res.target_points);
+  if (res.ok) {
+    res.message = std::string("registration ok: ") + figures;
+  } else {
+    std::string reasons;
+    for (const auto& w : why) reasons += (reasons.empty() ? "" : "; ") + w;
+    res.message = "registration failed: " + reasons + " (" + figures + ")";
+  }
+  return res;
+}
+
+RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap& target, const IcpParams& params) {
+  params.Validate();
+  return RegisterScan(ScanPoints(scan, Eigen::Isometry3d::Identity(), params.min_range, params.max_range), target,
+                      scan.X_MS_estimate, params);
+}
+
+}  // namespace mopad::perception

@@ -1,0 +1,171 @@
+#pragma once
+// Registration of a new TLS scan s(t) to the accumulated cloud S(t-1) (paper §3.1 step (3):
+// "The set s(t) is firstly horizontally aligned according to the inclinometer ... the 2D
+// registration ... is estimated using the odometry ... Finally, this transformation is refined
+// by applying the well-known Iterative Closest Point (ICP) technique"; issue 5, item 1).
+//
+// The caller gives the scan's points in the (levelled) scanner frame S and the prior X_MS
+// (odometry / localisation, e.g. TlsScan::X_MS_estimate). The refinement is point-to-plane ICP
+// (Chen & Medioni 1992; linearised as in Low 2004) with a coarse-to-fine schedule of maximum
+// correspondence distances, a robust kernel on the point-to-plane residual (Huber, Tukey or
+// Cauchy; scale = kernel_scale_ratio x the stage's correspondence distance), Gauss-Newton
+// steps on SE(3) (6 DoF) or on x, y, z, yaw (4 DoF: the inclinometer's levelling is trusted).
+//
+// Health: fitness = share of downsampled source points with a correspondence within the last
+// stage's distance; rmse = RMS point-to-plane residual of those; free-space violation = share
+// of source points lying where a map scan saw through (catches a wrong pose that fits the
+// room's symmetric shell, e.g. a prior 180 deg off, when the scan's asymmetric content floats
+// in observed empty space); `degenerate` when the normalised information along some direction
+// is below `degeneracy_threshold` (after Zhang, Kaess & Singh 2016: eigenvalues of the
+// Gauss-Newton Hessian; e.g. the axis of a long corridor). Such directions are also frozen in
+// every step (solution remapping), so the pose keeps the prior along them instead of drifting
+// on noise. `ok` = converged, fitness >= min_fitness, rmse <= max_rmse, violation <=
+// max_free_space_violation and not degenerate. A
+// failed registration is a result with ok = false and a message, never an exception.
+//
+// Frames: map M (REP-105 `map`, Z up), scanner S. Determinism: source and map are ordered by
+// voxel key; correspondences and sums are computed per fixed block of points and reduced in
+// block order, so results are the same bytes with 1 or N TBB threads. PointMap is not
+// thread-safe for Add; const queries (RegisterScan) may run concurrently.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/params.h"
+#include "perception/point_cloud_ops.h"
+
+namespace mopad::perception {
+
+struct IcpParams {
+  double voxel_size = 0.05;         ///< m, voxel grid of the accumulated map, [0.005, 1]
+  double source_voxel_size = 0.1;   ///< m, voxel grid of the new scan, [0.005, 2]
+  /// m, coarse-to-fine maximum correspondence distances, one ICP stage each, (0, 10]. The 1 m
+  /// first stage widens the basin: office rooms register from priors 1.2 m / 20 deg off.
+  std::vector<double> max_correspondence = {1.0, 0.5, 0.2, 0.08};
+  int max_iterations = 30;          ///< Gauss-Newton iterations per stage, [1, 1000]
+  double min_delta_translation = 1e-5;   ///< m, stage converged when a step is below both, (0, 1]
+  double min_delta_rotation_deg = 1e-4;  ///< deg, idem, (0, 10]
+  /// 4: x, y, z, yaw, roll and pitch kept from the prior (the inclinometer's levelling, paper
+  /// §3.1 step (3)); 6: full pose. 4 is the default: in a 2 m corridor 6-DoF roll came out up
+  /// to 0.12 deg wrong (walls constrain it with a ~1 m lever), while the VZ-400 inclinometer
+  /// levels to ~0.01 deg. Use 6 for an unlevelled or badly levelled scanner.
+  int dof = 4;
+  std::string robust_kernel = "tukey";  ///< none | huber | tukey | cauchy
+  double kernel_scale_ratio = 0.5;  ///< kernel scale / stage correspondence distance, (0, 10]
+  int normal_neighbours = 12;       ///< k of the map's PCA normals, [3, 100]
+  double normal_radius = 0.25;      ///< m, neighbours farther than this are ignored, (0, 5]
+  double max_normal_curvature = 0.1;  ///< map points less planar than this are unused, (0, 1/3]
+  double min_fitness = 0.5;         ///< ok needs at least this share of matched source points, [0, 1]
+  double max_rmse = 0.03;           ///< m, ok needs the final RMS residual below this, (0, 1]
+  double degeneracy_threshold = 0.02;  ///< min normalised eigenvalue of the information, [0, 1]
+  /// Free-space check: a source point with no map point within the last stage's distance and
+  /// closer to a map scan's origin than that scan's nearest return in the same direction bin
+  /// (by more than the margin) lies where that scan saw empty space; only bins whose returns
+  /// span at most the margin in range count (grazing surfaces and depth edges do not). ok
+  /// needs the share of such points at most max_free_space_violation. Measured (office_5rooms,
+  /// 12 correct registrations): <= 0.0027; poses 90 or 180 deg off: 0.012 to 0.13.
+  double free_space_bin_deg = 0.5;         ///< deg, direction bins of each map scan, [0.05, 10]
+  double free_space_margin = 0.1;          ///< m, plus 2 % of the range, [0, 10]
+  double max_free_space_violation = 0.006; ///< share of source points, [0, 1]
+  double min_range = 0.0;           ///< m, source points closer to the scanner are dropped, [0, 1000]
+  double max_range = 1000.0;        ///< m, source points farther are dropped, (0, 1e6]
+
+  template <class V>
+  void Visit(V& v) {
+    v("voxel_size", voxel_size, Bounds{0.005, 1.0});
+    v("source_voxel_size", source_voxel_size, Bounds{0.005, 2.0});
+    v("max_correspondence", max_correspondence, Bounds{1e-4, 10.0});
+    v("max_iterations", max_iterations, Bounds{1, 1000});
+    v("min_delta_translation", min_delta_translation, Bounds{1e-12, 1.0});
+    v("min_delta_rotation_deg", min_delta_rotation_deg, Bounds{1e-12, 10.0});
+    v("dof", dof, Bounds{4, 6});
+    v("robust_kernel", robust_kernel);
+    v("kernel_scale_ratio", kernel_scale_ratio, Bounds{1e-3, 10.0});
+    v("normal_neighbours", normal_neighbours, Bounds{3, 100});
+    v("normal_radius", normal_radius, Bounds{1e-3, 5.0});
+    v("max_normal_curvature", max_normal_curvature, Bounds{1e-6, 1.0 / 3.0});
+    v("min_fitness", min_fitness, Bounds{0.0, 1.0});
+    v("max_rmse", max_rmse, Bounds{1e-6, 1.0});
+    v("degeneracy_threshold", degeneracy_threshold, Bounds{0.0, 1.0});
+    v("free_space_bin_deg", free_space_bin_deg, Bounds{0.05, 10.0});
+    v("free_space_margin", free_space_margin, Bounds{0.0, 10.0});
+    v("max_free_space_violation", max_free_space_violation, Bounds{0.0, 1.0});
+    v("min_range", min_range, Bounds{0.0, 1000.0});
+    v("max_range", max_range, Bounds{1e-3, 1e6});
+  }
+  /// Bounds plus cross-field rules (dof 4 or 6, known kernel, non-empty schedule,
+  /// min_range < max_range); throws InputError naming the field.
+  void Validate() const;
+};
+
+struct RegistrationResult {
+  Eigen::Isometry3d X_MS = Eigen::Isometry3d::Identity();  ///< refined scanner pose in the map
+  bool ok = false;  ///< converged, fits, free space consistent, well conditioned: safe to accumulate
+  bool converged = false;   ///< the last stage's step fell below the deltas within max_iterations
+  double fitness = 0.0;     ///< share of source points matched in the last stage, [0, 1]
+  double rmse = 0.0;        ///< m, RMS point-to-plane residual of the matches
+  /// Share of source points lying in space a map scan saw empty (0 if the map has no origins).
+  double free_space_violation = 0.0;
+  int iterations = 0;       ///< Gauss-Newton iterations over all stages
+  bool degenerate = false;  ///< some direction is ill-constrained (e.g. a long corridor)
+  /// Eigenvalues (ascending) of the normalised Gauss-Newton information at the result, in
+  /// homogeneous units (rotations scaled by the RMS lever arm): 6 values, or 4 in 4 DoF.
+  /// Degenerate if the smallest is below degeneracy_threshold.
+  std::vector<double> information;
+  /// Eigenvector of the smallest one, (rx, ry, rz, tx, ty, tz); in 4 DoF rx = ry = 0.
+  Eigen::Matrix<double, 6, 1> weakest_direction = Eigen::Matrix<double, 6, 1>::Zero();
+  std::size_t source_points = 0;  ///< after downsampling
+  std::size_t target_points = 0;
+  std::string message;      ///< one line: the outcome with its figures
+};
+
+/// The accumulated target S(t-1) in the map frame: voxel-grid centroids (sums kept, so scans
+/// added later refine the same cells), PCA normals (updated where cells changed) and a kd-tree
+/// (rebuilt on every Add), plus per-scan direction-binned ranges for the free-space check.
+class PointMap {
+ public:
+  /// Uses voxel_size, normal_neighbours, normal_radius of `params` (validated: InputError).
+  explicit PointMap(const IcpParams& params = {});
+  ~PointMap();
+  PointMap(PointMap&&) noexcept;
+  PointMap& operator=(PointMap&&) noexcept;
+  PointMap(const PointMap&) = delete;
+  PointMap& operator=(const PointMap&) = delete;
+
+  /// Adds registered points (map frame); non-finite points are skipped. Records no free-space
+  /// evidence (prefer the overload with the scan origin).
+  void Add(const Points& points_M);
+  /// Adds one registered scan taken from `origin_M` (the scanner centre in the map): also
+  /// records its direction-binned nearest ranges for RegisterScan's free-space check.
+  void Add(const Points& points_M, const Eigen::Vector3d& origin_M);
+  /// Share of `points_M` that lie in space some added scan saw empty (see IcpParams).
+  double FreeSpaceViolation(const Points& points_M) const;
+  bool empty() const;
+  std::size_t size() const;
+  const Points& points() const;          ///< voxel centroids, in voxel-key order
+  const std::vector<Normal>& normals() const;
+  const KdTree3& tree() const;           ///< precondition: !empty()
+  const IcpParams& params() const;
+  /// Normals recomputed by the last Add (cells within normal_radius of a changed cell; the
+  /// others keep theirs, which is exact: a normal only depends on points within that radius).
+  std::size_t last_normals_recomputed() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Refines `prior_X_MS` so that `source_S` (scanner frame) lies on `target` (see the file
+/// comment). Throws InputError for bad params or a non-finite prior; an empty target or source
+/// gives ok = false with a message.
+RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, const Eigen::Isometry3d& prior_X_MS,
+                                const IcpParams& params);
+
+/// Convenience for a whole scan: its valid returns within [min_range, max_range] of params,
+/// from the prior scan.X_MS_estimate (the robot's odometry / localisation estimate).
+RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap& target, const IcpParams& params);
+
+}  // namespace mopad::perception
