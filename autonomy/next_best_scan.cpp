@@ -1,0 +1,243 @@
+#include "autonomy/next_best_scan.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+
+#include "common/error.h"
+
+namespace mopad::autonomy {
+
+void NextBestScanParams::Validate() const {
+  ValidateParams(*this, "next_best_scan.");
+  if (elevation_min_deg >= elevation_max_deg) {
+    throw InputError("", "parameter 'next_best_scan.elevation_min_deg' must be below elevation_max_deg",
+                     std::to_string(elevation_min_deg), "< " + std::to_string(elevation_max_deg));
+  }
+  if (range_min >= range_max) {
+    throw InputError("", "parameter 'next_best_scan.range_min' must be below range_max",
+                     std::to_string(range_min), "< " + std::to_string(range_max));
+  }
+}
+
+namespace {
+
+struct Target {
+  Vec3 p = Vec3::Zero();  // patch centroid, moved half a voxel into the room
+  Vec3 n = Vec3::UnitZ(); // outward face normal
+  double weight = 0.0;    // probability x area (x frontier factor), m^2
+  int face = -1;
+  bool frontier = false;  // on a face without structural data
+};
+
+std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBestScanParams& P) {
+  using modelling::FaceCell;
+  const modelling::Roi& roi = model.GetRoi();
+  const double half_voxel = 0.5 * model.Voxels().Size();
+  std::vector<Target> targets;
+  for (int fi = 0; fi < static_cast<int>(roi.faces.size()); ++fi) {
+    const modelling::RoiFace& f = roi.faces[fi];
+    const int k = std::max(1, static_cast<int>(std::lround(P.patch_size / f.cell)));
+    const double prob = f.structural ? P.probability_structural : P.probability_unclassified;
+    const double factor = f.structural ? 1.0 : P.frontier_factor;
+    for (int pv = 0; pv < f.nv; pv += k) {
+      for (int pu = 0; pu < f.nu; pu += k) {
+        double area = 0.0;
+        Vec3 c = Vec3::Zero();
+        for (int iv = pv; iv < std::min(f.nv, pv + k); ++iv) {
+          for (int iu = pu; iu < std::min(f.nu, pu + k); ++iu) {
+            const std::size_t idx = static_cast<std::size_t>(iv) * f.nu + iu;
+            if (f.cells[idx] != FaceCell::kUnsensed) continue;
+            area += f.cell_area[idx];
+            c += f.cell_area[idx] * f.CellCentre(iu, iv);
+          }
+        }
+        if (area <= 0.0) continue;
+        Target t;
+        t.p = c / area - half_voxel * f.normal;
+        t.n = f.normal;
+        t.weight = area * prob * factor;
+        t.face = fi;
+        t.frontier = !f.structural;
+        targets.push_back(t);
+      }
+    }
+  }
+  return targets;
+}
+
+// Plan distance from p to the RoI's walls and columns (the map may miss walls seen only at
+// grazing angles from far away; the perimeter does not).
+double BoundaryDistance(const modelling::Roi& roi, const Vec2& p) {
+  double d = 1e300;
+  auto loop = [&](const std::vector<Vec2>& poly) {
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2 a = poly[i], ab = poly[(i + 1) % poly.size()] - a;
+      const double u = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-18), 0.0, 1.0);
+      d = std::min(d, (p - (a + u * ab)).norm());
+    }
+  };
+  loop(roi.perimeter);
+  for (const auto& c : roi.columns) loop(c);
+  return d;
+}
+
+}  // namespace
+
+NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
+                       const Pose2& current_M, const NextBestScanParams& P) {
+  P.Validate();
+  NbsResult out;
+  out.goal = current_M;
+  const modelling::Roi& roi = model.GetRoi();
+  if (roi.empty() || model.Voxels().empty()) {
+    out.message = "no next best scan: the room model is empty";
+    return out;
+  }
+  // a. Safe and reachable candidates.
+  const perception::DistanceField df(map, P.unknown_is_obstacle);
+  const int W = map.Width(), H = map.Height();
+  std::vector<std::uint8_t> passable(static_cast<std::size_t>(W) * H, 0), reach(passable.size(), 0);
+  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& v : roi.perimeter) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  tbb::parallel_for(0, H, [&](int j) {
+    for (int i = 0; i < W; ++i) {
+      const perception::Cell c{i, j};
+      const Vec2 p = map.CentreOf(c);
+      if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
+      passable[map.Index(c)] = df.ClearanceOfCell(c) >= P.robot_radius && roi.ContainsPlan(p) &&
+                                       BoundaryDistance(roi, p) >= P.robot_radius
+                                   ? 1
+                                   : 0;
+    }
+  });
+  // Seed: the current cell, or the nearest passable cell within 1 m.
+  const perception::Cell c0 = map.CellOf(Vec2(current_M.x, current_M.y));
+  int seed = -1;
+  double seed_d = 1e300;
+  const int rad = static_cast<int>(std::ceil(1.0 / map.Resolution()));
+  for (int dj = -rad; dj <= rad; ++dj) {
+    for (int di = -rad; di <= rad; ++di) {
+      const perception::Cell c{c0.i + di, c0.j + dj};
+      if (!map.Contains(c) || !passable[map.Index(c)]) continue;
+      const double d = std::hypot(di, dj);
+      if (d < seed_d) {
+        seed_d = d;
+        seed = static_cast<int>(map.Index(c));
+      }
+    }
+  }
+  if (seed >= 0) {
+    std::deque<int> queue{seed};
+    reach[seed] = 1;
+    while (!queue.empty()) {
+      const int idx = queue.front();
+      queue.pop_front();
+      const int i = idx % W, j = idx / W;
+      for (int dj = -1; dj <= 1; ++dj) {
+        for (int di = -1; di <= 1; ++di) {
+          const int ni = i + di, nj = j + dj;
+          if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= W || nj >= H) continue;
+          const int n = nj * W + ni;
+          if (passable[n] && !reach[n]) {
+            reach[n] = 1;
+            queue.push_back(n);
+          }
+        }
+      }
+    }
+  }
+  const double s = P.candidate_spacing;
+  for (double y = std::ceil(lo.y() / s) * s; y <= hi.y(); y += s) {
+    for (double x = std::ceil(lo.x() / s) * s; x <= hi.x(); x += s) {
+      const Vec2 p(x, y);
+      if (!roi.ContainsPlan(p)) continue;
+      const perception::Cell c = map.CellOf(p);
+      const double clearance = std::min(df.Clearance(p), BoundaryDistance(roi, p));
+      if (!map.Contains(c) || clearance < P.robot_radius + P.safety_margin) {
+        ++out.rejected_unsafe;
+        continue;
+      }
+      if (!reach[map.Index(c)]) {
+        ++out.rejected_unreachable;
+        continue;
+      }
+      NbsCandidate cand;
+      cand.position = p;
+      out.candidates.push_back(cand);
+    }
+  }
+  // b. Targets with their membership probabilities.
+  const std::vector<Target> targets = MakeTargets(model, P);
+  // c/d. Certainty of every face and of the RoI per candidate.
+  const modelling::VoxelSpace& vox = model.Voxels();
+  const double zs = model.FloorZ() + P.mast_height;
+  const double sin_max = std::sin(DegToRad(P.elevation_max_deg));
+  const double sin_min = std::sin(DegToRad(P.elevation_min_deg));
+  const double cos_inc = std::cos(DegToRad(P.max_incidence_deg));
+  const std::size_t nc = out.candidates.size();
+  tbb::parallel_for(std::size_t{0}, nc, [&](std::size_t ci) {
+    NbsCandidate& cand = out.candidates[ci];
+    const Vec3 sc(cand.position.x(), cand.position.y(), zs);
+    std::vector<double>& fg = cand.face_certainty;
+    fg.assign(roi.faces.size(), 0.0);
+    for (const Target& t : targets) {
+      const Vec3 d = t.p - sc;
+      const double r = d.norm();
+      if (r < P.range_min || r > P.range_max) continue;
+      const double sz = d.z() / r;
+      if (sz > sin_max || sz < sin_min) continue;
+      if (d.dot(t.n) < cos_inc * r) continue;
+      if (!vox.SegmentFree(sc, t.p, P.stop_short)) continue;
+      // A frontier patch reveals what lies behind it in proportion to how squarely it is seen.
+      fg[t.face] += t.frontier ? t.weight * d.dot(t.n) / r : t.weight;
+      ++cand.visible_patches;
+    }
+    double g = 0.0;
+    for (double v : fg) g += v;  // fixed order
+    cand.gain = g;
+  });
+  // e. The maximum; ties: nearest to the current pose, then grid order.
+  const Vec2 cur(current_M.x, current_M.y);
+  for (std::size_t ci = 0; ci < nc; ++ci) {
+    if (out.candidates[ci].gain <= 0.0) continue;
+    if (out.chosen < 0) {
+      out.chosen = static_cast<int>(ci);
+      continue;
+    }
+    const NbsCandidate& a = out.candidates[ci];
+    const NbsCandidate& b = out.candidates[out.chosen];
+    if (a.gain > b.gain ||
+        (a.gain == b.gain && (a.position - cur).norm() < (b.position - cur).norm())) {
+      out.chosen = static_cast<int>(ci);
+    }
+  }
+  char buf[320];
+  if (out.chosen < 0) {
+    std::snprintf(buf, sizeof(buf),
+                  "no next best scan: %zu candidates (%d unsafe, %d unreachable), %zu target patches, "
+                  "none with a gain",
+                  nc, out.rejected_unsafe, out.rejected_unreachable, targets.size());
+    out.message = buf;
+    return out;
+  }
+  const NbsCandidate& best = out.candidates[out.chosen];
+  out.found = true;
+  out.goal = Pose2{best.position.x(), best.position.y(), current_M.yaw};
+  out.expected_gain = best.gain;
+  std::snprintf(buf, sizeof(buf),
+                "next best scan at (%.2f, %.2f): expected gain %.2f m2, %d of %zu patches visible; "
+                "%zu candidates (%d unsafe, %d unreachable)",
+                best.position.x(), best.position.y(), best.gain, best.visible_patches,
+                targets.size(), nc, out.rejected_unsafe, out.rejected_unreachable);
+  out.message = buf;
+  return out;
+}
+
+}  // namespace mopad::autonomy

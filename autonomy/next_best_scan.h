@@ -1,0 +1,101 @@
+#pragma once
+// Next best scan (paper §3.1 step (1) a-e; Adán et al.'s NBS, ref. [61]): the base position
+// inside the current room from which the scanner would see the most not-yet-sensed structural
+// area of the RoI.
+//  a. candidates: a grid inside the RoI perimeter, safe (clearance >= robot radius + margin,
+//     clearance = the smaller of the obstacle map's and the distance to the RoI's walls and
+//     columns, so walls the map missed still count) and reachable (connected to the current
+//     pose through cells with clearance >= robot radius, inside the perimeter);
+//  b. SE membership probability of every unsensed RoI face cell (grouped into patches): a
+//     sensed cell is known (no gain), an opening cell is not structural (no gain), an unsensed
+//     cell on a face classified structural has probability `probability_structural`, on a face
+//     without structural data `probability_unclassified`. Faces without structural data are
+//     the RoI's frontier (its boundary where the view ended, e.g. the mouth of a hidden leg of
+//     an L-shaped room): what lies behind them is unseen, so their cells also stand for the
+//     structure behind, weighted by `frontier_factor` (frontier exploration, Yamauchi 1997)
+//     and by the cosine of the viewing angle (a frontier seen edge-on reveals nothing);
+//  c/d. for each candidate, ray casting from the scanner centre (floor + mast height) through
+//     the voxel space to every patch: visible when within the scanner's elevation limits and
+//     range, at most `max_incidence_deg` from the face normal, and no occupied voxel on the
+//     way. Certainty of a face = sum of probability x area of its visible patches; certainty of
+//     the RoI = the sum over faces (the candidate's gain, m^2);
+//  e. the candidate with the largest gain; ties go to the one nearest the current pose, then
+//     the lower index (row-major grid order).
+// Deterministic: candidates are evaluated in parallel (TBB), each writing its own result.
+
+#include <string>
+#include <vector>
+
+#include "common/frames.h"
+#include "common/params.h"
+#include "modelling/room_model.h"
+#include "perception/occupancy_grid.h"
+
+namespace mopad::autonomy {
+
+struct NextBestScanParams {
+  double candidate_spacing = 0.5;     ///< m, candidate grid step, [0.05, 5]
+  double robot_radius = 0.35;         ///< m, footprint radius, (0, 5]
+  double safety_margin = 0.10;        ///< m, extra clearance of a candidate, [0, 5]
+  bool unknown_is_obstacle = false;   ///< treat unknown map cells as obstacles
+  double mast_height = 1.4;           ///< m, scanner centre above the floor, [0, 10]
+  double elevation_max_deg = 60.0;    ///< deg, scanner's upper limit, [-90, 90]
+  double elevation_min_deg = -40.0;   ///< deg, scanner's lower limit, [-90, 90]
+  double range_min = 1.5;             ///< m, [0, 100]
+  double range_max = 60.0;            ///< m, (0, 1000]
+  double max_incidence_deg = 75.0;    ///< deg, from the face normal, [0, 90]
+  double patch_size = 0.3;            ///< m, face cells grouped into target patches, [0.02, 5]
+  double probability_structural = 0.9;    ///< [0, 1]
+  double probability_unclassified = 0.5;  ///< [0, 1]
+  /// Expected structural area behind one m^2 of frontier face: a room leg w = 3 m wide,
+  /// H = 2.7 m high, seen D = 4 m deep shows (2 w D + 2 D H + w H) / (w H) ~ 6 times the
+  /// frontier's area (floor, ceiling, two side walls, end wall). [0, 100]
+  double frontier_factor = 6.0;
+  double stop_short = 0.15;           ///< m, voxels this close to a target do not block, [0, 2]
+
+  template <class V>
+  void Visit(V& v) {
+    v("candidate_spacing", candidate_spacing, Bounds{0.05, 5.0});
+    v("robot_radius", robot_radius, Bounds{1e-6, 5.0});
+    v("safety_margin", safety_margin, Bounds{0.0, 5.0});
+    v("unknown_is_obstacle", unknown_is_obstacle);
+    v("mast_height", mast_height, Bounds{0.0, 10.0});
+    v("elevation_max_deg", elevation_max_deg, Bounds{-90.0, 90.0});
+    v("elevation_min_deg", elevation_min_deg, Bounds{-90.0, 90.0});
+    v("range_min", range_min, Bounds{0.0, 100.0});
+    v("range_max", range_max, Bounds{1e-6, 1000.0});
+    v("max_incidence_deg", max_incidence_deg, Bounds{0.0, 90.0});
+    v("patch_size", patch_size, Bounds{0.02, 5.0});
+    v("probability_structural", probability_structural, Bounds{0.0, 1.0});
+    v("probability_unclassified", probability_unclassified, Bounds{0.0, 1.0});
+    v("frontier_factor", frontier_factor, Bounds{0.0, 100.0});
+    v("stop_short", stop_short, Bounds{0.0, 2.0});
+  }
+  /// Bounds plus elevation_min < elevation_max and range_min < range_max; InputError.
+  void Validate() const;
+};
+
+struct NbsCandidate {
+  Vec2 position = Vec2::Zero();  ///< m, map frame
+  double gain = 0.0;             ///< expected newly sensed structural area, m^2 (certainty of the RoI)
+  int visible_patches = 0;
+  std::vector<double> face_certainty;  ///< per RoI face (m^2); sums to gain
+};
+
+struct NbsResult {
+  bool found = false;            ///< false: no safe reachable candidate, or none with gain > 0
+  std::vector<NbsCandidate> candidates;  ///< every safe reachable candidate, grid order
+  int chosen = -1;               ///< index into candidates
+  Pose2 goal;                    ///< chosen base pose (yaw kept from the current pose)
+  double expected_gain = 0.0;    ///< m^2
+  int rejected_unsafe = 0;       ///< grid points inside the RoI without enough clearance
+  int rejected_unreachable = 0;  ///< safe but not connected to the current pose
+  std::string message;           ///< one line with the figures
+};
+
+/// Computes the next best scan from the robot's own model and obstacle map. Throws InputError
+/// for invalid params. An empty model or no candidate gives found = false with a message.
+NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
+                       const Pose2& current_M, const NextBestScanParams& params = {});
+
+}  // namespace mopad::autonomy

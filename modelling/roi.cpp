@@ -1,0 +1,65 @@
+#include "modelling/roi.h"
+
+#include <cmath>
+
+namespace mopad::modelling {
+
+const char* ToString(FaceKind kind) {
+  switch (kind) {
+    case FaceKind::kFloor: return "floor";
+    case FaceKind::kCeiling: return "ceiling";
+    case FaceKind::kWall: return "wall";
+    case FaceKind::kColumn: return "column";
+  }
+  return "?";
+}
+
+double SignedArea(const std::vector<Vec2>& polygon) {
+  double a = 0.0;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& p = polygon[i];
+    const Vec2& q = polygon[(i + 1) % n];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * a;
+}
+
+bool InsidePolygon(const std::vector<Vec2>& polygon, const Vec2& p) {
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& a = polygon[i];
+    const Vec2& b = polygon[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+int RoiFace::CellIndexOf(const Vec3& p_M) const {
+  const Vec3 d = p_M - origin;
+  const int iu = static_cast<int>(std::floor(d.dot(u_axis) / cell));
+  const int iv = static_cast<int>(std::floor(d.dot(v_axis) / cell));
+  if (iu < 0 || iv < 0 || iu >= nu || iv >= nv) return -1;
+  return iv * nu + iu;
+}
+
+bool Roi::ContainsPlan(const Vec2& p) const {
+  if (empty() || !InsidePolygon(perimeter, p)) return false;
+  for (const auto& c : columns) {
+    if (InsidePolygon(c, p)) return false;
+  }
+  return true;
+}
+
+double Roi::Volume() const {
+  if (empty()) return 0.0;
+  double a = std::abs(SignedArea(perimeter));
+  for (const auto& c : columns) a -= std::abs(SignedArea(c));
+  return a * (ceiling_z - floor_z);
+}
+
+}  // namespace mopad::modelling

@@ -1,0 +1,171 @@
+// Next best scan (paper §3.1 step (1)) on rooms built in code where the answer is known.
+
+#include "autonomy/next_best_scan.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include "common/error.h"
+#include "modelling/stopping.h"
+#include "tests/modelling/sim_scans.h"
+
+namespace mopad::autonomy {
+namespace {
+
+using modelling::RoomModel;
+using modelling::testing::SimScan;
+using modelling::testing::TakeScan;
+using modelling::testing::TestTls;
+
+std::vector<Eigen::Vector3d> MapPoints(const RoomModel& model) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(model.PointCount());
+  for (const auto& p : model.Points()) out.push_back(p.cast<double>());
+  return out;
+}
+
+// The robot's obstacle map from its own registered points (as the mission builds it).
+perception::OccupancyGrid MapOf(const RoomModel& model) {
+  const auto pts = MapPoints(model);
+  perception::OccupancyGrid grid = perception::OccupancyGrid::Covering({}, pts, 1.0);
+  grid.InsertPoints(pts);
+  return grid;
+}
+
+struct LRoom {
+  sim::EmbreeWorld world{modelling::testing::LRoomScene()};
+  SimScan first = TakeScan(world, TestTls(0.2), 1.5, 1.5, 0);
+  RoomModel model;
+  LRoom() { model.AddScan(first.scan, first.X_MS); }
+};
+
+const LRoom& L() {
+  static const LRoom l;
+  return l;
+}
+
+TEST(NextBestScan, LRoomChoosesAPositionThatSeesTheHiddenLeg) {
+  const RoomModel& model = L().model;
+  // After the first scan at the far end of leg A, most of leg B (y > 4) is unseen.
+  EXPECT_FALSE(model.GetRoi().ContainsPlan(Vec2(8.5, 7.0)));
+  const perception::OccupancyGrid map = MapOf(model);
+  const auto t0 = std::chrono::steady_clock::now();
+  const NbsResult r = NextBestScan(model, map, Pose2{1.5, 1.5, 0.0});
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("[figures] L-room NBS: %s (%.3f s)\n", r.message.c_str(), dt);
+  ASSERT_TRUE(r.found) << r.message;
+  ASSERT_GT(r.candidates.size(), 20u);
+  // Known answer: leg B is visible only from the junction square x in [7, 10] (from x < 7 the
+  // inner corner (7, 3) hides it).
+  EXPECT_GT(r.goal.x, 7.0) << r.message;
+  EXPECT_GT(r.expected_gain, 0.0);
+  EXPECT_EQ(r.expected_gain, r.candidates[r.chosen].gain);
+  double face_sum = 0.0;
+  for (double g : r.candidates[r.chosen].face_certainty) face_sum += g;
+  EXPECT_NEAR(face_sum, r.expected_gain, 1e-9 * r.expected_gain);
+  // Every candidate west of the corner gains less than the chosen one.
+  for (const auto& c : r.candidates) {
+    if (c.position.x() < 6.0) {
+      EXPECT_LT(c.gain, r.expected_gain);
+    }
+  }
+  // Scanning there reveals the hidden leg.
+  RoomModel next = model;
+  const SimScan s = TakeScan(L().world, TestTls(0.2), r.goal.x, r.goal.y, 1);
+  next.AddScan(s.scan, s.X_MS);
+  EXPECT_TRUE(next.GetRoi().ContainsPlan(Vec2(8.5, 7.0)));
+  EXPECT_GT(next.Coverage().sensed_area, model.Coverage().sensed_area + 30.0);
+  std::printf("[figures] L-room coverage: scan 1 %.3f (%.1f m2), scan 2 at (%.2f, %.2f) %.3f (%.1f m2)\n",
+              model.Coverage().ratio, model.Coverage().sensed_area, r.goal.x, r.goal.y, next.Coverage().ratio,
+              next.Coverage().sensed_area);
+}
+
+TEST(NextBestScan, SameResultTwiceAndWithOneOrTwoThreads) {
+  const perception::OccupancyGrid map = MapOf(L().model);
+  NbsResult res[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+    res[threads - 1] = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0});
+  }
+  ASSERT_EQ(res[0].candidates.size(), res[1].candidates.size());
+  for (std::size_t i = 0; i < res[0].candidates.size(); ++i) {
+    EXPECT_EQ(res[0].candidates[i].gain, res[1].candidates[i].gain);
+    EXPECT_EQ(res[0].candidates[i].position, res[1].candidates[i].position);
+  }
+  EXPECT_EQ(res[0].chosen, res[1].chosen);
+  EXPECT_EQ(res[0].message, res[1].message);
+}
+
+TEST(NextBestScan, CandidatesKeepClearOfObstaclesAndMustBeReachable) {
+  perception::OccupancyGrid map = MapOf(L().model);
+  // A box obstacle in leg A, and a barrier across leg A at x = 5 that cuts the junction off.
+  map.FillBox(Vec2(2.8, 0.8), Vec2(3.2, 1.2), perception::CellState::kOccupied);
+  NextBestScanParams p;
+  const NbsResult open = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, p);
+  ASSERT_TRUE(open.found);
+  for (const auto& c : open.candidates) {
+    const double dx = std::max({2.8 - c.position.x(), 0.0, c.position.x() - 3.2});
+    const double dy = std::max({0.8 - c.position.y(), 0.0, c.position.y() - 1.2});
+    EXPECT_GE(std::hypot(dx, dy), p.robot_radius + p.safety_margin - map.Resolution());
+  }
+  EXPECT_GT(open.rejected_unsafe, 0);
+  map.FillBox(Vec2(5.0, -0.5), Vec2(5.1, 3.5), perception::CellState::kOccupied);
+  const NbsResult cut = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, p);
+  EXPECT_GT(cut.rejected_unreachable, 0);
+  for (const auto& c : cut.candidates) EXPECT_LT(c.position.x(), 5.0);
+  if (cut.found) {
+    EXPECT_LT(cut.goal.x, 5.0);
+  }
+}
+
+TEST(NextBestScan, EmptyModelAndBadParams) {
+  const RoomModel empty;
+  const perception::OccupancyGrid map({}, Vec2(0, 0), 10, 10);
+  const NbsResult r = NextBestScan(empty, map, Pose2{});
+  EXPECT_FALSE(r.found);
+  EXPECT_FALSE(r.message.empty());
+  NextBestScanParams p;
+  p.elevation_min_deg = 70.0;
+  EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, p), InputError);
+  p = {};
+  p.candidate_spacing = 0.0;
+  EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, p), InputError);
+  const auto q = LoadParams<NextBestScanParams>(LoadYamlString("frontier_factor: 2\n", "n.yaml"), "n.yaml");
+  EXPECT_EQ(q.frontier_factor, 2.0);
+}
+
+TEST(RoomScanningDocs, YamlExampleLoadsIntoTheParamsStructs) {
+  const std::string path = std::string(MOPAD_SOURCE_DIR) + "/docs/room-scanning.md";
+  std::ifstream in(path);
+  ASSERT_TRUE(in.good()) << path;
+  std::string line, block;
+  bool inside = false;
+  int blocks = 0;
+  while (std::getline(in, line)) {
+    if (!inside && line.rfind("```yaml", 0) == 0) {
+      inside = true;
+      block.clear();
+    } else if (inside && line.rfind("```", 0) == 0) {
+      inside = false;
+      ++blocks;
+      const YAML::Node node = LoadYamlString(block, path);
+      const auto m = LoadParams<modelling::RoomModelParams>(node["room_model"], path);
+      const auto s = LoadParams<modelling::StoppingParams>(node["stopping"], path);
+      const auto n = LoadParams<NextBestScanParams>(node["next_best_scan"], path);
+      // The documented values are the defaults.
+      EXPECT_EQ(YAML::Dump(SaveParams(m)), YAML::Dump(SaveParams(modelling::RoomModelParams{})));
+      EXPECT_EQ(YAML::Dump(SaveParams(s)), YAML::Dump(SaveParams(modelling::StoppingParams{})));
+      EXPECT_EQ(YAML::Dump(SaveParams(n)), YAML::Dump(SaveParams(NextBestScanParams{})));
+    } else if (inside) {
+      block += line + "\n";
+    }
+  }
+  EXPECT_EQ(blocks, 1);
+}
+
+}  // namespace
+}  // namespace mopad::autonomy

@@ -1,0 +1,312 @@
+// RoomModel (paper §3.1 steps (3)-(5)) and the stopping rule (step (6)) on simulated scans of
+// rooms built in code and generated from scenes/*.yaml, with known answers.
+
+#include "modelling/room_model.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+#include "modelling/stopping.h"
+#include "tests/modelling/sim_scans.h"
+
+namespace mopad::modelling {
+namespace {
+
+using testing::AddBox;
+using testing::SimScan;
+using testing::TakeScan;
+using testing::TestTls;
+
+double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double u = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + u * ab)).norm();
+}
+
+// Largest distance from any vertex of `poly` to the outline `truth` and vice versa.
+double OutlineDistance(const std::vector<Vec2>& poly, const std::vector<Vec2>& truth) {
+  auto one_way = [](const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+    double worst = 0.0;
+    for (const auto& p : a) {
+      double d = 1e300;
+      for (std::size_t i = 0; i < b.size(); ++i) d = std::min(d, DistanceToSegment(p, b[i], b[(i + 1) % b.size()]));
+      worst = std::max(worst, d);
+    }
+    return worst;
+  };
+  return std::max(one_way(poly, truth), one_way(truth, poly));
+}
+
+struct DoorRoom {
+  sim::EmbreeWorld world{testing::RoomWithDoorScene()};
+};
+
+const DoorRoom& Door() {
+  static const DoorRoom d;
+  return d;
+}
+
+TEST(RoomModel, FloorCeilingAndPerimeterOfABoxRoomWithAnOpenDoor) {
+  const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
+  RoomModel model;
+  model.AddScan(s.scan, s.X_MS);
+  EXPECT_NEAR(model.FloorZ(), 0.0, 0.01);
+  EXPECT_NEAR(model.CeilingZ(), 2.7, 0.01);
+  const std::vector<Vec2> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+  ASSERT_EQ(model.Perimeter().size(), 4u) << model.FiguresJson();
+  EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
+  EXPECT_TRUE(model.Columns().empty());
+}
+
+TEST(RoomModel, PointsThroughTheDoorAreOutliersAndTheDeskIsClutter) {
+  const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
+  RoomModel model;
+  model.AddScan(s.scan, s.X_MS);
+  int beyond = 0, beyond_outlier = 0, desk = 0, desk_clutter = 0, wall = 0, wall_inlier = 0;
+  for (std::size_t i = 0; i < model.PointCount(); ++i) {
+    const Eigen::Vector3f& p = model.Points()[i];
+    const PointLabel l = model.Labels()[i];
+    if (p.x() > 6.1f) {
+      ++beyond;
+      beyond_outlier += l == PointLabel::kOutlier;
+    }
+    if (p.x() > 2.45f && p.x() < 3.55f && p.y() > 3.15f && p.y() < 3.65f && p.z() > 0.1f && p.z() < 0.8f) {
+      ++desk;
+      desk_clutter += l == PointLabel::kClutter;
+    }
+    if (p.y() < 0.01f && p.z() > 0.1f && p.z() < 2.6f) {
+      ++wall;
+      wall_inlier += l == PointLabel::kInlier;
+    }
+  }
+  ASSERT_GT(beyond, 1000);  // the hall floor, walls, ceiling and cabinet through the door
+  EXPECT_EQ(beyond_outlier, beyond);
+  ASSERT_GT(desk, 200);
+  EXPECT_GT(desk_clutter, 0.99 * desk);
+  ASSERT_GT(wall, 1000);
+  EXPECT_GT(wall_inlier, 0.999 * wall);
+  EXPECT_EQ(model.Classify(Vec3(8.0, 2.0, 0.0)), PointLabel::kOutlier);
+  EXPECT_EQ(model.Classify(Vec3(3.0, 3.4, 0.75)), PointLabel::kClutter);
+  EXPECT_EQ(model.Classify(Vec3(3.0, 2.0, 0.0)), PointLabel::kInlier);
+  EXPECT_EQ(model.Classify(Vec3(0.0, 2.0, 1.0)), PointLabel::kInlier);
+}
+
+TEST(RoomModel, LabelsAgreeWithTruthInTheDoorRoom) {
+  RoomModel model;
+  std::vector<SimScan> scans;
+  scans.push_back(TakeScan(Door().world, TestTls(), 2.0, 1.8, 0));
+  scans.push_back(TakeScan(Door().world, TestTls(), 4.5, 1.2, 1));
+  for (const auto& s : scans) model.AddScan(s.scan, s.X_MS);
+  const std::vector<Eigen::Vector2d> polygon = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+  std::size_t agree = 0, total = 0;
+  for (const auto& s : scans) {
+    const auto truth = testing::TruthLabels(s, Door().world.scene(), "R", polygon);
+    for (std::size_t k = 0; k < truth.size(); ++k) {
+      agree += static_cast<std::uint8_t>(model.Labels()[total + k]) == truth[k];
+    }
+    total += truth.size();
+  }
+  ASSERT_EQ(total, model.PointCount());
+  EXPECT_GT(static_cast<double>(agree) / total, 0.99);
+}
+
+TEST(RoomModel, CoverageGrowsWithScansAndReachesNinetyPercent) {
+  RoomModel model;
+  const double xy[3][2] = {{1.5, 1.5}, {4.5, 1.5}, {3.0, 2.4}};
+  for (int k = 0; k < 3; ++k) {
+    const SimScan s = TakeScan(Door().world, TestTls(), xy[k][0], xy[k][1], k);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  const auto& h = model.CoverageHistory();
+  ASSERT_EQ(h.size(), 3u);
+  EXPECT_GT(h[1].sensed_area, h[0].sensed_area + 1.0);
+  EXPECT_GT(h[1].ratio, h[0].ratio);
+  EXPECT_GT(h[1].increment, 0.01);
+  EXPECT_GE(h[2].ratio, 0.9) << model.FiguresJson();
+  // Room: floor 24 + ceiling 24 + walls 54 m^2 minus the door (0.9 x 2.1).
+  EXPECT_NEAR(h[2].total_area, 102.0 - 1.89, 2.0);
+  EXPECT_NEAR(h[2].opening_area, 1.89, 0.5);
+}
+
+TEST(RoomModel, RoiIsAValidBrepAndVoxelsAreLabelled) {
+  RoomModel model;
+  const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
+  model.AddScan(s.scan, s.X_MS);
+  const Roi& roi = model.GetRoi();
+  ASSERT_EQ(roi.faces.size(), 6u);
+  // Euler-Poincare for a box: V - E + F = 2.
+  EXPECT_EQ(static_cast<int>(roi.vertices.size()) - static_cast<int>(roi.edges.size()) +
+                static_cast<int>(roi.faces.size()),
+            2);
+  for (const auto& adj : roi.face_adjacency) EXPECT_EQ(adj.size(), 4u);
+  EXPECT_NEAR(roi.Volume(), 6 * 4 * 2.7, 0.6);
+  for (const auto& f : roi.faces) {
+    EXPECT_TRUE(f.structural) << ToString(f.kind) << " " << f.element;
+    EXPECT_NEAR(f.normal.norm(), 1.0, 1e-9);
+  }
+  // Outward normals: a point just beyond a wall face along its normal is outside the room.
+  for (std::size_t i = 2; i < roi.faces.size(); ++i) {
+    const RoiFace& f = roi.faces[i];
+    const Vec3 c = f.CellCentre(f.nu / 2, f.nv / 2) + 0.2 * f.normal;
+    EXPECT_FALSE(roi.ContainsPlan(c.head<2>()));
+  }
+  const VoxelSpace& v = model.Voxels();
+  auto label_at = [&](const Vec3& p) {
+    const Eigen::Vector3i q = v.VoxelOf(p);
+    return v.Label(v.Index(q.x(), q.y(), q.z()));
+  };
+  EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.72)), VoxelLabel::kClutter);            // desk top
+  EXPECT_EQ(label_at(Vec3(3.0, 1.0, 1.2)), VoxelLabel::kEmpty);               // open air
+  EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.0)), VoxelLabel::kOccludedStructure);   // floor under the desk
+  EXPECT_EQ(label_at(Vec3(5.0, 0.0, 1.2)), VoxelLabel::kStructure);           // south wall
+  EXPECT_EQ(label_at(Vec3(6.0, 1.95, 1.0)), VoxelLabel::kOpening);            // the door
+  const auto counts = v.LabelCounts();
+  for (int l = 0; l < kVoxelLabelCount; ++l) EXPECT_GT(counts[l], 0) << ToString(static_cast<VoxelLabel>(l));
+}
+
+TEST(RoomModel, ColumnIsDetectedAndItsSurfaceIsStructural) {
+  scenes::Scene scene;
+  sim::testing::AddRoomBox(scene, testing::V3(0, 0, 0), testing::V3(8, 5, 2.8f));
+  AddBox(scene, testing::V3(3.8f, 2.3f, 0.0f), testing::V3(4.2f, 2.7f, 2.8f), scenes::ElementClass::kColumn, "C1");
+  const sim::EmbreeWorld world(std::move(scene));
+  RoomModel model;
+  const SimScan a = TakeScan(world, TestTls(), 1.5, 1.5, 0);
+  const SimScan b = TakeScan(world, TestTls(), 6.5, 3.5, 1);
+  model.AddScan(a.scan, a.X_MS);
+  model.AddScan(b.scan, b.X_MS);
+  ASSERT_EQ(model.Columns().size(), 1u) << model.FiguresJson();
+  Vec2 c = Vec2::Zero();
+  for (const auto& p : model.Columns()[0]) c += p;
+  c /= static_cast<double>(model.Columns()[0].size());
+  EXPECT_NEAR(c.x(), 4.0, 0.1);
+  EXPECT_NEAR(c.y(), 2.5, 0.1);
+  EXPECT_NEAR(std::abs(SignedArea(model.Columns()[0])), 0.16, 0.06);
+  EXPECT_EQ(model.Classify(Vec3(3.8, 2.5, 1.5)), PointLabel::kInlier);
+  EXPECT_EQ(model.Classify(Vec3(3.5, 2.5, 1.5)), PointLabel::kClutter);
+  // B-rep with a through hole: V - E + F - (inner loops) = 2 (shells - genus) = 0.
+  const Roi& roi = model.GetRoi();
+  int inner = 0;
+  for (const auto& f : roi.faces) inner += static_cast<int>(f.holes.size());
+  EXPECT_EQ(static_cast<int>(roi.vertices.size()) - static_cast<int>(roi.edges.size()) +
+                static_cast<int>(roi.faces.size()) - inner,
+            0);
+}
+
+TEST(RoomModel, SameInputSameBytesWithOneOrTwoThreads) {
+  const SimScan a = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
+  const SimScan b = TakeScan(Door().world, TestTls(), 4.5, 1.2, 1);
+  const auto dir = std::filesystem::temp_directory_path();
+  std::string bytes[2];
+  std::string json[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+    RoomModel model;
+    model.AddScan(a.scan, a.X_MS);
+    model.AddScan(b.scan, b.X_MS);
+    std::string name = "mopad_sm1_";
+    name += std::to_string(threads);
+    name += ".ply";
+    const std::string path = (dir / name).string();
+    model.WriteSm1(path);
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    bytes[threads - 1] = ss.str();
+    json[threads - 1] = model.FiguresJson();
+    std::filesystem::remove(path);
+  }
+  EXPECT_EQ(json[0], json[1]);
+  EXPECT_TRUE(bytes[0] == bytes[1]);
+}
+
+TEST(RoomModel, Sm1PlyHasTheLabelledColouredCloud) {
+  const SimScan a = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
+  RoomModel model;
+  model.AddScan(a.scan, a.X_MS);
+  const std::string path = (std::filesystem::temp_directory_path() / "mopad_sm1_fields.ply").string();
+  model.WriteSm1(path);
+  const interfaces::PointCloud c = interfaces::ReadPly(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(c.points.size(), model.PointCount());
+  ASSERT_EQ(c.colors.size(), model.PointCount());
+  const interfaces::ScalarField* label = c.Field("scalar_label");
+  const interfaces::ScalarField* scan = c.Field("scalar_scan");
+  ASSERT_NE(c.Field("scalar_intensity"), nullptr);
+  ASSERT_NE(label, nullptr);
+  ASSERT_NE(scan, nullptr);
+  for (std::size_t i = 0; i < c.points.size(); i += 997) {
+    EXPECT_EQ(label->values[i], static_cast<double>(model.Labels()[i]));
+    EXPECT_EQ(scan->values[i], 0.0);
+  }
+}
+
+TEST(RoomModel, BadInputAndParamsThrow) {
+  RoomModel model;
+  interfaces::TlsScan bad;
+  bad.rows = 2;
+  bad.columns = 2;
+  EXPECT_THROW(model.AddScan(bad, Pose3::Identity()), InputError);
+  bad.points.resize(4);
+  EXPECT_THROW(model.AddScan(bad, Pose3::Identity()), InputError);  // no valid return
+  RoomModelParams p;
+  p.voxel_size = 0.0;
+  EXPECT_THROW(RoomModel{p}, InputError);
+  const RoomModelParams q = LoadParams<RoomModelParams>(
+      LoadYamlString("wall_tolerance: 0.02\nray_stride: 3\n", "t.yaml"), "t.yaml");
+  EXPECT_EQ(q.wall_tolerance, 0.02);
+  EXPECT_EQ(q.ray_stride, 3);
+  const RoomModelParams r = LoadParams<RoomModelParams>(SaveParams(q), "saved");
+  EXPECT_EQ(r.ray_stride, 3);
+  EXPECT_THROW(LoadParams<RoomModelParams>(LoadYamlString("wall_tol: 1\n", "t.yaml"), "t.yaml"), InputError);
+}
+
+TEST(Stopping, EachCriterionStopsWithItsReason) {
+  CoverageFigures f;
+  f.scans = 3;
+  f.sensed_area = 93.0;
+  f.total_area = 100.0;
+  f.ratio = 0.93;
+  f.increment = 0.05;
+  StopDecision d = CheckStopping(f, {});
+  EXPECT_TRUE(d.stop);
+  EXPECT_EQ(d.reason, StopReason::kCoverageReached);
+  EXPECT_NE(d.message.find("coverage 0.930 >= epsilon1 0.900"), std::string::npos) << d.message;
+  EXPECT_NE(d.message.find("93.00 m2 of 100.00 m2"), std::string::npos) << d.message;
+
+  f.ratio = 0.80;
+  f.increment = 0.004;
+  d = CheckStopping(f, {});
+  EXPECT_TRUE(d.stop);
+  EXPECT_EQ(d.reason, StopReason::kIncrementTooSmall);
+  EXPECT_NE(d.message.find("increment 0.004 < epsilon2 0.010"), std::string::npos) << d.message;
+
+  f.increment = 0.2;
+  d = CheckStopping(f, {});
+  EXPECT_FALSE(d.stop);
+  EXPECT_EQ(d.reason, StopReason::kContinue);
+
+  f.scans = 1;  // the first scan's increment is not a stopping reason
+  f.increment = 0.0;
+  EXPECT_FALSE(CheckStopping(f, {}).stop);
+
+  StoppingParams p;
+  p.max_scans = 3;
+  f.scans = 3;
+  f.increment = 0.2;
+  d = CheckStopping(f, p);
+  EXPECT_TRUE(d.stop);
+  EXPECT_EQ(d.reason, StopReason::kMaxScans);
+
+  p.epsilon1 = 1.5;
+  EXPECT_THROW(CheckStopping(f, p), InputError);
+}
+
+}  // namespace
+}  // namespace mopad::modelling
