@@ -1,0 +1,354 @@
+#include "modelling/structural_model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include "common/error.h"
+#include "common/rng.h"
+
+namespace mopad::modelling {
+namespace {
+
+// Least-squares plane through `pts` (PCA: the normal is the smallest eigenvector).
+Plane PcaPlane(const std::vector<Eigen::Vector3d>& pts) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Plane pl;
+  pl.n = es.eigenvectors().col(0).normalized();
+  pl.d = -pl.n.dot(c);
+  return pl;
+}
+
+// Newell normal of a polygon (not normalised).
+Eigen::Vector3d Newell(const std::vector<Eigen::Vector3d>& poly) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const auto& a = poly[i];
+    const auto& b = poly[(i + 1) % poly.size()];
+    n += Eigen::Vector3d((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()),
+                         (a.x() - b.x()) * (a.y() + b.y()));
+  }
+  return n;
+}
+
+// The point on three planes; nullopt-like flag when they are (nearly) dependent.
+bool ThreePlanes(const Plane& a, const Plane& b, const Plane& c, Eigen::Vector3d* out) {
+  Eigen::Matrix3d m;
+  m.row(0) = a.n.transpose();
+  m.row(1) = b.n.transpose();
+  m.row(2) = c.n.transpose();
+  if (std::abs(m.determinant()) < 1e-6) return false;
+  *out = m.fullPivLu().solve(Eigen::Vector3d(-a.d, -b.d, -c.d));
+  return true;
+}
+
+Plane VerticalPlaneThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& into) {
+  Plane p;
+  p.n = Eigen::Vector3d(into.x(), into.y(), 0.0).normalized();
+  p.d = -p.n.dot(Eigen::Vector3d(a.x(), a.y(), 0.0));
+  (void)b;
+  return p;
+}
+
+// One closed ring of vertical faces (room walls, or a column's faces): per edge a plane fitted
+// to the points near it, consecutive planes intersected with the floor and ceiling planes.
+// `into_left`: the room lies to the left of each edge (a CCW perimeter) or to its right (a CCW
+// column footprint).
+struct Ring {
+  std::vector<Plane> planes;
+  std::vector<PlaneFit> fits;
+  std::vector<Eigen::Vector3d> bottom, top;  // corner i = between face i-1 and face i
+};
+
+std::vector<Eigen::Vector2d> MergeCollinear(std::vector<Eigen::Vector2d> loop, double angle_deg) {
+  const double cos_max = std::cos(angle_deg * M_PI / 180.0);
+  bool changed = true;
+  while (changed && loop.size() > 3) {
+    changed = false;
+    for (std::size_t i = 0; i < loop.size() && loop.size() > 3; ++i) {
+      const auto& p = loop[(i + loop.size() - 1) % loop.size()];
+      const auto& q = loop[i];
+      const auto& r = loop[(i + 1) % loop.size()];
+      const Eigen::Vector2d u = q - p, v = r - q;
+      if (u.norm() < 1e-9 || v.norm() < 1e-9 || u.normalized().dot(v.normalized()) > cos_max) {
+        loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        break;
+      }
+    }
+  }
+  return loop;
+}
+
+Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
+             const std::vector<Eigen::Vector3d>& points, const Plane& floor, const Plane& ceiling,
+             double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream);
+Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
+             const std::vector<Eigen::Vector3d>& points, const Plane& floor, const Plane& ceiling,
+             double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream) {
+  Ring ring;
+  const std::size_t n = loop.size();
+  // Points per edge.
+  std::vector<std::vector<Eigen::Vector3d>> near(n);
+  const double z_lo = floor_z + 0.15, z_hi = ceiling_z - 0.15;
+  std::vector<Eigen::Vector2d> t(n), in(n);
+  std::vector<double> len(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d d = loop[(i + 1) % n] - loop[i];
+    len[i] = d.norm();
+    t[i] = d / std::max(len[i], 1e-12);
+    in[i] = into_left ? Eigen::Vector2d(-t[i].y(), t[i].x()) : Eigen::Vector2d(t[i].y(), -t[i].x());
+  }
+  for (const auto& p : points) {
+    if (p.z() < z_lo || p.z() > z_hi) continue;
+    const Eigen::Vector2d q = p.head<2>();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d r = q - loop[i];
+      const double s = r.dot(t[i]);
+      if (s < prm.corner_margin || s > len[i] - prm.corner_margin) continue;
+      if (std::abs(r.dot(in[i])) > prm.plane_band) continue;
+      near[i].push_back(p);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    PlaneFit f;
+    if (static_cast<int>(near[i].size()) >= prm.min_points)
+      f = FitPlaneMlesac(near[i], prm, stream + "/" + std::to_string(i));
+    const Eigen::Vector3d in3(in[i].x(), in[i].y(), 0.0);
+    if (!f.fitted || std::abs(f.plane.n.dot(in3)) < 0.9) {  // no data or not this wall
+      f.plane = VerticalPlaneThrough(loop[i], loop[(i + 1) % n], in[i]);
+      f.fitted = false;
+    }
+    if (f.plane.n.dot(in3) < 0) f.plane.n = -f.plane.n, f.plane.d = -f.plane.d;
+    ring.planes.push_back(f.plane);
+    ring.fits.push_back(f);
+  }
+  // Consecutive faces that turn out parallel and coincident are one face: drop the vertex
+  // between them and fit again (a perimeter may break a straight wall at a door reveal).
+  if (n > 3) {
+    const double cos_max = std::cos(prm.merge_angle_deg * M_PI / 180.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Plane& a = ring.planes[(i + n - 1) % n];
+      const Plane& b = ring.planes[i];
+      const Eigen::Vector3d mid(loop[i].x(), loop[i].y(), 0.5 * (floor_z + ceiling_z));
+      if (a.n.dot(b.n) > cos_max && std::abs(a.Distance(mid) - b.Distance(mid)) < prm.plane_band) {
+        std::vector<Eigen::Vector2d> fewer = loop;
+        fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(i));
+        return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Plane& prev = ring.planes[(i + n - 1) % n];
+    const Plane& cur = ring.planes[i];
+    Eigen::Vector3d b, u;
+    if (!ThreePlanes(prev, cur, floor, &b)) b = Eigen::Vector3d(loop[i].x(), loop[i].y(), floor_z);
+    if (!ThreePlanes(prev, cur, ceiling, &u)) u = Eigen::Vector3d(loop[i].x(), loop[i].y(), ceiling_z);
+    ring.bottom.push_back(b);
+    ring.top.push_back(u);
+  }
+  return ring;
+}
+
+PlaneFit FitHorizontal(const std::vector<Eigen::Vector3d>& points, double z, bool up,
+                       const Sm3Params& prm, const std::string& stream) {
+  std::vector<Eigen::Vector3d> band;
+  for (const auto& p : points)
+    if (std::abs(p.z() - z) < prm.plane_band) band.push_back(p);
+  PlaneFit f;
+  if (static_cast<int>(band.size()) >= prm.min_points) f = FitPlaneMlesac(band, prm, stream);
+  if (!f.fitted || std::abs(f.plane.n.z()) < 0.9) {
+    f.plane.n = Eigen::Vector3d::UnitZ();
+    f.plane.d = -z;
+    f.fitted = false;
+  }
+  if ((f.plane.n.z() > 0) != up) f.plane.n = -f.plane.n, f.plane.d = -f.plane.d;
+  return f;
+}
+
+}  // namespace
+
+const char* ToString(PatchClass c) {
+  switch (c) {
+    case PatchClass::kWall: return "wall";
+    case PatchClass::kFloor: return "floor";
+    case PatchClass::kCeiling: return "ceiling";
+    case PatchClass::kColumn: return "column";
+  }
+  return "?";
+}
+
+PlaneFit FitPlaneMlesac(const std::vector<Eigen::Vector3d>& all, const Sm3Params& prm,
+                        const std::string& stream) {
+  PlaneFit out;
+  if (all.size() < 3) return out;
+  // Even subsample (deterministic) beyond max_fit_points.
+  std::vector<Eigen::Vector3d> pts;
+  const std::size_t stride =
+      std::max<std::size_t>(1, all.size() / static_cast<std::size_t>(prm.max_fit_points));
+  for (std::size_t i = 0; i < all.size(); i += stride) pts.push_back(all[i]);
+  Eigen::AlignedBox3d box;
+  for (const auto& p : pts) box.extend(p);
+  const double v = std::max(box.diagonal().norm(), 10.0 * prm.mlesac_sigma);  // outlier range
+  const double s2 = prm.mlesac_sigma * prm.mlesac_sigma;
+  const double norm_in = 1.0 / std::sqrt(2.0 * M_PI * s2);
+  CounterRng rng(prm.seed, "sm3/mlesac/" + stream);
+  double best_cost = std::numeric_limits<double>::infinity();
+  Plane best;
+  std::vector<double> e2(pts.size());
+  for (int it = 0; it < prm.mlesac_iterations; ++it) {
+    const auto& a = pts[rng.Below(pts.size())];
+    const auto& b = pts[rng.Below(pts.size())];
+    const auto& c = pts[rng.Below(pts.size())];
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.norm() < 1e-9) continue;
+    n.normalize();
+    const double d = -n.dot(a);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const double r = n.dot(pts[k]) + d;
+      e2[k] = r * r;
+    }
+    // Mixing weight by EM (Torr & Zisserman), then the negative log-likelihood.
+    double gamma = 0.5;
+    for (int em = 0; em < 3; ++em) {
+      double sum = 0.0;
+      for (double x : e2) {
+        const double pi = gamma * norm_in * std::exp(-x / (2 * s2));
+        const double po = (1 - gamma) / v;
+        sum += pi / (pi + po);
+      }
+      gamma = sum / static_cast<double>(e2.size());
+    }
+    double cost = 0.0;
+    for (double x : e2) cost -= std::log(gamma * norm_in * std::exp(-x / (2 * s2)) + (1 - gamma) / v);
+    if (cost < best_cost) best_cost = cost, best = Plane{n, d};
+  }
+  if (!std::isfinite(best_cost)) return out;
+  // Least-squares refinement on the 3-sigma inliers (twice: the set shrinks as the plane improves).
+  Plane pl = best;
+  std::vector<Eigen::Vector3d> in;
+  for (int pass = 0; pass < 3; ++pass) {
+    in.clear();
+    for (const auto& p : all)
+      if (std::abs(pl.Distance(p)) < 3 * prm.mlesac_sigma) in.push_back(p);
+    if (in.size() < 3) return out;
+    const Plane refined = PcaPlane(in);
+    pl = refined.n.dot(pl.n) < 0 ? Plane{-refined.n, -refined.d} : refined;
+  }
+  double ss = 0.0;
+  for (const auto& p : in) ss += pl.Distance(p) * pl.Distance(p);
+  out.plane = pl;
+  out.support = static_cast<int>(in.size());
+  out.rms = std::sqrt(ss / static_cast<double>(in.size()));
+  out.fitted = true;
+  return out;
+}
+
+std::pair<double, double> FloorCeilingFromHistogram(const std::vector<Eigen::Vector3d>& points,
+                                                    double bin) {
+  if (points.empty()) throw InputError("sm3: error: no points for the Z-histogram");
+  double zmin = 1e18, zmax = -1e18;
+  for (const auto& p : points) zmin = std::min(zmin, p.z()), zmax = std::max(zmax, p.z());
+  const int nb = static_cast<int>(std::ceil((zmax - zmin) / bin)) + 1;
+  std::vector<double> h(static_cast<std::size_t>(nb), 0.0);
+  for (const auto& p : points) h[static_cast<std::size_t>((p.z() - zmin) / bin)] += 1.0;
+  // The two strongest local maxima at least 1 m apart: floor the lower, ceiling the upper.
+  std::vector<int> order(static_cast<std::size_t>(nb));
+  for (int i = 0; i < nb; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return h[a] > h[b]; });
+  const int first = order[0];
+  int second = -1;
+  for (int i : order)
+    if (std::abs(i - first) * bin >= 1.0 && h[i] > 0) { second = i; break; }
+  if (second < 0)
+    throw InputError("sm3: error: the Z-histogram has one maximum; got points spanning " +
+                     std::to_string(zmax - zmin) + " m, expected a floor and a ceiling");
+  // Refine each peak as the mean z of the points within one bin of it.
+  auto refine = [&](int peak) {
+    const double zc = zmin + (peak + 0.5) * bin;
+    double s = 0.0, n = 0.0;
+    for (const auto& p : points)
+      if (std::abs(p.z() - zc) <= 1.5 * bin) s += p.z(), n += 1.0;
+    return s / n;
+  };
+  const double a = refine(first), b = refine(second);
+  return {std::min(a, b), std::max(a, b)};
+}
+
+StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm) {
+  ValidateParams(prm, "sm3.");
+  if (!input.points || input.points->empty())
+    throw InputError("sm3: error: room '" + input.room + "' has no points");
+  if (input.perimeter.size() < 3)
+    throw InputError("sm3: error: room '" + input.room + "' perimeter has " +
+                     std::to_string(input.perimeter.size()) + " vertices, expected >= 3");
+  const auto& pts = *input.points;
+  StructuralModel m;
+  m.room = input.room;
+  std::tie(m.floor_z, m.ceiling_z) = FloorCeilingFromHistogram(pts, prm.histogram_bin);
+  const PlaneFit floor = FitHorizontal(pts, m.floor_z, /*up=*/true, prm, input.room + "/floor");
+  const PlaneFit ceiling = FitHorizontal(pts, m.ceiling_z, /*up=*/false, prm, input.room + "/ceiling");
+
+  const std::vector<Eigen::Vector2d> loop = MergeCollinear(input.perimeter, prm.merge_angle_deg);
+  const Ring walls = FitRing(loop, /*into_left=*/true, pts, floor.plane, ceiling.plane, m.floor_z,
+                             m.ceiling_z, prm, input.room + "/walls");
+  auto add = [&](StructuralPatch p) {
+    if (Newell(p.polygon).dot(p.plane.n) < 0) std::reverse(p.polygon.begin(), p.polygon.end());
+    m.patches.push_back(std::move(p));
+    return static_cast<int>(m.patches.size()) - 1;
+  };
+  auto add_ring = [&](const Ring& ring, PatchClass cls, const std::string& prefix) {
+    const std::size_t n = ring.planes.size();
+    std::vector<int> ids;
+    for (std::size_t i = 0; i < n; ++i) {
+      StructuralPatch p;
+      p.id = prefix + std::to_string(i + 1);
+      p.patch_class = cls;
+      p.plane = ring.planes[i];
+      p.polygon = {ring.bottom[i], ring.bottom[(i + 1) % n], ring.top[(i + 1) % n], ring.top[i]};
+      p.support = ring.fits[i].support;
+      p.rms = ring.fits[i].rms;
+      p.fitted = ring.fits[i].fitted;
+      ids.push_back(add(std::move(p)));
+    }
+    for (std::size_t i = 0; i < n; ++i) m.adjacency.emplace_back(ids[i], ids[(i + 1) % n]);
+    return ids;
+  };
+  const std::vector<int> wall_ids = add_ring(walls, PatchClass::kWall, "wall_");
+
+  StructuralPatch f;
+  f.id = "floor";
+  f.patch_class = PatchClass::kFloor;
+  f.plane = floor.plane;
+  f.polygon = walls.bottom;
+  f.support = floor.support, f.rms = floor.rms, f.fitted = floor.fitted;
+  const int floor_id = add(std::move(f));
+  StructuralPatch c;
+  c.id = "ceiling";
+  c.patch_class = PatchClass::kCeiling;
+  c.plane = ceiling.plane;
+  c.polygon = walls.top;
+  c.support = ceiling.support, c.rms = ceiling.rms, c.fitted = ceiling.fitted;
+  const int ceiling_id = add(std::move(c));
+  for (int w : wall_ids) m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
+
+  for (std::size_t k = 0; k < input.columns.size(); ++k) {
+    const auto footprint = MergeCollinear(input.columns[k], prm.merge_angle_deg);
+    if (footprint.size() < 3) continue;
+    const Ring ring = FitRing(footprint, /*into_left=*/false, pts, floor.plane, ceiling.plane,
+                              m.floor_z, m.ceiling_z, prm,
+                              input.room + "/column_" + std::to_string(k + 1));
+    const auto ids = add_ring(ring, PatchClass::kColumn, "column_" + std::to_string(k + 1) + "_face_");
+    for (int id : ids) m.adjacency.emplace_back(id, floor_id), m.adjacency.emplace_back(id, ceiling_id);
+  }
+  return m;
+}
+
+}  // namespace mopad::modelling

@@ -1,0 +1,106 @@
+#pragma once
+// SM3 (paper §3.2, Figure 8a): the structural model of one room from its labelled points —
+// floor and ceiling from the two maxima of the Z-histogram, walls from the edges of the polygon
+// enclosing the plan-view image of the points, planes fitted with MLESAC (Torr & Zisserman 2000)
+// and refined by least squares, then intersected coherently into a closed model: each wall a
+// quadrilateral between its neighbours' planes and the floor and ceiling planes. Columns become
+// vertical patches from their footprints. Patches are labelled (`wall_1`, ..., `floor`,
+// `ceiling`, `column_1_face_1`) and carry their topology (which patches share an edge).
+//
+// Robot side: input is the robot's own registered points (map frame) and the perimeter its
+// RoomModel found; nothing here reads the truth. Deterministic for a given seed.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/params.h"
+
+namespace mopad::modelling {
+
+struct Sm3Params {
+  double histogram_bin = 0.02;      ///< m, Z-histogram bin, [0.001, 0.5]
+  double plane_band = 0.10;         ///< m, points this close to a hypothesised surface feed its fit, (0, 1]
+  double corner_margin = 0.15;      ///< m, wall points this close to a corner are left out of the fit, [0, 2]
+  double mlesac_sigma = 0.005;      ///< m, inlier noise of MLESAC's Gaussian, (0, 0.5]
+  int mlesac_iterations = 300;      ///< hypotheses per plane, [1, 100000]
+  int min_points = 50;              ///< points needed to fit a plane (else the edge line is used), [3, 1e7]
+  double merge_angle_deg = 2.0;     ///< consecutive walls closer than this in direction merge, [0, 45]
+  int max_fit_points = 2000;        ///< points scoring each MLESAC hypothesis (even subsample), [100, 1e8]
+  std::uint64_t seed = 1;           ///< MLESAC sampling
+
+  template <class V>
+  void Visit(V& v) {
+    v("histogram_bin", histogram_bin, Bounds{0.001, 0.5});
+    v("plane_band", plane_band, Bounds{1e-4, 1.0});
+    v("corner_margin", corner_margin, Bounds{0.0, 2.0});
+    v("mlesac_sigma", mlesac_sigma, Bounds{1e-5, 0.5});
+    v("mlesac_iterations", mlesac_iterations, Bounds{1, 100000});
+    v("min_points", min_points, Bounds{3, 10000000});
+    v("merge_angle_deg", merge_angle_deg, Bounds{0.0, 45.0});
+    v("max_fit_points", max_fit_points, Bounds{100, 100000000});
+    v("seed", seed);
+  }
+};
+
+enum class PatchClass : std::uint8_t { kWall = 1, kFloor = 2, kCeiling = 3, kColumn = 4 };
+const char* ToString(PatchClass c);
+
+/// A plane n.x + d = 0 with unit n pointing into the room.
+struct Plane {
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+  double d = 0.0;
+  double Distance(const Eigen::Vector3d& p) const { return n.dot(p) + d; }
+};
+
+/// Result of one MLESAC + least-squares fit.
+struct PlaneFit {
+  Plane plane;
+  int support = 0;     ///< points within 3 sigma of the final plane
+  double rms = 0.0;    ///< m, of the supporting points
+  bool fitted = false; ///< false: too few points (the caller's fallback was used)
+};
+
+/// MLESAC over `points` (3-point hypotheses, mixture of Gaussian inliers and uniform outliers,
+/// mixing weight by EM), then least squares (PCA) on the inliers. `stream` names the random
+/// stream so that different fits draw independent samples.
+PlaneFit FitPlaneMlesac(const std::vector<Eigen::Vector3d>& points, const Sm3Params& params,
+                        const std::string& stream);
+
+struct StructuralPatch {
+  std::string id;                         ///< "wall_1", "floor", "ceiling", "column_1_face_2"
+  PatchClass patch_class = PatchClass::kWall;
+  Plane plane;
+  std::vector<Eigen::Vector3d> polygon;   ///< closed, CCW seen from inside the room (along -n)
+  int support = 0;                        ///< points supporting the plane
+  double rms = 0.0;                       ///< m
+  bool fitted = false;                    ///< plane from data (false: from the perimeter only)
+};
+
+struct StructuralModel {
+  std::string room;                       ///< label given by the caller (e.g. "A" or "room_1")
+  double floor_z = 0.0, ceiling_z = 0.0;  ///< m, from the Z-histogram
+  std::vector<StructuralPatch> patches;
+  std::vector<std::pair<int, int>> adjacency;  ///< indices of patches sharing an edge
+};
+
+/// Input of one room: points in the map frame (inliers of SM1 only, or all — non-structural
+/// points far from every surface are ignored), the plan-view perimeter (CCW, from the ceiling
+/// points) and column footprints (CCW each).
+struct Sm3Input {
+  std::string room;
+  const std::vector<Eigen::Vector3d>* points = nullptr;
+  std::vector<Eigen::Vector2d> perimeter;
+  std::vector<std::vector<Eigen::Vector2d>> columns;
+};
+
+/// Floor and ceiling heights: the lowest and the highest strong maxima of the Z-histogram.
+/// Throws InputError when fewer than two maxima exist.
+std::pair<double, double> FloorCeilingFromHistogram(const std::vector<Eigen::Vector3d>& points,
+                                                    double bin);
+
+/// Builds SM3. Throws InputError for a perimeter with fewer than 3 vertices or no points.
+StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& params);
+
+}  // namespace mopad::modelling

@@ -1,0 +1,191 @@
+// SM3 (paper §3.2): planes by MLESAC, walls from the perimeter edges, coherent intersection.
+// Synthetic rooms with known geometry: the model must reproduce them to noise level.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/rng.h"
+#include "modelling/model_io.h"
+#include "modelling/structural_model.h"
+
+namespace mopad::modelling {
+namespace {
+
+// Noisy samples (3 mm along the normal) on the rectangle o + [0,1] u + [0,1] v.
+void AddRect(std::vector<Eigen::Vector3d>& pts, CounterRng& rng, const Eigen::Vector3d& o,
+             const Eigen::Vector3d& u, const Eigen::Vector3d& v, int n, double sigma = 0.003) {
+  const Eigen::Vector3d nn = u.cross(v).normalized();
+  for (int i = 0; i < n; ++i)
+    pts.push_back(o + rng.Uniform() * u + rng.Uniform() * v + rng.Normal(0, sigma) * nn);
+}
+
+// An L-shaped room (6 walls), floor at 0, ceiling at 2.8, with a desk (clutter) and outliers.
+struct LRoom {
+  std::vector<Eigen::Vector2d> outline = {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 5}, {0, 5}};
+  std::vector<Eigen::Vector3d> pts;
+  LRoom() {
+    CounterRng rng(3, "sm3-test");
+    const double h = 2.8;
+    AddRect(pts, rng, {0, 0, 0}, {6, 0, 0}, {0, 3, 0}, 30000);
+    AddRect(pts, rng, {0, 3, 0}, {3, 0, 0}, {0, 2, 0}, 10000);
+    AddRect(pts, rng, {0, 0, h}, {6, 0, 0}, {0, 3, 0}, 30000);
+    AddRect(pts, rng, {0, 3, h}, {3, 0, 0}, {0, 2, 0}, 10000);
+    for (std::size_t i = 0; i < outline.size(); ++i) {
+      const Eigen::Vector2d a = outline[i], b = outline[(i + 1) % outline.size()];
+      AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, h},
+              static_cast<int>(4000 * (b - a).norm()));
+    }
+    AddRect(pts, rng, {1, 1, 0.75}, {1.5, 0, 0}, {0, 0.8, 0}, 8000);       // desk top
+    for (int i = 0; i < 3000; ++i)                                           // scattered outliers
+      pts.emplace_back(rng.Uniform(-1, 7), rng.Uniform(-1, 6), rng.Uniform(0, 2.8));
+  }
+};
+
+TEST(StructuralModel, FloorAndCeilingFromTheZHistogram) {
+  LRoom room;
+  const auto [f, c] = FloorCeilingFromHistogram(room.pts, 0.02);
+  EXPECT_NEAR(f, 0.0, 0.002);
+  EXPECT_NEAR(c, 2.8, 0.002);
+}
+
+TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  // A perimeter as the robot finds it: a few cm off, with a spurious break in one wall.
+  in.perimeter = {{0.03, 0.02}, {3.0, 0.01}, {6.02, -0.01}, {5.98, 3.02}, {3.01, 2.97},
+                  {2.98, 5.03}, {-0.02, 4.98}};
+  const StructuralModel m = BuildStructuralModel(in, {});
+  ASSERT_EQ(m.patches.size(), 8u);  // 6 walls (the break merged), floor, ceiling
+  int walls = 0;
+  for (const auto& p : m.patches) {
+    EXPECT_TRUE(p.fitted) << p.id;
+    EXPECT_LT(p.rms, 0.0045) << p.id;
+    if (p.patch_class == PatchClass::kWall) ++walls;
+    // Every vertex lies on a true corner within 5 mm.
+    for (const auto& v : p.polygon) {
+      double best = 1e9;
+      for (const auto& c : room.outline)
+        for (double z : {0.0, 2.8}) best = std::min(best, (v - Eigen::Vector3d(c.x(), c.y(), z)).norm());
+      EXPECT_LT(best, 0.005) << p.id;
+    }
+    // The polygon winds CCW seen from the room (its Newell normal agrees with n).
+    Eigen::Vector3d nw = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < p.polygon.size(); ++i)
+      nw += p.polygon[i].cross(p.polygon[(i + 1) % p.polygon.size()]);
+    EXPECT_GT(nw.normalized().dot(p.plane.n), 0.999) << p.id;
+  }
+  EXPECT_EQ(walls, 6);
+  // Topology: each wall touches two walls, the floor and the ceiling.
+  EXPECT_EQ(m.adjacency.size(), 6u + 12u);
+}
+
+TEST(StructuralModel, WallNormalsPointIntoTheRoom) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  in.perimeter = room.outline;
+  const StructuralModel m = BuildStructuralModel(in, {});
+  const Eigen::Vector3d inside(1.5, 1.5, 1.4);
+  for (const auto& p : m.patches) EXPECT_GT(p.plane.Distance(inside), 0.0) << p.id;
+}
+
+TEST(StructuralModel, ColumnFacesFaceTheRoom) {
+  std::vector<Eigen::Vector3d> pts;
+  CounterRng rng(5, "column");
+  AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 5, 0}, 40000);
+  AddRect(pts, rng, {0, 0, 3}, {5, 0, 0}, {0, 5, 0}, 40000);
+  const std::vector<Eigen::Vector2d> sq = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = sq[i], b = sq[(i + 1) % 4];
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 15000);
+  }
+  // A 0.4 m square column at (2.3..2.7)^2: faces seen from outside.
+  const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = col[(i + 1) % 4], b = col[i];  // reversed: normals out of the column
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 3000);
+  }
+  Sm3Input in;
+  in.room = "B";
+  in.points = &pts;
+  in.perimeter = sq;
+  in.columns = {col};
+  const StructuralModel m = BuildStructuralModel(in, {});
+  int faces = 0;
+  for (const auto& p : m.patches) {
+    if (p.patch_class != PatchClass::kColumn) continue;
+    ++faces;
+    EXPECT_TRUE(p.fitted) << p.id;
+    EXPECT_NEAR(p.plane.Distance({2.5, 2.5, 1.5}), -0.2, 0.005) << p.id;  // centre behind it
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& v : p.polygon) c += v / static_cast<double>(p.polygon.size());
+    EXPECT_GT(p.plane.n.dot(c - Eigen::Vector3d(2.5, 2.5, c.z())), 0.19) << p.id;  // faces out
+  }
+  EXPECT_EQ(faces, 4);
+}
+
+TEST(StructuralModel, MlesacIgnoresGrossOutliers) {
+  std::vector<Eigen::Vector3d> pts;
+  CounterRng rng(9, "mlesac");
+  AddRect(pts, rng, {0, 0, 1}, {4, 0, 0}, {0, 4, 0}, 4000, 0.002);
+  for (int i = 0; i < 4000; ++i) pts.emplace_back(rng.Uniform(0, 4), rng.Uniform(0, 4), rng.Uniform(0, 3));
+  const PlaneFit f = FitPlaneMlesac(pts, Sm3Params{}, "outliers");
+  ASSERT_TRUE(f.fitted);
+  EXPECT_GT(std::abs(f.plane.n.z()), 0.9999);
+  EXPECT_NEAR(std::abs(f.plane.d), 1.0, 0.001);
+  EXPECT_NEAR(f.rms, 0.002, 0.0005);
+}
+
+TEST(StructuralModel, DeterministicForASeed) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  in.perimeter = room.outline;
+  EXPECT_EQ(Sm3Json(BuildStructuralModel(in, {})), Sm3Json(BuildStructuralModel(in, {})));
+}
+
+TEST(StructuralModel, JsonFollowsTheDocumentedSchema) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  in.perimeter = room.outline;
+  const auto j = nlohmann::json::parse(Sm3Json(BuildStructuralModel(in, {})));
+  EXPECT_EQ(j["format"], "mopad-sm3");
+  EXPECT_EQ(j["version"], 1);
+  EXPECT_EQ(j["patches"].size(), 8u);
+  EXPECT_EQ(j["patches"][0]["class"], "wall");
+  EXPECT_EQ(j["patches"][0]["polygon"].size(), 4u);
+  EXPECT_EQ(j["patches"][0]["plane"]["n"].size(), 3u);
+}
+
+TEST(StructuralModel, BadInputIsRefused) {
+  std::vector<Eigen::Vector3d> none;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &none;
+  in.perimeter = {{0, 0}, {1, 0}, {1, 1}};
+  EXPECT_THROW(BuildStructuralModel(in, {}), InputError);
+  LRoom room;
+  in.points = &room.pts;
+  in.perimeter = {{0, 0}, {1, 0}};
+  EXPECT_THROW(BuildStructuralModel(in, {}), InputError);
+  Sm3Params bad;
+  bad.mlesac_iterations = 0;
+  in.perimeter = room.outline;
+  EXPECT_THROW(BuildStructuralModel(in, bad), InputError);
+  // A single horizontal slab has no second maximum.
+  std::vector<Eigen::Vector3d> slab;
+  CounterRng rng(1, "slab");
+  AddRect(slab, rng, {0, 0, 0}, {2, 0, 0}, {0, 2, 0}, 1000);
+  EXPECT_THROW(FloorCeilingFromHistogram(slab, 0.02), InputError);
+}
+
+}  // namespace
+}  // namespace mopad::modelling
