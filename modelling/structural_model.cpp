@@ -112,7 +112,8 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector2d r = q - loop[i];
       const double s = r.dot(t[i]);
-      if (s < prm.corner_margin || s > len[i] - prm.corner_margin) continue;
+      const double margin = std::min(prm.corner_margin, 0.2 * len[i]);  // narrow column faces
+      if (s < margin || s > len[i] - margin) continue;
       if (std::abs(r.dot(in[i])) > prm.plane_band) continue;
       near[i].push_back(p);
     }
