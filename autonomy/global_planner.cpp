@@ -417,8 +417,9 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     const double f = seg > 0 ? std::clamp((sq - cs[k - 1]) / seg, 0.0, 1.0) : 0.0;
     return Vec2(v[k - 1] + f * (v[k] - v[k - 1]));
   };
+  // Jambs are mapped obstacles: unknown cells (the edge of what the robot has seen) are not.
   auto is_obstacle = [&](const Cell& c) {
-    return map.Contains(c) && !m.field.IsFree(map.CentreOf(c), 0.0);
+    return map.Contains(c) && map.State(c) == perception::CellState::kOccupied;
   };
   std::vector<Passage> passages;
   {
@@ -435,6 +436,9 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
         run_begin = -1.0;
       }
     }
+    // A doorway at the very end of the path (a goal just inside or behind a door) is a passage
+    // too: close the run at the goal (the jamb test below still rejects a goal by one wall).
+    if (run_begin >= 0.0) runs.emplace_back(run_begin, total);
     for (const auto& [b, e] : runs) {
       if (b <= 0.0 || e - b > P.max_passage_length) continue;  // start area or corridor
       double s_c = b, best = std::numeric_limits<double>::infinity();
@@ -455,26 +459,29 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       const double reach = std::max(best + 3.0 * res, P.passage_clearance + 0.3);
       const Cell cc = map.CellOf(c);
       const int rc = static_cast<int>(std::ceil(reach / res)) + 1;
-      double dl = std::numeric_limits<double>::infinity(), dr = dl;
-      Vec2 jl = Vec2::Zero(), jr = Vec2::Zero();
+      // The jambs: the closest pair of obstacle cells on opposite sides of the path (the
+      // narrowest cross-section). Not simply the nearest cell on each side: an open leaf
+      // standing beside the doorway is nearer to a slanted approach than its own jamb.
+      std::vector<Vec2> left, right;
       for (int dj2 = -rc; dj2 <= rc; ++dj2) {
         for (int di2 = -rc; di2 <= rc; ++di2) {
           const Cell q{cc.i + di2, cc.j + dj2};
           if (!is_obstacle(q)) continue;
           const Vec2 qc = map.CentreOf(q);
           const Vec2 off = qc - c;
-          const double dist = off.norm();
-          if (dist > reach) continue;
+          if (off.norm() > reach) continue;
           const double side = d.x() * off.y() - d.y() * off.x();
-          if (side > 0 && dist < dl) {
-            dl = dist;
-            jl = qc;
-          } else if (side < 0 && dist < dr) {
-            dr = dist;
-            jr = qc;
-          }
+          if (side > 0) left.push_back(qc);
+          else if (side < 0) right.push_back(qc);
         }
       }
+      double dl = std::numeric_limits<double>::infinity(), dr = dl, gap = dl;
+      Vec2 jl = Vec2::Zero(), jr = Vec2::Zero();
+      for (const Vec2& l : left)
+        for (const Vec2& rr : right) {
+          const double g = (l - rr).squaredNorm();
+          if (g < gap) gap = g, jl = l, jr = rr, dl = (l - c).norm(), dr = (rr - c).norm();
+        }
       if (!std::isfinite(dl) || !std::isfinite(dr)) continue;
       const Vec2 u = jl - jr;
       if (u.norm() > 2.0 * (P.passage_clearance + res)) continue;  // not a narrow gap
@@ -482,6 +489,13 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       a.normalize();
       if (a.dot(d) < 0) a = -a;
       if (a.dot(d) < 0.5) continue;  // not a doorway across the path
+      // A run that reaches the end of the path is a passage only if the goal lies in or beyond
+      // the doorway, between its jambs (a goal beside a door does not cross it).
+      if (e >= total - 1e-9) {
+        const Vec2 off = vertices.back() - 0.5 * (jl + jr);
+        const double along = off.dot(a), lateral = std::abs(a.x() * off.y() - a.y() * off.x());
+        if (along < -P.passage_straight || lateral > 0.5 * (u.norm() - res)) continue;
+      }
       Passage pass;
       pass.centre = 0.5 * (jl + jr);
       pass.axis_yaw = std::atan2(a.y(), a.x());
@@ -494,19 +508,34 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       const std::vector<double> cv = cumulative(vertices);
       const double L = P.passage_straight;
       const double s_in = it->s - L, s_out = it->s + L;
-      if (s_in <= 0.0 || s_out >= cv.back() || L <= 0.0) continue;
+      if (s_in <= 0.0 || L <= 0.0) continue;
       const Vec2 a(std::cos(it->axis_yaw), std::sin(it->axis_yaw));
       const Vec2 p_in = it->centre - L * a, p_out = it->centre + L * a;
-      const Vec2 q_in = point_at(vertices, cv, s_in), q_out = point_at(vertices, cv, s_out);
+      const Vec2 q_in = point_at(vertices, cv, s_in);
       const double need = P.robot_radius;
-      if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
-          m.SegmentClearance(p_in, p_out) < need || m.SegmentClearance(p_out, q_out) < need)
-        continue;
       std::vector<Vec2> next;
       for (std::size_t k = 0; k < vertices.size() && cv[k] < s_in; ++k) next.push_back(vertices[k]);
-      next.insert(next.end(), {q_in, p_in, it->centre, p_out, q_out});
-      for (std::size_t k = 0; k < vertices.size(); ++k)
-        if (cv[k] > s_out) next.push_back(vertices[k]);
+      if (s_out >= cv.back()) {
+        // A doorway at the end of the path: approach along its axis, then straight to the goal.
+        const Vec2 goal_p = vertices.back();
+        if ((goal_p - it->centre).dot(a) > 0.0) {
+          if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
+              m.SegmentClearance(p_in, it->centre) < need || m.SegmentClearance(it->centre, goal_p) < need)
+            continue;
+          next.insert(next.end(), {q_in, p_in, it->centre, goal_p});
+        } else {  // the goal is in the doorway, before its centre
+          if (m.SegmentClearance(q_in, p_in) < need || m.SegmentClearance(p_in, goal_p) < need) continue;
+          next.insert(next.end(), {q_in, p_in, goal_p});
+        }
+      } else {
+        const Vec2 q_out = point_at(vertices, cv, s_out);
+        if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
+            m.SegmentClearance(p_in, p_out) < need || m.SegmentClearance(p_out, q_out) < need)
+          continue;
+        next.insert(next.end(), {q_in, p_in, it->centre, p_out, q_out});
+        for (std::size_t k = 0; k < vertices.size(); ++k)
+          if (cv[k] > s_out) next.push_back(vertices[k]);
+      }
       // Drop zero-length steps.
       std::vector<Vec2> clean{next.front()};
       for (std::size_t k = 1; k < next.size(); ++k)

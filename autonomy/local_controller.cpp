@@ -76,13 +76,14 @@ void LocalController::InstallPlan(const GlobalPlan& plan) {
   closest_ = 0;
 }
 
-void LocalController::SetPlan(const GlobalPlan& plan) {
+void LocalController::SetPlan(const GlobalPlan& plan, bool align_yaw) {
   if (!plan.ok() || plan.path.empty()) {
     throw InputError("", "LocalController::SetPlan needs a found plan", ToString(plan.status),
                      "found");
   }
   InstallPlan(plan);
   goal_ = plan.path.back().pose;
+  align_yaw_ = align_yaw;
   mode_ = Mode::kFollow;
   recoveries_ = 0;
   s_at_last_recovery_ = 0.0;
@@ -337,7 +338,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   if (mode_ == Mode::kFinalRotate && d_goal > 2.5 * P.goal_tolerance_xy) mode_ = Mode::kFollow;
   if (mode_ != Mode::kFinalRotate && d_goal < P.goal_tolerance_xy) mode_ = Mode::kFinalRotate;
   if (mode_ == Mode::kFinalRotate) {
-    if (std::abs(yaw_err_goal) < DegToRad(P.goal_tolerance_yaw_deg)) {
+    if (!align_yaw_ || std::abs(yaw_err_goal) < DegToRad(P.goal_tolerance_yaw_deg)) {
       return Finish(NavStatus::kArrived,
                     Fmt("arrived: %.3f m and %.2f deg from the goal", d_goal,
                         RadToDeg(std::abs(yaw_err_goal))));

@@ -142,7 +142,9 @@ class LocalController {
   LocalController& operator=(LocalController&&) noexcept = default;
 
   /// Starts following `plan` (status must be kFound); resets recoveries and terminal state.
-  void SetPlan(const GlobalPlan& plan);
+  /// `align_yaw` false: arrival needs only the position (a scan stop, where the heading does
+  /// not matter and a doorway may leave no room to turn).
+  void SetPlan(const GlobalPlan& plan, bool align_yaw = true);
   /// Optional: used by recoveries. Without it recoveries only back up / rotate.
   void SetReplanner(ReplanFn replan) { replan_ = std::move(replan); }
 
@@ -181,6 +183,7 @@ class LocalController {
   std::vector<PathPoint> path_;
   std::vector<PassageState> passages_;
   Pose2 goal_;
+  bool align_yaw_ = true;
   Mode mode_ = Mode::kDone;
   std::size_t closest_ = 0;
   std::optional<double> last_time_;

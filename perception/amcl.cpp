@@ -75,6 +75,9 @@ struct PoseMean {
 
 struct Amcl::Impl {
   DistanceField likelihood;       // occupied cells only
+  std::vector<std::uint8_t> mapped;  // per cell: 1 = known (free or occupied)
+  Vec2 origin;
+  int width = 0, height = 0;
   std::vector<Vec2> free_centres; // cells for uniform sampling
   std::vector<Vec2> search_positions;  // lattice of the global search
   bool pending_search = false;
@@ -89,7 +92,12 @@ struct Amcl::Impl {
   double w_slow = 0.0, w_fast = 0.0;
 
   Impl(const OccupancyGrid& map, const AmclParams& p)
-      : likelihood(map, false, p.likelihood_max_dist), resolution(map.Resolution()) {
+      : likelihood(map, false, p.likelihood_max_dist), origin(map.Origin()), width(map.Width()),
+        height(map.Height()), resolution(map.Resolution()) {
+    mapped.assign(static_cast<std::size_t>(width) * height, 0);
+    for (int j = 0; j < height; ++j)
+      for (int i = 0; i < width; ++i)
+        mapped[static_cast<std::size_t>(j) * width + i] = map.State({i, j}) != CellState::kUnknown;
     const DistanceField clearance(map, true);
     for (int j = 0; j < map.Height(); ++j) {
       for (int i = 0; i < map.Width(); ++i) {
@@ -363,15 +371,26 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
     cov += q.weight * d * d.transpose();
   }
   const Pose2 X_MB{mean.x, mean.y, WrapAngle(mean.yaw)};
-  int inliers = 0;
+  // Inliers among the beams that end in mapped space: a beam ending where the map is unknown
+  // (a room seen only through its door) is no evidence either way.
+  int inliers = 0, mapped_beams = 0;
   {
     const double c = std::cos(X_MB.yaw), s = std::sin(X_MB.yaw);
     for (const Vec2& b : beams) {
       const Vec2 e(X_MB.x + c * b.x() - s * b.y(), X_MB.y + s * b.x() + c * b.y());
-      if (m.likelihood.ObstacleDistance(e, p.likelihood_max_dist) < p.inlier_distance) ++inliers;
+      const bool near_obstacle = m.likelihood.ObstacleDistance(e, p.likelihood_max_dist) < p.inlier_distance;
+      const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
+      const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
+      const bool in_map = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
+                          m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
+      if (!in_map && !near_obstacle) continue;
+      ++mapped_beams;
+      if (near_obstacle) ++inliers;
     }
   }
-  const double inlier_ratio = beams.empty() ? 0.0 : inliers / nb;
+  const double inlier_ratio = mapped_beams == 0 ? 0.0 : static_cast<double>(inliers) / mapped_beams;
+  // Too few beams in mapped space: the update says nothing about loss.
+  const bool inconclusive = mapped_beams < p.min_mapped_beam_fraction * nb;
 
   // 5. Resampling with KLD-adapted size and Augmented MCL injection.
   const double p_inject =
@@ -433,7 +452,7 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   const double sxy = std::sqrt(std::max(0.0, cov(0, 0) + cov(1, 1)));
   const double syaw = std::sqrt(std::max(0.0, cov(2, 2)));
   const bool converged = sxy < p.converged_sigma_xy && syaw < DegToRad(p.converged_sigma_yaw_deg);
-  const bool good_match = !beams.empty() && inlier_ratio >= p.lost_inlier_ratio;
+  const bool good_match = !beams.empty() && !inconclusive && inlier_ratio >= p.lost_inlier_ratio;
   char buf[200];
   std::snprintf(buf, sizeof buf, "sigma_xy %.3f m, sigma_yaw %.2f deg, inliers %.0f%%, N_eff %.0f/%zu",
                 sxy, RadToDeg(syaw), 100.0 * inlier_ratio, n_eff, n);
@@ -452,7 +471,7 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
     }
     return result;
   }
-  m.bad_count = good_match ? 0 : m.bad_count + 1;
+  if (!inconclusive) m.bad_count = good_match ? 0 : m.bad_count + 1;
   if (m.bad_count >= p.lost_updates) {
     result.lost_detected = true;
     e.status = LocalisationStatus::kLost;

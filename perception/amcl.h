@@ -18,7 +18,8 @@
 //   max(0, 1 - w_fast / w_slow);
 // - health: weighted pose, covariance, effective particle count N_eff = 1 / sum(w^2), and the
 //   ratio of beams whose endpoint lies within `inlier_distance` of a mapped obstacle at the
-//   estimate. `lost_updates` consecutive updates below `lost_inlier_ratio` declare the filter
+//   estimate, among the beams ending in mapped space (unknown space is no evidence; with too
+//   few such beams the update is inconclusive). `lost_updates` consecutive updates below `lost_inlier_ratio` declare the filter
 //   lost (status kLost in that update) and, if enabled, start global re-localisation;
 // - global (re-)localisation: uniform particles over free space do not reliably find the right
 //   mode in symmetric buildings, so the next scan is first matched exhaustively (correlative
@@ -77,6 +78,9 @@ struct AmclParams {
   double recovery_alpha_fast = 0.1;    ///< Augmented MCL short-term rate, [0, 1]
   double inlier_distance = 0.1;     ///< m, endpoint-to-map distance of a matching beam, (0, 5]
   double lost_inlier_ratio = 0.5;   ///< below this the update counts as bad, [0, 1]
+  /// The inlier ratio counts only beams ending in mapped (known) cells; with fewer than this
+  /// share of all beams there the update is inconclusive (neither bad nor good), [0, 1]
+  double min_mapped_beam_fraction = 0.25;
   int lost_updates = 3;             ///< consecutive bad updates that declare loss, [1, 1000]
   bool relocalise_when_lost = true; ///< start global re-localisation on loss
   double global_min_clearance = 0.2;   ///< m, clearance of uniformly drawn poses, [0, 5]
@@ -115,6 +119,7 @@ struct AmclParams {
     v("recovery_alpha_fast", recovery_alpha_fast, Bounds{0.0, 1.0});
     v("inlier_distance", inlier_distance, Bounds{1e-4, 5.0});
     v("lost_inlier_ratio", lost_inlier_ratio, Bounds{0.0, 1.0});
+    v("min_mapped_beam_fraction", min_mapped_beam_fraction, Bounds{0.0, 1.0});
     v("lost_updates", lost_updates, Bounds{1, 1000});
     v("relocalise_when_lost", relocalise_when_lost);
     v("global_min_clearance", global_min_clearance, Bounds{0.0, 5.0});

@@ -76,6 +76,7 @@ OccupancyGrid::OccupancyGrid(const OccupancyGridParams& params, const Vec2& orig
   return_dx_.assign(n, 0.0f);
   return_dy_.assign(n, 0.0f);
   return_n_.assign(n, 0);
+  cloud_obstacle_.assign(n, 0);
   return_xx_.assign(n, 0.0f);
   return_xy_.assign(n, 0.0f);
   return_yy_.assign(n, 0.0f);
@@ -175,6 +176,7 @@ void OccupancyGrid::InsertPoints(const std::vector<Eigen::Vector3d>& points_M) {
                  static_cast<int>(k / static_cast<std::size_t>(width_))};
     if (band[k] >= static_cast<std::uint32_t>(params_.min_points_per_cell)) {
       Add(c, params_.cloud_log_odds_hit);
+      cloud_obstacle_[k] = 1;
     } else if (band[k] == 0 && floor[k] > 0) {
       Add(c, params_.cloud_log_odds_floor);
     }
@@ -200,7 +202,7 @@ void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_M
       if (c == end && hit) {
         Add(c, params_.log_odds_hit);
         AddReturn(c, p.head<2>());
-      } else if (!(c == end)) {
+      } else if (!(c == end) && (params_.lrf_clears_cloud_obstacles || !cloud_obstacle_[Index(c)])) {
         Add(c, params_.log_odds_miss);
       }
     });

@@ -42,6 +42,10 @@ struct OccupancyGridParams {
   double cloud_log_odds_hit = 2.0;    ///< InsertPoints: added to a cell with band points, (0, 20]
   double cloud_log_odds_floor = -2.0; ///< InsertPoints: added to a floor-only cell, [-20, 0)
   bool clear_on_no_return = false;  ///< LRF: trace free space along no-return beams
+  /// LRF beams may clear cells with 3D band evidence. Default false: a planar beam at one
+  /// height passes under a desk top or over a low cabinet the cloud saw; it proves nothing
+  /// about the rest of the band the body occupies.
+  bool lrf_clears_cloud_obstacles = false;
 
   template <class V>
   void Visit(V& v) {
@@ -59,6 +63,7 @@ struct OccupancyGridParams {
     v("cloud_log_odds_hit", cloud_log_odds_hit, Bounds{1e-6, 20.0});
     v("cloud_log_odds_floor", cloud_log_odds_floor, Bounds{-20.0, -1e-6});
     v("clear_on_no_return", clear_on_no_return);
+    v("lrf_clears_cloud_obstacles", lrf_clears_cloud_obstacles);
   }
   /// ValidateParams plus cross-field checks (band order); throws InputError.
   void Validate() const;
@@ -148,6 +153,7 @@ class OccupancyGrid {
   std::vector<float> return_dx_, return_dy_;  // sums of return offsets from the cell centre, m
   std::vector<float> return_xx_, return_xy_, return_yy_;  // sums of their products, m^2
   std::vector<std::uint32_t> return_n_;
+  std::vector<std::uint8_t> cloud_obstacle_;  // 1: band points of a 3D scan fell in the cell
 };
 
 /// Clearance of every cell: distance (m) from its centre to the boundary of the nearest

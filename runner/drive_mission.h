@@ -48,11 +48,15 @@ struct DriveParams {
   double goal_known_fraction = 0.85; ///< mapped share of it needed to drive there directly, [0, 1]
   double scan_target_clearance = 0.55; ///< m, clearance of scan-and-go targets, (0, 5]
   double doorway_margin = 0.1;       ///< m, scan stops keep this clearance beyond robot_radius, [0, 2]
+  double frontier_exclusion = 0.5;   ///< m, exploration targets this close to a scan position are spent, [0, 10]
   double scan_blind_radius = 0.5;    ///< m, around scan positions the map counts as known, [0, 10]
   double initial_sigma_xy = 0.01;  ///< m, AMCL initial std (the map is built at the start)
   double initial_sigma_yaw_deg = 0.5;  ///< deg, AMCL initial std
   double map_margin = 1.0;         ///< m, grid margin around the scanned points, [0, 20]
   std::uint64_t max_points_per_scan = 400000;  ///< cap of band points kept per scan
+  /// The base stands still for the TLS scan's duration (pulses / pulse rate of the profile);
+  /// false: scans take no simulation time (the behaviour before; tests of pure navigation).
+  bool tls_scan_takes_time = true;
 
   sim::RobotBodyParams body = DefaultBody();
   perception::OccupancyGridParams grid;
@@ -80,10 +84,12 @@ struct DriveParams {
     v("goal_known_fraction", goal_known_fraction, Bounds{0.0, 1.0});
     v("scan_target_clearance", scan_target_clearance, Bounds{1e-3, 5.0});
     v("doorway_margin", doorway_margin, Bounds{0.0, 2.0});
+    v("frontier_exclusion", frontier_exclusion, Bounds{0.0, 10.0});
     v("scan_blind_radius", scan_blind_radius, Bounds{0.0, 10.0});
     v("initial_sigma_xy", initial_sigma_xy, Bounds{1e-4, 10.0});
     v("initial_sigma_yaw_deg", initial_sigma_yaw_deg, Bounds{1e-3, 180.0});
     v("map_margin", map_margin, Bounds{0.0, 20.0});
+    v("tls_scan_takes_time", tls_scan_takes_time);
     v("body", body);
     v("occupancy_grid", grid);
     v("amcl", amcl);
@@ -98,7 +104,12 @@ const char* ToString(DriveStatus s);
 struct DriveRequest {
   Pose2 X_WB_start;          ///< true start pose (world) — where the simulator puts the body
   Pose2 X_WB_goal;           ///< goal (world); handed to the robot in its map frame
+  std::vector<Pose2> via;    ///< waypoints (world) reached in order before the goal
   std::uint64_t seed = 1;    ///< run seed: sensor noise, odometry drift, AMCL, planner
+  /// Kidnapping test hook (world side): at `kidnap_time` s (> 0) the true body jumps to
+  /// `kidnap_to` (world) without the odometry seeing it. <= 0: no kidnapping.
+  double kidnap_time = 0.0;
+  Pose2 kidnap_to;
 };
 
 struct TrajectorySample {
@@ -127,11 +138,15 @@ struct DriveResult {
   double sim_time = 0.0;         ///< s
   double wall_time = 0.0;        ///< s (reporting only)
   int tls_scans = 0, lrf_sweeps = 0, amcl_updates = 0, replans = 0, lost_events = 0;
+  int teleports = 0;             ///< kidnappings applied (world side)
+  double tls_time = 0.0;         ///< s of simulation time spent standing for TLS scans
+  double tls_wall_time = 0.0;    ///< s of wall time spent simulating TLS scans (reporting only)
   double RealTimeFactor() const { return wall_time > 0 ? sim_time / wall_time : 0.0; }
 };
 
-/// Runs one mission in `world` (door leaves as the world has them). The body's collision mesh
-/// is the world's triangles, door leaves included at their current (truth) angle.
+/// Runs one mission in `world` (door leaves as the world has them): a RobotSession
+/// (runner/robot_session.h), its first TLS scan, NavigateTo(goal), Result(). The body's
+/// collision mesh is the world's triangles, door leaves included at their current angle.
 /// Throws InputError for invalid params or a start pose in collision.
 DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
                      const DriveRequest& request);

@@ -81,6 +81,7 @@ LrfSimulator::LrfSimulator(const EmbreeWorld& world, LrfParams params) : world_(
   beams_ = static_cast<int>(std::floor((params_.angle_max_deg - params_.angle_min_deg) / params_.angle_increment_deg +
                                        1e-6)) +
            1;
+  surfaces_ = std::make_shared<const SurfaceTable>(world_);
 }
 
 interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, std::uint64_t seq,
@@ -102,7 +103,7 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
   cfg.precision_switch_range = p.sigma_switch_range;
   cfg.incidence_exponent = p.incidence_noise_exponent;
   BeamModel beam(cfg);
-  const SurfaceTable surfaces(world_);
+  const SurfaceTable& surfaces = *surfaces_;
 
   const std::uint64_t sweep_key =
       DeriveKey(DeriveKey(DeriveKey(Mix64(seed), HashName("sim/lrf")), HashName(p.frame)), seq);

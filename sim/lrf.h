@@ -16,6 +16,7 @@
 // Determinism: noise keyed by (seed, frame name, seq, beam index, sub-ray).
 // Thread-safety: Scan is const; same rules as TlsScanner.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@
 #include "sim/embree_world.h"
 
 namespace mopad::sim {
+
+class SurfaceTable;
 
 struct LrfParams {
   std::string name = "hokuyo_utm30lx";  ///< profile name
@@ -109,6 +112,7 @@ class LrfSimulator {
   const EmbreeWorld& world_;
   LrfParams params_;
   int beams_ = 0;
+  std::shared_ptr<const SurfaceTable> surfaces_;  // built once: materials do not change
 };
 
 }  // namespace mopad::sim

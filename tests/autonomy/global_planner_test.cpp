@@ -66,6 +66,20 @@ TEST(GlobalPlanner, FindsAPathThroughTheDoorGapWithRobotRadiusClearance) {
   EXPECT_NEAR(plan.path.back().s, plan.length, 1e-9);
 }
 
+// A goal just behind the door (clearance still below passage_clearance at the goal): the
+// doorway at the very end of the path is reported, so the controller runs its passage manoeuvre.
+TEST(GlobalPlanner, ReportsADoorwayAtTheVeryEndOfThePath) {
+  GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, 1);
+  const GlobalPlan plan = planner.Plan(Pose2{2.0, 3.8, 0.0}, Pose2{5.3, 3.0, 0.0});
+  ASSERT_TRUE(plan.ok()) << plan.message;
+  ASSERT_EQ(plan.passages.size(), 1u) << plan.message;
+  const Passage& p = plan.passages.front();
+  EXPECT_NEAR(p.centre.x(), 5.0, 0.06);
+  EXPECT_NEAR(p.centre.y(), 3.0, 0.06);
+  EXPECT_NEAR(std::abs(WrapAngle(p.axis_yaw)), 0.0, 0.1);  // crossing along +x
+  EXPECT_NEAR(p.width, 0.9, 0.1);
+}
+
 TEST(GlobalPlanner, ReportsUnreachableWhenTheDoorIsClosed) {
   const OccupancyGrid closed = testing::BuildGrid(testing::TwoRooms(true));
   GlobalPlanner planner(closed, GlobalPlannerParams{}, 1);

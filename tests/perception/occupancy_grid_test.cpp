@@ -71,6 +71,27 @@ TEST(OccupancyGrid, LrfScanClearsAlongBeamsAndMarksReturns) {
   EXPECT_EQ(g.StateAt({5.8, 1.5}), CellState::kUnknown);  // behind the wall
 }
 
+// A desk top seen by the 3D scan (band points at 0.74 m) stays an obstacle although the base
+// LRF's beams pass under it (the LRF world here has no desk); with the old rule they cleared it.
+TEST(OccupancyGrid, LrfBeamsDoNotClearObstaclesSeenIn3D) {
+  const std::vector<Box2> walls = {{{-0.6, -0.6}, {5.6, -0.5}}, {{-0.6, 3.5}, {5.6, 3.6}},
+                                   {{-0.6, -0.6}, {-0.5, 3.6}}, {{5.5, -0.6}, {5.6, 3.6}}};
+  std::vector<Eigen::Vector3d> desk_top;
+  for (double x = 3.5; x <= 4.0; x += 0.02)
+    for (double y = 1.2; y <= 1.8; y += 0.02) desk_top.emplace_back(x, y, 0.74);
+  for (const bool clears : {false, true}) {
+    OccupancyGridParams p;
+    p.lrf_clears_cloud_obstacles = clears;
+    OccupancyGrid g(p, {-1.0, -1.0}, 140, 100);
+    g.InsertPoints(desk_top);
+    EXPECT_EQ(g.StateAt({3.75, 1.5}), CellState::kOccupied);
+    for (int k = 0; k < 5; ++k)
+      g.InsertScan(testing::SimulateScan(walls, {2.0, 1.5, 0.0}, 1, k, 0.0), {2.0, 1.5, 0.0});
+    EXPECT_EQ(g.StateAt({3.75, 1.5}), clears ? CellState::kFree : CellState::kOccupied) << clears;
+    EXPECT_EQ(g.StateAt({3.0, 1.5}), CellState::kFree);  // the floor in front is still cleared
+  }
+}
+
 TEST(DistanceField, ClearanceInTheDoorGapAndInflation) {
   const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms());
   const DistanceField f(g, true);

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "runner/drive_mission.h"
+#include "runner/robot_session.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
@@ -82,6 +83,83 @@ TEST(DriveMission, ClosedDoorEndsExplainedWithPartialTrajectory) {
                         "map_path.png", "summary.json"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   EXPECT_GT(fs::file_size(dir / "trajectory_true.tum"), 100u);  // partial trajectory saved
+}
+
+
+// Kidnapping inside the loop: 8 s into the route the true body jumps 1.2 m sideways and turns
+// 60 deg (odometry does not see it). The filter must notice (a lost event) and either
+// re-localise and arrive, or stop with an explained localisation_lost — never drive on with a
+// confident wrong estimate: at the end the estimate agrees with the truth.
+TEST(DriveMission, KidnappedRobotIsDetectedAndNeverDrivesOnLost) {
+  const sim::EmbreeWorld world = MakeWorld(90.0);
+  DriveRequest req = Request(5);
+  req.kidnap_time = 8.0;
+  req.kidnap_to = Pose2{2.0, 1.2, DegToRad(60.0)};
+  const DriveResult r = RunDrive(world, Params(), req);
+  Print("kidnapped at 8 s, seed 5", r);
+  EXPECT_EQ(r.teleports, 1);
+  EXPECT_GE(r.lost_events, 1);
+  EXPECT_EQ(r.contacts, 0);
+  EXPECT_TRUE(r.status == DriveStatus::kArrived || r.status == DriveStatus::kLocalisationLost)
+      << ToString(r.status) << ": " << r.message;
+  if (r.status == DriveStatus::kArrived) {
+    EXPECT_LE(r.goal_error_xy, 0.10);
+    EXPECT_LE(r.goal_error_yaw_deg, 5.0);
+  }
+  ASSERT_FALSE(r.truth.empty());
+  const Pose2& e = r.estimated.back().pose;
+  const Pose2& t = r.truth.back().pose;
+  if (r.status == DriveStatus::kArrived) {
+    EXPECT_LT(std::hypot(e.x - t.x, e.y - t.y), 0.10);
+  }
+}
+
+// The session API the scanning mission builds on: two scans and two goals in one session,
+// simulation time accumulating (scans stand still for their profile duration), truths kept,
+// and a pose correction of the last scan that re-seeds the localiser.
+TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
+  const sim::EmbreeWorld world = MakeWorld(90.0);
+  RobotSession s(world, Params(), Pose2{1.5, 2.0, 0.0}, 3);
+  const interfaces::TlsScan& scan = s.TakeScan(1.0);  // coarse: fast
+  const double scan_time = s.SimTime();
+  EXPECT_GT(scan_time, 0.0);  // 360 deg at 1 deg: 101 x 360 pulses at 300 kHz = 0.12 s
+  EXPECT_NEAR(scan_time, 101.0 * 360.0 / 300000.0, 0.021);
+  EXPECT_EQ(s.ScanCount(), 1);
+  ASSERT_EQ(s.ScanTruths().size(), 1u);
+  EXPECT_EQ(scan.columns, 360u);
+  EXPECT_NEAR(scan.X_MS_estimate.translation().z(), scan.X_BS.translation().z(), 1e-9);
+  // Map frame = start pose: the first estimate is the origin.
+  EXPECT_NEAR(s.EstimatedPose().x, 0.0, 0.02);
+
+  std::string msg;
+  const Pose2 goal_M{0.5, -1.0, -kPi / 2};  // world (2.0, 1.0): in R1, west of the desk
+  ASSERT_EQ(s.NavigateTo(goal_M, &msg), DriveStatus::kArrived) << msg;
+  const double t1 = s.SimTime();
+  EXPECT_GT(t1, scan_time);
+  EXPECT_NEAR(s.TruePoseInMap().x, 0.5, 0.10);
+  EXPECT_NEAR(s.TruePoseInMap().y, -1.0, 0.10);
+  const Pose2 w = s.TruePoseInWorld();
+  EXPECT_NEAR(w.x, 2.0, 0.10);
+  EXPECT_NEAR(w.y, 1.0, 0.10);
+
+  s.TakeScan(1.0);
+  EXPECT_EQ(s.ScanCount(), 2);
+  // A refined pose 5 cm off in x re-stamps the scan and moves the estimate with it.
+  const Pose2 before = s.EstimatedPose();
+  Pose3 X_MS = s.LastScan().X_MS_estimate;
+  X_MS.translation().x() += 0.05;
+  s.CorrectLastScanPose(X_MS);
+  EXPECT_NEAR(s.EstimatedPose().x - before.x, 0.05, 1e-6);
+  EXPECT_NEAR(s.LastScan().X_MS_estimate.translation().x(), X_MS.translation().x(), 1e-12);
+
+  ASSERT_EQ(s.NavigateTo(Pose2{1.5, 1.3, 0.0}, &msg), DriveStatus::kArrived) << msg;  // world (3.0, 3.3)
+  EXPECT_GT(s.SimTime(), t1);
+  const DriveResult r = s.Result();
+  EXPECT_GE(r.tls_scans, 2);  // scan-and-go may add one on the way
+  EXPECT_EQ(r.tls_scans, s.ScanCount());
+  EXPECT_EQ(r.contacts, 0);
+  EXPECT_LE(r.goal_error_xy, 0.10);
+  EXPECT_EQ(r.estimated.size(), r.truth.size());
 }
 
 }  // namespace

@@ -1,0 +1,661 @@
+#include "runner/robot_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <queue>
+
+#include "common/error.h"
+#include "sim/lrf.h"
+#include "sim/tls_scanner.h"
+
+namespace mopad::runner {
+namespace {
+
+using autonomy::PathPoint;
+using perception::Compose;
+using perception::Inverse;
+
+std::string Fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c, d);
+  return buf;
+}
+
+// Robot side: a TLS scan's returns in the map frame, using the robot's own pose estimate and
+// the calibrated mount. Only points that can matter for the 2D map (floor to band top) are kept;
+// beyond `cap` they are thinned uniformly (every k-th in scan order), never truncated (the grid
+// is row-major from the top: a cut would drop the floor rows near the robot).
+std::vector<Eigen::Vector3d> ScanPointsInMap(const interfaces::TlsScan& scan, const Pose3& X_MS,
+                                             double z_max, std::uint64_t cap) {
+  std::vector<Eigen::Vector3d> all;
+  all.reserve(scan.points.size() / 2);
+  for (const auto& p : scan.points) {
+    if (!p.valid()) continue;
+    const Eigen::Vector3d q = X_MS * Eigen::Vector3d(p.x, p.y, p.z);
+    if (q.z() < -0.2 || q.z() > z_max) continue;
+    all.push_back(q);
+  }
+  if (all.size() <= cap || cap == 0) return all;
+  const std::size_t stride = (all.size() + cap - 1) / cap;
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(all.size() / stride + 1);
+  for (std::size_t k = 0; k < all.size(); k += stride) out.push_back(all[k]);
+  return out;
+}
+
+// Robot side: where to scan next when the goal is not in the known free space. An optimistic
+// route to the goal (unknown cells count as free; occupied cells and `pass_clearance` around
+// them block; Dijkstra over 8-neighbours, settled in (distance, index) order: deterministic)
+// is followed from `from` while it stays in the known, valid space (known free, clearance >=
+// `pass_clearance` with unknown counted as obstacle). The scan target is the last point before
+// it leaves that space with clearance >= `target_clearance` (in front of a doorway rather
+// than in it), else the last known point at all (into the doorway when already in front of
+// it). Targets within `exclusion` of an earlier scan position are spent (that scan did not
+// reveal the way). nullopt + `why`: no route even through unknown space, or no progress.
+std::vector<Vec2> ExplorationTarget(const perception::OccupancyGrid& grid, const Vec2& from,
+                                      const Vec2& goal, double pass_clearance, double target_clearance,
+                                      const std::vector<Pose2>& scan_poses, double exclusion,
+                                      double blind_radius, std::string* why) {
+  const perception::DistanceField known(grid, /*unknown_is_obstacle=*/true);
+  const perception::DistanceField optimistic(grid, /*unknown_is_obstacle=*/false);
+  const double res = grid.Resolution();
+  auto passable = [&](const perception::Cell& c) {
+    return grid.Contains(c) && grid.State(c) != perception::CellState::kOccupied &&
+           optimistic.ClearanceOfCell(c) >= pass_clearance;
+  };
+  auto nearest_passable = [&](const Vec2& p, double radius) {
+    const perception::Cell c0 = grid.CellOf(p);
+    const int r = static_cast<int>(std::ceil(radius / res));
+    std::optional<perception::Cell> best;
+    double best_d = 1e18;
+    for (int dj = -r; dj <= r; ++dj)
+      for (int di = -r; di <= r; ++di) {
+        const perception::Cell c{c0.i + di, c0.j + dj};
+        if (!passable(c)) continue;
+        const double d = (grid.CentreOf(c) - p).squaredNorm();
+        if (d < best_d) best_d = d, best = c;
+      }
+    return best;
+  };
+  const auto start = nearest_passable(from, 0.5);
+  const auto target = nearest_passable(goal, 1.0);
+  if (!start || !target) {
+    *why = start ? "the goal is inside obstacles" : "no passable cell near the robot";
+    return {};
+  }
+  const std::size_t n = static_cast<std::size_t>(grid.Width()) * grid.Height();
+  std::vector<double> dist(n, 1e18);
+  std::vector<std::size_t> parent(n, n);
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  const std::size_t si = grid.Index(*start), ti = grid.Index(*target);
+  dist[si] = 0.0;
+  queue.emplace(0.0, si);
+  while (!queue.empty()) {
+    const auto [d, idx] = queue.top();
+    queue.pop();
+    if (d > dist[idx]) continue;
+    if (idx == ti) break;
+    const perception::Cell c{static_cast<int>(idx % grid.Width()), static_cast<int>(idx / grid.Width())};
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        if (di == 0 && dj == 0) continue;
+        const perception::Cell nb{c.i + di, c.j + dj};
+        if (!passable(nb)) continue;
+        const double nd = d + res * ((di != 0 && dj != 0) ? std::sqrt(2.0) : 1.0);
+        const std::size_t ni = grid.Index(nb);
+        if (nd < dist[ni] - 1e-12) dist[ni] = nd, parent[ni] = idx, queue.emplace(nd, ni);
+      }
+  }
+  if (dist[ti] >= 1e17) {
+    *why = "no route to the goal even through unexplored space";
+    return {};
+  }
+  std::vector<std::size_t> path;
+  for (std::size_t k = ti; k != n; k = parent[k]) path.push_back(k);
+  std::reverse(path.begin(), path.end());
+  auto centre = [&](std::size_t k) {
+    return grid.CentreOf({static_cast<int>(k % grid.Width()), static_cast<int>(k / grid.Width())});
+  };
+  auto spent = [&](const Vec2& p) {
+    for (const Pose2& sp : scan_poses)
+      if (std::hypot(p.x() - sp.x, p.y() - sp.y) < exclusion) return true;
+    return false;
+  };
+  std::vector<Vec2> wide, any;  // along the route, in order
+  for (const std::size_t k : path) {
+    const perception::Cell c{static_cast<int>(k % grid.Width()), static_cast<int>(k / grid.Width())};
+    // Around a scan position the map is known (the LRF sweeps cover the TLS blind cone, all
+    // but the LRFs' rear gap).
+    bool near_scan = false;
+    for (const Pose2& sp : scan_poses)
+      near_scan = near_scan || std::hypot(centre(k).x() - sp.x, centre(k).y() - sp.y) < blind_radius;
+    if (!near_scan &&
+        (grid.State(c) != perception::CellState::kFree || known.ClearanceOfCell(c) < pass_clearance))
+      break;
+    if (spent(centre(k))) continue;
+    any.push_back(centre(k));
+    if (known.ClearanceOfCell(c) >= target_clearance) wide.push_back(centre(k));
+  }
+  // Preference: the farthest wide point first, then nearer ones, then the narrow ones (the
+  // caller takes the first its planner can reach).
+  std::vector<Vec2> out(wide.rbegin(), wide.rend());
+  for (auto it = any.rbegin(); it != any.rend(); ++it)
+    if (std::find(out.begin(), out.end(), *it) == out.end()) out.push_back(*it);
+  if (out.empty()) *why = "no progress: the route leaves the known space where the robot has already scanned";
+  return out;
+}
+
+// Fraction of the grid cells within `radius` of `p` that are known (free or occupied).
+double KnownFraction(const perception::OccupancyGrid& grid, const Vec2& p, double radius) {
+  const perception::Cell c0 = grid.CellOf(p);
+  const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
+  int known = 0, total = 0;
+  for (int dj = -r; dj <= r; ++dj)
+    for (int di = -r; di <= r; ++di) {
+      const perception::Cell c{c0.i + di, c0.j + dj};
+      if ((grid.CentreOf(c) - p).norm() > radius) continue;
+      ++total;
+      if (grid.State(c) != perception::CellState::kUnknown) ++known;
+    }
+  return total ? static_cast<double>(known) / total : 0.0;
+}
+
+Pose2 Pose2Of(const Pose3& X) {
+  const Eigen::Vector3d x_axis = X.linear().col(0);
+  return Pose2{X.translation().x(), X.translation().y(), std::atan2(x_axis.y(), x_axis.x())};
+}
+
+double Rms(double sum_sq, std::size_t n) { return n ? std::sqrt(sum_sq / n) : 0.0; }
+
+}  // namespace
+
+struct RobotSession::Impl {
+  using Clock = std::chrono::steady_clock;
+
+  // ---- World side.
+  const sim::EmbreeWorld& world;
+  DriveParams params;
+  std::uint64_t seed;
+  Clock::time_point wall_start = Clock::now();
+  std::optional<sim::RobotBody> body;
+  std::optional<sim::TlsScanner> tls;
+  std::optional<sim::LrfSimulator> lrf_top, lrf_base;
+  Pose2 X_MW;  // evaluation only: truth into the map frame
+  std::vector<sim::TlsTruth> truths;
+  bool keep_truths = true;
+  std::optional<std::pair<double, Pose2>> teleport;  // (time, X_WB)
+
+  // ---- Robot side.
+  interfaces::TlsScan last_scan;
+  std::vector<std::vector<Eigen::Vector3d>> batches;  // the robot's own map points, per scan
+  std::vector<std::pair<interfaces::LrfScan, Pose2>> map_sweeps;  // LRF sweeps at scan poses
+  std::vector<Eigen::Vector3d> extent_extra{Eigen::Vector3d::Zero()};  // map must cover these
+  perception::OccupancyGrid grid{perception::OccupancyGridParams{}, Vec2::Zero(), 1, 1};
+  std::optional<perception::Amcl> amcl;
+  std::optional<autonomy::GlobalPlanner> planner;
+  std::optional<autonomy::LocalController> controller;
+  std::uint64_t amcl_epoch = 0;
+  Pose2 goal_M{};
+  Pose2 target_M{};
+  bool final_leg = true;
+  int nav_scans = 0;  // scans taken by the current NavigateTo
+
+  double t = 0.0;
+  std::uint64_t base_seq = 0, top_seq = 0;
+  double base_period = 0.0, top_period = 0.0;
+  double next_base = 0.0, next_top = 0.0;
+  interfaces::LrfScan base_scan, top_scan;
+  Pose2 X_MB_est{};  // map frame := start pose
+  interfaces::VelocityCommand cmd;
+  bool was_lost = false;
+
+  // ---- Log (DriveResult minus the final figures).
+  DriveResult log;
+  double loc_sq = 0.0, yaw_sq = 0.0;
+  std::size_t loc_n = 0;
+  Pose2 last_true{};
+  double tls_wall = 0.0;
+
+  Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s)
+      : world(w), params(p), seed(s) {
+    ValidateParams(params, "drive.");
+    std::vector<Eigen::Vector3f> vertices;
+    std::vector<std::uint32_t> triangles;
+    for (const auto& part : world.scene().parts) {
+      const auto base = static_cast<std::uint32_t>(vertices.size());
+      vertices.insert(vertices.end(), part.positions.begin(), part.positions.end());
+      for (const auto& tri : part.triangles)
+        for (int k = 0; k < 3; ++k) triangles.push_back(base + static_cast<std::uint32_t>(tri[k]));
+    }
+    body.emplace(params.body, vertices, triangles, X_WB_start, seed);
+    if (body->InCollision(X_WB_start))
+      throw InputError("drive: start pose (" + Fmt("%.3f, %.3f", X_WB_start.x, X_WB_start.y) +
+                       ") is in collision with the scene");
+    sim::TlsParams tls_params = sim::TlsProfile(params.tls_profile);
+    tls_params.step_deg = params.tls_step_deg;
+    tls.emplace(world, tls_params);
+    for (const auto& lp : sim::PaperLrfRig(params.lrf_profile)) {
+      if (lp.frame == "lrf_top") lrf_top.emplace(world, lp);
+      if (lp.frame == "lrf_base") lrf_base.emplace(world, lp);
+    }
+    if (!lrf_top || !lrf_base) throw std::runtime_error("drive: LRF rig lacks lrf_top/lrf_base");
+    base_period = 1.0 / lrf_base->params().rate_hz;
+    top_period = 1.0 / lrf_top->params().rate_hz;
+    X_MW = Inverse(X_WB_start);
+    last_true = X_WB_start;
+    controller.emplace(params.controller);
+    controller->SetReplanner([this](const Pose2& X_MB, const std::vector<Vec2>& obstacles_M) {
+      ++log.replans;
+      planner->AddObstacles(obstacles_M);
+      autonomy::GlobalPlan plan = planner->Plan(X_MB, target_M);
+      if (plan.ok()) {
+        std::vector<Pose2> poses;
+        for (const auto& q : plan.path) poses.push_back(q.pose);
+        log.plans.push_back(std::move(poses));
+      }
+      return plan;
+    });
+  }
+
+  // Both LRFs at their profile rates (world side: rays in the scene at the true pose).
+  bool Sweep(bool force) {
+    const Pose3 X_WB = body->TruePose().To3d();
+    bool top_new = false;
+    if (force || t + 1e-9 >= next_base) {
+      base_scan = lrf_base->Scan(X_WB, seed, base_seq++, t);
+      next_base += base_period;
+      ++log.lrf_sweeps;
+    }
+    if (force || t + 1e-9 >= next_top) {
+      top_scan = lrf_top->Scan(X_WB, seed, top_seq++, t);
+      next_top += top_period;
+      ++log.lrf_sweeps;
+      top_new = true;
+    }
+    return top_new;
+  }
+
+  void Record() {
+    const Pose2 true_M = Compose(X_MW, body->TruePose());
+    log.estimated.push_back({t, X_MB_est});
+    log.truth.push_back({t, true_M});
+    const double e = std::hypot(X_MB_est.x - true_M.x, X_MB_est.y - true_M.y);
+    const double ey = std::abs(WrapAngle(X_MB_est.yaw - true_M.yaw));
+    loc_sq += e * e;
+    yaw_sq += ey * ey;
+    ++loc_n;
+    log.loc_max = std::max(log.loc_max, e);
+    log.loc_yaw_max_deg = std::max(log.loc_yaw_max_deg, RadToDeg(ey));
+  }
+
+  // Robot side: the grid from all scans' band points, the LRF sweeps taken at the scan poses
+  // (the TLS cannot see the floor near the base) and the footprints stood on (free).
+  void RebuildMap() {
+    std::vector<Eigen::Vector3d> extent;
+    for (const auto& b : batches) extent.insert(extent.end(), b.begin(), b.end());
+    // Order kept from the original loop: goal first, then the origin (bytes of the grid size).
+    for (auto it = extent_extra.rbegin(); it != extent_extra.rend(); ++it) extent.push_back(*it);
+    grid = perception::OccupancyGrid::Covering(params.grid, extent, params.map_margin);
+    for (const auto& b : batches) grid.InsertPoints(b);
+    for (const auto& [sweep_scan, X_MB] : map_sweeps) grid.InsertScan(sweep_scan, X_MB);
+    for (const Pose2& s : log.scan_poses) {
+      const double r = 0.5 * params.body.footprint_width;
+      grid.FillBox(Vec2(s.x - r, s.y - r), Vec2(s.x + r, s.y + r), perception::CellState::kFree);
+    }
+  }
+
+  // AMCL restarted on the current map about X_MB; the planner gets the map.
+  void RestartLocaliser(const Pose2& X_MB) {
+    const double sxy = params.initial_sigma_xy, syaw = DegToRad(params.initial_sigma_yaw_deg);
+    amcl.emplace(grid, params.amcl, seed * 1000003ULL + amcl_epoch++);
+    amcl->SetInitialPose(X_MB, Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+    if (!planner)
+      planner.emplace(grid, params.planner, seed);
+    else
+      planner->SetMap(grid);
+  }
+
+  // One control step of the world and the robot's estimation under `cmd`: body (and a due
+  // teleport), LRF sweeps at their rates, AMCL on the top LRF, the estimate, the log.
+  const perception::LocalisationEstimate& StepOnce() {
+    body->Step(cmd, params.control_dt);
+    t += params.control_dt;
+    if (teleport && t + 1e-9 >= teleport->first) {
+      body->Teleport(teleport->second);  // kidnapping: odometry does not see it
+      last_true = teleport->second;
+      teleport.reset();
+      ++log.teleports;
+    }
+    const Pose2 now_true = body->TruePose();
+    log.path_length += std::hypot(now_true.x - last_true.x, now_true.y - last_true.y);
+    last_true = now_true;
+    const interfaces::Odometry& odom = body->Odometry();
+    if (Sweep(false)) {
+      if (amcl->Update(odom, top_scan).updated) ++log.amcl_updates;
+    }
+    const auto& est = amcl->Estimate();
+    const bool lost = est.status == perception::LocalisationStatus::kLost ||
+                      est.status == perception::LocalisationStatus::kRelocalising;
+    if (lost && !was_lost) ++log.lost_events;
+    if (params.trace && log.estimated.size() % 50 == 0) {
+      const Pose2 tm = Compose(X_MW, body->TruePose());
+      std::fprintf(stderr,
+                   "   amcl est (%.2f %.2f) %s (%s) n=%d inl=%.2f true (%.2f %.2f %.2f) odom (%.2f %.2f)\n",
+                   X_MB_est.x, X_MB_est.y, perception::ToString(est.status), est.message.c_str(),
+                   est.particles, est.inlier_ratio, tm.x, tm.y, tm.yaw, odom.X_OB.x, odom.X_OB.y);
+    }
+    was_lost = lost;
+    X_MB_est = est.PoseAt(odom.X_OB);
+    Record();
+    return est;
+  }
+
+  const interfaces::TlsScan& TakeScan(double step_override) {
+    const bool first = log.tls_scans == 0 && log.estimated.empty();
+    if (first) Sweep(true);
+    cmd = {};
+    const auto wall0 = Clock::now();
+    std::optional<sim::TlsScanner> custom;
+    if (step_override > 0.0 && step_override != tls->params().step_deg) {
+      sim::TlsParams p = tls->params();
+      p.step_deg = step_override;
+      custom.emplace(world, p);
+    }
+    const sim::TlsScanner& scanner = custom ? *custom : *tls;
+    sim::ScanRequest req;
+    req.seed = seed;
+    req.scan_id = static_cast<std::uint64_t>(log.tls_scans);
+    req.start_time = t;
+    req.X_WB = body->TruePose().To3d();
+    req.X_MS_estimate = X_MB_est.To3d() * scanner.X_BS();
+    sim::TlsTruth truth;
+    last_scan = scanner.Scan(req, keep_truths ? &truth : nullptr);  // a plain TlsScan crosses
+    if (keep_truths) truths.push_back(std::move(truth));
+    tls_wall += std::chrono::duration<double>(Clock::now() - wall0).count();
+    ++log.tls_scans;
+    ++nav_scans;
+    log.scan_poses.push_back(X_MB_est);
+    batches.push_back(ScanPointsInMap(last_scan, last_scan.X_MS_estimate,
+                                      params.grid.obstacle_z_max + 0.1, params.max_points_per_scan));
+    map_sweeps.emplace_back(base_scan, X_MB_est);
+    map_sweeps.emplace_back(top_scan, X_MB_est);
+    RebuildMap();
+    RestartLocaliser(X_MB_est);
+    if (amcl->Update(body->Odometry(), top_scan, /*force=*/true).updated) ++log.amcl_updates;
+    if (first) Record();
+    // The base stands still while the head turns: the scan's duration from the profile
+    // (pulses / pulse rate), stepped like any other time (LRFs, AMCL, log).
+    const double duration = static_cast<double>(scanner.pulses()) / scanner.params().pulse_rate_hz;
+    log.tls_time += duration;
+    if (params.tls_scan_takes_time) {
+      const double t_end = t + duration;
+      while (t + 0.5 * params.control_dt < t_end) StepOnce();
+    }
+    return last_scan;
+  }
+
+  void CorrectLastScanPose(const Pose3& X_MS) {
+    if (batches.empty()) throw InputError("drive: CorrectLastScanPose before any scan");
+    const Pose2 X_MB_scan = Pose2Of(X_MS * last_scan.X_BS.inverse());
+    last_scan.X_MS_estimate = X_MS;
+    batches.back() = ScanPointsInMap(last_scan, X_MS, params.grid.obstacle_z_max + 0.1,
+                                     params.max_points_per_scan);
+    const Pose2 old = log.scan_poses.back();
+    log.scan_poses.back() = X_MB_scan;
+    for (std::size_t k = map_sweeps.size() >= 2 ? map_sweeps.size() - 2 : 0; k < map_sweeps.size(); ++k)
+      map_sweeps[k].second = X_MB_scan;
+    RebuildMap();
+    // The base may have moved since the scan: carry the odometry offset over.
+    const Pose2 now = Compose(Compose(X_MB_scan, Inverse(old)), X_MB_est);
+    X_MB_est = now;
+    RestartLocaliser(now);
+    if (amcl->Update(body->Odometry(), top_scan, /*force=*/true).updated) ++log.amcl_updates;
+  }
+
+  void Finish(DriveStatus s, const std::string& msg) {
+    log.status = s;
+    log.message = msg;
+  }
+
+  void Install(autonomy::GlobalPlan plan, bool final) {
+    final_leg = final;
+    // A scan position needs no particular heading (the TLS turns 360 deg): arrive along the
+    // path instead of turning on the spot, which a doorway may not allow.
+    if (!final && plan.path.size() >= 2) plan.path.back().pose.yaw = plan.path[plan.path.size() - 2].pose.yaw;
+    target_M = plan.path.back().pose;
+    std::vector<Pose2> poses;
+    for (const auto& p : plan.path) poses.push_back(p.pose);
+    log.plans.push_back(std::move(poses));
+    if (params.trace) {
+      std::fprintf(stderr, "t=%.2f plan to (%.2f %.2f) final=%d len %.2f minclr %.2f passages %zu\n", t,
+                   target_M.x, target_M.y, final, plan.length, plan.min_clearance, plan.passages.size());
+      for (const auto& q : plan.passages)
+        std::fprintf(stderr, "  passage (%.2f %.2f) yaw %.2f width %.2f s %.2f\n", q.centre.x(),
+                     q.centre.y(), q.axis_yaw, q.width, q.s);
+    }
+    controller->SetPlan(plan, /*align_yaw=*/final);
+  }
+
+  // Plans the next leg: the goal plan, driven to the end only if the map around every path
+  // point is well known; else only as far as it is, then a scan. A goal outside the known free
+  // space: drive to the reachable point nearest to it and scan. False = finished (status set).
+  bool PlanLeg() {
+    autonomy::GlobalPlan plan = planner->Plan(X_MB_est, goal_M);
+    std::string why;
+    if (!plan.ok()) {
+      why = std::string(autonomy::ToString(plan.status)) + ": " + plan.message;
+      if (plan.status == autonomy::PlanStatus::kStartInvalid) {
+        Finish(DriveStatus::kBlocked, "cannot leave the current pose: " + why);
+        return false;
+      }
+    }
+    auto well_known = [&](const PathPoint& q) {
+      // Around a scan position the TLS cannot see the floor (blind cone); the LRF sweeps taken
+      // there cover it.
+      for (const Pose2& sp : log.scan_poses)
+        if (std::hypot(q.pose.x - sp.x, q.pose.y - sp.y) < params.scan_blind_radius) return true;
+      return KnownFraction(grid, Vec2(q.pose.x, q.pose.y), params.goal_known_radius) >=
+             params.goal_known_fraction;
+    };
+    // The scan the mission took before navigating counts towards the budget.
+    const bool budget_spent = nav_scans + 1 >= params.max_scans;
+    const bool all_known = plan.ok() && std::all_of(plan.path.begin(), plan.path.end(), well_known);
+    if (all_known || (plan.ok() && budget_spent)) {
+      Install(plan, true);
+      return true;
+    }
+    if (budget_spent) {
+      Finish(DriveStatus::kUnreachable,
+             "no route to the goal after " + std::to_string(log.tls_scans) + " scans (" + why + ")");
+      return false;
+    }
+    if (plan.ok()) {
+      // Drive along the plan only as far as the map is well known (typically into the doorway
+      // of the next room) and scan there: AMCL cannot track in a room the map lacks.
+      std::size_t k = 0;
+      while (k + 1 < plan.path.size() && well_known(plan.path[k + 1])) ++k;
+      // A cut inside a doorway is hard to dock at from an angle: scan first in front of it
+      // (clearance >= robot_radius + doorway_margin), and from the doorway only when already
+      // there (the short straight approach from in front of it).
+      std::size_t kb = k;
+      while (kb > 0 && plan.path[kb].clearance < params.planner.robot_radius + params.doorway_margin) --kb;
+      if (plan.path[kb].s >= params.min_scan_progress) k = kb;
+      if (k + 1 >= plan.path.size() || plan.path[k].s < params.min_scan_progress) {
+        Install(plan, true);
+        return true;
+      }
+      plan.path.resize(k + 1);
+      std::erase_if(plan.passages, [&](const autonomy::Passage& q) { return q.s > plan.path[k].s; });
+      plan.length = plan.path[k].s;
+      Install(plan, false);
+      return true;
+    }
+    // The goal is not in the known free space: explore. Go to the frontier on the shortest
+    // estimated route to the goal and scan there.
+    const Vec2 g(goal_M.x, goal_M.y);
+    std::string no_target;
+    const std::vector<Vec2> targets =
+        ExplorationTarget(grid, Vec2(X_MB_est.x, X_MB_est.y), g, params.planner.robot_radius,
+                          params.scan_target_clearance, log.scan_poses, params.frontier_exclusion,
+                          params.scan_blind_radius, &no_target);
+    if (targets.empty()) {
+      Finish(DriveStatus::kUnreachable,
+             "goal not connected to the start in the robot's map after " + std::to_string(log.tls_scans) +
+                 " scans (" + why + "); exploring: " + no_target +
+                 " (a closed door or an obstacle blocks the way)");
+      return false;
+    }
+    // The first candidate the planner reaches (its disc and the map's unknown-as-obstacle
+    // rule are stricter than the exploration walk); unreachable ones fail fast (flood fill).
+    std::string last_fail;
+    const std::size_t tries = std::min<std::size_t>(targets.size(), 40);
+    for (std::size_t k = 0; k < tries; ++k) {
+      const std::size_t pick = k * targets.size() / tries;  // spread over the candidates
+      const Vec2& near = targets[pick];
+      const Pose2 t_M{near.x(), near.y(), std::atan2(g.y() - near.y(), g.x() - near.x())};
+      autonomy::GlobalPlan to_scan = planner->Plan(X_MB_est, t_M);
+      if (to_scan.ok()) {
+        Install(to_scan, false);
+        return true;
+      }
+      last_fail = std::string(autonomy::ToString(to_scan.status)) + ": " + to_scan.message;
+    }
+    Finish(DriveStatus::kUnreachable, "no route to any of " + std::to_string(targets.size()) +
+                                          " exploration scan positions (" + last_fail + ")");
+    return false;
+  }
+
+  DriveStatus NavigateTo(const Pose2& goal) {
+    if (!amcl) throw InputError("drive: NavigateTo before the first TLS scan (no map)");
+    goal_M = goal;
+    log.goal_M = goal;
+    target_M = goal;
+    final_leg = true;
+    nav_scans = 0;
+    log.status = DriveStatus::kTimeout;
+    log.message.clear();
+    const Eigen::Vector3d g3(goal.x, goal.y, 0.0);
+    if (std::find(extent_extra.begin(), extent_extra.end(), g3) == extent_extra.end()) {
+      extent_extra.push_back(g3);
+      if (!grid.Contains(grid.CellOf(Vec2(goal.x, goal.y)))) {
+        RebuildMap();
+        planner->SetMap(grid);
+      }
+    }
+    bool running = PlanLeg();
+    while (running) {
+      if (t >= params.max_time - 1e-9) {
+        Finish(DriveStatus::kTimeout, Fmt("no arrival within %.1f s of simulation time", params.max_time));
+        break;
+      }
+      const perception::LocalisationEstimate& est = StepOnce();
+      const autonomy::ControlOutput out = controller->Update(t, X_MB_est, est.status, base_scan);
+      cmd = out.cmd;
+      if (params.trace && (log.estimated.size() % 50 == 0 || out.finished))
+        std::fprintf(stderr, "t=%.2f est (%.2f %.2f %.2f) %s: %s\n", t, X_MB_est.x, X_MB_est.y,
+                     X_MB_est.yaw, autonomy::ToString(out.status), out.message.c_str());
+      if (!out.finished) continue;
+      switch (out.status) {
+        case autonomy::NavStatus::kArrived:
+          if (final_leg) {
+            Finish(DriveStatus::kArrived, out.message);
+            running = false;
+          } else {
+            // A scan is registered with the estimate: check it first (a forced update at the
+            // stop). A scan that does not match the map means the robot is lost (e.g.
+            // kidnapped while driving): stop with the reason rather than map a wrong room.
+            cmd = {};
+            if (amcl->Update(body->Odometry(), top_scan, /*force=*/true).updated) ++log.amcl_updates;
+            const auto& e = amcl->Estimate();
+            if (e.status == perception::LocalisationStatus::kLost ||
+                e.status == perception::LocalisationStatus::kRelocalising ||
+                e.inlier_ratio < params.amcl.lost_inlier_ratio) {
+              if (!was_lost) ++log.lost_events;
+              Finish(DriveStatus::kLocalisationLost,
+                     "at a scan stop the LRF does not match the map (" + e.message +
+                         "); not scanning with a wrong pose");
+              running = false;
+              break;
+            }
+            TakeScan(0.0);
+            running = PlanLeg();
+          }
+          break;
+        case autonomy::NavStatus::kUnreachable:
+          Finish(DriveStatus::kUnreachable, out.message);
+          running = false;
+          break;
+        case autonomy::NavStatus::kLocalisationLost:
+          Finish(DriveStatus::kLocalisationLost, out.message);
+          running = false;
+          break;
+        default:
+          Finish(DriveStatus::kBlocked, out.message);
+          running = false;
+          break;
+      }
+    }
+    return log.status;
+  }
+
+  DriveResult Result() const {
+    DriveResult res = log;
+    res.map = grid;
+    res.sim_time = t;
+    res.final_true_M = Compose(X_MW, body->TruePose());
+    res.goal_error_xy = std::hypot(res.final_true_M.x - goal_M.x, res.final_true_M.y - goal_M.y);
+    res.goal_error_yaw_deg = RadToDeg(std::abs(WrapAngle(res.final_true_M.yaw - goal_M.yaw)));
+    res.loc_rms = Rms(loc_sq, loc_n);
+    res.loc_yaw_rms_deg = RadToDeg(Rms(yaw_sq, loc_n));
+    res.contacts = body->ContactCount();
+    res.contact_events = body->Contacts();
+    res.blocked_steps = body->BlockedSteps();
+    res.tls_wall_time = tls_wall;
+    res.wall_time = std::chrono::duration<double>(Clock::now() - wall_start).count();
+    return res;
+  }
+};
+
+RobotSession::RobotSession(const sim::EmbreeWorld& world, const DriveParams& params,
+                           const Pose2& X_WB_start, std::uint64_t seed)
+    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed)) {}
+RobotSession::~RobotSession() = default;
+
+const interfaces::TlsScan& RobotSession::TakeScan(double step_deg_override) {
+  return impl_->TakeScan(step_deg_override);
+}
+const interfaces::TlsScan& RobotSession::LastScan() const { return impl_->last_scan; }
+void RobotSession::CorrectLastScanPose(const Pose3& X_MS) { impl_->CorrectLastScanPose(X_MS); }
+void RobotSession::ExtendMap(const Vec2& p_M) {
+  const Eigen::Vector3d p3(p_M.x(), p_M.y(), 0.0);
+  auto& e = impl_->extent_extra;
+  if (std::find(e.begin(), e.end(), p3) == e.end()) e.push_back(p3);
+}
+DriveStatus RobotSession::NavigateTo(const Pose2& goal_M, std::string* message) {
+  const DriveStatus s = impl_->NavigateTo(goal_M);
+  if (message) *message = impl_->log.message;
+  return s;
+}
+Pose2 RobotSession::EstimatedPose() const { return impl_->X_MB_est; }
+const perception::LocalisationEstimate& RobotSession::Localisation() const {
+  if (!impl_->amcl) throw InputError("drive: no localisation before the first TLS scan");
+  return impl_->amcl->Estimate();
+}
+const perception::OccupancyGrid& RobotSession::Map() const { return impl_->grid; }
+double RobotSession::SimTime() const { return impl_->t; }
+int RobotSession::ScanCount() const { return impl_->log.tls_scans; }
+const DriveParams& RobotSession::Params() const { return impl_->params; }
+std::uint64_t RobotSession::Seed() const { return impl_->seed; }
+Pose2 RobotSession::X_MW() const { return impl_->X_MW; }
+Pose2 RobotSession::TruePoseInMap() const { return Compose(impl_->X_MW, impl_->body->TruePose()); }
+Pose2 RobotSession::TruePoseInWorld() const { return impl_->body->TruePose(); }
+const std::vector<sim::TlsTruth>& RobotSession::ScanTruths() const { return impl_->truths; }
+void RobotSession::SetKeepScanTruths(bool keep) { impl_->keep_truths = keep; }
+void RobotSession::ScheduleTeleport(double t, const Pose2& X_WB) { impl_->teleport.emplace(t, X_WB); }
+DriveResult RobotSession::Result() const { return impl_->Result(); }
+
+}  // namespace mopad::runner
