@@ -69,6 +69,27 @@ std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBes
   return targets;
 }
 
+// The visibility test of step c: range and elevation limits, incidence, free voxel line of
+// sight. `d` = target - scanner centre.
+// Returns the chance that the scan senses the patch's cells (0 = not visible).
+struct Visibility {
+  const modelling::VoxelSpace& vox;
+  double range_min, range_max, sin_max, sin_min, cos_inc, stop_short;
+  double cell, step;  // face cell (m), angular step (rad)
+  double operator()(const Vec3& sc, const Target& t) const {
+    const Vec3 d = t.p - sc;
+    const double r = d.norm();
+    if (r < range_min || r > range_max) return 0.0;
+    const double sz = d.z() / r;
+    if (sz > sin_max || sz < sin_min) return 0.0;
+    const double cos_a = d.dot(t.n) / r;
+    if (cos_a < cos_inc || cos_a <= 0.0) return 0.0;
+    if (!vox.SegmentFree(sc, t.p, stop_short)) return 0.0;
+    const double spacing = r * step;
+    return std::min(1.0, cell / spacing) * std::min(1.0, cell * cos_a / spacing);
+  }
+};
+
 // Plan distance from p to the RoI's walls and columns (the map may miss walls seen only at
 // grazing angles from far away; the perimeter does not).
 double BoundaryDistance(const modelling::Roi& roi, const Vec2& p) {
@@ -174,13 +195,29 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
     }
   }
   // b. Targets with their membership probabilities.
-  const std::vector<Target> targets = MakeTargets(model, P);
-  // c/d. Certainty of every face and of the RoI per candidate.
+  std::vector<Target> targets = MakeTargets(model, P);
   const modelling::VoxelSpace& vox = model.Voxels();
   const double zs = model.FloorZ() + P.mast_height;
-  const double sin_max = std::sin(DegToRad(P.elevation_max_deg));
-  const double sin_min = std::sin(DegToRad(P.elevation_min_deg));
-  const double cos_inc = std::cos(DegToRad(P.max_incidence_deg));
+  const Visibility visible{vox,
+                           P.range_min,
+                           P.range_max,
+                           std::sin(DegToRad(P.elevation_max_deg)),
+                           std::sin(DegToRad(P.elevation_min_deg)),
+                           std::cos(DegToRad(P.max_incidence_deg)),
+                           P.stop_short,
+                           model.Params().face_cell,
+                           DegToRad(P.angular_step_deg)};
+  // Patches the earlier scan positions should already have sensed are discounted.
+  if (P.revisit_factor < 1.0) {
+    const std::vector<Pose3>& scans = model.ScanPoses();
+    tbb::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t ti) {
+      Target& t = targets[ti];
+      for (const Pose3& X : scans) {
+        t.weight *= 1.0 - (1.0 - P.revisit_factor) * visible(X.translation(), t);
+      }
+    });
+  }
+  // c/d. Certainty of every face and of the RoI per candidate.
   const std::size_t nc = out.candidates.size();
   tbb::parallel_for(std::size_t{0}, nc, [&](std::size_t ci) {
     NbsCandidate& cand = out.candidates[ci];
@@ -188,15 +225,13 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
     std::vector<double>& fg = cand.face_certainty;
     fg.assign(roi.faces.size(), 0.0);
     for (const Target& t : targets) {
+      if (t.weight <= 0.0) continue;
+      const double chance = visible(sc, t);
+      if (chance <= 0.0) continue;
+      // A frontier patch reveals what lies behind it in proportion to how squarely it is seen
+      // (not how densely: what lies behind is seen from elsewhere).
       const Vec3 d = t.p - sc;
-      const double r = d.norm();
-      if (r < P.range_min || r > P.range_max) continue;
-      const double sz = d.z() / r;
-      if (sz > sin_max || sz < sin_min) continue;
-      if (d.dot(t.n) < cos_inc * r) continue;
-      if (!vox.SegmentFree(sc, t.p, P.stop_short)) continue;
-      // A frontier patch reveals what lies behind it in proportion to how squarely it is seen.
-      fg[t.face] += t.frontier ? t.weight * d.dot(t.n) / r : t.weight;
+      fg[t.face] += t.frontier ? t.weight * d.dot(t.n) / d.norm() : t.weight * chance;
       ++cand.visible_patches;
     }
     double g = 0.0;

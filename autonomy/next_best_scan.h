@@ -17,8 +17,13 @@
 //  c/d. for each candidate, ray casting from the scanner centre (floor + mast height) through
 //     the voxel space to every patch: visible when within the scanner's elevation limits and
 //     range, at most `max_incidence_deg` from the face normal, and no occupied voxel on the
-//     way. Certainty of a face = sum of probability x area of its visible patches; certainty of
+//     way; a visible patch counts with its sensing chance (point spacing r x angular step,
+//     stretched by 1/cos(incidence), against the face cell: far and grazing patches stay
+//     sparse). Certainty of a face = sum of probability x area x chance; certainty of
 //     the RoI = the sum over faces (the candidate's gain, m^2);
+//     A patch an earlier scan position already passes this test for, yet still unsensed, is
+//     discounted by `revisit_factor` per such scan (what was looked at and not sensed will
+//     not be sensed by looking again from about the same place);
 //  e. the candidate with the largest gain; ties go to the one nearest the current pose, then
 //     the lower index (row-major grid order).
 // Deterministic: candidates are evaluated in parallel (TBB), each writing its own result.
@@ -43,7 +48,11 @@ struct NextBestScanParams {
   double elevation_min_deg = -40.0;   ///< deg, scanner's lower limit, [-90, 90]
   double range_min = 1.5;             ///< m, [0, 100]
   double range_max = 60.0;            ///< m, (0, 1000]
-  double max_incidence_deg = 75.0;    ///< deg, from the face normal, [0, 90]
+  double max_incidence_deg = 80.0;    ///< deg, from the face normal, [0, 90]
+  /// deg, the TLS angular step of the room scans (sensor setting), (0, 10]. With the model's
+  /// face cell c it gives the chance that a patch seen at range r and incidence a gets a point
+  /// in each cell: min(1, c / (r step)) * min(1, c cos(a) / (r step)).
+  double angular_step_deg = 0.2;
   double patch_size = 0.3;            ///< m, face cells grouped into target patches, [0.02, 5]
   double probability_structural = 0.9;    ///< [0, 1]
   double probability_unclassified = 0.5;  ///< [0, 1]
@@ -52,6 +61,12 @@ struct NextBestScanParams {
   /// frontier's area (floor, ceiling, two side walls, end wall). [0, 100]
   double frontier_factor = 6.0;
   double stop_short = 0.15;           ///< m, voxels this close to a target do not block, [0, 2]
+  /// An unsensed patch that an earlier scan position passes the same visibility test for was
+  /// evidently not sensable from there (hidden by something the voxels miss, an opening not
+  /// recognised): per such scan its weight is multiplied by 1 - (1 - revisit_factor) x the
+  /// sensing chance from there, so a candidate at or near an earlier scan position expects
+  /// little. 1 = no discount. [0, 1]
+  double revisit_factor = 0.2;
 
   template <class V>
   void Visit(V& v) {
@@ -65,11 +80,13 @@ struct NextBestScanParams {
     v("range_min", range_min, Bounds{0.0, 100.0});
     v("range_max", range_max, Bounds{1e-6, 1000.0});
     v("max_incidence_deg", max_incidence_deg, Bounds{0.0, 90.0});
+    v("angular_step_deg", angular_step_deg, Bounds{1e-6, 10.0});
     v("patch_size", patch_size, Bounds{0.02, 5.0});
     v("probability_structural", probability_structural, Bounds{0.0, 1.0});
     v("probability_unclassified", probability_unclassified, Bounds{0.0, 1.0});
     v("frontier_factor", frontier_factor, Bounds{0.0, 100.0});
     v("stop_short", stop_short, Bounds{0.0, 2.0});
+    v("revisit_factor", revisit_factor, Bounds{0.0, 1.0});
   }
   /// Bounds plus elevation_min < elevation_max and range_min < range_max; InputError.
   void Validate() const;

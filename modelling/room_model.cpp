@@ -166,6 +166,17 @@ struct RoomModel::Boundary {
 namespace {
 
 constexpr double kRefitGuard = 0.1;  // m, edge ends left out of a refit (corners)
+// column_index_ packs the azimuth column with two flags.
+constexpr std::uint32_t kRayCastBit = 0x80000000u;  // on the ray-casting stride
+constexpr std::uint32_t kGapBit = 0x40000000u;      // > kGapRows rows without return precede it
+constexpr std::uint32_t kColumnMask = 0x3FFFFFFFu;
+// Missing rows that make a gap. A wall closer than the scanner's minimum range returns nothing
+// (the lintel over a door beside the scanner), so the next return may lie beyond the wall; a
+// single dropout (dark, specular) is not a gap.
+constexpr std::int64_t kGapRows = 2;
+// m, 3D range under which a return may be followed by surfaces too close to return (scanners'
+// minimum ranges are 0.5-1.5 m).
+constexpr double kNearRange = 2.0;
 
 std::int64_t VoxelKey(const Eigen::Vector3f& p, double size) {
   const auto q = [size](float v) {
@@ -244,6 +255,7 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   const auto scan_no = static_cast<std::uint16_t>(scans_.size());
   // Column by column, top row first: the perimeter trace walks each column in this order.
   for (std::uint32_t c = 0; c < scan.columns; ++c) {
+    std::int64_t prev_row = -1;
     for (std::uint32_t r = 0; r < scan.rows; ++r) {
       const interfaces::TlsPoint& p = scan.at(r, c);
       if (!p.valid()) continue;
@@ -253,9 +265,11 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
       colours_.push_back({p.r, p.g, p.b});
       intensity_.push_back(p.intensity);
       scan_index_.push_back(scan_no);
-      column_index_.push_back((r % params_.ray_stride == 0 && c % params_.ray_stride == 0)
-                                  ? c | 0x80000000u
-                                  : c);
+      std::uint32_t tag = c;
+      if (r % params_.ray_stride == 0 && c % params_.ray_stride == 0) tag |= kRayCastBit;
+      if (static_cast<std::int64_t>(r) - prev_row > kGapRows) tag |= kGapBit;
+      column_index_.push_back(tag);
+      prev_row = r;
     }
   }
   rec.end = points_.size();
@@ -359,23 +373,32 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
   rec.outline.clear();
   std::size_t i = rec.begin;
   while (i < rec.end) {
-    const std::uint32_t col = column_index_[i] & 0x7FFFFFFFu;
+    const std::uint32_t col = column_index_[i] & kColumnMask;
     std::size_t j = i;
-    while (j < rec.end && (column_index_[j] & 0x7FFFFFFFu) == col) ++j;
+    while (j < rec.end && (column_index_[j] & kColumnMask) == col) ++j;
     double best_rho = -1.0, last_rho = 0.0;
     Vec2 vertex = Vec2::Zero();
-    bool any = false;
+    bool any = false, on_ceiling = false, last_near = false;
     for (std::size_t k = i; k < j; ++k) {
       const Eigen::Vector3f& p = points_[k];
       const Vec2 q = Plan(p);
       const double rho = (q - o).norm();
       const double dz = ceil - p.z();
-      if (std::abs(dz) <= tol || (dz > 0 && dz <= hang)) {
+      const bool ceiling_like = std::abs(dz) <= tol || (dz > 0 && dz <= hang);
+      // Rows without return before this point: what they looked at is unknown. After a wall
+      // top (or before anything was seen) it is typically the rest of a wall too close to
+      // return (a lintel over a door beside the scanner), and the next return is the next
+      // room's ceiling: the walk ends. On the ceiling a gap is a dropout, unless the last
+      // ceiling return was itself near the minimum range (a low ceiling beside a door wall).
+      if ((column_index_[k] & kGapBit) && ceiling_like && (!any || !on_ceiling || last_near)) break;
+      if (ceiling_like) {
+        last_near = (p.cast<double>() - rec.origin).norm() < kNearRange;
         if (rho > best_rho) {
           best_rho = rho;
           vertex = q;
         }
-        if (std::abs(dz) <= tol) last_rho = std::max(last_rho, rho);
+        on_ceiling = std::abs(dz) <= tol;
+        if (on_ceiling) last_rho = std::max(last_rho, rho);
         any = true;
         continue;
       }
@@ -872,7 +895,7 @@ void RoomModel::UpdateFaces() {
   for (const auto& s : scans_) {
     const Vec3 o = s.origin;
     for (std::size_t i = s.begin; i < s.end; ++i) {
-      if (labels_[i] != PointLabel::kOutlier || !(column_index_[i] & 0x80000000u)) continue;
+      if (labels_[i] != PointLabel::kOutlier || !(column_index_[i] & kRayCastBit)) continue;
       const Vec3 p = points_[i].cast<double>();
       const Vec2 d = p.head<2>() - o.head<2>();
       double best_t = 2.0;
@@ -947,7 +970,7 @@ void RoomModel::UpdateVoxels(bool new_scan_only) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(rec.begin, rec.end, 1 << 12),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          if (!(column_index_[i] & 0x80000000u)) continue;
+                          if (!(column_index_[i] & kRayCastBit)) continue;
                           voxels_.MarkPassed(rec.origin, points_[i].cast<double>());
                         }
                       });

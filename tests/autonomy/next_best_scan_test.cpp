@@ -84,6 +84,34 @@ TEST(NextBestScan, LRoomChoosesAPositionThatSeesTheHiddenLeg) {
               next.Coverage().sensed_area);
 }
 
+TEST(NextBestScan, PatchesAnEarlierScanShouldHaveSensedAreDiscounted) {
+  // Known answer: at the first scan position every patch it sees was already looked at, so
+  // each keeps 1 - (1 - revisit_factor) x chance of its weight: the candidate there loses a
+  // larger share of its gain than the junction (which sees the hidden leg) and expects little.
+  const perception::OccupancyGrid map = MapOf(L().model);
+  NextBestScanParams off;
+  off.revisit_factor = 1.0;
+  NextBestScanParams on;
+  const NbsResult a = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, off);
+  const NbsResult b = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, on);
+  ASSERT_TRUE(a.found && b.found);
+  ASSERT_EQ(a.candidates.size(), b.candidates.size());
+  int near = -1;
+  for (int i = 0; i < static_cast<int>(a.candidates.size()); ++i) {
+    if ((a.candidates[i].position - Vec2(1.5, 1.5)).norm() < 0.01) near = i;
+  }
+  ASSERT_GE(near, 0);
+  ASSERT_GT(a.candidates[near].gain, 0.0);
+  const double kept_near = b.candidates[near].gain / a.candidates[near].gain;
+  const double kept_best = b.candidates[b.chosen].gain / a.candidates[b.chosen].gain;
+  EXPECT_LT(kept_near, 0.8);
+  EXPECT_LT(kept_near, kept_best - 0.1);
+  EXPECT_LT(b.candidates[near].gain, 0.1 * b.candidates[b.chosen].gain);
+  EXPECT_GT(b.goal.x, 7.0) << b.message;
+  // No candidate gains more with the discount than without.
+  for (std::size_t i = 0; i < a.candidates.size(); ++i) EXPECT_LE(b.candidates[i].gain, a.candidates[i].gain + 1e-9);
+}
+
 TEST(NextBestScan, SameResultTwiceAndWithOneOrTwoThreads) {
   const perception::OccupancyGrid map = MapOf(L().model);
   NbsResult res[2];
