@@ -1,7 +1,10 @@
-// `mopad run`: the main job. Until the closed-loop mission lands (issues 4-6), it generates the
-// default scene, takes one simulated terrestrial scan per room and writes the scans, a summary
-// and a report. Scan positions here are chosen by the *harness* from the truth (a free spot in
-// each room), not by the robot: the next-best-scan planner will replace this.
+// `mopad run`: the main job. Generates the default scene (or --spec), then runs the closed-loop
+// room-scanning mission (issue 5; runner/room_mission.h) in every room: the robot starts at a
+// harness-chosen free spot in the room and chooses every later scan position itself
+// (next-best-scan), until the paper's stopping rule holds. Writes per room the robot's models
+// (SM1, SM2, SM3, DSM3; docs/models.md) and the evaluation against the truth, plus a summary
+// and a self-contained report. Room-to-room exploration (the Dynamic Traversal Tree) replaces
+// the per-room start placement when it lands.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -13,16 +16,14 @@
 
 #include "common/error.h"
 #include "common/params.h"
-#include "interfaces/scan_io.h"
+#include "runner/room_mission.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
-#include "sim/embree_world.h"
-#include "sim/tls_scanner.h"
-#include "sim/tls_truth.h"
 #include "tools/commands.h"
 #include "tools/default_scene.h"
 #include "tools/mission_world.h"
 #include "tools/report.h"
+#include "tools/room_eval.h"
 #include "tools/scene_summary.h"
 
 namespace mopad::tools {
@@ -45,25 +46,32 @@ std::string Fixed(double v, int digits) {
 
 void RegisterRunCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "run", "Main job: generate the default scene, scan it, write results and a report");
+      "run", "Main job: the room-scanning mission in every room of the default scene, models, "
+             "evaluation and a report");
   auto out = std::make_shared<std::string>("out/run");
   auto spec_path = std::make_shared<std::string>();
   auto seed = std::make_shared<std::uint64_t>(1);
   auto step = std::make_shared<double>(0.2);
-  auto profile = std::make_shared<std::string>("riegl_vz400");
+  auto config = std::make_shared<std::string>();
+  auto rooms = std::make_shared<std::vector<std::string>>();
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/run");
   cmd->add_option("--spec", *spec_path, "Scene spec YAML (default: the embedded office_5rooms)");
-  cmd->add_option("--seed", *seed, "Run seed (sensor noise)")->default_val(1);
-  cmd->add_option("--step-deg", *step, "TLS angular step in degrees")
-      ->check(CLI::Range(0.0024, 10.0))
+  cmd->add_option("--seed", *seed, "Run seed (sensor noise, odometry, localisation)")->default_val(1);
+  cmd->add_option("--step-deg", *step, "TLS angular step of the room scans in degrees")
+      ->check(CLI::Range(0.02, 5.0))
       ->default_val(0.2);
-  cmd->add_option("--profile", *profile, "TLS profile")->default_val("riegl_vz400");
+  cmd->add_option("--config", *config, "YAML overriding RoomMissionParams fields");
+  cmd->add_option("--room", *rooms, "Only these rooms (default: all)");
   cmd->callback([=] {
     const auto t_start = Clock::now();
     const fs::path dir(*out);
-    fs::create_directories(dir / "scans");
+    fs::create_directories(dir);
+    runner::RoomMissionParams params;
+    if (!config->empty()) params = LoadParamsFile<runner::RoomMissionParams>(*config);
+    params.scan_step_deg = *step;
+    ValidateParams(params, "room.");
 
-    // 1. The world (truth side).
+    // 1. The world (truth side): the scene is written out so that `mopad eval` can re-read it.
     const scenes::SceneSpec spec =
         spec_path->empty() ? scenes::ParseSceneSpec(kDefaultSceneSpec, kDefaultSceneSpecName)
                            : scenes::LoadSceneSpec(*spec_path);
@@ -76,77 +84,69 @@ void RegisterRunCommand(CLI::App& app) {
                 "components, %zu triangles (%.2f s)\n",
                 spec.name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
                 summary.bsc_total, summary.triangles, t_generate);
+    const MissionWorld mw = LoadMissionWorld((dir / "scene").string());
+    std::vector<std::string> room_ids = *rooms;
+    if (room_ids.empty())
+      for (const auto& r : mw.truth->rooms) room_ids.push_back(r.id);
 
-    t0 = Clock::now();
-    const scenes::GroundTruth truth = g.truth;
-    sim::EmbreeWorld world(std::move(g.scene), &truth);
-    const double t_world = Seconds(t0);
-
-    sim::TlsParams tls = sim::TlsProfile(*profile);
-    tls.step_deg = *step;
-    ValidateParams(tls, "tls.");
-    sim::TlsScanner scanner(world, tls);
-    {
-      std::ofstream eff(dir / "tls.effective.yaml");
-      eff << YAML::Dump(SaveParams(tls)) << "\n";
-    }
-
-    // 2. One scan per room at a harness-chosen free spot.
+    // 2. The room-scanning mission in each room.
     ReportInput report;
     report.title = "OpenMoPAD run: " + spec.name;
-    report.truth = &truth;
-    ReportTable scans_table{"Scans",
-                            {"scan", "room", "x (m)", "y (m)", "valid points", "time (s)"},
+    report.truth = &*mw.truth;
+    ReportTable rooms_table{"Room missions (robot side)",
+                            {"room", "scans", "robot coverage", "stop reason", "max processing / scan (s)",
+                             "path (m)", "SM1 points"},
                             {}};
-    nlohmann::ordered_json scans_json = nlohmann::json::array();
-    std::uint64_t total_points = 0;
-    double t_scanning = 0.0;
-    for (std::size_t i = 0; i < truth.rooms.size(); ++i) {
-      const scenes::Room& room = truth.rooms[i];
-      const Eigen::Vector2d xy = FreeSpotInRoom(truth, room);
-      sim::ScanRequest req;
-      req.seed = *seed;
-      req.scan_id = i;
-      req.X_WB = Pose2{xy.x(), xy.y(), 0.0}.To3d(room.floor_z);
+    ReportTable eval_table{"Evaluation against the truth",
+                           {"room", "coverage of observable", "coverage of total",
+                            "registration error max (mm / deg)", "SM1 labels agree"},
+                           {}};
+    nlohmann::ordered_json rooms_json = nlohmann::json::array();
+    for (const std::string& id : room_ids) {
       t0 = Clock::now();
-      sim::TlsTruth scan_truth;
-      const interfaces::TlsScan scan = scanner.Scan(req, &scan_truth);
-      char name[32];
-      std::snprintf(name, sizeof name, "scan_%03zu", i);
-      interfaces::WriteTlsScanPly((dir / "scans" / (std::string(name) + ".ply")).string(), scan);
-      sim::WriteTlsTruthPly((dir / "scans" / (std::string(name) + ".truth.ply")).string(), scan,
-                            scan_truth);
-      const double t_scan = Seconds(t0);
-      t_scanning += t_scan;
-
-      std::uint64_t valid = 0;
-      ReportScan rs;
-      rs.name = name;
-      const Pose3 X_WS = req.X_WB * scanner.X_BS();
-      rs.position = X_WS.translation();
-      for (std::size_t k = 0; k < scan.points.size(); ++k) {
-        const auto& p = scan.points[k];
-        if (!p.valid()) continue;
-        ++valid;
-        // Plan-view slice for the report: a horizontal band around scanner height.
-        if (k % 7 == 0 && std::abs(p.z) < 0.3) {
-          const Eigen::Vector3d w = X_WS * Eigen::Vector3d(p.x, p.y, p.z);
-          rs.plan_points.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
-        }
+      const std::string room_dir = (dir / "rooms" / id).string();
+      const RoomJob job = RunRoomJob(mw, id, params, *seed, std::nullopt, room_dir, true);
+      const double t_room = Seconds(t0);
+      const auto& m = job.mission;
+      double max_proc = 0.0;
+      for (const auto& s : m.scans)
+        max_proc = std::max(max_proc, s.t_registration + s.t_model + s.t_nbs);
+      const double robot_cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.ratio;
+      std::ifstream sf(fs::path(room_dir) / "summary.json");
+      const auto drive = nlohmann::json::parse(sf);
+      const RoomEvaluation& e = *job.evaluation;
+      std::printf("room %s: %zu scans, robot coverage %.3f; evaluation: %.3f of observable, %.3f "
+                  "of total, registration max %.1f mm / %.3f deg, labels %.4f (%.1f s)\n",
+                  id.c_str(), m.scans.size(), robot_cov, e.coverage.room.ShareOfObservable(),
+                  e.coverage.room.ShareOfTotal(), 1000 * e.max_translation_error,
+                  e.max_rotation_error_deg, e.labels.Accuracy(), t_room);
+      rooms_table.rows.push_back({id, std::to_string(m.scans.size()), Fixed(robot_cov, 3),
+                                  m.stop_reason, Fixed(max_proc, 2),
+                                  Fixed(drive.value("path_length_m", 0.0), 2),
+                                  std::to_string(job.points)});
+      eval_table.rows.push_back({id, Fixed(e.coverage.room.ShareOfObservable(), 3),
+                                 Fixed(e.coverage.room.ShareOfTotal(), 3),
+                                 Fixed(1000 * e.max_translation_error, 1) + " / " +
+                                     Fixed(e.max_rotation_error_deg, 3),
+                                 Fixed(e.labels.Accuracy(), 4)});
+      for (std::size_t k = 0; k < job.scan_positions_W.size(); ++k) {
+        ReportScan rs;
+        rs.name = id + "/" + std::to_string(k);
+        rs.position = job.scan_positions_W[k];
+        if (k == 0) rs.plan_points = job.plan_points_W;
+        report.scans.push_back(std::move(rs));
       }
-      total_points += valid;
-      report.scans.push_back(std::move(rs));
-      scans_table.rows.push_back({name, room.id, Fixed(xy.x(), 2), Fixed(xy.y(), 2),
-                                  std::to_string(valid), Fixed(t_scan, 2)});
-      scans_json.push_back({{"scan", name},
-                            {"room", room.id},
-                            {"X_WB", {xy.x(), xy.y(), room.floor_z, 0.0}},
-                            {"pulses", scan.points.size()},
-                            {"valid_points", valid},
-                            {"seconds", t_scan},
-                            {"file", std::string("scans/") + name + ".ply"}});
-      std::printf("%s in %s at (%.2f, %.2f): %llu points (%.2f s)\n", name, room.id.c_str(),
-                  xy.x(), xy.y(), static_cast<unsigned long long>(valid), t_scan);
+      nlohmann::ordered_json rj;
+      rj["room"] = id;
+      rj["dir"] = "rooms/" + id;
+      rj["scans"] = m.scans.size();
+      rj["stop_reason"] = m.stop_reason;
+      rj["registration_failed"] = m.registration_failed;
+      rj["robot_coverage"] = robot_cov;
+      rj["max_processing_s"] = max_proc;
+      rj["evaluation"] = ToJson(e);
+      rj["seconds"] = t_room;
+      rooms_json.push_back(std::move(rj));
     }
 
     // 3. Summary and report.
@@ -161,19 +161,19 @@ void RegisterRunCommand(CLI::App& app) {
                   {"service_components", summary.bsc_total},
                   {"triangles", summary.triangles}};
     j["seed"] = *seed;
-    j["tls"] = {{"profile", tls.name}, {"step_deg", tls.step_deg}};
-    j["scans"] = scans_json;
-    j["total_valid_points"] = total_points;
-    j["seconds"] = {{"generate", t_generate},
-                    {"build_world", t_world},
-                    {"scanning", t_scanning},
-                    {"total", Seconds(t_start)}};
+    j["tls_step_deg"] = params.scan_step_deg;
+    j["rooms"] = rooms_json;
+    j["seconds"] = {{"generate", t_generate}, {"total", Seconds(t_start)}};
     std::ofstream(dir / "summary.json") << j.dump(2) << "\n";
+    {
+      std::ofstream eff(dir / "room.effective.yaml");
+      eff << YAML::Dump(SaveParams(params)) << "\n";
+    }
 
-    report.subtitle = "Default scene, one simulated " + tls.name + " scan per room at " +
-                      Fixed(tls.step_deg, 3) +
-                      " deg (harness placement; the autonomous mission replaces it). Seed " +
-                      std::to_string(*seed) + ".";
+    report.subtitle = "The robot scans every room of " + spec.name +
+                      " from positions it chooses itself (next best scan, paper §3.1), starting "
+                      "at a harness-chosen free spot per room. Seed " + std::to_string(*seed) +
+                      ", TLS step " + Fixed(params.scan_step_deg, 3) + " deg.";
     report.tables.push_back({"Scene",
                              {"item", "count"},
                              {{"rooms", std::to_string(summary.rooms)},
@@ -187,21 +187,16 @@ void RegisterRunCommand(CLI::App& app) {
                               {"service components", std::to_string(summary.bsc_total)},
                               {"furniture", std::to_string(summary.furniture)},
                               {"triangles", std::to_string(summary.triangles)}}});
-    ReportTable bsc{"Service components per class", {"class", "N"}, {}};
-    for (const auto& [cls, n] : summary.bsc_per_class) bsc.rows.push_back({cls, std::to_string(n)});
-    report.tables.push_back(std::move(bsc));
-    report.tables.push_back(std::move(scans_table));
+    report.tables.push_back(std::move(rooms_table));
+    report.tables.push_back(std::move(eval_table));
     report.tables.push_back({"Timing",
                              {"step", "seconds"},
                              {{"generate scene", Fixed(t_generate, 2)},
-                              {"build ray-casting world", Fixed(t_world, 2)},
-                              {"scanning + writing", Fixed(t_scanning, 2)},
                               {"total", Fixed(Seconds(t_start), 2)}}});
     WriteHtmlReport(report, (dir / "report.html").string());
     WriteMarkdownReport(report, (dir / "report.md").string());
-    std::printf("%zu scans, %llu points in %.1f s; wrote %s/{summary.json,report.html,report.md}\n",
-                report.scans.size(), static_cast<unsigned long long>(total_points),
-                Seconds(t_start), dir.string().c_str());
+    std::printf("%zu rooms in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/}\n",
+                room_ids.size(), Seconds(t_start), dir.string().c_str());
   });
 }
 

@@ -11,5 +11,7 @@ void RegisterSceneCommands(CLI::App& app);  // scene generate|random|info|valida
 void RegisterSimCommands(CLI::App& app);    // scan, lrf, bench raycast
 void RegisterRunCommand(CLI::App& app);     // run: the main job
 void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
+void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one room -> SM1
+void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
 
 }  // namespace mopad::tools

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterSimCommands(app);
   mopad::tools::RegisterRunCommand(app);
   mopad::tools::RegisterDriveCommand(app);
+  mopad::tools::RegisterRoomCommand(app);
+  mopad::tools::RegisterEvalCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {

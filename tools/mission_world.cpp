@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 
 #include "common/error.h"
 #include "scenes/generator.h"
@@ -33,9 +34,29 @@ bool InsidePolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>&
 
 }  // namespace
 
+Pose2 ParsePoseArg(const std::string& opt, const std::string& text) {
+  std::stringstream ss(text);
+  std::string item;
+  std::vector<double> v;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError(opt + ": error: bad number; got '" + text + "', expected x,y,yaw_deg");
+    }
+  }
+  if (v.size() != 3)
+    throw InputError(opt + ": error: wrong count; got '" + text + "', expected x,y,yaw_deg");
+  return Pose2{v[0], v[1], DegToRad(v[2])};
+}
+
 MissionWorld LoadMissionWorld(const std::string& scene_arg,
                               const std::vector<std::string>& door_overrides) {
   MissionWorld out;
+  out.source = std::filesystem::absolute(scene_arg).lexically_normal().string();
+  out.door_overrides = door_overrides;
   const std::string ext = std::filesystem::path(scene_arg).extension().string();
   if (ext == ".yaml" || ext == ".yml") {
     scenes::SceneSpec spec = scenes::LoadSceneSpec(scene_arg);

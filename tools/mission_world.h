@@ -9,12 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "common/frames.h"
 #include "scenes/ground_truth.h"
 #include "sim/embree_world.h"
 
 namespace mopad::tools {
 
 struct MissionWorld {
+  std::string source;                        ///< the SCENE argument, absolute
+  std::vector<std::string> door_overrides;   ///< "ID=DEG" applied to a spec
   std::optional<scenes::GroundTruth> truth;  ///< absent for scenes without a sidecar
   std::unique_ptr<sim::EmbreeWorld> world;
 };
@@ -28,5 +31,8 @@ MissionWorld LoadMissionWorld(const std::string& scene_arg,
 /// 10 cm grid inside the room that is farthest from walls, furniture and columns (a "pole of
 /// inaccessibility"). Deterministic.
 Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::Room& room);
+
+/// Parses "x,y,yaw_deg" (a CLI pose option); InputError naming `opt` otherwise.
+Pose2 ParsePoseArg(const std::string& opt, const std::string& text);
 
 }  // namespace mopad::tools

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -142,45 +143,72 @@ TEST(Cli, ValidateCatchesTruthThatDisagreesWithGeometry) {
   EXPECT_NE(r.out.find("does not match its truth centre"), std::string::npos) << r.out;
 }
 
-TEST(Cli, MainJobWritesScansSummaryAndReportDeterministically) {
+// Runs the Khronos validator on `glb`; empty when node or the validator is not installed.
+std::optional<std::string> KhronosValidate(const std::string& glb, int* status) {
+  const fs::path modules(MOPAD_NODE_MODULES);
+  if (std::system("node --version >/dev/null 2>&1") != 0 ||
+      !fs::exists(modules / "gltf-validator" / "package.json"))
+    return std::nullopt;
+  const std::string cmd = "node " + Src("tools/validators/validate_gltf.js") + " " + glb + " " +
+                          modules.string() + " 2>&1";
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return std::nullopt;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
+  *status = pclose(p);
+  return out;
+}
+
+TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministically) {
   const std::string d = TempDir("run");
-  const Result a = Mopad("run --step-deg 1.0 -o " + d + "/a");
+  const std::string args = "run --spec " + Src("scenes/one_room.yaml") + " --step-deg 0.5 -o ";
+  const Result a = Mopad(args + d + "/a");
   ASSERT_EQ(a.code, 0) << a.out;
-  const Result b = Mopad("run --step-deg 1.0 -o " + d + "/b");
+  const Result b = Mopad(args + d + "/b");
   ASSERT_EQ(b.code, 0) << b.out;
   std::ifstream in(d + "/a/summary.json");
   const auto j = nlohmann::json::parse(in);
-  ASSERT_EQ(j.at("scans").size(), 5u);
-  for (const auto& scan : j.at("scans")) EXPECT_GT(scan.at("valid_points").get<int>(), 10000);
-  for (const char* f : {"report.html", "report.md", "scene/scene.glb", "scene/scene.truth.json"})
+  ASSERT_EQ(j.at("rooms").size(), 1u);
+  const auto& room = j.at("rooms")[0];
+  EXPECT_GE(room.at("scans").get<int>(), 1);
+  EXPECT_GT(room.at("evaluation").at("coverage_of_total").get<double>(), 0.5);
+  EXPECT_GT(room.at("evaluation").at("sm1_labels").at("accuracy").get<double>(), 0.9);
+  for (const char* f : {"report.html", "report.md", "scene/scene.glb", "scene/scene.truth.json",
+                        "rooms/R1/run.json", "rooms/R1/evaluation.json", "rooms/R1/models.glb",
+                        "rooms/R1/sm2.json", "rooms/R1/dsm3.ply"})
     EXPECT_TRUE(fs::exists(d + "/a/" + f)) << f;
-  for (int i = 0; i < 5; ++i) {
-    const std::string f = "/scans/scan_00" + std::to_string(i) + ".ply";
+  for (const char* f : {"/rooms/R1/sm1.ply", "/rooms/R1/sm3.json", "/rooms/R1/trajectory_true.tum",
+                        "/rooms/R1/scans.json"}) {
     std::ifstream fa(d + "/a" + f, std::ios::binary), fb(d + "/b" + f, std::ios::binary);
-    const std::string sa((std::istreambuf_iterator<char>(fa)), {});
-    const std::string sb((std::istreambuf_iterator<char>(fb)), {});
+    std::string sa((std::istreambuf_iterator<char>(fa)), {});
+    std::string sb((std::istreambuf_iterator<char>(fb)), {});
     EXPECT_FALSE(sa.empty()) << f;
+    if (std::string(f) == "/rooms/R1/scans.json") {  // wall-clock timings differ; drop them
+      auto strip = [](std::string s) {
+        auto js = nlohmann::json::parse(s);
+        js.erase("wall_time");
+        for (auto& x : js["scans"]) x.erase("seconds");
+        return js.dump();
+      };
+      sa = strip(sa), sb = strip(sb);
+    }
     EXPECT_TRUE(sa == sb) << f << " differs between two runs with the same seed";
+  }
+  int status = 0;
+  if (const auto out = KhronosValidate(d + "/a/rooms/R1/models.glb", &status)) {
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << *out;
+    EXPECT_NE(out->find("errors=0 "), std::string::npos) << *out;
   }
 }
 
 TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
-  const fs::path modules(MOPAD_NODE_MODULES);
-  if (std::system("node --version >/dev/null 2>&1") != 0 ||
-      !fs::exists(modules / "gltf-validator" / "package.json")) {
-    GTEST_SKIP() << "node or npm gltf-validator not installed (scripts/test.sh installs it)";
-  }
-  const std::string cmd = "node " + Src("tools/validators/validate_gltf.js") + " " + OfficeDir() +
-                          "/scene.glb " + modules.string() + " 2>&1";
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = pclose(p);
-  std::printf("%s", out.c_str());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
-  EXPECT_NE(out.find("errors=0 "), std::string::npos) << out;
+  int status = 0;
+  const auto out = KhronosValidate(OfficeDir() + "/scene.glb", &status);
+  if (!out) GTEST_SKIP() << "node or npm gltf-validator not installed (scripts/test.sh installs it)";
+  std::printf("%s", out->c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << *out;
+  EXPECT_NE(out->find("errors=0 "), std::string::npos) << *out;
 }
 
 TEST(Cli, SameSpecGivesIdenticalBytes) {

@@ -1,0 +1,452 @@
+#include "evaluation/model_files.h"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/error.h"
+#include "evaluation/metrics_voxels.h"
+
+namespace mopad::evaluation {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string ReadWholeFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path, "cannot open file");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+json ParseJsonFile(const std::string& path) {
+  const std::string text = ReadWholeFile(path);
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(path, std::string("malformed JSON: ") + e.what());
+  }
+}
+
+// Field access with "file: error: field: what" messages.
+struct Reader {
+  std::string path;
+  [[noreturn]] void Fail(const std::string& field, const std::string& what,
+                         const std::string& got = "", const std::string& expected = "") const {
+    throw InputError(path, field + ": " + what, got, expected);
+  }
+  const json& Get(const json& j, const std::string& key, const std::string& field) const {
+    if (!j.is_object()) Fail(field, "not an object", j.type_name(), "an object");
+    auto it = j.find(key);
+    if (it == j.end()) Fail(field, "missing field");
+    return *it;
+  }
+  double Number(const json& j, const std::string& field) const {
+    if (!j.is_number()) Fail(field, "not a number", j.dump(), "a number");
+    const double x = j.get<double>();
+    if (!std::isfinite(x)) Fail(field, "not finite", j.dump(), "a finite number");
+    return x;
+  }
+  std::string String(const json& j, const std::string& field) const {
+    if (!j.is_string()) Fail(field, "not a string", j.dump(), "a string");
+    return j.get<std::string>();
+  }
+  Vec3 Vector3(const json& j, const std::string& field) const {
+    if (!j.is_array() || j.size() != 3) Fail(field, "not a 3-vector", j.dump(), "[x, y, z]");
+    return {Number(j[0], field + "[0]"), Number(j[1], field + "[1]"), Number(j[2], field + "[2]")};
+  }
+  void Header(const json& j, const std::string& format) const {
+    const std::string f = String(Get(j, "format", "format"), "format");
+    if (f != format) Fail("format", "wrong file format", "'" + f + "'", "'" + format + "'");
+    const json& v = Get(j, "version", "version");
+    if (!v.is_number_integer() || v.get<long>() != kModelFormatVersion)
+      Fail("version", "unsupported version", v.dump(), std::to_string(kModelFormatVersion));
+  }
+};
+
+bool ParseClass(const std::string& name, SurfaceClass* cls) {
+  for (SurfaceClass c : AllSurfaceClasses())
+    if (name == SurfaceClassName(c)) {
+      *cls = c;
+      return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+RunInfo ReadRunInfo(const std::string& run_json_path) {
+  const Reader r{run_json_path};
+  const json j = ParseJsonFile(run_json_path);
+  r.Header(j, "mopad-room-run");
+  RunInfo info;
+  info.dir = fs::path(run_json_path).parent_path().string();
+  if (info.dir.empty()) info.dir = ".";
+  info.scene = r.String(r.Get(j, "scene", "scene"), "scene");
+  if (auto it = j.find("doors"); it != j.end() && !it->is_null()) {
+    if (!it->is_array()) r.Fail("doors", "not an array", it->dump(), "[\"ID=DEG\", ...]");
+    for (std::size_t i = 0; i < it->size(); ++i)
+      info.doors.push_back(r.String((*it)[i], "doors[" + std::to_string(i) + "]"));
+  }
+  info.room = r.String(r.Get(j, "room", "room"), "room");
+  if (info.room.empty()) r.Fail("room", "empty room id");
+  if (auto it = j.find("seed"); it != j.end()) {
+    if (!it->is_number_integer()) r.Fail("seed", "not an integer", it->dump(), "an integer");
+    info.seed = it->get<std::uint64_t>();
+  }
+  const json& X = r.Get(j, "X_WM", "X_WM");
+  if (!X.is_array() || X.size() != 4) r.Fail("X_WM", "not a 4x4 matrix", X.dump(), "4 rows of 4");
+  Eigen::Matrix4d m;
+  for (int i = 0; i < 4; ++i) {
+    if (!X[i].is_array() || X[i].size() != 4)
+      r.Fail("X_WM", "not a 4x4 matrix", X.dump(), "4 rows of 4");
+    for (int k = 0; k < 4; ++k)
+      m(i, k) = r.Number(X[i][k], "X_WM[" + std::to_string(i) + "][" + std::to_string(k) + "]");
+  }
+  const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-5 ||
+      R.determinant() < 0.0 || m.row(3).cwiseAbs().sum() != 1.0 || m(3, 3) != 1.0)
+    r.Fail("X_WM", "not a rigid transform", "", "a rotation, a translation and a last row 0 0 0 1");
+  info.X_WM.linear() = R;
+  info.X_WM.translation() = m.block<3, 1>(0, 3);
+  const json& files = r.Get(j, "files", "files");
+  if (!files.is_object()) r.Fail("files", "not an object", files.dump(), "an object");
+  auto resolve = [&](const char* key) -> std::string {
+    auto it = files.find(key);
+    if (it == files.end() || it->is_null()) return "";
+    const std::string f = r.String(*it, std::string("files.") + key);
+    if (f.empty()) return "";
+    const fs::path p(f);
+    return p.is_absolute() ? p.string() : (fs::path(info.dir) / p).string();
+  };
+  info.sm1 = resolve("sm1");
+  info.sm2 = resolve("sm2");
+  info.sm3 = resolve("sm3");
+  info.dsm3 = resolve("dsm3");
+  return info;
+}
+
+std::vector<Patch> Sm3Model::Patches() const {
+  std::vector<Patch> out;
+  out.reserve(patches.size());
+  for (const auto& p : patches) out.push_back(p.patch);
+  return out;
+}
+
+Sm3Model ReadSm3(const std::string& path) {
+  const Reader r{path};
+  const json j = ParseJsonFile(path);
+  r.Header(j, "mopad-sm3");
+  Sm3Model m;
+  m.room = r.String(r.Get(j, "room", "room"), "room");
+  m.floor_z = r.Number(r.Get(j, "floor_z", "floor_z"), "floor_z");
+  m.ceiling_z = r.Number(r.Get(j, "ceiling_z", "ceiling_z"), "ceiling_z");
+  const json& patches = r.Get(j, "patches", "patches");
+  if (!patches.is_array()) r.Fail("patches", "not an array", patches.type_name(), "an array");
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    const std::string f = "patches[" + std::to_string(i) + "]";
+    const json& pj = patches[i];
+    Sm3Patch p;
+    p.patch.id = r.String(r.Get(pj, "id", f + ".id"), f + ".id");
+    const std::string cls = r.String(r.Get(pj, "class", f + ".class"), f + ".class");
+    if (!ParseClass(cls, &p.patch.cls))
+      r.Fail(f + ".class", "unknown class", "'" + cls + "'", "wall|floor|ceiling|column");
+    const json& plane = r.Get(pj, "plane", f + ".plane");
+    p.plane_n = r.Vector3(r.Get(plane, "n", f + ".plane.n"), f + ".plane.n");
+    p.plane_d = r.Number(r.Get(plane, "d", f + ".plane.d"), f + ".plane.d");
+    const double nn = p.plane_n.norm();
+    if (nn < 1e-9) r.Fail(f + ".plane.n", "zero normal");
+    p.plane_n /= nn;
+    p.plane_d /= nn;
+    p.patch.normal = p.plane_n;
+    const json& poly = r.Get(pj, "polygon", f + ".polygon");
+    if (!poly.is_array() || poly.size() < 3)
+      r.Fail(f + ".polygon", "not a polygon", poly.dump().substr(0, 80), "at least 3 vertices");
+    for (std::size_t k = 0; k < poly.size(); ++k)
+      p.patch.polygon.push_back(r.Vector3(poly[k], f + ".polygon[" + std::to_string(k) + "]"));
+    if (auto it = pj.find("support"); it != pj.end())
+      p.support = static_cast<long>(r.Number(*it, f + ".support"));
+    if (auto it = pj.find("rms"); it != pj.end()) p.rms = r.Number(*it, f + ".rms");
+    if (auto it = pj.find("fitted"); it != pj.end()) {
+      if (!it->is_boolean()) r.Fail(f + ".fitted", "not a boolean", it->dump(), "true|false");
+      p.fitted = it->get<bool>();
+    }
+    m.patches.push_back(std::move(p));
+  }
+  if (auto it = j.find("adjacency"); it != j.end()) {
+    if (!it->is_array()) r.Fail("adjacency", "not an array", it->type_name(), "[[i, j], ...]");
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      const json& a = (*it)[i];
+      const std::string f = "adjacency[" + std::to_string(i) + "]";
+      if (!a.is_array() || a.size() != 2 || !a[0].is_number_integer() || !a[1].is_number_integer())
+        r.Fail(f, "not an index pair", a.dump(), "[i, j]");
+      const int x = a[0].get<int>(), y = a[1].get<int>();
+      const int n = static_cast<int>(m.patches.size());
+      if (x < 0 || y < 0 || x >= n || y >= n)
+        r.Fail(f, "patch index out of range", a.dump(), "0.." + std::to_string(n - 1));
+      m.adjacency.push_back({x, y});
+    }
+  }
+  return m;
+}
+
+namespace {
+
+enum class PlyType { kI8, kU8, kI16, kU16, kI32, kU32, kF32, kF64 };
+
+bool ParsePlyType(const std::string& s, PlyType* t, int* size) {
+  static const std::map<std::string, std::pair<PlyType, int>> kTypes = {
+      {"char", {PlyType::kI8, 1}},    {"int8", {PlyType::kI8, 1}},
+      {"uchar", {PlyType::kU8, 1}},   {"uint8", {PlyType::kU8, 1}},
+      {"short", {PlyType::kI16, 2}},  {"int16", {PlyType::kI16, 2}},
+      {"ushort", {PlyType::kU16, 2}}, {"uint16", {PlyType::kU16, 2}},
+      {"int", {PlyType::kI32, 4}},    {"int32", {PlyType::kI32, 4}},
+      {"uint", {PlyType::kU32, 4}},   {"uint32", {PlyType::kU32, 4}},
+      {"float", {PlyType::kF32, 4}},  {"float32", {PlyType::kF32, 4}},
+      {"double", {PlyType::kF64, 8}}, {"float64", {PlyType::kF64, 8}}};
+  auto it = kTypes.find(s);
+  if (it == kTypes.end()) return false;
+  *t = it->second.first;
+  *size = it->second.second;
+  return true;
+}
+
+double ReadBinary(const char* p, PlyType t) {
+  switch (t) {
+    case PlyType::kI8: {
+      std::int8_t v;
+      std::memcpy(&v, p, 1);
+      return v;
+    }
+    case PlyType::kU8: {
+      std::uint8_t v;
+      std::memcpy(&v, p, 1);
+      return v;
+    }
+    case PlyType::kI16: {
+      std::int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case PlyType::kU16: {
+      std::uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case PlyType::kI32: {
+      std::int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case PlyType::kU32: {
+      std::uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case PlyType::kF32: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case PlyType::kF64: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+  }
+  return 0.0;
+}
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::kF32;
+  int size = 4;
+  int offset = 0;
+};
+
+}  // namespace
+
+Dsm3Voxels ReadDsm3(const std::string& path) {
+  const std::string data = ReadWholeFile(path);
+  auto fail = [&](const std::string& what, const std::string& got = "",
+                  const std::string& expected = "") {
+    throw InputError(path, what, got, expected);
+  };
+  const std::size_t header_end = data.find("end_header");
+  if (data.rfind("ply", 0) != 0 || header_end == std::string::npos)
+    fail("not a PLY file (no 'ply' magic or no 'end_header')");
+  std::size_t body = data.find('\n', header_end);
+  if (body == std::string::npos) fail("truncated header");
+  ++body;
+  std::istringstream header(data.substr(0, header_end));
+  std::string line;
+  std::string format;
+  long n_vertex = -1;
+  bool in_vertex = false;
+  std::vector<PlyProperty> props;
+  int record = 0;
+  bool have_size = false, have_origin = false, have_dims = false;
+  Dsm3Voxels out;
+  std::map<int, std::uint8_t> file_to_label;  // file value -> VoxelLabel
+  const auto& names = Dsm3LabelNames();
+  int line_no = 0;
+  while (std::getline(header, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string kw;
+    ls >> kw;
+    const std::string where = "header line " + std::to_string(line_no);
+    if (kw == "format") {
+      ls >> format;
+    } else if (kw == "element") {
+      std::string name;
+      long n = -1;
+      ls >> name >> n;
+      in_vertex = name == "vertex";
+      if (in_vertex) {
+        if (n < 0) fail(where + ": bad vertex count", line);
+        n_vertex = n;
+      } else if (n != 0) {
+        fail(where + ": unexpected element", "'" + name + "'", "only 'vertex'");
+      }
+    } else if (kw == "property") {
+      if (!in_vertex) continue;
+      std::string type, name;
+      ls >> type >> name;
+      if (type == "list") fail(where + ": list property in the vertex element", line);
+      PlyProperty p;
+      p.name = name;
+      if (!ParsePlyType(type, &p.type, &p.size))
+        fail(where + ": unknown property type", "'" + type + "'");
+      p.offset = record;
+      record += p.size;
+      props.push_back(p);
+    } else if (kw == "comment") {
+      std::string key;
+      ls >> key;
+      if (key == "mopad_dsm3_voxel_size") {
+        if (!(ls >> out.grid.voxel_size) || !(out.grid.voxel_size > 0.0) ||
+            !std::isfinite(out.grid.voxel_size))
+          fail("mopad_dsm3_voxel_size: bad value", line, "a positive size in metres");
+        have_size = true;
+      } else if (key == "mopad_dsm3_origin") {
+        if (!(ls >> out.grid.origin.x() >> out.grid.origin.y() >> out.grid.origin.z()) ||
+            !out.grid.origin.allFinite())
+          fail("mopad_dsm3_origin: bad value", line, "X Y Z");
+        have_origin = true;
+      } else if (key == "mopad_dsm3_dims") {
+        auto& d = out.grid.dims;
+        if (!(ls >> d[0] >> d[1] >> d[2]) || d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
+          fail("mopad_dsm3_dims: bad value", line, "NX NY NZ > 0");
+        have_dims = true;
+      } else if (key == "mopad_dsm3_label") {
+        int value = -1;
+        std::string name;
+        if (!(ls >> value >> name) || value < 0 || value > 255)
+          fail("mopad_dsm3_label: bad entry", line, "VALUE NAME");
+        int code = -1;
+        for (std::size_t c = 0; c < names.size(); ++c)
+          if (names[c] == name) code = static_cast<int>(c);
+        if (code < 0)
+          fail("mopad_dsm3_label: unknown label name", "'" + name + "'",
+               "unseen|empty|structure|occluded_structure|clutter|opening");
+        file_to_label[value] = static_cast<std::uint8_t>(code);
+      }
+    }
+  }
+  if (!have_size) fail("missing header comment mopad_dsm3_voxel_size");
+  if (!have_origin) fail("missing header comment mopad_dsm3_origin");
+  if (!have_dims) fail("missing header comment mopad_dsm3_dims");
+  if (file_to_label.empty()) fail("missing header comments mopad_dsm3_label");
+  if (n_vertex < 0) fail("missing 'element vertex N'");
+  const bool ascii = format == "ascii";
+  if (!ascii && format != "binary_little_endian")
+    fail("unsupported PLY format", "'" + format + "'", "binary_little_endian or ascii");
+  auto find = [&](const std::string& name) -> const PlyProperty& {
+    for (const auto& p : props)
+      if (p.name == name) return p;
+    fail("missing vertex property '" + name + "'");
+    return props.front();  // unreachable
+  };
+  const PlyProperty* pl = &find("scalar_label");
+  const PlyProperty* pi = &find("scalar_i");
+  const PlyProperty* pj = &find("scalar_j");
+  const PlyProperty* pk = &find("scalar_k");
+  int idx_l = 0, idx_i = 0, idx_j = 0, idx_k = 0;
+  for (std::size_t q = 0; q < props.size(); ++q) {
+    if (&props[q] == pl) idx_l = static_cast<int>(q);
+    if (&props[q] == pi) idx_i = static_cast<int>(q);
+    if (&props[q] == pj) idx_j = static_cast<int>(q);
+    if (&props[q] == pk) idx_k = static_cast<int>(q);
+  }
+  const std::size_t n = static_cast<std::size_t>(n_vertex);
+  out.ijk.resize(n);
+  out.labels.resize(n);
+  std::vector<double> values(props.size());
+  std::istringstream ascii_body;
+  if (ascii)
+    ascii_body.str(data.substr(body));
+  else if (data.size() - body < n * static_cast<std::size_t>(record))
+    fail("truncated vertex data", std::to_string(data.size() - body) + " bytes",
+         std::to_string(n * static_cast<std::size_t>(record)) + " bytes for " + std::to_string(n) +
+             " voxels");
+  const auto& d = out.grid.dims;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (ascii) {
+      for (auto& x : values)
+        if (!(ascii_body >> x))
+          fail("truncated vertex data", "voxel " + std::to_string(v),
+               std::to_string(n) + " voxels");
+    } else {
+      const char* rec = data.data() + body + v * static_cast<std::size_t>(record);
+      for (std::size_t q = 0; q < props.size(); ++q)
+        values[q] = ReadBinary(rec + props[q].offset, props[q].type);
+    }
+    const std::array<int, 3> ijk{static_cast<int>(values[idx_i]), static_cast<int>(values[idx_j]),
+                                 static_cast<int>(values[idx_k])};
+    for (int a = 0; a < 3; ++a)
+      if (ijk[a] < 0 || ijk[a] >= d[a])
+        fail("voxel " + std::to_string(v) + ": grid index outside the grid",
+             std::to_string(ijk[0]) + " " + std::to_string(ijk[1]) + " " + std::to_string(ijk[2]),
+             "0 <= i,j,k < " + std::to_string(d[0]) + " " + std::to_string(d[1]) + " " +
+                 std::to_string(d[2]));
+    const int lv = static_cast<int>(values[idx_l]);
+    auto it = file_to_label.find(lv);
+    if (it == file_to_label.end())
+      fail("voxel " + std::to_string(v) + ": label value not declared in the header",
+           std::to_string(lv));
+    out.ijk[v] = ijk;
+    out.labels[v] = it->second;
+  }
+  return out;
+}
+
+std::vector<Vec3> ReadTumPositions(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw InputError(path, "cannot open file");
+  std::vector<Vec3> out;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(f, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream ls(line);
+    double v[8];
+    for (double& x : v)
+      if (!(ls >> x) || !std::isfinite(x))
+        throw InputError(path + ":" + std::to_string(line_no), "malformed TUM pose line",
+                         "'" + line + "'", "t x y z qx qy qz qw");
+    out.emplace_back(v[1], v[2], v[3]);
+  }
+  return out;
+}
+
+}  // namespace mopad::evaluation

@@ -1,0 +1,395 @@
+#include "evaluation/truth_models.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+#include "evaluation/metrics_isprs.h"
+#include "evaluation/metrics_voxels.h"
+
+namespace mopad::evaluation {
+namespace {
+
+using scenes::ElementClass;
+
+Vec3 NewellNormal(const std::vector<Vec3>& poly) {
+  Vec3 n = Vec3::Zero();
+  for (std::size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
+  return n;
+}
+
+// Orients `poly` CCW seen from `n` (reverses it when its Newell normal disagrees).
+void OrientTo(std::vector<Vec3>& poly, const Vec3& n) {
+  if (NewellNormal(poly).dot(n) < 0.0) std::reverse(poly.begin(), poly.end());
+}
+
+const scenes::Room& FindRoomOrThrow(const scenes::GroundTruth& truth, const std::string& room) {
+  const scenes::Room* r = truth.FindRoom(room);
+  if (!r) {
+    std::string ids;
+    for (const auto& x : truth.rooms) ids += (ids.empty() ? "" : ", ") + x.id;
+    throw InputError("truth", "unknown room", "'" + room + "'", "one of " + ids);
+  }
+  return *r;
+}
+
+bool InRoom(const scenes::StructuralElement& e, const std::string& room) {
+  return std::find(e.rooms.begin(), e.rooms.end(), room) != e.rooms.end();
+}
+
+// A wall's opening rectangle in its own (u, v) coordinates.
+struct Rect {
+  std::string id;
+  double u0, u1, v0, v1;
+};
+
+// One structural surface of the room with, for walls, the wall frame and its openings.
+struct TruthSurface {
+  Patch patch;
+  bool wall = false;
+  Vec3 origin = Vec3::Zero(), u_axis = Vec3::UnitX();
+  double length = 0.0, height = 0.0;
+  std::vector<Rect> openings;
+};
+
+std::vector<Vec3> WallRect(const Vec3& o, const Vec3& u, double u0, double u1, double v0,
+                           double v1) {
+  const Vec3 z = Vec3::UnitZ();
+  return {o + u0 * u + v0 * z, o + u1 * u + v0 * z, o + u1 * u + v1 * z, o + u0 * u + v1 * z};
+}
+
+std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
+                                       const std::string& room_id) {
+  const scenes::Room& room = FindRoomOrThrow(truth, room_id);
+  std::vector<TruthSurface> out;
+  for (const auto& e : truth.elements) {
+    if (!scenes::IsStructural(e.element_class) || !InRoom(e, room_id)) continue;
+    switch (e.element_class) {
+      case ElementClass::kWall: {
+        TruthSurface s;
+        s.wall = true;
+        s.origin = e.origin;
+        s.u_axis = e.u_axis.normalized();
+        s.length = e.length;
+        s.height = e.height;
+        s.patch.id = e.id;
+        s.patch.cls = SurfaceClass::kWall;
+        s.patch.normal = e.normal.normalized();
+        s.patch.polygon = WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height);
+        OrientTo(s.patch.polygon, s.patch.normal);
+        for (const auto& o : truth.openings) {
+          if (std::find(o.host_walls.begin(), o.host_walls.end(), e.id) == o.host_walls.end())
+            continue;
+          if (o.corners.empty()) continue;
+          Rect r{o.id, 1e300, -1e300, 1e300, -1e300};
+          for (const auto& c : o.corners) {
+            const double u = s.u_axis.dot(c - s.origin), v = c.z() - s.origin.z();
+            r.u0 = std::min(r.u0, u), r.u1 = std::max(r.u1, u);
+            r.v0 = std::min(r.v0, v), r.v1 = std::max(r.v1, v);
+          }
+          r.u0 = std::max(r.u0, 0.0), r.u1 = std::min(r.u1, e.length);
+          r.v0 = std::max(r.v0, 0.0), r.v1 = std::min(r.v1, e.height);
+          if (r.u1 > r.u0 && r.v1 > r.v0) s.openings.push_back(r);
+        }
+        out.push_back(std::move(s));
+        break;
+      }
+      case ElementClass::kFloor:
+      case ElementClass::kCeiling: {
+        const bool floor = e.element_class == ElementClass::kFloor;
+        const Vec3 n = floor ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ());
+        std::vector<std::vector<Vec3>> polys = e.polygons;
+        if (polys.empty()) {
+          std::vector<Vec3> p;
+          for (const auto& q : room.polygon)
+            p.emplace_back(q.x(), q.y(), floor ? room.floor_z : room.ceiling_z);
+          polys.push_back(p);
+        }
+        for (std::size_t k = 0; k < polys.size(); ++k) {
+          TruthSurface s;
+          s.patch.id = polys.size() == 1 ? e.id : e.id + "_" + std::to_string(k);
+          s.patch.cls = floor ? SurfaceClass::kFloor : SurfaceClass::kCeiling;
+          s.patch.normal = n;
+          s.patch.polygon = polys[k];
+          OrientTo(s.patch.polygon, n);
+          out.push_back(std::move(s));
+        }
+        break;
+      }
+      case ElementClass::kColumn: {
+        Vec3 centre = Vec3::Zero();
+        int count = 0;
+        for (const auto& p : e.polygons)
+          for (const auto& v : p) centre += v, ++count;
+        if (count == 0) break;
+        centre /= count;
+        for (std::size_t k = 0; k < e.polygons.size(); ++k) {
+          TruthSurface s;
+          s.patch.id = e.id + "_" + std::to_string(k);
+          s.patch.cls = SurfaceClass::kColumn;
+          s.patch.polygon = e.polygons[k];
+          Vec3 n = NewellNormal(s.patch.polygon);
+          if (n.norm() < 1e-12) continue;
+          Vec3 fc = Vec3::Zero();
+          for (const auto& v : s.patch.polygon) fc += v;
+          fc /= static_cast<double>(s.patch.polygon.size());
+          if (n.dot(fc - centre) < 0.0) {
+            std::reverse(s.patch.polygon.begin(), s.patch.polygon.end());
+            n = -n;
+          }
+          s.patch.normal = n.normalized();
+          out.push_back(std::move(s));
+        }
+        break;
+      }
+      default:
+        break;
+    }
+  }
+  if (out.empty())
+    throw InputError("truth", "room has no structural elements", "'" + room_id + "'");
+  return out;
+}
+
+}  // namespace
+
+std::vector<Patch> TruthPatches(const scenes::GroundTruth& truth, const std::string& room) {
+  std::vector<Patch> out;
+  for (auto& s : RoomSurfaces(truth, room)) out.push_back(std::move(s.patch));
+  return out;
+}
+
+std::vector<Patch> TruthOpeningPatches(const scenes::GroundTruth& truth, const std::string& room) {
+  std::vector<Patch> out;
+  for (const auto& s : RoomSurfaces(truth, room))
+    for (const auto& r : s.openings) {
+      Patch p;
+      p.id = r.id + "@" + s.patch.id;
+      p.cls = SurfaceClass::kWall;
+      p.normal = s.patch.normal;
+      p.polygon = WallRect(s.origin, s.u_axis, r.u0, r.u1, r.v0, r.v1);
+      OrientTo(p.polygon, p.normal);
+      out.push_back(std::move(p));
+    }
+  return out;
+}
+
+std::vector<Room> TruthFloorplan(const scenes::GroundTruth& truth) {
+  std::vector<Room> out;
+  for (const auto& r : truth.rooms) out.push_back(Room{r.id, r.polygon});
+  return out;
+}
+
+std::array<std::int64_t, 6> CountVoxelLabels(const std::vector<std::uint8_t>& labels) {
+  std::array<std::int64_t, 6> c{};
+  for (auto l : labels)
+    if (l < 6) ++c[l];
+  return c;
+}
+
+namespace {
+
+// Casts rays from `origin` to each target and reports, per target, whether the first hit is at
+// t >= |target - origin| - tolerance (a miss counts as visible). Parallel into fixed slots.
+std::vector<std::uint8_t> CastVisible(const sim::EmbreeWorld& world, const Vec3& origin,
+                                      const std::vector<Vec3>& targets, double tolerance) {
+  std::vector<std::uint8_t> out(targets.size(), 0);
+  constexpr std::size_t kChunk = 1024;
+  const std::size_t chunks = (targets.size() + kChunk - 1) / kChunk;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    const std::size_t b = c * kChunk, e = std::min(targets.size(), b + kChunk);
+    std::vector<Eigen::Vector3f> o(e - b, origin.cast<float>()), d(e - b);
+    std::vector<double> dist(e - b);
+    std::vector<sim::RayHit> hits(e - b);
+    for (std::size_t i = b; i < e; ++i) {
+      const Vec3 v = targets[i] - origin;
+      dist[i - b] = v.norm();
+      d[i - b] = (v / std::max(dist[i - b], 1e-12)).cast<float>();
+    }
+    world.IntersectMany(o, d, 0.0f, std::numeric_limits<float>::infinity(), hits);
+    for (std::size_t i = b; i < e; ++i)
+      out[i] = !hits[i - b].hit() || hits[i - b].t >= dist[i - b] - tolerance;
+  });
+  return out;
+}
+
+std::vector<Vec3> SampleTriangle(const Vec3& a, const Vec3& b, const Vec3& c, double h) {
+  const double l = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+  const int n = std::max(1, static_cast<int>(std::ceil(l / h)));
+  std::vector<Vec3> out;
+  out.reserve(static_cast<std::size_t>((n + 1) * (n + 2) / 2));
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+      out.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
+                                    const std::string& room_id, const VoxelGrid& grid,
+                                    const std::vector<std::array<int, 3>>& voxels,
+                                    const Pose3& X_WM, const std::vector<Vec3>& scanners_W,
+                                    const TruthDsm3Params& params) {
+  ValidateParams(params, "truth_dsm3.");
+  const scenes::Room& room = FindRoomOrThrow(truth, room_id);
+  const std::vector<TruthSurface> surfaces = RoomSurfaces(truth, room_id);
+  const auto& d = grid.dims;
+  if (!(grid.voxel_size > 0.0) || d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
+    throw InputError("dsm3 grid", "empty grid or non-positive voxel size");
+  const std::int64_t total = std::int64_t{d[0]} * d[1] * d[2];
+  if (total > params.max_grid_voxels)
+    throw InputError("dsm3 grid", "grid too large for the truth DSM3",
+                     std::to_string(total) + " voxels",
+                     "<= " + std::to_string(params.max_grid_voxels));
+  // Dense index: grid cell -> first listed voxel.
+  std::vector<std::int32_t> slot(static_cast<std::size_t>(total), -1);
+  auto lin = [&](const std::array<int, 3>& v) {
+    return (static_cast<std::size_t>(v[2]) * d[1] + v[1]) * d[0] + v[0];
+  };
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    const auto& v = voxels[i];
+    for (int a = 0; a < 3; ++a)
+      if (v[a] < 0 || v[a] >= d[a]) throw InputError("dsm3 voxels", "voxel index outside the grid");
+    auto& s = slot[lin(v)];
+    if (s < 0) s = static_cast<std::int32_t>(i);
+  }
+  const Pose3 X_MW = X_WM.inverse();
+  const double s = grid.voxel_size;
+  const double h = s / params.samples_per_voxel;
+  auto voxel_of = [&](const Vec3& p_M) -> std::int32_t {
+    const Vec3 q = (p_M - grid.origin) / s;
+    const double fi = std::floor(q.x()), fj = std::floor(q.y()), fk = std::floor(q.z());
+    if (fi < 0 || fj < 0 || fk < 0 || fi >= d[0] || fj >= d[1] || fk >= d[2]) return -1;
+    return slot[lin({int(fi), int(fj), int(fk)})];
+  };
+
+  const std::size_t n = voxels.size();
+  std::vector<std::uint8_t> has_struct(n, 0), struct_visible(n, 0), has_opening(n, 0),
+      has_clutter(n, 0);
+
+  // 1-2. Structural and opening samples.
+  struct Sample {
+    Vec3 p_W, n_W;
+    std::int32_t voxel;
+  };
+  std::vector<Sample> samples;
+  for (const auto& surf : surfaces) {
+    double area = 0.0;
+    const std::vector<Vec3> pts = SamplePatch(surf.patch, h, &area);
+    const Vec3 n_W = surf.patch.normal.normalized();
+    const Vec3 nudge_M = X_MW.linear() * n_W * (1e-6 * s);
+    for (const Vec3& p : pts) {
+      bool in_opening = false;
+      if (surf.wall) {
+        const double u = surf.u_axis.dot(p - surf.origin), v = p.z() - surf.origin.z();
+        for (const auto& r : surf.openings)
+          if (u >= r.u0 && u <= r.u1 && v >= r.v0 && v <= r.v1) in_opening = true;
+      }
+      const std::int32_t vox = voxel_of(X_MW * p + nudge_M);
+      if (vox < 0) continue;
+      if (in_opening) {
+        has_opening[vox] = 1;
+      } else {
+        has_struct[vox] = 1;
+        samples.push_back({p, n_W, vox});
+      }
+    }
+  }
+  const double el_lo = std::sin(DegToRad(params.elevation_min_deg));
+  const double el_hi = std::sin(DegToRad(params.elevation_max_deg));
+  // Visibility of structural samples, scanner by scanner (samples of voxels already seen skip).
+  for (const Vec3& c : scanners_W) {
+    std::vector<Vec3> targets;
+    std::vector<std::int32_t> owner;
+    for (const auto& smp : samples) {
+      if (struct_visible[smp.voxel]) continue;
+      const Vec3 v = smp.p_W - c;
+      const double dist = v.norm();
+      if (dist < params.range_min || dist > params.range_max || dist < 1e-9) continue;
+      if (smp.n_W.dot(c - smp.p_W) <= 0.0) continue;
+      const double sz = v.z() / dist;
+      if (sz < el_lo || sz > el_hi) continue;
+      targets.push_back(smp.p_W);
+      owner.push_back(smp.voxel);
+    }
+    const auto vis = CastVisible(world, c, targets, params.hit_tolerance);
+    for (std::size_t i = 0; i < vis.size(); ++i)
+      if (vis[i]) struct_visible[owner[i]] = 1;
+  }
+
+  // Inside test: voxel centre in the room prism (world).
+  std::vector<std::uint8_t> inside(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 c = X_WM * grid.Centre(voxels[i]);
+    inside[i] = c.z() >= room.floor_z && c.z() <= room.ceiling_z &&
+                PointInPolygon(Vec2(c.x(), c.y()), room.polygon);
+  }
+
+  // 3. Clutter: non-structural scene geometry near the room.
+  Eigen::AlignedBox3d box;
+  for (const auto& q : room.polygon) {
+    box.extend(Vec3(q.x(), q.y(), room.floor_z));
+    box.extend(Vec3(q.x(), q.y(), room.ceiling_z));
+  }
+  box.min() -= Vec3::Constant(2.0 * s);
+  box.max() += Vec3::Constant(2.0 * s);
+  for (const auto& part : world.scene().parts) {
+    if (scenes::IsStructural(part.element_class)) continue;
+    for (const auto& t : part.triangles) {
+      const Vec3 a = part.positions[t[0]].cast<double>(), b = part.positions[t[1]].cast<double>(),
+                 c = part.positions[t[2]].cast<double>();
+      Eigen::AlignedBox3d tb(a);
+      tb.extend(b), tb.extend(c);
+      if (!tb.intersects(box)) continue;
+      for (const Vec3& p : SampleTriangle(a, b, c, h)) {
+        const std::int32_t vox = voxel_of(X_MW * p);
+        if (vox >= 0) has_clutter[vox] = 1;
+      }
+    }
+  }
+
+  // 4. Empty: visible centres of the remaining inside voxels.
+  std::vector<std::uint8_t> visible(n, 0);
+  for (const Vec3& c : scanners_W) {
+    std::vector<Vec3> targets;
+    std::vector<std::int32_t> owner;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!inside[i] || visible[i] || has_struct[i] || has_opening[i] || has_clutter[i]) continue;
+      if (slot[lin(voxels[i])] != static_cast<std::int32_t>(i)) continue;  // duplicate entry
+      const Vec3 p = X_WM * grid.Centre(voxels[i]);
+      const Vec3 v = p - c;
+      const double dist = v.norm();
+      if (dist > params.range_max) continue;
+      if (dist > 1e-9) {
+        const double sz = v.z() / dist;
+        if (sz < el_lo || sz > el_hi) continue;
+      }
+      targets.push_back(p);
+      owner.push_back(static_cast<std::int32_t>(i));
+    }
+    const auto vis = CastVisible(world, c, targets, 0.0);
+    for (std::size_t i = 0; i < vis.size(); ++i)
+      if (vis[i]) visible[owner[i]] = 1;
+  }
+
+  std::vector<std::uint8_t> labels(n, static_cast<std::uint8_t>(VoxelLabel::kUnseen));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t k = slot[lin(voxels[i])];  // duplicates share the first entry's state
+    VoxelLabel l = VoxelLabel::kUnseen;
+    if (has_struct[k])
+      l = struct_visible[k] ? VoxelLabel::kStructure : VoxelLabel::kOccludedStructure;
+    else if (has_opening[k])
+      l = VoxelLabel::kOpening;
+    else if (inside[k] && has_clutter[k])
+      l = VoxelLabel::kClutter;
+    else if (inside[k] && visible[k])
+      l = VoxelLabel::kEmpty;
+    labels[i] = static_cast<std::uint8_t>(l);
+  }
+  return labels;
+}
+
+}  // namespace mopad::evaluation

@@ -1,0 +1,693 @@
+// Truth models (evaluation/truth_models.h), model file readers (evaluation/model_files.h) and,
+// with MOPAD_EVAL_CLI, the `mopad eval` command end to end (issue 6, item 5).
+#include "evaluation/truth_models.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/error.h"
+#include "evaluation/metrics_isprs.h"
+#include "evaluation/metrics_patches.h"
+#include "evaluation/metrics_voxels.h"
+#include "evaluation/model_files.h"
+#include "scenes/generator.h"
+#include "scenes/scene_spec.h"
+#include "sim/embree_world.h"
+#include "tests/sim/test_scenes.h"
+
+namespace mopad::evaluation {
+namespace {
+
+namespace fs = std::filesystem;
+using sim::testing::AddQuad;
+using V3f = Eigen::Vector3f;
+
+fs::path TempDir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("mopad_truth_models_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void WriteText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+// Every voxel of an nx x ny x nz grid, in (k, j, i) order.
+std::vector<std::array<int, 3>> AllVoxels(int nx, int ny, int nz) {
+  std::vector<std::array<int, 3>> v;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) v.push_back({i, j, k});
+  return v;
+}
+
+#ifndef MOPAD_BINARY  // the library tests (the CLI binary runs EvalCli only)
+Vec3 Centroid(const std::vector<Vec3>& poly) {
+  Vec3 c = Vec3::Zero();
+  for (const auto& v : poly) c += v;
+  return c / static_cast<double>(poly.size());
+}
+
+// ---- Truth patches of a generated room ----
+
+TEST(TruthModels, PatchesOfOneRoomMatchTheRoom) {
+  const auto g = scenes::Generate(scenes::LoadSceneSpec(MOPAD_SOURCE_DIR "/scenes/one_room.yaml"));
+  const scenes::Room& room = *g.truth.FindRoom("R1");
+  const double H = room.ceiling_z - room.floor_z;
+  EXPECT_NEAR(H, 2.7, 1e-9);
+  const auto patches = TruthPatches(g.truth, "R1");
+  int walls = 0, floors = 0, ceilings = 0;
+  double wall_area = 0.0;
+  const Vec3 centre(3.0, 2.0, room.floor_z + H / 2);
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    const Patch& p = patches[i];
+    EXPECT_NO_THROW(ValidatePatch(p, {}, p.id)) << p.id;  // planar, CCW seen from the normal
+    EXPECT_GT(p.normal.normalized().dot(centre - Centroid(p.polygon)), 0.0)
+        << p.id << " normal not into the room";
+    if (p.cls == SurfaceClass::kWall) ++walls, wall_area += PolygonArea3d(p.polygon);
+    if (p.cls == SurfaceClass::kFloor) {
+      ++floors;
+      EXPECT_NEAR(PolygonArea3d(p.polygon), 24.0, 1e-6);
+      EXPECT_NEAR(p.normal.z(), 1.0, 1e-12);
+    }
+    if (p.cls == SurfaceClass::kCeiling) {
+      ++ceilings;
+      EXPECT_NEAR(PolygonArea3d(p.polygon), 24.0, 1e-6);
+      EXPECT_NEAR(p.normal.z(), -1.0, 1e-12);
+      EXPECT_NEAR(p.polygon[0].z(), room.ceiling_z, 1e-9);
+    }
+  }
+  EXPECT_EQ(walls, 4);
+  EXPECT_EQ(floors, 1);
+  EXPECT_EQ(ceilings, 1);
+  EXPECT_NEAR(wall_area, 2 * (6.0 + 4.0) * 2.7, 1e-6);  // whole walls: openings are not cut
+  // The truth against itself: every patch a TP with zero error, ISPRS complete and correct.
+  const PatchEvaluation e = EvaluatePatches(patches, patches);
+  EXPECT_EQ(e.detection[0].tp, 4);
+  EXPECT_EQ(e.unmatched_model.size() + e.unmatched_truth.size(), 0u);
+  EXPECT_NEAR(e.d_v.max + e.d_h.max + e.phi_deg.max, 0.0, 1e-9);
+  // Door D1 and window W1 give one opening patch each, on their wall's plane.
+  const auto openings = TruthOpeningPatches(g.truth, "R1");
+  ASSERT_EQ(openings.size(), 2u);
+  for (const auto& o : openings) EXPECT_NO_THROW(ValidatePatch(o, {}, o.id));
+  const auto rooms = TruthFloorplan(g.truth);
+  ASSERT_EQ(rooms.size(), 1u);
+  EXPECT_NEAR(std::abs(SignedArea(rooms[0].polygon)), 24.0, 1e-9);
+  EXPECT_THROW(TruthPatches(g.truth, "R9"), InputError);
+}
+
+// ---- Truth DSM3 of a box room: 4 m x 3 m x 2.5 m, 0.1 m voxels ----
+
+struct BoxRoom {
+  scenes::Scene scene;
+  scenes::GroundTruth truth;
+};
+
+scenes::StructuralElement Wall(const std::string& id, Vec3 origin, Vec3 u, double length,
+                               Vec3 normal) {
+  scenes::StructuralElement e;
+  e.id = id;
+  e.element_class = scenes::ElementClass::kWall;
+  e.rooms = {"R1"};
+  e.origin = origin;
+  e.u_axis = u;
+  e.length = length;
+  e.height = 2.5;
+  e.normal = normal;
+  e.polygons = {{origin, origin + length * u, origin + length * u + Vec3(0, 0, 2.5),
+                 origin + Vec3(0, 0, 2.5)}};
+  return e;
+}
+
+// A window W1 (x in [1, 2], z in [1, 2]) in the north wall (y = 3); optionally a cabinet
+// x [2.55, 3.15] x y [0.55, 0.95] x z [0, 0.95].
+BoxRoom MakeBoxRoom(bool cabinet) {
+  BoxRoom b;
+  sim::testing::AddRoomBox(b.scene, V3f(0, 0, 0), V3f(4, 3, 2.5));
+  if (cabinet) {
+    const float x0 = 2.55f, x1 = 3.15f, y0 = 0.55f, y1 = 0.95f, z0 = 0.0f, z1 = 0.95f;
+    using scenes::ElementClass;
+    const auto F = ElementClass::kFurniture;
+    AddQuad(b.scene, V3f(x0, y0, z1), V3f(x1, y0, z1), V3f(x1, y1, z1), V3f(x0, y1, z1), F,
+            "cabinet_R1_1");
+    AddQuad(b.scene, V3f(x0, y0, z0), V3f(x0, y1, z0), V3f(x1, y1, z0), V3f(x1, y0, z0), F,
+            "cabinet_R1_1");
+    AddQuad(b.scene, V3f(x0, y0, z0), V3f(x1, y0, z0), V3f(x1, y0, z1), V3f(x0, y0, z1), F,
+            "cabinet_R1_1");
+    AddQuad(b.scene, V3f(x1, y1, z0), V3f(x0, y1, z0), V3f(x0, y1, z1), V3f(x1, y1, z1), F,
+            "cabinet_R1_1");
+    AddQuad(b.scene, V3f(x0, y1, z0), V3f(x0, y0, z0), V3f(x0, y0, z1), V3f(x0, y1, z1), F,
+            "cabinet_R1_1");
+    AddQuad(b.scene, V3f(x1, y0, z0), V3f(x1, y1, z0), V3f(x1, y1, z1), V3f(x1, y0, z1), F,
+            "cabinet_R1_1");
+  }
+  auto& t = b.truth;
+  t.scene_name = "box";
+  t.rooms.push_back({"R1", "", {{0, 0}, {4, 0}, {4, 3}, {0, 3}}, 0.0, 2.5});
+  t.elements.push_back(Wall("wall_s", {0, 0, 0}, Vec3::UnitX(), 4.0, Vec3::UnitY()));
+  t.elements.push_back(Wall("wall_e", {4, 0, 0}, Vec3::UnitY(), 3.0, -Vec3::UnitX()));
+  t.elements.push_back(Wall("wall_n", {4, 3, 0}, -Vec3::UnitX(), 4.0, -Vec3::UnitY()));
+  t.elements.push_back(Wall("wall_w", {0, 3, 0}, -Vec3::UnitY(), 3.0, Vec3::UnitX()));
+  scenes::StructuralElement floor, ceiling;
+  floor.id = "floor";
+  floor.element_class = scenes::ElementClass::kFloor;
+  floor.rooms = {"R1"};
+  floor.polygons = {{{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}}};
+  ceiling = floor;
+  ceiling.id = "ceiling";
+  ceiling.element_class = scenes::ElementClass::kCeiling;
+  ceiling.normal = -Vec3::UnitZ();
+  ceiling.polygons = {{{0, 0, 2.5}, {0, 3, 2.5}, {4, 3, 2.5}, {4, 0, 2.5}}};
+  t.elements.push_back(floor);
+  t.elements.push_back(ceiling);
+  scenes::Opening w;
+  w.id = "W1";
+  w.type = scenes::OpeningType::kWindow;
+  w.host_walls = {"wall_n"};
+  w.rooms = {"R1"};
+  w.u0 = 2.0, w.u1 = 3.0, w.v0 = 1.0, w.v1 = 2.0;  // wall_n runs from x = 4 towards -x
+  w.corners = {{2, 3, 1}, {1, 3, 1}, {1, 3, 2}, {2, 3, 2}};
+  t.openings.push_back(w);
+  return b;
+}
+
+TruthDsm3Params WideOpenScanner() {
+  TruthDsm3Params p;
+  p.elevation_min_deg = -90.0;
+  p.elevation_max_deg = 90.0;
+  p.range_min = 0.0;
+  return p;
+}
+
+// Hand-computed: the shell of the 40 x 30 x 25 grid is 40*30*25 - 38*28*23 = 5528 voxels; the
+// window covers 10 x 10 of them (x 1..2, z 1..2 at 0.1 m); the interior 38*28*23 = 24472 voxels
+// are all seen from the centre of an empty room.
+constexpr int kShell = 40 * 30 * 25 - 38 * 28 * 23;
+constexpr int kInterior = 38 * 28 * 23;
+
+TEST(TruthDsm3, EmptyBoxRoomWithWindowFromOneScanner) {
+  BoxRoom b = MakeBoxRoom(false);
+  const sim::EmbreeWorld world(b.scene, nullptr);
+  VoxelGrid grid;
+  grid.voxel_size = 0.1;
+  grid.dims = {40, 30, 25};
+  const auto voxels = AllVoxels(40, 30, 25);
+  const auto labels = TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(),
+                                {Vec3(2.0, 1.5, 1.4)}, WideOpenScanner());
+  const auto c = CountVoxelLabels(labels);
+  EXPECT_EQ(c[int(VoxelLabel::kStructure)], kShell - 100);
+  EXPECT_EQ(c[int(VoxelLabel::kOpening)], 100);
+  EXPECT_EQ(c[int(VoxelLabel::kOccludedStructure)], 0);
+  EXPECT_EQ(c[int(VoxelLabel::kClutter)], 0);
+  EXPECT_EQ(c[int(VoxelLabel::kEmpty)], kInterior);
+  EXPECT_EQ(c[int(VoxelLabel::kUnseen)], 0);
+  // The window voxels are where expected: north wall layer j = 29, i and k in 10..19.
+  for (std::size_t n = 0; n < voxels.size(); ++n)
+    if (labels[n] == int(VoxelLabel::kOpening)) {
+      EXPECT_EQ(voxels[n][1], 29);
+      EXPECT_TRUE(voxels[n][0] >= 10 && voxels[n][0] <= 19 && voxels[n][2] >= 10 &&
+                  voxels[n][2] <= 19);
+    }
+  // Without any scanner nothing is seen: all structure is occluded, the rest unseen.
+  const auto dark = CountVoxelLabels(
+      TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(), {}, WideOpenScanner()));
+  EXPECT_EQ(dark[int(VoxelLabel::kOccludedStructure)], kShell - 100);
+  EXPECT_EQ(dark[int(VoxelLabel::kUnseen)], kInterior);
+}
+
+TEST(TruthDsm3, CabinetIsClutterAndHidesTheFloorUnderIt) {
+  BoxRoom b = MakeBoxRoom(true);
+  const sim::EmbreeWorld world(b.scene, nullptr);
+  VoxelGrid grid;
+  grid.voxel_size = 0.1;
+  grid.dims = {40, 30, 25};
+  const auto voxels = AllVoxels(40, 30, 25);
+  const std::vector<Vec3> scanners = {
+      {2.0, 1.5, 1.4}, {0.5, 0.5, 1.4}, {3.5, 0.5, 1.4}, {0.5, 2.5, 1.4}, {3.5, 2.5, 1.4}};
+  const auto labels =
+      TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(), scanners, WideOpenScanner());
+  const auto c = CountVoxelLabels(labels);
+  // Cabinet voxels: i 25..31, j 5..9, k 0..9 (7 x 5 x 10); its surface touches the shell of that
+  // block (350 - 5*3*8 interior = 230) less the floor layer k = 0 (35, structure): 195 clutter.
+  EXPECT_EQ(c[int(VoxelLabel::kClutter)], 195);
+  // Floor voxels entirely under the cabinet (i 26..30, j 6..8) are seen by no scanner.
+  EXPECT_EQ(c[int(VoxelLabel::kOccludedStructure)], 15);
+  EXPECT_EQ(c[int(VoxelLabel::kStructure)], kShell - 100 - 15);
+  EXPECT_EQ(c[int(VoxelLabel::kOpening)], 100);
+  // Inside the cabinet (5 x 3 x 8 voxels) is unseen; shadows behind it may add some.
+  EXPECT_GE(c[int(VoxelLabel::kUnseen)], 120);
+  EXPECT_EQ(c[int(VoxelLabel::kEmpty)] + c[int(VoxelLabel::kUnseen)], kInterior - 195);
+  // Deterministic across thread counts.
+  std::vector<std::uint8_t> one;
+  {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+    one = TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(), scanners,
+                    WideOpenScanner());
+  }
+  EXPECT_EQ(one, labels);
+}
+
+TEST(TruthDsm3, MapFrameRotatedAgainstTheWorldGivesTheSameCounts) {
+  BoxRoom b = MakeBoxRoom(false);
+  const sim::EmbreeWorld world(b.scene, nullptr);
+  // Map frame: world = R_z(90 deg) * map + (4, 0, 0); the room is [0,3] x [0,4] in the map.
+  Pose3 X_WM = Pose3::Identity();
+  X_WM.linear() = Eigen::AngleAxisd(kPi / 2, Vec3::UnitZ()).toRotationMatrix();
+  X_WM.translation() = Vec3(4, 0, 0);
+  VoxelGrid grid;
+  grid.voxel_size = 0.1;
+  grid.dims = {30, 40, 25};
+  const auto labels = TruthDsm3(world, b.truth, "R1", grid, AllVoxels(30, 40, 25), X_WM,
+                                {Vec3(2.0, 1.5, 1.4)}, WideOpenScanner());
+  const auto c = CountVoxelLabels(labels);
+  EXPECT_EQ(c[int(VoxelLabel::kStructure)], kShell - 100);
+  EXPECT_EQ(c[int(VoxelLabel::kOpening)], 100);
+  EXPECT_EQ(c[int(VoxelLabel::kEmpty)], kInterior);
+}
+
+// A full-size room of office_5rooms at 5 cm voxels (~0.5-1 M voxels): sane label counts, and the
+// run time shows in the test log (the brief: "a room in seconds").
+TEST(TruthDsm3, LargestOfficeRoomAtFiveCentimetres) {
+  const auto g =
+      scenes::Generate(scenes::LoadSceneSpec(MOPAD_SOURCE_DIR "/scenes/office_5rooms.yaml"));
+  const scenes::Room* big = nullptr;
+  for (const auto& r : g.truth.rooms)
+    if (!big || std::abs(SignedArea(r.polygon)) > std::abs(SignedArea(big->polygon))) big = &r;
+  Eigen::AlignedBox2d box;
+  for (const auto& q : big->polygon) box.extend(q);
+  VoxelGrid grid;
+  grid.voxel_size = 0.05;
+  grid.origin = Vec3(box.min().x() - 0.1, box.min().y() - 0.1, big->floor_z - 0.1);
+  grid.dims = {int(std::ceil((box.sizes().x() + 0.2) / 0.05)),
+               int(std::ceil((box.sizes().y() + 0.2) / 0.05)),
+               int(std::ceil((big->ceiling_z - big->floor_z + 0.2) / 0.05))};
+  const auto voxels = AllVoxels(grid.dims[0], grid.dims[1], grid.dims[2]);
+  const Vec2 c = box.center();
+  std::vector<Vec3> scanners;
+  for (const Vec2& o : {Vec2(0, 0), Vec2(1, 0.5), Vec2(-1, -0.5), Vec2(0.5, -1), Vec2(-0.5, 1)})
+    scanners.emplace_back(c.x() + o.x(), c.y() + o.y(), big->floor_z + 1.4);
+  const sim::EmbreeWorld world(g.scene, &g.truth);
+  const auto labels = TruthDsm3(world, g.truth, big->id, grid, voxels, Pose3::Identity(), scanners);
+  const auto n = CountVoxelLabels(labels);
+  std::printf(
+      "room %s: %zu voxels; opening %ld structure %ld occluded %ld clutter %ld empty %ld unseen "
+      "%ld\n",
+      big->id.c_str(), voxels.size(), long(n[0]), long(n[1]), long(n[2]), long(n[3]), long(n[4]),
+      long(n[5]));
+  EXPECT_GT(voxels.size(), 400000u);
+  EXPECT_GT(n[int(VoxelLabel::kStructure)], 5 * n[int(VoxelLabel::kOccludedStructure)]);
+  EXPECT_GT(n[int(VoxelLabel::kEmpty)], n[int(VoxelLabel::kClutter)]);
+  EXPECT_GT(n[int(VoxelLabel::kOpening)], 0);
+}
+
+// ---- Readers ----
+
+#endif
+
+const char* kRunJson =
+    R"({"format": "mopad-room-run", "version": 1, "scene": "SCENE", "room": "R1", "seed": 3,
+  "X_WM": [[1,0,0,0.5],[0,1,0,-0.25],[0,0,1,0],[0,0,0,1]],
+  "files": {"sm1": "sm1.ply", "sm2": "sm2.json", "sm3": "sm3.json", "dsm3": "dsm3.ply"}})";
+
+#ifndef MOPAD_BINARY
+std::string Replace(std::string s, const std::string& a, const std::string& b) {
+  const auto p = s.find(a);
+  if (p != std::string::npos) s.replace(p, a.size(), b);
+  return s;
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ModelFiles, RunJsonIsReadAndMalformedOnesRejected) {
+  const fs::path d = TempDir("run");
+  WriteText(d / "run.json", kRunJson);
+  const RunInfo r = ReadRunInfo((d / "run.json").string());
+  EXPECT_EQ(r.room, "R1");
+  EXPECT_EQ(r.seed, 3u);
+  EXPECT_NEAR(r.X_WM.translation().x(), 0.5, 1e-12);
+  EXPECT_NEAR(r.X_WM.translation().y(), -0.25, 1e-12);
+  EXPECT_EQ(r.sm3, (d / "sm3.json").string());
+  WriteText(d / "run.json", Replace(kRunJson, R"("X_WM")", R"("X_MW")"));
+  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "run.json").string()); }).find("X_WM: missing field"),
+            std::string::npos);
+  WriteText(d / "run.json", Replace(kRunJson, R"("version": 1)", R"("version": 2)"));
+  const std::string v = ErrorOf([&] { ReadRunInfo((d / "run.json").string()); });
+  EXPECT_NE(v.find("run.json: error: version"), std::string::npos) << v;
+  WriteText(d / "run.json", Replace(kRunJson, "[0,0,1,0]", "[0,0,2,0]"));
+  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "run.json").string()); }).find("rigid"),
+            std::string::npos);
+  WriteText(d / "run.json", "{\"format\": ");
+  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "run.json").string()); }).find("malformed JSON"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "nothing.json").string()); }).find("cannot open"),
+            std::string::npos);
+  fs::remove_all(d);
+}
+
+const char* kSm3Json =
+    R"({"format": "mopad-sm3", "version": 1, "room": "R1", "floor_z": 0.0, "ceiling_z": 2.5,
+  "patches": [
+    {"id": "floor_A", "class": "floor", "plane": {"n": [0, 0, 2], "d": 0},
+     "polygon": [[0,0,0],[4,0,0],[4,3,0],[0,3,0]], "support": 1000, "rms": 0.002, "fitted": true},
+    {"id": "wall_1A", "class": "wall", "plane": {"n": [0, 1, 0], "d": 0},
+     "polygon": [[0,0,0],[4,0,0],[4,0,2.5],[0,0,2.5]], "support": 10, "rms": 0.001, "fitted": true}],
+  "adjacency": [[0, 1]]})";
+
+TEST(ModelFiles, Sm3IsReadAndMalformedOnesRejected) {
+  const fs::path d = TempDir("sm3");
+  const std::string p = (d / "sm3.json").string();
+  WriteText(p, kSm3Json);
+  const Sm3Model m = ReadSm3(p);
+  ASSERT_EQ(m.patches.size(), 2u);
+  EXPECT_EQ(m.patches[1].patch.id, "wall_1A");
+  EXPECT_EQ(m.patches[1].patch.cls, SurfaceClass::kWall);
+  EXPECT_NEAR(m.patches[0].patch.normal.z(), 1.0, 1e-12);  // normalised
+  EXPECT_EQ(m.patches[0].support, 1000);
+  ASSERT_EQ(m.adjacency.size(), 1u);
+  EXPECT_NEAR(m.ceiling_z, 2.5, 1e-12);
+  WriteText(p, Replace(kSm3Json, R"("n": [0, 1, 0], )", ""));
+  std::string e = ErrorOf([&] { ReadSm3(p); });
+  EXPECT_NE(e.find("sm3.json: error: patches[1].plane.n: missing field"), std::string::npos) << e;
+  WriteText(p, Replace(kSm3Json, R"("class": "wall")", R"("class": "door")"));
+  EXPECT_NE(ErrorOf([&] { ReadSm3(p); }).find("patches[1].class: unknown class"),
+            std::string::npos);
+  WriteText(p, Replace(kSm3Json, R"("format": "mopad-sm3")", R"("format": "mopad-sm2")"));
+  EXPECT_NE(ErrorOf([&] { ReadSm3(p); }).find("wrong file format"), std::string::npos);
+  WriteText(p, Replace(kSm3Json, "[[0, 1]]", "[[0, 7]]"));
+  EXPECT_NE(ErrorOf([&] { ReadSm3(p); }).find("adjacency[0]: patch index out of range"),
+            std::string::npos);
+  WriteText(p, Replace(kSm3Json, "[4,0,2.5],[0,0,2.5]]", "[4,0,2.5]]").substr(0, 10));
+  EXPECT_FALSE(ErrorOf([&] { ReadSm3(p); }).empty());
+  fs::remove_all(d);
+}
+
+#endif
+
+// Writes dsm3.ply as docs/models.md specifies (file label values 0 unseen .. 5 opening).
+void WriteDsm3Ply(const fs::path& path, const VoxelGrid& g,
+                  const std::vector<std::array<int, 3>>& ijk,
+                  const std::vector<std::uint8_t>& voxel_labels, std::size_t truncate_bytes = 0) {
+  static const char* kFileNames[] = {"unseen",  "empty",  "structure", "occluded_structure",
+                                     "clutter", "opening"};
+  std::ostringstream h;
+  h << "ply\nformat binary_little_endian 1.0\ncomment mopad_dsm3_voxel_size " << g.voxel_size
+    << "\ncomment mopad_dsm3_origin " << g.origin.x() << " " << g.origin.y() << " " << g.origin.z()
+    << "\ncomment mopad_dsm3_dims " << g.dims[0] << " " << g.dims[1] << " " << g.dims[2] << "\n";
+  for (int v = 0; v < 6; ++v) h << "comment mopad_dsm3_label " << v << " " << kFileNames[v] << "\n";
+  h << "element vertex " << ijk.size()
+    << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar scalar_label\n"
+       "property int scalar_i\nproperty int scalar_j\nproperty int scalar_k\nend_header\n";
+  std::string data = h.str();
+  for (std::size_t n = 0; n < ijk.size(); ++n) {
+    const Vec3 c = g.Centre(ijk[n]);
+    const float xyz[3] = {float(c.x()), float(c.y()), float(c.z())};
+    data.append(reinterpret_cast<const char*>(xyz), 12);
+    std::uint8_t file_value = 0;
+    for (int v = 0; v < 6; ++v)
+      if (Dsm3LabelNames()[voxel_labels[n]] == kFileNames[v])
+        file_value = static_cast<std::uint8_t>(v);
+    data.push_back(static_cast<char>(file_value));
+    data.append(reinterpret_cast<const char*>(ijk[n].data()), 12);
+  }
+  data.resize(data.size() - truncate_bytes);
+  WriteText(path, data);
+}
+
+#ifndef MOPAD_BINARY
+TEST(ModelFiles, Dsm3IsReadWithLabelsMappedByNameAndBadOnesRejected) {
+  const fs::path d = TempDir("dsm3");
+  const std::string p = (d / "dsm3.ply").string();
+  VoxelGrid g;
+  g.origin = Vec3(-1, 2, 0.5);
+  g.voxel_size = 0.05;
+  g.dims = {4, 3, 2};
+  const std::vector<std::array<int, 3>> ijk = {{0, 0, 0}, {3, 2, 1}, {1, 2, 0}};
+  const std::vector<std::uint8_t> labels = {std::uint8_t(VoxelLabel::kOpening),
+                                            std::uint8_t(VoxelLabel::kStructure),
+                                            std::uint8_t(VoxelLabel::kUnseen)};
+  WriteDsm3Ply(d / "dsm3.ply", g, ijk, labels);
+  const Dsm3Voxels v = ReadDsm3(p);
+  EXPECT_EQ(v.ijk, ijk);
+  EXPECT_EQ(v.labels, labels);
+  EXPECT_NEAR(v.grid.voxel_size, 0.05, 1e-12);
+  EXPECT_NEAR(v.grid.origin.y(), 2.0, 1e-12);
+  EXPECT_EQ(v.grid.dims[0], 4);
+  WriteDsm3Ply(d / "dsm3.ply", g, ijk, labels, 5);
+  EXPECT_NE(ErrorOf([&] { ReadDsm3(p); }).find("truncated vertex data"), std::string::npos);
+  VoxelGrid small = g;
+  small.dims = {2, 3, 2};
+  WriteDsm3Ply(d / "dsm3.ply", small, ijk, labels);
+  EXPECT_NE(ErrorOf([&] { ReadDsm3(p); }).find("outside the grid"), std::string::npos);
+  WriteText(d / "dsm3.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 0\nend_header\n");
+  EXPECT_NE(ErrorOf([&] { ReadDsm3(p); }).find("mopad_dsm3_voxel_size"), std::string::npos);
+  WriteText(d / "poses.tum", "# t x y z qx qy qz qw\n1.0 1 2 3 0 0 0 1\n2.0 4 5 6 0 0 0 1\n");
+  const auto pos = ReadTumPositions((d / "poses.tum").string());
+  ASSERT_EQ(pos.size(), 2u);
+  EXPECT_EQ(pos[1], Vec3(4, 5, 6));
+  WriteText(d / "poses.tum", "1.0 1 2\n");
+  EXPECT_NE(ErrorOf([&] { ReadTumPositions((d / "poses.tum").string()); }).find("poses.tum:1"),
+            std::string::npos);
+  fs::remove_all(d);
+}
+
+#endif
+
+// ---- End to end: a run directory written by hand, equal to the truth ----
+
+// one_room's R1 seen from a map frame yawed by 30 deg and shifted: sm3.json holds the truth
+// patches in the map frame, dsm3.ply the truth DSM3 with 10 structure voxels relabelled empty,
+// scan_poses.tum two scanner positions.
+struct HandRun {
+  fs::path dir;
+  int structure_voxels = 0;
+};
+
+HandRun WriteHandRun(const std::string& name) {
+  HandRun h;
+  h.dir = TempDir(name);
+  const std::string spec = MOPAD_SOURCE_DIR "/scenes/one_room.yaml";
+  const auto g = scenes::Generate(scenes::LoadSceneSpec(spec));
+  Pose3 X_WM = Pose3::Identity();
+  X_WM.linear() = Eigen::AngleAxisd(kPi / 6, Vec3::UnitZ()).toRotationMatrix();
+  X_WM.translation() = Vec3(1.0, 2.0, 0.0);
+  const Pose3 X_MW = X_WM.inverse();
+  nlohmann::json run = nlohmann::json::parse(kRunJson);
+  run["scene"] = spec;
+  run["files"].erase("sm1");
+  run["files"].erase("sm2");
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) run["X_WM"][i][k] = X_WM.matrix()(i, k);
+  std::ofstream(h.dir / "run.json") << run.dump(2);
+  nlohmann::json sm3 = {{"format", "mopad-sm3"},
+                        {"version", 1},
+                        {"room", "R1"},
+                        {"floor_z", 0.0},
+                        {"ceiling_z", 2.7}};
+  sm3["patches"] = nlohmann::json::array();
+  for (const auto& p : TruthPatches(g.truth, "R1")) {
+    const Vec3 n = X_MW.linear() * p.normal;
+    nlohmann::json poly = nlohmann::json::array();
+    for (const auto& v : p.polygon) {
+      const Vec3 m = X_MW * v;
+      poly.push_back({m.x(), m.y(), m.z()});
+    }
+    sm3["patches"].push_back(
+        {{"id", p.id},
+         {"class", SurfaceClassName(p.cls)},
+         {"plane", {{"n", {n.x(), n.y(), n.z()}}, {"d", -n.dot(X_MW * p.polygon[0])}}},
+         {"polygon", poly},
+         {"support", 100},
+         {"rms", 0.0},
+         {"fitted", true}});
+  }
+  sm3["adjacency"] = nlohmann::json::array();
+  std::ofstream(h.dir / "sm3.json") << sm3.dump(2);
+  const std::vector<Vec3> scanners_W = {{1.5, 2.0, 1.4}, {4.5, 3.4, 1.4}};
+  {
+    std::ofstream f(h.dir / "scan_poses.tum");
+    for (std::size_t i = 0; i < scanners_W.size(); ++i) {
+      const Vec3 m = X_MW * scanners_W[i];
+      f << i << " " << m.x() << " " << m.y() << " " << m.z() << " 0 0 0 1\n";
+    }
+  }
+  // Grid: the room's map-frame bounding box at 0.1 m, every voxel listed.
+  Eigen::AlignedBox3d box;
+  for (const auto& q : g.truth.rooms[0].polygon)
+    for (double z : {0.0, 2.7}) box.extend(X_MW * Vec3(q.x(), q.y(), z));
+  VoxelGrid grid;
+  grid.voxel_size = 0.1;
+  grid.origin = (box.min() / 0.1).array().floor() * 0.1 - 0.1;
+  for (int a = 0; a < 3; ++a)
+    grid.dims[a] = static_cast<int>(std::ceil((box.max()[a] - grid.origin[a]) / 0.1)) + 1;
+  const auto voxels = AllVoxels(grid.dims[0], grid.dims[1], grid.dims[2]);
+  const sim::EmbreeWorld world(g.scene, &g.truth);
+  std::vector<std::uint8_t> labels =
+      TruthDsm3(world, g.truth, "R1", grid, voxels, X_WM, scanners_W);
+  int flipped = 0;
+  for (auto& l : labels) {
+    if (l == std::uint8_t(VoxelLabel::kStructure)) {
+      ++h.structure_voxels;
+      if (flipped < 10) l = std::uint8_t(VoxelLabel::kEmpty), ++flipped;
+    }
+  }
+  WriteDsm3Ply(h.dir / "dsm3.ply", grid, voxels, labels);
+  return h;
+}
+
+#ifndef MOPAD_BINARY
+TEST(EvalEndToEnd, HandWrittenRunEqualToTheTruthScoresPerfectly) {
+  const HandRun h = WriteHandRun("lib");
+  const RunInfo run = ReadRunInfo((h.dir / "run.json").string());
+  const auto g = scenes::Generate(scenes::LoadSceneSpec(run.scene));
+  std::vector<Patch> model;
+  for (const auto& p : ReadSm3(run.sm3).Patches()) {
+    Patch w = p;
+    for (auto& v : w.polygon) v = run.X_WM * v;
+    w.normal = run.X_WM.linear() * p.normal;
+    model.push_back(w);
+  }
+  const auto truth = TruthPatches(g.truth, "R1");
+  const PatchEvaluation e = EvaluatePatches(model, truth);
+  EXPECT_EQ(e.detection[int(SurfaceClass::kWall)].tp, 4);
+  EXPECT_EQ(e.unmatched_model.size() + e.unmatched_truth.size(), 0u);
+  EXPECT_NEAR(e.d_v.max, 0.0, 1e-6);
+  EXPECT_NEAR(e.d_h.max, 0.0, 1e-6);
+  EXPECT_NEAR(e.phi_deg.max, 0.0, 1e-4);
+  IsprsParams ip;
+  ip.sample_spacing = 0.05;
+  const IsprsResult ir = EvaluateIsprs(model, truth, ip);
+  EXPECT_NEAR(ir.all.completeness[0], 1.0, 1e-9);
+  EXPECT_NEAR(ir.all.correctness[0], 1.0, 1e-9);
+  // DSM3: the truth recomputed from the run's own files; 10 structure voxels were relabelled.
+  const Dsm3Voxels dsm = ReadDsm3(run.dsm3);
+  std::vector<Vec3> scanners;
+  for (const auto& p : ReadTumPositions((h.dir / "scan_poses.tum").string()))
+    scanners.push_back(run.X_WM * p);
+  const sim::EmbreeWorld world(g.scene, &g.truth);
+  const auto t = TruthDsm3(world, g.truth, "R1", dsm.grid, dsm.ijk, run.X_WM, scanners);
+  const ConfusionMatrix cm = ComputeDsm3Confusion(t, dsm.labels);
+  const int S = int(VoxelLabel::kStructure), E = int(VoxelLabel::kEmpty);
+  EXPECT_EQ(cm.At(S, E), 10);
+  EXPECT_NEAR(cm.iou[S], double(h.structure_voxels - 10) / h.structure_voxels, 1e-12);
+  const auto counts = CountVoxelLabels(t);
+  EXPECT_GT(counts[int(VoxelLabel::kClutter)], 0);  // the desk, the door leaf, BSCs
+  EXPECT_GT(counts[int(VoxelLabel::kOpening)], 0);  // door D1, window W1
+  fs::remove_all(h.dir);
+}
+
+#endif
+
+#ifdef MOPAD_BINARY
+int RunMopad(const std::string& args, std::string* out) {
+  const std::string cmd = std::string(MOPAD_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (p && fgets(buf, sizeof buf, p)) *out += buf;
+  const int st = pclose(p);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+TEST(EvalCli, HandWrittenRunEqualToTheTruthScoresPerfectly) {
+  const HandRun h = WriteHandRun("cli");
+  // As a main-job folder: rooms/R1/run.json.
+  const fs::path job = TempDir("cli_job");
+  fs::create_directories(job / "rooms");
+  fs::rename(h.dir, job / "rooms" / "R1");
+  // The mission's own figures (as tools/room_eval.cpp writes them) are carried over.
+  WriteText(
+      job / "rooms" / "R1" / "evaluation.json",
+      R"({"room": "R1", "coverage_of_observable": 0.97, "registration_error_max": )"
+      R"({"translation_m": 0.004, "rotation_deg": 0.05}, "sm1_labels": {"points": 1000, "correct": 990}})");
+  std::string out;
+  ASSERT_EQ(RunMopad("eval " + job.string() + " -o " + (job / "eval").string(), &out), 0) << out;
+  EXPECT_NE(out.find("R1"), std::string::npos) << out;
+  std::ifstream f(job / "eval" / "evaluation.json");
+  const nlohmann::json j = nlohmann::json::parse(f);
+  const auto& s = j["summary"];
+  EXPECT_EQ(s["detection"]["wall"]["tp"], 4);
+  EXPECT_EQ(s["detection"]["wall"]["fn"], 0);
+  EXPECT_EQ(s["detection"]["floor"]["tp"], 1);
+  EXPECT_EQ(s["detection"]["ceiling"]["tp"], 1);
+  for (const char* c : {"wall", "floor", "ceiling", "column"})
+    EXPECT_EQ(s["detection"][c]["fp"], 0) << c;
+  EXPECT_NEAR(s["d_v"]["max"].get<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(s["d_h"]["max"].get<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(s["phi_deg"]["max"].get<double>(), 0.0, 1e-4);
+  EXPECT_NEAR(s["isprs_completeness"].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(s["isprs_correctness"].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(s["floorplan_mean_iou"].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(s["dsm3_structure_iou"].get<double>(),
+              double(h.structure_voxels - 10) / h.structure_voxels, 1e-9);
+  EXPECT_NEAR(s["mission"]["coverage_of_observable_min"].get<double>(), 0.97, 1e-12);
+  EXPECT_NEAR(s["mission"]["registration_translation_max_m"].get<double>(), 0.004, 1e-12);
+  EXPECT_NEAR(s["mission"]["sm1_label_accuracy"].get<double>(), 0.99, 1e-12);
+  EXPECT_EQ(j["rooms"][0]["mission"]["room"], "R1");
+  std::ifstream md(job / "eval" / "evaluation.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  // The truth DSM3 written beside it reads back with the independent reader: same voxels.
+  const Dsm3Voxels robot = ReadDsm3((job / "rooms" / "R1" / "dsm3.ply").string());
+  const Dsm3Voxels truth = ReadDsm3((job / "eval" / "dsm3_truth_R1.ply").string());
+  EXPECT_EQ(truth.ijk, robot.ijk);
+  int differ = 0;
+  for (std::size_t n = 0; n < truth.labels.size(); ++n)
+    differ += truth.labels[n] != robot.labels[n];
+  EXPECT_EQ(differ, 10);
+  // --truth overrides the scene's sidecar: without its floor element the model's floor is a FP.
+  {
+    auto g = scenes::Generate(scenes::LoadSceneSpec(MOPAD_SOURCE_DIR "/scenes/one_room.yaml"));
+    auto& el = g.truth.elements;
+    el.erase(std::remove_if(el.begin(), el.end(),
+                            [](const scenes::StructuralElement& e) {
+                              return e.element_class == scenes::ElementClass::kFloor;
+                            }),
+             el.end());
+    scenes::WriteGroundTruth(g.truth, (job / "no_floor.truth.json").string());
+    out.clear();
+    ASSERT_EQ(
+        RunMopad("eval " + job.string() + " --truth " + (job / "no_floor.truth.json").string() +
+                     " -o " + (job / "eval_nf").string(),
+                 &out),
+        0)
+        << out;
+    std::ifstream fn(job / "eval_nf" / "evaluation.json");
+    const nlohmann::json k = nlohmann::json::parse(fn);
+    EXPECT_EQ(k["summary"]["detection"]["floor"]["tp"], 0);
+    EXPECT_EQ(k["summary"]["detection"]["floor"]["fp"], 1);
+    EXPECT_EQ(k["summary"]["detection"]["wall"]["tp"], 4);
+  }
+  // A folder without runs, and a malformed run.json: exit 2 with one line.
+  out.clear();
+  EXPECT_EQ(RunMopad("eval " + (job / "eval").string() + " -o " + (job / "x").string(), &out), 2);
+  EXPECT_NE(out.find("not a run directory"), std::string::npos) << out;
+  WriteText(job / "rooms" / "R1" / "run.json", "{\"format\": \"mopad-room-run\", \"version\": 1}");
+  out.clear();
+  EXPECT_EQ(RunMopad("eval " + job.string() + " -o " + (job / "x").string(), &out), 2);
+  EXPECT_NE(out.find("run.json: error: scene: missing field"), std::string::npos) << out;
+  if (!std::getenv("MOPAD_TEST_KEEP")) fs::remove_all(job);
+}
+#endif
+
+}  // namespace
+}  // namespace mopad::evaluation

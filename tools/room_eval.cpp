@@ -1,0 +1,128 @@
+#include "tools/room_eval.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.h"
+#include "tools/model_export.h"
+
+namespace mopad::tools {
+
+runner::ScanHook Sm1TruthCollector::Hook() {
+  return [this](int index, const interfaces::TlsScan& scan) {
+    const auto& truths = session_.ScanTruths();
+    if (index < 0 || static_cast<std::size_t>(index) >= truths.size())
+      throw std::runtime_error("room eval: no truth kept for scan " + std::to_string(index));
+    const std::vector<evaluation::Sm1Label> grid =
+        evaluation::TruthLabels(scan, truths[static_cast<std::size_t>(index)], truth_, room_);
+    // RoomModel keeps every valid return column by column (the PLY order).
+    const std::vector<evaluation::Sm1Label> valid = evaluation::InPlyOrder(scan, grid);
+    labels_.insert(labels_.end(), valid.begin(), valid.end());
+  };
+}
+
+RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
+                            const std::string& room, const runner::RobotSession& session,
+                            const runner::RoomMissionResult& result,
+                            const modelling::RoomModel& model,
+                            const std::vector<evaluation::Sm1Label>& truth_labels) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RoomEvaluation e;
+  e.room = room;
+  const Pose3 X_WM = session.X_MW().To3d().inverse();
+  const evaluation::RoomTruth rt = evaluation::ComputeRoomTruth(world, truth, room);
+  const evaluation::Observability& obs = rt.observability;
+  e.coverage = evaluation::ComputeCoverage(rt.surfaces, obs.observable, model.Points(), X_WM);
+  e.observable_area = obs.observable_area;
+  e.total_area = obs.total_area;
+  const auto& truths = session.ScanTruths();
+  for (const runner::RoomScanLog& s : result.scans) {
+    // Every scan is scored, also those ICP refused (their pose is the prior).
+    const evaluation::PoseError pe = evaluation::ScanRegistrationError(
+        s.X_MS, X_WM, truths.at(static_cast<std::size_t>(s.session_scan)));
+    e.max_translation_error = std::max(e.max_translation_error, pe.translation);
+    e.max_rotation_error_deg = std::max(e.max_rotation_error_deg, pe.rotation_deg);
+    e.registration.push_back(pe);
+  }
+  std::vector<std::uint8_t> est(model.Labels().size());
+  for (std::size_t i = 0; i < est.size(); ++i) est[i] = static_cast<std::uint8_t>(model.Labels()[i]);
+  if (truth_labels.size() != est.size())
+    throw std::runtime_error("room eval: " + std::to_string(truth_labels.size()) +
+                             " truth labels for " + std::to_string(est.size()) + " SM1 points");
+  e.labels = evaluation::CompareLabels(truth_labels, est);
+  e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return e;
+}
+
+nlohmann::ordered_json ToJson(const RoomEvaluation& e) {
+  nlohmann::ordered_json j;
+  j["room"] = e.room;
+  j["coverage"] = nlohmann::ordered_json::parse(evaluation::CoverageToJson(e.coverage));
+  j["coverage_of_observable"] = e.coverage.room.ShareOfObservable();
+  j["coverage_of_total"] = e.coverage.room.ShareOfTotal();
+  j["observable_area"] = e.observable_area;
+  j["total_area"] = e.total_area;
+  nlohmann::ordered_json reg = nlohmann::json::array();
+  for (const auto& p : e.registration)
+    reg.push_back({{"translation_m", p.translation}, {"rotation_deg", p.rotation_deg}});
+  j["registration_error"] = reg;
+  j["registration_error_max"] = {{"translation_m", e.max_translation_error},
+                                 {"rotation_deg", e.max_rotation_error_deg}};
+  j["sm1_labels"] = {{"points", e.labels.points},
+                     {"correct", e.labels.correct},
+                     {"accuracy", e.labels.Accuracy()},
+                     {"confusion_truth_by_estimate", e.labels.confusion}};
+  j["seconds"] = e.seconds;
+  return j;
+}
+
+RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
+                   const runner::RoomMissionParams& params, std::uint64_t seed,
+                   const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate) {
+  if (!mw.truth)
+    throw InputError("room: error: the scene has no truth sidecar; got no rooms, expected a "
+                     "generated scene (scene.truth.json) or a spec");
+  const scenes::Room* r = mw.truth->FindRoom(room);
+  if (!r) {
+    std::string ids;
+    for (const auto& x : mw.truth->rooms) ids += (ids.empty() ? "" : ", ") + x.id;
+    throw InputError("--room: error: unknown room; got '" + room + "', expected one of " + ids);
+  }
+  RoomJob job;
+  job.room = room;
+  if (start_W) {
+    job.start_W = *start_W;
+  } else {
+    const Eigen::Vector2d xy = FreeSpotInRoom(*mw.truth, *r);
+    job.start_W = Pose2{xy.x(), xy.y(), 0.0};
+  }
+  runner::RobotSession session(*mw.world, params.drive, job.start_W, seed);
+  modelling::RoomModel model(params.model);
+  Sm1TruthCollector labels(session, *mw.truth, room);
+  job.mission = runner::RunRoomMission(session, params, model, evaluate ? labels.Hook() : runner::ScanHook{});
+  const modelling::StructuralModel sm3 = runner::BuildRoomSm3(model, params.sm3, room);
+  runner::WriteRoomOutputs(job.mission, params, session, model, sm3, dir);
+  WriteRunJson(dir, mw, room, seed, session.X_MW().To3d().inverse());
+  WriteModelsGlb(sm3, room, (std::filesystem::path(dir) / "models.glb").string());
+  for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
+  const Pose3 X_WM = session.X_MW().To3d().inverse();
+  const auto& pts = model.Points();
+  const double z_lo = model.FloorZ() + 1.2, z_hi = model.FloorZ() + 1.6;
+  for (std::size_t i = 0; i < pts.size(); i += 13) {
+    if (pts[i].z() < z_lo || pts[i].z() > z_hi) continue;
+    const Eigen::Vector3d w = X_WM * pts[i].cast<double>();
+    job.plan_points_W.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
+  }
+  job.labels = model.CountLabels();
+  job.points = model.PointCount();
+  if (evaluate) {
+    job.evaluation = EvaluateRoom(*mw.world, *mw.truth, room, session, job.mission, model, labels.Labels());
+    std::ofstream(std::filesystem::path(dir) / "evaluation.json")
+        << ToJson(*job.evaluation).dump(2) << "\n";
+  }
+  return job;
+}
+
+}  // namespace mopad::tools

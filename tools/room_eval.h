@@ -1,0 +1,77 @@
+#pragma once
+// The evaluator's view of one room mission (issue 5 acceptance): structural coverage against
+// the truth's observable and total area, per-scan registration error, SM1 label agreement.
+// Truth side only (tools): the robot's mission never sees any of this.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "evaluation/coverage.h"
+#include "evaluation/observability.h"
+#include "evaluation/scan_eval.h"
+#include "evaluation/truth_eval.h"
+#include "evaluation/truth_surfaces.h"
+#include "modelling/room_model.h"
+#include "runner/room_mission.h"
+#include "runner/robot_session.h"
+#include "scenes/ground_truth.h"
+#include "sim/embree_world.h"
+#include "tools/mission_world.h"
+
+namespace mopad::tools {
+
+/// Collects the truth label of every valid return of every scan, in the order the RoomModel
+/// stores its points (column by column, as in the scan PLY) (pass Hook() to RunRoomMission).
+class Sm1TruthCollector {
+ public:
+  Sm1TruthCollector(const runner::RobotSession& session, const scenes::GroundTruth& truth,
+                    std::string room)
+      : session_(session), truth_(truth), room_(std::move(room)) {}
+  runner::ScanHook Hook();
+  const std::vector<evaluation::Sm1Label>& Labels() const { return labels_; }
+
+ private:
+  const runner::RobotSession& session_;
+  const scenes::GroundTruth& truth_;
+  std::string room_;
+  std::vector<evaluation::Sm1Label> labels_;
+};
+
+struct RoomEvaluation {
+  std::string room;
+  evaluation::CoverageReport coverage;
+  double observable_area = 0.0, total_area = 0.0;
+  std::vector<evaluation::PoseError> registration;  ///< per scan (the first scan included)
+  double max_translation_error = 0.0, max_rotation_error_deg = 0.0;
+  evaluation::LabelAccuracy labels;
+  double seconds = 0.0;  ///< evaluation wall time
+};
+
+RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
+                            const std::string& room, const runner::RobotSession& session,
+                            const runner::RoomMissionResult& result,
+                            const modelling::RoomModel& model,
+                            const std::vector<evaluation::Sm1Label>& truth_labels);
+
+nlohmann::ordered_json ToJson(const RoomEvaluation& e);
+
+/// One room job as `mopad room` and `mopad run` do it: a fresh robot at `start` (default: the
+/// harness's free spot), the room mission, its outputs in `dir`, and (with `evaluate`) the
+/// evaluation written to dir/evaluation.json.
+struct RoomJob {
+  std::string room;
+  Pose2 start_W;                               ///< where the harness put the robot (world)
+  runner::RoomMissionResult mission;
+  std::optional<RoomEvaluation> evaluation;
+  std::vector<Eigen::Vector3d> scan_positions_W;  ///< true scanner centres (world), for plots
+  std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height (world)
+  modelling::LabelCounts labels;
+  std::size_t points = 0;
+};
+RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
+                   const runner::RoomMissionParams& params, std::uint64_t seed,
+                   const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate);
+
+}  // namespace mopad::tools
