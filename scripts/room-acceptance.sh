@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Issue 5/6 acceptance: `mopad room` in each room of office_5rooms for several seeds, then
+# `mopad eval` of each run, and one table of the figures (evaluator side: coverage of the
+# observable and total structural area, registration error, SM1 label agreement; SM3 and DSM3
+# scores from mopad eval). Long (minutes): not part of ctest.
+#
+#   scripts/room-acceptance.sh [BUILD_DIR] [OUT_DIR] [SEEDS...]     (default seeds 1..5)
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$here/build}"
+out="${2:-$here/out/room-acceptance}"
+shift $(( $# > 2 ? 2 : $# )) || true
+seeds=("$@")
+[ ${#seeds[@]} -eq 0 ] && seeds=(1 2 3 4 5)
+mopad="$build/tools/mopad"
+[ -x "$mopad" ] || { echo "room-acceptance: $mopad not built" >&2; exit 2; }
+mkdir -p "$out"
+"$mopad" scene generate "$here/scenes/office_5rooms.yaml" -o "$out/office" > "$out/generate.log"
+rooms=(R1 H R3 R4 R5)
+for s in "${seeds[@]}"; do
+  for r in "${rooms[@]}"; do
+    d="$out/s$s/$r"
+    mkdir -p "$out/s$s"
+    "$mopad" room "$out/office" --room "$r" --seed "$s" -o "$d" > "$d.log" 2>&1 || echo "room $r seed $s failed (see $d.log)"
+    "$mopad" eval "$d" -o "$d/eval" > "$d.eval.log" 2>&1 || echo "eval $r seed $s failed (see $d.eval.log)"
+    rm -f "$d/sm1.ply"  # large; everything else is kept
+  done
+done
+/usr/bin/env python3 - "$out" "${seeds[@]}" <<'PY'
+import json, os, sys
+out, seeds = sys.argv[1], sys.argv[2:]
+rooms = ["R1", "H", "R3", "R4", "R5"]
+print(f"{'seed':>4} {'room':<4} {'scans':>5} {'obs':>6} {'total':>6} {'reg_mm':>6} {'reg_deg':>7} "
+      f"{'labels':>6} {'proc_s':>6}  stop")
+n = 0; scans = 0; ok_obs = ok_tot = ok_reg = ok_lab = ok_proc = 0
+for s in seeds:
+    for r in rooms:
+        d = os.path.join(out, f"s{s}", r)
+        try:
+            e = json.load(open(os.path.join(d, "evaluation.json")))
+            log = json.load(open(os.path.join(d, "scans.json")))
+        except Exception as ex:
+            print(f"{s:>4} {r:<4}  missing ({ex})"); n += 1; continue
+        k = len(log["scans"]); scans += k; n += 1
+        proc = max(x["seconds"]["processing"] for x in log["scans"])
+        obs, tot = e["coverage_of_observable"], e["coverage_of_total"]
+        rm, rd = 1000 * e["registration_error_max"]["translation_m"], e["registration_error_max"]["rotation_deg"]
+        lab = e["sm1_labels"]["accuracy"]
+        ok_obs += obs >= 0.95; ok_tot += tot >= 0.90; ok_reg += rm <= 10 and rd <= 0.1
+        ok_lab += lab >= 0.98; ok_proc += proc <= 5.0
+        print(f"{s:>4} {r:<4} {k:>5} {obs:6.3f} {tot:6.3f} {rm:6.1f} {rd:7.3f} {lab:6.4f} {proc:6.2f}  {log['stop_reason'][:60]}")
+print(f"runs {n}: mean scans per room {scans / max(n, 1):.2f}; obs>=0.95 {ok_obs}/{n}; "
+      f"total>=0.90 {ok_tot}/{n}; registration<=1cm,0.1deg {ok_reg}/{n}; labels>=0.98 {ok_lab}/{n}; "
+      f"processing<=5s {ok_proc}/{n}")
+PY
