@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <deque>
 #include <mutex>
+#include <queue>
 
 #include "common/error.h"
 #include "common/rng.h"
@@ -334,7 +335,43 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       const OccupancyGrid& map_;
       const std::vector<float>& cost_;
     };
-    for (int attempt = 0; attempt < P.max_attempts && vertices.empty(); ++attempt) {
+    if (P.grid_seed) {
+      // Dijkstra over the component, edge cost = length x mean cell cost, settled in
+      // (cost, index) order: exact for the grid and deterministic.
+      const std::size_t n = valid.size();
+      std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+      std::vector<std::size_t> parent(n, n);
+      using Item = std::pair<double, std::size_t>;
+      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+      const std::size_t si = idx(sc), gi = idx(gc);
+      dist[si] = 0.0;
+      open.emplace(0.0, si);
+      while (!open.empty()) {
+        const auto [d, k] = open.top();
+        open.pop();
+        if (d > dist[k]) continue;
+        if (k == gi) break;
+        const Cell c{static_cast<int>(k % w), static_cast<int>(k / w)};
+        for (int e = 0; e < 8; ++e) {
+          const Cell nb{c.i + di[e], c.j + dj[e]};
+          if (!map.Contains(nb) || !comp[idx(nb)]) continue;
+          const std::size_t nk = idx(nb);
+          const double nd = d + res * (e < 4 ? 1.0 : std::sqrt(2.0)) * 0.5 * (cell_cost[k] + cell_cost[nk]);
+          if (nd < dist[nk]) dist[nk] = nd, parent[nk] = k, open.emplace(nd, nk);
+        }
+      }
+      if (std::isfinite(dist[gi])) {
+        std::vector<std::size_t> chain;
+        for (std::size_t k = gi; k != n; k = parent[k]) chain.push_back(k);
+        std::reverse(chain.begin(), chain.end());
+        vertices.push_back(s);
+        // Every 4th cell is enough for the shortcuts (they only remove vertices).
+        for (std::size_t k = 1; k + 1 < chain.size(); k += 4)
+          vertices.push_back(map.CentreOf({static_cast<int>(chain[k] % w), static_cast<int>(chain[k] / w)}));
+        vertices.push_back(g0);
+      }
+    }
+    for (int attempt = 0; attempt < P.max_attempts && vertices.empty() && !P.grid_seed; ++attempt) {
       data->key = DeriveKey(DeriveKey(DeriveKey(Mix64(seed_), HashName("planner/samples")), query),
                             static_cast<std::uint64_t>(attempt));
       data->draws = 0;
@@ -369,16 +406,20 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     {
       std::vector<Vec2> out{vertices.front()};
       std::size_t i = 0;
+      std::vector<double> seg(vertices.size() - 1);
+      for (std::size_t k = 0; k + 1 < vertices.size(); ++k) seg[k] = m.SegmentClearance(vertices[k], vertices[k + 1]);
       while (i + 1 < vertices.size()) {
-        std::size_t j = vertices.size() - 1;
-        for (; j > i + 1; --j) {
-          double sub = std::numeric_limits<double>::infinity();
-          for (std::size_t k = i; k < j; ++k) sub = std::min(sub, m.SegmentClearance(vertices[k], vertices[k + 1]));
+        // The farthest j whose straight segment keeps min(robot_radius + margin, clearance
+        // of the replaced sub-path); i + 1 always qualifies.
+        std::size_t best = i + 1;
+        double sub = seg[i];
+        for (std::size_t j = i + 2; j < vertices.size(); ++j) {
+          sub = std::min(sub, seg[j - 1]);
           const double need = std::min(P.robot_radius + P.shortcut_margin, sub);
-          if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need) break;
+          if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need) best = j;
         }
-        out.push_back(vertices[j]);
-        i = j;
+        out.push_back(vertices[best]);
+        i = best;
       }
       vertices.swap(out);
     }
@@ -440,7 +481,7 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     // too: close the run at the goal (the jamb test below still rejects a goal by one wall).
     if (run_begin >= 0.0) runs.emplace_back(run_begin, total);
     for (const auto& [b, e] : runs) {
-      if (b <= 0.0 || e - b > P.max_passage_length) continue;  // start area or corridor
+      if (e - b > P.max_passage_length) continue;  // corridor
       double s_c = b, best = std::numeric_limits<double>::infinity();
       for (double sq = b; sq <= e; sq += step_s) {
         const double c = m.field.Clearance(point_at(vertices, cs, sq));
@@ -489,6 +530,13 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       a.normalize();
       if (a.dot(d) < 0) a = -a;
       if (a.dot(d) < 0.5) continue;  // not a doorway across the path
+      // A run from the start (a narrow start area) is a doorway only when its narrowest point
+      // lies ahead and the start is before it (a replan 0.3 m in front of a door, which must
+      // still cross it aligned); a start inside the doorway is not.
+      if (b <= 0.0) {
+        const double along0 = (vertices.front() - 0.5 * (jl + jr)).dot(a);
+        if (s_c < 0.2 || along0 > -0.15) continue;
+      }
       // A run that reaches the end of the path is a passage only if the goal lies in or beyond
       // the doorway, between its jambs (a goal beside a door does not cross it).
       if (e >= total - 1e-9) {

@@ -13,7 +13,7 @@
 //     nearest valid cell), then a flood fill of valid cells: a goal outside the start's
 //     component is *unreachable* (a closed door, a blocked corridor) — decided exactly and
 //     quickly, before any sampling;
-//  2. OMPL RRT* (Karaman & Frazzoli 2011) minimising a clearance-weighted path length
+//  2. a grid Dijkstra seed path (`grid_seed`, default) or OMPL RRT* (Karaman & Frazzoli 2011) minimising a clearance-weighted path length
 //     (StateCostIntegralObjective, cost per metre 1 + w * max(0, 1 - clearance/preferred)),
 //     with a state sampler drawing valid cells of the start's component, biased to the medial
 //     axis of free space (MAPRM, Wilmarth et al. 1999) so that door gaps get samples;
@@ -51,6 +51,10 @@ struct GlobalPlannerParams {
   double preferred_clearance = 0.7;  ///< m, clearance beyond which there is no penalty, (0, 10]
   double clearance_weight = 3.0;     ///< cost weight of missing clearance, [0, 100]
   bool unknown_is_obstacle = true;   ///< plan only through known free cells
+  /// Seed path from a grid Dijkstra over the start's component with the same clearance cost
+  /// (8-connected, deterministic), then the shortcuts and OMPL's B-spline smoothing; RRT* runs
+  /// only when false. The grid search is exact and about 10x cheaper than 8000 RRT* iterations.
+  bool grid_seed = true;
   int max_iterations = 8000;         ///< RRT* iterations per attempt, [100, 10000000]
   int max_attempts = 2;              ///< attempts (fresh tree, new samples) before giving up, [1, 20]
   double range = 1.5;                ///< m, RRT* maximum extension, (0, 100]
@@ -71,6 +75,7 @@ struct GlobalPlannerParams {
     v("preferred_clearance", preferred_clearance, Bounds{1e-3, 10.0});
     v("clearance_weight", clearance_weight, Bounds{0.0, 100.0});
     v("unknown_is_obstacle", unknown_is_obstacle);
+    v("grid_seed", grid_seed);
     v("max_iterations", max_iterations, Bounds{100, 10000000});
     v("max_attempts", max_attempts, Bounds{1, 20});
     v("range", range, Bounds{1e-3, 100.0});

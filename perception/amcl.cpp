@@ -280,7 +280,14 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
         double sum = 0.0;
         for (const Vec2& b : beams) {
           const Vec2 e(q.x + c * b.x() - s * b.y(), q.y + s * b.x() + c * b.y());
-          const double d = m.likelihood.ObstacleDistance(e, p.likelihood_max_dist);
+          double d = m.likelihood.ObstacleDistance(e, p.likelihood_max_dist);
+          if (p.unknown_endpoint_distance > 0.0 && d > p.unknown_endpoint_distance) {
+            const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
+            const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
+            const bool known = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
+                               m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
+            if (!known) d = p.unknown_endpoint_distance;
+          }
           sum += std::log(hit_norm * std::exp(-0.5 * d * d / (sigma * sigma)) + rand_term);
         }
         loglik[k] = sum;

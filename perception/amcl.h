@@ -68,6 +68,11 @@ struct AmclParams {
   int max_beams = 60;               ///< beams used per scan, evenly spaced, [2, 10000]
   double z_hit = 0.9;               ///< mixture weight of the Gaussian hit term, (0, 1]
   double z_rand = 0.1;              ///< mixture weight of the uniform term, [0, 1]
+  /// A beam ending in an unknown cell (a wall face the map has not seen yet, e.g. the far side
+  /// of a wall entered through its door) is scored as if this far (m) from an obstacle, not by
+  /// its distance to the nearest mapped one, which would pull the estimate towards poses that
+  /// put it on a mapped face. 0 = off (plain likelihood field). [0, 5]
+  double unknown_endpoint_distance = 0.0;
   double sigma_hit = 0.05;          ///< m, std of the hit term while tracking, (0, 5]
   double global_sigma_hit = 0.2;    ///< m, std of the hit term while re-localising, (0, 5]
   double likelihood_max_dist = 2.0; ///< m, distance field cap, (0, 100]
@@ -118,6 +123,7 @@ struct AmclParams {
     v("recovery_alpha_slow", recovery_alpha_slow, Bounds{0.0, 1.0});
     v("recovery_alpha_fast", recovery_alpha_fast, Bounds{0.0, 1.0});
     v("inlier_distance", inlier_distance, Bounds{1e-4, 5.0});
+    v("unknown_endpoint_distance", unknown_endpoint_distance, Bounds{0.0, 5.0});
     v("lost_inlier_ratio", lost_inlier_ratio, Bounds{0.0, 1.0});
     v("min_mapped_beam_fraction", min_mapped_beam_fraction, Bounds{0.0, 1.0});
     v("lost_updates", lost_updates, Bounds{1, 1000});

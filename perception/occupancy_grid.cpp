@@ -174,16 +174,75 @@ void OccupancyGrid::InsertPoints(const std::vector<Eigen::Vector3d>& points_M) {
   for (std::size_t k = 0; k < log_odds_.size(); ++k) {
     const Cell c{static_cast<int>(k % static_cast<std::size_t>(width_)),
                  static_cast<int>(k / static_cast<std::size_t>(width_))};
+    if (band[k] > 0) cloud_obstacle_[k] |= 2;
     if (band[k] >= static_cast<std::uint32_t>(params_.min_points_per_cell)) {
+      // Band beats floor: a thin obstacle (a door leaf) shares its cell with floor returns,
+      // and another scan that saw it edge-on saw only that floor.
+      if (!(cloud_obstacle_[k] & 1) && log_odds_[k] < 0.0f) log_odds_[k] = 0.0f;
       Add(c, params_.cloud_log_odds_hit);
-      cloud_obstacle_[k] = 1;
-    } else if (band[k] == 0 && floor[k] > 0) {
+      cloud_obstacle_[k] |= 1;
+    } else if (band[k] == 0 && floor[k] > 0 && !(cloud_obstacle_[k] & 1)) {
       Add(c, params_.cloud_log_odds_floor);
     }
   }
 }
 
-void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB) {
+void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
+                              const std::vector<Eigen::Vector3d>& points_M) {
+  if (!o.allFinite() || params_.ray_clear_z_max <= 0.0) return;
+  const double cap = params_.ray_clear_z_max, res = params_.resolution;
+  const double bin = params_.ray_bin_deg * kPi / 180.0;
+  const int bins = static_cast<int>(std::ceil(2.0 * kPi / bin));
+  // Per azimuth bin: the plan-range intervals [r0, r1] the beams clear.
+  std::vector<std::vector<std::pair<float, float>>> spans(static_cast<std::size_t>(bins));
+  for (const auto& p : points_M) {
+    if (!p.allFinite() || p.z() > params_.obstacle_z_max || p.z() >= cap) continue;
+    const Vec2 d = p.head<2>() - o.head<2>();
+    const double r = d.norm();
+    if (r < 2.0 * res) continue;
+    // The part of the beam below `cap`: from parameter t0 (where it descends through cap) on.
+    const double t0 = o.z() <= cap ? 0.0 : (o.z() - cap) / (o.z() - p.z());
+    const double r0 = t0 * r, r1 = r - res;
+    if (r1 <= r0) continue;
+    double a = std::atan2(d.y(), d.x());
+    if (a < 0.0) a += 2.0 * kPi;
+    const int b = std::min(bins - 1, static_cast<int>(a / bin));
+    spans[static_cast<std::size_t>(b)].emplace_back(static_cast<float>(r0), static_cast<float>(r1));
+  }
+  std::vector<std::uint8_t> crossed(log_odds_.size(), 0);
+  for (int b = 0; b < bins; ++b) {
+    auto& s = spans[static_cast<std::size_t>(b)];
+    if (s.empty()) continue;
+    std::sort(s.begin(), s.end());
+    const double a = (b + 0.5) * bin;
+    const Vec2 u(std::cos(a), std::sin(a));
+    auto trace = [&](double r0, double r1) {
+      for (double r = r0; r <= r1; r += 0.5 * res) {
+        const Cell c = CellOf(o.head<2>() + r * u);
+        if (Contains(c)) crossed[Index(c)] = 1;
+      }
+    };
+    double lo = s[0].first, hi = s[0].second;
+    for (std::size_t k = 1; k < s.size(); ++k) {
+      if (s[k].first <= hi + res) {
+        hi = std::max<double>(hi, s[k].second);
+      } else {
+        trace(lo, hi);
+        lo = s[k].first, hi = s[k].second;
+      }
+    }
+    trace(lo, hi);
+  }
+  for (std::size_t k = 0; k < log_odds_.size(); ++k) {
+    if (!crossed[k] || cloud_obstacle_[k]) continue;
+    Add(Cell{static_cast<int>(k % static_cast<std::size_t>(width_)),
+             static_cast<int>(k / static_cast<std::size_t>(width_))},
+        params_.cloud_log_odds_floor);
+  }
+}
+
+void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB,
+                               double max_range) {
   const Pose3 X_ML = X_MB.To3d() * scan.X_BL;
   const Eigen::Vector3d o = X_ML.translation();
   const Cell origin_cell = CellOf(o.head<2>());
@@ -191,10 +250,11 @@ void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_M
   for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
     const double r = scan.ranges[k];
     if (!std::isfinite(r) || r < scan.range_min) continue;
-    const bool hit = r < scan.range_max;
-    if (!hit && !params_.clear_on_no_return) continue;
+    const bool beyond = r > max_range && r < scan.range_max;
+    const bool hit = r < scan.range_max && !beyond;
+    if (!hit && !beyond && !params_.clear_on_no_return) continue;
     const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
-    const double len = hit ? r : range_cap;
+    const double len = hit ? r : (beyond ? max_range : range_cap);
     const Eigen::Vector3d p = X_ML * Eigen::Vector3d(len * std::cos(a), len * std::sin(a), 0.0);
     const Cell end = CellOf(p.head<2>());
     TraceLine(origin_cell, end, [&](const Cell& c) {
@@ -202,7 +262,7 @@ void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_M
       if (c == end && hit) {
         Add(c, params_.log_odds_hit);
         AddReturn(c, p.head<2>());
-      } else if (!(c == end) && (params_.lrf_clears_cloud_obstacles || !cloud_obstacle_[Index(c)])) {
+      } else if (!(c == end) && (params_.lrf_clears_cloud_obstacles || !(cloud_obstacle_[Index(c)] & 1))) {
         Add(c, params_.log_odds_miss);
       }
     });

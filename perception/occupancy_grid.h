@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ struct OccupancyGridParams {
   /// height passes under a desk top or over a low cabinet the cloud saw; it proves nothing
   /// about the rest of the band the body occupies.
   bool lrf_clears_cloud_obstacles = false;
+  /// InsertRays: a TLS beam clears the cells its plan projection crosses while it runs at most
+  /// this high (m, map z): a cell it crosses that low holds nothing taller there, and no
+  /// obstacle below it (other than an occluded one lower than this) was missed, [0, 5]
+  double ray_clear_z_max = 0.4;
+  double ray_bin_deg = 0.1;  ///< InsertRays: azimuth bins whose beams share a direction, [0.001, 5]
 
   template <class V>
   void Visit(V& v) {
@@ -64,6 +70,8 @@ struct OccupancyGridParams {
     v("cloud_log_odds_floor", cloud_log_odds_floor, Bounds{-20.0, -1e-6});
     v("clear_on_no_return", clear_on_no_return);
     v("lrf_clears_cloud_obstacles", lrf_clears_cloud_obstacles);
+    v("ray_clear_z_max", ray_clear_z_max, Bounds{0.0, 5.0});
+    v("ray_bin_deg", ray_bin_deg, Bounds{0.001, 5.0});
   }
   /// ValidateParams plus cross-field checks (band order); throws InputError.
   void Validate() const;
@@ -104,13 +112,24 @@ class OccupancyGrid {
 
   // Updates.
   /// Adds a batch of 3D points (map frame, m), e.g. one registered TLS scan: a cell with at
-  /// least `min_points_per_cell` points in the obstacle band gains `cloud_log_odds_hit` once; a
-  /// cell with floor points and no band points gains `cloud_log_odds_floor` once. Points outside
-  /// the grid are ignored.
+  /// least `min_points_per_cell` points in the obstacle band gains `cloud_log_odds_hit` once
+  /// (after discarding free evidence it had: band beats floor, in any batch order); a cell with
+  /// floor points and no band points gains `cloud_log_odds_floor` once, unless an earlier batch
+  /// marked it with band points. Points outside the grid are ignored.
   void InsertPoints(const std::vector<Eigen::Vector3d>& points_M);
+  /// Free space from the beams of one registered TLS scan taken from `origin_M` (scanner
+  /// centre, map frame): each return at most `obstacle_z_max` high clears (`cloud_log_odds_floor`,
+  /// once per cell) the cells its plan projection crosses while the beam is below
+  /// `ray_clear_z_max`, up to a cell short of the return. Beams are grouped in azimuth bins of
+  /// `ray_bin_deg` and their cleared intervals merged, so the cost is per bin, not per point.
+  /// A cell where any TLS band point fell (InsertPoints, call those first) is never cleared.
+  /// This fills the far floor, where floor returns are too sparse to mark every cell.
+  void InsertRays(const Eigen::Vector3d& origin_M, const std::vector<Eigen::Vector3d>& points_M);
   /// Ray-traces one LRF scan taken with the base at `X_MB` (map frame): cells along each beam
-  /// become freer, the end cell of each return more occupied. Beams outside the grid are clipped.
-  void InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB);
+  /// become freer, the end cell of each return more occupied. Beams outside the grid are clipped;
+  /// returns beyond `max_range` (m) only clear up to it.
+  void InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB,
+                  double max_range = std::numeric_limits<double>::infinity());
   /// Sets a cell's state directly (maps drawn in code, closing a door in a test).
   void SetState(const Cell& c, CellState state);
   /// Marks every cell whose centre lies in the axis-aligned box [lo, hi] (map, m).
@@ -153,7 +172,7 @@ class OccupancyGrid {
   std::vector<float> return_dx_, return_dy_;  // sums of return offsets from the cell centre, m
   std::vector<float> return_xx_, return_xy_, return_yy_;  // sums of their products, m^2
   std::vector<std::uint32_t> return_n_;
-  std::vector<std::uint8_t> cloud_obstacle_;  // 1: band points of a 3D scan fell in the cell
+  std::vector<std::uint8_t> cloud_obstacle_;  // bit 0: marked by 3D band points; bit 1: any band point
 };
 
 /// Clearance of every cell: distance (m) from its centre to the boundary of the nearest

@@ -57,6 +57,16 @@ struct DriveParams {
   /// The base stands still for the TLS scan's duration (pulses / pulse rate of the profile);
   /// false: scans take no simulation time (the behaviour before; tests of pure navigation).
   bool tls_scan_takes_time = true;
+  /// While driving (localised), both LRF sweeps go into the obstacle map every this many
+  /// seconds (0: only those at scan positions), traced up to `map_lrf_range`: obstacles the
+  /// TLS saw edge-on (an open door leaf) appear before the base reaches them. They never
+  /// clear cells with 3D band evidence (occupancy_grid.lrf_clears_cloud_obstacles). [0, 100]
+  double map_lrf_period = 0.5;
+  double map_lrf_range = 4.0;  ///< m, (0, 100]
+  /// A leg that ends blocked or unreachable is planned again this many times per NavigateTo
+  /// (with the LRF evidence now in the map; first a TLS scan there when the pose is new and the
+  /// localisation matches) before the mission gives up. [0, 20]
+  int max_relegs = 3;
 
   sim::RobotBodyParams body = DefaultBody();
   perception::OccupancyGridParams grid;
@@ -90,6 +100,9 @@ struct DriveParams {
     v("initial_sigma_yaw_deg", initial_sigma_yaw_deg, Bounds{1e-3, 180.0});
     v("map_margin", map_margin, Bounds{0.0, 20.0});
     v("tls_scan_takes_time", tls_scan_takes_time);
+    v("map_lrf_period", map_lrf_period, Bounds{0.0, 100.0});
+    v("map_lrf_range", map_lrf_range, Bounds{1e-3, 100.0});
+    v("max_relegs", max_relegs, Bounds{0, 20});
     v("body", body);
     v("occupancy_grid", grid);
     v("amcl", amcl);

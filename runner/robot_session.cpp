@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <limits>
 #include <queue>
 
 #include "common/error.h"
@@ -55,6 +56,8 @@ std::vector<Eigen::Vector3d> ScanPointsInMap(const interfaces::TlsScan& scan, co
 // than in it), else the last known point at all (into the doorway when already in front of
 // it). Targets within `exclusion` of an earlier scan position are spent (that scan did not
 // reveal the way). nullopt + `why`: no route even through unknown space, or no progress.
+constexpr double kUnknownCost = 3.0;
+
 std::vector<Vec2> ExplorationTarget(const perception::OccupancyGrid& grid, const Vec2& from,
                                       const Vec2& goal, double pass_clearance, double target_clearance,
                                       const std::vector<Pose2>& scan_poses, double exclusion,
@@ -105,7 +108,13 @@ std::vector<Vec2> ExplorationTarget(const perception::OccupancyGrid& grid, const
         if (di == 0 && dj == 0) continue;
         const perception::Cell nb{c.i + di, c.j + dj};
         if (!passable(nb)) continue;
-        const double nd = d + res * ((di != 0 && dj != 0) ? std::sqrt(2.0) : 1.0);
+        // Unknown (or too narrow when unknown is an obstacle) costs kUnknownCost per metre:
+        // the route keeps to what the scans saw (e.g. the wedge of a room seen through its
+        // door) rather than cutting a corner through a shadow it cannot scan from.
+        const bool known_ok = grid.State(nb) == perception::CellState::kFree &&
+                              known.ClearanceOfCell(nb) >= pass_clearance;
+        const double nd = d + res * ((di != 0 && dj != 0) ? std::sqrt(2.0) : 1.0) *
+                                  (known_ok ? 1.0 : kUnknownCost);
         const std::size_t ni = grid.Index(nb);
         if (nd < dist[ni] - 1e-12) dist[ni] = nd, parent[ni] = idx, queue.emplace(nd, ni);
       }
@@ -175,6 +184,7 @@ double Rms(double sum_sq, std::size_t n) { return n ? std::sqrt(sum_sq / n) : 0.
 
 struct RobotSession::Impl {
   using Clock = std::chrono::steady_clock;
+  static constexpr int kMaxMapReplans = 30;  // per NavigateTo
 
   // ---- World side.
   const sim::EmbreeWorld& world;
@@ -192,9 +202,19 @@ struct RobotSession::Impl {
   // ---- Robot side.
   interfaces::TlsScan last_scan;
   std::vector<std::vector<Eigen::Vector3d>> batches;  // the robot's own map points, per scan
-  std::vector<std::pair<interfaces::LrfScan, Pose2>> map_sweeps;  // LRF sweeps at scan poses
+  std::vector<Eigen::Vector3d> batch_origins;         // scanner centre of each batch (map)
+  struct MapSweep {
+    interfaces::LrfScan scan;
+    Pose2 X_MB;
+    double max_range;  // m; infinite for the sweeps taken at scan positions
+  };
+  std::vector<MapSweep> map_sweeps;  // LRF sweeps at scan poses and while driving
+  std::size_t scan_sweeps_at = 0;    // index of the last scan's two sweeps in map_sweeps
+  double next_map_sweep = 0.0;       // s, next driving sweep into the map
+  bool leg_blocked = false;          // the driving sweeps put an obstacle on the leg
   std::vector<Eigen::Vector3d> extent_extra{Eigen::Vector3d::Zero()};  // map must cover these
   perception::OccupancyGrid grid{perception::OccupancyGridParams{}, Vec2::Zero(), 1, 1};
+  perception::OccupancyGrid localiser_grid = grid;  // AMCL's: without the driving sweeps
   std::optional<perception::Amcl> amcl;
   std::optional<autonomy::GlobalPlanner> planner;
   std::optional<autonomy::LocalController> controller;
@@ -203,6 +223,9 @@ struct RobotSession::Impl {
   Pose2 target_M{};
   bool final_leg = true;
   int nav_scans = 0;  // scans taken by the current NavigateTo
+  int relegs = 0;     // legs planned again by the current NavigateTo since its last scan
+  int map_replans = 0;  // legs replanned because the driving sweeps put an obstacle on them
+  std::vector<Vec2> leg_path;  // the path being followed (map)
 
   double t = 0.0;
   std::uint64_t base_seq = 0, top_seq = 0;
@@ -250,9 +273,12 @@ struct RobotSession::Impl {
     controller.emplace(params.controller);
     controller->SetReplanner([this](const Pose2& X_MB, const std::vector<Vec2>& obstacles_M) {
       ++log.replans;
+      planner->SetMap(grid);  // with the LRF evidence gathered while driving
       planner->AddObstacles(obstacles_M);
       autonomy::GlobalPlan plan = planner->Plan(X_MB, target_M);
       if (plan.ok()) {
+        leg_path.clear();
+        for (const auto& q : plan.path) leg_path.emplace_back(q.pose.x, q.pose.y);
         std::vector<Pose2> poses;
         for (const auto& q : plan.path) poses.push_back(q.pose);
         log.plans.push_back(std::move(poses));
@@ -301,7 +327,20 @@ struct RobotSession::Impl {
     for (auto it = extent_extra.rbegin(); it != extent_extra.rend(); ++it) extent.push_back(*it);
     grid = perception::OccupancyGrid::Covering(params.grid, extent, params.map_margin);
     for (const auto& b : batches) grid.InsertPoints(b);
-    for (const auto& [sweep_scan, X_MB] : map_sweeps) grid.InsertScan(sweep_scan, X_MB);
+    // Beams clear the floor they cross (after all band points: those cells stay protected).
+    for (std::size_t k = 0; k < batches.size(); ++k) grid.InsertRays(batch_origins[k], batches[k]);
+    // AMCL's map: the scans and the sweeps taken at scan positions only. The sweeps taken
+    // while driving were placed with the estimate of that moment; in AMCL's field they would
+    // confirm its own drift.
+    for (const MapSweep& m : map_sweeps)
+      if (!std::isfinite(m.max_range)) grid.InsertScan(m.scan, m.X_MB, m.max_range);
+    for (const Pose2& s : log.scan_poses) {
+      const double r = 0.5 * params.body.footprint_width;
+      grid.FillBox(Vec2(s.x - r, s.y - r), Vec2(s.x + r, s.y + r), perception::CellState::kFree);
+    }
+    localiser_grid = grid;
+    for (const MapSweep& m : map_sweeps)
+      if (std::isfinite(m.max_range)) grid.InsertScan(m.scan, m.X_MB, m.max_range);
     for (const Pose2& s : log.scan_poses) {
       const double r = 0.5 * params.body.footprint_width;
       grid.FillBox(Vec2(s.x - r, s.y - r), Vec2(s.x + r, s.y + r), perception::CellState::kFree);
@@ -311,7 +350,7 @@ struct RobotSession::Impl {
   // AMCL restarted on the current map about X_MB; the planner gets the map.
   void RestartLocaliser(const Pose2& X_MB) {
     const double sxy = params.initial_sigma_xy, syaw = DegToRad(params.initial_sigma_yaw_deg);
-    amcl.emplace(grid, params.amcl, seed * 1000003ULL + amcl_epoch++);
+    amcl.emplace(localiser_grid, params.amcl, seed * 1000003ULL + amcl_epoch++);
     amcl->SetInitialPose(X_MB, Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
     if (!planner)
       planner.emplace(grid, params.planner, seed);
@@ -381,8 +420,11 @@ struct RobotSession::Impl {
     log.scan_poses.push_back(X_MB_est);
     batches.push_back(ScanPointsInMap(last_scan, last_scan.X_MS_estimate,
                                       params.grid.obstacle_z_max + 0.1, params.max_points_per_scan));
-    map_sweeps.emplace_back(base_scan, X_MB_est);
-    map_sweeps.emplace_back(top_scan, X_MB_est);
+    batch_origins.push_back(last_scan.X_MS_estimate.translation());
+    scan_sweeps_at = map_sweeps.size();
+    const double inf = std::numeric_limits<double>::infinity();
+    map_sweeps.push_back({base_scan, X_MB_est, inf});
+    map_sweeps.push_back({top_scan, X_MB_est, inf});
     RebuildMap();
     RestartLocaliser(X_MB_est);
     if (amcl->Update(body->Odometry(), top_scan, /*force=*/true).updated) ++log.amcl_updates;
@@ -404,16 +446,89 @@ struct RobotSession::Impl {
     last_scan.X_MS_estimate = X_MS;
     batches.back() = ScanPointsInMap(last_scan, X_MS, params.grid.obstacle_z_max + 0.1,
                                      params.max_points_per_scan);
+    batch_origins.back() = X_MS.translation();
     const Pose2 old = log.scan_poses.back();
     log.scan_poses.back() = X_MB_scan;
-    for (std::size_t k = map_sweeps.size() >= 2 ? map_sweeps.size() - 2 : 0; k < map_sweeps.size(); ++k)
-      map_sweeps[k].second = X_MB_scan;
+    for (std::size_t k = scan_sweeps_at; k < std::min(scan_sweeps_at + 2, map_sweeps.size()); ++k)
+      map_sweeps[k].X_MB = X_MB_scan;
     RebuildMap();
     // The base may have moved since the scan: carry the odometry offset over.
     const Pose2 now = Compose(Compose(X_MB_scan, Inverse(old)), X_MB_est);
     X_MB_est = now;
     RestartLocaliser(now);
     if (amcl->Update(body->Odometry(), top_scan, /*force=*/true).updated) ++log.amcl_updates;
+  }
+
+  // Robot side: both LRF sweeps into the map every map_lrf_period while localised (not into
+  // AMCL's field, which restarts only at scans).
+  void MapDrivingSweeps(const perception::LocalisationEstimate& est) {
+    if (params.map_lrf_period <= 0.0 || t + 1e-9 < next_map_sweep) return;
+    if (est.status != perception::LocalisationStatus::kLocalised) return;
+    next_map_sweep = t + params.map_lrf_period;
+    for (const interfaces::LrfScan* sc : {&base_scan, &top_scan}) {
+      map_sweeps.push_back({*sc, X_MB_est, params.map_lrf_range});
+      grid.InsertScan(*sc, X_MB_est, params.map_lrf_range);
+    }
+    leg_blocked = LegBlockedInMap();
+  }
+
+  // Robot side: an occupied cell within `r` of a point of the rest of the leg (from the point
+  // nearest to the robot, `map_lrf_range` ahead) or within robot_radius of its end: the leg
+  // must be planned again on the updated map before the base runs into it.
+  bool LegBlockedInMap() const {
+    if (leg_path.empty()) return false;
+    const double res = grid.Resolution();
+    auto occupied_near = [&](const Vec2& p, double r) {
+      const perception::Cell c0 = grid.CellOf(p);
+      const int n = static_cast<int>(std::ceil(r / res));
+      for (int dj = -n; dj <= n; ++dj)
+        for (int di = -n; di <= n; ++di) {
+          const perception::Cell c{c0.i + di, c0.j + dj};
+          if (grid.State(c) == perception::CellState::kOccupied &&
+              (grid.CentreOf(c) - p).norm() < r + 0.5 * res)
+            return true;
+        }
+      return false;
+    };
+    const Vec2 here(X_MB_est.x, X_MB_est.y);
+    std::size_t k0 = 0;
+    for (std::size_t k = 1; k < leg_path.size(); ++k)
+      if ((leg_path[k] - here).squaredNorm() < (leg_path[k0] - here).squaredNorm()) k0 = k;
+    const double r = params.planner.robot_radius - 0.05;
+    double along = 0.0;
+    for (std::size_t k = k0; k < leg_path.size() && along <= params.map_lrf_range; ++k) {
+      if (k > k0) along += (leg_path[k] - leg_path[k - 1]).norm();
+      if ((leg_path[k] - here).norm() < 0.4) continue;  // the controller's LRF check is closer
+      if (occupied_near(leg_path[k], r)) return true;
+    }
+    return (leg_path.back() - here).norm() <= params.map_lrf_range &&
+           (leg_path.back() - here).norm() >= 0.4 && occupied_near(leg_path.back(), params.planner.robot_radius);
+  }
+
+  // A leg ended blocked or unreachable: plan it again (true) with what the LRFs added to the
+  // map, after a TLS scan here if the pose is new (a closer look at the doorway) and the
+  // localisation matches the map. False when the re-legs are spent.
+  bool Releg(const std::string& why) {
+    if (relegs >= params.max_relegs) return false;
+    ++relegs;
+    cmd = {};
+    if (params.trace) std::fprintf(stderr, "t=%.2f re-leg %d after: %s\n", t, relegs, why.c_str());
+    bool fresh = nav_scans + 1 < params.max_scans;
+    for (const Pose2& sp : log.scan_poses)
+      fresh = fresh && std::hypot(X_MB_est.x - sp.x, X_MB_est.y - sp.y) >= params.frontier_exclusion;
+    if (fresh) {
+      if (amcl->Update(body->Odometry(), top_scan, /*force=*/true).updated) ++log.amcl_updates;
+      const auto& e = amcl->Estimate();
+      fresh = e.status == perception::LocalisationStatus::kLocalised &&
+              e.inlier_ratio >= params.amcl.lost_inlier_ratio;
+    }
+    if (fresh) {
+      TakeScan(0.0);
+      relegs = 0;  // progress: a new scan position (bounded by max_scans)
+    } else {
+      planner->SetMap(grid);
+    }
+    return true;
   }
 
   void Finish(DriveStatus s, const std::string& msg) {
@@ -427,6 +542,8 @@ struct RobotSession::Impl {
     // path instead of turning on the spot, which a doorway may not allow.
     if (!final && plan.path.size() >= 2) plan.path.back().pose.yaw = plan.path[plan.path.size() - 2].pose.yaw;
     target_M = plan.path.back().pose;
+    leg_path.clear();
+    for (const auto& q : plan.path) leg_path.emplace_back(q.pose.x, q.pose.y);
     std::vector<Pose2> poses;
     for (const auto& p : plan.path) poses.push_back(p.pose);
     log.plans.push_back(std::move(poses));
@@ -536,6 +653,9 @@ struct RobotSession::Impl {
     target_M = goal;
     final_leg = true;
     nav_scans = 0;
+    relegs = 0;
+    map_replans = 0;
+    leg_blocked = false;
     log.status = DriveStatus::kTimeout;
     log.message.clear();
     const Eigen::Vector3d g3(goal.x, goal.y, 0.0);
@@ -553,6 +673,16 @@ struct RobotSession::Impl {
         break;
       }
       const perception::LocalisationEstimate& est = StepOnce();
+      MapDrivingSweeps(est);
+      if (leg_blocked && map_replans < kMaxMapReplans) {
+        leg_blocked = false;
+        ++map_replans;
+        if (params.trace) std::fprintf(stderr, "t=%.2f leg blocked in the updated map: replanning\n", t);
+        planner->SetMap(grid);
+        cmd = {};
+        running = PlanLeg();
+        continue;
+      }
       const autonomy::ControlOutput out = controller->Update(t, X_MB_est, est.status, base_scan);
       cmd = out.cmd;
       if (params.trace && (log.estimated.size() % 50 == 0 || out.finished))
@@ -586,6 +716,10 @@ struct RobotSession::Impl {
           }
           break;
         case autonomy::NavStatus::kUnreachable:
+          if (Releg(out.message)) {
+            running = PlanLeg();
+            break;
+          }
           Finish(DriveStatus::kUnreachable, out.message);
           running = false;
           break;
@@ -594,6 +728,10 @@ struct RobotSession::Impl {
           running = false;
           break;
         default:
+          if (out.status == autonomy::NavStatus::kBlocked && Releg(out.message)) {
+            running = PlanLeg();
+            break;
+          }
           Finish(DriveStatus::kBlocked, out.message);
           running = false;
           break;

@@ -66,6 +66,46 @@ TEST(GlobalPlanner, FindsAPathThroughTheDoorGapWithRobotRadiusClearance) {
   EXPECT_NEAR(plan.path.back().s, plan.length, 1e-9);
 }
 
+// The grid Dijkstra seed (default) and OMPL RRT* (grid_seed: false) both cross the door gap
+// near its middle with the robot radius; the grid seed needs no RRT* iterations.
+TEST(GlobalPlanner, GridSeedAndRrtStarBothCrossTheDoorCentred) {
+  for (const bool grid : {true, false}) {
+    GlobalPlannerParams p;
+    p.grid_seed = grid;
+    GlobalPlanner planner(OpenMap(), p, 1);
+    const GlobalPlan plan = planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, kPi / 2});
+    ASSERT_TRUE(plan.ok()) << grid << ": " << plan.message;
+    EXPECT_EQ(plan.iterations == 0, grid);
+    EXPECT_GE(PathClearance(plan, OpenMap()), p.robot_radius - 1e-9);
+    int crossings = 0;
+    for (std::size_t k = 0; k + 1 < plan.path.size(); ++k) {
+      const auto& a = plan.path[k].pose;
+      const auto& b = plan.path[k + 1].pose;
+      if ((a.x - 5.0) * (b.x - 5.0) <= 0.0) {
+        ++crossings;
+        EXPECT_NEAR(0.5 * (a.y + b.y), 3.0, 0.1) << grid;
+      }
+    }
+    EXPECT_GE(crossings, 1);
+    EXPECT_LT(plan.length, 1.3 * (std::hypot(3.0, 0.8) + std::hypot(3.0, 1.0))) << grid;
+  }
+}
+
+// A plan that starts 0.35 m in front of the door (a replan there) still reports the doorway,
+// so the controller crosses it aligned; one that starts inside the doorway does not.
+TEST(GlobalPlanner, ReportsADoorwayJustAheadOfTheStart) {
+  GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, 1);
+  const GlobalPlan ahead = planner.Plan({4.6, 3.0, 0.0}, {7.0, 3.0, 0.0});
+  ASSERT_TRUE(ahead.ok()) << ahead.message;
+  ASSERT_EQ(ahead.passages.size(), 1u);
+  EXPECT_NEAR(ahead.passages[0].centre.x(), 5.0, 0.1);
+  EXPECT_NEAR(ahead.passages[0].centre.y(), 3.0, 0.05);
+  EXPECT_NEAR(ahead.passages[0].axis_yaw, 0.0, 0.1);
+  const GlobalPlan inside = planner.Plan({5.05, 3.0, 0.0}, {7.0, 3.0, 0.0});
+  ASSERT_TRUE(inside.ok()) << inside.message;
+  EXPECT_TRUE(inside.passages.empty());
+}
+
 // A goal just behind the door (clearance still below passage_clearance at the goal): the
 // doorway at the very end of the path is reported, so the controller runs its passage manoeuvre.
 TEST(GlobalPlanner, ReportsADoorwayAtTheVeryEndOfThePath) {

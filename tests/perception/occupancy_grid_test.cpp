@@ -92,6 +92,73 @@ TEST(OccupancyGrid, LrfBeamsDoNotClearObstaclesSeenIn3D) {
   }
 }
 
+// TLS beams clear the floor they cross low (issue 4 drive): a scanner at 1.6 m in a 10 m
+// room whose floor returns are thinned to one every 2 m leaves most far cells unknown with
+// InsertPoints alone; InsertRays fills them, stops a cell short of a wall, keeps a low box
+// that band points marked, and does not clear the cells a beam crosses above ray_clear_z_max.
+TEST(OccupancyGrid, TlsRaysClearTheFloorTheyCrossLowButNeverABandCell) {
+  const Eigen::Vector3d o(0.0, 0.0, 1.6);
+  std::vector<Eigen::Vector3d> pts;
+  // Wall at x = 10.02 from 0.1 to 1.8 m (band returns), for y in [-2, 2].
+  for (double y = -2.0; y <= 2.0; y += 0.01)
+    for (double z = 0.1; z <= 1.8; z += 0.1) pts.emplace_back(10.02, y, z);
+  // Sparse floor returns along +x: every 2 m, for y in [-2, 2] every 1 cm (azimuths).
+  for (double x = 2.0; x <= 9.0; x += 2.0)
+    for (double y = -2.0; y <= 2.0; y += 0.01) pts.emplace_back(x, y, 0.0);
+  // A low box (0.3 m high) at x 6..6.3, y 1..1.3: band points on its top.
+  for (double x = 6.0; x <= 6.3; x += 0.02)
+    for (double y = 1.0; y <= 1.3; y += 0.02) pts.emplace_back(x, y, 0.3);
+  OccupancyGridParams p;
+  OccupancyGrid only_points(p, {-1.0, -3.0}, 240, 120);
+  only_points.InsertPoints(pts);
+  OccupancyGrid g = only_points;
+  g.InsertRays(o, pts);
+  EXPECT_EQ(only_points.StateAt({7.0, 0.5}), CellState::kUnknown);  // between floor rows
+  EXPECT_EQ(g.StateAt({7.0, 0.5}), CellState::kFree);
+  EXPECT_EQ(g.StateAt({9.0, -1.5}), CellState::kFree);
+  EXPECT_EQ(g.StateAt({9.93, 0.0}), CellState::kFree);     // up to the cell before the wall
+  EXPECT_EQ(g.StateAt({10.02, 0.0}), CellState::kOccupied);  // the wall
+  EXPECT_EQ(g.StateAt({10.5, 0.0}), CellState::kUnknown);    // behind it
+  EXPECT_EQ(g.StateAt({6.15, 1.15}), CellState::kOccupied);  // the low box stays
+  // Near the scanner every beam runs above 0.4 m (the nearest floor return, 2 m out, is
+  // crossed below 0.4 m only from 1.5 m on): no clearing there.
+  EXPECT_EQ(g.StateAt({0.5, 0.0}), CellState::kUnknown);
+  // Disabled: nothing changes.
+  p.ray_clear_z_max = 0.0;
+  OccupancyGrid off(p, {-1.0, -3.0}, 240, 120);
+  off.InsertPoints(pts);
+  off.InsertRays(o, pts);
+  EXPECT_EQ(off.LogOddsData(), only_points.LogOddsData());
+}
+
+// A door leaf seen edge-on by one scan (floor returns in its cells only) and face-on by
+// another (band returns) is an obstacle whatever the scan order; before, +2 and -2 cancelled.
+TEST(OccupancyGrid, BandPointsBeatFloorPointsOfAnotherScan) {
+  std::vector<Eigen::Vector3d> floor_only, leaf;
+  for (double x = 1.0; x <= 1.9; x += 0.01) {
+    floor_only.emplace_back(x, 0.51, 0.0);
+    for (double z = 0.2; z <= 1.8; z += 0.2) leaf.emplace_back(x, 0.52, z);
+  }
+  for (const bool leaf_first : {false, true}) {
+    OccupancyGrid g(OccupancyGridParams{}, {0.0, 0.0}, 60, 40);
+    g.InsertPoints(leaf_first ? leaf : floor_only);
+    g.InsertPoints(leaf_first ? floor_only : leaf);
+    EXPECT_EQ(g.StateAt({1.5, 0.52}), CellState::kOccupied) << leaf_first;
+  }
+}
+
+// Driving sweeps are traced only up to max_range: a return beyond it clears up to it, no hit.
+TEST(OccupancyGrid, LrfScanWithARangeCapClearsOnlyUpToIt) {
+  const std::vector<Box2> world = {{{-0.6, -0.6}, {5.6, -0.5}}, {{-0.6, 3.5}, {5.6, 3.6}},
+                                   {{-0.6, -0.6}, {-0.5, 3.6}}, {{5.5, -0.6}, {5.6, 3.6}}};
+  OccupancyGrid g(OccupancyGridParams{}, {-1.0, -1.0}, 140, 100);
+  for (int k = 0; k < 5; ++k)
+    g.InsertScan(testing::SimulateScan(world, {2.0, 1.5, 0.0}, 1, k, 0.0), {2.0, 1.5, 0.0}, 2.0);
+  EXPECT_EQ(g.StateAt({3.5, 1.5}), CellState::kFree);      // 1.5 m out
+  EXPECT_EQ(g.StateAt({4.6, 1.5}), CellState::kUnknown);   // beyond 2 m
+  EXPECT_EQ(g.StateAt({5.52, 1.5}), CellState::kUnknown);  // the wall 3.5 m out: no hit
+}
+
 TEST(DistanceField, ClearanceInTheDoorGapAndInflation) {
   const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms());
   const DistanceField f(g, true);
