@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+
+#include "common/error.h"
 
 #include "evaluation/hungarian.h"
 
@@ -168,6 +171,160 @@ PatchEvaluation EvaluatePatches(const std::vector<Patch>& model, const std::vect
       out.unmatched_truth_ids.push_back(truth[i].id);
     }
   }
+  return out;
+}
+
+// ---- Columns as objects ----
+
+namespace {
+
+// Andrew's monotone chain: CCW convex hull without collinear points.
+std::vector<Vec2> ConvexHull(std::vector<Vec2> p) {
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  p.erase(std::unique(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+            return (a - b).norm() < 1e-12;
+          }),
+          p.end());
+  if (p.size() < 3) return p;
+  auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Vec2> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+}  // namespace
+
+Vec2 ColumnObject::Centre() const {
+  // Area centroid of a simple polygon (shoelace); vertex mean when degenerate.
+  double a = 0.0;
+  Vec2 c = Vec2::Zero();
+  for (std::size_t i = 0; i < footprint.size(); ++i) {
+    const Vec2& p = footprint[i];
+    const Vec2& q = footprint[(i + 1) % footprint.size()];
+    const double w = p.x() * q.y() - q.x() * p.y();
+    a += w;
+    c += w * (p + q);
+  }
+  if (std::abs(a) < 1e-15) {
+    Vec2 m = Vec2::Zero();
+    for (const Vec2& p : footprint) m += p;
+    return footprint.empty() ? m : Vec2(m / static_cast<double>(footprint.size()));
+  }
+  return c / (3.0 * a);
+}
+
+double ColumnObject::Area() const { return std::abs(SignedArea(footprint)); }
+
+ColumnObject MakeColumnObject(const std::string& id, const std::vector<Patch>& faces) {
+  if (faces.empty()) throw InputError("column '" + id + "'", "no faces");
+  ColumnObject c;
+  c.id = id;
+  c.faces = faces;
+  std::vector<Vec2> plan;
+  c.z_min = std::numeric_limits<double>::infinity();
+  c.z_max = -std::numeric_limits<double>::infinity();
+  for (const Patch& f : faces)
+    for (const Vec3& v : f.polygon) {
+      plan.emplace_back(v.x(), v.y());
+      c.z_min = std::min(c.z_min, v.z());
+      c.z_max = std::max(c.z_max, v.z());
+    }
+  c.footprint = ConvexHull(plan);
+  if (c.footprint.size() < 3 || !(c.Area() > 1e-9))
+    throw InputError("column '" + id + "'", "footprint has no area");
+  return c;
+}
+
+std::vector<ColumnObject> GroupModelColumns(const std::vector<Patch>& model) {
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<Patch>> groups;
+  for (const Patch& p : model) {
+    if (p.cls != SurfaceClass::kColumn) continue;
+    std::string key = p.id;
+    const auto first = p.id.find('_');
+    if (first != std::string::npos) {
+      const auto second = p.id.find('_', first + 1);
+      if (second != std::string::npos) key = p.id.substr(0, second);
+    }
+    if (!groups.count(key)) order.push_back(key);
+    groups[key].push_back(p);
+  }
+  std::vector<ColumnObject> out;
+  for (const auto& key : order) out.push_back(MakeColumnObject(key, groups[key]));
+  return out;
+}
+
+ColumnEvaluation EvaluateColumns(const std::vector<ColumnObject>& model,
+                                 const std::vector<ColumnObject>& truth,
+                                 const ColumnMatchParams& params, const PatchMatchParams& faces) {
+  ValidateParams(params, "column_match.");
+  ColumnEvaluation out;
+  out.detection.n_model = static_cast<int>(model.size());
+  out.detection.n_truth = static_cast<int>(truth.size());
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(truth.size(), model.size(), kForbiddenCost);
+  Eigen::MatrixXd iou = Eigen::MatrixXd::Zero(truth.size(), model.size());
+  for (std::size_t r = 0; r < truth.size(); ++r)
+    for (std::size_t c = 0; c < model.size(); ++c) {
+      const double v = PolygonIoU(model[c].footprint, truth[r].footprint);
+      iou(r, c) = v;
+      if (v > params.min_plan_iou) cost(r, c) = 1.0 - v;
+    }
+  const std::vector<int> assign = SolveAssignment(cost);
+  std::vector<char> model_used(model.size(), 0), truth_used(truth.size(), 0);
+  for (std::size_t r = 0; r < truth.size(); ++r) {
+    if (assign[r] < 0) continue;
+    const ColumnObject& t = truth[r];
+    const ColumnObject& m = model[assign[r]];
+    ColumnPair p;
+    p.model_index = assign[r];
+    p.truth_index = static_cast<int>(r);
+    p.model_id = m.id;
+    p.truth_id = t.id;
+    p.plan_iou = iou(r, assign[r]);
+    p.centre_error = (m.Centre() - t.Centre()).norm();
+    p.area_error = std::abs(m.Area() - t.Area());
+    p.diameter_error = std::abs(2.0 * std::sqrt(m.Area() / kPi) - 2.0 * std::sqrt(t.Area() / kPi));
+    p.height_error = std::abs((m.z_max - m.z_min) - (t.z_max - t.z_min));
+    if (static_cast<int>(t.faces.size()) <= params.max_polygonal_faces) {
+      p.faces_compared = true;
+      p.faces = EvaluatePatches(m.faces, t.faces, faces);
+      const auto& d = p.faces.detection[static_cast<int>(SurfaceClass::kColumn)];
+      auto& fd = out.face_detection;
+      fd.n_truth += d.n_truth, fd.n_model += d.n_model, fd.tp += d.tp, fd.fp += d.fp,
+          fd.fn += d.fn;
+      const auto& a = p.faces.accuracy[static_cast<int>(SurfaceClass::kColumn)];
+      out.face_accuracy.d_v.Merge(a.d_v);
+      out.face_accuracy.d_h.Merge(a.d_h);
+      out.face_accuracy.phi_deg.Merge(a.phi_deg);
+    }
+    out.plan_iou.Add(p.plan_iou);
+    out.centre_error.Add(p.centre_error);
+    out.area_error.Add(p.area_error);
+    out.diameter_error.Add(p.diameter_error);
+    out.height_error.Add(p.height_error);
+    model_used[assign[r]] = truth_used[r] = 1;
+    ++out.detection.tp;
+    out.pairs.push_back(std::move(p));
+  }
+  out.detection.fp = out.detection.n_model - out.detection.tp;
+  out.detection.fn = out.detection.n_truth - out.detection.tp;
+  for (std::size_t i = 0; i < model.size(); ++i)
+    if (!model_used[i]) out.unmatched_model_ids.push_back(model[i].id);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (!truth_used[i]) out.unmatched_truth_ids.push_back(truth[i].id);
   return out;
 }
 

@@ -161,6 +161,22 @@ std::vector<Patch> TruthPatches(const scenes::GroundTruth& truth, const std::str
   return out;
 }
 
+std::vector<ColumnObject> TruthColumns(const scenes::GroundTruth& truth,
+                                       const std::string& room) {
+  FindRoomOrThrow(truth, room);
+  std::vector<ColumnObject> out;
+  for (const auto& e : truth.elements)
+    if (e.element_class == ElementClass::kColumn && InRoom(e, room)) {
+      std::vector<Patch> faces;
+      for (auto& s : RoomSurfaces(truth, room))
+        if (s.patch.cls == SurfaceClass::kColumn &&
+            s.patch.id.compare(0, e.id.size() + 1, e.id + "_") == 0)
+          faces.push_back(std::move(s.patch));
+      if (!faces.empty()) out.push_back(MakeColumnObject(e.id, faces));
+    }
+  return out;
+}
+
 std::vector<Patch> TruthOpeningPatches(const scenes::GroundTruth& truth, const std::string& room) {
   std::vector<Patch> out;
   for (const auto& s : RoomSurfaces(truth, room))

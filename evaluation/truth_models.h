@@ -43,6 +43,7 @@
 #include "common/params.h"
 #include "evaluation/metrics.h"
 #include "evaluation/metrics_floorplan.h"
+#include "evaluation/metrics_patches.h"
 #include "evaluation/model_files.h"
 #include "scenes/ground_truth.h"
 #include "sim/embree_world.h"
@@ -52,6 +53,12 @@ namespace mopad::evaluation {
 /// Truth SM3 patches of `room` (world frame). InputError for an unknown room or a room without
 /// structural elements.
 std::vector<Patch> TruthPatches(const scenes::GroundTruth& truth, const std::string& room);
+
+/// Truth columns of `room` as objects (metrics_patches.h): one per sidecar element of class
+/// column, its faces as in TruthPatches (ids `<element>_<k>`, normals away from the column), its
+/// footprint the plan convex hull of the faces, heights their z range. Empty when the room has
+/// none; InputError for an unknown room.
+std::vector<ColumnObject> TruthColumns(const scenes::GroundTruth& truth, const std::string& room);
 
 /// Truth floorplan: every truth room as a plan polygon (world x-y), in the sidecar's order.
 std::vector<Room> TruthFloorplan(const scenes::GroundTruth& truth);

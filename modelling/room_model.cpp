@@ -982,14 +982,14 @@ void RoomModel::UpdateVoxels(bool new_scan_only) {
       voxels_.MutableFlags(voxels_.Index(q.x(), q.y(), q.z())) |= VoxelSpace::kOccupied;
     }
   }
-  // Structural: voxels holding a RoI face; inside: voxel centres inside the prism.
-  // A face marks every voxel whose centre is within about half a voxel of it (two layers when
-  // the face runs along a voxel boundary).
-  const double hv = 0.45 * v;
-  const int kf = voxels_.VoxelOf(Vec3(0, 0, roi_.floor_z)).z();
-  const int kc = voxels_.VoxelOf(Vec3(0, 0, roi_.ceiling_z)).z();
-  const int kc0 = voxels_.VoxelOf(Vec3(0, 0, roi_.ceiling_z - hv)).z();
-  const int kc1 = voxels_.VoxelOf(Vec3(0, 0, roi_.ceiling_z + hv)).z();
+  // Structural: the single voxel layer containing a RoI face, as in the evaluator's truth DSM3
+  // (which nudges a face on a voxel boundary to the room side). The face is taken
+  // structure_tolerance into the room so that the robot's few-mm error does not flip a face
+  // lying on a boundary to the layer behind it; a voxel whose centre lies more than half a
+  // voxel behind a face is never structure. Inside: voxel centres inside the prism.
+  const double eps = std::min(params_.structure_tolerance, 0.45 * v) + 1e-9 * v;
+  const int kf = voxels_.VoxelOf(Vec3(0, 0, roi_.floor_z + eps)).z();
+  const int kc = voxels_.VoxelOf(Vec3(0, 0, roi_.ceiling_z - eps)).z();
   for (int j = 0; j < voxels_.Ny(); ++j) {
     for (int i = 0; i < voxels_.Nx(); ++i) {
       const Vec3 c = voxels_.Centre(i, j, 0);
@@ -998,34 +998,43 @@ void RoomModel::UpdateVoxels(bool new_scan_only) {
         if (!voxels_.Contains(i, j, k)) continue;
         std::uint8_t& f = voxels_.MutableFlags(voxels_.Index(i, j, k));
         f |= VoxelSpace::kInside;
-        if (k == kf) f |= VoxelSpace::kStructural;
-      }
-      for (int k = kc0; k <= kc1; ++k) {
-        if (voxels_.Contains(i, j, k)) voxels_.MutableFlags(voxels_.Index(i, j, k)) |= VoxelSpace::kStructural;
+        if (k == kf || k == kc) f |= VoxelSpace::kStructural;
       }
     }
   }
-  auto mark_loop = [&](const std::vector<Vec2>& loop) {
+  // `room_left`: the room lies to the left of each edge (CCW perimeter, CW column) or right.
+  auto mark_loop = [&](const std::vector<Vec2>& loop, bool room_left) {
     const std::size_t m = loop.size();
     for (std::size_t e = 0; e < m; ++e) {
       const Vec2 a = loop[e], b = loop[(e + 1) % m];
-      const Vec2 t = (b - a).normalized(), nrm(t.y(), -t.x());
-      const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (v / 3))));
+      if ((b - a).norm() < 1e-12) continue;
+      const Vec2 t = (b - a).normalized();
+      const Vec2 in = room_left ? Vec2(-t.y(), t.x()) : Vec2(t.y(), -t.x());
+      const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (v / 8))));
       for (int s = 0; s <= steps; ++s) {
-        for (double off : {-hv, hv}) {
-          const Vec2 p = a + (b - a) * (static_cast<double>(s) / steps) + off * nrm;
-          const Eigen::Vector3i q = voxels_.VoxelOf(Vec3(p.x(), p.y(), roi_.floor_z));
-          for (int k = kf; k <= kc; ++k) {
-            if (voxels_.Contains(q.x(), q.y(), k)) {
-              voxels_.MutableFlags(voxels_.Index(q.x(), q.y(), k)) |= VoxelSpace::kStructural;
-            }
+        const Vec2 p = a + (b - a) * (static_cast<double>(s) / steps) + eps * in;
+        const Eigen::Vector3i q = voxels_.VoxelOf(Vec3(p.x(), p.y(), roi_.floor_z));
+        const Vec3 c = voxels_.Centre(q.x(), q.y(), 0);
+        if ((c.head<2>() - a).dot(in) < -0.5 * v) continue;  // centre too far outside the face
+        for (int k = kf; k <= kc; ++k) {
+          if (voxels_.Contains(q.x(), q.y(), k)) {
+            voxels_.MutableFlags(voxels_.Index(q.x(), q.y(), k)) |= VoxelSpace::kStructural;
           }
         }
       }
     }
   };
-  mark_loop(roi_.perimeter);
-  for (const auto& c : roi_.columns) mark_loop(c);
+  auto ccw = [](const std::vector<Vec2>& loop) {
+    double a = 0.0;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const Vec2& p = loop[i];
+      const Vec2& q = loop[(i + 1) % loop.size()];
+      a += p.x() * q.y() - q.x() * p.y();
+    }
+    return a > 0.0;
+  };
+  mark_loop(roi_.perimeter, ccw(roi_.perimeter));
+  for (const auto& c : roi_.columns) mark_loop(c, !ccw(c));
 }
 
 void RoomModel::UpdateCoverage() {

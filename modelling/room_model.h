@@ -63,6 +63,10 @@ struct RoomModelParams {
   double structural_share = 0.05;    ///< sensed share that makes a face structural, [0, 1]
   double voxel_size = 0.1;           ///< m, voxel space edge, [0.02, 1]
   double voxel_margin = 0.5;         ///< m, grid margin around the RoI, [0, 5]
+  /// m, a RoI face is taken this far into the room when picking its voxel layer, so a face the
+  /// robot places a few mm behind a voxel boundary still lands on the room side as the truth's
+  /// does (DSM3: one structural layer per face), [0, 0.45 * voxel_size]
+  double structure_tolerance = 0.01;
   int ray_stride = 2;                ///< every n-th row and column is ray-cast into voxels, [1, 64]
 
   template <class V>
@@ -84,6 +88,7 @@ struct RoomModelParams {
     v("structural_share", structural_share, Bounds{0.0, 1.0});
     v("voxel_size", voxel_size, Bounds{0.02, 1.0});
     v("voxel_margin", voxel_margin, Bounds{0.0, 5.0});
+    v("structure_tolerance", structure_tolerance, Bounds{0.0, 0.45});
     v("ray_stride", ray_stride, Bounds{1, 64});
   }
   void Validate() const { ValidateParams(*this, "room_model."); }

@@ -174,7 +174,97 @@ PlaneFit FitHorizontal(const std::vector<Eigen::Vector3d>& points, double z, boo
   return f;
 }
 
+// Kasa's algebraic circle fit (linear least squares on x^2 + y^2 + D x + E y + F = 0), computed
+// about the mean for conditioning. Returns false for fewer than 3 points or a degenerate set.
+bool KasaCircle(const std::vector<Eigen::Vector2d>& p, Eigen::Vector2d* centre, double* radius) {
+  if (p.size() < 3) return false;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& q : p) mean += q;
+  mean /= static_cast<double>(p.size());
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (const auto& q : p) {
+    const Eigen::Vector2d d = q - mean;
+    const Eigen::Vector3d a(d.x(), d.y(), 1.0);
+    ata += a * a.transpose();
+    atb -= a * d.squaredNorm();
+  }
+  if (std::abs(ata.determinant()) < 1e-18) return false;
+  const Eigen::Vector3d x = ata.ldlt().solve(atb);
+  const Eigen::Vector2d c(-0.5 * x(0), -0.5 * x(1));
+  const double r2 = c.squaredNorm() - x(2);
+  if (!(r2 > 0.0) || !std::isfinite(r2)) return false;
+  *centre = mean + c;
+  *radius = std::sqrt(r2);
+  return true;
+}
+
+// Geometric circle fit: Gauss-Newton on |p - c| - r from the given start.
+void RefineCircle(const std::vector<Eigen::Vector2d>& p, Eigen::Vector2d* centre, double* radius) {
+  for (int it = 0; it < 20; ++it) {
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    for (const auto& q : p) {
+      const Eigen::Vector2d d = q - *centre;
+      const double n = d.norm();
+      if (n < 1e-12) continue;
+      const Eigen::Vector3d j(-d.x() / n, -d.y() / n, -1.0);
+      const double r = n - *radius;
+      jtj += j * j.transpose();
+      jtr += j * r;
+    }
+    if (std::abs(jtj.determinant()) < 1e-18) return;
+    const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
+    *centre += step.head<2>();
+    *radius += step(2);
+    if (step.norm() < 1e-9) return;
+  }
+}
+
 }  // namespace
+
+CircleFit FitColumnCircle(const std::vector<Eigen::Vector3d>& points,
+                          const std::vector<Eigen::Vector2d>& footprint, double floor_z,
+                          double ceiling_z, const Sm3Params& prm) {
+  CircleFit out;
+  const auto loop = MergeCollinear(footprint, prm.merge_angle_deg);
+  const std::size_t n = loop.size();
+  if (static_cast<int>(n) < prm.round_min_vertices) return out;
+  const double max_turn = prm.round_max_turn_deg * M_PI / 180.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d u = loop[i] - loop[(i + n - 1) % n], v = loop[(i + 1) % n] - loop[i];
+    const double turn = std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
+    if (turn > max_turn) return out;
+  }
+  Eigen::Vector2d c;
+  double r = 0.0;
+  if (!KasaCircle(loop, &c, &r)) return out;
+  const double z_lo = floor_z + 0.15, z_hi = ceiling_z - 0.15;
+  std::vector<Eigen::Vector2d> near;
+  for (double band : {prm.plane_band, 0.5 * prm.plane_band}) {
+    near.clear();
+    for (const auto& p : points) {
+      if (p.z() < z_lo || p.z() > z_hi) continue;
+      const Eigen::Vector2d q = p.head<2>();
+      if (std::abs((q - c).norm() - r) < band) near.push_back(q);
+    }
+    if (static_cast<int>(near.size()) < std::max(3, prm.min_points)) return out;
+    Eigen::Vector2d c1;
+    double r1 = 0.0;
+    if (!KasaCircle(near, &c1, &r1)) return out;
+    RefineCircle(near, &c1, &r1);
+    if (!(r1 > 0.0) || !c1.allFinite()) return out;
+    c = c1, r = r1;
+  }
+  double ss = 0.0;
+  for (const auto& q : near) ss += std::pow((q - c).norm() - r, 2);
+  out.centre = c;
+  out.radius = r;
+  out.support = static_cast<int>(near.size());
+  out.rms = std::sqrt(ss / static_cast<double>(near.size()));
+  out.round = out.rms <= prm.round_max_rms_ratio * r;
+  return out;
+}
 
 const char* ToString(PatchClass c) {
   switch (c) {
@@ -343,9 +433,40 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   for (std::size_t k = 0; k < input.columns.size(); ++k) {
     const auto footprint = MergeCollinear(input.columns[k], prm.merge_angle_deg);
     if (footprint.size() < 3) continue;
-    const Ring ring = FitRing(footprint, /*into_left=*/false, pts, floor.plane, ceiling.plane,
-                              m.floor_z, m.ceiling_z, prm,
-                              input.room + "/column_" + std::to_string(k + 1));
+    const CircleFit circle = FitColumnCircle(pts, input.columns[k], m.floor_z, m.ceiling_z, prm);
+    Ring ring;
+    if (circle.round) {
+      // Regular prism of the circle's area (vertex radius R: (s/2) R^2 sin(2 pi / s) = pi r^2).
+      const int s = prm.round_segments;
+      const double R = circle.radius * std::sqrt(2.0 * M_PI / (s * std::sin(2.0 * M_PI / s)));
+      std::vector<Eigen::Vector2d> vtx;
+      for (int i = 0; i < s; ++i) {
+        const double a = 2.0 * M_PI * i / s;
+        vtx.push_back(circle.centre + R * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      }
+      for (int i = 0; i < s; ++i) {
+        const Eigen::Vector2d out2 = (vtx[i] + vtx[(i + 1) % s]) * 0.5 - circle.centre;
+        PlaneFit f;
+        f.plane = VerticalPlaneThrough(vtx[i], vtx[(i + 1) % s], out2.normalized());
+        f.support = circle.support;
+        f.rms = circle.rms;
+        f.fitted = true;
+        ring.planes.push_back(f.plane);
+        ring.fits.push_back(f);
+      }
+      auto on = [](const Plane& p, const Eigen::Vector2d& q, double z) {
+        return std::abs(p.n.z()) > 1e-9
+                   ? Eigen::Vector3d(q.x(), q.y(), -(p.n.x() * q.x() + p.n.y() * q.y() + p.d) / p.n.z())
+                   : Eigen::Vector3d(q.x(), q.y(), z);
+      };
+      for (int i = 0; i < s; ++i) {
+        ring.bottom.push_back(on(floor.plane, vtx[i], m.floor_z));
+        ring.top.push_back(on(ceiling.plane, vtx[i], m.ceiling_z));
+      }
+    } else {
+      ring = FitRing(footprint, /*into_left=*/false, pts, floor.plane, ceiling.plane, m.floor_z,
+                     m.ceiling_z, prm, input.room + "/column_" + std::to_string(k + 1));
+    }
     const auto ids = add_ring(ring, PatchClass::kColumn, "column_" + std::to_string(k + 1) + "_face_");
     for (int id : ids) m.adjacency.emplace_back(id, floor_id), m.adjacency.emplace_back(id, ceiling_id);
   }

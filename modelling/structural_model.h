@@ -4,7 +4,10 @@
 // enclosing the plan-view image of the points, planes fitted with MLESAC (Torr & Zisserman 2000)
 // and refined by least squares, then intersected coherently into a closed model: each wall a
 // quadrilateral between its neighbours' planes and the floor and ceiling planes. Columns become
-// vertical patches from their footprints. Patches are labelled (`wall_1`, ..., `floor`,
+// vertical patches from their footprints: a roughly circular footprint (many short edges, no
+// sharp corner) whose wall points fit a circle (least squares in plan) becomes a regular
+// `round_segments`-gon prism of the fitted circle's area (centre and radius from the points);
+// any other footprint keeps one plane fit per edge. Patches are labelled (`wall_1`, ..., `floor`,
 // `ceiling`, `column_1_face_1`) and carry their topology (which patches share an edge).
 //
 // Robot side: input is the robot's own registered points (map frame) and the perimeter its
@@ -29,6 +32,11 @@ struct Sm3Params {
   double merge_angle_deg = 2.0;     ///< consecutive walls closer than this in direction merge, [0, 45]
   int max_fit_points = 2000;        ///< points scoring each MLESAC hypothesis (even subsample), [100, 1e8]
   std::uint64_t seed = 1;           ///< MLESAC sampling
+  // Round columns (see the file comment).
+  int round_min_vertices = 6;        ///< footprint vertices (after merging) a round column has at least, [3, 1000]
+  double round_max_turn_deg = 60.0;  ///< deg, no footprint corner of a round column turns more, (0, 180]
+  double round_max_rms_ratio = 0.05; ///< circle fit residual RMS / radius accepted as round, (0, 1]
+  int round_segments = 16;           ///< faces of the prism that models a round column, [3, 360]
 
   template <class V>
   void Visit(V& v) {
@@ -41,6 +49,10 @@ struct Sm3Params {
     v("merge_angle_deg", merge_angle_deg, Bounds{0.0, 45.0});
     v("max_fit_points", max_fit_points, Bounds{100, 100000000});
     v("seed", seed);
+    v("round_min_vertices", round_min_vertices, Bounds{3, 1000});
+    v("round_max_turn_deg", round_max_turn_deg, Bounds{1e-6, 180.0});
+    v("round_max_rms_ratio", round_max_rms_ratio, Bounds{1e-6, 1.0});
+    v("round_segments", round_segments, Bounds{3, 360});
   }
 };
 
@@ -99,6 +111,25 @@ struct Sm3Input {
 /// Throws InputError when fewer than two maxima exist.
 std::pair<double, double> FloorCeilingFromHistogram(const std::vector<Eigen::Vector3d>& points,
                                                     double bin);
+
+/// A circle fitted in plan to a column's wall points.
+struct CircleFit {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double radius = 0.0;  ///< m
+  double rms = 0.0;     ///< m, radial residual of the supporting points
+  int support = 0;      ///< points used in the final fit
+  bool round = false;   ///< the footprint looks circular and the points fit the circle
+};
+
+/// Tests whether `footprint` (CCW) is a round column and fits its circle: the footprint needs
+/// >= round_min_vertices vertices after merging collinear edges and no turn above
+/// round_max_turn_deg; the circle through its vertices (Kasa) seeds a least-squares circle fit
+/// (Kasa, then Gauss-Newton on the geometric distance) to the points with floor_z + 0.15 < z <
+/// ceiling_z - 0.15 within plane_band of the seed circle, refitted once within half that band;
+/// round when rms <= round_max_rms_ratio * radius and support >= min_points.
+CircleFit FitColumnCircle(const std::vector<Eigen::Vector3d>& points,
+                          const std::vector<Eigen::Vector2d>& footprint, double floor_z,
+                          double ceiling_z, const Sm3Params& params);
 
 /// Builds SM3. Throws InputError for a perimeter with fewer than 3 vertices or no points.
 StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& params);

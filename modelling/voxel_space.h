@@ -1,7 +1,8 @@
 #pragma once
 // The voxel space of a room's RoI (paper §3.1 step (5)): a dense grid of cubes labelled by
 // visibility (a beam passed through / something was hit / never seen) and by the structural
-// condition (the voxel holds part of a RoI face). Labels are DSM3's six (§3.2: opening,
+// condition (the voxel holds part of a RoI face: one voxel layer per face, the layer containing
+// it, as the evaluator's truth DSM3 — set by RoomModel). Labels are DSM3's six (§3.2: opening,
 // structure, occluded structure, clutter, empty, unseen), so the same grid extends to DSM3.
 //
 // Frame: map, metres. Voxel (i, j, k) covers origin + [i, i+1) * size (etc.); the z origin is

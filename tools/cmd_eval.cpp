@@ -1,13 +1,16 @@
 // `mopad eval RUN_DIR [--truth FILE] [--config YAML] -o DIR`: scores the robot's structural
 // models of one room run (RUN_DIR/run.json) or of every room of a main-job folder
 // (RUN_DIR/rooms/*/run.json) against the scene's truth (issue 6, item 5):
-//   SM3     - detection TP/FP/FN per class, d_v, d_h, Phi (EvaluatePatches) and the ISPRS
-//             completeness/correctness/accuracy curves per class (EvaluateIsprs);
+//   SM3     - walls, floors, ceilings: detection TP/FP/FN per class, d_v, d_h, Phi
+//             (EvaluatePatches); columns as objects (EvaluateColumns: plan IoU > 0.5, centre,
+//             footprint and height errors, face metrics of polygonal columns only); ISPRS
+//             completeness/correctness/accuracy curves per class over all patches (EvaluateIsprs);
 //   DSM3    - per-voxel confusion and per-class IoU against the truth DSM3 on the robot's grid
 //             (TruthDsm3 with the true scanner centres = scan_poses.tum mapped by X_WM);
 //   plan    - over all rooms, each room's SM3 floor polygon in the world vs the truth rooms
 //             (EvaluateFloorplan);
 //   mission - the run's own evaluation.json (coverage, registration, SM1 labels) carried over.
+// Every figure is described in docs/evaluation.md.
 // Writes DIR/evaluation.json, DIR/evaluation.md (tables + inline SVG plots), per room an SVG
 // plot and the truth DSM3 (dsm3_truth_<room>.ply, dsm3.ply's format), and DIR/eval.effective.yaml;
 // prints a summary table. Model files are read with evaluation/model_files.h (docs/models.md);
@@ -47,6 +50,7 @@ using ojson = nlohmann::ordered_json;
 
 struct EvalParams {
   ev::PatchMatchParams patches;
+  ev::ColumnMatchParams columns;
   ev::IsprsParams isprs;
   ev::FloorplanParams floorplan;
   ev::TruthDsm3Params dsm3;
@@ -54,6 +58,7 @@ struct EvalParams {
   template <class V>
   void Visit(V& v) {
     v("patches", patches);
+    v("columns", columns);
     v("isprs", isprs);
     v("floorplan", floorplan);
     v("dsm3", dsm3);
@@ -101,7 +106,8 @@ struct RoomResult {
   ev::RunInfo run;
   const scenes::GroundTruth* truth = nullptr;
   std::size_t model_patches = 0;
-  ev::PatchEvaluation patches;
+  ev::PatchEvaluation patches;  // walls, floors, ceilings
+  ev::ColumnEvaluation columns;
   ev::IsprsResult isprs;
   std::optional<ev::Room> floor;  // SM3 floor in world plan
   bool has_dsm3 = false;
@@ -142,6 +148,61 @@ double MissionNumber(const std::optional<ojson>& m, const char* key, const char*
     j = &(*j)[sub];
   }
   return j->is_number() ? j->get<double>() : NAN;
+}
+
+ojson DetectionJson(const ev::ClassDetection& d) {
+  return {{"n_truth", d.n_truth}, {"n_model", d.n_model}, {"tp", d.tp}, {"fp", d.fp}, {"fn", d.fn}};
+}
+
+// Column objects (docs/evaluation.md): detection, error stats, pairs, face metrics.
+ojson ColumnsJson(const ev::ColumnEvaluation& c, bool with_pairs) {
+  ojson j;
+  j["detection"] = DetectionJson(c.detection);
+  j["plan_iou"] = Ord(ev::ToJson(c.plan_iou));
+  j["centre_error_m"] = Ord(ev::ToJson(c.centre_error));
+  j["area_error_m2"] = Ord(ev::ToJson(c.area_error));
+  j["diameter_error_m"] = Ord(ev::ToJson(c.diameter_error));
+  j["height_error_m"] = Ord(ev::ToJson(c.height_error));
+  j["polygonal_faces"] = {{"detection", DetectionJson(c.face_detection)},
+                          {"d_v", Ord(ev::ToJson(c.face_accuracy.d_v))},
+                          {"d_h", Ord(ev::ToJson(c.face_accuracy.d_h))},
+                          {"phi_deg", Ord(ev::ToJson(c.face_accuracy.phi_deg))}};
+  if (with_pairs) {
+    ojson pairs = ojson::array();
+    for (const auto& p : c.pairs)
+      pairs.push_back({{"model", p.model_id},
+                       {"truth", p.truth_id},
+                       {"plan_iou", Num(p.plan_iou)},
+                       {"centre_error_m", Num(p.centre_error)},
+                       {"area_error_m2", Num(p.area_error)},
+                       {"diameter_error_m", Num(p.diameter_error)},
+                       {"height_error_m", Num(p.height_error)},
+                       {"faces_compared", p.faces_compared}});
+    j["pairs"] = pairs;
+    j["unmatched_model"] = c.unmatched_model_ids;
+    j["unmatched_truth"] = c.unmatched_truth_ids;
+  }
+  return j;
+}
+
+std::string ColumnsMarkdown(const ev::ColumnEvaluation& c) {
+  std::ostringstream md;
+  md << "TP " << c.detection.tp << " / " << c.detection.n_truth << " truth, FP " << c.detection.fp
+     << ", FN " << c.detection.fn << " (plan IoU > 0.5).\n\n";
+  md << "| model | truth | plan IoU | centre error (cm) | diameter error (cm) | area error (cm^2) "
+        "| height error (cm) | faces d_h (cm) | faces Phi (deg) |\n";
+  md << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& p : c.pairs) {
+    const auto& a = p.faces.accuracy[static_cast<int>(ev::SurfaceClass::kColumn)];
+    md << "| " << p.model_id << " | " << p.truth_id << " | " << Fmt(p.plan_iou, 3) << " | "
+       << Fmt(p.centre_error, 2, 100) << " | " << Fmt(p.diameter_error, 2, 100) << " | "
+       << Fmt(p.area_error, 1, 1e4) << " | " << Fmt(p.height_error, 2, 100) << " | "
+       << (p.faces_compared ? Fmt(a.d_h.mean, 2, 100) : std::string("round")) << " | "
+       << (p.faces_compared ? Fmt(a.phi_deg.mean, 4) : std::string("round")) << " |\n";
+  }
+  for (const auto& id : c.unmatched_model_ids) md << "| " << id << " (FP) | - | | | | | | | |\n";
+  for (const auto& id : c.unmatched_truth_ids) md << "| - | " << id << " (FN) | | | | | | | |\n";
+  return md.str();
 }
 
 // The truth DSM3 in the dsm3.ply format of docs/models.md (map frame, the robot's grid), for
@@ -238,8 +299,19 @@ void RegisterEvalCommand(CLI::App& app) {
       for (const auto& p : sm3.patches) model.push_back(ToWorld(p.patch, run.X_WM));
       r.model_patches = model.size();
       const std::vector<ev::Patch> truth_patches = ev::TruthPatches(*truth, run.room);
+      // Columns are scored as objects, the other classes patch by patch.
+      auto no_columns = [](const std::vector<ev::Patch>& v) {
+        std::vector<ev::Patch> out;
+        for (const auto& p : v)
+          if (p.cls != ev::SurfaceClass::kColumn) out.push_back(p);
+        return out;
+      };
       try {
-        r.patches = ev::EvaluatePatches(model, truth_patches, params.patches);
+        r.patches =
+            ev::EvaluatePatches(no_columns(model), no_columns(truth_patches), params.patches);
+        r.columns = ev::EvaluateColumns(ev::GroupModelColumns(model),
+                                        ev::TruthColumns(*truth, run.room), params.columns,
+                                        params.patches);
         r.isprs = ev::EvaluateIsprs(model, truth_patches, params.isprs);
       } catch (const InputError& e) {
         throw InputError(run.sm3 + ": " + e.what());
@@ -300,6 +372,7 @@ void RegisterEvalCommand(CLI::App& app) {
 
     // Pooled figures.
     ev::PatchEvaluation pooled;
+    ev::ColumnEvaluation pooled_columns;
     std::vector<std::uint8_t> all_truth, all_pred;
     for (const auto& r : results) {
       for (int c = 0; c < ev::kNumSurfaceClasses; ++c) {
@@ -310,12 +383,33 @@ void RegisterEvalCommand(CLI::App& app) {
         pooled.accuracy[c].d_h.Merge(r.patches.accuracy[c].d_h);
         pooled.accuracy[c].phi_deg.Merge(r.patches.accuracy[c].phi_deg);
       }
+      {
+        auto& d = pooled_columns.detection;
+        const auto& s = r.columns.detection;
+        d.n_truth += s.n_truth, d.n_model += s.n_model, d.tp += s.tp, d.fp += s.fp, d.fn += s.fn;
+        auto& fd = pooled_columns.face_detection;
+        const auto& fs = r.columns.face_detection;
+        fd.n_truth += fs.n_truth, fd.n_model += fs.n_model, fd.tp += fs.tp, fd.fp += fs.fp,
+            fd.fn += fs.fn;
+        pooled_columns.face_accuracy.d_v.Merge(r.columns.face_accuracy.d_v);
+        pooled_columns.face_accuracy.d_h.Merge(r.columns.face_accuracy.d_h);
+        pooled_columns.face_accuracy.phi_deg.Merge(r.columns.face_accuracy.phi_deg);
+        pooled_columns.plan_iou.Merge(r.columns.plan_iou);
+        pooled_columns.centre_error.Merge(r.columns.centre_error);
+        pooled_columns.area_error.Merge(r.columns.area_error);
+        pooled_columns.diameter_error.Merge(r.columns.diameter_error);
+        pooled_columns.height_error.Merge(r.columns.height_error);
+      }
       pooled.d_v.Merge(r.patches.d_v);
       pooled.d_h.Merge(r.patches.d_h);
       pooled.phi_deg.Merge(r.patches.phi_deg);
       all_truth.insert(all_truth.end(), r.dsm3_truth.begin(), r.dsm3_truth.end());
       all_pred.insert(all_pred.end(), r.dsm3_pred.begin(), r.dsm3_pred.end());
     }
+    // The column class of every detection table counts column objects.
+    pooled.detection[static_cast<int>(ev::SurfaceClass::kColumn)] = pooled_columns.detection;
+    for (auto& r : results)
+      r.patches.detection[static_cast<int>(ev::SurfaceClass::kColumn)] = r.columns.detection;
     const bool any_dsm3 = !all_truth.empty();
     const ev::ConfusionMatrix pooled_dsm3 = ev::ComputeDsm3Confusion(all_truth, all_pred);
     const auto [compl_b, corr_b] = PooledIsprs(results, params.report_buffer);
@@ -339,6 +433,7 @@ void RegisterEvalCommand(CLI::App& app) {
     summary["d_v"] = Ord(ev::ToJson(pooled.d_v));
     summary["d_h"] = Ord(ev::ToJson(pooled.d_h));
     summary["phi_deg"] = Ord(ev::ToJson(pooled.phi_deg));
+    summary["columns"] = ColumnsJson(pooled_columns, /*with_pairs=*/false);
     summary["isprs_buffer"] = params.report_buffer;
     summary["isprs_completeness"] = Num(compl_b);
     summary["isprs_correctness"] = Num(corr_b);
@@ -373,6 +468,7 @@ void RegisterEvalCommand(CLI::App& app) {
       x["seed"] = r.run.seed;
       x["model_patches"] = r.model_patches;
       x["sm3"] = Ord(ev::ToJson(r.patches));
+      x["columns"] = ColumnsJson(r.columns, /*with_pairs=*/true);
       x["isprs"] = Ord(ev::ToJson(r.isprs));
       if (r.has_dsm3) {
         x["dsm3"] = Ord(ev::ToJson(r.dsm3));
@@ -427,7 +523,10 @@ void RegisterEvalCommand(CLI::App& app) {
       md << "## DSM3 (all rooms)\n\n" << ev::MarkdownConfusionTable(pooled_dsm3) << "\n";
     for (const auto& r : results) {
       md << "## Room " << r.run.room << "\n\n### SM3 structural elements\n\n"
-         << ev::MarkdownPatchTable(r.patches) << "\n### ISPRS surfaces\n\n"
+         << ev::MarkdownPatchTable(r.patches) << "\n";
+      if (r.columns.detection.n_truth + r.columns.detection.n_model > 0)
+        md << "### Columns (objects)\n\n" << ColumnsMarkdown(r.columns) << "\n";
+      md << "### ISPRS surfaces\n\n"
          << ev::MarkdownIsprsTable(r.isprs, params.report_buffer) << "\n"
          << ev::IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) << "\n\n";
       std::ofstream(dir / ("isprs_" + r.run.room + ".svg"))
@@ -458,7 +557,7 @@ void RegisterEvalCommand(CLI::App& app) {
       const int b = r.isprs.BufferIndex(params.report_buffer);
       std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", r.run.room.c_str(),
                   cell(r.patches.detection[0]).c_str(), cell(r.patches.detection[1]).c_str(),
-                  cell(r.patches.detection[2]).c_str(), cell(r.patches.detection[3]).c_str(),
+                  cell(r.patches.detection[2]).c_str(), cell(r.columns.detection).c_str(),
                   Fmt(r.patches.d_v.mean, 2, 100).c_str(), Fmt(r.patches.d_h.mean, 2, 100).c_str(),
                   Fmt(r.patches.phi_deg.mean, 4).c_str(),
                   Fmt(r.isprs.all.completeness[b], 4).c_str(),
@@ -473,6 +572,18 @@ void RegisterEvalCommand(CLI::App& app) {
                 Fmt(pooled.phi_deg.mean, 4).c_str(), Fmt(compl_b, 4).c_str(),
                 Fmt(corr_b, 4).c_str(),
                 any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4).c_str() : "-");
+    if (pooled_columns.detection.n_truth + pooled_columns.detection.n_model > 0)
+      std::printf(
+          "columns (objects): %d/%d TP, %d FP; plan IoU mean %s, centre error mean %s cm, "
+          "diameter error mean %s cm, height error mean %s cm; square-column faces d_h %s cm, "
+          "Phi %s deg\n",
+          pooled_columns.detection.tp, pooled_columns.detection.n_truth,
+          pooled_columns.detection.fp, Fmt(pooled_columns.plan_iou.mean, 3).c_str(),
+          Fmt(pooled_columns.centre_error.mean, 2, 100).c_str(),
+          Fmt(pooled_columns.diameter_error.mean, 2, 100).c_str(),
+          Fmt(pooled_columns.height_error.mean, 2, 100).c_str(),
+          Fmt(pooled_columns.face_accuracy.d_h.mean, 2, 100).c_str(),
+          Fmt(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
     std::printf("floorplan: mean room IoU %s, corner recall@10cm %s; ISPRS at %s cm buffer\n",
                 Fmt(plan.mean_truth_iou, 4).c_str(),
                 plan.corners.size() > 1 ? Fmt(plan.corners[1].score.recall, 3).c_str() : "-",

@@ -373,6 +373,111 @@ TEST(MetricParams, YamlRoundTripAndBounds) {
   EXPECT_THROW(EvaluateIsprs({}, {}, bad), InputError);
 }
 
+// A prism column's faces from a plan footprint (CCW), z in [0, kZ], normals pointing out.
+std::vector<Patch> ColumnFaces(const std::string& prefix, const std::vector<Vec2>& fp) {
+  std::vector<Patch> out;
+  for (size_t k = 0; k < fp.size(); ++k) {
+    const Vec2 a = fp[k], b = fp[(k + 1) % fp.size()];
+    Patch p = Wall(prefix + std::to_string(k + 1), a, b);  // normal (b - a) x z: outward for CCW
+    p.cls = SurfaceClass::kColumn;
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<Vec2> Square(Vec2 c, double half) {
+  return {c + Vec2(-half, -half), c + Vec2(half, -half), c + Vec2(half, half),
+          c + Vec2(-half, half)};
+}
+
+std::vector<Vec2> Regular(Vec2 c, double r, int n, double phase) {
+  std::vector<Vec2> v;
+  for (int i = 0; i < n; ++i) {
+    const double a = phase + 2.0 * kPi * i / n;
+    v.push_back(c + r * Vec2(std::cos(a), std::sin(a)));
+  }
+  return v;
+}
+
+TEST(ColumnMetrics, GroupsModelFacesByIdPrefixIntoObjects) {
+  std::vector<Patch> model = BoxRoom();
+  for (const auto& f : ColumnFaces("column_1_face_", Square({1, 1}, 0.2))) model.push_back(f);
+  for (const auto& f : ColumnFaces("column_2_face_", Regular({3, 3}, 0.2, 16, 0.0)))
+    model.push_back(f);
+  const auto cols = GroupModelColumns(model);
+  ASSERT_EQ(cols.size(), 2u);
+  EXPECT_EQ(cols[0].id, "column_1");
+  EXPECT_EQ(cols[0].faces.size(), 4u);
+  EXPECT_NEAR(cols[0].Area(), 0.16, 1e-12);
+  EXPECT_NEAR((cols[0].Centre() - Vec2(1, 1)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(cols[0].z_max - cols[0].z_min, kZ, 1e-12);
+  EXPECT_EQ(cols[1].id, "column_2");
+  EXPECT_EQ(cols[1].faces.size(), 16u);
+  EXPECT_EQ(cols[1].footprint.size(), 16u);
+  EXPECT_NEAR(cols[1].Area(), 8 * 0.04 * std::sin(kPi / 8), 1e-12);  // (n/2) r^2 sin(2 pi/n)
+}
+
+TEST(ColumnMetrics, ShiftedSquareColumnIsATruePositiveWithKnownErrors) {
+  const ColumnObject truth = MakeColumnObject("C3", ColumnFaces("C3_", Square({2, 2}, 0.2)));
+  // Model shifted 5 cm in x and 2.4 m tall instead of 2.5: IoU 0.35 / 0.45.
+  auto faces = ColumnFaces("column_1_face_", Square({2.05, 2}, 0.2));
+  for (auto& f : faces)
+    for (auto& v : f.polygon) v.z() = std::min(v.z(), 2.4);
+  const ColumnObject model = MakeColumnObject("column_1", faces);
+  const ColumnEvaluation e = EvaluateColumns({model}, {truth});
+  EXPECT_EQ(e.detection.tp, 1);
+  EXPECT_EQ(e.detection.fp, 0);
+  EXPECT_EQ(e.detection.fn, 0);
+  ASSERT_EQ(e.pairs.size(), 1u);
+  EXPECT_NEAR(e.pairs[0].plan_iou, 0.35 / 0.45, 1e-9);
+  EXPECT_NEAR(e.pairs[0].centre_error, 0.05, 1e-9);
+  EXPECT_NEAR(e.pairs[0].area_error, 0.0, 1e-9);
+  EXPECT_NEAR(e.pairs[0].height_error, 0.1, 1e-9);
+  // Square truth: faces are paired; the x faces are 5 cm off the plane, all parallel.
+  EXPECT_TRUE(e.pairs[0].faces_compared);
+  EXPECT_EQ(e.face_detection.tp, 4);
+  EXPECT_NEAR(e.face_accuracy.phi_deg.max, 0.0, 1e-9);
+  EXPECT_NEAR(e.face_accuracy.d_v.mean, 0.1, 1e-9);  // every vertical edge 0.1 m short
+}
+
+TEST(ColumnMetrics, RoundColumnIsScoredAsAnObjectWithoutFacePairs) {
+  // Truth: 16 facets of radius 0.2; model: a 16-gon of radius 0.21 turned by half a facet,
+  // 1 cm off centre. Equivalent diameter scales with the vertex radius.
+  const ColumnObject truth =
+      MakeColumnObject("C1", ColumnFaces("C1_", Regular({5, 3.8}, 0.2, 16, 0.0)));
+  const ColumnObject model = MakeColumnObject(
+      "column_1", ColumnFaces("column_1_face_", Regular({5.01, 3.8}, 0.21, 16, kPi / 16)));
+  const ColumnEvaluation e = EvaluateColumns({model}, {truth});
+  ASSERT_EQ(e.detection.tp, 1);
+  EXPECT_FALSE(e.pairs[0].faces_compared);
+  EXPECT_EQ(e.face_detection.n_truth, 0);
+  EXPECT_NEAR(e.pairs[0].centre_error, 0.01, 1e-9);
+  const double k = 2.0 * std::sqrt(8.0 * std::sin(kPi / 8) / kPi);
+  EXPECT_NEAR(e.pairs[0].diameter_error, k * 0.01, 1e-9);
+  EXPECT_GT(e.pairs[0].plan_iou, 0.85);
+}
+
+TEST(ColumnMetrics, FarOrSmallColumnsAreFalsePositivesAndNegatives) {
+  const ColumnObject c1 = MakeColumnObject("C1", ColumnFaces("C1_", Square({1, 1}, 0.2)));
+  const ColumnObject c2 = MakeColumnObject("C2", ColumnFaces("C2_", Square({3, 1}, 0.2)));
+  // Model: one at C2 but 0.4 x 0.2 of it (IoU exactly 0.5: not > 0.5), one far away.
+  const ColumnObject half = MakeColumnObject(
+      "column_1", ColumnFaces("column_1_face_", {{2.8, 0.8}, {3.2, 0.8}, {3.2, 1.0}, {2.8, 1.0}}));
+  const ColumnObject far = MakeColumnObject("column_2", ColumnFaces("column_2_face_", Square({6, 6}, 0.2)));
+  const ColumnEvaluation e = EvaluateColumns({half, far}, {c1, c2});
+  EXPECT_EQ(e.detection.tp, 0);
+  EXPECT_EQ(e.detection.fp, 2);
+  EXPECT_EQ(e.detection.fn, 2);
+  EXPECT_EQ(e.unmatched_truth_ids, (std::vector<std::string>{"C1", "C2"}));
+  ColumnMatchParams loose;
+  loose.min_plan_iou = 0.4;
+  const ColumnEvaluation l = EvaluateColumns({half, far}, {c1, c2}, loose);
+  EXPECT_EQ(l.detection.tp, 1);
+  EXPECT_EQ(l.pairs[0].truth_id, "C2");
+  EXPECT_NEAR(l.pairs[0].plan_iou, 0.5, 1e-9);
+  EXPECT_THROW(MakeColumnObject("x", {}), InputError);
+}
+
 TEST(Reports, JsonMarkdownAndSvgCarryTheNumbers) {
   const auto truth = BoxRoom();
   auto model = truth;

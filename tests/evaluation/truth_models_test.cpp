@@ -110,6 +110,41 @@ TEST(TruthModels, PatchesOfOneRoomMatchTheRoom) {
   EXPECT_THROW(TruthPatches(g.truth, "R9"), InputError);
 }
 
+// ---- Truth columns of the office: round C1, C2 (16 facets, r 0.2) in R1, square C3 in R4 ----
+
+TEST(TruthModels, ColumnsAreObjectsWithFootprintsFromTheSidecar) {
+  const auto g =
+      scenes::Generate(scenes::LoadSceneSpec(MOPAD_SOURCE_DIR "/scenes/office_5rooms.yaml"));
+  const auto r1 = TruthColumns(g.truth, "R1");
+  ASSERT_EQ(r1.size(), 2u);
+  EXPECT_EQ(r1[0].id, "C1");
+  EXPECT_EQ(r1[1].id, "C2");
+  const scenes::Room& room = *g.truth.FindRoom("R1");
+  for (const auto& c : r1) {
+    EXPECT_EQ(c.faces.size(), 16u);
+    EXPECT_EQ(c.footprint.size(), 16u);
+    EXPECT_NEAR(c.Area(), 8 * 0.04 * std::sin(kPi / 8), 1e-9);  // 16-gon of vertex radius 0.2
+    EXPECT_NEAR(c.z_max - c.z_min, room.ceiling_z - room.floor_z, 1e-9);
+    for (const auto& f : c.faces) EXPECT_EQ(f.cls, SurfaceClass::kColumn);
+  }
+  EXPECT_NEAR((r1[1].Centre() - r1[0].Centre()).norm(), 5.0, 1e-9);  // 5.0 and 10.0 in the spec
+  const auto r4 = TruthColumns(g.truth, "R4");
+  ASSERT_EQ(r4.size(), 1u);
+  EXPECT_EQ(r4[0].faces.size(), 4u);
+  EXPECT_NEAR(r4[0].Area(), 0.16, 1e-9);
+  EXPECT_TRUE(TruthColumns(g.truth, "R3").empty());
+  EXPECT_THROW(TruthColumns(g.truth, "R9"), InputError);
+  // The truth against itself: every column a TP with zero errors; only C3's faces are paired.
+  const ColumnEvaluation e1 = EvaluateColumns(r1, r1);
+  EXPECT_EQ(e1.detection.tp, 2);
+  EXPECT_NEAR(e1.centre_error.max + e1.diameter_error.max + e1.height_error.max, 0.0, 1e-12);
+  EXPECT_EQ(e1.face_detection.n_truth, 0);
+  const ColumnEvaluation e4 = EvaluateColumns(r4, r4);
+  EXPECT_EQ(e4.detection.tp, 1);
+  EXPECT_EQ(e4.face_detection.tp, 4);
+  EXPECT_NEAR(e4.face_accuracy.phi_deg.max, 0.0, 1e-9);
+}
+
 // ---- Truth DSM3 of a box room: 4 m x 3 m x 2.5 m, 0.1 m voxels ----
 
 struct BoxRoom {
@@ -631,6 +666,8 @@ TEST(EvalCli, HandWrittenRunEqualToTheTruthScoresPerfectly) {
   EXPECT_EQ(s["detection"]["ceiling"]["tp"], 1);
   for (const char* c : {"wall", "floor", "ceiling", "column"})
     EXPECT_EQ(s["detection"][c]["fp"], 0) << c;
+  EXPECT_EQ(s["columns"]["detection"]["n_truth"], 0);  // one_room has no column
+  EXPECT_EQ(j["rooms"][0]["columns"]["pairs"].size(), 0u);
   EXPECT_NEAR(s["d_v"]["max"].get<double>(), 0.0, 1e-6);
   EXPECT_NEAR(s["d_h"]["max"].get<double>(), 0.0, 1e-6);
   EXPECT_NEAR(s["phi_deg"]["max"].get<double>(), 0.0, 1e-4);

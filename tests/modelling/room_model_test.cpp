@@ -185,9 +185,67 @@ TEST(RoomModel, RoiIsAValidBrepAndVoxelsAreLabelled) {
   EXPECT_EQ(label_at(Vec3(3.0, 1.0, 1.2)), VoxelLabel::kEmpty);               // open air
   EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.0)), VoxelLabel::kOccludedStructure);   // floor under the desk
   EXPECT_EQ(label_at(Vec3(5.0, 0.0, 1.2)), VoxelLabel::kStructure);           // south wall
-  EXPECT_EQ(label_at(Vec3(6.0, 1.95, 1.0)), VoxelLabel::kOpening);            // the door
+  // The door in the east wall (x = 6, on a voxel boundary): its layer is the room-side one.
+  EXPECT_EQ(label_at(Vec3(5.99, 1.95, 1.0)), VoxelLabel::kOpening);
+  EXPECT_EQ(label_at(Vec3(6.01, 1.95, 1.0)), VoxelLabel::kEmpty);  // beams through the door
   const auto counts = v.LabelCounts();
   for (int l = 0; l < kVoxelLabelCount; ++l) EXPECT_GT(counts[l], 0) << ToString(static_cast<VoxelLabel>(l));
+}
+
+// Issue 6: structural voxels are the single layer containing a RoI face (the truth DSM3's rule);
+// the layer behind it (centres ~0.1 m outside the room) used to be labelled too.
+TEST(RoomModel, StructuralVoxelsAreTheSingleLayerContainingEachFace) {
+  RoomModel model;
+  const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
+  model.AddScan(s.scan, s.X_MS);
+  const Roi& roi = model.GetRoi();
+  const VoxelSpace& v = model.Voxels();
+  const double h = v.Size();
+  auto structural = [&](int i, int j, int k) {
+    return v.Contains(i, j, k) && (v.Flags(v.Index(i, j, k)) & VoxelSpace::kStructural);
+  };
+  auto outside_by = [&](const Vec2& c) {  // plan distance outside the RoI perimeter (0 inside)
+    if (roi.ContainsPlan(c)) return 0.0;
+    double d = 1e300;
+    const auto& p = roi.perimeter;
+    for (std::size_t e = 0; e < p.size(); ++e)
+      d = std::min(d, DistanceToSegment(c, p[e], p[(e + 1) % p.size()]));
+    return d;
+  };
+  int n_struct = 0;
+  for (int k = 0; k < v.Nz(); ++k)
+    for (int j = 0; j < v.Ny(); ++j)
+      for (int i = 0; i < v.Nx(); ++i) {
+        if (!structural(i, j, k)) continue;
+        ++n_struct;
+        const Vec3 c = v.Centre(i, j, k);
+        // Half a voxel behind a face's plane at most (so up to sqrt(2)/2 at a corner).
+        EXPECT_LE(outside_by(c.head<2>()), 0.5 * std::sqrt(2.0) * h + 1e-9) << c.transpose();
+        EXPECT_GE(c.z(), model.FloorZ() - 0.5 * h - 1e-9);
+        EXPECT_LE(c.z(), model.CeilingZ() + 0.5 * h + 1e-9);
+      }
+  EXPECT_GT(n_struct, 0);
+  // One layer across each wall: at mid-height along lines crossing the south (y = 0) and the
+  // west (x = 0) walls, and one floor and one ceiling layer above an inside point.
+  const int km = v.VoxelOf(Vec3(0, 0, 1.2)).z();
+  for (double x : {1.05, 3.05, 5.05}) {
+    const Eigen::Vector3i q = v.VoxelOf(Vec3(x, 0.0, 1.2));
+    int n = 0;
+    for (int j = q.y() - 4; j <= q.y() + 4; ++j) n += structural(q.x(), j, km);
+    EXPECT_EQ(n, 1) << "south wall at x " << x;
+  }
+  for (double y : {1.05, 3.05}) {
+    const Eigen::Vector3i q = v.VoxelOf(Vec3(0.0, y, 1.2));
+    int n = 0;
+    for (int i = q.x() - 4; i <= q.x() + 4; ++i) n += structural(i, q.y(), km);
+    EXPECT_EQ(n, 1) << "west wall at y " << y;
+  }
+  const Eigen::Vector3i q = v.VoxelOf(Vec3(3.05, 1.05, 1.2));
+  int n = 0;
+  for (int k = 0; k < v.Nz(); ++k) n += structural(q.x(), q.y(), k);
+  EXPECT_EQ(n, 2);  // the floor's layer and the ceiling's
+  EXPECT_TRUE(structural(q.x(), q.y(), v.VoxelOf(Vec3(0, 0, model.FloorZ())).z()));
+  EXPECT_TRUE(structural(q.x(), q.y(), v.VoxelOf(Vec3(0, 0, model.CeilingZ() - 1e-6)).z()));
 }
 
 TEST(RoomModel, ColumnIsDetectedAndItsSurfaceIsStructural) {

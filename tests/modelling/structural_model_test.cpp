@@ -129,6 +129,80 @@ TEST(StructuralModel, ColumnFacesFaceTheRoom) {
   EXPECT_EQ(faces, 4);
 }
 
+// Issue 6: a round column (r 0.25 at (1.5, 3.5), cylinder points with 3 mm radial noise) whose
+// footprint is an irregular 11-gon (1 cm radial jitter), as the robot traces it, becomes a regular 16-gon prism of
+// the fitted circle's area; a square column beside it keeps its 4 plane fits.
+TEST(StructuralModel, RoundColumnBecomesARegularPrismOfTheFittedCircle) {
+  std::vector<Eigen::Vector3d> pts;
+  CounterRng rng(7, "round-column");
+  AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 5, 0}, 40000);
+  AddRect(pts, rng, {0, 0, 3}, {5, 0, 0}, {0, 5, 0}, 40000);
+  const std::vector<Eigen::Vector2d> sq = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = sq[i], b = sq[(i + 1) % 4];
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 15000);
+  }
+  const Eigen::Vector2d c0(1.5, 3.5);
+  const double r0 = 0.25;
+  for (int i = 0; i < 12000; ++i) {  // the room-facing half and a bit (the robot's view)
+    const double a = rng.Uniform(-2.0, 2.0), r = r0 + rng.Normal(0, 0.003);
+    pts.emplace_back(c0.x() + r * std::cos(a), c0.y() + r * std::sin(a), rng.Uniform(0, 3));
+  }
+  const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = col[(i + 1) % 4], b = col[i];
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 3000);
+  }
+  std::vector<Eigen::Vector2d> traced;  // 11 irregular vertices
+  const double angles[] = {0.1, 0.7, 1.1, 1.6, 2.3, 2.8, 3.3, 3.9, 4.6, 5.2, 5.8};
+  for (int i = 0; i < 11; ++i) {
+    const double r = r0 + (i % 2 ? 0.01 : -0.01);
+    traced.push_back(c0 + r * Eigen::Vector2d(std::cos(angles[i]), std::sin(angles[i])));
+  }
+  Sm3Params prm;
+  const CircleFit fit0 = FitColumnCircle(pts, traced, 0.0, 3.0, prm);
+  ASSERT_TRUE(fit0.round);
+  EXPECT_NEAR((fit0.centre - c0).norm(), 0.0, 0.002);
+  EXPECT_NEAR(fit0.radius, r0, 0.002);
+  EXPECT_NEAR(fit0.rms, 0.003, 0.001);
+  EXPECT_FALSE(FitColumnCircle(pts, col, 0.0, 3.0, prm).round);  // 4 vertices, 90 deg corners
+
+  Sm3Input in;
+  in.room = "C";
+  in.points = &pts;
+  in.perimeter = sq;
+  in.columns = {traced, col};
+  const StructuralModel m = BuildStructuralModel(in, prm);
+  std::vector<const StructuralPatch*> round, square;
+  for (const auto& p : m.patches) {
+    if (p.id.rfind("column_1_face_", 0) == 0) round.push_back(&p);
+    if (p.id.rfind("column_2_face_", 0) == 0) square.push_back(&p);
+  }
+  ASSERT_EQ(round.size(), 16u);
+  EXPECT_EQ(round.back()->id, "column_1_face_16");
+  EXPECT_EQ(square.size(), 4u);
+  // Equal area: vertex radius R with 8 R^2 sin(pi/8) = pi r^2; each face at R cos(pi/16). The
+  // model fits with its own histogram floor and ceiling heights.
+  const CircleFit fit = FitColumnCircle(pts, traced, m.floor_z, m.ceiling_z, prm);
+  const double R = fit.radius * std::sqrt(M_PI / (8.0 * std::sin(M_PI / 8)));
+  double area = 0.0;
+  for (const auto* p : round) {
+    EXPECT_EQ(p->patch_class, PatchClass::kColumn);
+    EXPECT_NEAR(p->plane.n.z(), 0.0, 1e-12);
+    EXPECT_NEAR(-p->plane.Distance({fit.centre.x(), fit.centre.y(), 1.5}), R * std::cos(M_PI / 16),
+                1e-9) << p->id;  // normal points away from the column, into the room
+    const Eigen::Vector3d& a = p->polygon[0];
+    EXPECT_NEAR(std::hypot(a.x() - fit.centre.x(), a.y() - fit.centre.y()), R, 1e-6);
+    // Plan area of the prism as a fan of triangles from the centre (bottom edge of each face).
+    Eigen::Vector2d e0(1e9, 0), e1;
+    for (const auto& v : p->polygon)
+      if (v.z() < 1.5) (e0.x() > 1e8 ? e0 : e1) = v.head<2>() - fit.centre;
+    area += 0.5 * std::abs(e0.x() * e1.y() - e0.y() * e1.x());
+  }
+  EXPECT_NEAR(area, M_PI * fit.radius * fit.radius, 1e-6);
+  for (const auto* p : square) EXPECT_NEAR(p->plane.Distance({2.5, 2.5, 1.5}), -0.2, 0.005);
+}
+
 TEST(StructuralModel, MlesacIgnoresGrossOutliers) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(9, "mlesac");
