@@ -31,6 +31,7 @@
 #include "common/params.h"
 #include "perception/amcl.h"
 #include "perception/occupancy_grid.h"
+#include "perception/registration.h"
 #include "sim/embree_world.h"
 #include "sim/robot_body.h"
 
@@ -67,6 +68,22 @@ struct DriveParams {
   /// (with the LRF evidence now in the map; first a TLS scan there when the pose is new and the
   /// localisation matches) before the mission gives up. [0, 20]
   int max_relegs = 3;
+  /// Each TLS scan after the first is registered (point-to-plane ICP, `icp`) against the
+  /// robot's earlier scans before it enters the obstacle map, and the pose estimate is reset to
+  /// the registered one; without it a scan is placed with the AMCL estimate of the moment and
+  /// its error is baked into the map that AMCL then tracks against. A registration that fails
+  /// leaves the AMCL pose (counted in `scan_registrations_failed`). A result that is
+  /// degenerate only (a corridor: the weak direction keeps the prior, ICP froze it) but
+  /// otherwise fits is used. Missions that register scans themselves (the room mission) turn
+  /// it off.
+  bool register_scans = true;
+  perception::IcpParams icp = DefaultIcp();
+  /// A registration that moves the scan further than this from its AMCL prior (m, or
+  /// `max_registration_correction_deg` in yaw) is refused: AMCL is good to a few centimetres
+  /// while localised, so a larger jump is ICP sliding into a neighbouring minimum (periodic
+  /// door frames along a corridor). [0, 10]
+  double max_registration_correction = 0.1;
+  double max_registration_correction_deg = 2.0;  ///< deg, [0, 180]
 
   sim::RobotBodyParams body = DefaultBody();
   perception::OccupancyGridParams grid;
@@ -79,6 +96,7 @@ struct DriveParams {
   static perception::AmclParams DefaultAmcl();
   static autonomy::GlobalPlannerParams DefaultPlanner();
   static autonomy::LocalControllerParams DefaultController();
+  static perception::IcpParams DefaultIcp();
 
   template <class V>
   void Visit(V& v) {
@@ -103,6 +121,10 @@ struct DriveParams {
     v("map_lrf_period", map_lrf_period, Bounds{0.0, 100.0});
     v("map_lrf_range", map_lrf_range, Bounds{1e-3, 100.0});
     v("max_relegs", max_relegs, Bounds{0, 20});
+    v("register_scans", register_scans);
+    v("icp", icp);
+    v("max_registration_correction", max_registration_correction, Bounds{0.0, 10.0});
+    v("max_registration_correction_deg", max_registration_correction_deg, Bounds{0.0, 180.0});
     v("body", body);
     v("occupancy_grid", grid);
     v("amcl", amcl);
@@ -152,6 +174,9 @@ struct DriveResult {
   double wall_time = 0.0;        ///< s (reporting only)
   int tls_scans = 0, lrf_sweeps = 0, amcl_updates = 0, replans = 0, lost_events = 0;
   int teleports = 0;             ///< kidnappings applied (world side)
+  /// TLS scans registered by ICP (register_scans), used degenerate, refused (AMCL pose kept).
+  int scan_registrations_ok = 0, scan_registrations_degenerate = 0, scan_registrations_failed = 0;
+  std::vector<std::string> scan_registration_messages;  ///< one line per registered scan
   double tls_time = 0.0;         ///< s of simulation time spent standing for TLS scans
   double tls_wall_time = 0.0;    ///< s of wall time spent simulating TLS scans (reporting only)
   double RealTimeFactor() const { return wall_time > 0 ? sim_time / wall_time : 0.0; }

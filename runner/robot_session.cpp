@@ -9,6 +9,7 @@
 #include <queue>
 
 #include "common/error.h"
+#include "perception/point_cloud_ops.h"
 #include "sim/lrf.h"
 #include "sim/tls_scanner.h"
 
@@ -203,6 +204,7 @@ struct RobotSession::Impl {
   interfaces::TlsScan last_scan;
   std::vector<std::vector<Eigen::Vector3d>> batches;  // the robot's own map points, per scan
   std::vector<Eigen::Vector3d> batch_origins;         // scanner centre of each batch (map)
+  std::optional<perception::PointMap> scan_map;       // registered scans (register_scans)
   struct MapSweep {
     interfaces::LrfScan scan;
     Pose2 X_MB;
@@ -415,6 +417,7 @@ struct RobotSession::Impl {
     last_scan = scanner.Scan(req, keep_truths ? &truth : nullptr);  // a plain TlsScan crosses
     if (keep_truths) truths.push_back(std::move(truth));
     tls_wall += std::chrono::duration<double>(Clock::now() - wall0).count();
+    if (params.register_scans) RegisterLastScan();
     ++log.tls_scans;
     ++nav_scans;
     log.scan_poses.push_back(X_MB_est);
@@ -438,6 +441,44 @@ struct RobotSession::Impl {
       while (t + 0.5 * params.control_dt < t_end) StepOnce();
     }
     return last_scan;
+  }
+
+  // Robot side: ICP of the scan just taken against the earlier ones (from its AMCL-stamped
+  // prior); on success the scan and the pose estimate take the registered pose (the base has
+  // not moved since the scan started). Every scan then joins the registration map.
+  void RegisterLastScan() {
+    const perception::Points pts = perception::ScanPoints(last_scan);
+    if (!scan_map) scan_map.emplace(params.icp);
+    if (!scan_map->empty()) {
+      const perception::RegistrationResult r =
+          perception::RegisterScan(pts, *scan_map, last_scan.X_MS_estimate, params.icp);
+      const bool fits = r.converged && r.fitness >= params.icp.min_fitness &&
+                        r.rmse <= params.icp.max_rmse &&
+                        r.free_space_violation <= params.icp.max_free_space_violation;
+      const Eigen::Isometry3d dX = last_scan.X_MS_estimate.inverse() * r.X_MS;
+      const double jump = dX.translation().head<2>().norm();
+      const double jump_deg = RadToDeg(std::abs(std::atan2(dX.linear()(1, 0), dX.linear()(0, 0))));
+      const bool small = jump <= params.max_registration_correction &&
+                         jump_deg <= params.max_registration_correction_deg;
+      const bool use = (r.ok || (fits && r.degenerate)) && small;
+      log.scan_registration_messages.push_back("scan " + std::to_string(log.tls_scans) + ": " +
+                                               (use ? "" : "refused, AMCL pose kept: ") + r.message +
+                                               Fmt("; correction %.3f m / %.3f deg", jump, jump_deg) +
+                                               (small ? "" : " (too large)"));
+      if (!use) {
+        ++log.scan_registrations_failed;
+        if (params.trace) std::fprintf(stderr, "t=%.2f scan registration refused: %s\n", t, r.message.c_str());
+      } else {
+        r.ok ? ++log.scan_registrations_ok : ++log.scan_registrations_degenerate;
+        last_scan.X_MS_estimate = r.X_MS;
+        X_MB_est = Pose2Of(r.X_MS * last_scan.X_BS.inverse());
+      }
+    }
+    // A refused scan joins too, with its AMCL pose: it is usually the first look into new
+    // space (a room entered through its door), and without it no later scan there would find
+    // a counterpart. Its error is what the map would carry without registration.
+    scan_map->Add(perception::Transform(pts, last_scan.X_MS_estimate),
+                  last_scan.X_MS_estimate.translation());
   }
 
   void CorrectLastScanPose(const Pose3& X_MS) {

@@ -45,6 +45,7 @@ DriveParams RoomMissionParams::DefaultDrive() {
   // Inside one room every NBS candidate lies in mapped free space: no scan-and-go stops (they
   // would be scans the room model never sees).
   p.max_scans = 1;
+  p.register_scans = false;  // RunRoomMission registers against its own S(t-1)
   return p;
 }
 
@@ -57,7 +58,7 @@ autonomy::NextBestScanParams RoomMissionParams::DefaultNbs() {
   return p;
 }
 
-perception::IcpParams RoomMissionParams::DefaultIcp() { return perception::IcpParams{}; }
+perception::IcpParams RoomMissionParams::DefaultIcp() { return DriveParams::DefaultIcp(); }
 
 RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams& params,
                                  modelling::RoomModel& model, const ScanHook& on_scan) {
@@ -68,7 +69,7 @@ RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams&
   const auto wall0 = Clock::now();
   RoomMissionResult res;
   perception::PointMap target(params.icp);
-  std::vector<Vec2> failed_goals;  // candidates the robot could not reach
+  std::vector<Vec2> failed_scans;  // base positions whose scan could not be registered
 
   for (int k = 0; k < params.max_scans; ++k) {
     RoomScanLog log;
@@ -93,6 +94,8 @@ RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams&
         session.CorrectLastScanPose(log.X_MS);
       } else {
         res.registration_failed = true;
+        const Pose2 here = session.EstimatedPose();
+        failed_scans.emplace_back(here.x, here.y);
       }
     }
     // A scan that could not be registered stays out of S(t) and of the model (it would smear
@@ -145,12 +148,17 @@ RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams&
       res.scans.push_back(std::move(log));
       break;
     }
+    auto spent = [&](int i) {
+      for (const Vec2& f : failed_scans)
+        if ((nbs.candidates[i].position - f).norm() < params.failed_scan_exclusion) return true;
+      return false;
+    };
     std::vector<int> order;
     if (nbs.found) {
-      order.push_back(nbs.chosen);
+      if (!spent(nbs.chosen)) order.push_back(nbs.chosen);
       std::vector<int> rest;
       for (int i = 0; i < static_cast<int>(nbs.candidates.size()); ++i)
-        if (i != nbs.chosen && nbs.candidates[i].gain > 0) rest.push_back(i);
+        if (i != nbs.chosen && nbs.candidates[i].gain > 0 && !spent(i)) rest.push_back(i);
       std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) {
         return nbs.candidates[a].gain > nbs.candidates[b].gain;
       });
@@ -161,7 +169,7 @@ RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams&
          ++attempt) {
       const autonomy::NbsCandidate& c = nbs.candidates[order[attempt]];
       const Pose2 goal{c.position.x(), c.position.y(),
-                       attempt == 0 ? nbs.goal.yaw : session.EstimatedPose().yaw};
+                       order[attempt] == nbs.chosen ? nbs.goal.yaw : session.EstimatedPose().yaw};
       log.has_next = true;
       log.next_goal = goal;
       log.expected_gain = c.gain;

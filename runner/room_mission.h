@@ -32,6 +32,9 @@ struct RoomMissionParams {
   double scan_step_deg = 0.2;  ///< deg, TLS angular step of the room scans, [0.02, 5]
   int max_scans = 10;          ///< hard cap of scans in the room (beyond the paper's rule), [1, 100]
   int nav_attempts = 5;        ///< NBS candidates tried when driving to one fails, [1, 20]
+  /// m, NBS candidates this close to a position whose scan could not be registered are not
+  /// chosen again (the model did not change, so the same spot would win again), [0, 10]
+  double failed_scan_exclusion = 1.0;
   DriveParams drive = DefaultDrive();
   perception::IcpParams icp = DefaultIcp();
   modelling::RoomModelParams model;
@@ -48,6 +51,7 @@ struct RoomMissionParams {
     v("scan_step_deg", scan_step_deg, Bounds{0.02, 5.0});
     v("max_scans", max_scans, Bounds{1, 100});
     v("nav_attempts", nav_attempts, Bounds{1, 20});
+    v("failed_scan_exclusion", failed_scan_exclusion, Bounds{0.0, 10.0});
     v("drive", drive);
     v("icp", icp);
     v("room_model", model);
