@@ -246,6 +246,339 @@ void WriteTruthDsm3Ply(const std::string& path, const ev::Dsm3Voxels& grid_of,
 
 }  // namespace
 
+void EvaluateModels(const std::string& run_dir, const std::string& truth_file,
+                    const std::string& config, const std::string& out) {
+  EvalParams params;
+  if (!config.empty()) params = LoadParamsFile<EvalParams>(config);
+  ValidateParams(params, "eval.");
+  const std::vector<std::string> run_files = FindRuns(run_dir);
+  std::vector<ev::RunInfo> runs;
+  for (const auto& f : run_files) runs.push_back(ev::ReadRunInfo(f));
+  std::optional<scenes::GroundTruth> truth_override;
+  if (!truth_file.empty()) truth_override = scenes::ReadGroundTruth(truth_file);
+
+  std::map<std::string, MissionWorld> worlds;  // by scene argument and door overrides
+  std::vector<RoomResult> results;
+  for (const auto& run : runs) {
+    const std::string where = (fs::path(run.dir) / "run.json").string();
+    std::string scene = run.scene;
+    if (!fs::exists(scene) && fs::exists(fs::path(run.dir) / scene))
+      scene = (fs::path(run.dir) / scene).string();
+    if (!fs::exists(scene))
+      throw InputError(where, "scene: not found", "'" + run.scene + "'",
+                       "a generated scene folder or a spec .yaml");
+    std::string key = scene;
+    for (const auto& d : run.doors) key += "\n" + d;
+    if (!worlds.count(key)) worlds.emplace(key, LoadMissionWorld(scene, run.doors));
+    const MissionWorld& mw = worlds.at(key);
+    const scenes::GroundTruth* truth = truth_override ? &*truth_override
+                                       : mw.truth     ? &*mw.truth
+                                                      : nullptr;
+    if (!truth)
+      throw InputError(where, "scene has no truth sidecar", "'" + scene + "'", "--truth FILE");
+    if (run.sm3.empty()) throw InputError(where, "files.sm3: missing field");
+
+    RoomResult r;
+    r.run = run;
+    r.truth = truth;
+    const ev::Sm3Model sm3 = ev::ReadSm3(run.sm3);
+    std::vector<ev::Patch> model;
+    for (const auto& p : sm3.patches) model.push_back(ToWorld(p.patch, run.X_WM));
+    r.model_patches = model.size();
+    const std::vector<ev::Patch> truth_patches = ev::TruthPatches(*truth, run.room);
+    // Columns are scored as objects, the other classes patch by patch.
+    auto no_columns = [](const std::vector<ev::Patch>& v) {
+      std::vector<ev::Patch> out;
+      for (const auto& p : v)
+        if (p.cls != ev::SurfaceClass::kColumn) out.push_back(p);
+      return out;
+    };
+    try {
+      r.patches =
+          ev::EvaluatePatches(no_columns(model), no_columns(truth_patches), params.patches);
+      r.columns = ev::EvaluateColumns(ev::GroupModelColumns(model),
+                                      ev::TruthColumns(*truth, run.room), params.columns,
+                                      params.patches);
+      r.isprs = ev::EvaluateIsprs(model, truth_patches, params.isprs);
+    } catch (const InputError& e) {
+      throw InputError(run.sm3 + ": " + e.what());
+    }
+    double best = 0.0;
+    for (const auto& p : model)
+      if (p.cls == ev::SurfaceClass::kFloor && ev::PolygonArea3d(p.polygon) > best) {
+        best = ev::PolygonArea3d(p.polygon);
+        ev::Room room{run.room, {}};
+        for (const auto& v : p.polygon) room.polygon.emplace_back(v.x(), v.y());
+        r.floor = room;
+      }
+    if (!run.dsm3.empty()) {
+      const ev::Dsm3Voxels dsm = ev::ReadDsm3(run.dsm3);
+      const std::string poses = (fs::path(run.dir) / "scan_poses.tum").string();
+      if (!fs::exists(poses))
+        throw InputError(where, "scan_poses.tum missing beside run.json", "",
+                         "the scanner poses for the truth DSM3");
+      std::vector<Vec3> scanners;
+      for (const auto& p : ev::ReadTumPositions(poses)) scanners.push_back(run.X_WM * p);
+      r.scanners = scanners.size();
+      r.dsm3_truth = ev::TruthDsm3(*mw.world, *truth, run.room, dsm.grid, dsm.ijk, run.X_WM,
+                                   scanners, params.dsm3);
+      r.dsm3_pred = dsm.labels;
+      r.dsm3_voxels = dsm;
+      r.dsm3 = ev::ComputeDsm3Confusion(r.dsm3_truth, r.dsm3_pred);
+      r.has_dsm3 = true;
+    }
+    const fs::path mission = fs::path(run.dir) / "evaluation.json";
+    if (fs::exists(mission)) {
+      std::ifstream f(mission);
+      try {
+        r.mission = ojson::parse(f);
+      } catch (const std::exception& e) {
+        throw InputError(mission.string(), std::string("malformed JSON: ") + e.what());
+      }
+      // Our own output written into the run dir (-o RUN_DIR) is not the mission's.
+      if (r.mission->contains("format") && (*r.mission)["format"] == "mopad-evaluation")
+        r.mission.reset();
+    }
+    results.push_back(std::move(r));
+  }
+
+  // Floorplan over all rooms: the evaluated rooms' truth polygons vs the SM3 floors.
+  std::vector<ev::Room> predicted, truth_rooms;
+  {
+    std::vector<std::string> seen;
+    for (const auto& r : results) {
+      if (r.floor) predicted.push_back(*r.floor);
+      if (std::find(seen.begin(), seen.end(), r.run.room) != seen.end()) continue;
+      seen.push_back(r.run.room);
+      for (const auto& t : ev::TruthFloorplan(*r.truth))
+        if (t.id == r.run.room) truth_rooms.push_back(t);
+    }
+  }
+  const ev::FloorplanResult plan =
+      ev::EvaluateFloorplan(predicted, truth_rooms, params.floorplan);
+
+  // Pooled figures.
+  ev::PatchEvaluation pooled;
+  ev::ColumnEvaluation pooled_columns;
+  std::vector<std::uint8_t> all_truth, all_pred;
+  for (const auto& r : results) {
+    for (int c = 0; c < ev::kNumSurfaceClasses; ++c) {
+      auto& d = pooled.detection[c];
+      const auto& s = r.patches.detection[c];
+      d.n_truth += s.n_truth, d.n_model += s.n_model, d.tp += s.tp, d.fp += s.fp, d.fn += s.fn;
+      pooled.accuracy[c].d_v.Merge(r.patches.accuracy[c].d_v);
+      pooled.accuracy[c].d_h.Merge(r.patches.accuracy[c].d_h);
+      pooled.accuracy[c].phi_deg.Merge(r.patches.accuracy[c].phi_deg);
+    }
+    {
+      auto& d = pooled_columns.detection;
+      const auto& s = r.columns.detection;
+      d.n_truth += s.n_truth, d.n_model += s.n_model, d.tp += s.tp, d.fp += s.fp, d.fn += s.fn;
+      auto& fd = pooled_columns.face_detection;
+      const auto& fs = r.columns.face_detection;
+      fd.n_truth += fs.n_truth, fd.n_model += fs.n_model, fd.tp += fs.tp, fd.fp += fs.fp,
+          fd.fn += fs.fn;
+      pooled_columns.face_accuracy.d_v.Merge(r.columns.face_accuracy.d_v);
+      pooled_columns.face_accuracy.d_h.Merge(r.columns.face_accuracy.d_h);
+      pooled_columns.face_accuracy.phi_deg.Merge(r.columns.face_accuracy.phi_deg);
+      pooled_columns.plan_iou.Merge(r.columns.plan_iou);
+      pooled_columns.centre_error.Merge(r.columns.centre_error);
+      pooled_columns.area_error.Merge(r.columns.area_error);
+      pooled_columns.diameter_error.Merge(r.columns.diameter_error);
+      pooled_columns.height_error.Merge(r.columns.height_error);
+    }
+    pooled.d_v.Merge(r.patches.d_v);
+    pooled.d_h.Merge(r.patches.d_h);
+    pooled.phi_deg.Merge(r.patches.phi_deg);
+    all_truth.insert(all_truth.end(), r.dsm3_truth.begin(), r.dsm3_truth.end());
+    all_pred.insert(all_pred.end(), r.dsm3_pred.begin(), r.dsm3_pred.end());
+  }
+  // The column class of every detection table counts column objects.
+  pooled.detection[static_cast<int>(ev::SurfaceClass::kColumn)] = pooled_columns.detection;
+  for (auto& r : results)
+    r.patches.detection[static_cast<int>(ev::SurfaceClass::kColumn)] = r.columns.detection;
+  const bool any_dsm3 = !all_truth.empty();
+  const ev::ConfusionMatrix pooled_dsm3 = ev::ComputeDsm3Confusion(all_truth, all_pred);
+  const auto [compl_b, corr_b] = PooledIsprs(results, params.report_buffer);
+  const int structure = static_cast<int>(ev::VoxelLabel::kStructure);
+
+  // evaluation.json
+  ojson j;
+  j["format"] = "mopad-evaluation";
+  j["version"] = 1;
+  j["run_dir"] = run_dir;
+  j["truth"] = truth_file.empty() ? "scene" : truth_file;
+  ojson summary;
+  summary["rooms"] = results.size();
+  ojson det;
+  for (auto c : ev::AllSurfaceClasses()) {
+    const auto& d = pooled.detection[static_cast<int>(c)];
+    det[ev::SurfaceClassName(c)] = {
+        {"n_truth", d.n_truth}, {"tp", d.tp}, {"fp", d.fp}, {"fn", d.fn}};
+  }
+  summary["detection"] = det;
+  summary["d_v"] = Ord(ev::ToJson(pooled.d_v));
+  summary["d_h"] = Ord(ev::ToJson(pooled.d_h));
+  summary["phi_deg"] = Ord(ev::ToJson(pooled.phi_deg));
+  summary["columns"] = ColumnsJson(pooled_columns, /*with_pairs=*/false);
+  summary["isprs_buffer"] = params.report_buffer;
+  summary["isprs_completeness"] = Num(compl_b);
+  summary["isprs_correctness"] = Num(corr_b);
+  summary["dsm3_structure_iou"] = any_dsm3 ? Num(pooled_dsm3.iou[structure]) : ojson(nullptr);
+  summary["floorplan_mean_iou"] = Num(plan.mean_truth_iou);
+  {
+    // The missions' own figures (per-pulse truth during the run), pooled over rooms.
+    double cov_min = NAN, t_max = NAN, r_max = NAN, points = 0, correct = 0;
+    for (const auto& r : results) {
+      const double cov = MissionNumber(r.mission, "coverage_of_observable");
+      const double t = MissionNumber(r.mission, "registration_error_max", "translation_m");
+      const double rot = MissionNumber(r.mission, "registration_error_max", "rotation_deg");
+      const double n = MissionNumber(r.mission, "sm1_labels", "points");
+      const double c = MissionNumber(r.mission, "sm1_labels", "correct");
+      if (std::isfinite(cov)) cov_min = std::isfinite(cov_min) ? std::min(cov_min, cov) : cov;
+      if (std::isfinite(t)) t_max = std::isfinite(t_max) ? std::max(t_max, t) : t;
+      if (std::isfinite(rot)) r_max = std::isfinite(r_max) ? std::max(r_max, rot) : rot;
+      if (std::isfinite(n) && std::isfinite(c)) points += n, correct += c;
+    }
+    summary["mission"] = {
+        {"coverage_of_observable_min", Num(cov_min)},
+        {"registration_translation_max_m", Num(t_max)},
+        {"registration_rotation_max_deg", Num(r_max)},
+        {"sm1_label_accuracy", points > 0 ? Num(correct / points) : ojson(nullptr)}};
+  }
+  j["summary"] = summary;
+  ojson rooms = ojson::array();
+  for (const auto& r : results) {
+    ojson x;
+    x["room"] = r.run.room;
+    x["run_dir"] = r.run.dir;
+    x["seed"] = r.run.seed;
+    x["model_patches"] = r.model_patches;
+    x["sm3"] = Ord(ev::ToJson(r.patches));
+    x["columns"] = ColumnsJson(r.columns, /*with_pairs=*/true);
+    x["isprs"] = Ord(ev::ToJson(r.isprs));
+    if (r.has_dsm3) {
+      x["dsm3"] = Ord(ev::ToJson(r.dsm3));
+      x["dsm3_scanner_positions"] = r.scanners;
+      x["dsm3_truth_counts"] = CountsJson(r.dsm3_truth);
+      x["dsm3_model_counts"] = CountsJson(r.dsm3_pred);
+    } else {
+      x["dsm3"] = nullptr;
+    }
+    x["mission"] = r.mission ? *r.mission : ojson(nullptr);
+    rooms.push_back(x);
+  }
+  j["rooms"] = rooms;
+  j["floorplan"] = Ord(ev::ToJson(plan));
+  j["dsm3_all_rooms"] = any_dsm3 ? Ord(ev::ToJson(pooled_dsm3)) : ojson(nullptr);
+
+  const fs::path dir = out.empty() ? fs::path(run_dir) / "eval" : fs::path(out);
+  fs::create_directories(dir);
+  std::ofstream(dir / "evaluation.json") << j.dump(2) << "\n";
+  std::ofstream(dir / "eval.effective.yaml") << YAML::Dump(SaveParams(params)) << "\n";
+
+  // evaluation.md
+  std::ostringstream md;
+  md << "# Evaluation of `" << run_dir << "`\n\n";
+  md << "| room | walls TP/N (FP) | floors | ceilings | columns | d_v mean (cm) | d_h mean (cm) "
+        "| "
+        "Phi mean (deg) | compl@"
+     << Fmt(params.report_buffer, 0, 100) << "cm | corr@" << Fmt(params.report_buffer, 0, 100)
+     << "cm | DSM3 structure IoU |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  auto det_cell = [](const ev::ClassDetection& d) {
+    return std::to_string(d.tp) + "/" + std::to_string(d.n_truth) + " (" + std::to_string(d.fp) +
+           ")";
+  };
+  for (const auto& r : results) {
+    const int b = r.isprs.BufferIndex(params.report_buffer);
+    md << "| " << r.run.room;
+    for (int c = 0; c < ev::kNumSurfaceClasses; ++c)
+      md << " | " << det_cell(r.patches.detection[c]);
+    md << " | " << Fmt(r.patches.d_v.mean, 2, 100) << " | " << Fmt(r.patches.d_h.mean, 2, 100)
+       << " | " << Fmt(r.patches.phi_deg.mean, 4) << " | " << Fmt(r.isprs.all.completeness[b], 4)
+       << " | " << Fmt(r.isprs.all.correctness[b], 4) << " | "
+       << (r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4) : std::string("-")) << " |\n";
+  }
+  md << "| **all**";
+  for (int c = 0; c < ev::kNumSurfaceClasses; ++c) md << " | " << det_cell(pooled.detection[c]);
+  md << " | " << Fmt(pooled.d_v.mean, 2, 100) << " | " << Fmt(pooled.d_h.mean, 2, 100) << " | "
+     << Fmt(pooled.phi_deg.mean, 4) << " | " << Fmt(compl_b, 4) << " | " << Fmt(corr_b, 4)
+     << " | " << (any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
+  md << "## Floorplan (all rooms)\n\n" << ev::MarkdownFloorplanTable(plan) << "\n";
+  if (any_dsm3)
+    md << "## DSM3 (all rooms)\n\n" << ev::MarkdownConfusionTable(pooled_dsm3) << "\n";
+  for (const auto& r : results) {
+    md << "## Room " << r.run.room << "\n\n### SM3 structural elements\n\n"
+       << ev::MarkdownPatchTable(r.patches) << "\n";
+    if (r.columns.detection.n_truth + r.columns.detection.n_model > 0)
+      md << "### Columns (objects)\n\n" << ColumnsMarkdown(r.columns) << "\n";
+    md << "### ISPRS surfaces\n\n"
+       << ev::MarkdownIsprsTable(r.isprs, params.report_buffer) << "\n"
+       << ev::IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) << "\n\n";
+    std::ofstream(dir / ("isprs_" + r.run.room + ".svg"))
+        << ev::IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) << "\n";
+    if (r.has_dsm3)
+      WriteTruthDsm3Ply((dir / ("dsm3_truth_" + r.run.room + ".ply")).string(), r.dsm3_voxels,
+                        r.dsm3_truth);
+    if (r.has_dsm3) md << "### DSM3 voxels\n\n" << ev::MarkdownConfusionTable(r.dsm3) << "\n";
+    if (r.mission)
+      md << "### Mission figures\n\ncoverage of observable "
+         << Fmt(MissionNumber(r.mission, "coverage_of_observable"), 4)
+         << ", registration error max "
+         << Fmt(MissionNumber(r.mission, "registration_error_max", "translation_m"), 2, 100)
+         << " cm, SM1 label accuracy "
+         << Fmt(MissionNumber(r.mission, "sm1_labels", "accuracy"), 4) << "\n\n";
+  }
+  std::ofstream(dir / "evaluation.md") << md.str();
+
+  // Summary on stdout.
+  std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", "room", "walls", "floor",
+              "ceiling", "columns", "d_v(cm)", "d_h(cm)", "phi(deg)", "compl", "corr", "dsm3",
+              "cover");
+  auto cell = [](const ev::ClassDetection& d) {
+    return std::to_string(d.tp) + "/" + std::to_string(d.n_truth) +
+           (d.fp ? "+" + std::to_string(d.fp) + "FP" : "");
+  };
+  for (const auto& r : results) {
+    const int b = r.isprs.BufferIndex(params.report_buffer);
+    std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", r.run.room.c_str(),
+                cell(r.patches.detection[0]).c_str(), cell(r.patches.detection[1]).c_str(),
+                cell(r.patches.detection[2]).c_str(), cell(r.columns.detection).c_str(),
+                Fmt(r.patches.d_v.mean, 2, 100).c_str(), Fmt(r.patches.d_h.mean, 2, 100).c_str(),
+                Fmt(r.patches.phi_deg.mean, 4).c_str(),
+                Fmt(r.isprs.all.completeness[b], 4).c_str(),
+                Fmt(r.isprs.all.correctness[b], 4).c_str(),
+                r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4).c_str() : "-",
+                Fmt(MissionNumber(r.mission, "coverage_of_observable"), 3).c_str());
+  }
+  std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s\n", "all",
+              cell(pooled.detection[0]).c_str(), cell(pooled.detection[1]).c_str(),
+              cell(pooled.detection[2]).c_str(), cell(pooled.detection[3]).c_str(),
+              Fmt(pooled.d_v.mean, 2, 100).c_str(), Fmt(pooled.d_h.mean, 2, 100).c_str(),
+              Fmt(pooled.phi_deg.mean, 4).c_str(), Fmt(compl_b, 4).c_str(),
+              Fmt(corr_b, 4).c_str(),
+              any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4).c_str() : "-");
+  if (pooled_columns.detection.n_truth + pooled_columns.detection.n_model > 0)
+    std::printf(
+        "columns (objects): %d/%d TP, %d FP; plan IoU mean %s, centre error mean %s cm, "
+        "diameter error mean %s cm, height error mean %s cm; square-column faces d_h %s cm, "
+        "Phi %s deg\n",
+        pooled_columns.detection.tp, pooled_columns.detection.n_truth,
+        pooled_columns.detection.fp, Fmt(pooled_columns.plan_iou.mean, 3).c_str(),
+        Fmt(pooled_columns.centre_error.mean, 2, 100).c_str(),
+        Fmt(pooled_columns.diameter_error.mean, 2, 100).c_str(),
+        Fmt(pooled_columns.height_error.mean, 2, 100).c_str(),
+        Fmt(pooled_columns.face_accuracy.d_h.mean, 2, 100).c_str(),
+        Fmt(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
+  std::printf("floorplan: mean room IoU %s, corner recall@10cm %s; ISPRS at %s cm buffer\n",
+              Fmt(plan.mean_truth_iou, 4).c_str(),
+              plan.corners.size() > 1 ? Fmt(plan.corners[1].score.recall, 3).c_str() : "-",
+              Fmt(params.report_buffer, 0, 100).c_str());
+  std::printf("wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
+              dir.string().c_str());
+}
+
 void RegisterEvalCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "eval", "Score a run's structural models (SM3, floorplan, DSM3) against the scene's truth");
@@ -260,337 +593,7 @@ void RegisterEvalCommand(CLI::App& app) {
                   "Truth sidecar (scene.truth.json) overriding the scene's");
   cmd->add_option("--config", *config, "YAML overriding the evaluation parameters");
   cmd->add_option("-o,--output", *out, "Output folder (default: RUN_DIR/eval)");
-  cmd->callback([=] {
-    EvalParams params;
-    if (!config->empty()) params = LoadParamsFile<EvalParams>(*config);
-    ValidateParams(params, "eval.");
-    const std::vector<std::string> run_files = FindRuns(*run_dir);
-    std::vector<ev::RunInfo> runs;
-    for (const auto& f : run_files) runs.push_back(ev::ReadRunInfo(f));
-    std::optional<scenes::GroundTruth> truth_override;
-    if (!truth_file->empty()) truth_override = scenes::ReadGroundTruth(*truth_file);
-
-    std::map<std::string, MissionWorld> worlds;  // by scene argument and door overrides
-    std::vector<RoomResult> results;
-    for (const auto& run : runs) {
-      const std::string where = (fs::path(run.dir) / "run.json").string();
-      std::string scene = run.scene;
-      if (!fs::exists(scene) && fs::exists(fs::path(run.dir) / scene))
-        scene = (fs::path(run.dir) / scene).string();
-      if (!fs::exists(scene))
-        throw InputError(where, "scene: not found", "'" + run.scene + "'",
-                         "a generated scene folder or a spec .yaml");
-      std::string key = scene;
-      for (const auto& d : run.doors) key += "\n" + d;
-      if (!worlds.count(key)) worlds.emplace(key, LoadMissionWorld(scene, run.doors));
-      const MissionWorld& mw = worlds.at(key);
-      const scenes::GroundTruth* truth = truth_override ? &*truth_override
-                                         : mw.truth     ? &*mw.truth
-                                                        : nullptr;
-      if (!truth)
-        throw InputError(where, "scene has no truth sidecar", "'" + scene + "'", "--truth FILE");
-      if (run.sm3.empty()) throw InputError(where, "files.sm3: missing field");
-
-      RoomResult r;
-      r.run = run;
-      r.truth = truth;
-      const ev::Sm3Model sm3 = ev::ReadSm3(run.sm3);
-      std::vector<ev::Patch> model;
-      for (const auto& p : sm3.patches) model.push_back(ToWorld(p.patch, run.X_WM));
-      r.model_patches = model.size();
-      const std::vector<ev::Patch> truth_patches = ev::TruthPatches(*truth, run.room);
-      // Columns are scored as objects, the other classes patch by patch.
-      auto no_columns = [](const std::vector<ev::Patch>& v) {
-        std::vector<ev::Patch> out;
-        for (const auto& p : v)
-          if (p.cls != ev::SurfaceClass::kColumn) out.push_back(p);
-        return out;
-      };
-      try {
-        r.patches =
-            ev::EvaluatePatches(no_columns(model), no_columns(truth_patches), params.patches);
-        r.columns = ev::EvaluateColumns(ev::GroupModelColumns(model),
-                                        ev::TruthColumns(*truth, run.room), params.columns,
-                                        params.patches);
-        r.isprs = ev::EvaluateIsprs(model, truth_patches, params.isprs);
-      } catch (const InputError& e) {
-        throw InputError(run.sm3 + ": " + e.what());
-      }
-      double best = 0.0;
-      for (const auto& p : model)
-        if (p.cls == ev::SurfaceClass::kFloor && ev::PolygonArea3d(p.polygon) > best) {
-          best = ev::PolygonArea3d(p.polygon);
-          ev::Room room{run.room, {}};
-          for (const auto& v : p.polygon) room.polygon.emplace_back(v.x(), v.y());
-          r.floor = room;
-        }
-      if (!run.dsm3.empty()) {
-        const ev::Dsm3Voxels dsm = ev::ReadDsm3(run.dsm3);
-        const std::string poses = (fs::path(run.dir) / "scan_poses.tum").string();
-        if (!fs::exists(poses))
-          throw InputError(where, "scan_poses.tum missing beside run.json", "",
-                           "the scanner poses for the truth DSM3");
-        std::vector<Vec3> scanners;
-        for (const auto& p : ev::ReadTumPositions(poses)) scanners.push_back(run.X_WM * p);
-        r.scanners = scanners.size();
-        r.dsm3_truth = ev::TruthDsm3(*mw.world, *truth, run.room, dsm.grid, dsm.ijk, run.X_WM,
-                                     scanners, params.dsm3);
-        r.dsm3_pred = dsm.labels;
-        r.dsm3_voxels = dsm;
-        r.dsm3 = ev::ComputeDsm3Confusion(r.dsm3_truth, r.dsm3_pred);
-        r.has_dsm3 = true;
-      }
-      const fs::path mission = fs::path(run.dir) / "evaluation.json";
-      if (fs::exists(mission)) {
-        std::ifstream f(mission);
-        try {
-          r.mission = ojson::parse(f);
-        } catch (const std::exception& e) {
-          throw InputError(mission.string(), std::string("malformed JSON: ") + e.what());
-        }
-        // Our own output written into the run dir (-o RUN_DIR) is not the mission's.
-        if (r.mission->contains("format") && (*r.mission)["format"] == "mopad-evaluation")
-          r.mission.reset();
-      }
-      results.push_back(std::move(r));
-    }
-
-    // Floorplan over all rooms: the evaluated rooms' truth polygons vs the SM3 floors.
-    std::vector<ev::Room> predicted, truth_rooms;
-    {
-      std::vector<std::string> seen;
-      for (const auto& r : results) {
-        if (r.floor) predicted.push_back(*r.floor);
-        if (std::find(seen.begin(), seen.end(), r.run.room) != seen.end()) continue;
-        seen.push_back(r.run.room);
-        for (const auto& t : ev::TruthFloorplan(*r.truth))
-          if (t.id == r.run.room) truth_rooms.push_back(t);
-      }
-    }
-    const ev::FloorplanResult plan =
-        ev::EvaluateFloorplan(predicted, truth_rooms, params.floorplan);
-
-    // Pooled figures.
-    ev::PatchEvaluation pooled;
-    ev::ColumnEvaluation pooled_columns;
-    std::vector<std::uint8_t> all_truth, all_pred;
-    for (const auto& r : results) {
-      for (int c = 0; c < ev::kNumSurfaceClasses; ++c) {
-        auto& d = pooled.detection[c];
-        const auto& s = r.patches.detection[c];
-        d.n_truth += s.n_truth, d.n_model += s.n_model, d.tp += s.tp, d.fp += s.fp, d.fn += s.fn;
-        pooled.accuracy[c].d_v.Merge(r.patches.accuracy[c].d_v);
-        pooled.accuracy[c].d_h.Merge(r.patches.accuracy[c].d_h);
-        pooled.accuracy[c].phi_deg.Merge(r.patches.accuracy[c].phi_deg);
-      }
-      {
-        auto& d = pooled_columns.detection;
-        const auto& s = r.columns.detection;
-        d.n_truth += s.n_truth, d.n_model += s.n_model, d.tp += s.tp, d.fp += s.fp, d.fn += s.fn;
-        auto& fd = pooled_columns.face_detection;
-        const auto& fs = r.columns.face_detection;
-        fd.n_truth += fs.n_truth, fd.n_model += fs.n_model, fd.tp += fs.tp, fd.fp += fs.fp,
-            fd.fn += fs.fn;
-        pooled_columns.face_accuracy.d_v.Merge(r.columns.face_accuracy.d_v);
-        pooled_columns.face_accuracy.d_h.Merge(r.columns.face_accuracy.d_h);
-        pooled_columns.face_accuracy.phi_deg.Merge(r.columns.face_accuracy.phi_deg);
-        pooled_columns.plan_iou.Merge(r.columns.plan_iou);
-        pooled_columns.centre_error.Merge(r.columns.centre_error);
-        pooled_columns.area_error.Merge(r.columns.area_error);
-        pooled_columns.diameter_error.Merge(r.columns.diameter_error);
-        pooled_columns.height_error.Merge(r.columns.height_error);
-      }
-      pooled.d_v.Merge(r.patches.d_v);
-      pooled.d_h.Merge(r.patches.d_h);
-      pooled.phi_deg.Merge(r.patches.phi_deg);
-      all_truth.insert(all_truth.end(), r.dsm3_truth.begin(), r.dsm3_truth.end());
-      all_pred.insert(all_pred.end(), r.dsm3_pred.begin(), r.dsm3_pred.end());
-    }
-    // The column class of every detection table counts column objects.
-    pooled.detection[static_cast<int>(ev::SurfaceClass::kColumn)] = pooled_columns.detection;
-    for (auto& r : results)
-      r.patches.detection[static_cast<int>(ev::SurfaceClass::kColumn)] = r.columns.detection;
-    const bool any_dsm3 = !all_truth.empty();
-    const ev::ConfusionMatrix pooled_dsm3 = ev::ComputeDsm3Confusion(all_truth, all_pred);
-    const auto [compl_b, corr_b] = PooledIsprs(results, params.report_buffer);
-    const int structure = static_cast<int>(ev::VoxelLabel::kStructure);
-
-    // evaluation.json
-    ojson j;
-    j["format"] = "mopad-evaluation";
-    j["version"] = 1;
-    j["run_dir"] = *run_dir;
-    j["truth"] = truth_file->empty() ? "scene" : *truth_file;
-    ojson summary;
-    summary["rooms"] = results.size();
-    ojson det;
-    for (auto c : ev::AllSurfaceClasses()) {
-      const auto& d = pooled.detection[static_cast<int>(c)];
-      det[ev::SurfaceClassName(c)] = {
-          {"n_truth", d.n_truth}, {"tp", d.tp}, {"fp", d.fp}, {"fn", d.fn}};
-    }
-    summary["detection"] = det;
-    summary["d_v"] = Ord(ev::ToJson(pooled.d_v));
-    summary["d_h"] = Ord(ev::ToJson(pooled.d_h));
-    summary["phi_deg"] = Ord(ev::ToJson(pooled.phi_deg));
-    summary["columns"] = ColumnsJson(pooled_columns, /*with_pairs=*/false);
-    summary["isprs_buffer"] = params.report_buffer;
-    summary["isprs_completeness"] = Num(compl_b);
-    summary["isprs_correctness"] = Num(corr_b);
-    summary["dsm3_structure_iou"] = any_dsm3 ? Num(pooled_dsm3.iou[structure]) : ojson(nullptr);
-    summary["floorplan_mean_iou"] = Num(plan.mean_truth_iou);
-    {
-      // The missions' own figures (per-pulse truth during the run), pooled over rooms.
-      double cov_min = NAN, t_max = NAN, r_max = NAN, points = 0, correct = 0;
-      for (const auto& r : results) {
-        const double cov = MissionNumber(r.mission, "coverage_of_observable");
-        const double t = MissionNumber(r.mission, "registration_error_max", "translation_m");
-        const double rot = MissionNumber(r.mission, "registration_error_max", "rotation_deg");
-        const double n = MissionNumber(r.mission, "sm1_labels", "points");
-        const double c = MissionNumber(r.mission, "sm1_labels", "correct");
-        if (std::isfinite(cov)) cov_min = std::isfinite(cov_min) ? std::min(cov_min, cov) : cov;
-        if (std::isfinite(t)) t_max = std::isfinite(t_max) ? std::max(t_max, t) : t;
-        if (std::isfinite(rot)) r_max = std::isfinite(r_max) ? std::max(r_max, rot) : rot;
-        if (std::isfinite(n) && std::isfinite(c)) points += n, correct += c;
-      }
-      summary["mission"] = {
-          {"coverage_of_observable_min", Num(cov_min)},
-          {"registration_translation_max_m", Num(t_max)},
-          {"registration_rotation_max_deg", Num(r_max)},
-          {"sm1_label_accuracy", points > 0 ? Num(correct / points) : ojson(nullptr)}};
-    }
-    j["summary"] = summary;
-    ojson rooms = ojson::array();
-    for (const auto& r : results) {
-      ojson x;
-      x["room"] = r.run.room;
-      x["run_dir"] = r.run.dir;
-      x["seed"] = r.run.seed;
-      x["model_patches"] = r.model_patches;
-      x["sm3"] = Ord(ev::ToJson(r.patches));
-      x["columns"] = ColumnsJson(r.columns, /*with_pairs=*/true);
-      x["isprs"] = Ord(ev::ToJson(r.isprs));
-      if (r.has_dsm3) {
-        x["dsm3"] = Ord(ev::ToJson(r.dsm3));
-        x["dsm3_scanner_positions"] = r.scanners;
-        x["dsm3_truth_counts"] = CountsJson(r.dsm3_truth);
-        x["dsm3_model_counts"] = CountsJson(r.dsm3_pred);
-      } else {
-        x["dsm3"] = nullptr;
-      }
-      x["mission"] = r.mission ? *r.mission : ojson(nullptr);
-      rooms.push_back(x);
-    }
-    j["rooms"] = rooms;
-    j["floorplan"] = Ord(ev::ToJson(plan));
-    j["dsm3_all_rooms"] = any_dsm3 ? Ord(ev::ToJson(pooled_dsm3)) : ojson(nullptr);
-
-    const fs::path dir = out->empty() ? fs::path(*run_dir) / "eval" : fs::path(*out);
-    fs::create_directories(dir);
-    std::ofstream(dir / "evaluation.json") << j.dump(2) << "\n";
-    std::ofstream(dir / "eval.effective.yaml") << YAML::Dump(SaveParams(params)) << "\n";
-
-    // evaluation.md
-    std::ostringstream md;
-    md << "# Evaluation of `" << *run_dir << "`\n\n";
-    md << "| room | walls TP/N (FP) | floors | ceilings | columns | d_v mean (cm) | d_h mean (cm) "
-          "| "
-          "Phi mean (deg) | compl@"
-       << Fmt(params.report_buffer, 0, 100) << "cm | corr@" << Fmt(params.report_buffer, 0, 100)
-       << "cm | DSM3 structure IoU |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    auto det_cell = [](const ev::ClassDetection& d) {
-      return std::to_string(d.tp) + "/" + std::to_string(d.n_truth) + " (" + std::to_string(d.fp) +
-             ")";
-    };
-    for (const auto& r : results) {
-      const int b = r.isprs.BufferIndex(params.report_buffer);
-      md << "| " << r.run.room;
-      for (int c = 0; c < ev::kNumSurfaceClasses; ++c)
-        md << " | " << det_cell(r.patches.detection[c]);
-      md << " | " << Fmt(r.patches.d_v.mean, 2, 100) << " | " << Fmt(r.patches.d_h.mean, 2, 100)
-         << " | " << Fmt(r.patches.phi_deg.mean, 4) << " | " << Fmt(r.isprs.all.completeness[b], 4)
-         << " | " << Fmt(r.isprs.all.correctness[b], 4) << " | "
-         << (r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4) : std::string("-")) << " |\n";
-    }
-    md << "| **all**";
-    for (int c = 0; c < ev::kNumSurfaceClasses; ++c) md << " | " << det_cell(pooled.detection[c]);
-    md << " | " << Fmt(pooled.d_v.mean, 2, 100) << " | " << Fmt(pooled.d_h.mean, 2, 100) << " | "
-       << Fmt(pooled.phi_deg.mean, 4) << " | " << Fmt(compl_b, 4) << " | " << Fmt(corr_b, 4)
-       << " | " << (any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
-    md << "## Floorplan (all rooms)\n\n" << ev::MarkdownFloorplanTable(plan) << "\n";
-    if (any_dsm3)
-      md << "## DSM3 (all rooms)\n\n" << ev::MarkdownConfusionTable(pooled_dsm3) << "\n";
-    for (const auto& r : results) {
-      md << "## Room " << r.run.room << "\n\n### SM3 structural elements\n\n"
-         << ev::MarkdownPatchTable(r.patches) << "\n";
-      if (r.columns.detection.n_truth + r.columns.detection.n_model > 0)
-        md << "### Columns (objects)\n\n" << ColumnsMarkdown(r.columns) << "\n";
-      md << "### ISPRS surfaces\n\n"
-         << ev::MarkdownIsprsTable(r.isprs, params.report_buffer) << "\n"
-         << ev::IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) << "\n\n";
-      std::ofstream(dir / ("isprs_" + r.run.room + ".svg"))
-          << ev::IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) << "\n";
-      if (r.has_dsm3)
-        WriteTruthDsm3Ply((dir / ("dsm3_truth_" + r.run.room + ".ply")).string(), r.dsm3_voxels,
-                          r.dsm3_truth);
-      if (r.has_dsm3) md << "### DSM3 voxels\n\n" << ev::MarkdownConfusionTable(r.dsm3) << "\n";
-      if (r.mission)
-        md << "### Mission figures\n\ncoverage of observable "
-           << Fmt(MissionNumber(r.mission, "coverage_of_observable"), 4)
-           << ", registration error max "
-           << Fmt(MissionNumber(r.mission, "registration_error_max", "translation_m"), 2, 100)
-           << " cm, SM1 label accuracy "
-           << Fmt(MissionNumber(r.mission, "sm1_labels", "accuracy"), 4) << "\n\n";
-    }
-    std::ofstream(dir / "evaluation.md") << md.str();
-
-    // Summary on stdout.
-    std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", "room", "walls", "floor",
-                "ceiling", "columns", "d_v(cm)", "d_h(cm)", "phi(deg)", "compl", "corr", "dsm3",
-                "cover");
-    auto cell = [](const ev::ClassDetection& d) {
-      return std::to_string(d.tp) + "/" + std::to_string(d.n_truth) +
-             (d.fp ? "+" + std::to_string(d.fp) + "FP" : "");
-    };
-    for (const auto& r : results) {
-      const int b = r.isprs.BufferIndex(params.report_buffer);
-      std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", r.run.room.c_str(),
-                  cell(r.patches.detection[0]).c_str(), cell(r.patches.detection[1]).c_str(),
-                  cell(r.patches.detection[2]).c_str(), cell(r.columns.detection).c_str(),
-                  Fmt(r.patches.d_v.mean, 2, 100).c_str(), Fmt(r.patches.d_h.mean, 2, 100).c_str(),
-                  Fmt(r.patches.phi_deg.mean, 4).c_str(),
-                  Fmt(r.isprs.all.completeness[b], 4).c_str(),
-                  Fmt(r.isprs.all.correctness[b], 4).c_str(),
-                  r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4).c_str() : "-",
-                  Fmt(MissionNumber(r.mission, "coverage_of_observable"), 3).c_str());
-    }
-    std::printf("%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s\n", "all",
-                cell(pooled.detection[0]).c_str(), cell(pooled.detection[1]).c_str(),
-                cell(pooled.detection[2]).c_str(), cell(pooled.detection[3]).c_str(),
-                Fmt(pooled.d_v.mean, 2, 100).c_str(), Fmt(pooled.d_h.mean, 2, 100).c_str(),
-                Fmt(pooled.phi_deg.mean, 4).c_str(), Fmt(compl_b, 4).c_str(),
-                Fmt(corr_b, 4).c_str(),
-                any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4).c_str() : "-");
-    if (pooled_columns.detection.n_truth + pooled_columns.detection.n_model > 0)
-      std::printf(
-          "columns (objects): %d/%d TP, %d FP; plan IoU mean %s, centre error mean %s cm, "
-          "diameter error mean %s cm, height error mean %s cm; square-column faces d_h %s cm, "
-          "Phi %s deg\n",
-          pooled_columns.detection.tp, pooled_columns.detection.n_truth,
-          pooled_columns.detection.fp, Fmt(pooled_columns.plan_iou.mean, 3).c_str(),
-          Fmt(pooled_columns.centre_error.mean, 2, 100).c_str(),
-          Fmt(pooled_columns.diameter_error.mean, 2, 100).c_str(),
-          Fmt(pooled_columns.height_error.mean, 2, 100).c_str(),
-          Fmt(pooled_columns.face_accuracy.d_h.mean, 2, 100).c_str(),
-          Fmt(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
-    std::printf("floorplan: mean room IoU %s, corner recall@10cm %s; ISPRS at %s cm buffer\n",
-                Fmt(plan.mean_truth_iou, 4).c_str(),
-                plan.corners.size() > 1 ? Fmt(plan.corners[1].score.recall, 3).c_str() : "-",
-                Fmt(params.report_buffer, 0, 100).c_str());
-    std::printf("wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
-                dir.string().c_str());
-  });
+  cmd->callback([=] { EvaluateModels(*run_dir, *truth_file, *config, *out); });
 }
 
 }  // namespace mopad::tools

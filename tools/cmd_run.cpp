@@ -2,7 +2,8 @@
 // room-scanning mission (issue 5; runner/room_mission.h) in every room: the robot starts at a
 // harness-chosen free spot in the room and chooses every later scan position itself
 // (next-best-scan), until the paper's stopping rule holds. Writes per room the robot's models
-// (SM1, SM2, SM3, DSM3; docs/models.md) and the evaluation against the truth, plus a summary
+// (SM1, SM2, SM3, DSM3; docs/models.md) and the evaluation against the truth (per room: coverage,
+// registration, SM1 labels; all rooms: `mopad eval`'s model scores in eval/), plus a summary
 // and a self-contained report. Room-to-room exploration (the Dynamic Traversal Tree) replaces
 // the per-room start placement when it lands.
 #include <nlohmann/json.hpp>
@@ -149,7 +150,40 @@ void RegisterRunCommand(CLI::App& app) {
       rooms_json.push_back(std::move(rj));
     }
 
-    // 3. Summary and report.
+    // 3. The models against the truth (`mopad eval` over every room): eval/.
+    t0 = Clock::now();
+    std::printf("models against the truth (mopad eval):\n");
+    EvaluateModels(dir.string(), "", "", (dir / "eval").string());
+    const double t_eval = Seconds(t0);
+    nlohmann::json ev_summary;
+    {
+      std::ifstream ef(dir / "eval" / "evaluation.json");
+      ev_summary = nlohmann::json::parse(ef).at("summary");
+    }
+    ReportTable model_table{"Structural models against the truth (mopad eval, eval/evaluation.md)",
+                            {"figure", "value"},
+                            {}};
+    {
+      int tp = 0, n = 0, fp = 0;
+      for (const auto& [cls, d] : ev_summary.at("detection").items()) {
+        tp += d.at("tp").get<int>(), n += d.at("n_truth").get<int>(), fp += d.at("fp").get<int>();
+      }
+      auto num = [&](const nlohmann::json& v, double scale, int digits) {
+        return v.is_number() ? Fixed(scale * v.get<double>(), digits) : std::string("-");
+      };
+      model_table.rows = {
+          {"structural elements detected (walls, floors, ceilings, columns)",
+           std::to_string(tp) + " / " + std::to_string(n) + ", " + std::to_string(fp) + " false positives"},
+          {"d_v mean / max (cm)", num(ev_summary["d_v"]["mean"], 100, 2) + " / " + num(ev_summary["d_v"]["max"], 100, 2)},
+          {"d_h mean / max (cm)", num(ev_summary["d_h"]["mean"], 100, 2) + " / " + num(ev_summary["d_h"]["max"], 100, 2)},
+          {"Phi mean / max (deg)", num(ev_summary["phi_deg"]["mean"], 1, 4) + " / " + num(ev_summary["phi_deg"]["max"], 1, 4)},
+          {"ISPRS completeness / correctness at " + num(ev_summary["isprs_buffer"], 100, 0) + " cm",
+           num(ev_summary["isprs_completeness"], 1, 4) + " / " + num(ev_summary["isprs_correctness"], 1, 4)},
+          {"DSM3 structure IoU", num(ev_summary["dsm3_structure_iou"], 1, 4)},
+          {"floorplan mean room IoU", num(ev_summary["floorplan_mean_iou"], 1, 4)}};
+    }
+
+    // 4. Summary and report.
     nlohmann::ordered_json j;
     j["job"] = "run";
     j["scene"] = {{"spec", spec_path->empty() ? kDefaultSceneSpecName : *spec_path},
@@ -163,7 +197,8 @@ void RegisterRunCommand(CLI::App& app) {
     j["seed"] = *seed;
     j["tls_step_deg"] = params.scan_step_deg;
     j["rooms"] = rooms_json;
-    j["seconds"] = {{"generate", t_generate}, {"total", Seconds(t_start)}};
+    j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", ev_summary}};
+    j["seconds"] = {{"generate", t_generate}, {"eval", t_eval}, {"total", Seconds(t_start)}};
     std::ofstream(dir / "summary.json") << j.dump(2) << "\n";
     {
       std::ofstream eff(dir / "room.effective.yaml");
@@ -189,13 +224,15 @@ void RegisterRunCommand(CLI::App& app) {
                               {"triangles", std::to_string(summary.triangles)}}});
     report.tables.push_back(std::move(rooms_table));
     report.tables.push_back(std::move(eval_table));
+    report.tables.push_back(std::move(model_table));
     report.tables.push_back({"Timing",
                              {"step", "seconds"},
                              {{"generate scene", Fixed(t_generate, 2)},
+                              {"evaluate models", Fixed(t_eval, 2)},
                               {"total", Fixed(Seconds(t_start), 2)}}});
     WriteHtmlReport(report, (dir / "report.html").string());
     WriteMarkdownReport(report, (dir / "report.md").string());
-    std::printf("%zu rooms in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/}\n",
+    std::printf("%zu rooms in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
                 room_ids.size(), Seconds(t_start), dir.string().c_str());
   });
 }

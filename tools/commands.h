@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <string>
+
 namespace mopad::tools {
 
 void RegisterSceneCommands(CLI::App& app);  // scene generate|random|info|validate|catalogue
@@ -13,5 +15,11 @@ void RegisterRunCommand(CLI::App& app);     // run: the main job
 void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
 void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one room -> SM1
 void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
+
+/// `mopad eval`'s work (docs/evaluation.md): scores the models of RUN_DIR (a room run or a
+/// main-job folder) against the truth, writes OUT (default RUN_DIR/eval) and prints the table.
+/// `truth_file` / `config` may be empty. Throws InputError for bad input.
+void EvaluateModels(const std::string& run_dir, const std::string& truth_file,
+                    const std::string& config, const std::string& out);
 
 }  // namespace mopad::tools

@@ -176,8 +176,23 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
   EXPECT_GT(room.at("evaluation").at("sm1_labels").at("accuracy").get<double>(), 0.9);
   for (const char* f : {"report.html", "report.md", "scene/scene.glb", "scene/scene.truth.json",
                         "rooms/R1/run.json", "rooms/R1/evaluation.json", "rooms/R1/models.glb",
-                        "rooms/R1/sm2.json", "rooms/R1/dsm3.ply"})
+                        "rooms/R1/sm2.json", "rooms/R1/dsm3.ply", "eval/evaluation.json",
+                        "eval/evaluation.md"})
     EXPECT_TRUE(fs::exists(d + "/a/" + f)) << f;
+  // The models are scored against the truth in the same job (mopad eval's figures).
+  const auto& ms = j.at("models_evaluation").at("summary");
+  EXPECT_EQ(ms.at("detection").at("wall").at("tp").get<int>(),
+            ms.at("detection").at("wall").at("n_truth").get<int>());
+  EXPECT_GT(ms.at("detection").at("wall").at("n_truth").get<int>(), 0);
+  EXPECT_GT(ms.at("isprs_completeness").get<double>(), 0.9);
+  {
+    std::ifstream ea(d + "/a/eval/evaluation.json"), eb(d + "/b/eval/evaluation.json");
+    auto ja = nlohmann::json::parse(ea), jb = nlohmann::json::parse(eb);
+    ja.erase("run_dir"), jb.erase("run_dir");  // the two output folders differ
+    for (auto* x : {&ja, &jb})
+      for (auto& r : (*x)["rooms"]) r.erase("run_dir"), r["mission"].erase("seconds");  // wall clock
+    EXPECT_EQ(ja.dump(), jb.dump()) << "eval/evaluation.json differs between two runs";
+  }
   for (const char* f : {"/rooms/R1/sm1.ply", "/rooms/R1/sm3.json", "/rooms/R1/trajectory_true.tum",
                         "/rooms/R1/scans.json"}) {
     std::ifstream fa(d + "/a" + f, std::ios::binary), fb(d + "/b" + f, std::ios::binary);
