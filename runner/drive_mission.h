@@ -68,6 +68,11 @@ struct DriveParams {
   /// (with the LRF evidence now in the map; first a TLS scan there when the pose is new and the
   /// localisation matches) before the mission gives up. [0, 20]
   int max_relegs = 3;
+  /// s of simulation time; a NavigateTo whose base (estimate) visits no new 0.5 m cell for this
+  /// long ends `blocked` ("no progress"): replans and re-legs that send it back and forth
+  /// between the same places (seen: 8 round trips in a room until the 600 s limit). 0 = off.
+  /// [0, 1e5]
+  double stall_time = 60.0;
   /// Each TLS scan after the first is registered (point-to-plane ICP, `icp`) against the
   /// robot's earlier scans before it enters the obstacle map, and the pose estimate is reset to
   /// the registered one; without it a scan is placed with the AMCL estimate of the moment and
@@ -121,6 +126,7 @@ struct DriveParams {
     v("map_lrf_period", map_lrf_period, Bounds{0.0, 100.0});
     v("map_lrf_range", map_lrf_range, Bounds{1e-3, 100.0});
     v("max_relegs", max_relegs, Bounds{0, 20});
+    v("stall_time", stall_time, Bounds{0.0, 1e5});
     v("register_scans", register_scans);
     v("icp", icp);
     v("max_registration_correction", max_registration_correction, Bounds{0.0, 10.0});

@@ -7,6 +7,7 @@
 #include <optional>
 #include <limits>
 #include <queue>
+#include <set>
 
 #include "common/error.h"
 #include "perception/point_cloud_ops.h"
@@ -708,12 +709,29 @@ struct RobotSession::Impl {
       }
     }
     bool running = PlanLeg();
+    // Progress watchdog: 0.5 m cells of the estimated base position visited by this call.
+    std::set<std::pair<long, long>> visited;
+    double last_new_cell = t;
+    auto mark_visited = [&] {
+      const std::pair<long, long> c{std::lround(std::floor(X_MB_est.x / 0.5)),
+                                    std::lround(std::floor(X_MB_est.y / 0.5))};
+      if (visited.insert(c).second) last_new_cell = t;
+    };
+    mark_visited();
     while (running) {
       if (t >= params.max_time - 1e-9) {
         Finish(DriveStatus::kTimeout, Fmt("no arrival within %.1f s of simulation time", params.max_time));
         break;
       }
+      if (params.stall_time > 0.0 && t - last_new_cell > params.stall_time) {
+        Finish(DriveStatus::kBlocked,
+               Fmt("no progress: for %.0f s the base only revisited places it had been to in this "
+                   "drive (plans alternating between blocked routes)",
+                   params.stall_time));
+        break;
+      }
       const perception::LocalisationEstimate& est = StepOnce();
+      mark_visited();
       MapDrivingSweeps(est);
       if (leg_blocked && map_replans < kMaxMapReplans) {
         leg_blocked = false;

@@ -194,6 +194,34 @@ TEST(RoomModel, RoiIsAValidBrepAndVoxelsAreLabelled) {
 
 // Issue 6: structural voxels are the single layer containing a RoI face (the truth DSM3's rule);
 // the layer behind it (centres ~0.1 m outside the room) used to be labelled too.
+// A 14 m room whose south wall (y = 0) carries a 1.2 cm panel over x in [7, 13.8] (cladding, a
+// whiteboard row): the refit must keep the wall line on the wall, not tilt it towards the panel
+// (before the band was tightened the far end sat up to 2.6 cm into the room in office_5rooms R1,
+// and the wall's points there beyond wall_tolerance were labelled outliers).
+TEST(RoomModel, WallRefitIsNotTiltedByAPanelOnPartOfTheWall) {
+  scenes::Scene scene = testing::RoomWithDoorScene(14.0f, 4.0f);
+  AddBox(scene, testing::V3(7.0f, 0.0f, 0.05f), testing::V3(13.8f, 0.012f, 2.3f),
+         scenes::ElementClass::kFurniture, "panel", "R");
+  const sim::EmbreeWorld world(std::move(scene));
+  RoomModel model;
+  for (const double x : {3.5, 10.5}) {
+    const SimScan s = TakeScan(world, TestTls(), x, 2.4, 1);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  const auto& per = model.Perimeter();
+  double worst = 0.0;
+  int edges = 0;
+  for (std::size_t i = 0; i < per.size(); ++i) {
+    const Vec2 a = per[i], b = per[(i + 1) % per.size()];
+    if (std::abs(a.y()) > 0.05 || std::abs(b.y()) > 0.05 || (b - a).norm() < 10.0) continue;
+    ++edges;
+    worst = std::max({worst, std::abs(a.y()), std::abs(b.y())});
+  }
+  ASSERT_EQ(edges, 1) << model.FiguresJson();
+  std::printf("south wall line: ends at most %.4f m off the wall\n", worst);
+  EXPECT_LT(worst, 0.006) << model.FiguresJson();
+}
+
 TEST(RoomModel, StructuralVoxelsAreTheSingleLayerContainingEachFace) {
   RoomModel model;
   const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
