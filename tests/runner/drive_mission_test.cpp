@@ -196,5 +196,21 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   EXPECT_GT(gated, 0.03);
 }
 
+// The progress watchdog: a drive whose base visits no new 0.5 m cell for stall_time ends
+// `blocked` with a "no progress" reason (here provoked with a 0.5 s limit and a goal that first
+// needs a turn on the spot; the default 60 s catches plans alternating between blocked routes).
+TEST(RobotSession, StallWatchdogEndsADriveThatMakesNoProgress) {
+  const sim::EmbreeWorld world = MakeWorld(90.0);
+  DriveParams p = Params();
+  p.stall_time = 0.5;
+  RobotSession s(world, p, Pose2{1.5, 2.0, 0.0}, 3);
+  s.TakeScan(1.0);
+  std::string msg;
+  const DriveStatus st = s.NavigateTo(Pose2{0.5, -1.0, -kPi / 2}, &msg);  // turn, then drive
+  EXPECT_EQ(st, DriveStatus::kBlocked) << msg;
+  EXPECT_NE(msg.find("no progress"), std::string::npos) << msg;
+  EXPECT_LT(s.SimTime(), 10.0);
+}
+
 }  // namespace
 }  // namespace mopad::runner
