@@ -144,7 +144,8 @@ class GlobalPlanner {
   GlobalPlan Plan(const Pose2& start, const Pose2& goal);
 
   /// Marks obstacle points (map frame, e.g. LRF returns the map lacks) as occupied cells and
-  /// rebuilds the clearance field; later plans avoid them.
+  /// rebuilds the clearance field; later plans avoid them. A point within one cell of a cell
+  /// the map already has occupied is taken as that obstacle and not added.
   void AddObstacles(const std::vector<Vec2>& points_M);
   /// Replaces the map (e.g. after new scans).
   void SetMap(const perception::OccupancyGrid& map);

@@ -548,67 +548,22 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
       return dir.dot(t) < std::cos(DegToRad(10.0)) ? t : dir;  // else keep the direction, only shift
     };
     Vec2 dir = pca_dir(sel, mean);
-    // Robust line: clutter flush against part of a long wall (a whiteboard row, cladding
-    // 1-2 cm proud) lies inside the band and tilts a least-squares line (office_5rooms R1: 0.08
-    // deg over 14 m, the far end 2.6 cm into the room, the wall's points there beyond
-    // wall_tolerance and labelled outliers); a line from the wall at one end to the panel at
-    // the other can even gather the most points. Hypotheses from point pairs (deterministic
-    // sampling), inliers within 0.4 tol; among those with at least half the best support the
-    // wall is the outermost one: the largest offset of its less outward end (in 2 mm steps),
-    // then the most inliers. PCA on its inliers.
-    {
-      const double delta = 0.4 * tol;
-      const std::size_t m = sel.size();
-      struct Hyp {
-        Vec2 p, t;
-        std::size_t cnt;
-        double outward;
-      };
-      std::vector<Hyp> hyps;
-      std::uint64_t state = 0x9E3779B97F4A7C15ULL ^ (static_cast<std::uint64_t>(i + 1) * 0xBF58476D1CE4E5B9ULL);
-      auto next = [&] {
-        state ^= state >> 12, state ^= state << 25, state ^= state >> 27;
-        return static_cast<std::size_t>((state * 0x2545F4914F6CDD1DULL) >> 11) % m;
-      };
-      const std::size_t stride = std::max<std::size_t>(1, m / 4000);  // score on <= ~4000 points
-      for (int h = 0; h < 300; ++h) {
-        const Vec2 p0 = sel[next()], p1 = sel[next()];
-        if ((p1 - p0).dot(t) * (p1 - p0).dot(t) < 0.0625 * len * len) continue;  // short base
-        Vec2 tt = (p1 - p0).normalized();
-        if (tt.dot(t) < 0) tt = -tt;
-        if (tt.dot(t) < std::cos(DegToRad(10.0))) continue;
-        const Vec2 nn(tt.y(), -tt.x());
-        std::size_t cnt = 0;
-        for (std::size_t k = 0; k < m; k += stride) cnt += std::abs((sel[k] - p0).dot(nn)) <= delta;
-        // Outward offsets (along nrm) of the line at the edge's two ends.
-        auto offset_at = [&](double u) {
-          const Vec2 q = a + u * t;  // point on the edge; the line's point with the same u
-          const double lam = (q - p0).dot(t) / tt.dot(t);
-          return (p0 + lam * tt - a).dot(nrm);
-        };
-        hyps.push_back({p0, tt, cnt, std::min(offset_at(0.0), offset_at(len))});
-      }
-      std::size_t best_cnt = 0;
-      for (const auto& h : hyps) best_cnt = std::max(best_cnt, h.cnt);
-      const Hyp* pick = nullptr;
-      for (const auto& h : hyps) {
-        if (2 * h.cnt < best_cnt) continue;
-        if (!pick) { pick = &h; continue; }
-        const long qa = std::lround(std::floor(h.outward / 0.002)), qb = std::lround(std::floor(pick->outward / 0.002));
-        if (qa > qb || (qa == qb && h.cnt > pick->cnt)) pick = &h;
-      }
-      if (pick) {
-        const Vec2 nn(pick->t.y(), -pick->t.x());
-        std::vector<Vec2> in;
-        Vec2 m2 = Vec2::Zero();
-        for (const auto& p : sel)
-          if (std::abs((p - pick->p).dot(nn)) <= delta) in.push_back(p), m2 += p;
-        if (static_cast<int>(in.size()) >= params_.refit_min_points) {
-          m2 /= static_cast<double>(in.size());
-          mean = m2;
-          dir = pca_dir(in, m2);
-        }
-      }
+    // Tighten: clutter flush against part of a long wall (a cabinet back, a whiteboard 1-2 cm
+    // proud) lies inside the first band and tilts the line (office_5rooms R1: 0.08 deg over
+    // 14 m, the far end 2.6 cm into the room, its wall points beyond wall_tolerance). Refit on
+    // the points within a shrinking band about the current line while enough remain.
+    for (double f : {0.6, 0.4}) {
+      std::vector<Vec2> tight;
+      Vec2 m2 = Vec2::Zero();
+      const Vec2 nn(dir.y(), -dir.x());
+      for (const auto& p : sel)
+        if (std::abs((p - mean).dot(nn)) <= f * tol) tight.push_back(p), m2 += p;
+      if (static_cast<int>(tight.size()) < std::max(params_.refit_min_points,
+                                                    static_cast<int>(0.5 * sel.size())))
+        break;
+      m2 /= static_cast<double>(tight.size());
+      dir = pca_dir(tight, m2);
+      mean = m2;
     }
     line_p[i] = mean;
     line_t[i] = dir;
