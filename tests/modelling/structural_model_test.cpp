@@ -21,6 +21,18 @@ void AddRect(std::vector<Eigen::Vector3d>& pts, CounterRng& rng, const Eigen::Ve
     pts.push_back(o + rng.Uniform() * u + rng.Uniform() * v + rng.Normal(0, sigma) * nn);
 }
 
+// A 5 x 5 x 3 m box room's floor, ceiling and walls; returns its outline.
+std::vector<Eigen::Vector2d> AddBoxShell(std::vector<Eigen::Vector3d>& pts, CounterRng& rng) {
+  AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 5, 0}, 40000);
+  AddRect(pts, rng, {0, 0, 3}, {5, 0, 0}, {0, 5, 0}, 40000);
+  const std::vector<Eigen::Vector2d> sq = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = sq[i], b = sq[(i + 1) % 4];
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 15000);
+  }
+  return sq;
+}
+
 // An L-shaped room (6 walls), floor at 0, ceiling at 2.8, with a desk (clutter) and outliers.
 struct LRoom {
   std::vector<Eigen::Vector2d> outline = {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 5}, {0, 5}};
@@ -97,13 +109,7 @@ TEST(StructuralModel, WallNormalsPointIntoTheRoom) {
 TEST(StructuralModel, ColumnFacesFaceTheRoom) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(5, "column");
-  AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 5, 0}, 40000);
-  AddRect(pts, rng, {0, 0, 3}, {5, 0, 0}, {0, 5, 0}, 40000);
-  const std::vector<Eigen::Vector2d> sq = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto a = sq[i], b = sq[(i + 1) % 4];
-    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 15000);
-  }
+  const std::vector<Eigen::Vector2d> sq = AddBoxShell(pts, rng);
   // A 0.4 m square column at (2.3..2.7)^2: faces seen from outside.
   const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
   for (std::size_t i = 0; i < 4; ++i) {
@@ -135,13 +141,7 @@ TEST(StructuralModel, ColumnFacesFaceTheRoom) {
 TEST(StructuralModel, RoundColumnBecomesARegularPrismOfTheFittedCircle) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(7, "round-column");
-  AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 5, 0}, 40000);
-  AddRect(pts, rng, {0, 0, 3}, {5, 0, 0}, {0, 5, 0}, 40000);
-  const std::vector<Eigen::Vector2d> sq = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto a = sq[i], b = sq[(i + 1) % 4];
-    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 15000);
-  }
+  const std::vector<Eigen::Vector2d> sq = AddBoxShell(pts, rng);
   const Eigen::Vector2d c0(1.5, 3.5);
   const double r0 = 0.25;
   for (int i = 0; i < 12000; ++i) {  // the room-facing half and a bit (the robot's view)
