@@ -1,5 +1,7 @@
 #include "runner/robot_session.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -459,12 +461,24 @@ struct RobotSession::Impl {
       const Eigen::Isometry3d dX = last_scan.X_MS_estimate.inverse() * r.X_MS;
       const double jump = dX.translation().head<2>().norm();
       const double jump_deg = RadToDeg(std::abs(std::atan2(dX.linear()(1, 0), dX.linear()(0, 0))));
-      const bool small = jump <= params.max_registration_correction &&
+      double amcl_sigma = 0.0;  // m, largest std of AMCL's position at the scan
+      if (amcl) {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(amcl->Estimate().covariance.topLeftCorner<2, 2>());
+        amcl_sigma = std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
+      }
+      // Gate: the registered pose must agree with AMCL's within k sigma (at least
+      // min_registration_gate, at most max_registration_correction).
+      const double gate =
+          params.registration_gate_sigmas > 0.0
+              ? std::clamp(params.registration_gate_sigmas * amcl_sigma, params.min_registration_gate,
+                           std::max(params.min_registration_gate, params.max_registration_correction))
+              : params.max_registration_correction;
+      const bool small = jump <= gate &&
                          jump_deg <= params.max_registration_correction_deg;
       const bool use = (r.ok || (fits && r.degenerate)) && small;
       log.scan_registration_messages.push_back("scan " + std::to_string(log.tls_scans) + ": " +
                                                (use ? "" : "refused, AMCL pose kept: ") + r.message +
-                                               Fmt("; correction %.3f m / %.3f deg", jump, jump_deg) +
+                                               Fmt("; correction %.3f m / %.3f deg, AMCL sigma %.3f m, gate %.3f m", jump, jump_deg, amcl_sigma, gate) +
                                                (small ? "" : " (too large)"));
       if (!use) {
         ++log.scan_registrations_failed;

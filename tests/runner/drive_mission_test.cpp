@@ -167,15 +167,18 @@ TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
 }
 
 // Scan registration in the session: a scan taken after an unseen 6 cm jump of the body (the
-// AMCL prior is off by about that much at the scan) is placed by ICP against the first scan to within
-// 1 cm of the truth; with registration off it keeps the prior's error. The correction gate
-// refuses a jump larger than max_registration_correction.
+// AMCL prior is off by about that much at the scan) is placed by ICP against the first scan to
+// within 1 cm of the truth; with registration off it keeps the prior's error. The gates refuse
+// the correction when it exceeds max_registration_correction, or (default) when it exceeds
+// registration_gate_sigmas AMCL standard deviations: here AMCL is confident (about 1 cm) and
+// wrong, the case that gate gives up to protect against ICP sliding along a corridor.
 TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  auto scan_error = [&](bool register_scans, double gate) {
+  auto scan_error = [&](bool register_scans, double gate, double sigmas) {
     DriveParams p = Params();
     p.register_scans = register_scans;
     p.max_registration_correction = gate;
+    p.registration_gate_sigmas = sigmas;
     RobotSession s(world, p, Pose2{1.5, 2.0, 0.0}, 3);
     // The body jumps while the first scan's head turns (the base stands still, AMCL has no
     // motion to update on); odometry does not see it.
@@ -186,14 +189,16 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
     const Eigen::Vector3d t = scan.X_MS_estimate.translation();
     return std::hypot(t.x() - truth.x, t.y() - truth.y);
   };
-  const double off = scan_error(false, 0.1);
-  const double on = scan_error(true, 0.1);
-  const double gated = scan_error(true, 0.01);
-  std::printf("scan position error: unregistered %.4f m, registered %.4f m, gated %.4f m\n", off, on,
-              gated);
+  const double off = scan_error(false, 0.1, 0.0);
+  const double on = scan_error(true, 0.1, 0.0);
+  const double gated = scan_error(true, 0.01, 0.0);
+  const double sigma_gated = scan_error(true, 0.1, DriveParams{}.registration_gate_sigmas);
+  std::printf("scan position error: unregistered %.4f m, registered %.4f m, gated %.4f m, "
+              "sigma-gated %.4f m\n", off, on, gated, sigma_gated);
   EXPECT_GT(off, 0.03);
   EXPECT_LT(on, 0.01);
   EXPECT_GT(gated, 0.03);
+  EXPECT_GT(sigma_gated, 0.03);
 }
 
 // The progress watchdog: a drive whose base visits no new 0.5 m cell for stall_time ends
