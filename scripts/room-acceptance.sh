@@ -56,6 +56,26 @@ print(f"runs {n}: mean scans per room {scans / max(n, 1):.2f}; obs>=0.95 {ok_obs
       f"total>=0.90 {ok_tot}/{n}; registration<=1cm,0.1deg {ok_reg}/{n}; labels>=0.98 {ok_lab}/{n}; "
       f"processing<=5s {ok_proc}/{n}")
 
+# Per-scan processing (issue 5) beside the paper's figures for the same steps (its Table:
+# registration 27.7 s, preprocessing 29.2 s, RoI and voxel labelling 28.1 s, NBS 127.8 s).
+steps = {"registration": [], "model": [], "nbs": [], "processing": []}
+for s in seeds:
+    for r in rooms:
+        try:
+            log = json.load(open(os.path.join(out, f"s{s}", r, "scans.json")))
+        except Exception:
+            continue
+        for x in log["scans"]:
+            for k in steps:
+                steps[k].append(x["seconds"][k])
+if steps["processing"]:
+    mean = lambda v: sum(v) / len(v)
+    paper = 27.7 + 29.2 + 28.1 + 127.8
+    print(f"per-scan processing over {len(steps['processing'])} scans: mean {mean(steps['processing']):.2f} s, "
+          f"max {max(steps['processing']):.2f} s (registration mean {mean(steps['registration']):.2f}, "
+          f"preprocessing + RoI + voxels {mean(steps['model']):.2f}, NBS {mean(steps['nbs']):.2f}); "
+          f"the paper: {paper:.1f} s (27.7 + 29.2 + 28.1 + 127.8), {paper / mean(steps['processing']):.0f}x the mean here")
+
 # Issue 6: the evaluator's SM3/ISPRS/DSM3 figures per run (mopad eval), pooled over all runs
 # (d_v, d_h, Phi: means weighted by their counts; ISPRS and DSM3: plain means over runs).
 print()
