@@ -207,7 +207,7 @@ struct RobotSession::Impl {
   interfaces::TlsScan last_scan;
   std::vector<std::vector<Eigen::Vector3d>> batches;  // the robot's own map points, per scan
   std::vector<Eigen::Vector3d> batch_origins;         // scanner centre of each batch (map)
-  std::optional<perception::PointMap> scan_map;       // registered scans (register_scans)
+  std::optional<perception::PointMap> scan_map;       // ICP target: every scan (register_scans)
   struct MapSweep {
     interfaces::LrfScan scan;
     Pose2 X_MB;
@@ -463,7 +463,8 @@ struct RobotSession::Impl {
       const double jump_deg = RadToDeg(std::abs(std::atan2(dX.linear()(1, 0), dX.linear()(0, 0))));
       double amcl_sigma = 0.0;  // m, largest std of AMCL's position at the scan
       if (amcl) {
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(amcl->Estimate().covariance.topLeftCorner<2, 2>());
+        const Eigen::Matrix2d cov_xy = amcl->Estimate().covariance.topLeftCorner<2, 2>();
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov_xy);
         amcl_sigma = std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
       }
       // Gate: the registered pose must agree with AMCL's within k sigma (at least
@@ -476,10 +477,12 @@ struct RobotSession::Impl {
       const bool small = jump <= gate &&
                          jump_deg <= params.max_registration_correction_deg;
       const bool use = (r.ok || (fits && r.degenerate)) && small;
-      log.scan_registration_messages.push_back("scan " + std::to_string(log.tls_scans) + ": " +
-                                               (use ? "" : "refused, AMCL pose kept: ") + r.message +
-                                               Fmt("; correction %.3f m / %.3f deg, AMCL sigma %.3f m, gate %.3f m", jump, jump_deg, amcl_sigma, gate) +
-                                               (small ? "" : " (too large)"));
+      log.scan_registration_messages.push_back(
+          "scan " + std::to_string(log.tls_scans) + ": " + (use ? "" : "refused, AMCL pose kept: ") +
+          r.message +
+          Fmt("; correction %.3f m / %.3f deg, AMCL sigma %.3f m, gate %.3f m", jump, jump_deg,
+              amcl_sigma, gate) +
+          (small ? "" : " (too large)"));
       if (!use) {
         ++log.scan_registrations_failed;
         if (params.trace) std::fprintf(stderr, "t=%.2f scan registration refused: %s\n", t, r.message.c_str());
