@@ -168,11 +168,7 @@ ControlOutput LocalController::StartRecovery(double time, const Pose2& X_MB,
   recovery_turned_ = 0.0;
   recovery_last_yaw_ = X_MB.yaw;
   s_at_last_recovery_ = closest_ < path_.size() ? path_[closest_].s : 0.0;
-  // In a doorway there is no room to turn: always back off, farther, so the re-planned
-  // approach can centre the base before the jambs.
-  mode_ = in_passage_ || recoveries_ % 2 == 1 ? Mode::kBackUp : Mode::kRotate;
-  recovery_backup_ = in_passage_ ? std::max(P.backup_distance, P.passage_backup_distance)
-                                 : P.backup_distance;
+  mode_ = recoveries_ % 2 == 1 ? Mode::kBackUp : Mode::kRotate;
   anchor_pose_ = X_MB;
   anchor_time_ = time;
   ControlOutput out;
@@ -280,14 +276,13 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   if (mode_ == Mode::kBackUp) {
     const double moved = std::hypot(X_MB.x - recovery_start_.x, X_MB.y - recovery_start_.y);
     const double free = FreeTravel(pts, -P.backup_speed, 0.0, P.stop_distance, 0.3);
-    if (moved >= recovery_backup_ || free < 0.05 ||
-        time - anchor_time_ > P.stuck_timeout + recovery_backup_ / P.backup_speed) {
+    if (moved >= P.backup_distance || free < 0.05 || time - anchor_time_ > P.stuck_timeout) {
       return emit(AfterRecoveryMotion(time, X_MB, pts));
     }
     ControlOutput out;
     out.status = NavStatus::kRecovering;
     out.cmd = {-P.backup_speed, 0.0};
-    out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, recovery_backup_);
+    out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
     return emit(out);
   }
   if (mode_ == Mode::kRotate) {
@@ -339,7 +334,6 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   out.status = NavStatus::kFollowing;
   double margin = P.safety_margin;
 
-  in_passage_ = false;  // set below when a passage is being aligned for or crossed
   // Goal: final approach and rotation.
   if (mode_ == Mode::kFinalRotate && d_goal > 2.5 * P.goal_tolerance_xy) mode_ = Mode::kFollow;
   if (mode_ != Mode::kFinalRotate && d_goal < P.goal_tolerance_xy) mode_ = Mode::kFinalRotate;
@@ -367,7 +361,6 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
         break;
       }
     }
-    in_passage_ = passage != nullptr;
     const double axis_yaw = passage ? passage->passage.axis_yaw : 0.0;
     const Vec2 axis(std::cos(axis_yaw), std::sin(axis_yaw));
     if (passage && !passage->aligned) {

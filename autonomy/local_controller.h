@@ -63,10 +63,6 @@ struct LocalControllerParams {
   double progress_distance = 0.05;       ///< m of motion that counts as progress, (0, 5]
   double backup_distance = 0.25;         ///< m, recovery back-up length, (0, 5]
   double backup_speed = 0.12;            ///< m/s, (0, 1]
-  /// m, back-up length of a recovery that starts in or before a door passage (never a turn on
-  /// the spot there): room for the re-planned approach to centre the base before the jambs.
-  /// [0, 5]
-  double passage_backup_distance = 0.6;
   int max_recoveries = 4;                ///< recoveries before giving up as blocked, [0, 100]
   double replan_radius = 2.5;            ///< m, LRF points within this are passed to replans
   double lost_rotation_speed = 0.3;      ///< rad/s while localisation is lost, [0, 5]
@@ -101,7 +97,6 @@ struct LocalControllerParams {
     v("stuck_timeout", stuck_timeout, Bounds{1e-3, 600.0});
     v("progress_distance", progress_distance, Bounds{1e-3, 5.0});
     v("backup_distance", backup_distance, Bounds{1e-3, 5.0});
-    v("passage_backup_distance", passage_backup_distance, Bounds{0.0, 5.0});
     v("backup_speed", backup_speed, Bounds{1e-3, 1.0});
     v("max_recoveries", max_recoveries, Bounds{0, 100});
     v("replan_radius", replan_radius, Bounds{0.0, 100.0});
@@ -203,8 +198,6 @@ class LocalController {
   double s_at_last_recovery_ = 0.0;
   Pose2 recovery_start_;
   double recovery_turned_ = 0.0, recovery_last_yaw_ = 0.0;
-  double recovery_backup_ = 0.0;  // m, back-up length of the current recovery
-  bool in_passage_ = false;       // the last Update was aligning for or crossing a passage
   std::string recovery_reason_;
   ControlOutput terminal_;
 };

@@ -190,37 +190,6 @@ TEST(LocalController, EndsUnreachableWhenAnUnmappedLeafClosesTheOnlyDoor) {
   if (HasFailure()) PrintLog(r);
 }
 
-// A jamb 12 cm thicker than mapped (a door stop, a coat rack) narrows the door to 0.78 m and
-// puts its centre 6 cm off the mapped one: crossing on the mapped centre the side clearance
-// drops below the margin. The recovery in a doorway backs off passage_backup_distance (there
-// is no room to turn on the spot) and never rotates there.
-TEST(LocalController, RecoveryInADoorwayBacksOffInsteadOfTurning) {
-  Scenario sc;
-  sc.world.push_back({{4.9, 3.33}, {5.1, 3.6}});
-  sc.max_time = 90.0;
-  const RunResult r = Drive(sc);
-  // Log lines read "t=T (x, y): status - message": the back-off is the distance from where the
-  // first recovery starts to where the base follows its path again.
-  auto where = [](const std::string& l) {
-    double t = 0, x = 0, y = 0;
-    std::sscanf(l.c_str(), "t=%lf (%lf, %lf)", &t, &x, &y);
-    return Vec2(x, y);
-  };
-  double backed = -1.0;
-  bool rotated = false;
-  for (std::size_t i = 0; i < r.log.size(); ++i) {
-    rotated |= r.log[i].find("rotating in place") != std::string::npos;
-    if (backed < 0.0 && r.log[i].find("backing up") != std::string::npos && i + 1 < r.log.size())
-      backed = (where(r.log[i + 1]) - where(r.log[i])).norm();
-  }
-  std::printf("[ CONTROL  ] %s; backed off %.2f m\n", ToString(r.last.status), backed);
-  EXPECT_NEAR(backed, LocalControllerParams{}.passage_backup_distance, 0.05);
-  EXPECT_FALSE(rotated);
-  EXPECT_EQ(r.last.status, NavStatus::kArrived) << r.last.message;
-  EXPECT_FALSE(r.collided);
-  if (HasFailure()) PrintLog(r);
-}
-
 TEST(LocalController, NoProgressTriggersRecoveryThenItArrives) {
   Scenario sc;
   sc.events = [](double t, const Pose2&, std::vector<Box2>&, bool& stuck, LocalisationStatus&) {
