@@ -87,6 +87,37 @@ std::vector<Eigen::Vector2d> MergeCollinear(std::vector<Eigen::Vector2d> loop, d
   return loop;
 }
 
+// Collapses edges shorter than `min_len` into one corner (the intersection of the neighbouring
+// edges' lines, or the short edge's midpoint when they are nearly parallel or meet far away): a
+// column footprint traced from points can carry a 1 mm chamfer, whose face would be a sliver
+// with a meaningless plane and a degenerate polygon.
+std::vector<Eigen::Vector2d> DropShortEdges(std::vector<Eigen::Vector2d> loop, double min_len) {
+  while (loop.size() > 3) {
+    const std::size_t n = loop.size();
+    std::size_t best = n;
+    double shortest = min_len;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double l = (loop[(i + 1) % n] - loop[i]).norm();
+      if (l < shortest) shortest = l, best = i;
+    }
+    if (best == n) break;
+    const Eigen::Vector2d p0 = loop[(best + n - 1) % n], p1 = loop[best];
+    const Eigen::Vector2d q0 = loop[(best + 1) % n], q1 = loop[(best + 2) % n];
+    const Eigen::Vector2d mid = 0.5 * (p1 + q0);
+    Eigen::Vector2d corner = mid;
+    const Eigen::Vector2d u = p1 - p0, v = q1 - q0;
+    const double den = u.x() * v.y() - u.y() * v.x();
+    if (std::abs(den) > 1e-9 * u.norm() * v.norm()) {
+      const Eigen::Vector2d w = q0 - p0;
+      const Eigen::Vector2d x = p0 + ((w.x() * v.y() - w.y() * v.x()) / den) * u;
+      if ((x - mid).norm() <= 2.0 * min_len) corner = x;
+    }
+    loop[best] = corner;
+    loop.erase(loop.begin() + static_cast<std::ptrdiff_t>((best + 1) % n));
+  }
+  return loop;
+}
+
 Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
              const std::vector<Eigen::Vector3d>& points, const Plane& floor, const Plane& ceiling,
              double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream);
@@ -431,7 +462,8 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   for (int w : wall_ids) m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
 
   for (std::size_t k = 0; k < input.columns.size(); ++k) {
-    const auto footprint = MergeCollinear(input.columns[k], prm.merge_angle_deg);
+    const auto footprint =
+        DropShortEdges(MergeCollinear(input.columns[k], prm.merge_angle_deg), prm.min_column_edge);
     if (footprint.size() < 3) continue;
     const CircleFit circle = FitColumnCircle(pts, input.columns[k], m.floor_z, m.ceiling_z, prm);
     Ring ring;

@@ -37,6 +37,9 @@ struct Sm3Params {
   double round_max_turn_deg = 60.0;  ///< deg, no footprint corner of a round column turns more, (0, 180]
   double round_max_rms_ratio = 0.05; ///< circle fit residual RMS / radius accepted as round, (0, 1]
   int round_segments = 16;           ///< faces of the prism that models a round column, [3, 360]
+  /// m, column footprint edges shorter than this collapse into a corner (a traced 1 mm chamfer
+  /// gave a sliver face with a clockwise polygon), [0, 1]
+  double min_column_edge = 0.05;
 
   template <class V>
   void Visit(V& v) {
@@ -53,6 +56,7 @@ struct Sm3Params {
     v("round_max_turn_deg", round_max_turn_deg, Bounds{1e-6, 180.0});
     v("round_max_rms_ratio", round_max_rms_ratio, Bounds{1e-6, 1.0});
     v("round_segments", round_segments, Bounds{3, 360});
+    v("min_column_edge", min_column_edge, Bounds{0.0, 1.0});
   }
 };
 

@@ -135,6 +135,37 @@ TEST(StructuralModel, ColumnFacesFaceTheRoom) {
   EXPECT_EQ(faces, 4);
 }
 
+// A square column whose traced footprint has a 1.4 mm chamfer at one corner (seen in
+// office_5rooms R4: the sliver became a face with a clockwise polygon that mopad eval rejected):
+// the chamfer collapses into the corner, leaving the 4 real faces.
+TEST(StructuralModel, ColumnFootprintChamferCollapsesIntoACorner) {
+  std::vector<Eigen::Vector3d> pts;
+  CounterRng rng(5, "column-chamfer");
+  const std::vector<Eigen::Vector2d> sq = AddBoxShell(pts, rng);
+  const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.699}, {2.699, 2.7}, {2.3, 2.7}};
+  const std::vector<Eigen::Vector2d> faces = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = faces[(i + 1) % 4], b = faces[i];
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 3000);
+  }
+  Sm3Input in;
+  in.room = "B";
+  in.points = &pts;
+  in.perimeter = sq;
+  in.columns = {col};
+  const StructuralModel m = BuildStructuralModel(in, {});
+  int n = 0;
+  for (const auto& p : m.patches) {
+    if (p.patch_class != PatchClass::kColumn) continue;
+    ++n;
+    EXPECT_NEAR(p.plane.Distance({2.5, 2.5, 1.5}), -0.2, 0.005) << p.id;
+    // Every face is a proper quadrilateral at least 0.3 m wide.
+    ASSERT_EQ(p.polygon.size(), 4u) << p.id;
+    EXPECT_GT((p.polygon[1] - p.polygon[0]).head<2>().norm(), 0.3) << p.id;
+  }
+  EXPECT_EQ(n, 4);
+}
+
 // Issue 6: a round column (r 0.25 at (1.5, 3.5), cylinder points with 3 mm radial noise) whose
 // footprint is an irregular 11-gon (1 cm radial jitter), as the robot traces it, becomes a regular 16-gon prism of
 // the fitted circle's area; a square column beside it keeps its 4 plane fits.
