@@ -33,6 +33,26 @@ std::vector<Eigen::Vector2d> AddBoxShell(std::vector<Eigen::Vector3d>& pts, Coun
   return sq;
 }
 
+// The faces of the 0.4 m square column at (2.3..2.7)^2 (normals out of the column), and the SM3
+// of the box room holding it with the given traced footprint.
+void AddSquareColumnFaces(std::vector<Eigen::Vector3d>& pts, CounterRng& rng) {
+  const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = col[(i + 1) % 4], b = col[i];  // reversed: normals out of the column
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 3000);
+  }
+}
+StructuralModel BoxRoomWithColumn(const std::vector<Eigen::Vector3d>& pts,
+                                  const std::vector<Eigen::Vector2d>& outline,
+                                  const std::vector<Eigen::Vector2d>& footprint) {
+  Sm3Input in;
+  in.room = "B";
+  in.points = &pts;
+  in.perimeter = outline;
+  in.columns = {footprint};
+  return BuildStructuralModel(in, {});
+}
+
 // An L-shaped room (6 walls), floor at 0, ceiling at 2.8, with a desk (clutter) and outliers.
 struct LRoom {
   std::vector<Eigen::Vector2d> outline = {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 5}, {0, 5}};
@@ -111,17 +131,9 @@ TEST(StructuralModel, ColumnFacesFaceTheRoom) {
   CounterRng rng(5, "column");
   const std::vector<Eigen::Vector2d> sq = AddBoxShell(pts, rng);
   // A 0.4 m square column at (2.3..2.7)^2: faces seen from outside.
-  const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto a = col[(i + 1) % 4], b = col[i];  // reversed: normals out of the column
-    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 3000);
-  }
-  Sm3Input in;
-  in.room = "B";
-  in.points = &pts;
-  in.perimeter = sq;
-  in.columns = {col};
-  const StructuralModel m = BuildStructuralModel(in, {});
+  AddSquareColumnFaces(pts, rng);
+  const StructuralModel m =
+      BoxRoomWithColumn(pts, sq, {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}});
   int faces = 0;
   for (const auto& p : m.patches) {
     if (p.patch_class != PatchClass::kColumn) continue;
@@ -142,18 +154,9 @@ TEST(StructuralModel, ColumnFootprintChamferCollapsesIntoACorner) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(5, "column-chamfer");
   const std::vector<Eigen::Vector2d> sq = AddBoxShell(pts, rng);
-  const std::vector<Eigen::Vector2d> col = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.699}, {2.699, 2.7}, {2.3, 2.7}};
-  const std::vector<Eigen::Vector2d> faces = {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.7}, {2.3, 2.7}};
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto a = faces[(i + 1) % 4], b = faces[i];
-    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 3000);
-  }
-  Sm3Input in;
-  in.room = "B";
-  in.points = &pts;
-  in.perimeter = sq;
-  in.columns = {col};
-  const StructuralModel m = BuildStructuralModel(in, {});
+  AddSquareColumnFaces(pts, rng);
+  const StructuralModel m = BoxRoomWithColumn(
+      pts, sq, {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.699}, {2.699, 2.7}, {2.3, 2.7}});
   int n = 0;
   for (const auto& p : m.patches) {
     if (p.patch_class != PatchClass::kColumn) continue;
