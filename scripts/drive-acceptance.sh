@@ -4,6 +4,7 @@
 # localisation RMS <= 3 cm and max <= 10 cm). Long (minutes): not part of ctest.
 #
 #   scripts/drive-acceptance.sh [BUILD_DIR] [OUT_DIR] [SEEDS...]
+#   DRIVE_CONFIG=FILE scripts/drive-acceptance.sh ...   passes `--config FILE` to every `mopad drive`
 #
 # Route (world frame, scene.truth.json): start in R3 (2.0, 16.0, -90 deg) -> door D3 -> hall ->
 # door D5 -> waypoint in R4 (13.5, 13.5, 90 deg) -> D5 -> hall -> D1 -> R1 -> D9 -> goal in R5
@@ -16,12 +17,14 @@ shift $(( $# > 2 ? 2 : $# )) || true
 seeds=("$@")
 [ ${#seeds[@]} -eq 0 ] && seeds=(1 2 3 4 5 6 7 8 9 10)
 mopad="$build/tools/mopad"
+config=()
+[ -n "${DRIVE_CONFIG:-}" ] && config=(--config "$DRIVE_CONFIG")
 [ -x "$mopad" ] || { echo "drive-acceptance: $mopad not built" >&2; exit 2; }
 mkdir -p "$out"
 "$mopad" scene generate "$here/scenes/office_5rooms.yaml" -o "$out/office" > "$out/generate.log"
 for s in "${seeds[@]}"; do
   "$mopad" drive "$out/office" --from 2.0,16.0,-90 --via 13.5,13.5,90 --to 21.8,3.3,0 \
-      --seed "$s" --max-time 900 -o "$out/seed$s" > "$out/seed$s.log" 2>&1 || true
+      --seed "$s" --max-time 900 "${config[@]}" -o "$out/seed$s" > "$out/seed$s.log" 2>&1 || true
 done
 python3 - "$out" "${seeds[@]}" <<'EOF'
 import json, sys

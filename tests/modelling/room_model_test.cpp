@@ -223,6 +223,54 @@ TEST(RoomModel, WallRefitIsNotTiltedByAPanelOnPartOfTheWall) {
   EXPECT_LT(worst, 0.006) << model.FiguresJson();
 }
 
+// The same wall, now behind a 2.5 cm proud panel 2.1 m high over nearly all its length (a
+// closed door filling most of a short end wall, as D13 in office_5rooms' hall): below door
+// heads the panel outnumbers the wall, so the whole-band outermost strong peak was the panel
+// (the line 2.5 cm into the room); above door heads only the wall remains and anchors the fit.
+TEST(RoomModel, WallRefitStaysOnTheWallBehindADoorHighPanelCoveringMostOfIt) {
+  scenes::Scene scene = testing::RoomWithDoorScene(14.0f, 4.0f);
+  AddBox(scene, testing::V3(0.6f, 0.0f, 0.0f), testing::V3(13.4f, 0.025f, 2.1f),
+         scenes::ElementClass::kFurniture, "door_panel", "R");
+  const sim::EmbreeWorld world(std::move(scene));
+  RoomModel model;
+  for (const double x : {3.5, 10.5}) {
+    const SimScan s = TakeScan(world, TestTls(), x, 2.4, 1);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  const auto& per = model.Perimeter();
+  double worst = 0.0;
+  int edges = 0;
+  for (std::size_t i = 0; i < per.size(); ++i) {
+    const Vec2 a = per[i], b = per[(i + 1) % per.size()];
+    if (std::abs(a.y()) > 0.05 || std::abs(b.y()) > 0.05 || (b - a).norm() < 10.0) continue;
+    ++edges;
+    worst = std::max({worst, std::abs(a.y()), std::abs(b.y())});
+  }
+  ASSERT_EQ(edges, 1) << model.FiguresJson();
+  std::printf("south wall line behind the panel: ends at most %.4f m off the wall\n", worst);
+  EXPECT_LT(worst, 0.006) << model.FiguresJson();
+}
+
+// An L-shaped room scanned from both legs: the perimeter is the six corners of the L to 1 cm,
+// the re-entrant one included. (Scanned from (1, 2), (8.5, 1) and (9, 9) instead, the wall
+// x = 7 comes out 0.33 deg tilted and that corner 4 cm off: a known limit, docs/room-scanning.md.)
+TEST(RoomModel, LRoomPerimeterHasTheSixCornersOfTheL) {
+  const sim::EmbreeWorld world(testing::LRoomScene());
+  RoomModel model;
+  for (const auto& xy : {Vec2(2.0, 1.5), Vec2(8.5, 1.5), Vec2(8.5, 7.0)}) {
+    const SimScan s = TakeScan(world, TestTls(), xy.x(), xy.y(), 1);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  const std::vector<Vec2> truth = {{0, 0}, {10, 0}, {10, 10}, {7, 10}, {7, 3}, {0, 3}};
+  const auto& per = model.Perimeter();
+  ASSERT_EQ(per.size(), truth.size()) << model.FiguresJson();
+  for (const Vec2& c : truth) {
+    double best = 1e9;
+    for (const Vec2& p : per) best = std::min(best, (p - c).norm());
+    EXPECT_LT(best, 0.01) << "corner " << c.transpose() << "\n" << model.FiguresJson();
+  }
+}
+
 TEST(RoomModel, StructuralVoxelsAreTheSingleLayerContainingEachFace) {
   RoomModel model;
   const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
