@@ -49,6 +49,12 @@ struct DriveParams {
   double goal_known_fraction = 0.85; ///< mapped share of it needed to drive there directly, [0, 1]
   double scan_target_clearance = 0.55; ///< m, clearance of scan-and-go targets, (0, 5]
   double doorway_margin = 0.1;       ///< m, scan stops keep this clearance beyond robot_radius, [0, 2]
+  /// Entering space the map does not know well through a door passage, the robot scans this
+  /// far (m, along the path) beyond the passage, as MoPAD scans "one before and one after the
+  /// doorframe": that scan still sees the room behind through the door and registers against
+  /// it, where a scan deep in the new room sees almost nothing the map has (office_5rooms R1:
+  /// ICP fitness 0.18, refused, and its AMCL pose became the room's map). 0 = off. [0, 10]
+  double door_exit_scan_distance = 0.8;
   double frontier_exclusion = 0.5;   ///< m, exploration targets this close to a scan position are spent, [0, 10]
   double scan_blind_radius = 0.5;    ///< m, around scan positions the map counts as known, [0, 10]
   double initial_sigma_xy = 0.01;  ///< m, AMCL initial std (the map is built at the start)
@@ -89,12 +95,18 @@ struct DriveParams {
   /// door frames along a corridor). [0, 10]
   double max_registration_correction = 0.1;
   double max_registration_correction_deg = 2.0;  ///< deg, [0, 180]
-  /// The position correction must also be within this many AMCL standard deviations (largest
-  /// of its x-y covariance at the scan), but at least `min_registration_gate`: a hall scan that
-  /// ICP moved 8.3 cm along the corridor while AMCL, good to 1-3 cm (sigma 1.1 cm), was right
-  /// (office_5rooms, seed 10). 0 = only the fixed bound. [0, 100]
+  /// The position correction of a degenerate registration (a corridor) must also be within
+  /// this many AMCL standard deviations (largest of its x-y covariance at the scan), but at
+  /// least `min_registration_gate`: a hall scan that ICP moved 8.3 cm along the corridor while
+  /// AMCL, good to 1-3 cm (sigma 1.1 cm), was right (office_5rooms, seed 10). 0 = only the
+  /// fixed bound. [0, 100]
   double registration_gate_sigmas = 3.0;
   double min_registration_gate = 0.03;  ///< m, [0, 10]
+  /// A registration that constrains every direction is bounded by max_registration_correction
+  /// alone (false: the sigma gate applies to every registration, as before 2026-11-24). AMCL
+  /// drifts 10-20 cm in door passages while reporting a sigma of 1-2 cm; the scan beyond the
+  /// door (door_exit_scan_distance) registers onto the truth, and the sigma gate refused it.
+  bool trust_constrained_registration = true;
 
   sim::RobotBodyParams body = DefaultBody();
   perception::OccupancyGridParams grid;
@@ -123,6 +135,7 @@ struct DriveParams {
     v("goal_known_fraction", goal_known_fraction, Bounds{0.0, 1.0});
     v("scan_target_clearance", scan_target_clearance, Bounds{1e-3, 5.0});
     v("doorway_margin", doorway_margin, Bounds{0.0, 2.0});
+    v("door_exit_scan_distance", door_exit_scan_distance, Bounds{0.0, 10.0});
     v("frontier_exclusion", frontier_exclusion, Bounds{0.0, 10.0});
     v("scan_blind_radius", scan_blind_radius, Bounds{0.0, 10.0});
     v("initial_sigma_xy", initial_sigma_xy, Bounds{1e-4, 10.0});
@@ -139,6 +152,7 @@ struct DriveParams {
     v("max_registration_correction_deg", max_registration_correction_deg, Bounds{0.0, 180.0});
     v("registration_gate_sigmas", registration_gate_sigmas, Bounds{0.0, 100.0});
     v("min_registration_gate", min_registration_gate, Bounds{0.0, 10.0});
+    v("trust_constrained_registration", trust_constrained_registration);
     v("body", body);
     v("occupancy_grid", grid);
     v("amcl", amcl);

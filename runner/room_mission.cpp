@@ -58,7 +58,11 @@ autonomy::NextBestScanParams RoomMissionParams::DefaultNbs() {
   return p;
 }
 
-perception::IcpParams RoomMissionParams::DefaultIcp() { return DriveParams::DefaultIcp(); }
+perception::IcpParams RoomMissionParams::DefaultIcp() {
+  perception::IcpParams p = DriveParams::DefaultIcp();
+  p.min_fitness = 0.3;  // the room acceptance was measured with 0.3 (issue 5)
+  return p;
+}
 
 RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams& params,
                                  modelling::RoomModel& model, const ScanHook& on_scan) {

@@ -169,16 +169,19 @@ TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
 // Scan registration in the session: a scan taken after an unseen 6 cm jump of the body (the
 // AMCL prior is off by about that much at the scan) is placed by ICP against the first scan to
 // within 1 cm of the truth; with registration off it keeps the prior's error. The gates refuse
-// the correction when it exceeds max_registration_correction, or (default) when it exceeds
+// the correction when it exceeds max_registration_correction, or, when the sigma gate applies
+// to every registration (trust_constrained_registration off), when it exceeds
 // registration_gate_sigmas AMCL standard deviations: here AMCL is confident (about 1 cm) and
-// wrong, the case that gate gives up to protect against ICP sliding along a corridor.
+// wrong, the case that gate gives up to protect against ICP sliding along a corridor. By
+// default a registration that constrains every direction (this room) passes that gate.
 TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  auto scan_error = [&](bool register_scans, double gate, double sigmas) {
+  auto scan_error = [&](bool register_scans, double gate, double sigmas, bool trust = false) {
     DriveParams p = Params();
     p.register_scans = register_scans;
     p.max_registration_correction = gate;
     p.registration_gate_sigmas = sigmas;
+    p.trust_constrained_registration = trust;
     RobotSession s(world, p, Pose2{1.5, 2.0, 0.0}, 3);
     // The body jumps while the first scan's head turns (the base stands still, AMCL has no
     // motion to update on); odometry does not see it.
@@ -193,12 +196,17 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   const double on = scan_error(true, 0.1, 0.0);
   const double gated = scan_error(true, 0.01, 0.0);
   const double sigma_gated = scan_error(true, 0.1, DriveParams{}.registration_gate_sigmas);
+  const double trusted = scan_error(true, 0.1, DriveParams{}.registration_gate_sigmas,
+                                    DriveParams{}.trust_constrained_registration);
   std::printf("scan position error: unregistered %.4f m, registered %.4f m, gated %.4f m, "
-              "sigma-gated %.4f m\n", off, on, gated, sigma_gated);
+              "sigma-gated %.4f m, default (constrained: fixed bound only) %.4f m\n", off, on,
+              gated, sigma_gated, trusted);
   EXPECT_GT(off, 0.03);
   EXPECT_LT(on, 0.01);
   EXPECT_GT(gated, 0.03);
   EXPECT_GT(sigma_gated, 0.03);
+  EXPECT_TRUE(DriveParams{}.trust_constrained_registration);
+  EXPECT_LT(trusted, 0.01);
 }
 
 // The progress watchdog: a drive whose base visits no new 0.5 m cell for stall_time ends
