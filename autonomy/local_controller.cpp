@@ -105,15 +105,9 @@ ControlOutput LocalController::Finish(NavStatus s, const std::string& message) {
   return terminal_;
 }
 
-bool LocalController::InCollision(const std::vector<Vec2>& points_B, const Pose2& X_B0B,
-                                  double margin) const {
-  const double hx = 0.5 * params_.footprint_length + margin;
-  const double hy = 0.5 * params_.footprint_width + margin;
-  for (const Vec2& p : points_B) {
-    const Vec2 q = InFrame(X_B0B, p);
-    if (std::abs(q.x() - params_.footprint_offset_x) <= hx && std::abs(q.y()) <= hy) return true;
-  }
-  return false;
+double LocalController::BoxDistance(const Vec2& q_B) const {
+  return std::max(std::abs(q_B.x() - params_.footprint_offset_x) - 0.5 * params_.footprint_length,
+                  std::abs(q_B.y()) - 0.5 * params_.footprint_width);
 }
 
 double LocalController::FreeTravel(const std::vector<Vec2>& points_B, double v, double w,
@@ -121,21 +115,34 @@ double LocalController::FreeTravel(const std::vector<Vec2>& points_B, double v, 
   const double radius = std::hypot(0.5 * params_.footprint_length + std::abs(params_.footprint_offset_x),
                                    0.5 * params_.footprint_width) + margin;
   const double reach = std::abs(v) < 1e-9 ? radius : radius + horizon;
+  // A point already within the margin (the base stopped close beside a cabinet, or was
+  // pushed there) blocks only motions that bring it closer still: otherwise every motion,
+  // backing straight out included, would count as blocked and the base would be wedged where
+  // it stands (office_5rooms, seed 3: a scan stop in a 0.8 m niche between two cabinets).
   std::vector<Vec2> near;
+  std::vector<double> start;  // box distance at the start pose
   for (const Vec2& p : points_B)
-    if (p.norm() <= reach) near.push_back(p);
+    if (p.norm() <= reach) near.push_back(p), start.push_back(BoxDistance(p));
   if (near.empty()) return horizon;
+  // Any approach counts (a tolerance here would be a ratchet: the check runs again every
+  // control step from the pose reached).
+  constexpr double kCloser = 1e-4;  // m
+  auto hits = [&](const Pose2& X_B0B) {
+    for (std::size_t k = 0; k < near.size(); ++k) {
+      const double d = BoxDistance(InFrame(X_B0B, near[k]));
+      if (d <= margin && (start[k] > margin || d < start[k] - kCloser)) return true;
+    }
+    return false;
+  };
   if (std::abs(v) < 1e-9) {  // rotation in place: horizon is an angle
     const double dir = w >= 0 ? 1.0 : -1.0;
-    for (double a = 0.0; a <= horizon; a += 0.02) {
-      if (InCollision(near, {0.0, 0.0, dir * a}, margin)) return a;
-    }
+    for (double a = 0.0; a <= horizon; a += 0.02)
+      if (hits({0.0, 0.0, dir * a})) return a;
     return horizon;
   }
   const double speed = std::abs(v);
-  for (double s = 0.0; s <= horizon; s += 0.02) {
-    if (InCollision(near, Arc(v, w, s / speed), margin)) return s;
-  }
+  for (double s = 0.0; s <= horizon; s += 0.02)
+    if (hits(Arc(v, w, s / speed))) return s;
   return horizon;
 }
 

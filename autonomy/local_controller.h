@@ -158,7 +158,9 @@ class LocalController {
 
   /// Distance (m) the footprint inflated by `margin` can travel along the arc (v, w) before
   /// touching one of `points_B` (base_link), up to `horizon` m; for v = 0 the arc is a
-  /// rotation and the result is in rad of yaw. Exposed for tests and the integration step.
+  /// rotation and the result is in rad of yaw. A point already within the margin at the start
+  /// counts only once the motion brings it closer (backing away from it is free). Exposed for
+  /// tests and the integration step.
   double FreeTravel(const std::vector<Vec2>& points_B, double v, double w, double margin,
                     double horizon) const;
 
@@ -175,7 +177,9 @@ class LocalController {
   ControlOutput AfterRecoveryMotion(double time, const Pose2& X_MB,
                                     const std::vector<Vec2>& points_B);
   void InstallPlan(const GlobalPlan& plan);
-  bool InCollision(const std::vector<Vec2>& points_B, const Pose2& X_B0B, double margin) const;
+  /// Distance of a base_link point outside the footprint rectangle, max of the axis gaps
+  /// (negative inside): within `margin` of it means inside the rectangle grown by `margin`.
+  double BoxDistance(const Vec2& q_B) const;
   interfaces::VelocityCommand Limit(interfaces::VelocityCommand cmd, double dt) const;
 
   LocalControllerParams params_;

@@ -301,6 +301,26 @@ TEST(LocalController, FreeTravelOfTheFootprint) {
   EXPECT_NEAR(ctl.FreeTravel({}, 0.5, 0.3, 0.0, 1.5), 1.5, 1e-9);
 }
 
+// A base stopped with a cabinet face 3 cm beside its front right (office_5rooms, seed 3: the
+// base LRF saw the face at y = -0.28 m, inside a 4 cm margin) may back straight out and turn
+// away from the face; turning into it and driving on along it into the niche stay blocked.
+// Before, every motion counted as blocked there and the base stood wedged until it gave up.
+TEST(LocalController, FreeTravelLetsABaseWithinTheMarginMoveAwayOnly) {
+  LocalController ctl(LocalControllerParams{});
+  std::vector<Vec2> face;
+  for (double x = 0.26; x <= 0.9; x += 0.02) face.emplace_back(x, -0.28);
+  const double m = 0.04;
+  EXPECT_NEAR(ctl.FreeTravel(face, -0.2, 0.0, m, 0.3), 0.3, 1e-9);  // backing out: free
+  EXPECT_NEAR(ctl.FreeTravel(face, 0.0, 1.0, m, 0.3), 0.3, 1e-9);   // left turn: away
+  EXPECT_LT(ctl.FreeTravel(face, 0.0, -1.0, m, 0.3), 0.03);         // right turn: into it
+  // Forward along the face: the points ahead (x > 0.34) enter the margin at once.
+  EXPECT_LT(ctl.FreeTravel(face, 0.2, 0.0, m, 0.3), 0.03);
+  // The same face 10 cm away does not constrain the right turn's first degrees.
+  std::vector<Vec2> far;
+  for (const Vec2& p : face) far.emplace_back(p.x(), p.y() - 0.1);
+  EXPECT_GT(ctl.FreeTravel(far, 0.0, -1.0, m, 0.3), 0.05);
+}
+
 TEST(LocalController, ParamsRoundTripAndValidation) {
   LocalControllerParams p;
   p.lookahead = 0.7;
