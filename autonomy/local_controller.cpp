@@ -22,6 +22,10 @@ void LocalControllerParams::Validate() const {
     throw InputError("", "parameter 'local_controller.slowdown_distance' below stop_distance",
                      std::to_string(slowdown_distance), ">= " + std::to_string(stop_distance));
   }
+  if (range_median_window % 2 == 0) {
+    throw InputError("", "parameter 'local_controller.range_median_window' must be odd",
+                     std::to_string(range_median_window), "1, 3, 5, ...");
+  }
 }
 
 const char* ToString(NavStatus s) {
@@ -103,6 +107,42 @@ ControlOutput LocalController::Finish(NavStatus s, const std::string& message) {
   terminal_.recoveries = recoveries_;
   last_cmd_ = {};
   return terminal_;
+}
+
+std::vector<double> LocalController::MedianFiltered(const interfaces::LrfScan& scan, int window) {
+  const std::size_t n = scan.ranges.size();
+  auto valid = [&](double r) { return std::isfinite(r) && r >= scan.range_min && r < scan.range_max; };
+  std::vector<double> out(n, std::numeric_limits<double>::quiet_NaN());
+  const long h = std::max(0, window / 2);
+  std::vector<double> w;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!valid(scan.ranges[k])) continue;  // a gap stays a gap
+    w.clear();
+    for (long j = static_cast<long>(k) - h; j <= static_cast<long>(k) + h; ++j)
+      if (j >= 0 && j < static_cast<long>(n) && valid(scan.ranges[static_cast<std::size_t>(j)]))
+        w.push_back(scan.ranges[static_cast<std::size_t>(j)]);
+    std::nth_element(w.begin(), w.begin() + static_cast<long>(w.size() / 2), w.end());
+    out[k] = w[w.size() / 2];
+  }
+  return out;
+}
+
+double LocalController::JambDistance(const std::vector<Vec2>& points_B, double side) const {
+  const double half_len = 0.5 * params_.footprint_length + 0.05;
+  const double half_w = 0.5 * params_.footprint_width;
+  std::vector<double> lateral;
+  for (const Vec2& p : points_B) {
+    const double x = p.x() - params_.footprint_offset_x, y = side * p.y();
+    if (std::abs(x) <= half_len && y >= 0.5 * half_w && y <= 1.0) lateral.push_back(y);
+  }
+  if (lateral.empty()) return std::numeric_limits<double>::infinity();
+  // The nearest surface: the returns from just below the 10th percentile to 8 cm above it
+  // (a jamb face; a wall face or furniture farther out stays outside), their median.
+  std::sort(lateral.begin(), lateral.end());
+  const double q = lateral[lateral.size() / 10];
+  const auto lo = std::lower_bound(lateral.begin(), lateral.end(), q - 0.05);
+  const auto hi = std::upper_bound(lateral.begin(), lateral.end(), q + 0.08);
+  return *(lo + (hi - lo) / 2);
 }
 
 double LocalController::BoxDistance(const Vec2& q_B) const {
@@ -238,12 +278,14 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     return out;
   };
 
-  // LRF returns in base_link.
+  // LRF returns in base_link, each range the median of its neighbours' (a scanner's range
+  // noise, 3 cm here, would otherwise put the nearest of many returns 2-3 sigma too close).
   std::vector<Vec2> pts;
   pts.reserve(scan.ranges.size());
-  for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
-    const double r = scan.ranges[k];
-    if (!std::isfinite(r) || r < scan.range_min || r >= scan.range_max) continue;
+  const std::vector<double> ranges = MedianFiltered(scan, P.range_median_window);
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    const double r = ranges[k];
+    if (!std::isfinite(r)) continue;
     const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
     const Eigen::Vector3d q = scan.X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
     pts.emplace_back(q.x(), q.y());
@@ -359,7 +401,14 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     PassageState* passage = nullptr;
     for (auto& p : passages_) {
       if (p.done) continue;
-      if (s_here > p.passage.s + 0.5 * P.footprint_length + 0.2) {
+      // Through: the body's rear past the narrowest point, along the path or along the
+      // passage axis; or at the end of a path that ends in or just beyond the passage (a scan
+      // stop after a door): the crossing only follows the axis and would drive on past the
+      // goal.
+      const double through = 0.5 * P.footprint_length + 0.2;
+      const Vec2 ax(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
+      if (s_here > p.passage.s + through || ax.dot(here - p.passage.centre) > through ||
+          (closest_ + 1 == path_.size() && s_here >= p.passage.s)) {
         p.done = true;
         continue;
       }
@@ -388,16 +437,11 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
       margin = P.passage_side_margin;
       const Vec2 off = here - passage->passage.centre;
       const double lateral = axis.x() * off.y() - axis.y() * off.x();  // + = left of the axis
-      double d_left = std::numeric_limits<double>::infinity(), d_right = d_left;
       // Jambs: returns beside the body (within its length, outside its half width's inner
-      // half: anything closer to the axis is ahead and is the forward check's business).
+      // half: anything closer to the axis is ahead and is the forward check's business), per
+      // 5 cm slice along the body the median lateral distance, the nearest slice counting.
+      const double d_left = JambDistance(pts, +1.0), d_right = JambDistance(pts, -1.0);
       const double half_w = 0.5 * P.footprint_width;
-      for (const Vec2& p : pts) {
-        if (std::abs(p.x() - P.footprint_offset_x) > 0.5 * P.footprint_length + 0.05) continue;
-        if (std::abs(p.y()) < 0.5 * half_w || std::abs(p.y()) > 1.0) continue;
-        if (p.y() > 0) d_left = std::min(d_left, p.y());
-        else d_right = std::min(d_right, -p.y());
-      }
       double centring = -lateral;  // desired leftward shift (m)
       std::string source = "map";
       if (std::isfinite(d_left) && std::isfinite(d_right)) {

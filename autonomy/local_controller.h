@@ -65,6 +65,9 @@ struct LocalControllerParams {
   double backup_speed = 0.12;            ///< m/s, (0, 1]
   int max_recoveries = 4;                ///< recoveries before giving up as blocked, [0, 100]
   double replan_radius = 2.5;            ///< m, LRF points within this are passed to replans
+  /// Each LRF range is replaced by the median of this many neighbours (odd; 1 = raw) before
+  /// any check, as a laser median filter does. [1, 31]
+  int range_median_window = 5;
   double lost_rotation_speed = 0.3;      ///< rad/s while localisation is lost, [0, 5]
   double lost_timeout = 30.0;            ///< s lost before giving up, (0, 3600]
 
@@ -100,6 +103,7 @@ struct LocalControllerParams {
     v("backup_speed", backup_speed, Bounds{1e-3, 1.0});
     v("max_recoveries", max_recoveries, Bounds{0, 100});
     v("replan_radius", replan_radius, Bounds{0.0, 100.0});
+    v("range_median_window", range_median_window, Bounds{1, 31});
     v("lost_rotation_speed", lost_rotation_speed, Bounds{0.0, 5.0});
     v("lost_timeout", lost_timeout, Bounds{1e-3, 3600.0});
   }
@@ -163,6 +167,15 @@ class LocalController {
   /// tests and the integration step.
   double FreeTravel(const std::vector<Vec2>& points_B, double v, double w, double margin,
                     double horizon) const;
+
+  /// The scan's ranges, each the median of the valid ones among its `window` neighbours; an
+  /// invalid return (no echo, out of range) stays NaN.
+  static std::vector<double> MedianFiltered(const interfaces::LrfScan& scan, int window);
+  /// Lateral distance (m) of the jamb on one side (+1 left, -1 right) from the base_link x
+  /// axis: the median of the returns beside the body that lie near its nearest surface
+  /// (within -5/+8 cm of their 10th percentile); infinity when none is beside the body.
+  /// Exposed for tests.
+  double JambDistance(const std::vector<Vec2>& points_B, double side) const;
 
  private:
   enum class Mode { kFollow, kFinalRotate, kBackUp, kRotate, kDone };
