@@ -135,6 +135,9 @@ struct ControlOutput {
 /// Replanner callback: a new plan from `X_MB` to the goal, avoiding `obstacles_M` (LRF points
 /// in the map frame that the map may lack).
 using ReplanFn = std::function<GlobalPlan(const Pose2& X_MB, const std::vector<Vec2>& obstacles_M)>;
+/// Map obstacles callback: occupied points of the robot's map (map frame) within `radius` of
+/// `X_MB`, for the motions the LRFs do not cover.
+using MapObstaclesFn = std::function<std::vector<Vec2>(const Pose2& X_MB, double radius)>;
 
 class LocalController {
  public:
@@ -151,6 +154,10 @@ class LocalController {
   void SetPlan(const GlobalPlan& plan, bool align_yaw = true);
   /// Optional: used by recoveries. Without it recoveries only back up / rotate.
   void SetReplanner(ReplanFn replan) { replan_ = std::move(replan); }
+  /// Optional: the map's obstacles join the LRF returns in the checks of backing up (the
+  /// LRFs do not see behind the base) and of turning in place (a desk top or chair seat above
+  /// the base LRF's plane sweeps into the turning corners).
+  void SetMapObstacles(MapObstaclesFn map_obstacles) { map_obstacles_ = std::move(map_obstacles); }
 
   /// One control step at simulation time `time` (s) with the pose estimate `X_MB`, the
   /// localiser's status and the latest base LRF scan.
@@ -197,6 +204,7 @@ class LocalController {
 
   LocalControllerParams params_;
   ReplanFn replan_;
+  MapObstaclesFn map_obstacles_;
   std::vector<PathPoint> path_;
   std::vector<PassageState> passages_;
   Pose2 goal_;

@@ -55,6 +55,11 @@ struct DriveParams {
   /// it, where a scan deep in the new room sees almost nothing the map has (office_5rooms R1:
   /// ICP fitness 0.18, refused, and its AMCL pose became the room's map). 0 = off. [0, 10]
   double door_exit_scan_distance = 0.8;
+  /// A leg along a goal plan ends with a scan where the route gets farther than this from
+  /// every scan position (m; 0 = off): AMCL tracks best where the map is complete, near the
+  /// scans. Exploration legs are not cut by it (cut there, their scan stops fell inside
+  /// doorways, where the next plan found no way out; office_5rooms seeds 6 and 10). [0, 100]
+  double max_distance_from_scans = 4.0;
   double frontier_exclusion = 0.5;   ///< m, exploration targets this close to a scan position are spent, [0, 10]
   double scan_blind_radius = 0.5;    ///< m, around scan positions the map counts as known, [0, 10]
   double initial_sigma_xy = 0.01;  ///< m, AMCL initial std (the map is built at the start)
@@ -136,6 +141,7 @@ struct DriveParams {
     v("scan_target_clearance", scan_target_clearance, Bounds{1e-3, 5.0});
     v("doorway_margin", doorway_margin, Bounds{0.0, 2.0});
     v("door_exit_scan_distance", door_exit_scan_distance, Bounds{0.0, 10.0});
+    v("max_distance_from_scans", max_distance_from_scans, Bounds{0.0, 100.0});
     v("frontier_exclusion", frontier_exclusion, Bounds{0.0, 10.0});
     v("scan_blind_radius", scan_blind_radius, Bounds{0.0, 10.0});
     v("initial_sigma_xy", initial_sigma_xy, Bounds{1e-4, 10.0});

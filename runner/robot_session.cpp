@@ -290,6 +290,20 @@ struct RobotSession::Impl {
       }
       return plan;
     });
+    controller->SetMapObstacles([this](const Pose2& X_MB, double radius) {
+      std::vector<Vec2> out;
+      const Vec2 p(X_MB.x, X_MB.y);
+      const perception::Cell c0 = grid.CellOf(p);
+      const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
+      for (int dj = -r; dj <= r; ++dj)
+        for (int di = -r; di <= r; ++di) {
+          const perception::Cell c{c0.i + di, c0.j + dj};
+          if (!grid.Contains(c) || grid.State(c) != perception::CellState::kOccupied) continue;
+          const Vec2 q = grid.CentreOf(c);
+          if ((q - p).norm() <= radius) out.push_back(q);
+        }
+      return out;
+    });
   }
 
   // Both LRFs at their profile rates (world side: rays in the scene at the true pose).
@@ -677,9 +691,17 @@ struct RobotSession::Impl {
       return KnownFraction(grid, Vec2(q.pose.x, q.pose.y), params.goal_known_radius) >=
              params.goal_known_fraction;
     };
+    // Near enough to a scan position for AMCL's map to be complete around it.
+    auto near_scans = [&](const PathPoint& q) {
+      if (params.max_distance_from_scans <= 0.0) return true;
+      for (const Pose2& sp : log.scan_poses)
+        if (std::hypot(q.pose.x - sp.x, q.pose.y - sp.y) <= params.max_distance_from_scans) return true;
+      return false;
+    };
+    auto drivable = [&](const PathPoint& q) { return well_known(q) && near_scans(q); };
     // The scan the mission took before navigating counts towards the budget.
     const bool budget_spent = nav_scans + 1 >= params.max_scans;
-    const bool all_known = plan.ok() && std::all_of(plan.path.begin(), plan.path.end(), well_known);
+    const bool all_known = plan.ok() && std::all_of(plan.path.begin(), plan.path.end(), drivable);
     if (all_known || (plan.ok() && budget_spent)) {
       Install(plan, true);
       return true;
@@ -691,9 +713,10 @@ struct RobotSession::Impl {
     }
     if (plan.ok()) {
       // Drive along the plan only as far as the map is well known (typically into the doorway
-      // of the next room) and scan there: AMCL cannot track in a room the map lacks.
+      // of the next room) and near the scans, and scan there: AMCL cannot track in a room the
+      // map lacks.
       std::size_t k = 0;
-      while (k + 1 < plan.path.size() && well_known(plan.path[k + 1])) ++k;
+      while (k + 1 < plan.path.size() && drivable(plan.path[k + 1])) ++k;
       // A cut inside a doorway is hard to dock at from an angle: scan first in front of it
       // (clearance >= robot_radius + doorway_margin), and from the doorway only when already
       // there (the short straight approach from in front of it).
