@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "common/error.h"
 
@@ -295,16 +296,22 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     pts.emplace_back(q.x(), q.y());
   }
 
-  // The map's obstacles near the base, in base_link, with the LRF returns: `around`, for the
-  // motions the LRFs do not cover.
-  std::vector<Vec2> around = pts;
-  if (map_obstacles_) {
-    const double c = std::cos(X_MB.yaw), sn = std::sin(X_MB.yaw);
-    for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) {
-      const Vec2 d(q.x() - X_MB.x, q.y() - X_MB.y);
-      around.emplace_back(c * d.x() + sn * d.y(), -sn * d.x() + c * d.y());
+  // The map's obstacles near the base, in base_link, with the LRF returns: `around()`, for
+  // the motions the LRFs do not cover (looked up only when such a motion is checked).
+  std::optional<std::vector<Vec2>> around_pts;
+  auto around = [&]() -> const std::vector<Vec2>& {
+    if (!around_pts) {
+      around_pts = pts;
+      if (map_obstacles_) {
+        const double c = std::cos(X_MB.yaw), sn = std::sin(X_MB.yaw);
+        for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) {
+          const Vec2 d(q.x() - X_MB.x, q.y() - X_MB.y);
+          around_pts->emplace_back(c * d.x() + sn * d.y(), -sn * d.x() + c * d.y());
+        }
+      }
     }
-  }
+    return *around_pts;
+  };
 
   // Localisation first: never drive on a pose the filter does not trust.
   if (loc == LocalisationStatus::kLost || loc == LocalisationStatus::kRelocalising ||
@@ -317,7 +324,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     }
     ControlOutput out;
     out.status = NavStatus::kLocalisationLost;
-    const bool can_turn = FreeTravel(around, 0.0, 1.0, P.stop_distance, 0.3) >= 0.3;
+    const bool can_turn = FreeTravel(around(), 0.0, 1.0, P.stop_distance, 0.3) >= 0.3;
     out.cmd = {0.0, can_turn ? P.lost_rotation_speed : 0.0};
     out.message = std::string("localisation ") + perception::ToString(loc) +
                   (can_turn ? ": rotating in place to re-localise" : ": stopped (no room to rotate)");
@@ -339,7 +346,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   // Recovery motions.
   if (mode_ == Mode::kBackUp) {
     const double moved = std::hypot(X_MB.x - recovery_start_.x, X_MB.y - recovery_start_.y);
-    const double free = FreeTravel(around, -P.backup_speed, 0.0, P.stop_distance, 0.3);
+    const double free = FreeTravel(around(), -P.backup_speed, 0.0, P.stop_distance, 0.3);
     if (moved >= P.backup_distance || free < 0.05 || time - anchor_time_ > P.stuck_timeout) {
       return emit(AfterRecoveryMotion(time, X_MB, pts));
     }
@@ -352,7 +359,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   if (mode_ == Mode::kRotate) {
     recovery_turned_ += std::abs(WrapAngle(X_MB.yaw - recovery_last_yaw_));
     recovery_last_yaw_ = X_MB.yaw;
-    const bool can_turn = FreeTravel(around, 0.0, 1.0, P.stop_distance, 0.2) >= 0.2;
+    const bool can_turn = FreeTravel(around(), 0.0, 1.0, P.stop_distance, 0.2) >= 0.2;
     if (recovery_turned_ >= 2.0 * kPi || !can_turn || time - anchor_time_ > 4.0 * kPi / P.lost_rotation_speed) {
       return emit(AfterRecoveryMotion(time, X_MB, pts));
     }
@@ -528,7 +535,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     const double v = out.cmd.v, w = out.cmd.w;
     if (std::abs(v) > 1e-6) {
       const double horizon = std::max(0.3, std::abs(v) * P.collision_horizon);
-      const double free = FreeTravel(v < 0.0 ? around : pts, v, w, margin, horizon);
+      const double free = FreeTravel(v < 0.0 ? around() : pts, v, w, margin, horizon);
       if (free < P.stop_distance + 1e-9) {
         out.cmd = {};
         out.status = NavStatus::kBlocked;
@@ -542,7 +549,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
         out.cmd.v = std::copysign(vs, v);
       }
     } else if (std::abs(w) > 1e-6) {
-      if (FreeTravel(around, 0.0, w, std::min(margin, P.passage_side_margin), 0.15) < 0.15) {
+      if (FreeTravel(around(), 0.0, w, std::min(margin, P.passage_side_margin), 0.15) < 0.15) {
         out.cmd = {};
         out.status = NavStatus::kBlocked;
         out.message = "blocked: no room to rotate in place (obstacle in the base LRF)";
