@@ -395,6 +395,8 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   }
   res.X_MS = T;
   res.converged = failure.empty() && stage_converged;
+  res.last_step = last_dt;
+  res.last_step_deg = RadToDeg(last_dr);
 
   // Health at the result, with the last stage's distance and no kernel.
   const double last_dist = params.max_correspondence.back();

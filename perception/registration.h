@@ -110,6 +110,8 @@ struct RegistrationResult {
   /// Share of source points lying in space a map scan saw empty (0 if the map has no origins).
   double free_space_violation = 0.0;
   int iterations = 0;       ///< Gauss-Newton iterations over all stages
+  double last_step = 0.0;      ///< m, translation of the last Gauss-Newton step
+  double last_step_deg = 0.0;  ///< deg, rotation of the last Gauss-Newton step
   bool degenerate = false;  ///< some direction is ill-constrained (e.g. a long corridor)
   /// Eigenvalues (ascending) of the normalised Gauss-Newton information at the result, in
   /// homogeneous units (rotations scaled by the RMS lever arm): 6 values, or 4 in 4 DoF.

@@ -92,6 +92,11 @@ perception::IcpParams DriveParams::DefaultIcp() {
   // 2026-11-24): 0.25 -> 0.15 took the passes from 3 to 6 (localisation RMS 1.0-2.5 cm
   // instead of 3.5-10.7 cm in seeds 2, 3, 5).
   p.min_fitness = 0.15;
+  // Free-space violations of right registrations here reach 0.007-0.008 (a scan beyond a door,
+  // its new room seen past the earlier scans' door-frame rays); poses 90 or 180 deg off give
+  // 0.012 and more (IcpParams), and corrections beyond max_registration_correction are refused
+  // anyway. 0.006 -> 0.01: office_5rooms seed 7 localisation RMS 5.1 -> 1.0 cm.
+  p.max_free_space_violation = 0.01;
   // The prior is AMCL's (centimetres off), not odometry's: no 1 m first stage, whose wide
   // basin let a hall scan slide 0.2 m along the corridor onto the next door frame.
   p.max_correspondence = {0.3, 0.15, 0.08};

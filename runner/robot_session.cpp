@@ -469,7 +469,10 @@ struct RobotSession::Impl {
     if (!scan_map->empty()) {
       const perception::RegistrationResult r =
           perception::RegisterScan(pts, *scan_map, last_scan.X_MS_estimate, params.icp);
-      const bool fits = r.converged && r.fitness >= params.icp.min_fitness &&
+      const bool creeping = !r.converged && !r.degenerate && r.iterations > 0 &&
+                            r.last_step <= params.creeping_step_factor * params.icp.min_delta_translation &&
+                            r.last_step_deg <= params.creeping_step_factor * params.icp.min_delta_rotation_deg;
+      const bool fits = (r.converged || creeping) && r.fitness >= params.icp.min_fitness &&
                         r.rmse <= params.icp.max_rmse &&
                         r.free_space_violation <= params.icp.max_free_space_violation;
       const Eigen::Isometry3d dX = last_scan.X_MS_estimate.inverse() * r.X_MS;
@@ -493,10 +496,10 @@ struct RobotSession::Impl {
               : params.max_registration_correction;
       const bool small = jump <= gate &&
                          jump_deg <= params.max_registration_correction_deg;
-      const bool use = (r.ok || (fits && r.degenerate)) && small;
+      const bool use = (r.ok || (fits && (r.degenerate || creeping))) && small;
       log.scan_registration_messages.push_back(
           "scan " + std::to_string(log.tls_scans) + ": " + (use ? "" : "refused, AMCL pose kept: ") +
-          r.message +
+          (creeping && fits ? "converged but for a creep below the step limit: " : "") + r.message +
           Fmt("; correction %.3f m / %.3f deg, AMCL sigma %.3f m, gate %.3f m", jump, jump_deg,
               amcl_sigma, gate) +
           (small ? "" : " (too large)"));
@@ -504,7 +507,7 @@ struct RobotSession::Impl {
         ++log.scan_registrations_failed;
         if (params.trace) std::fprintf(stderr, "t=%.2f scan registration refused: %s\n", t, r.message.c_str());
       } else {
-        r.ok ? ++log.scan_registrations_ok : ++log.scan_registrations_degenerate;
+        r.ok || creeping ? ++log.scan_registrations_ok : ++log.scan_registrations_degenerate;
         last_scan.X_MS_estimate = r.X_MS;
         X_MB_est = Pose2Of(r.X_MS * last_scan.X_BS.inverse());
       }

@@ -60,7 +60,9 @@ autonomy::NextBestScanParams RoomMissionParams::DefaultNbs() {
 
 perception::IcpParams RoomMissionParams::DefaultIcp() {
   perception::IcpParams p = DriveParams::DefaultIcp();
-  p.min_fitness = 0.3;  // the room acceptance was measured with 0.3 (issue 5)
+  // The room acceptance (issue 5) was measured with these.
+  p.min_fitness = 0.3;
+  p.max_free_space_violation = perception::IcpParams{}.max_free_space_violation;
   return p;
 }
 

@@ -213,6 +213,9 @@ TEST(Registration, SecondScanInOneRoomWithinFiveMillimetres) {
               RotationErrorDeg(r.X_MS, s1.X_WS_true));
   EXPECT_TRUE(r.ok) << r.message;
   EXPECT_TRUE(r.converged);
+  // The last step is reported (the drive counts a creep below 10x the thresholds as converged).
+  EXPECT_LT(r.last_step, IcpParams{}.min_delta_translation);
+  EXPECT_LT(r.last_step_deg, IcpParams{}.min_delta_rotation_deg);
   EXPECT_FALSE(r.degenerate);
   EXPECT_EQ(r.information.size(), 4u);  // default 4 DoF: the prior's levelling is kept
   // Gravity in the scanner frame (row 2 of R_MS) is the prior's: only yaw changed.
