@@ -302,13 +302,8 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   auto around = [&]() -> const std::vector<Vec2>& {
     if (!around_pts) {
       around_pts = pts;
-      if (map_obstacles_) {
-        const double c = std::cos(X_MB.yaw), sn = std::sin(X_MB.yaw);
-        for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) {
-          const Vec2 d(q.x() - X_MB.x, q.y() - X_MB.y);
-          around_pts->emplace_back(c * d.x() + sn * d.y(), -sn * d.x() + c * d.y());
-        }
-      }
+      if (map_obstacles_)
+        for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) around_pts->push_back(InFrame(X_MB, q));
     }
     return *around_pts;
   };
