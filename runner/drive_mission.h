@@ -53,7 +53,8 @@ struct DriveParams {
   /// far (m, along the path) beyond the passage, as MoPAD scans "one before and one after the
   /// doorframe": that scan still sees the room behind through the door and registers against
   /// it, where a scan deep in the new room sees almost nothing the map has (office_5rooms R1:
-  /// ICP fitness 0.18, refused, and its AMCL pose became the room's map). 0 = off. [0, 10]
+  /// ICP fitness 0.18, refused at the then 0.3 limit, and its AMCL pose became the room's
+  /// map). 0 = off. [0, 10]
   double door_exit_scan_distance = 0.8;
   /// A leg along a goal plan ends with a scan where the route gets farther than this from
   /// every scan position (m; 0 = off): AMCL tracks best where the map is complete, near the
