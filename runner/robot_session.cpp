@@ -636,6 +636,14 @@ struct RobotSession::Impl {
     controller->SetPlan(plan, /*align_yaw=*/final);
   }
 
+  // The plan up to and including path point k (its passages and length with it).
+  static void TruncatePlan(autonomy::GlobalPlan& plan, std::size_t k) {
+    const double s_end = plan.path[k].s;
+    plan.path.resize(k + 1);
+    std::erase_if(plan.passages, [&](const autonomy::Passage& q) { return q.s > s_end; });
+    plan.length = s_end;
+  }
+
   // Robot side: a leg that ends with a scan and crosses a doorway on the way is cut just
   // beyond it (the second of MoPAD's two scans at a doorframe: it still sees the room behind
   // through the door and registers against it, where a scan deep in the new room sees almost
@@ -665,9 +673,7 @@ struct RobotSession::Impl {
         std::fprintf(stderr, "t=%.2f narrow stretch at s %.2f-%.2f, exit s %.2f%s\n", t, plan.path[a].s,
                      plan.path[b].s, e.s, scanned_near ? " (scanned near)" : "");
       if (!scanned_near && e.s >= params.min_scan_progress) {
-        plan.path.resize(ke + 1);
-        std::erase_if(plan.passages, [&](const autonomy::Passage& q) { return q.s > e.s; });
-        plan.length = e.s;
+        TruncatePlan(plan, ke);
         return;
       }
     }
@@ -730,9 +736,7 @@ struct RobotSession::Impl {
         Install(plan, true);
         return true;
       }
-      plan.path.resize(k + 1);
-      std::erase_if(plan.passages, [&](const autonomy::Passage& q) { return q.s > plan.path[k].s; });
-      plan.length = plan.path[k].s;
+      TruncatePlan(plan, k);
       CutAtDoorExit(plan);
       Install(plan, false);
       return true;
