@@ -48,6 +48,8 @@ namespace {
 // m: map obstacles farther than this from base_link cannot meet the footprint in one check
 // (half diagonal 0.39 m + margin + the 0.3 m back-up horizon).
 constexpr double kMapObstacleRadius = 1.0;
+// m: obstacles an escape manoeuvre (two arcs of at most 0.8 m) can meet.
+constexpr double kEscapeRadius = 2.2;
 
 std::string Fmt(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0) {
   char buf[256];
@@ -191,6 +193,88 @@ double LocalController::FreeTravel(const std::vector<Vec2>& points_B, double v, 
   return horizon;
 }
 
+std::vector<ArcMove> LocalController::EscapeManoeuvre(const std::vector<Vec2>& points_B,
+                                                      const Vec2& target_B) const {
+  const LocalControllerParams& P = params_;
+  if (P.escape_arc_length <= 0.0) return {};
+  constexpr double kStep = 0.1;           // m, arc lengths tried
+  constexpr double kSecondArcCost = 0.3;  // m, a direction change costs as much as this
+  constexpr double kAhead = 0.3;          // m free ahead when it already faces the target
+  const double turn_margin = std::min(P.safety_margin, P.passage_side_margin);  // as Update's
+  const double radius = std::hypot(0.5 * P.footprint_length + std::abs(P.footprint_offset_x),
+                                   0.5 * P.footprint_width);
+  std::vector<Vec2> near;  // the points an arc (or the turn after it) can meet
+  const double reach = radius + P.stop_distance + 2.0 * P.escape_arc_length;
+  for (const Vec2& p : points_B)
+    if (p.norm() <= reach) near.push_back(p);
+  // Arcs: forward and back, straight or curving either way (radius 1, 0.5, 0.3 m).
+  std::vector<ArcMove> arcs;
+  for (double dir : {-1.0, 1.0})
+    for (double kappa : {0.0, 1.0, -1.0, 2.0, -2.0, 3.3, -3.3})
+      arcs.push_back({dir * P.backup_speed, dir * P.backup_speed * kappa, 0.0});
+  auto moved = [](const std::vector<Vec2>& pts, const Pose2& X) {
+    std::vector<Vec2> out;
+    out.reserve(pts.size());
+    for (const Vec2& p : pts) out.push_back(InFrame(X, p));
+    return out;
+  };
+  // Can the base, at pose X (in the start frame), go on toward the target?
+  auto can_go_on = [&](const Pose2& X) {
+    const std::vector<Vec2> pts = moved(near, X);
+    const Vec2 t = InFrame(X, target_B);
+    const double alpha = std::atan2(t.y(), t.x());
+    if (std::abs(alpha) <= DegToRad(P.rotate_in_place_deg))
+      return FreeTravel(pts, P.backup_speed, 0.0, P.stop_distance, kAhead) >= kAhead - 1e-9;
+    return FreeTravel(pts, 0.0, alpha >= 0 ? 1.0 : -1.0, turn_margin, std::abs(alpha)) >=
+           std::abs(alpha) - 1e-9;
+  };
+  std::vector<ArcMove> best;
+  double best_cost = std::numeric_limits<double>::infinity();
+  // One arc.
+  std::vector<std::pair<ArcMove, Pose2>> firsts;  // feasible first arcs, for two-arc ones
+  for (const ArcMove& a : arcs) {
+    const double free = FreeTravel(near, a.v, a.w, P.stop_distance, P.escape_arc_length);
+    for (double len = kStep; len <= free - P.stop_distance + 1e-9; len += kStep) {
+      const Pose2 X = Arc(a.v, a.w, len / std::abs(a.v));
+      firsts.push_back({{a.v, a.w, len}, X});
+      if (len < best_cost && can_go_on(X)) {
+        best = {{a.v, a.w, len}};
+        best_cost = len;
+      }
+    }
+  }
+  // Two arcs (a three-point turn), only if shorter than the best single arc.
+  for (const auto& [a1, X1] : firsts) {
+    if (a1.length + kSecondArcCost + kStep >= best_cost) continue;
+    const std::vector<Vec2> pts1 = moved(near, X1);
+    for (const ArcMove& a : arcs) {
+      if (a.v * a1.v > 0.0 && std::abs(a.w - a1.w) < 1e-9) continue;  // the same arc, longer
+      const double free = FreeTravel(pts1, a.v, a.w, P.stop_distance, P.escape_arc_length);
+      for (double len = kStep; len <= free - P.stop_distance + 1e-9; len += kStep) {
+        const double cost = a1.length + len + kSecondArcCost;
+        if (cost >= best_cost) break;
+        if (can_go_on(perception::Compose(X1, Arc(a.v, a.w, len / std::abs(a.v))))) {
+          best = {a1, {a.v, a.w, len}};
+          best_cost = cost;
+          break;
+        }
+      }
+    }
+  }
+  return best;
+}
+
+Vec2 LocalController::HeadingTarget(const Pose2& X_MB) const {
+  for (const PassageState& p : passages_)
+    if (!p.done && !p.aligned && closest_ < path_.size() &&
+        path_[closest_].s >= p.passage.s - params_.passage_entry_distance - 0.05)
+      return Vec2(X_MB.x, X_MB.y) + Vec2(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
+  std::size_t k = std::min(closest_, path_.size() - 1);
+  const double s_to = path_[k].s + 1.0;
+  while (k + 1 < path_.size() && path_[k].s < s_to) ++k;
+  return {path_[k].pose.x, path_[k].pose.y};
+}
+
 interfaces::VelocityCommand LocalController::Limit(interfaces::VelocityCommand cmd,
                                                    double dt) const {
   const LocalControllerParams& P = params_;
@@ -207,7 +291,8 @@ interfaces::VelocityCommand LocalController::Limit(interfaces::VelocityCommand c
 }
 
 ControlOutput LocalController::StartRecovery(double time, const Pose2& X_MB,
-                                             const std::string& reason) {
+                                             const std::string& reason,
+                                             const std::vector<Vec2>& points_B) {
   const LocalControllerParams& P = params_;
   blocked_since_.reset();
   if (recoveries_ >= P.max_recoveries) {
@@ -226,6 +311,30 @@ ControlOutput LocalController::StartRecovery(double time, const Pose2& X_MB,
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.recoveries = recoveries_;
+  if (turn_blocked_ && !path_.empty()) {
+    // It cannot turn where it stands: backing straight up may not free it either (a corner
+    // of the niche behind it), so look for arcs after which it can.
+    std::vector<Vec2> pts = points_B;
+    if (map_obstacles_)
+      for (const Vec2& q : map_obstacles_(X_MB, kEscapeRadius)) pts.push_back(InFrame(X_MB, q));
+    escape_ = EscapeManoeuvre(pts, InFrame(X_MB, HeadingTarget(X_MB)));
+    if (!escape_.empty()) {
+      mode_ = Mode::kEscape;
+      escape_arc_ = 0;
+      escape_arc_start_ = X_MB;
+      double length = 0.0;
+      for (const ArcMove& a : escape_) length += a.length;
+      escape_deadline_ = time + 2.0 * length / P.backup_speed + 4.0;
+      std::string arcs;
+      for (const ArcMove& a : escape_)
+        arcs += std::string(arcs.empty() ? "" : ", then ") + Fmt("%.1f m ", a.length) +
+                (a.v < 0 ? "back" : "forward") +
+                (std::abs(a.w) < 1e-9 ? "" : Fmt(" on a %.2f m radius", std::abs(a.v / a.w)));
+      out.message = "recovery " + std::to_string(recoveries_) + "/" + std::to_string(P.max_recoveries) +
+                    ": escape manoeuvre, " + arcs + " (" + reason + ")";
+      return out;
+    }
+  }
   out.message = "recovery " + std::to_string(recoveries_) + "/" + std::to_string(P.max_recoveries) +
                 (mode_ == Mode::kBackUp ? ": backing up" : ": rotating in place") + " (" + reason + ")";
   return out;
@@ -351,6 +460,33 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
     return emit(out);
   }
+  if (mode_ == Mode::kEscape) {
+    // Length driven along this arc, from the chord and the turn since its start.
+    const double chord = std::hypot(X_MB.x - escape_arc_start_.x, X_MB.y - escape_arc_start_.y);
+    const double half_turn = 0.5 * std::abs(WrapAngle(X_MB.yaw - escape_arc_start_.yaw));
+    double driven = half_turn > 1e-3 ? chord * half_turn / std::sin(half_turn) : chord;
+    if (driven >= escape_[escape_arc_].length - 0.005) {
+      if (++escape_arc_ == escape_.size()) {
+        // Done: a path from here (the old one may start with the narrow stretch just left).
+        turn_blocked_ = false;
+        return emit(AfterRecoveryMotion(time, X_MB, pts));
+      }
+      escape_arc_start_ = X_MB;
+      driven = 0.0;
+    }
+    const ArcMove& b = escape_[escape_arc_];
+    const double left = b.length - driven;
+    const double free = FreeTravel(around(), b.v, b.w, P.passage_side_margin, std::clamp(left, 0.05, 0.3));
+    if (free < 0.02 || time > escape_deadline_) {
+      return emit(AfterRecoveryMotion(time, X_MB, pts));  // the map or the LRF disagree: replan
+    }
+    ControlOutput out;
+    out.status = NavStatus::kRecovering;
+    out.cmd = {b.v, b.w};
+    out.message = Fmt("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
+                      static_cast<double>(escape_arc_ + 1), static_cast<double>(escape_.size()));
+    return emit(out);
+  }
   if (mode_ == Mode::kRotate) {
     recovery_turned_ += std::abs(WrapAngle(X_MB.yaw - recovery_last_yaw_));
     recovery_last_yaw_ = X_MB.yaw;
@@ -399,6 +535,12 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   ControlOutput out;
   out.status = NavStatus::kFollowing;
   double margin = P.safety_margin;
+  // rad: the whole of a turn on the spot that the branch below starts, where it must be free
+  // before it starts: a turn toward the path, and aligning with a passage the base faces away
+  // from (more than 90 deg off its axis: it stands in the narrow stretch or just past it). A
+  // smaller alignment and the final rotation turn as far as they can: a doorway seldom leaves
+  // room for all of it at once, and the crossing centres the base as it goes.
+  double turn_needed = 0.0;
 
   // Goal: final approach and rotation.
   if (mode_ == Mode::kFinalRotate && d_goal > 2.5 * P.goal_tolerance_xy) mode_ = Mode::kFollow;
@@ -444,6 +586,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
         out.status = NavStatus::kDoorPassage;
         const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
         out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.08), w)};
+        if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);  // facing away: see below
         out.message = Fmt("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
                           "before its centre", RadToDeg(herr), passage->passage.s - s_here);
       }
@@ -503,6 +646,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
       } else if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
         const double w = std::clamp(P.heading_gain * alpha, -P.max_angular_speed, P.max_angular_speed);
         out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.1), w)};
+        turn_needed = std::abs(alpha) - DegToRad(P.rotate_in_place_deg) + 0.1;
         out.message = Fmt("turning toward the path (%.0f deg)", RadToDeg(alpha));
       } else {
         const double kappa = 2.0 * target.y() / L2;
@@ -544,20 +688,27 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
         out.cmd.v = std::copysign(vs, v);
       }
     } else if (std::abs(w) > 1e-6) {
-      if (FreeTravel(around(), 0.0, w, std::min(margin, P.passage_side_margin), 0.15) < 0.15) {
+      // Begun in the mouth of a niche and stopped half way, a turn wedges the base's corners
+      // against both sides, where not even an escape manoeuvre gets it out (at least the next
+      // 0.15 rad are checked).
+      const double turn = std::max(0.15, turn_needed);
+      if (FreeTravel(around(), 0.0, w, std::min(margin, P.passage_side_margin), turn) < turn) {
         out.cmd = {};
         out.status = NavStatus::kBlocked;
         out.message = "blocked: no room to rotate in place (obstacle in the base LRF)";
+        turn_blocked_ = mode_ == Mode::kFollow;  // not at the goal's final rotation
       }
     }
   }
 
   // Blocked: wait, then recover. Stuck: no progress while commanding motion.
+  if (out.status != NavStatus::kBlocked) turn_blocked_ = false;
   if (out.status == NavStatus::kBlocked) {
     last_blocked_time_ = time;
     if (!blocked_since_) blocked_since_ = time;
     if (time - *blocked_since_ >= P.blocked_wait) {
-      return emit(StartRecovery(time, X_MB, out.message + Fmt(" for %.1f s", time - *blocked_since_)), false);
+      return emit(StartRecovery(time, X_MB, out.message + Fmt(" for %.1f s", time - *blocked_since_), pts),
+                  false);
     }
     out.message += Fmt("; waiting %.1f s before recovery", P.blocked_wait - (time - *blocked_since_));
     anchor_pose_ = X_MB;
@@ -575,7 +726,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
     anchor_time_ = time;
   } else if (time - anchor_time_ > P.stuck_timeout) {
     return emit(StartRecovery(time, X_MB, Fmt("stuck: moved %.3f m in %.1f s while commanded",
-                                              moved, time - anchor_time_)), false);
+                                              moved, time - anchor_time_), pts), false);
   }
   return emit(out);
 }

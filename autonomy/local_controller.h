@@ -12,7 +12,10 @@
 //  - recovery when blocked for `blocked_wait` or making no progress for `stuck_timeout`:
 //    alternately back up or rotate in place, then ask the replanner (the owner's callback,
 //    usually GlobalPlanner with the LRF obstacles added) for a new path; an unreachable
-//    replan ends in kUnreachable, exhausted recoveries in kBlocked;
+//    replan ends in kUnreachable, exhausted recoveries in kBlocked. A base that cannot turn
+//    on the spot toward its path (stopped in the mouth of a niche) first looks for an escape
+//    manoeuvre: at most two arcs, forward or back, checked against the LRF and the map, after
+//    which it can turn (a three-point turn, as a driver leaves a parking bay);
 //  - localisation: while AMCL reports lost / re-localising the base rotates slowly in place to
 //    give the filter new views (kLocalisationLost), and gives up after `lost_timeout`.
 //
@@ -62,7 +65,8 @@ struct LocalControllerParams {
   double stuck_timeout = 4.0;            ///< s without progress before a recovery, (0, 600]
   double progress_distance = 0.05;       ///< m of motion that counts as progress, (0, 5]
   double backup_distance = 0.25;         ///< m, recovery back-up length, (0, 5]
-  double backup_speed = 0.12;            ///< m/s, (0, 1]
+  double backup_speed = 0.12;            ///< m/s, (0, 1]; also the escape manoeuvre's speed
+  double escape_arc_length = 0.8;        ///< m, longest arc of an escape manoeuvre; 0 = none
   int max_recoveries = 4;                ///< recoveries before giving up as blocked, [0, 100]
   double replan_radius = 2.5;            ///< m, LRF points within this are passed to replans
   /// Each LRF range is replaced by the median of this many neighbours (odd; 1 = raw) before
@@ -101,6 +105,7 @@ struct LocalControllerParams {
     v("progress_distance", progress_distance, Bounds{1e-3, 5.0});
     v("backup_distance", backup_distance, Bounds{1e-3, 5.0});
     v("backup_speed", backup_speed, Bounds{1e-3, 1.0});
+    v("escape_arc_length", escape_arc_length, Bounds{0.0, 3.0});
     v("max_recoveries", max_recoveries, Bounds{0, 100});
     v("replan_radius", replan_radius, Bounds{0.0, 100.0});
     v("range_median_window", range_median_window, Bounds{1, 31});
@@ -123,6 +128,11 @@ enum class NavStatus {
   kLocalisationLost,  ///< rotating to re-localise; terminal after lost_timeout
 };
 const char* ToString(NavStatus s);
+
+/// One arc of a manoeuvre: speed v (m/s, < 0 backwards), yaw rate w (rad/s), length (m).
+struct ArcMove {
+  double v = 0.0, w = 0.0, length = 0.0;
+};
 
 struct ControlOutput {
   interfaces::VelocityCommand cmd;
@@ -175,6 +185,14 @@ class LocalController {
   double FreeTravel(const std::vector<Vec2>& points_B, double v, double w, double margin,
                     double horizon) const;
 
+  /// Escape manoeuvre from a spot where the base cannot turn: the shortest sequence of at
+  /// most two arcs (forward or back at backup_speed, radius 0.3 m to straight, each at most
+  /// escape_arc_length, a second arc costing 0.3 m more) that keeps stop_distance from
+  /// `points_B` (base_link) and ends where the base can turn on the spot toward `target_B`
+  /// (base_link), or already faces it within rotate_in_place_deg with 0.3 m free ahead.
+  /// Empty when there is none. Exposed for tests.
+  std::vector<ArcMove> EscapeManoeuvre(const std::vector<Vec2>& points_B, const Vec2& target_B) const;
+
   /// The scan's ranges, each the median of the valid ones among its `window` neighbours; an
   /// invalid return (no echo, out of range) stays NaN.
   static std::vector<double> MedianFiltered(const interfaces::LrfScan& scan, int window);
@@ -185,7 +203,7 @@ class LocalController {
   double JambDistance(const std::vector<Vec2>& points_B, double side) const;
 
  private:
-  enum class Mode { kFollow, kFinalRotate, kBackUp, kRotate, kDone };
+  enum class Mode { kFollow, kFinalRotate, kBackUp, kRotate, kEscape, kDone };
   struct PassageState {
     Passage passage;
     bool aligned = false;
@@ -193,7 +211,11 @@ class LocalController {
   };
 
   ControlOutput Finish(NavStatus s, const std::string& message);
-  ControlOutput StartRecovery(double time, const Pose2& X_MB, const std::string& reason);
+  ControlOutput StartRecovery(double time, const Pose2& X_MB, const std::string& reason,
+                              const std::vector<Vec2>& points_B);
+  /// Where the base should head from here (map): a point on the path a metre ahead of the
+  /// closest one, or along the axis of a passage it is aligning with.
+  Vec2 HeadingTarget(const Pose2& X_MB) const;
   ControlOutput AfterRecoveryMotion(double time, const Pose2& X_MB,
                                     const std::vector<Vec2>& points_B);
   void InstallPlan(const GlobalPlan& plan);
@@ -224,6 +246,11 @@ class LocalController {
   Pose2 recovery_start_;
   double recovery_turned_ = 0.0, recovery_last_yaw_ = 0.0;
   std::string recovery_reason_;
+  bool turn_blocked_ = false;     // the last blocked step was a turn on the spot
+  std::vector<ArcMove> escape_;   // the escape manoeuvre under way
+  std::size_t escape_arc_ = 0;
+  Pose2 escape_arc_start_;
+  double escape_deadline_ = 0.0;
   ControlOutput terminal_;
 };
 

@@ -347,6 +347,114 @@ TEST(LocalController, BackingUpChecksTheMapBehindTheBase) {
   EXPECT_EQ(seeing.last.status, NavStatus::kBlocked) << seeing.last.message;
 }
 
+// A niche 0.8 m wide between two cabinets against the west room's wall, the base in its
+// mouth facing in (west), and a bin behind it outside: the goal lies east, through the door.
+// The base cannot turn where it stands (its half diagonal is 0.39 m), and backing straight
+// out meets the bin before there is room to turn (office_5rooms, seed 6: a scan stop in the
+// mouth of a niche in R1, blocked for good after four recoveries).
+struct Niche {
+  std::vector<Box2> boxes = {{{0.0, 2.0}, {1.3, 2.4}},    // cabinet, south side
+                             {{0.0, 3.2}, {1.3, 3.6}},    // cabinet, north side
+                             {{1.95, 2.4}, {2.15, 2.7}}};  // bin behind the base, off its axis
+  Pose2 base{1.0, 2.8, kPi};
+  /// The boxes' outlines (2 cm spacing) in the base's frame.
+  std::vector<Vec2> PointsInBase() const {
+    std::vector<Vec2> pts;
+    const double c = std::cos(base.yaw), s = std::sin(base.yaw);
+    auto add = [&](double x, double y) {
+      const double dx = x - base.x, dy = y - base.y;
+      pts.emplace_back(c * dx + s * dy, -s * dx + c * dy);
+    };
+    for (const Box2& b : boxes) {
+      for (double x = b.lo.x(); x <= b.hi.x() + 1e-9; x += 0.02) add(x, b.lo.y()), add(x, b.hi.y());
+      for (double y = b.lo.y(); y <= b.hi.y() + 1e-9; y += 0.02) add(b.lo.x(), y), add(b.hi.x(), y);
+    }
+    return pts;
+  }
+};
+
+TEST(LocalController, EscapeManoeuvreLeavesANicheWhereItCannotTurn) {
+  const Niche niche;
+  LocalController ctl(LocalControllerParams{});
+  const LocalControllerParams& P = ctl.Params();
+  const std::vector<Vec2> pts = niche.PointsInBase();
+  const Vec2 east_B(-3.0, 0.0);  // a target 3 m east: behind the base
+  // Neither way round, nor straight back far enough to turn.
+  EXPECT_LT(ctl.FreeTravel(pts, 0.0, 1.0, 0.03, kPi), 1.0);
+  EXPECT_LT(ctl.FreeTravel(pts, 0.0, -1.0, 0.03, kPi), 1.0);
+  const double back = ctl.FreeTravel(pts, -0.1, 0.0, P.stop_distance, 2.0);
+  std::vector<Vec2> backed;
+  for (const Vec2& p : pts) backed.emplace_back(p.x() + back, p.y());
+  EXPECT_LT(ctl.FreeTravel(backed, 0.0, 1.0, 0.03, kPi), kPi);
+  EXPECT_LT(ctl.FreeTravel(backed, 0.0, -1.0, 0.03, kPi), kPi);
+
+  const std::vector<ArcMove> escape = ctl.EscapeManoeuvre(pts, east_B);
+  ASSERT_FALSE(escape.empty());
+  // Drive the arcs on the points: each is free of them, and at the end the base can turn
+  // toward the target (or already faces it).
+  std::vector<Vec2> now = pts;
+  Vec2 target = east_B;
+  double total = 0.0;
+  for (const ArcMove& a : escape) {
+    std::printf("[ ESCAPE   ] %.1f m %s, yaw rate %.2f rad/s\n", a.length, a.v < 0 ? "back" : "forward", a.w);
+    EXPECT_GE(ctl.FreeTravel(now, a.v, a.w, P.stop_distance, a.length), a.length - 1e-9);
+    const double t = a.length / std::abs(a.v), th = a.w * t;
+    const Pose2 X = std::abs(th) < 1e-9 ? Pose2{a.v * t, 0.0, 0.0}
+                                        : Pose2{a.v / a.w * std::sin(th), a.v / a.w * (1.0 - std::cos(th)), th};
+    auto in_x = [&](const Vec2& p) {
+      const double c = std::cos(X.yaw), s = std::sin(X.yaw);
+      const Vec2 d = p - Vec2(X.x, X.y);
+      return Vec2(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
+    };
+    for (Vec2& p : now) p = in_x(p);
+    target = in_x(target);
+    total += a.length;
+  }
+  EXPECT_LE(escape.size(), 2u);
+  EXPECT_LE(total, 2.0 * P.escape_arc_length);
+  const double alpha = std::atan2(target.y(), target.x());
+  if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
+    EXPECT_GE(ctl.FreeTravel(now, 0.0, alpha > 0 ? 1.0 : -1.0, 0.03, std::abs(alpha)), std::abs(alpha) - 1e-9);
+  }
+
+  // Boxed in on every side (a 0.7 m x 0.6 m cell): no manoeuvre, said as empty.
+  std::vector<Vec2> cell;
+  for (double u = -0.35; u <= 0.35; u += 0.02) cell.emplace_back(u, 0.3), cell.emplace_back(u, -0.3);
+  for (double u = -0.3; u <= 0.3; u += 0.02) cell.emplace_back(0.35, u), cell.emplace_back(-0.35, u);
+  EXPECT_TRUE(ctl.EscapeManoeuvre(cell, east_B).empty());
+  // Switched off.
+  LocalControllerParams off;
+  off.escape_arc_length = 0.0;
+  EXPECT_TRUE(LocalController(off).EscapeManoeuvre(pts, east_B).empty());
+}
+
+// The niche in the closed loop (the goal north of it): with the escape manoeuvre the base
+// backs out, turns and arrives without touching anything; with the other recoveries alone
+// (0.25 m back-ups along its axis, turns on the spot) it backs up twice, still cannot turn
+// beside the bin, and ends blocked.
+TEST(LocalController, EscapesANicheToArriveWhereBackingUpAloneEndsBlocked) {
+  auto run = [](double escape_arc_length) {
+    Scenario sc;
+    const Niche niche;
+    for (const Box2& b : niche.boxes) sc.world.push_back(b), sc.map_boxes.push_back(b);
+    sc.start = niche.base;
+    sc.goal = Pose2{3.5, 4.5, kPi / 2};
+    sc.map_obstacles = true;
+    sc.params.escape_arc_length = escape_arc_length;
+    return Drive(sc);
+  };
+  const RunResult without = run(0.0), with = run(0.8);
+  PrintLog(without);
+  PrintLog(with);
+  EXPECT_EQ(without.last.status, NavStatus::kBlocked) << without.last.message;
+  EXPECT_FALSE(without.collided);
+  EXPECT_EQ(with.last.status, NavStatus::kArrived) << with.last.message;
+  EXPECT_FALSE(with.collided);
+  bool escaped = false;
+  for (const auto& l : with.log) escaped |= l.find("escape manoeuvre") != std::string::npos;
+  EXPECT_TRUE(escaped);
+}
+
 TEST(LocalController, FreeTravelOfTheFootprint) {
   LocalController ctl(LocalControllerParams{});
   const std::vector<Vec2> wall = {{1.0, -0.1}, {1.0, 0.0}, {1.0, 0.1}};
