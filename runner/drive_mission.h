@@ -56,6 +56,13 @@ struct DriveParams {
   /// ICP fitness 0.18, refused at the then 0.3 limit, and its AMCL pose became the room's
   /// map). 0 = off. [0, 10]
   double door_exit_scan_distance = 0.8;
+  /// The first of MoPAD's two scans at a doorframe: a leg that reaches a door passage with no
+  /// scan within this distance (m) of the passage's near end stops in front of it (at least
+  /// 0.6 m before it, with a scan stop's clearance) and scans there, so that the scan after
+  /// the doorframe finds the door's surroundings mapped from close by (office_5rooms seed 2:
+  /// the room's only scan 6.7 m away, and the scan beyond the door registered 0.3 deg and
+  /// 2.7 cm off along the hall, which the hall's map then carried). 0 = off. [0, 100]
+  double door_entry_scan_distance = 3.0;
   /// A leg along a goal plan ends with a scan where the route gets farther than this from
   /// every scan position (m; 0 = off): AMCL tracks best where the map is complete, near the
   /// scans. Exploration legs are not cut by it (cut there, their scan stops fell inside
@@ -148,6 +155,7 @@ struct DriveParams {
     v("scan_target_clearance", scan_target_clearance, Bounds{1e-3, 5.0});
     v("doorway_margin", doorway_margin, Bounds{0.0, 2.0});
     v("door_exit_scan_distance", door_exit_scan_distance, Bounds{0.0, 10.0});
+    v("door_entry_scan_distance", door_entry_scan_distance, Bounds{0.0, 100.0});
     v("max_distance_from_scans", max_distance_from_scans, Bounds{0.0, 100.0});
     v("frontier_exclusion", frontier_exclusion, Bounds{0.0, 10.0});
     v("scan_blind_radius", scan_blind_radius, Bounds{0.0, 10.0});

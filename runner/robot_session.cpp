@@ -644,14 +644,15 @@ struct RobotSession::Impl {
     plan.length = s_end;
   }
 
-  // Robot side: a leg that ends with a scan and crosses a doorway on the way is cut just
-  // beyond it (the second of MoPAD's two scans at a doorframe: it still sees the room behind
+  // Robot side: MoPAD's two scans at a doorframe, on a leg that ends with a scan and crosses
+  // a doorway. The first: with no scan near the doorway's near end, the leg stops in front of
+  // it. The second: the leg is cut just beyond it (that scan still sees the room behind
   // through the door and registers against it, where a scan deep in the new room sees almost
-  // nothing the map has), unless a scan was taken near there. A doorway is a stretch of the
-  // path with less clearance than a scan stop needs (the planner's passages are only the
-  // narrowest gaps).
-  void CutAtDoorExit(autonomy::GlobalPlan& plan) const {
-    if (params.door_exit_scan_distance <= 0.0 || plan.path.size() < 2) return;
+  // nothing the map has), unless a scan was taken near there on that side. A doorway is a
+  // stretch of the path with less clearance than a scan stop needs (the planner's passages
+  // are only the narrowest gaps).
+  void CutAtDoorway(autonomy::GlobalPlan& plan) const {
+    if (plan.path.size() < 2) return;
     const std::size_t k = plan.path.size() - 1;
     const double narrow = params.planner.robot_radius + params.doorway_margin;
     std::size_t b = 0;
@@ -660,14 +661,33 @@ struct RobotSession::Impl {
       while (a < k && (plan.path[a].s < 0.3 || plan.path[a].clearance >= narrow)) ++a;
       b = a;
       while (b < k && plan.path[b].clearance < narrow) ++b;
-      if (a >= k || b >= k) return;
+      if (a >= k) return;
+      const Vec2 entry(plan.path[a].pose.x, plan.path[a].pose.y);
+      if (params.door_entry_scan_distance > 0.0 &&
+          std::none_of(log.scan_poses.begin(), log.scan_poses.end(), [&](const Pose2& sp) {
+            return std::hypot(entry.x() - sp.x, entry.y() - sp.y) < params.door_entry_scan_distance;
+          })) {
+        constexpr double kStandOff = 0.6;  // m before the doorway
+        std::size_t ka = a;
+        while (ka > 0 && (plan.path[ka].clearance < narrow || plan.path[ka].s > plan.path[a].s - kStandOff)) --ka;
+        if (params.trace)
+          std::fprintf(stderr, "t=%.2f narrow stretch at s %.2f-%.2f, no scan near its entry: stop at s %.2f\n",
+                       t, plan.path[a].s, plan.path[b].s, plan.path[ka].s);
+        if (plan.path[ka].s >= params.min_scan_progress) {
+          TruncatePlan(plan, ka);
+          return;
+        }
+      }
+      if (params.door_exit_scan_distance <= 0.0 || b >= k) return;
       const double s_exit = 0.5 * (plan.path[a].s + plan.path[b].s) + params.door_exit_scan_distance;
       std::size_t ke = b;
       while (ke < k && (plan.path[ke].s < s_exit || plan.path[ke].clearance < narrow)) ++ke;
       if (ke >= k) return;
       const PathPoint& e = plan.path[ke];
+      // Near the exit and on its side (the scan in front of the doorway does not count).
       const bool scanned_near = std::any_of(log.scan_poses.begin(), log.scan_poses.end(), [&](const Pose2& sp) {
-        return std::hypot(e.pose.x - sp.x, e.pose.y - sp.y) < 2.0 * params.door_exit_scan_distance;
+        const double d = std::hypot(e.pose.x - sp.x, e.pose.y - sp.y);
+        return d < 2.0 * params.door_exit_scan_distance && d < std::hypot(entry.x() - sp.x, entry.y() - sp.y);
       });
       if (params.trace)
         std::fprintf(stderr, "t=%.2f narrow stretch at s %.2f-%.2f, exit s %.2f%s\n", t, plan.path[a].s,
@@ -737,7 +757,7 @@ struct RobotSession::Impl {
         return true;
       }
       TruncatePlan(plan, k);
-      CutAtDoorExit(plan);
+      CutAtDoorway(plan);
       Install(plan, false);
       return true;
     }
@@ -766,7 +786,7 @@ struct RobotSession::Impl {
       const Pose2 t_M{near.x(), near.y(), std::atan2(g.y() - near.y(), g.x() - near.x())};
       autonomy::GlobalPlan to_scan = planner->Plan(X_MB_est, t_M);
       if (to_scan.ok()) {
-        CutAtDoorExit(to_scan);
+        CutAtDoorway(to_scan);
         Install(to_scan, false);
         return true;
       }
