@@ -101,6 +101,10 @@ struct DriveParams {
   /// otherwise fits is used. Missions that register scans themselves (the room mission) turn
   /// it off.
   bool register_scans = true;
+  /// When the route to the goal leaves the known space right behind the base (the LRFs' rear
+  /// gap; the TLS sees nothing within 1.5 m), turn on the spot once, mapping the LRF sweeps,
+  /// and plan again, rather than end `unreachable` with "no progress".
+  bool look_around = true;
   perception::IcpParams icp = DefaultIcp();
   /// A registration that moves the scan further than this from its AMCL prior (m, or
   /// `max_registration_correction_deg` in yaw) is refused: AMCL is good to a few centimetres
@@ -168,6 +172,7 @@ struct DriveParams {
     v("max_relegs", max_relegs, Bounds{0, 20});
     v("stall_time", stall_time, Bounds{0.0, 1e5});
     v("register_scans", register_scans);
+    v("look_around", look_around);
     v("icp", icp);
     v("max_registration_correction", max_registration_correction, Bounds{0.0, 10.0});
     v("max_registration_correction_deg", max_registration_correction_deg, Bounds{0.0, 180.0});

@@ -230,6 +230,7 @@ struct RobotSession::Impl {
   int nav_scans = 0;  // scans taken by the current NavigateTo
   int relegs = 0;     // legs planned again by the current NavigateTo since its last scan
   int map_replans = 0;  // legs replanned because the driving sweeps put an obstacle on them
+  bool looked_around = false;  // since the last scan (LookAround)
   std::vector<Vec2> leg_path;  // the path being followed (map)
 
   double t = 0.0;
@@ -290,20 +291,63 @@ struct RobotSession::Impl {
       }
       return plan;
     });
-    controller->SetMapObstacles([this](const Pose2& X_MB, double radius) {
-      std::vector<Vec2> out;
-      const Vec2 p(X_MB.x, X_MB.y);
-      const perception::Cell c0 = grid.CellOf(p);
-      const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
-      for (int dj = -r; dj <= r; ++dj)
-        for (int di = -r; di <= r; ++di) {
-          const perception::Cell c{c0.i + di, c0.j + dj};
-          if (!grid.Contains(c) || grid.State(c) != perception::CellState::kOccupied) continue;
-          const Vec2 q = grid.CentreOf(c);
-          if ((q - p).norm() <= radius) out.push_back(q);
-        }
-      return out;
-    });
+    controller->SetMapObstacles(
+        [this](const Pose2& X_MB, double radius) { return MapObstaclesNear(X_MB, radius); });
+  }
+
+  // Robot side: occupied cells of the map (centres, map frame) within `radius` of the base.
+  std::vector<Vec2> MapObstaclesNear(const Pose2& X_MB, double radius) const {
+    std::vector<Vec2> out;
+    const Vec2 p(X_MB.x, X_MB.y);
+    const perception::Cell c0 = grid.CellOf(p);
+    const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
+    for (int dj = -r; dj <= r; ++dj)
+      for (int di = -r; di <= r; ++di) {
+        const perception::Cell c{c0.i + di, c0.j + dj};
+        if (!grid.Contains(c) || grid.State(c) != perception::CellState::kOccupied) continue;
+        const Vec2 q = grid.CentreOf(c);
+        if ((q - p).norm() <= radius) out.push_back(q);
+      }
+    return out;
+  }
+
+  // Robot side: one turn on the spot, mapping the LRF sweeps. The LRFs see 270 deg and the TLS
+  // nothing within its minimum range (1.5 m for the VZ-400), so a wall close behind the base
+  // stays unknown at a scan position, and an optimistic route can leave the room through it
+  // (office_5rooms, a start in R5 facing away from its east wall 0.9 m behind: the route ran
+  // out of the building, and every point of it in the known space was at the scan, "no
+  // progress"). Turns as far as the base LRF and the map leave room, up to 360 deg.
+  void LookAround() {
+    looked_around = true;
+    constexpr double kRate = 0.5;  // rad/s
+    const double start_time = t;
+    double turned = 0.0, last_yaw = X_MB_est.yaw;
+    while (turned < 2.0 * kPi - 0.05 && t < params.max_time - 1e-9) {
+      std::vector<Vec2> pts;  // base LRF returns (median-filtered) and map obstacles, base_link
+      const std::vector<double> ranges =
+          autonomy::LocalController::MedianFiltered(base_scan, params.controller.range_median_window);
+      for (std::size_t k = 0; k < ranges.size(); ++k) {
+        if (!std::isfinite(ranges[k])) continue;
+        const double a = base_scan.angle_min + base_scan.angle_increment * static_cast<double>(k);
+        const Eigen::Vector3d q = base_scan.X_BL * Eigen::Vector3d(ranges[k] * std::cos(a), ranges[k] * std::sin(a), 0.0);
+        pts.emplace_back(q.x(), q.y());
+      }
+      const double c = std::cos(X_MB_est.yaw), sn = std::sin(X_MB_est.yaw);
+      for (const Vec2& q : MapObstaclesNear(X_MB_est, 1.0)) {
+        const Vec2 d = q - Vec2(X_MB_est.x, X_MB_est.y);
+        pts.emplace_back(c * d.x() + sn * d.y(), -sn * d.x() + c * d.y());
+      }
+      if (controller->FreeTravel(pts, 0.0, kRate, params.controller.passage_side_margin, 0.15) < 0.15) break;
+      cmd = {0.0, kRate};
+      const perception::LocalisationEstimate& est = StepOnce();
+      MapDrivingSweeps(est);
+      turned += std::abs(WrapAngle(X_MB_est.yaw - last_yaw));
+      last_yaw = X_MB_est.yaw;
+    }
+    cmd = {};
+    if (params.trace)
+      std::fprintf(stderr, "t=%.2f looked around: turned %.0f deg in %.1f s\n", t, RadToDeg(turned), t - start_time);
+    planner->SetMap(grid);
   }
 
   // Both LRFs at their profile rates (world side: rays in the scene at the true pose).
@@ -437,6 +481,7 @@ struct RobotSession::Impl {
     if (params.register_scans) RegisterLastScan();
     ++log.tls_scans;
     ++nav_scans;
+    looked_around = false;
     log.scan_poses.push_back(X_MB_est);
     batches.push_back(ScanPointsInMap(last_scan, last_scan.X_MS_estimate,
                                       params.grid.obstacle_z_max + 0.1, params.max_points_per_scan));
@@ -769,6 +814,10 @@ struct RobotSession::Impl {
         ExplorationTarget(grid, Vec2(X_MB_est.x, X_MB_est.y), g, params.planner.robot_radius,
                           params.scan_target_clearance, log.scan_poses, params.frontier_exclusion,
                           params.scan_blind_radius, &no_target);
+    if (targets.empty() && params.look_around && !looked_around && no_target.rfind("no progress", 0) == 0) {
+      LookAround();
+      return PlanLeg();
+    }
     if (targets.empty()) {
       Finish(DriveStatus::kUnreachable,
              "goal not connected to the start in the robot's map after " + std::to_string(log.tls_scans) +

@@ -135,6 +135,28 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   EXPECT_EQ(beyond(b), 1);
 }
 
+// The way on behind the base: starting 0.8 m in front of the door, facing away from it. The
+// TLS sees nothing within 1.5 m and the LRFs have a 90 deg rear gap, so the doorway is unknown
+// after the first scan, and the route to R2 leaves the known space at the scan position ("no
+// progress"). The robot turns on the spot once, mapping the LRF sweeps, and goes on; with
+// look_around off it ends unreachable, explained.
+TEST(DriveMission, LooksAroundWhenTheWayOnIsBehindTheBase) {
+  const sim::EmbreeWorld world = MakeWorld(90.0);
+  DriveRequest req = Request(5);
+  req.X_WB_start = Pose2{4.2, 2.0, kPi};
+  DriveParams off = Params();
+  off.look_around = false;
+  const DriveResult a = RunDrive(world, Params(), req), b = RunDrive(world, off, req);
+  Print("look around", a);
+  Print("no look around", b);
+  EXPECT_EQ(a.status, DriveStatus::kArrived) << a.message;
+  EXPECT_LE(a.goal_error_xy, 0.10);
+  EXPECT_LE(a.goal_error_yaw_deg, 5.0);
+  EXPECT_EQ(a.contacts, 0);
+  EXPECT_EQ(b.status, DriveStatus::kUnreachable) << b.message;
+  EXPECT_NE(b.message.find("no progress"), std::string::npos) << b.message;
+}
+
 // Kidnapping inside the loop: 8 s into the route the true body jumps 1.2 m sideways and turns
 // 60 deg (odometry does not see it). The filter must notice (a lost event) and either
 // re-localise and arrive, or stop with an explained localisation_lost — never drive on with a
