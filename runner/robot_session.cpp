@@ -322,7 +322,9 @@ struct RobotSession::Impl {
     constexpr double kRate = 0.5;  // rad/s
     const double start_time = t;
     double turned = 0.0, last_yaw = X_MB_est.yaw;
-    while (turned < 2.0 * kPi - 0.05 && t < params.max_time - 1e-9) {
+    // Bounded in time too: a base that does not turn (a wheel caught) must not sit here.
+    const double time_limit = start_time + 2.0 * kPi / kRate + 5.0;
+    while (turned < 2.0 * kPi - 0.05 && t < params.max_time - 1e-9 && t < time_limit) {
       std::vector<Vec2> pts;  // base LRF returns (median-filtered) and map obstacles, base_link
       const std::vector<double> ranges =
           autonomy::LocalController::MedianFiltered(base_scan, params.controller.range_median_window);
