@@ -264,10 +264,31 @@ std::vector<ArcMove> LocalController::EscapeManoeuvre(const std::vector<Vec2>& p
   return best;
 }
 
+std::vector<Vec2> LocalController::BasePoints(const interfaces::LrfScan& scan) const {
+  std::vector<Vec2> pts;
+  pts.reserve(scan.ranges.size());
+  const std::vector<double> ranges = MedianFiltered(scan, params_.range_median_window);
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    const double r = ranges[k];
+    if (!std::isfinite(r)) continue;
+    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
+    const Eigen::Vector3d q = scan.X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
+    pts.emplace_back(q.x(), q.y());
+  }
+  return pts;
+}
+
+bool LocalController::CanTurn(const Pose2& X_MB, const interfaces::LrfScan& scan, double angle) const {
+  std::vector<Vec2> pts = BasePoints(scan);
+  if (map_obstacles_)
+    for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) pts.push_back(InFrame(X_MB, q));
+  const double a = std::abs(angle);
+  return FreeTravel(pts, 0.0, angle >= 0.0 ? 1.0 : -1.0, params_.passage_side_margin, a) >= a;
+}
+
 Vec2 LocalController::HeadingTarget(const Pose2& X_MB) const {
   for (const PassageState& p : passages_)
-    if (!p.done && !p.aligned && closest_ < path_.size() &&
-        path_[closest_].s >= p.passage.s - params_.passage_entry_distance - 0.05)
+    if (!p.done && !p.aligned && closest_ < path_.size() && Approaching(p, path_[closest_].s))
       return Vec2(X_MB.x, X_MB.y) + Vec2(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
   std::size_t k = std::min(closest_, path_.size() - 1);
   const double s_to = path_[k].s + 1.0;
@@ -394,16 +415,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
 
   // LRF returns in base_link, each range the median of its neighbours' (a scanner's range
   // noise, 3 cm here, would otherwise put the nearest of many returns 2-3 sigma too close).
-  std::vector<Vec2> pts;
-  pts.reserve(scan.ranges.size());
-  const std::vector<double> ranges = MedianFiltered(scan, P.range_median_window);
-  for (std::size_t k = 0; k < ranges.size(); ++k) {
-    const double r = ranges[k];
-    if (!std::isfinite(r)) continue;
-    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
-    const Eigen::Vector3d q = scan.X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
-    pts.emplace_back(q.x(), q.y());
-  }
+  const std::vector<Vec2> pts = BasePoints(scan);
 
   // The map's obstacles near the base, in base_link, with the LRF returns: `around()`, for
   // the motions the LRFs do not cover (looked up only when such a motion is checked).
@@ -571,7 +583,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
         p.done = true;
         continue;
       }
-      if (s_here >= p.passage.s - P.passage_entry_distance - 0.05) {
+      if (Approaching(p, s_here)) {
         passage = &p;
         break;
       }

@@ -193,6 +193,14 @@ class LocalController {
   /// Empty when there is none. Exposed for tests.
   std::vector<ArcMove> EscapeManoeuvre(const std::vector<Vec2>& points_B, const Vec2& target_B) const;
 
+  /// The scan's returns in base_link, each range the median of its neighbours'
+  /// (range_median_window).
+  std::vector<Vec2> BasePoints(const interfaces::LrfScan& scan) const;
+  /// True if the base at `X_MB` can turn on the spot by `angle` (rad; its sign the direction)
+  /// with no return of `scan` nor obstacle of the map (SetMapObstacles) coming within
+  /// passage_side_margin of the footprint.
+  bool CanTurn(const Pose2& X_MB, const interfaces::LrfScan& scan, double angle) const;
+
   /// The scan's ranges, each the median of the valid ones among its `window` neighbours; an
   /// invalid return (no echo, out of range) stays NaN.
   static std::vector<double> MedianFiltered(const interfaces::LrfScan& scan, int window);
@@ -213,6 +221,10 @@ class LocalController {
   ControlOutput Finish(NavStatus s, const std::string& message);
   ControlOutput StartRecovery(double time, const Pose2& X_MB, const std::string& reason,
                               const std::vector<Vec2>& points_B);
+  /// The base, at path length `s`, is within the approach of passage `p` (aligns with it).
+  bool Approaching(const PassageState& p, double s) const {
+    return s >= p.passage.s - params_.passage_entry_distance - 0.05;
+  }
   /// Where the base should head from here (map): a point on the path a metre ahead of the
   /// closest one, or along the axis of a passage it is aligning with.
   Vec2 HeadingTarget(const Pose2& X_MB) const;

@@ -325,21 +325,7 @@ struct RobotSession::Impl {
     // Bounded in time too: a base that does not turn (a wheel caught) must not sit here.
     const double time_limit = start_time + 2.0 * kPi / kRate + 5.0;
     while (turned < 2.0 * kPi - 0.05 && t < params.max_time - 1e-9 && t < time_limit) {
-      std::vector<Vec2> pts;  // base LRF returns (median-filtered) and map obstacles, base_link
-      const std::vector<double> ranges =
-          autonomy::LocalController::MedianFiltered(base_scan, params.controller.range_median_window);
-      for (std::size_t k = 0; k < ranges.size(); ++k) {
-        if (!std::isfinite(ranges[k])) continue;
-        const double a = base_scan.angle_min + base_scan.angle_increment * static_cast<double>(k);
-        const Eigen::Vector3d q = base_scan.X_BL * Eigen::Vector3d(ranges[k] * std::cos(a), ranges[k] * std::sin(a), 0.0);
-        pts.emplace_back(q.x(), q.y());
-      }
-      const double c = std::cos(X_MB_est.yaw), sn = std::sin(X_MB_est.yaw);
-      for (const Vec2& q : MapObstaclesNear(X_MB_est, 1.0)) {
-        const Vec2 d = q - Vec2(X_MB_est.x, X_MB_est.y);
-        pts.emplace_back(c * d.x() + sn * d.y(), -sn * d.x() + c * d.y());
-      }
-      if (controller->FreeTravel(pts, 0.0, kRate, params.controller.passage_side_margin, 0.15) < 0.15) break;
+      if (!controller->CanTurn(X_MB_est, base_scan, 0.15)) break;
       cmd = {0.0, kRate};
       const perception::LocalisationEstimate& est = StepOnce();
       MapDrivingSweeps(est);

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <string>
 
 #include "runner/drive_mission.h"
 #include "runner/robot_session.h"
@@ -17,14 +19,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-sim::EmbreeWorld MakeWorld(double door_angle_deg) {
+/// scenes/<name>.yaml generated, every door at `door_angle_deg` if given.
+sim::EmbreeWorld MakeWorld(const std::string& name, std::optional<double> door_angle_deg) {
   scenes::SceneSpec spec =
-      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml");
-  for (auto& d : spec.doors) d.angle_deg = door_angle_deg;
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/" + name + ".yaml");
+  if (door_angle_deg)
+    for (auto& d : spec.doors) d.angle_deg = *door_angle_deg;
   scenes::GeneratedScene g = scenes::Generate(spec);
   const scenes::GroundTruth truth = g.truth;
   return sim::EmbreeWorld(std::move(g.scene), &truth);
 }
+
+sim::EmbreeWorld MakeWorld(double door_angle_deg) { return MakeWorld("two_rooms_door", door_angle_deg); }
 
 DriveRequest Request(std::uint64_t seed) {
   DriveRequest r;
@@ -93,11 +99,7 @@ TEST(DriveMission, ClosedDoorEndsExplainedWithPartialTrajectory) {
 // hall, and the hall's map carried that error (localisation RMS 7.7 cm over the route; here,
 // 5.6 cm off at the end against 1.2 cm with it).
 TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
-  scenes::SceneSpec spec =
-      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml");
-  scenes::GeneratedScene g = scenes::Generate(spec);
-  const scenes::GroundTruth truth = g.truth;
-  const sim::EmbreeWorld world(std::move(g.scene), &truth);
+  const sim::EmbreeWorld world = MakeWorld("office_5rooms", std::nullopt);
   DriveRequest req;
   req.X_WB_start = Pose2{2.0, 16.0, -0.5 * kPi};
   req.X_WB_goal = Pose2{13.5, 13.5, 0.5 * kPi};
