@@ -109,8 +109,10 @@ double BoundaryDistance(const modelling::Roi& roi, const Vec2& p) {
 }  // namespace
 
 NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
-                       const Pose2& current_M, const NextBestScanParams& P) {
+                       const Pose2& current_M, double scan_step_deg, const NextBestScanParams& P) {
   P.Validate();
+  if (!(scan_step_deg > 0.0 && scan_step_deg <= 10.0))
+    throw InputError("", "next best scan: scan step must be in (0, 10] deg", std::to_string(scan_step_deg), "(0, 10]");
   NbsResult out;
   out.goal = current_M;
   const modelling::Roi& roi = model.GetRoi();
@@ -206,7 +208,7 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
                            std::cos(DegToRad(P.max_incidence_deg)),
                            P.stop_short,
                            model.Params().face_cell,
-                           DegToRad(P.angular_step_deg)};
+                           DegToRad(scan_step_deg)};
   // Patches the earlier scan positions should already have sensed are discounted.
   if (P.revisit_factor < 1.0) {
     const std::vector<Pose3>& scans = model.ScanPoses();

@@ -49,10 +49,6 @@ struct NextBestScanParams {
   double range_min = 1.5;             ///< m, [0, 100]
   double range_max = 60.0;            ///< m, (0, 1000]
   double max_incidence_deg = 80.0;    ///< deg, from the face normal, [0, 90]
-  /// deg, the TLS angular step of the room scans (sensor setting), (0, 10]. With the model's
-  /// face cell c it gives the chance that a patch seen at range r and incidence a gets a point
-  /// in each cell: min(1, c / (r step)) * min(1, c cos(a) / (r step)).
-  double angular_step_deg = 0.2;
   double patch_size = 0.3;            ///< m, face cells grouped into target patches, [0.02, 5]
   double probability_structural = 0.9;    ///< [0, 1]
   double probability_unclassified = 0.5;  ///< [0, 1]
@@ -80,7 +76,6 @@ struct NextBestScanParams {
     v("range_min", range_min, Bounds{0.0, 100.0});
     v("range_max", range_max, Bounds{1e-6, 1000.0});
     v("max_incidence_deg", max_incidence_deg, Bounds{0.0, 90.0});
-    v("angular_step_deg", angular_step_deg, Bounds{1e-6, 10.0});
     v("patch_size", patch_size, Bounds{0.02, 5.0});
     v("probability_structural", probability_structural, Bounds{0.0, 1.0});
     v("probability_unclassified", probability_unclassified, Bounds{0.0, 1.0});
@@ -112,7 +107,10 @@ struct NbsResult {
 
 /// Computes the next best scan from the robot's own model and obstacle map. Throws InputError
 /// for invalid params. An empty model or no candidate gives found = false with a message.
+/// `scan_step_deg` is the TLS angular step the next scan will use, (0, 10]: with the model's
+/// face cell c it gives the chance that a patch seen at range r and incidence a gets a point in
+/// each cell, min(1, c / (r step)) * min(1, c cos(a) / (r step)).
 NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
-                       const Pose2& current_M, const NextBestScanParams& params = {});
+                       const Pose2& current_M, double scan_step_deg, const NextBestScanParams& params = {});
 
 }  // namespace mopad::autonomy

@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/rng.h"
+#include "modelling/room_model.h"
 
 namespace mopad::modelling {
 namespace {
@@ -503,6 +504,28 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
     for (int id : ids) m.adjacency.emplace_back(id, floor_id), m.adjacency.emplace_back(id, ceiling_id);
   }
   return m;
+}
+
+StructuralModel BuildRoomSm3(const RoomModel& model,
+                                        const Sm3Params& params,
+                                        const std::string& room) {
+  const auto& labels = model.Labels();
+  const auto& pts = model.Points();
+  std::size_t inliers = 0;
+  for (auto l : labels) inliers += l == PointLabel::kInlier;
+  const std::size_t stride = std::max<std::size_t>(1, inliers / 1000000);
+  std::vector<Eigen::Vector3d> in;
+  in.reserve(inliers / stride + 1);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (labels[i] == PointLabel::kInlier && n++ % stride == 0)
+      in.push_back(pts[i].cast<double>());
+  Sm3Input input;
+  input.room = room;
+  input.points = &in;
+  input.perimeter = model.Perimeter();
+  input.columns = model.Columns();
+  return BuildStructuralModel(input, params);
 }
 
 }  // namespace mopad::modelling

@@ -138,4 +138,10 @@ CircleFit FitColumnCircle(const std::vector<Eigen::Vector3d>& points,
 /// Builds SM3. Throws InputError for a perimeter with fewer than 3 vertices or no points.
 StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& params);
 
+class RoomModel;
+
+/// SM3 of a room from its RoomModel: the inlier points (at most ~1 M, evenly subsampled), the
+/// RoI perimeter and the columns (paper §3.2). `room` labels the model.
+StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params, const std::string& room);
+
 }  // namespace mopad::modelling

@@ -473,4 +473,32 @@ RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap&
                       scan.X_MS_estimate, params);
 }
 
+RegistrationDecision AcceptRegistration(const RegistrationResult& r, const Eigen::Isometry3d& prior_X_MS,
+                                        const IcpParams& icp, const RegistrationAcceptanceParams& policy,
+                                        double prior_sigma) {
+  RegistrationDecision d;
+  d.creeping = policy.creeping_step_factor > 0.0 && !r.converged && !r.degenerate && r.iterations > 0 &&
+               r.last_step <= policy.creeping_step_factor * icp.min_delta_translation &&
+               r.last_step_deg <= policy.creeping_step_factor * icp.min_delta_rotation_deg;
+  const bool fits = (r.converged || d.creeping) && r.fitness >= icp.min_fitness && r.rmse <= icp.max_rmse &&
+                    r.free_space_violation <= icp.max_free_space_violation;
+  const Eigen::Isometry3d dX = prior_X_MS.inverse() * r.X_MS;
+  d.correction = dX.translation().head<2>().norm();
+  d.correction_deg = std::abs(std::atan2(dX.linear()(1, 0), dX.linear()(0, 0))) * 180.0 / kPi;
+  const bool gated = policy.gate_sigmas > 0.0 && (r.degenerate || !policy.trust_constrained);
+  d.gate = gated ? std::clamp(policy.gate_sigmas * prior_sigma, policy.min_gate,
+                              std::max(policy.min_gate, policy.max_correction))
+                 : policy.max_correction;
+  d.within_bounds = d.correction <= d.gate && d.correction_deg <= policy.max_correction_deg;
+  const bool flaw_accepted = fits && ((r.degenerate && policy.accept_degenerate) || d.creeping);
+  d.use = (r.ok || flaw_accepted) && d.within_bounds;
+  char figures[160];
+  std::snprintf(figures, sizeof figures, "; correction %.3f m / %.3f deg, prior sigma %.3f m, gate %.3f m",
+                d.correction, d.correction_deg, prior_sigma, d.gate);
+  d.message = std::string(d.use ? "" : "refused, prior kept: ") +
+              (d.creeping && fits ? "converged but for a creep below the step limit: " : "") + r.message +
+              figures + (d.within_bounds ? "" : " (too large)");
+  return d;
+}
+
 }  // namespace mopad::perception

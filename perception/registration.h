@@ -124,6 +124,57 @@ struct RegistrationResult {
   std::string message;      ///< one line: the outcome with its figures
 };
 
+/// The one policy that decides whether a registration's pose replaces the prior (the room scan
+/// and the navigator's map scans use it with their own params). A result is used when it is
+/// `ok`, or when it fits (residual, fitness, free space) and its only flaw is one the policy
+/// accepts: a weak direction (a corridor; ICP kept the prior along it) or a last stage that ran
+/// out of iterations while still creeping below the step thresholds. Either way the correction
+/// must stay within the bounds: a larger jump is ICP sliding into a neighbouring minimum.
+struct RegistrationAcceptanceParams {
+  bool accept_degenerate = true;  ///< use results whose only flaw is a weak direction
+  /// A result that constrains every direction and fits, but whose last stage ran out of
+  /// iterations creeping by less than this many times the ICP step thresholds, counts as
+  /// converged. 0 = off; degenerate results never. [0, 1000]
+  double creeping_step_factor = 10.0;
+  double max_correction = 0.1;      ///< m, largest accepted x-y correction of the prior, [0, 1000]
+  double max_correction_deg = 2.0;  ///< deg, largest accepted yaw correction, [0, 180]
+  /// The x-y correction must also be within this many standard deviations of the prior (its
+  /// largest x-y std, `prior_sigma`), but at least `min_gate` and at most `max_correction`.
+  /// Applies to degenerate results, or to all when `trust_constrained` is false. 0 = off. [0, 100]
+  double gate_sigmas = 3.0;
+  double min_gate = 0.03;  ///< m, [0, 10]
+  /// A result that constrains every direction is bounded by max_correction alone (a
+  /// localiser drifts more in door passages than it reports; the scan sees it).
+  bool trust_constrained = true;
+
+  template <class V>
+  void Visit(V& v) {
+    v("accept_degenerate", accept_degenerate);
+    v("creeping_step_factor", creeping_step_factor, Bounds{0.0, 1000.0});
+    v("max_correction", max_correction, Bounds{0.0, 1000.0});
+    v("max_correction_deg", max_correction_deg, Bounds{0.0, 180.0});
+    v("gate_sigmas", gate_sigmas, Bounds{0.0, 100.0});
+    v("min_gate", min_gate, Bounds{0.0, 10.0});
+    v("trust_constrained", trust_constrained);
+  }
+};
+
+struct RegistrationDecision {
+  bool use = false;       ///< the registered pose replaces the prior
+  bool creeping = false;  ///< counted as converged while creeping (see creeping_step_factor)
+  bool within_bounds = false;  ///< the correction is within the gate and the yaw bound
+  double correction = 0.0;      ///< m, x-y distance of the result from the prior
+  double correction_deg = 0.0;  ///< deg, yaw difference
+  double gate = 0.0;            ///< m, the x-y bound applied
+  std::string message;          ///< one line: the registration's message and the decision
+};
+
+/// Applies `policy` to `r` registered from `prior_X_MS` with `icp`; `prior_sigma` (m) is the
+/// largest x-y standard deviation of the prior (0 when unknown).
+RegistrationDecision AcceptRegistration(const RegistrationResult& r, const Eigen::Isometry3d& prior_X_MS,
+                                        const IcpParams& icp, const RegistrationAcceptanceParams& policy,
+                                        double prior_sigma);
+
 /// The accumulated target S(t-1) in the map frame: voxel-grid centroids (sums kept, so scans
 /// added later refine the same cells), PCA normals (updated where cells changed) and a kd-tree
 /// (rebuilt on every Add), plus per-scan direction-binned ranges for the free-space check.

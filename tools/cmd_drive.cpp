@@ -1,5 +1,5 @@
 // `mopad drive SCENE --from x,y,yaw --to x,y,yaw [--seed N] [--max-time S] -o DIR`: one
-// closed-loop navigation mission (runner/drive_mission.h). Parse -> load world -> run -> write.
+// closed-loop navigation mission (mission/drive_mission.h). Parse -> load world -> run -> write.
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -8,7 +8,7 @@
 
 #include "common/error.h"
 #include "common/params.h"
-#include "runner/drive_mission.h"
+#include "mission/drive_mission.h"
 #include "scenes/generator.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene_loader.h"
@@ -64,19 +64,20 @@ void RegisterDriveCommand(CLI::App& app) {
                   "T,x,y,yaw_deg: at simulation time T teleport the true body (test of loss handling)");
   cmd->add_flag("--bench", *bench,
                "Benchmark: print the loop's real-time factor with the TLS scan cost separated");
-  cmd->add_option("--seed", *seed, "Run seed")->default_val(1);
-  cmd->add_option("--max-time", *max_time, "Simulation time limit (s)")->default_val(600.0);
+  auto* seed_opt = cmd->add_option("--seed", *seed, "Run seed (default: the config's seed, else 1)");
+  auto* max_time_opt =
+      cmd->add_option("--max-time", *max_time, "Simulation time limit in s (default: the config's max_time, else 600)");
   cmd->add_option("--config", *config, "YAML overriding DriveParams fields");
   cmd->add_option("--door", *doors, "ID=DEG: set a door's opening angle (spec .yaml only)");
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/drive");
   cmd->callback([=] {
-    runner::DriveParams params;
-    if (!config->empty()) params = LoadParamsFile<runner::DriveParams>(*config);
-    params.max_time = *max_time;
-    runner::DriveRequest req;
+    mission::DriveParams params;
+    if (!config->empty()) params = LoadParamsFile<mission::DriveParams>(*config);
+    OverrideIfGiven(seed_opt, *seed, params.seed);
+    OverrideIfGiven(max_time_opt, *max_time, params.navigator.max_time);
+    mission::DriveRequest req;
     req.X_WB_start = ParsePose("--from", *from);
     req.X_WB_goal = ParsePose("--to", *to);
-    req.seed = *seed;
     for (const auto& v : *via) req.via.push_back(ParsePose("--via", v));
     if (!kidnap->empty()) {
       const auto comma = kidnap->find(',');
@@ -115,9 +116,9 @@ void RegisterDriveCommand(CLI::App& app) {
       if (paths.truth) truth = scenes::ReadGroundTruth(*paths.truth);
       world.emplace(scenes::LoadScene(paths.geometry), truth ? &*truth : nullptr);
     }
-    const runner::DriveResult r = runner::RunDrive(*world, params, req);
-    runner::WriteDriveOutputs(r, params, req, *out);
-    std::printf("%s: %s\n", runner::ToString(r.status), r.message.c_str());
+    const mission::DriveResult r = mission::RunDrive(*world, params, req);
+    mission::WriteDriveOutputs(r, params, req, *out);
+    std::printf("%s: %s\n", mission::ToString(r.status), r.message.c_str());
     std::printf("final error %.3f m / %.2f deg; localisation RMS %.3f m, max %.3f m; contacts %d; "
                 "path %.2f m; %d TLS scans; sim %.1f s, wall %.1f s, %.1fx real time\n",
                 r.goal_error_xy, r.goal_error_yaw_deg, r.loc_rms, r.loc_max, r.contacts,
@@ -127,7 +128,7 @@ void RegisterDriveCommand(CLI::App& app) {
       std::printf("bench: %.1f s simulated in %.2f s wall = %.1fx real time overall\n", r.sim_time,
                   r.wall_time, r.RealTimeFactor());
       std::printf("  TLS (%s, %.2f deg): %d scans, %.1f s simulated standing (from the profile), "
-                  "%.2f s wall simulating the scanner\n", params.tls_profile.c_str(), params.tls_step_deg,
+                  "%.2f s wall simulating the scanner\n", params.tls_profile.c_str(), params.navigator.tls_step_deg,
                   r.tls_scans, r.tls_time, r.tls_wall_time);
       std::printf("  loop without the TLS simulation (body, both LRFs, AMCL, maps, planner, controller): "
                   "%.1fx real time\n", loop_wall > 0 ? r.sim_time / loop_wall : 0.0);

@@ -1,5 +1,5 @@
 // `mopad room SCENE --room ID [--seed N] [--from x,y,yaw] -o DIR`: the robot scans one room
-// from positions it chooses itself until the paper's stopping rule holds (runner/room_mission.h),
+// from positions it chooses itself until the paper's stopping rule holds (mission/room_mission.h),
 // writes SM1 and the mission log, then the evaluator scores the run against the truth.
 #include <cstdio>
 #include <filesystem>
@@ -9,7 +9,7 @@
 
 #include "common/error.h"
 #include "common/params.h"
-#include "runner/room_mission.h"
+#include "mission/room_mission.h"
 #include "tools/commands.h"
 #include "tools/mission_world.h"
 #include "tools/room_eval.h"
@@ -31,19 +31,20 @@ void RegisterRoomCommand(CLI::App& app) {
   cmd->add_option("--from", *from,
                   "Start pose x,y,yaw_deg (world; default: the free spot of the room farthest "
                   "from walls and furniture)");
-  cmd->add_option("--seed", *seed, "Run seed")->default_val(1);
+  auto* seed_opt = cmd->add_option("--seed", *seed, "Run seed (default: the config's drive.seed, else 1)");
   cmd->add_option("--config", *config, "YAML overriding RoomMissionParams fields");
   cmd->add_flag("--no-eval", *no_eval, "Skip the evaluation against the truth");
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/room");
   cmd->callback([=] {
-    runner::RoomMissionParams params;
-    if (!config->empty()) params = LoadParamsFile<runner::RoomMissionParams>(*config);
+    mission::RoomMissionParams params;
+    if (!config->empty()) params = LoadParamsFile<mission::RoomMissionParams>(*config);
+    OverrideIfGiven(seed_opt, *seed, params.drive.seed);
     ValidateParams(params, "room.");
     const MissionWorld mw = LoadMissionWorld(*scene);
     std::optional<Pose2> start;
     if (!from->empty()) start = ParsePoseArg("--from", *from);
-    const RoomJob job = RunRoomJob(mw, *room, params, *seed, start, *out, !*no_eval);
-    const runner::RoomMissionResult& res = job.mission;
+    const RoomJob job = RunRoomJob(mw, *room, params, start, *out, !*no_eval);
+    const mission::RoomMissionResult& res = job.mission;
     std::printf("room %s: %zu scans; %s\n", room->c_str(), res.scans.size(),
                 res.stop_reason.c_str());
     for (const auto& s : res.scans)

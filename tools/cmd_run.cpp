@@ -1,5 +1,5 @@
 // `mopad run`: the main job. Generates the default scene (or --spec), then runs the closed-loop
-// room-scanning mission (issue 5; runner/room_mission.h) in every room: the robot starts at a
+// room-scanning mission (issue 5; mission/room_mission.h) in every room: the robot starts at a
 // harness-chosen free spot in the room and chooses every later scan position itself
 // (next-best-scan), until the paper's stopping rule holds. Writes per room the robot's models
 // (SM1, SM2, SM3, DSM3; docs/models.md) and the evaluation against the truth (per room: coverage,
@@ -17,7 +17,7 @@
 
 #include "common/error.h"
 #include "common/params.h"
-#include "runner/room_mission.h"
+#include "mission/room_mission.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "tools/commands.h"
@@ -57,19 +57,23 @@ void RegisterRunCommand(CLI::App& app) {
   auto rooms = std::make_shared<std::vector<std::string>>();
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/run");
   cmd->add_option("--spec", *spec_path, "Scene spec YAML (default: the embedded office_5rooms)");
-  cmd->add_option("--seed", *seed, "Run seed (sensor noise, odometry, localisation)")->default_val(1);
-  cmd->add_option("--step-deg", *step, "TLS angular step of the room scans in degrees")
-      ->check(CLI::Range(0.02, 5.0))
-      ->default_val(0.2);
+  auto* seed_opt = cmd->add_option("--seed", *seed,
+                                   "Run seed: sensor noise, odometry, localisation (default: the config's "
+                                   "drive.seed, else 1)");
+  auto* step_opt = cmd->add_option("--step-deg", *step,
+                                   "TLS angular step of the room scans in degrees (default: the config's "
+                                   "scan_step_deg, else 0.2)")
+                       ->check(CLI::Range(0.02, 5.0));
   cmd->add_option("--config", *config, "YAML overriding RoomMissionParams fields");
   cmd->add_option("--room", *rooms, "Only these rooms (default: all)");
   cmd->callback([=] {
     const auto t_start = Clock::now();
     const fs::path dir(*out);
     fs::create_directories(dir);
-    runner::RoomMissionParams params;
-    if (!config->empty()) params = LoadParamsFile<runner::RoomMissionParams>(*config);
-    params.scan_step_deg = *step;
+    mission::RoomMissionParams params;
+    if (!config->empty()) params = LoadParamsFile<mission::RoomMissionParams>(*config);
+    OverrideIfGiven(step_opt, *step, params.scan_step_deg);
+    OverrideIfGiven(seed_opt, *seed, params.drive.seed);
     ValidateParams(params, "room.");
 
     // 1. The world (truth side): the scene is written out so that `mopad eval` can re-read it.
@@ -106,7 +110,7 @@ void RegisterRunCommand(CLI::App& app) {
     for (const std::string& id : room_ids) {
       t0 = Clock::now();
       const std::string room_dir = (dir / "rooms" / id).string();
-      const RoomJob job = RunRoomJob(mw, id, params, *seed, std::nullopt, room_dir, true);
+      const RoomJob job = RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
       const double t_room = Seconds(t0);
       const auto& m = job.mission;
       double max_proc = 0.0;
@@ -194,7 +198,7 @@ void RegisterRunCommand(CLI::App& app) {
                   {"windows", summary.windows},
                   {"service_components", summary.bsc_total},
                   {"triangles", summary.triangles}};
-    j["seed"] = *seed;
+    j["seed"] = params.drive.seed;
     j["tls_step_deg"] = params.scan_step_deg;
     j["rooms"] = rooms_json;
     j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", ev_summary}};
@@ -207,7 +211,7 @@ void RegisterRunCommand(CLI::App& app) {
 
     report.subtitle = "The robot scans every room of " + spec.name +
                       " from positions it chooses itself (next best scan, paper §3.1), starting "
-                      "at a harness-chosen free spot per room. Seed " + std::to_string(*seed) +
+                      "at a harness-chosen free spot per room. Seed " + std::to_string(params.drive.seed) +
                       ", TLS step " + Fixed(params.scan_step_deg, 3) + " deg.";
     report.tables.push_back({"Scene",
                              {"item", "count"},

@@ -16,6 +16,14 @@ void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
 void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one room -> SM1
 void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
 
+/// Parameter precedence, the same for every command (docs/architecture.md): a flag given on the
+/// command line, over the --config file, over the built-in default. `field` takes `value` only
+/// when `option` was given.
+template <class T>
+void OverrideIfGiven(const CLI::Option* option, const T& value, T& field) {
+  if (option->count() > 0) field = value;
+}
+
 /// `mopad eval`'s work (docs/evaluation.md): scores the models of RUN_DIR (a room run or a
 /// main-job folder) against the truth, writes OUT (default RUN_DIR/eval) and prints the table.
 /// `truth_file` / `config` may be empty. Throws InputError for bad input.

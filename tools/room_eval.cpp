@@ -10,7 +10,7 @@
 
 namespace mopad::tools {
 
-runner::ScanHook Sm1TruthCollector::Hook() {
+autonomy::ScanHook Sm1TruthCollector::Hook() {
   return [this](int index, const interfaces::TlsScan& scan) {
     const auto& truths = session_.ScanTruths();
     if (index < 0 || static_cast<std::size_t>(index) >= truths.size())
@@ -24,8 +24,8 @@ runner::ScanHook Sm1TruthCollector::Hook() {
 }
 
 RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
-                            const std::string& room, const runner::RobotSession& session,
-                            const runner::RoomMissionResult& result,
+                            const std::string& room, const mission::RobotSession& session,
+                            const mission::RoomMissionResult& result,
                             const modelling::RoomModel& model,
                             const std::vector<evaluation::Sm1Label>& truth_labels) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -38,7 +38,7 @@ RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundT
   e.observable_area = obs.observable_area;
   e.total_area = obs.total_area;
   const auto& truths = session.ScanTruths();
-  for (const runner::RoomScanLog& s : result.scans) {
+  for (const mission::RoomScanLog& s : result.scans) {
     // Every scan is scored, also those ICP refused (their pose is the prior).
     const evaluation::PoseError pe = evaluation::ScanRegistrationError(
         s.X_MS, X_WM, truths.at(static_cast<std::size_t>(s.session_scan)));
@@ -79,7 +79,7 @@ nlohmann::ordered_json ToJson(const RoomEvaluation& e) {
 }
 
 RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
-                   const runner::RoomMissionParams& params, std::uint64_t seed,
+                   const mission::RoomMissionParams& params,
                    const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate) {
   if (!mw.truth)
     throw InputError("room: error: the scene has no truth sidecar; got no rooms, expected a "
@@ -98,13 +98,13 @@ RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
     const Eigen::Vector2d xy = FreeSpotInRoom(*mw.truth, *r);
     job.start_W = Pose2{xy.x(), xy.y(), 0.0};
   }
-  runner::RobotSession session(*mw.world, params.drive, job.start_W, seed);
+  mission::RobotSession session(*mw.world, params.drive, job.start_W);
   modelling::RoomModel model(params.model);
   Sm1TruthCollector labels(session, *mw.truth, room);
-  job.mission = runner::RunRoomMission(session, params, model, evaluate ? labels.Hook() : runner::ScanHook{});
-  const modelling::StructuralModel sm3 = runner::BuildRoomSm3(model, params.sm3, room);
-  runner::WriteRoomOutputs(job.mission, params, session, model, sm3, dir);
-  WriteRunJson(dir, mw, room, seed, session.X_MW().To3d().inverse());
+  job.mission = mission::RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
+  const modelling::StructuralModel sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
+  mission::WriteRoomOutputs(job.mission, params, session, model, sm3, dir);
+  WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
   WriteModelsGlb(sm3, room, (std::filesystem::path(dir) / "models.glb").string());
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
   const Pose3 X_WM = session.X_MW().To3d().inverse();

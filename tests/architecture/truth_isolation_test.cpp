@@ -20,8 +20,9 @@ using Graph = std::map<std::string, std::vector<std::string>>;
 const std::vector<std::string> kRobotTargets = {"mopad_perception", "mopad_modelling",
                                                 "mopad_autonomy"};
 const std::vector<std::string> kRobotDirs = {"perception", "modelling", "autonomy"};
-// Targets and third-party libraries that carry or read the truth.
-const std::set<std::string> kTruthTargets = {"mopad_scenes", "mopad_sim", "mopad_evaluation",
+// Targets and third-party libraries that carry or read the truth, and the mission library
+// (the simulated robot and its truth log): the robot's brain reaches none of them.
+const std::set<std::string> kTruthTargets = {"mopad_scenes", "mopad_sim", "mopad_evaluation", "mopad_mission",
                                              "tinygltf", "assimp::assimp", "embree"};
 
 Graph ReadGraph() {
@@ -60,6 +61,8 @@ TEST(TruthIsolation, LinkGraphIsReadAndTheWalkerFindsKnownEdges) {
   EXPECT_TRUE(Closure(g, "mopad_sim").count("mopad_scenes"));
   EXPECT_TRUE(Closure(g, "mopad_evaluation").count("mopad_scenes"));
   EXPECT_TRUE(Closure(g, "mopad_autonomy").count("mopad_interfaces"));
+  EXPECT_TRUE(Closure(g, "mopad_mission").count("mopad_sim"));
+  EXPECT_TRUE(Closure(g, "mopad_mission").count("mopad_autonomy"));
 }
 
 TEST(TruthIsolation, RobotLibrariesDoNotLinkTruth) {
@@ -74,7 +77,7 @@ TEST(TruthIsolation, RobotLibrariesDoNotLinkTruth) {
 
 const std::regex& ForbiddenInclude() {
   static const std::regex re(
-      R"(#\s*include\s*[<"]\s*(scenes/|sim/|evaluation/|tiny_gltf\.h|assimp/|embree3/))");
+      R"(#\s*include\s*[<"]\s*(scenes/|sim/|evaluation/|mission/|tiny_gltf\.h|assimp/|embree3/))");
   return re;
 }
 
@@ -82,6 +85,7 @@ TEST(TruthIsolation, ForbiddenIncludePatternMatchesWhatItShould) {
   EXPECT_TRUE(std::regex_search("#include \"scenes/scene.h\"", ForbiddenInclude()));
   EXPECT_TRUE(std::regex_search("#  include <sim/embree_world.h>", ForbiddenInclude()));
   EXPECT_TRUE(std::regex_search("#include <assimp/scene.h>", ForbiddenInclude()));
+  EXPECT_TRUE(std::regex_search("#include \"mission/sim_robot.h\"", ForbiddenInclude()));
   EXPECT_FALSE(std::regex_search("#include \"interfaces/tls_scan.h\"", ForbiddenInclude()));
   EXPECT_FALSE(std::regex_search("#include \"perception/scenes_like.h\"", ForbiddenInclude()));
 }
@@ -106,6 +110,7 @@ TEST(TruthIsolation, RobotSourcesDoNotIncludeTruth) {
         if (ext == ".txt" && !cmake_comment) {  // CMakeLists: no truth targets by name either
           EXPECT_EQ(line.find("mopad::scenes"), std::string::npos) << e.path() << ":" << n;
           EXPECT_EQ(line.find("mopad::sim"), std::string::npos) << e.path() << ":" << n;
+          EXPECT_EQ(line.find("mopad::mission"), std::string::npos) << e.path() << ":" << n;
         }
       }
     }

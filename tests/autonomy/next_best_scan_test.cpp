@@ -54,7 +54,7 @@ TEST(NextBestScan, LRoomChoosesAPositionThatSeesTheHiddenLeg) {
   EXPECT_FALSE(model.GetRoi().ContainsPlan(Vec2(8.5, 7.0)));
   const perception::OccupancyGrid map = MapOf(model);
   const auto t0 = std::chrono::steady_clock::now();
-  const NbsResult r = NextBestScan(model, map, Pose2{1.5, 1.5, 0.0});
+  const NbsResult r = NextBestScan(model, map, Pose2{1.5, 1.5, 0.0}, 0.2);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("[figures] L-room NBS: %s (%.3f s)\n", r.message.c_str(), dt);
   ASSERT_TRUE(r.found) << r.message;
@@ -92,8 +92,8 @@ TEST(NextBestScan, PatchesAnEarlierScanShouldHaveSensedAreDiscounted) {
   NextBestScanParams off;
   off.revisit_factor = 1.0;
   NextBestScanParams on;
-  const NbsResult a = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, off);
-  const NbsResult b = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, on);
+  const NbsResult a = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, 0.2, off);
+  const NbsResult b = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, 0.2, on);
   ASSERT_TRUE(a.found && b.found);
   ASSERT_EQ(a.candidates.size(), b.candidates.size());
   int near = -1;
@@ -117,7 +117,7 @@ TEST(NextBestScan, SameResultTwiceAndWithOneOrTwoThreads) {
   NbsResult res[2];
   for (int threads = 1; threads <= 2; ++threads) {
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
-    res[threads - 1] = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0});
+    res[threads - 1] = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, 0.2);
   }
   ASSERT_EQ(res[0].candidates.size(), res[1].candidates.size());
   for (std::size_t i = 0; i < res[0].candidates.size(); ++i) {
@@ -133,7 +133,7 @@ TEST(NextBestScan, CandidatesKeepClearOfObstaclesAndMustBeReachable) {
   // A box obstacle in leg A, and a barrier across leg A at x = 5 that cuts the junction off.
   map.FillBox(Vec2(2.8, 0.8), Vec2(3.2, 1.2), perception::CellState::kOccupied);
   NextBestScanParams p;
-  const NbsResult open = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, p);
+  const NbsResult open = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, 0.2, p);
   ASSERT_TRUE(open.found);
   for (const auto& c : open.candidates) {
     const double dx = std::max({2.8 - c.position.x(), 0.0, c.position.x() - 3.2});
@@ -142,7 +142,7 @@ TEST(NextBestScan, CandidatesKeepClearOfObstaclesAndMustBeReachable) {
   }
   EXPECT_GT(open.rejected_unsafe, 0);
   map.FillBox(Vec2(5.0, -0.5), Vec2(5.1, 3.5), perception::CellState::kOccupied);
-  const NbsResult cut = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, p);
+  const NbsResult cut = NextBestScan(L().model, map, Pose2{1.5, 1.5, 0.0}, 0.2, p);
   EXPECT_GT(cut.rejected_unreachable, 0);
   for (const auto& c : cut.candidates) EXPECT_LT(c.position.x(), 5.0);
   if (cut.found) {
@@ -153,15 +153,15 @@ TEST(NextBestScan, CandidatesKeepClearOfObstaclesAndMustBeReachable) {
 TEST(NextBestScan, EmptyModelAndBadParams) {
   const RoomModel empty;
   const perception::OccupancyGrid map({}, Vec2(0, 0), 10, 10);
-  const NbsResult r = NextBestScan(empty, map, Pose2{});
+  const NbsResult r = NextBestScan(empty, map, Pose2{}, 0.2);
   EXPECT_FALSE(r.found);
   EXPECT_FALSE(r.message.empty());
   NextBestScanParams p;
   p.elevation_min_deg = 70.0;
-  EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, p), InputError);
+  EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, 0.2, p), InputError);
   p = {};
   p.candidate_spacing = 0.0;
-  EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, p), InputError);
+  EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, 0.2, p), InputError);
   const auto q = LoadParams<NextBestScanParams>(LoadYamlString("frontier_factor: 2\n", "n.yaml"), "n.yaml");
   EXPECT_EQ(q.frontier_factor, 2.0);
 }

@@ -89,7 +89,7 @@ void RunLoop(const std::vector<std::string>& rooms, int force_scans) {
         for (const auto& p : model.Points()) pts.push_back(p.cast<double>());
         perception::OccupancyGrid map = perception::OccupancyGrid::Covering({}, pts, 1.0);
         map.InsertPoints(pts);
-        nbs = autonomy::NextBestScan(model, map, Pose2{pos.x(), pos.y(), 0.0});
+        nbs = autonomy::NextBestScan(model, map, Pose2{pos.x(), pos.y(), 0.0}, 0.2);
         t_nbs = Seconds(t1);
       }
       std::printf("[figures] %s scan %d at (%.2f, %.2f): %zu pts, model %.2f s + NBS %.2f s = %.2f s; "

@@ -8,13 +8,13 @@
 #include <optional>
 #include <string>
 
-#include "runner/drive_mission.h"
-#include "runner/robot_session.h"
+#include "mission/drive_mission.h"
+#include "mission/robot_session.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
 
-namespace mopad::runner {
+namespace mopad::mission {
 namespace {
 
 namespace fs = std::filesystem;
@@ -32,17 +32,17 @@ sim::EmbreeWorld MakeWorld(const std::string& name, std::optional<double> door_a
 
 sim::EmbreeWorld MakeWorld(double door_angle_deg) { return MakeWorld("two_rooms_door", door_angle_deg); }
 
-DriveRequest Request(std::uint64_t seed) {
+DriveRequest Request() {
   DriveRequest r;
   r.X_WB_start = Pose2{1.5, 2.0, 0.0};
   r.X_WB_goal = Pose2{8.0, 2.0, 0.0};
-  r.seed = seed;
   return r;
 }
 
-DriveParams Params() {
+DriveParams Params(std::uint64_t seed = 5) {
   DriveParams p;
-  p.max_time = 150.0;
+  p.seed = seed;
+  p.navigator.max_time = 150.0;
   return p;
 }
 
@@ -56,7 +56,7 @@ void Print(const char* what, const DriveResult& r) {
 
 TEST(DriveMission, ArrivesThroughOpenDoorAndIsDeterministic) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  const DriveResult a = RunDrive(world, Params(), Request(5));
+  const DriveResult a = RunDrive(world, Params(5), Request());
   Print("open door, seed 5", a);
   EXPECT_EQ(a.status, DriveStatus::kArrived) << a.message;
   EXPECT_LE(a.goal_error_xy, 0.10);
@@ -68,14 +68,14 @@ TEST(DriveMission, ArrivesThroughOpenDoorAndIsDeterministic) {
   ASSERT_FALSE(a.truth.empty());
   EXPECT_GT(a.truth.back().pose.x, 4.5);
 
-  const DriveResult b = RunDrive(world, Params(), Request(5));
+  const DriveResult b = RunDrive(world, Params(5), Request());
   EXPECT_EQ(ToTum(a.estimated), ToTum(b.estimated));
   EXPECT_EQ(ToTum(a.truth), ToTum(b.truth));
 }
 
 TEST(DriveMission, ClosedDoorEndsExplainedWithPartialTrajectory) {
   const sim::EmbreeWorld world = MakeWorld(0.0);
-  const DriveResult r = RunDrive(world, Params(), Request(5));
+  const DriveResult r = RunDrive(world, Params(5), Request());
   Print("closed door, seed 5", r);
   EXPECT_TRUE(r.status == DriveStatus::kUnreachable || r.status == DriveStatus::kBlocked)
       << ToString(r.status) << ": " << r.message;
@@ -84,7 +84,7 @@ TEST(DriveMission, ClosedDoorEndsExplainedWithPartialTrajectory) {
   EXPECT_EQ(r.contacts, 0);
   const fs::path dir = fs::temp_directory_path() / "mopad_drive_test_closed";
   fs::remove_all(dir);
-  WriteDriveOutputs(r, Params(), Request(5), dir.string());
+  WriteDriveOutputs(r, Params(5), Request(), dir.string());
   for (const char* f : {"trajectory_estimated.tum", "trajectory_true.tum", "map.png", "map.yaml",
                         "map_path.png", "summary.json"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
@@ -103,11 +103,10 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   DriveRequest req;
   req.X_WB_start = Pose2{2.0, 16.0, -0.5 * kPi};
   req.X_WB_goal = Pose2{13.5, 13.5, 0.5 * kPi};
-  req.seed = 2;
-  DriveParams with = Params();
-  with.max_time = 32.0;  // the crossing of D3 and the scan beyond it
+  DriveParams with = Params(2);
+  with.navigator.max_time = 32.0;  // the crossing of D3 and the scan beyond it
   DriveParams without = with;
-  without.door_entry_scan_distance = 0.0;
+  without.navigator.door_entry_scan_distance = 0.0;
   auto in_front = [](const DriveResult& r) {
     int n = 0;
     for (const Pose2& p : r.scan_poses) n += p.x > 4.0 && p.x < 6.3 && p.y > 0.0 && p.y < 2.0;
@@ -144,10 +143,10 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
 // look_around off it ends unreachable, explained.
 TEST(DriveMission, LooksAroundWhenTheWayOnIsBehindTheBase) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  DriveRequest req = Request(5);
+  DriveRequest req = Request();
   req.X_WB_start = Pose2{4.2, 2.0, kPi};
   DriveParams off = Params();
-  off.look_around = false;
+  off.navigator.look_around = false;
   const DriveResult a = RunDrive(world, Params(), req), b = RunDrive(world, off, req);
   Print("look around", a);
   Print("no look around", b);
@@ -165,7 +164,7 @@ TEST(DriveMission, LooksAroundWhenTheWayOnIsBehindTheBase) {
 // confident wrong estimate: at the end the estimate agrees with the truth.
 TEST(DriveMission, KidnappedRobotIsDetectedAndNeverDrivesOnLost) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  DriveRequest req = Request(5);
+  DriveRequest req = Request();
   req.kidnap_time = 8.0;
   req.kidnap_to = Pose2{2.0, 1.2, DegToRad(60.0)};
   const DriveResult r = RunDrive(world, Params(), req);
@@ -192,7 +191,7 @@ TEST(DriveMission, KidnappedRobotIsDetectedAndNeverDrivesOnLost) {
 // and a pose correction of the last scan that re-seeds the localiser.
 TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  RobotSession s(world, Params(), Pose2{1.5, 2.0, 0.0}, 3);
+  RobotSession s(world, Params(3), Pose2{1.5, 2.0, 0.0});
   const interfaces::TlsScan& scan = s.TakeScan(1.0);  // coarse: fast
   const double scan_time = s.SimTime();
   EXPECT_GT(scan_time, 0.0);  // 360 deg at 1 deg: 101 x 360 pulses at 300 kHz = 0.12 s
@@ -219,11 +218,11 @@ TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
   EXPECT_EQ(s.ScanCount(), 2);
   // A refined pose 5 cm off in x re-stamps the scan and moves the estimate with it.
   const Pose2 before = s.EstimatedPose();
-  Pose3 X_MS = s.LastScan().X_MS_estimate;
+  Pose3 X_MS = s.Robot().LastScan().X_MS_estimate;
   X_MS.translation().x() += 0.05;
-  s.CorrectLastScanPose(X_MS);
+  s.Robot().CorrectLastScanPose(X_MS);
   EXPECT_NEAR(s.EstimatedPose().x - before.x, 0.05, 1e-6);
-  EXPECT_NEAR(s.LastScan().X_MS_estimate.translation().x(), X_MS.translation().x(), 1e-12);
+  EXPECT_NEAR(s.Robot().LastScan().X_MS_estimate.translation().x(), X_MS.translation().x(), 1e-12);
 
   ASSERT_EQ(s.NavigateTo(Pose2{1.5, 1.3, 0.0}, &msg), DriveStatus::kArrived) << msg;  // world (3.0, 3.3)
   EXPECT_GT(s.SimTime(), t1);
@@ -250,12 +249,12 @@ TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
 TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
   auto scan_error = [&](bool register_scans, double gate, double sigmas, bool trust = false) {
-    DriveParams p = Params();
-    p.register_scans = register_scans;
-    p.max_registration_correction = gate;
-    p.registration_gate_sigmas = sigmas;
-    p.trust_constrained_registration = trust;
-    RobotSession s(world, p, Pose2{1.5, 2.0, 0.0}, 3);
+    DriveParams p = Params(3);
+    p.navigator.register_scans = register_scans;
+    p.navigator.acceptance.max_correction = gate;
+    p.navigator.acceptance.gate_sigmas = sigmas;
+    p.navigator.acceptance.trust_constrained = trust;
+    RobotSession s(world, p, Pose2{1.5, 2.0, 0.0});
     // The body jumps while the first scan's head turns (the base stands still, AMCL has no
     // motion to update on); odometry does not see it.
     s.ScheduleTeleport(0.01, Pose2{1.56, 2.0, 0.0});
@@ -268,9 +267,9 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   const double off = scan_error(false, 0.1, 0.0);
   const double on = scan_error(true, 0.1, 0.0);
   const double gated = scan_error(true, 0.01, 0.0);
-  const double sigma_gated = scan_error(true, 0.1, DriveParams{}.registration_gate_sigmas);
-  const double trusted = scan_error(true, 0.1, DriveParams{}.registration_gate_sigmas,
-                                    DriveParams{}.trust_constrained_registration);
+  const double sigma_gated = scan_error(true, 0.1, DriveParams{}.navigator.acceptance.gate_sigmas);
+  const double trusted = scan_error(true, 0.1, DriveParams{}.navigator.acceptance.gate_sigmas,
+                                    DriveParams{}.navigator.acceptance.trust_constrained);
   std::printf("scan position error: unregistered %.4f m, registered %.4f m, gated %.4f m, "
               "sigma-gated %.4f m, default (constrained: fixed bound only) %.4f m\n", off, on,
               gated, sigma_gated, trusted);
@@ -278,7 +277,7 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   EXPECT_LT(on, 0.01);
   EXPECT_GT(gated, 0.03);
   EXPECT_GT(sigma_gated, 0.03);
-  EXPECT_TRUE(DriveParams{}.trust_constrained_registration);
+  EXPECT_TRUE(DriveParams{}.navigator.acceptance.trust_constrained);
   EXPECT_LT(trusted, 0.01);
 }
 
@@ -287,9 +286,9 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
 // needs a turn on the spot; the default 60 s catches plans alternating between blocked routes).
 TEST(RobotSession, StallWatchdogEndsADriveThatMakesNoProgress) {
   const sim::EmbreeWorld world = MakeWorld(90.0);
-  DriveParams p = Params();
-  p.stall_time = 0.5;
-  RobotSession s(world, p, Pose2{1.5, 2.0, 0.0}, 3);
+  DriveParams p = Params(3);
+  p.navigator.stall_time = 0.5;
+  RobotSession s(world, p, Pose2{1.5, 2.0, 0.0});
   s.TakeScan(1.0);
   std::string msg;
   const DriveStatus st = s.NavigateTo(Pose2{0.5, -1.0, -kPi / 2}, &msg);  // turn, then drive
@@ -299,4 +298,4 @@ TEST(RobotSession, StallWatchdogEndsADriveThatMakesNoProgress) {
 }
 
 }  // namespace
-}  // namespace mopad::runner
+}  // namespace mopad::mission

@@ -1,6 +1,6 @@
-#include "runner/drive_mission.h"
+#include "mission/drive_mission.h"
 
-#include "runner/robot_session.h"
+#include "mission/robot_session.h"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -19,7 +19,7 @@
 
 #include "common/error.h"
 
-namespace mopad::runner {
+namespace mopad::mission {
 namespace {
 
 namespace fs = std::filesystem;
@@ -37,86 +37,9 @@ sim::RobotBodyParams DriveParams::DefaultBody() {
   return p;
 }
 
-perception::AmclParams DriveParams::DefaultAmcl() {
-  perception::AmclParams p;
-  p.min_particles = 300;
-  p.max_particles = 3000;
-  // No random-particle injection while tracking: offices repeat (two equal rooms look alike),
-  // and a random particle in the twin room can win one poor update. Real loss is still caught
-  // by the inlier test, which starts a global re-localisation.
-  p.recovery_alpha_slow = 0.0;
-  // Beams ending on wall faces the map lacks (the hall side of a wall entered through its door)
-  // pulled the estimate up to 0.1 m back towards the mapped face (office_5rooms, issue 4 note).
-  p.unknown_endpoint_distance = 0.1;
-  // A likelihood field with a 5 cm hit sigma over 60 beams (independent in the model, not in
-  // the world) collapsed the weights onto a handful of particles (N_eff 4 of 300) whose mean
-  // then walked 15-20 cm along the direction of travel when approaching a door; and the ROS
-  // default motion noise (alpha 0.05, 22 % of the distance driven as std) let it. The odometry
-  // here errs by about 1 % (radius and track errors, slip): alpha3 0.01 (10 %) and alpha1
-  // 0.02 still cover it. office_5rooms route, seeds 1-10 (issue 4 note, 2026-11-24), together
-  // with door_exit_scan_distance and trust_constrained_registration: localisation RMS 5.6-21 cm
-  // before, 1.2-17 cm after with 5 of the 10 seeds under 3 cm.
-  p.sigma_hit = 0.2;
-  p.max_beams = 30;
-  p.odom_alpha1 = 0.02;
-  p.odom_alpha3 = 0.01;
-  return p;
-}
-
-autonomy::GlobalPlannerParams DriveParams::DefaultPlanner() {
-  autonomy::GlobalPlannerParams p;
-  // The planner's disc is smaller than the 0.6 x 0.5 m box (half-diagonal 0.39 m); 3 cm more
-  // than the default keeps the corners off furniture the base LRF cannot see (desk tops, now
-  // kept in the map from the 3D scans) and still passes a 0.9 m door as mapped: its jamb cells
-  // take up to a cell on each side, leaving a clearance of about 0.35-0.37 m.
-  p.robot_radius = 0.33;
-  return p;
-}
-
-autonomy::LocalControllerParams DriveParams::DefaultController() {
-  autonomy::LocalControllerParams p;
-  // 3 cm around the box (not 6): a 0.5 m wide base keeps 0.17 m a side in a 0.9 m door, enough
-  // for the docking error at a doorway scan position. Contacts are still counted by the body.
-  p.safety_margin = 0.03;
-  return p;
-}
-
-perception::IcpParams DriveParams::DefaultIcp() {
-  perception::IcpParams p;
-  // A scan taken on entering a room or far down a corridor sees mostly new space: a scan just
-  // beyond a door (door_exit_scan_distance) has 0.15-0.3 of its points in the earlier scans
-  // (office_5rooms: D3 0.19, D1 0.23-0.29), and its registration is right (rmse 9 mm; at D1,
-  // seed 3, it moved AMCL's pose 9 cm onto the truth). Refused, AMCL's pose of the moment
-  // became that room's map. The residual, free-space and conditioning checks and the fixed
-  // correction bound still guard against a wrong pose. Route seeds 1-10 (issue 4 note,
-  // 2026-11-24): 0.25 -> 0.15 took the passes from 3 to 6 (localisation RMS 1.0-2.5 cm
-  // instead of 3.5-10.7 cm in seeds 2, 3, 5).
-  p.min_fitness = 0.15;
-  // Free-space violations of right registrations here reach 0.007-0.008 (a scan beyond a door,
-  // its new room seen past the earlier scans' door-frame rays); poses 90 or 180 deg off give
-  // 0.012 and more (IcpParams), and corrections beyond max_registration_correction are refused
-  // anyway. 0.006 -> 0.01: office_5rooms seed 7 localisation RMS 5.1 -> 1.0 cm.
-  p.max_free_space_violation = 0.01;
-  // The prior is AMCL's (centimetres off), not odometry's: no 1 m first stage, whose wide
-  // basin let a hall scan slide 0.2 m along the corridor onto the next door frame.
-  p.max_correspondence = {0.3, 0.15, 0.08};
-  return p;
-}
-
-const char* ToString(DriveStatus s) {
-  switch (s) {
-    case DriveStatus::kArrived: return "arrived";
-    case DriveStatus::kUnreachable: return "unreachable";
-    case DriveStatus::kBlocked: return "blocked";
-    case DriveStatus::kLocalisationLost: return "localisation_lost";
-    case DriveStatus::kTimeout: return "timeout";
-  }
-  return "?";
-}
-
 DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
                      const DriveRequest& request) {
-  RobotSession session(world, params, request.X_WB_start, request.seed);
+  RobotSession session(world, params, request.X_WB_start);
   session.SetKeepScanTruths(false);
   // The goal is handed over in the robot's map frame (map := the start pose).
   const Pose2 goal_M = Compose(session.X_MW(), request.X_WB_goal);
@@ -201,7 +124,7 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   nlohmann::ordered_json j;
   j["status"] = ToString(r.status);
   j["message"] = r.message;
-  j["seed"] = request.seed;
+  j["seed"] = params.seed;
   j["start_world"] = {request.X_WB_start.x, request.X_WB_start.y, request.X_WB_start.yaw};
   j["goal_world"] = {request.X_WB_goal.x, request.X_WB_goal.y, request.X_WB_goal.yaw};
   j["goal_map"] = {r.goal_M.x, r.goal_M.y, r.goal_M.yaw};
@@ -240,4 +163,4 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   write("drive.effective.yaml", YAML::Dump(SaveParams(params)) + "\n");
 }
 
-}  // namespace mopad::runner
+}  // namespace mopad::mission

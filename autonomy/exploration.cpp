@@ -1,0 +1,126 @@
+#include "autonomy/exploration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <queue>
+
+namespace mopad::autonomy {
+
+std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from, const Vec2& goal,
+                                     const ExplorationParams& p, const std::vector<Pose2>& scan_poses,
+                                     std::string* why) {
+  const double pass_clearance = p.pass_clearance, target_clearance = p.target_clearance;
+  const double exclusion = p.exclusion, blind_radius = p.blind_radius;
+  const perception::DistanceField known(grid, /*unknown_is_obstacle=*/true);
+  const perception::DistanceField optimistic(grid, /*unknown_is_obstacle=*/false);
+  const double res = grid.Resolution();
+  auto passable = [&](const perception::Cell& c) {
+    return grid.Contains(c) && grid.State(c) != perception::CellState::kOccupied &&
+           optimistic.ClearanceOfCell(c) >= pass_clearance;
+  };
+  auto nearest_passable = [&](const Vec2& p, double radius) {
+    const perception::Cell c0 = grid.CellOf(p);
+    const int r = static_cast<int>(std::ceil(radius / res));
+    std::optional<perception::Cell> best;
+    double best_d = 1e18;
+    for (int dj = -r; dj <= r; ++dj)
+      for (int di = -r; di <= r; ++di) {
+        const perception::Cell c{c0.i + di, c0.j + dj};
+        if (!passable(c)) continue;
+        const double d = (grid.CentreOf(c) - p).squaredNorm();
+        if (d < best_d) best_d = d, best = c;
+      }
+    return best;
+  };
+  const auto start = nearest_passable(from, 0.5);
+  const auto target = nearest_passable(goal, 1.0);
+  if (!start || !target) {
+    *why = start ? "the goal is inside obstacles" : "no passable cell near the robot";
+    return {};
+  }
+  const std::size_t n = static_cast<std::size_t>(grid.Width()) * grid.Height();
+  std::vector<double> dist(n, 1e18);
+  std::vector<std::size_t> parent(n, n);
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  const std::size_t si = grid.Index(*start), ti = grid.Index(*target);
+  dist[si] = 0.0;
+  queue.emplace(0.0, si);
+  while (!queue.empty()) {
+    const auto [d, idx] = queue.top();
+    queue.pop();
+    if (d > dist[idx]) continue;
+    if (idx == ti) break;
+    const perception::Cell c{static_cast<int>(idx % grid.Width()), static_cast<int>(idx / grid.Width())};
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        if (di == 0 && dj == 0) continue;
+        const perception::Cell nb{c.i + di, c.j + dj};
+        if (!passable(nb)) continue;
+        // Unknown (or too narrow when unknown is an obstacle) costs unknown_cost per metre:
+        // the route keeps to what the scans saw (e.g. the wedge of a room seen through its
+        // door) rather than cutting a corner through a shadow it cannot scan from.
+        const bool known_ok = grid.State(nb) == perception::CellState::kFree &&
+                              known.ClearanceOfCell(nb) >= pass_clearance;
+        const double nd = d + res * ((di != 0 && dj != 0) ? std::sqrt(2.0) : 1.0) *
+                                  (known_ok ? 1.0 : p.unknown_cost);
+        const std::size_t ni = grid.Index(nb);
+        if (nd < dist[ni] - 1e-12) dist[ni] = nd, parent[ni] = idx, queue.emplace(nd, ni);
+      }
+  }
+  if (dist[ti] >= 1e17) {
+    *why = "no route to the goal even through unexplored space";
+    return {};
+  }
+  std::vector<std::size_t> path;
+  for (std::size_t k = ti; k != n; k = parent[k]) path.push_back(k);
+  std::reverse(path.begin(), path.end());
+  auto centre = [&](std::size_t k) {
+    return grid.CentreOf({static_cast<int>(k % grid.Width()), static_cast<int>(k / grid.Width())});
+  };
+  auto spent = [&](const Vec2& p) {
+    for (const Pose2& sp : scan_poses)
+      if (std::hypot(p.x() - sp.x, p.y() - sp.y) < exclusion) return true;
+    return false;
+  };
+  std::vector<Vec2> wide, any;  // along the route, in order
+  for (const std::size_t k : path) {
+    const perception::Cell c{static_cast<int>(k % grid.Width()), static_cast<int>(k / grid.Width())};
+    // Around a scan position the map is known (the LRF sweeps cover the TLS blind cone, all
+    // but the LRFs' rear gap).
+    bool near_scan = false;
+    for (const Pose2& sp : scan_poses)
+      near_scan = near_scan || std::hypot(centre(k).x() - sp.x, centre(k).y() - sp.y) < blind_radius;
+    if (!near_scan &&
+        (grid.State(c) != perception::CellState::kFree || known.ClearanceOfCell(c) < pass_clearance))
+      break;
+    if (spent(centre(k))) continue;
+    any.push_back(centre(k));
+    if (known.ClearanceOfCell(c) >= target_clearance) wide.push_back(centre(k));
+  }
+  // Preference: the farthest wide point first, then nearer ones, then the narrow ones (the
+  // caller takes the first its planner can reach).
+  std::vector<Vec2> out(wide.rbegin(), wide.rend());
+  for (auto it = any.rbegin(); it != any.rend(); ++it)
+    if (std::find(out.begin(), out.end(), *it) == out.end()) out.push_back(*it);
+  if (out.empty()) *why = "no progress: the route leaves the known space where the robot has already scanned";
+  return out;
+}
+
+// Fraction of the grid cells within `radius` of `p` that are known (free or occupied).
+double KnownFraction(const perception::OccupancyGrid& grid, const Vec2& p, double radius) {
+  const perception::Cell c0 = grid.CellOf(p);
+  const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
+  int known = 0, total = 0;
+  for (int dj = -r; dj <= r; ++dj)
+    for (int di = -r; di <= r; ++di) {
+      const perception::Cell c{c0.i + di, c0.j + dj};
+      if ((grid.CentreOf(c) - p).norm() > radius) continue;
+      ++total;
+      if (grid.State(c) != perception::CellState::kUnknown) ++known;
+    }
+  return total ? static_cast<double>(known) / total : 0.0;
+}
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,39 @@
+#pragma once
+// Where to scan next when a goal lies outside the known free space (frontier exploration along
+// the route to the goal; Yamauchi 1997), and how well the map knows a neighbourhood.
+
+#include <string>
+#include <vector>
+
+#include "common/frames.h"
+#include "perception/occupancy_grid.h"
+
+namespace mopad::autonomy {
+
+struct ExplorationParams {
+  double pass_clearance = 0.33;    ///< m, cells with less clearance block the route (robot radius)
+  double target_clearance = 0.55;  ///< m, preferred clearance of a scan target
+  double exclusion = 0.5;          ///< m, targets this close to an earlier scan position are spent
+  double blind_radius = 0.5;       ///< m, around scan positions the map counts as known
+  double unknown_cost = 3.0;       ///< cost per metre of unknown or too narrow cells, relative to known free
+};
+
+/// An optimistic route from `from` to `goal` (unknown cells count as free; occupied cells and
+/// `pass_clearance` around them block; Dijkstra over 8-neighbours, unknown cells costing
+/// `unknown_cost` per metre, settled in (distance, index) order: deterministic) is followed
+/// while it stays in the known, valid space (known free, clearance >= pass_clearance with
+/// unknown counted as obstacle; within `blind_radius` of a scan position everything counts as
+/// known). Returns the candidate scan targets along that stretch, in order of preference: the
+/// farthest with clearance >= `target_clearance` first (in front of a doorway rather than in
+/// it), then nearer ones, then the narrow ones. Targets within `exclusion` of a scan position
+/// are spent. Empty + `why`: no passable cell near the robot, the goal inside obstacles, no
+/// route even through unknown space, or no progress (the route leaves the known space where
+/// the robot has already scanned; `why` then starts with "no progress").
+std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from, const Vec2& goal,
+                                     const ExplorationParams& params, const std::vector<Pose2>& scan_poses,
+                                     std::string* why);
+
+/// Fraction of the grid cells within `radius` of `p` that are known (free or occupied).
+double KnownFraction(const perception::OccupancyGrid& grid, const Vec2& p, double radius);
+
+}  // namespace mopad::autonomy

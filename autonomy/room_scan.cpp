@@ -1,0 +1,185 @@
+#include "autonomy/room_scan.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "common/error.h"
+#include "perception/point_cloud_ops.h"
+
+namespace mopad::autonomy {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+NextBestScanParams RoomScanParams::DefaultNbs() {
+  NextBestScanParams p;
+  // The planner only accepts goals in known free space (unknown counts as obstacle there), so
+  // the NBS candidates must come from the same space.
+  p.unknown_is_obstacle = true;
+  return p;
+}
+
+perception::IcpParams RoomScanParams::DefaultIcp() {
+  perception::IcpParams p = NavigatorParams::DefaultIcp();
+  // Room scans register from odometry/AMCL priors against the room's own earlier scans, which
+  // overlap well: a stricter fitness than the navigator's door scans.
+  p.min_fitness = 0.3;
+  p.max_free_space_violation = perception::IcpParams{}.max_free_space_violation;
+  return p;
+}
+
+perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
+  perception::RegistrationAcceptanceParams p;
+  // Only fully `ok` registrations join the room model: a degenerate or creeping result would
+  // smear it. The prior may be far off (office rooms register from priors 1.2 m / 20 deg off):
+  // no correction bound.
+  p.accept_degenerate = false;
+  p.creeping_step_factor = 0.0;
+  p.max_correction = 1000.0;
+  p.max_correction_deg = 180.0;
+  p.gate_sigmas = 0.0;
+  return p;
+}
+
+RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, modelling::RoomModel& model,
+                           const ScanHook& on_scan) {
+  ValidateParams(params, "room.");
+  params.icp.Validate();
+  const auto wall0 = Clock::now();
+  RoomScanResult res;
+  perception::PointMap target(params.icp);
+  std::vector<Vec2> failed_scans;  // base positions whose scan could not be registered
+
+  for (int k = 0; k < params.max_scans; ++k) {
+    RoomScanLog log;
+    log.index = k;
+    auto t0 = Clock::now();
+    const interfaces::TlsScan& scan = session.TakeScan(params.scan_step_deg);
+    log.t_scan = Since(t0);
+    log.session_scan = session.ScanCount() - 1;
+    log.sim_time = session.Time();
+    log.X_MS_prior = scan.X_MS_estimate;
+    log.X_MS = scan.X_MS_estimate;
+
+    // Registration (paper step (3)): the first scan defines the map; later ones are refined
+    // against the accumulated cloud S(t-1) from the odometry/AMCL prior.
+    t0 = Clock::now();
+    const perception::Points source_S = perception::ScanPoints(scan);
+    if (k > 0) {
+      log.registration = perception::RegisterScan(source_S, target, log.X_MS_prior, params.icp);
+      log.registered =
+          perception::AcceptRegistration(log.registration, log.X_MS_prior, params.icp, params.acceptance, 0.0).use;
+      if (log.registration.ok) {
+        log.X_MS = log.registration.X_MS;
+        session.CorrectLastScanPose(log.X_MS);
+      } else {
+        res.registration_failed = true;
+        const Pose2 here = session.EstimatedPose();
+        failed_scans.emplace_back(here.x, here.y);
+      }
+    }
+    // A scan that could not be registered stays out of S(t) and of the model (it would smear
+    // both by the prior's error); the mission goes on from the next best scan.
+    if (log.registered) {
+      target.Add(perception::Transform(source_S, log.X_MS), log.X_MS.translation());
+      log.t_registration = Since(t0);
+      // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
+      t0 = Clock::now();
+      model.AddScan(scan, log.X_MS);
+      log.t_model = Since(t0);
+      if (on_scan) on_scan(log.session_scan, scan);
+    } else {
+      log.t_registration = Since(t0);
+    }
+    // The stopping rule (step (6)).
+    log.coverage = model.Coverage();
+    const modelling::StopDecision stop = modelling::CheckStopping(log.coverage, params.stopping);
+    log.stop_message = stop.message;
+    if (stop.stop) {
+      res.stop_reason = stop.message;
+      res.scans.push_back(std::move(log));
+      break;
+    }
+    if (k + 1 == params.max_scans) {
+      res.stop_reason = "stop: scan cap of " + std::to_string(params.max_scans) +
+                        " reached (" + stop.message + ")";
+      res.scans.push_back(std::move(log));
+      break;
+    }
+
+    // Next best scan (step (1)) and the drive there (step (2)). When the robot cannot reach the
+    // chosen candidate, the next best ones (by expected gain) are tried.
+    bool moved = false;
+    t0 = Clock::now();
+    const NbsResult nbs =
+        NextBestScan(model, session.Map(), session.EstimatedPose(), params.scan_step_deg, params.nbs);
+    log.t_nbs = Since(t0);
+    log.candidates = static_cast<int>(nbs.candidates.size());
+    log.nav_message = nbs.message;
+    // The paper's epsilon2 applied before moving: a scan expected to add less than epsilon2 of
+    // the structural area is not worth the drive.
+    const double min_gain = params.stopping.epsilon2 * log.coverage.total_area;
+    if (nbs.found && nbs.expected_gain < min_gain) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "stop: best expected gain %.2f m2 < epsilon2 x estimated total (%.2f m2)",
+                    nbs.expected_gain, min_gain);
+      res.stop_reason = buf;
+      res.scans.push_back(std::move(log));
+      break;
+    }
+    auto spent = [&](int i) {
+      for (const Vec2& f : failed_scans)
+        if ((nbs.candidates[i].position - f).norm() < params.failed_scan_exclusion) return true;
+      return false;
+    };
+    std::vector<int> order;
+    if (nbs.found) {
+      if (!spent(nbs.chosen)) order.push_back(nbs.chosen);
+      std::vector<int> rest;
+      for (int i = 0; i < static_cast<int>(nbs.candidates.size()); ++i)
+        if (i != nbs.chosen && nbs.candidates[i].gain > 0 && !spent(i)) rest.push_back(i);
+      std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) {
+        return nbs.candidates[a].gain > nbs.candidates[b].gain;
+      });
+      order.insert(order.end(), rest.begin(), rest.end());
+    }
+    for (int attempt = 0; attempt < params.nav_attempts &&
+                          attempt < static_cast<int>(order.size()) && !moved;
+         ++attempt) {
+      const NbsCandidate& c = nbs.candidates[order[attempt]];
+      const Pose2 goal{c.position.x(), c.position.y(),
+                       order[attempt] == nbs.chosen ? nbs.goal.yaw : session.EstimatedPose().yaw};
+      log.has_next = true;
+      log.next_goal = goal;
+      log.expected_gain = c.gain;
+      t0 = Clock::now();
+      const DriveStatus st = session.NavigateTo(goal);
+      const std::string& msg = session.Log().message;
+      log.t_drive += Since(t0);
+      log.nav_status = ToString(st);
+      log.nav_message = msg;
+      if (st == DriveStatus::kArrived) moved = true;
+      if (st == DriveStatus::kLocalisationLost) break;
+    }
+    res.scans.push_back(std::move(log));
+    if (!moved) {
+      const RoomScanLog& last = res.scans.back();
+      res.stop_reason = "stop: no reachable next-best-scan position (" +
+                        (last.nav_message.empty() ? std::string("no candidate") : last.nav_message) +
+                        ")";
+      break;
+    }
+  }
+  res.sim_time = session.Time();
+  res.wall_time = Since(wall0);
+  return res;
+}
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,211 @@
+#include "mission/sim_robot.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+#include <utility>
+
+#include "common/error.h"
+#include "perception/point_cloud_ops.h"
+#include "sim/lrf.h"
+#include "sim/tls_scanner.h"
+
+namespace mopad::mission {
+namespace {
+
+using perception::Compose;
+using perception::Inverse;
+using Clock = std::chrono::steady_clock;
+
+}  // namespace
+
+struct SimRobot::Impl {
+  const sim::EmbreeWorld& world;
+  DriveParams params;
+  std::uint64_t seed;
+  Clock::time_point wall_start = Clock::now();
+  std::optional<sim::RobotBody> body;
+  std::optional<sim::TlsScanner> tls;
+  std::optional<sim::LrfSimulator> lrf_top, lrf_base;
+  Pose2 X_MW;  // evaluation only: truth into the map frame
+  std::vector<sim::TlsTruth> truths;
+  bool keep_truths = true;
+  std::optional<std::pair<double, Pose2>> teleport;  // (time, X_WB)
+
+  double t = 0.0;
+  std::uint64_t steps = 0, scans = 0;
+  std::uint64_t base_seq = 0, top_seq = 0;
+  double base_period = 0.0, top_period = 0.0;
+  double next_base = 0.0, next_top = 0.0;
+  interfaces::LrfScan base_scan, top_scan;
+
+  // ---- World-side log.
+  std::vector<autonomy::TrajectorySample> truth;
+  Pose2 last_true{};
+  double path_length = 0.0;
+  int lrf_sweeps = 0, teleports = 0;
+  double tls_time = 0.0, tls_wall = 0.0;
+
+  Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s)
+      : world(w), params(p), seed(s) {
+    ValidateParams(params, "drive.");
+    std::vector<Eigen::Vector3f> vertices;
+    std::vector<std::uint32_t> triangles;
+    for (const auto& part : world.scene().parts) {
+      const auto base = static_cast<std::uint32_t>(vertices.size());
+      vertices.insert(vertices.end(), part.positions.begin(), part.positions.end());
+      for (const auto& tri : part.triangles)
+        for (int k = 0; k < 3; ++k) triangles.push_back(base + static_cast<std::uint32_t>(tri[k]));
+    }
+    body.emplace(params.body, vertices, triangles, X_WB_start, seed);
+    if (body->InCollision(X_WB_start)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "drive: start pose (%.3f, %.3f) is in collision with the scene", X_WB_start.x,
+                    X_WB_start.y);
+      throw InputError(buf);
+    }
+    sim::TlsParams tls_params = sim::TlsProfile(params.tls_profile);
+    tls_params.step_deg = params.navigator.tls_step_deg;
+    tls.emplace(world, tls_params);
+    for (const auto& lp : sim::PaperLrfRig(params.lrf_profile)) {
+      if (lp.frame == "lrf_top") lrf_top.emplace(world, lp);
+      if (lp.frame == "lrf_base") lrf_base.emplace(world, lp);
+    }
+    if (!lrf_top || !lrf_base) throw std::runtime_error("drive: LRF rig lacks lrf_top/lrf_base");
+    base_period = 1.0 / lrf_base->params().rate_hz;
+    top_period = 1.0 / lrf_top->params().rate_hz;
+    X_MW = Inverse(X_WB_start);
+    last_true = X_WB_start;
+  }
+
+  // Both LRFs at their profile rates (rays in the scene at the true pose).
+  bool Sweep(bool force) {
+    const Pose3 X_WB = body->TruePose().To3d();
+    bool top_new = false;
+    if (force || t + 1e-9 >= next_base) {
+      base_scan = lrf_base->Scan(X_WB, seed, base_seq++, t);
+      next_base += base_period;
+      ++lrf_sweeps;
+    }
+    if (force || t + 1e-9 >= next_top) {
+      top_scan = lrf_top->Scan(X_WB, seed, top_seq++, t);
+      next_top += top_period;
+      ++lrf_sweeps;
+      top_new = true;
+    }
+    return top_new;
+  }
+
+  void RecordTruth() { truth.push_back({t, Compose(X_MW, body->TruePose())}); }
+
+  bool Step(const interfaces::VelocityCommand& cmd) {
+    body->Step(cmd, params.control_dt);
+    t += params.control_dt;
+    ++steps;
+    if (teleport && t + 1e-9 >= teleport->first) {
+      body->Teleport(teleport->second);  // kidnapping: odometry does not see it
+      last_true = teleport->second;
+      teleport.reset();
+      ++teleports;
+    }
+    const Pose2 now_true = body->TruePose();
+    path_length += std::hypot(now_true.x - last_true.x, now_true.y - last_true.y);
+    last_true = now_true;
+    const bool top_new = Sweep(false);
+    RecordTruth();
+    if (params.navigator.trace && truth.size() % 50 == 1) {
+      const Pose2& tm = truth.back().pose;
+      std::fprintf(stderr, "   true (%.2f %.2f %.2f)\n", tm.x, tm.y, tm.yaw);
+    }
+    return top_new;
+  }
+
+  interfaces::TlsScan Scan(double step_deg, double* still_for) {
+    const bool first = scans == 0 && steps == 0;
+    if (first) Sweep(true);
+    const auto wall0 = Clock::now();
+    std::optional<sim::TlsScanner> custom;
+    if (step_deg > 0.0 && step_deg != tls->params().step_deg) {
+      sim::TlsParams p = tls->params();
+      p.step_deg = step_deg;
+      custom.emplace(world, p);
+    }
+    const sim::TlsScanner& scanner = custom ? *custom : *tls;
+    sim::ScanRequest req;
+    req.seed = seed;
+    req.scan_id = scans;
+    req.start_time = t;
+    req.X_WB = body->TruePose().To3d();
+    req.X_MS_estimate = Eigen::Isometry3d::Identity();  // the platform knows no map pose
+    sim::TlsTruth scan_truth;
+    interfaces::TlsScan scan = scanner.Scan(req, keep_truths ? &scan_truth : nullptr);
+    if (keep_truths) truths.push_back(std::move(scan_truth));
+    tls_wall += std::chrono::duration<double>(Clock::now() - wall0).count();
+    ++scans;
+    if (first) RecordTruth();
+    const double duration = static_cast<double>(scanner.pulses()) / scanner.params().pulse_rate_hz;
+    tls_time += duration;
+    if (still_for) *still_for = params.tls_scan_takes_time ? duration : 0.0;
+    return scan;
+  }
+};
+
+SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
+                   std::uint64_t seed)
+    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed)) {}
+SimRobot::~SimRobot() = default;
+
+double SimRobot::Time() const { return impl_->t; }
+double SimRobot::ControlPeriod() const { return impl_->params.control_dt; }
+bool SimRobot::Step(const interfaces::VelocityCommand& cmd) { return impl_->Step(cmd); }
+const interfaces::Odometry& SimRobot::WheelOdometry() const { return impl_->body->Odometry(); }
+const interfaces::LrfScan& SimRobot::BaseSweep() const { return impl_->base_scan; }
+const interfaces::LrfScan& SimRobot::TopSweep() const { return impl_->top_scan; }
+interfaces::TlsScan SimRobot::Scan(double step_deg, double* still_for) { return impl_->Scan(step_deg, still_for); }
+
+Pose2 SimRobot::X_MW() const { return impl_->X_MW; }
+Pose2 SimRobot::TruePoseInWorld() const { return impl_->body->TruePose(); }
+Pose2 SimRobot::TruePoseInMap() const { return Compose(impl_->X_MW, impl_->body->TruePose()); }
+const std::vector<autonomy::TrajectorySample>& SimRobot::TrueTrajectory() const { return impl_->truth; }
+const std::vector<sim::TlsTruth>& SimRobot::ScanTruths() const { return impl_->truths; }
+void SimRobot::SetKeepScanTruths(bool keep) { impl_->keep_truths = keep; }
+void SimRobot::ScheduleTeleport(double t, const Pose2& X_WB) { impl_->teleport.emplace(t, X_WB); }
+const DriveParams& SimRobot::Params() const { return impl_->params; }
+
+void SimRobot::FillResult(DriveResult& res) const {
+  const Impl& m = *impl_;
+  res.truth = m.truth;
+  res.sim_time = m.t;
+  res.final_true_M = TruePoseInMap();
+  res.goal_error_xy = std::hypot(res.final_true_M.x - res.goal_M.x, res.final_true_M.y - res.goal_M.y);
+  res.goal_error_yaw_deg = RadToDeg(std::abs(WrapAngle(res.final_true_M.yaw - res.goal_M.yaw)));
+  // Localisation error: the estimate against the truth, sample for sample.
+  double loc_sq = 0.0, yaw_sq = 0.0;
+  res.loc_max = res.loc_yaw_max_deg = 0.0;
+  const std::size_t n = std::min(res.estimated.size(), m.truth.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    const Pose2& est = res.estimated[k].pose;
+    const Pose2& tru = m.truth[k].pose;
+    const double e = std::hypot(est.x - tru.x, est.y - tru.y);
+    const double ey = std::abs(WrapAngle(est.yaw - tru.yaw));
+    loc_sq += e * e;
+    yaw_sq += ey * ey;
+    res.loc_max = std::max(res.loc_max, e);
+    res.loc_yaw_max_deg = std::max(res.loc_yaw_max_deg, RadToDeg(ey));
+  }
+  res.loc_rms = n ? std::sqrt(loc_sq / n) : 0.0;
+  res.loc_yaw_rms_deg = RadToDeg(n ? std::sqrt(yaw_sq / n) : 0.0);
+  res.contacts = m.body->ContactCount();
+  res.contact_events = m.body->Contacts();
+  res.blocked_steps = m.body->BlockedSteps();
+  res.path_length = m.path_length;
+  res.lrf_sweeps = m.lrf_sweeps;
+  res.teleports = m.teleports;
+  res.tls_time = m.tls_time;
+  res.tls_wall_time = m.tls_wall;
+  res.wall_time = std::chrono::duration<double>(Clock::now() - m.wall_start).count();
+}
+
+}  // namespace mopad::mission

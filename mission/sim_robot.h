@@ -1,0 +1,63 @@
+#pragma once
+// The simulated robot: an interfaces::RobotPlatform over a sim::EmbreeWorld — the Bullet body
+// with drifting wheel odometry, the two LRFs at their profile rates and the terrestrial laser
+// scanner, on a simulation clock. It is the world side of a mission: it also keeps what only
+// an evaluator may read (the true trajectory, contacts, the scans' truth sidecars) and the
+// kidnapping hook of tests.
+//
+// Frames: the world W is the scene; map M := the body's start pose, X_MW = X_WB(0)^-1 (truth
+// expressed in the robot's map frame for evaluation only).
+// Determinism: same world + params + seed + call sequence -> same bytes.
+// Not thread-safe; keeps a reference to `world`, which must outlive it.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "interfaces/robot_platform.h"
+#include "mission/drive_mission.h"
+#include "sim/tls_truth.h"
+
+namespace mopad::mission {
+
+class SimRobot final : public interfaces::RobotPlatform {
+ public:
+  /// Places the body at `X_WB_start` (world). Throws InputError for invalid params or a start
+  /// pose in collision with the scene (door leaves as the world has them).
+  SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start, std::uint64_t seed);
+  ~SimRobot() override;
+  SimRobot(const SimRobot&) = delete;
+  SimRobot& operator=(const SimRobot&) = delete;
+
+  // ---- The robot boundary (interfaces::RobotPlatform).
+  double Time() const override;
+  double ControlPeriod() const override;
+  bool Step(const interfaces::VelocityCommand& cmd) override;
+  const interfaces::Odometry& WheelOdometry() const override;
+  const interfaces::LrfScan& BaseSweep() const override;
+  const interfaces::LrfScan& TopSweep() const override;
+  interfaces::TlsScan Scan(double step_deg, double* still_for) override;
+
+  // ---- World side (evaluators and tests; never fed back to the robot).
+  Pose2 X_MW() const;             ///< world -> map (inverse of the true start pose)
+  Pose2 TruePoseInWorld() const;  ///< true base_link pose in the world
+  Pose2 TruePoseInMap() const;    ///< true base_link pose in the map frame
+  /// The true pose (map frame) at the first scan and after every step: the samples of the
+  /// navigator's estimated trajectory, one for one.
+  const std::vector<autonomy::TrajectorySample>& TrueTrajectory() const;
+  /// Truth sidecars of the TLS scans, in scan order (kept unless SetKeepScanTruths(false)).
+  const std::vector<sim::TlsTruth>& ScanTruths() const;
+  void SetKeepScanTruths(bool keep);  ///< ~16 B per pulse per scan when kept (default: kept)
+  /// Kidnapping: at simulation time `t` the true body jumps to `X_WB` (world); odometry does
+  /// not see it. One pending teleport at a time.
+  void ScheduleTeleport(double t, const Pose2& X_WB);
+  /// The world-side figures of a DriveResult: truth, contacts, distance, sensor counts, times.
+  void FillResult(DriveResult& result) const;
+  const DriveParams& Params() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mopad::mission
