@@ -64,7 +64,7 @@ struct NavigatorParams {
   double initial_sigma_xy = 0.01;  ///< m, AMCL's initial std after each scan, [1e-4, 10]
   double initial_sigma_yaw_deg = 0.5;  ///< deg, AMCL's initial yaw std after each scan, [1e-3, 180]
   double map_margin = 1.0;         ///< m, grid margin around the scanned points, [0, 20]
-  std::uint64_t max_points_per_scan = 400000;  ///< band points kept per scan (thinned beyond)
+  std::uint64_t max_points_per_scan = 400000;  ///< band points kept per scan (thinned beyond), [1, 1e9]
   /// s: while localised, both LRF sweeps go into the obstacle map this often (0: only those at
   /// scan positions), traced up to `map_lrf_range`, so obstacles the TLS saw edge-on (an open
   /// door leaf) appear before the base reaches them. [0, 100]
@@ -122,6 +122,7 @@ struct NavigatorParams {
     v("initial_sigma_xy", initial_sigma_xy, Bounds{1e-4, 10.0});
     v("initial_sigma_yaw_deg", initial_sigma_yaw_deg, Bounds{1e-3, 180.0});
     v("map_margin", map_margin, Bounds{0.0, 20.0});
+    v("max_points_per_scan", max_points_per_scan, Bounds{1.0, 1e9});
     v("map_lrf_period", map_lrf_period, Bounds{0.0, 100.0});
     v("map_lrf_range", map_lrf_range, Bounds{1e-3, 100.0});
     v("max_relegs", max_relegs, Bounds{0, 20});

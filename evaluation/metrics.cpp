@@ -1,3 +1,4 @@
+#include "common/polygon.h"
 #include "evaluation/metrics.h"
 
 #include <algorithm>
@@ -272,20 +273,6 @@ double PolygonIoU(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   const double inter = IntersectionArea(a, b);
   const double uni = std::abs(SignedArea(a)) + std::abs(SignedArea(b)) - inter;
   return uni > 0.0 ? inter / uni : 0.0;
-}
-
-bool PointInPolygon(const Vec2& p, const std::vector<Vec2>& poly) {
-  bool inside = false;
-  const size_t n = poly.size();
-  for (size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = poly[i];
-    const Vec2& b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y())) {
-      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (p.x() < x) inside = !inside;
-    }
-  }
-  return inside;
 }
 
 double DistanceToBoundary(const Vec2& p, const std::vector<Vec2>& poly) {

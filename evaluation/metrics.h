@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/frames.h"
+#include "common/polygon.h"
 #include "common/params.h"
 
 namespace mopad::evaluation {
@@ -80,8 +81,7 @@ double PolygonArea3d(const std::vector<Vec3>& polygon);
 double IntersectionArea(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
 /// Intersection over union of two simple polygons (0 when both are degenerate).
 double PolygonIoU(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
-/// Crossing-number test; points on the boundary may go either way.
-bool PointInPolygon(const Vec2& p, const std::vector<Vec2>& polygon);
+
 /// Euclidean distance from p to the polygon's boundary.
 double DistanceToBoundary(const Vec2& p, const std::vector<Vec2>& polygon);
 /// Drops repeated vertices and vertices whose two edges turn by less than `angle_tol` (rad):

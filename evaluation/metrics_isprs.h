@@ -81,7 +81,4 @@ IsprsResult EvaluateIsprs(const std::vector<Patch>& source, const std::vector<Pa
 /// Deterministic area samples of one patch (world frame) and the area each one carries.
 std::vector<Vec3> SamplePatch(const Patch& patch, double spacing, double* area_per_sample);
 
-/// Exact distance from p to the (filled) polygon of `patch`.
-double DistanceToPatch(const Vec3& p, const Patch& patch);
-
 }  // namespace mopad::evaluation

@@ -147,11 +147,4 @@ std::string LabelAccuracyToJson(const LabelAccuracy& a) {
   return j.dump(2) + "\n";
 }
 
-std::string PoseErrorToJson(const PoseError& e) {
-  nlohmann::ordered_json j;
-  j["translation_m"] = std::round(e.translation * 1e9) / 1e9;
-  j["rotation_deg"] = std::round(e.rotation_deg * 1e9) / 1e9;
-  return j.dump(2) + "\n";
-}
-
 }  // namespace mopad::evaluation

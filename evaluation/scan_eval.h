@@ -82,7 +82,5 @@ LabelAccuracy CompareLabels(std::span<const Sm1Label> truth, std::span<const Sm1
 /// Deterministic JSON: {"points", "correct", "unlabelled", "accuracy", "confusion": 3x3 rows =
 /// truth inlier/outlier/clutter, columns = estimate}.
 std::string LabelAccuracyToJson(const LabelAccuracy& accuracy);
-/// {"translation_m", "rotation_deg"}.
-std::string PoseErrorToJson(const PoseError& error);
 
 }  // namespace mopad::evaluation

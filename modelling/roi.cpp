@@ -1,3 +1,4 @@
+#include "common/polygon.h"
 #include "modelling/roi.h"
 
 #include <cmath>
@@ -25,20 +26,6 @@ double SignedArea(const std::vector<Vec2>& polygon) {
   return 0.5 * a;
 }
 
-bool InsidePolygon(const std::vector<Vec2>& polygon, const Vec2& p) {
-  bool inside = false;
-  const std::size_t n = polygon.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = polygon[i];
-    const Vec2& b = polygon[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
 int RoiFace::CellIndexOf(const Vec3& p_M) const {
   const Vec3 d = p_M - origin;
   const int iu = static_cast<int>(std::floor(d.dot(u_axis) / cell));
@@ -48,9 +35,9 @@ int RoiFace::CellIndexOf(const Vec3& p_M) const {
 }
 
 bool Roi::ContainsPlan(const Vec2& p) const {
-  if (empty() || !InsidePolygon(perimeter, p)) return false;
+  if (empty() || !PointInPolygon(p, perimeter)) return false;
   for (const auto& c : columns) {
-    if (InsidePolygon(c, p)) return false;
+    if (PointInPolygon(p, c)) return false;
   }
   return true;
 }

@@ -80,7 +80,6 @@ struct Roi {
 
 /// Signed area of a plan polygon (positive when CCW), m^2.
 double SignedArea(const std::vector<Vec2>& polygon);
-/// Even-odd point-in-polygon test.
-bool InsidePolygon(const std::vector<Vec2>& polygon, const Vec2& p);
+
 
 }  // namespace mopad::modelling

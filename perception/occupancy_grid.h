@@ -140,7 +140,6 @@ class OccupancyGrid {
   CellState StateAt(const Vec2& p_M) const { return State(CellOf(p_M)); }
   bool IsFree(const Vec2& p_M) const { return StateAt(p_M) == CellState::kFree; }
   bool IsOccupied(const Vec2& p_M) const { return StateAt(p_M) == CellState::kOccupied; }
-  float LogOdds(const Cell& c) const { return log_odds_[Index(c)]; }
   /// Mean position (map, m) of the obstacle returns that fell into the cell (band points and
   /// LRF hits), or its centre if none did (e.g. maps read from PNG). Sub-cell obstacle
   /// positions keep the likelihood field free of the half-cell bias a 5 cm grid would add.

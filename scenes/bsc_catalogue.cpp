@@ -1,3 +1,4 @@
+#include "common/polygon.h"
 #include "scenes/bsc_catalogue.h"
 
 #include <algorithm>
@@ -146,18 +147,7 @@ class Canvas {
       x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x());
       y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
     }
-    Fill(x0, y0, x1, y1, c, [&pts](double x, double y) {
-      bool in = false;
-      for (std::size_t a = 0, b = pts.size() - 1; a < pts.size(); b = a++) {
-        const P2& pa = pts[a];
-        const P2& pb = pts[b];
-        if ((pa.y() > y) != (pb.y() > y) &&
-            x < (pb.x() - pa.x()) * (y - pa.y()) / (pb.y() - pa.y()) + pa.x()) {
-          in = !in;
-        }
-      }
-      return in;
-    });
+    Fill(x0, y0, x1, y1, c, [&pts](double x, double y) { return PointInPolygon(P2(x, y), pts); });
   }
   /// Thick line segment with round caps.
   void Line(P2 a, P2 b, double thickness, Rgb c) {

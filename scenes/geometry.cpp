@@ -83,18 +83,6 @@ bool IsSimplePolygon(const Polygon2& poly, std::string* why) {
   return true;
 }
 
-bool PointInPolygon(const Vector2d& p, const Polygon2& poly) {
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vector2d &a = poly[i], &b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y())) {
-      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (p.x() < x) inside = !inside;
-    }
-  }
-  return inside;
-}
-
 double DistancePointSegment(const Vector2d& p, const Vector2d& a, const Vector2d& b) {
   const Vector2d ab = b - a;
   const double l2 = ab.squaredNorm();

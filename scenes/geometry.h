@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/polygon.h"
+
 #include "scenes/scene.h"
 
 namespace mopad::scenes {
@@ -20,8 +22,8 @@ double SignedArea(const Polygon2& poly);
 /// True if the polygon has >= 3 vertices, non-zero area, no repeated vertices, no zero-length
 /// edges and no two non-adjacent edges that touch or cross. `why` (optional) says what failed.
 bool IsSimplePolygon(const Polygon2& poly, std::string* why = nullptr);
-/// Strict containment test (even-odd rule); points on the boundary give an arbitrary answer.
-bool PointInPolygon(const Eigen::Vector2d& p, const Polygon2& poly);
+using mopad::PointInPolygon;
+
 /// Distance from p to segment [a, b].
 double DistancePointSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                             const Eigen::Vector2d& b);

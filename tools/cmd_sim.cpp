@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/polygon.h"
 #include "common/error.h"
 #include "common/params.h"
 #include "scenes/generator.h"
@@ -328,13 +329,7 @@ Pose3 DefaultBenchPose(const LoadedScene& loaded) {
       area += 0.5 * (a.x() * b.y() - b.x() * a.y());
     }
     c /= static_cast<double>(poly.size());
-    bool inside = false;  // even-odd rule
-    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-      if ((poly[i].y() > c.y()) != (poly[j].y() > c.y()) &&
-          c.x() < (poly[j].x() - poly[i].x()) * (c.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) + poly[i].x()) {
-        inside = !inside;
-      }
-    }
+    const bool inside = PointInPolygon(c, poly);
     if (inside && std::abs(area) > best_area) {
       best_area = std::abs(area);
       X.translation() = Eigen::Vector3d(c.x(), c.y(), room.floor_z);

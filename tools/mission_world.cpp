@@ -1,3 +1,4 @@
+#include "common/polygon.h"
 #include "tools/mission_world.h"
 
 #include <algorithm>
@@ -18,18 +19,6 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   const Eigen::Vector2d ab = b - a;
   const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
   return (a + t * ab - p).norm();
-}
-
-bool InsidePolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
-        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) /
-                        (poly[j].y() - poly[i].y()) +
-                    poly[i].x())
-      in = !in;
-  }
-  return in;
 }
 
 }  // namespace
@@ -98,7 +87,7 @@ Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::R
   for (double x = box.min().x() + 0.05; x < box.max().x(); x += 0.1) {
     for (double y = box.min().y() + 0.05; y < box.max().y(); y += 0.1) {
       const Eigen::Vector2d p(x, y);
-      if (!InsidePolygon(p, room.polygon)) continue;
+      if (!PointInPolygon(p, room.polygon)) continue;
       double clear = 1e9;
       for (std::size_t i = 0; i < room.polygon.size(); ++i)
         clear = std::min(clear, DistanceToSegment(p, room.polygon[i],

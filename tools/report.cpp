@@ -1,3 +1,4 @@
+#include "common/polygon.h"
 #include "tools/report.h"
 
 #include <Eigen/Geometry>
@@ -59,16 +60,6 @@ void WriteOrThrow(const std::string& path, const std::string& text) {
   if (!out) throw InputError(path, "write failed");
 }
 
-bool Inside(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
-        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) +
-                     poly[i].x())
-      in = !in;
-  return in;
-}
-
 // A point well inside a (possibly non-convex) room: the vertex mean if it is inside, else the
 // inside point of a coarse grid nearest to it.
 Eigen::Vector2d LabelPoint(const std::vector<Eigen::Vector2d>& poly) {
@@ -80,14 +71,14 @@ Eigen::Vector2d LabelPoint(const std::vector<Eigen::Vector2d>& poly) {
     box.extend(p);
   }
   c /= static_cast<double>(poly.size());
-  if (Inside(c, poly)) return c;
+  if (PointInPolygon(c, poly)) return c;
   Eigen::Vector2d best = c;
   double best_d = 1e18;
   for (int i = 1; i < 40; ++i)
     for (int j = 1; j < 40; ++j) {
       const Eigen::Vector2d p = box.min() + Eigen::Vector2d(box.sizes().x() * i / 40.0,
                                                             box.sizes().y() * j / 40.0);
-      if (Inside(p, poly) && (p - c).squaredNorm() < best_d) {
+      if (PointInPolygon(p, poly) && (p - c).squaredNorm() < best_d) {
         best_d = (p - c).squaredNorm();
         best = p;
       }

@@ -134,5 +134,55 @@ TEST(Params, MissingFileAndBadYamlAreOneLineErrors) {
   }
 }
 
+
+// A field missing from Visit() keeps its default through a YAML round trip on both sides, so a
+// round trip cannot catch it; the coverage check does (positive controls first).
+struct ForgetfulParams {
+  double a = 1.0;
+  double forgotten = 2.0;  // not in Visit()
+  int b = 3;
+  InnerParams inner;
+  template <class V>
+  void Visit(V& v) {
+    v("a", a);
+    v("b", b);
+    v("inner", inner);
+  }
+};
+
+struct InnerForgetful {
+  double kept = 0.0;
+  std::string forgotten;
+  template <class V>
+  void Visit(V& v) {
+    v("kept", kept);
+  }
+};
+
+struct OuterOfForgetful {
+  int n = 0;
+  InnerForgetful inner;
+  template <class V>
+  void Visit(V& v) {
+    v("n", n);
+    v("inner", inner);
+  }
+};
+
+TEST(Params, CoverageCheckFindsAFieldMissingFromVisit) {
+  const auto missing = FieldsMissingFromVisit(ForgetfulParams{});
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_NE(missing[0].find("between 'a' and 'b'"), std::string::npos) << missing[0];
+  const auto nested = FieldsMissingFromVisit(OuterOfForgetful{}, "outer.");
+  ASSERT_EQ(nested.size(), 1u);
+  EXPECT_NE(nested[0].find("outer.inner."), std::string::npos) << nested[0];
+  EXPECT_NE(nested[0].find("after 'kept'"), std::string::npos) << nested[0];
+}
+
+TEST(Params, CoverageCheckPassesACompleteFieldList) {
+  EXPECT_TRUE(FieldsMissingFromVisit(TestParams{}).empty());
+  EXPECT_TRUE(FieldsMissingFromVisit(InnerParams{}).empty());
+}
+
 }  // namespace
 }  // namespace mopad

@@ -286,6 +286,10 @@ TEST(Observability, BadParamsThrow) {
   EXPECT_THROW(ComputeReachable(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R", p), InputError);
 }
 
+TEST(TruthEvalParams, EveryFieldIsInTheFieldList) {
+  for (const auto& m : FieldsMissingFromVisit(TruthEvalParams{}, "eval.")) ADD_FAILURE() << m;
+}
+
 TEST(TruthEvalParams, YamlRoundTripAndUnknownKeys) {
   TruthEvalParams p;
   p.observability.robot_radius = 0.4;

@@ -10,6 +10,7 @@
 
 #include "mission/drive_mission.h"
 #include "mission/robot_session.h"
+#include "mission/room_mission.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
@@ -295,6 +296,15 @@ TEST(RobotSession, StallWatchdogEndsADriveThatMakesNoProgress) {
   EXPECT_EQ(st, DriveStatus::kBlocked) << msg;
   EXPECT_NE(msg.find("no progress"), std::string::npos) << msg;
   EXPECT_LT(s.SimTime(), 10.0);
+}
+
+
+// Every field of the params a mission loads is in its Visit() list (common/params.h): a field
+// left out would silently keep its default whatever the config says, and the effective config
+// would not record it.
+TEST(MissionParams, EveryFieldIsInTheFieldList) {
+  for (const auto& m : FieldsMissingFromVisit(DriveParams{}, "drive.")) ADD_FAILURE() << m;
+  for (const auto& m : FieldsMissingFromVisit(RoomMissionParams{}, "room.")) ADD_FAILURE() << m;
 }
 
 }  // namespace

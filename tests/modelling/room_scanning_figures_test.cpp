@@ -13,6 +13,7 @@
 #include <map>
 
 #include "autonomy/next_best_scan.h"
+#include "common/polygon.h"
 #include "modelling/room_model.h"
 #include "modelling/stopping.h"
 #include "scenes/element_class.h"
@@ -40,7 +41,7 @@ Vec2 StartSpot(const scenes::GroundTruth& truth, const scenes::Room& room) {
   for (double y = lo.y() + 0.25; y < hi.y(); y += 0.25) {
     for (double x = lo.x() + 0.25; x < hi.x(); x += 0.25) {
       const Vec2 p(x, y);
-      if (!InsidePolygon(room.polygon, p)) continue;
+      if (!PointInPolygon(p, room.polygon)) continue;
       double d = 1e300;
       for (std::size_t i = 0; i < room.polygon.size(); ++i) {
         const Vec2 a = room.polygon[i], b = room.polygon[(i + 1) % room.polygon.size()];

@@ -270,3 +270,36 @@ TEST(Cli, KitHouseInfoThroughBothLoaders) {
 }
 
 }  // namespace
+
+namespace {
+std::string ReadFile(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+// Parameter precedence (docs/architecture.md): a flag given on the command line, over the
+// --config file, over the default; the effective config records what ran, seed included.
+TEST(Cli, AFlagOverridesTheConfigFileWhichOverridesTheDefault) {
+  const std::string dir = TempDir("precedence");
+  const std::string cfg = dir + "/drive.yaml";
+  std::ofstream(cfg) << "seed: 7\nmax_time: 3.5\n";
+  const std::string base = "drive " + Src("scenes/two_rooms_door.yaml") + " --from 1.5,2,0 --to 8,2,0 ";
+  const Result file = Mopad(base + "--config " + cfg + " -o " + dir + "/file");
+  ASSERT_EQ(file.code, 0) << file.out;
+  const std::string eff_file = ReadFile(dir + "/file/drive.effective.yaml");
+  EXPECT_NE(eff_file.find("seed: 7\n"), std::string::npos) << eff_file;
+  EXPECT_NE(eff_file.find("max_time: 3.5\n"), std::string::npos) << eff_file;
+  const Result flag = Mopad(base + "--config " + cfg + " --seed 9 --max-time 4.5 -o " + dir + "/flag");
+  ASSERT_EQ(flag.code, 0) << flag.out;
+  const std::string eff_flag = ReadFile(dir + "/flag/drive.effective.yaml");
+  EXPECT_NE(eff_flag.find("seed: 9\n"), std::string::npos) << eff_flag;
+  EXPECT_NE(eff_flag.find("max_time: 4.5\n"), std::string::npos) << eff_flag;
+  const Result none = Mopad(base + "--max-time 2.5 -o " + dir + "/default");
+  ASSERT_EQ(none.code, 0) << none.out;
+  const std::string eff_default = ReadFile(dir + "/default/drive.effective.yaml");
+  EXPECT_NE(eff_default.find("seed: 1\n"), std::string::npos) << eff_default;
+  EXPECT_NE(eff_default.find("max_time: 2.5\n"), std::string::npos) << eff_default;
+}

@@ -1,0 +1,24 @@
+#pragma once
+// Plane polygons: the one point-in-polygon test of the tree (robot and world side alike).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace mopad {
+
+/// True when `p` lies inside the simple polygon `polygon` (any winding, even-odd rule; points
+/// exactly on an edge may go either way). An empty polygon contains nothing.
+inline bool PointInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& polygon) {
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      inside = !inside;
+  }
+  return inside;
+}
+
+}  // namespace mopad
