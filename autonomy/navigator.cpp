@@ -83,17 +83,13 @@ perception::AmclParams NavigatorParams::DefaultAmcl() {
   // and a random particle in the twin room can win one poor update. Real loss is still caught
   // by the inlier test, which starts a global re-localisation.
   p.recovery_alpha_slow = 0.0;
-  // Beams ending on wall faces the map lacks (the hall side of a wall entered through its door)
-  // pulled the estimate up to 0.1 m back towards the mapped face (office_5rooms, issue 4 note).
+  // Beams ending on wall faces the map lacks (the far side of a wall entered through its door)
+  // must not pull the estimate back towards the mapped face.
   p.unknown_endpoint_distance = 0.1;
-  // A likelihood field with a 5 cm hit sigma over 60 beams (independent in the model, not in
-  // the world) collapsed the weights onto a handful of particles (N_eff 4 of 300) whose mean
-  // then walked 15-20 cm along the direction of travel when approaching a door; and the ROS
-  // default motion noise (alpha 0.05, 22 % of the distance driven as std) let it. The odometry
-  // here errs by about 1 % (radius and track errors, slip): alpha3 0.01 (10 %) and alpha1
-  // 0.02 still cover it. office_5rooms route, seeds 1-10 (issue 4 note, 2026-11-24), together
-  // with door_exit_scan_distance and trust_constrained_registration: localisation RMS 5.6-21 cm
-  // before, 1.2-17 cm after with 5 of the 10 seeds under 3 cm.
+  // Beams are not independent in the world: a wide hit sigma over few beams keeps the weights
+  // from collapsing onto a handful of particles. The motion noise is sized to the odometry's
+  // error (about 1 % of the distance: radius and track errors, slip) with margin.
+  // docs/navigation.md (localisation) has the measurements behind these values.
   p.sigma_hit = 0.2;
   p.max_beams = 30;
   p.odom_alpha1 = 0.02;
@@ -121,19 +117,12 @@ LocalControllerParams NavigatorParams::DefaultController() {
 
 perception::IcpParams NavigatorParams::DefaultIcp() {
   perception::IcpParams p;
-  // A scan taken on entering a room or far down a corridor sees mostly new space: a scan just
-  // beyond a door (door_exit_scan_distance) has 0.15-0.3 of its points in the earlier scans
-  // (office_5rooms: D3 0.19, D1 0.23-0.29), and its registration is right (rmse 9 mm; at D1,
-  // seed 3, it moved AMCL's pose 9 cm onto the truth). Refused, AMCL's pose of the moment
-  // became that room's map. The residual, free-space and conditioning checks and the fixed
-  // correction bound still guard against a wrong pose. Route seeds 1-10 (issue 4 note,
-  // 2026-11-24): 0.25 -> 0.15 took the passes from 3 to 6 (localisation RMS 1.0-2.5 cm
-  // instead of 3.5-10.7 cm in seeds 2, 3, 5).
+  // A scan just beyond a door sees mostly new space: 0.15-0.3 of its points lie in the
+  // earlier scans, and its registration is still right. The residual, free-space and
+  // conditioning checks and the correction bound guard against a wrong pose.
   p.min_fitness = 0.15;
-  // Free-space violations of right registrations here reach 0.007-0.008 (a scan beyond a door,
-  // its new room seen past the earlier scans' door-frame rays); poses 90 or 180 deg off give
-  // 0.012 and more (IcpParams), and corrections beyond max_registration_correction are refused
-  // anyway. 0.006 -> 0.01: office_5rooms seed 7 localisation RMS 5.1 -> 1.0 cm.
+  // Right registrations of a scan beyond a door reach violations of 0.007-0.008 (its new room
+  // seen past the earlier scans' door-frame rays); poses 90 or 180 deg off give 0.012 and more.
   p.max_free_space_violation = 0.01;
   // The prior is AMCL's (centimetres off), not odometry's: no 1 m first stage, whose wide
   // basin let a hall scan slide 0.2 m along the corridor onto the next door frame.
@@ -226,9 +215,7 @@ struct Navigator::Impl {
   // Robot side: one turn on the spot, mapping the LRF sweeps. The LRFs see 270 deg and the TLS
   // nothing within its minimum range (1.5 m for the VZ-400), so a wall close behind the base
   // stays unknown at a scan position, and an optimistic route can leave the room through it
-  // (office_5rooms, a start in R5 facing away from its east wall 0.9 m behind: the route ran
-  // out of the building, and every point of it in the known space was at the scan, "no
-  // progress"). Turns as far as the base LRF and the map leave room, up to 360 deg.
+  // (docs/navigation.md, the look-around). Turns as far as the base LRF and the map leave room, up to 360 deg.
   void LookAround() {
     looked_around = true;
     const double start_time = t;

@@ -15,30 +15,12 @@
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
 #include "tools/commands.h"
-#include "tools/scene_paths.h"
+#include "sim/scene_world.h"
 
 namespace mopad::tools {
 namespace {
 
 namespace fs = std::filesystem;
-
-Pose2 ParsePose(const std::string& opt, const std::string& text) {
-  std::stringstream ss(text);
-  std::string item;
-  std::vector<double> v;
-  while (std::getline(ss, item, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw InputError(opt + ": error: bad number; got '" + text + "', expected x,y,yaw_deg");
-    }
-  }
-  if (v.size() != 3)
-    throw InputError(opt + ": error: wrong count; got '" + text + "', expected x,y,yaw_deg");
-  return Pose2{v[0], v[1], DegToRad(v[2])};
-}
 
 }  // namespace
 
@@ -76,9 +58,9 @@ void RegisterDriveCommand(CLI::App& app) {
     OverrideIfGiven(seed_opt, *seed, params.seed);
     OverrideIfGiven(max_time_opt, *max_time, params.navigator.max_time);
     mission::DriveRequest req;
-    req.X_WB_start = ParsePose("--from", *from);
-    req.X_WB_goal = ParsePose("--to", *to);
-    for (const auto& v : *via) req.via.push_back(ParsePose("--via", v));
+    req.X_WB_start = ParsePoseArg("--from", *from);
+    req.X_WB_goal = ParsePoseArg("--to", *to);
+    for (const auto& v : *via) req.via.push_back(ParsePoseArg("--via", v));
     if (!kidnap->empty()) {
       const auto comma = kidnap->find(',');
       if (comma == std::string::npos)
@@ -89,34 +71,11 @@ void RegisterDriveCommand(CLI::App& app) {
         throw InputError("--kidnap: error: bad time; got '" + *kidnap + "', expected T,x,y,yaw_deg");
       }
       if (!(req.kidnap_time > 0.0)) throw InputError("--kidnap: error: T must be > 0; got '" + *kidnap + "'");
-      req.kidnap_to = ParsePose("--kidnap", kidnap->substr(comma + 1));
+      req.kidnap_to = ParsePoseArg("--kidnap", kidnap->substr(comma + 1));
     }
 
-    std::optional<sim::EmbreeWorld> world;
-    const std::string ext = fs::path(*scene).extension().string();
-    if (ext == ".yaml" || ext == ".yml") {
-      scenes::SceneSpec spec = scenes::LoadSceneSpec(*scene);
-      for (const auto& d : *doors) {
-        const auto eq = d.find('=');
-        bool found = false;
-        if (eq != std::string::npos)
-          for (auto& door : spec.doors)
-            if (door.id == d.substr(0, eq)) door.angle_deg = std::stod(d.substr(eq + 1)), found = true;
-        if (!found)
-          throw InputError("--door: error: unknown door or bad syntax; got '" + d +
-                           "', expected ID=DEG with ID a door of the spec");
-      }
-      scenes::GeneratedScene g = scenes::Generate(spec);
-      const scenes::GroundTruth truth = g.truth;
-      world.emplace(std::move(g.scene), &truth);
-    } else {
-      if (!doors->empty()) throw InputError("--door: error: only with a scene spec (.yaml)");
-      const ScenePaths paths = ResolveScene(*scene);
-      std::optional<scenes::GroundTruth> truth;
-      if (paths.truth) truth = scenes::ReadGroundTruth(*paths.truth);
-      world.emplace(scenes::LoadScene(paths.geometry), truth ? &*truth : nullptr);
-    }
-    const mission::DriveResult r = mission::RunDrive(*world, params, req);
+    const sim::SceneWorld world = sim::LoadSceneWorld(*scene, *doors);
+    const mission::DriveResult r = mission::RunDrive(*world.world, params, req);
     mission::WriteDriveOutputs(r, params, req, *out);
     std::printf("%s: %s\n", mission::ToString(r.status), r.message.c_str());
     std::printf("final error %.3f m / %.2f deg; localisation RMS %.3f m, max %.3f m; contacts %d; "

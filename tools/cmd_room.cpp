@@ -11,8 +11,8 @@
 #include "common/params.h"
 #include "mission/room_mission.h"
 #include "tools/commands.h"
-#include "tools/mission_world.h"
-#include "tools/room_eval.h"
+#include "sim/scene_world.h"
+#include "mission/room_job.h"
 
 namespace mopad::tools {
 void RegisterRoomCommand(CLI::App& app) {
@@ -40,10 +40,10 @@ void RegisterRoomCommand(CLI::App& app) {
     if (!config->empty()) params = LoadParamsFile<mission::RoomMissionParams>(*config);
     OverrideIfGiven(seed_opt, *seed, params.drive.seed);
     ValidateParams(params, "room.");
-    const MissionWorld mw = LoadMissionWorld(*scene);
+    const sim::SceneWorld mw = sim::LoadSceneWorld(*scene);
     std::optional<Pose2> start;
     if (!from->empty()) start = ParsePoseArg("--from", *from);
-    const RoomJob job = RunRoomJob(mw, *room, params, start, *out, !*no_eval);
+    const mission::RoomJob job = mission::RunRoomJob(mw, *room, params, start, *out, !*no_eval);
     const mission::RoomMissionResult& res = job.mission;
     std::printf("room %s: %zu scans; %s\n", room->c_str(), res.scans.size(),
                 res.stop_reason.c_str());
@@ -55,7 +55,7 @@ void RegisterRoomCommand(CLI::App& app) {
                   s.registered ? "" : "  REGISTRATION FAILED");
     if (res.registration_failed) std::printf("registration failed for at least one scan\n");
     if (job.evaluation) {
-      const RoomEvaluation& e = *job.evaluation;
+      const mission::RoomEvaluation& e = *job.evaluation;
       std::printf("evaluation: coverage %.3f of observable (%.1f m2), %.3f of total (%.1f m2); "
                   "registration error max %.4f m / %.4f deg; SM1 labels %.4f agree (%llu points)\n",
                   e.coverage.room.ShareOfObservable(), e.observable_area,

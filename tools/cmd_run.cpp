@@ -20,11 +20,12 @@
 #include "mission/room_mission.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
+#include "evaluation/run_evaluation.h"
 #include "tools/commands.h"
 #include "tools/default_scene.h"
-#include "tools/mission_world.h"
+#include "sim/scene_world.h"
 #include "tools/report.h"
-#include "tools/room_eval.h"
+#include "mission/room_job.h"
 #include "tools/scene_summary.h"
 
 namespace mopad::tools {
@@ -89,7 +90,7 @@ void RegisterRunCommand(CLI::App& app) {
                 "components, %zu triangles (%.2f s)\n",
                 spec.name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
                 summary.bsc_total, summary.triangles, t_generate);
-    const MissionWorld mw = LoadMissionWorld((dir / "scene").string());
+    const sim::SceneWorld mw = sim::LoadSceneWorld((dir / "scene").string());
     std::vector<std::string> room_ids = *rooms;
     if (room_ids.empty())
       for (const auto& r : mw.truth->rooms) room_ids.push_back(r.id);
@@ -110,7 +111,7 @@ void RegisterRunCommand(CLI::App& app) {
     for (const std::string& id : room_ids) {
       t0 = Clock::now();
       const std::string room_dir = (dir / "rooms" / id).string();
-      const RoomJob job = RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
+      const mission::RoomJob job = mission::RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
       const double t_room = Seconds(t0);
       const auto& m = job.mission;
       double max_proc = 0.0;
@@ -119,7 +120,7 @@ void RegisterRunCommand(CLI::App& app) {
       const double robot_cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.ratio;
       std::ifstream sf(fs::path(room_dir) / "summary.json");
       const auto drive = nlohmann::json::parse(sf);
-      const RoomEvaluation& e = *job.evaluation;
+      const mission::RoomEvaluation& e = *job.evaluation;
       std::printf("room %s: %zu scans, robot coverage %.3f; evaluation: %.3f of observable, %.3f "
                   "of total, registration max %.1f mm / %.3f deg, labels %.4f (%.1f s)\n",
                   id.c_str(), m.scans.size(), robot_cov, e.coverage.room.ShareOfObservable(),
@@ -157,7 +158,7 @@ void RegisterRunCommand(CLI::App& app) {
     // 3. The models against the truth (`mopad eval` over every room): eval/.
     t0 = Clock::now();
     std::printf("models against the truth (mopad eval):\n");
-    EvaluateModels(dir.string(), "", "", (dir / "eval").string());
+    std::fputs(evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string()).c_str(), stdout);
     const double t_eval = Seconds(t0);
     nlohmann::json ev_summary;
     {

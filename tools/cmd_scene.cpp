@@ -17,7 +17,7 @@
 #include "scenes/scene_loader.h"
 #include "scenes/scene_spec.h"
 #include "tools/commands.h"
-#include "tools/scene_paths.h"
+#include "scenes/scene_paths.h"
 #include "tools/scene_summary.h"
 
 namespace mopad::tools {
@@ -76,7 +76,7 @@ void RegisterSceneCommands(CLI::App& app) {
         ->required();
     cmd->add_flag("--json", *json, "Print JSON instead of a table");
     cmd->callback([=] {
-      const ScenePaths p = ResolveScene(*path);
+      const scenes::ScenePaths p = scenes::ResolveScene(*path);
       const scenes::Scene sc = scenes::LoadScene(p.geometry);
       std::optional<scenes::GroundTruth> truth;
       if (p.truth) truth = scenes::ReadGroundTruth(*p.truth);
@@ -94,7 +94,7 @@ void RegisterSceneCommands(CLI::App& app) {
     cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")
         ->required();
     cmd->callback([=] {
-      const ScenePaths p = ResolveScene(*path);
+      const scenes::ScenePaths p = scenes::ResolveScene(*path);
       if (!p.truth)
         throw InputError(*path, "no ground truth next to the scene", "",
                          "scene.truth.json beside scene.glb");

@@ -7,6 +7,8 @@
 
 #include <string>
 
+#include "common/frames.h"
+
 namespace mopad::tools {
 
 void RegisterSceneCommands(CLI::App& app);  // scene generate|random|info|validate|catalogue
@@ -16,6 +18,10 @@ void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
 void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one room -> SM1
 void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
 
+/// Parses "x,y,yaw_deg" (a CLI pose option, degrees at the human edge); InputError naming
+/// `opt` otherwise.
+Pose2 ParsePoseArg(const std::string& opt, const std::string& text);
+
 /// Parameter precedence, the same for every command (docs/architecture.md): a flag given on the
 /// command line, over the --config file, over the built-in default. `field` takes `value` only
 /// when `option` was given.
@@ -24,10 +30,5 @@ void OverrideIfGiven(const CLI::Option* option, const T& value, T& field) {
   if (option->count() > 0) field = value;
 }
 
-/// `mopad eval`'s work (docs/evaluation.md): scores the models of RUN_DIR (a room run or a
-/// main-job folder) against the truth, writes OUT (default RUN_DIR/eval) and prints the table.
-/// `truth_file` / `config` may be empty. Throws InputError for bad input.
-void EvaluateModels(const std::string& run_dir, const std::string& truth_file,
-                    const std::string& config, const std::string& out);
 
 }  // namespace mopad::tools

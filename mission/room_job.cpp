@@ -1,4 +1,4 @@
-#include "tools/room_eval.h"
+#include "mission/room_job.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,9 +6,9 @@
 #include <fstream>
 
 #include "common/error.h"
-#include "tools/model_export.h"
+#include "mission/model_export.h"
 
-namespace mopad::tools {
+namespace mopad::mission {
 
 autonomy::ScanHook Sm1TruthCollector::Hook() {
   return [this](int index, const interfaces::TlsScan& scan) {
@@ -24,8 +24,8 @@ autonomy::ScanHook Sm1TruthCollector::Hook() {
 }
 
 RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
-                            const std::string& room, const mission::RobotSession& session,
-                            const mission::RoomMissionResult& result,
+                            const std::string& room, const RobotSession& session,
+                            const RoomMissionResult& result,
                             const modelling::RoomModel& model,
                             const std::vector<evaluation::Sm1Label>& truth_labels) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -38,7 +38,7 @@ RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundT
   e.observable_area = obs.observable_area;
   e.total_area = obs.total_area;
   const auto& truths = session.ScanTruths();
-  for (const mission::RoomScanLog& s : result.scans) {
+  for (const RoomScanLog& s : result.scans) {
     // Every scan is scored, also those ICP refused (their pose is the prior).
     const evaluation::PoseError pe = evaluation::ScanRegistrationError(
         s.X_MS, X_WM, truths.at(static_cast<std::size_t>(s.session_scan)));
@@ -78,8 +78,8 @@ nlohmann::ordered_json ToJson(const RoomEvaluation& e) {
   return j;
 }
 
-RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
-                   const mission::RoomMissionParams& params,
+RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
+                   const RoomMissionParams& params,
                    const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate) {
   if (!mw.truth)
     throw InputError("room: error: the scene has no truth sidecar; got no rooms, expected a "
@@ -95,15 +95,15 @@ RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
   if (start_W) {
     job.start_W = *start_W;
   } else {
-    const Eigen::Vector2d xy = FreeSpotInRoom(*mw.truth, *r);
+    const Eigen::Vector2d xy = sim::FreeSpotInRoom(*mw.truth, *r);
     job.start_W = Pose2{xy.x(), xy.y(), 0.0};
   }
-  mission::RobotSession session(*mw.world, params.drive, job.start_W);
+  RobotSession session(*mw.world, params.drive, job.start_W);
   modelling::RoomModel model(params.model);
   Sm1TruthCollector labels(session, *mw.truth, room);
-  job.mission = mission::RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
+  job.mission = RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   const modelling::StructuralModel sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
-  mission::WriteRoomOutputs(job.mission, params, session, model, sm3, dir);
+  WriteRoomOutputs(job.mission, params, session, model, sm3, dir);
   WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
   WriteModelsGlb(sm3, room, (std::filesystem::path(dir) / "models.glb").string());
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
@@ -125,4 +125,4 @@ RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
   return job;
 }
 
-}  // namespace mopad::tools
+}  // namespace mopad::mission

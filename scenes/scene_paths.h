@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-namespace mopad::tools {
+namespace mopad::scenes {
 
 struct ScenePaths {
   std::string geometry;             ///< file to load
@@ -16,4 +16,4 @@ struct ScenePaths {
 /// Throws InputError if the path does not exist or a folder lacks scene.glb.
 ScenePaths ResolveScene(const std::string& arg);
 
-}  // namespace mopad::tools
+}  // namespace mopad::scenes

@@ -1,4 +1,4 @@
-#include "tools/model_export.h"
+#include "mission/model_export.h"
 
 #include <nlohmann/json.hpp>
 
@@ -10,9 +10,9 @@
 #include "scenes/gltf_writer.h"
 #include "scenes/scene.h"
 
-namespace mopad::tools {
+namespace mopad::mission {
 
-void WriteRunJson(const std::string& dir, const MissionWorld& mw, const std::string& room,
+void WriteRunJson(const std::string& dir, const sim::SceneWorld& mw, const std::string& room,
                   std::uint64_t seed, const Pose3& X_WM) {
   nlohmann::ordered_json j;
   j["format"] = "mopad-room-run";
@@ -35,7 +35,7 @@ void WriteRunJson(const std::string& dir, const MissionWorld& mw, const std::str
 void WriteModelsGlb(const modelling::StructuralModel& sm3, const std::string& room,
                     const std::string& path) {
   scenes::Scene scene;
-  scene.source = path;
+  scene.source = "robot model of room " + room;  // the glTF scene name: not the output path (same run, same bytes)
   struct ClassStyle {
     modelling::PatchClass cls;
     scenes::ElementClass element;
@@ -82,4 +82,4 @@ void WriteModelsGlb(const modelling::StructuralModel& sm3, const std::string& ro
   scenes::WriteGlb(scene, path);
 }
 
-}  // namespace mopad::tools
+}  // namespace mopad::mission

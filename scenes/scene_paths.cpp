@@ -1,8 +1,8 @@
-#include "tools/scene_paths.h"
+#include "scenes/scene_paths.h"
 
 #include "common/error.h"
 
-namespace mopad::tools {
+namespace mopad::scenes {
 
 ScenePaths ResolveScene(const std::string& arg) {
   namespace fs = std::filesystem;
@@ -33,4 +33,4 @@ ScenePaths ResolveScene(const std::string& arg) {
   return out;
 }
 
-}  // namespace mopad::tools
+}  // namespace mopad::scenes

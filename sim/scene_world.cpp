@@ -1,5 +1,5 @@
 #include "common/polygon.h"
-#include "tools/mission_world.h"
+#include "sim/scene_world.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -9,9 +9,9 @@
 #include "scenes/generator.h"
 #include "scenes/scene_loader.h"
 #include "scenes/scene_spec.h"
-#include "tools/scene_paths.h"
+#include "scenes/scene_paths.h"
 
-namespace mopad::tools {
+namespace mopad::sim {
 namespace {
 
 double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
@@ -23,27 +23,9 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 
 }  // namespace
 
-Pose2 ParsePoseArg(const std::string& opt, const std::string& text) {
-  std::stringstream ss(text);
-  std::string item;
-  std::vector<double> v;
-  while (std::getline(ss, item, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw InputError(opt + ": error: bad number; got '" + text + "', expected x,y,yaw_deg");
-    }
-  }
-  if (v.size() != 3)
-    throw InputError(opt + ": error: wrong count; got '" + text + "', expected x,y,yaw_deg");
-  return Pose2{v[0], v[1], DegToRad(v[2])};
-}
-
-MissionWorld LoadMissionWorld(const std::string& scene_arg,
+SceneWorld LoadSceneWorld(const std::string& scene_arg,
                               const std::vector<std::string>& door_overrides) {
-  MissionWorld out;
+  SceneWorld out;
   out.source = std::filesystem::absolute(scene_arg).lexically_normal().string();
   out.door_overrides = door_overrides;
   const std::string ext = std::filesystem::path(scene_arg).extension().string();
@@ -68,13 +50,13 @@ MissionWorld LoadMissionWorld(const std::string& scene_arg,
     }
     scenes::GeneratedScene g = scenes::Generate(spec);
     out.truth = std::move(g.truth);
-    out.world = std::make_unique<sim::EmbreeWorld>(std::move(g.scene), &*out.truth);
+    out.world = std::make_unique<EmbreeWorld>(std::move(g.scene), &*out.truth);
     return out;
   }
   if (!door_overrides.empty()) throw InputError("--door: error: only with a scene spec (.yaml)");
-  const ScenePaths paths = ResolveScene(scene_arg);
+  const scenes::ScenePaths paths = scenes::ResolveScene(scene_arg);
   if (paths.truth) out.truth = scenes::ReadGroundTruth(*paths.truth);
-  out.world = std::make_unique<sim::EmbreeWorld>(scenes::LoadScene(paths.geometry),
+  out.world = std::make_unique<EmbreeWorld>(scenes::LoadScene(paths.geometry),
                                                  out.truth ? &*out.truth : nullptr);
   return out;
 }
@@ -110,4 +92,4 @@ Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::R
   return best;
 }
 
-}  // namespace mopad::tools
+}  // namespace mopad::sim

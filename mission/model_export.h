@@ -7,15 +7,15 @@
 
 #include "common/frames.h"
 #include "modelling/structural_model.h"
-#include "tools/mission_world.h"
+#include "sim/scene_world.h"
 
-namespace mopad::tools {
+namespace mopad::mission {
 
-void WriteRunJson(const std::string& dir, const MissionWorld& mw, const std::string& room,
+void WriteRunJson(const std::string& dir, const sim::SceneWorld& mw, const std::string& room,
                   std::uint64_t seed, const Pose3& X_WM);
 
 /// SM3 as glTF 2.0 binary (map frame, Z-up converted by the scene writer's root node).
 void WriteModelsGlb(const modelling::StructuralModel& sm3, const std::string& room,
                     const std::string& path);
 
-}  // namespace mopad::tools
+}  // namespace mopad::mission

@@ -18,22 +18,22 @@
 #include "mission/robot_session.h"
 #include "scenes/ground_truth.h"
 #include "sim/embree_world.h"
-#include "tools/mission_world.h"
+#include "sim/scene_world.h"
 
-namespace mopad::tools {
+namespace mopad::mission {
 
 /// Collects the truth label of every valid return of every scan, in the order the RoomModel
 /// stores its points (column by column, as in the scan PLY) (pass Hook() to RunRoomMission).
 class Sm1TruthCollector {
  public:
-  Sm1TruthCollector(const mission::RobotSession& session, const scenes::GroundTruth& truth,
+  Sm1TruthCollector(const RobotSession& session, const scenes::GroundTruth& truth,
                     std::string room)
       : session_(session), truth_(truth), room_(std::move(room)) {}
   autonomy::ScanHook Hook();
   const std::vector<evaluation::Sm1Label>& Labels() const { return labels_; }
 
  private:
-  const mission::RobotSession& session_;
+  const RobotSession& session_;
   const scenes::GroundTruth& truth_;
   std::string room_;
   std::vector<evaluation::Sm1Label> labels_;
@@ -50,8 +50,8 @@ struct RoomEvaluation {
 };
 
 RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
-                            const std::string& room, const mission::RobotSession& session,
-                            const mission::RoomMissionResult& result,
+                            const std::string& room, const RobotSession& session,
+                            const RoomMissionResult& result,
                             const modelling::RoomModel& model,
                             const std::vector<evaluation::Sm1Label>& truth_labels);
 
@@ -63,15 +63,15 @@ nlohmann::ordered_json ToJson(const RoomEvaluation& e);
 struct RoomJob {
   std::string room;
   Pose2 start_W;                               ///< where the harness put the robot (world)
-  mission::RoomMissionResult mission;
+  RoomMissionResult mission;
   std::optional<RoomEvaluation> evaluation;
   std::vector<Eigen::Vector3d> scan_positions_W;  ///< true scanner centres (world), for plots
   std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height (world)
   modelling::LabelCounts labels;
   std::size_t points = 0;
 };
-RoomJob RunRoomJob(const MissionWorld& mw, const std::string& room,
-                   const mission::RoomMissionParams& params,
+RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
+                   const RoomMissionParams& params,
                    const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate);
 
-}  // namespace mopad::tools
+}  // namespace mopad::mission

@@ -1,5 +1,5 @@
 #pragma once
-// The world a mission runs in, as the CLI builds it (truth side, tools only): a SCENE argument
+// The world a mission runs in, from a SCENE argument (truth side): a SCENE argument
 // (generated folder, scene file, or spec .yaml with optional door-angle overrides) becomes an
 // Embree world plus the truth sidecar when there is one. Also the harness's start placement.
 
@@ -13,18 +13,18 @@
 #include "scenes/ground_truth.h"
 #include "sim/embree_world.h"
 
-namespace mopad::tools {
+namespace mopad::sim {
 
-struct MissionWorld {
+struct SceneWorld {
   std::string source;                        ///< the SCENE argument, absolute
   std::vector<std::string> door_overrides;   ///< "ID=DEG" applied to a spec
   std::optional<scenes::GroundTruth> truth;  ///< absent for scenes without a sidecar
-  std::unique_ptr<sim::EmbreeWorld> world;
+  std::unique_ptr<EmbreeWorld> world;
 };
 
 /// Loads `scene_arg`. `door_overrides` are "ID=DEG" strings, allowed with a spec only.
 /// Throws InputError on unknown doors, bad syntax or unloadable scenes.
-MissionWorld LoadMissionWorld(const std::string& scene_arg,
+SceneWorld LoadSceneWorld(const std::string& scene_arg,
                               const std::vector<std::string>& door_overrides = {});
 
 /// Harness placement from the truth (never given to the robot as knowledge): the point of a
@@ -32,7 +32,4 @@ MissionWorld LoadMissionWorld(const std::string& scene_arg,
 /// inaccessibility"). Deterministic.
 Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::Room& room);
 
-/// Parses "x,y,yaw_deg" (a CLI pose option); InputError naming `opt` otherwise.
-Pose2 ParsePoseArg(const std::string& opt, const std::string& text);
-
-}  // namespace mopad::tools
+}  // namespace mopad::sim

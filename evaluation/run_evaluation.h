@@ -1,0 +1,16 @@
+#pragma once
+// `mopad eval`'s work (docs/evaluation.md): the models of a run folder (a room run, or a main-job
+// folder with rooms/*/run.json) scored against the scene's truth.
+
+#include <string>
+
+namespace mopad::evaluation {
+
+/// Scores the models of `run_dir` against the truth (`truth_file` overrides the scene's sidecar;
+/// `config` is an optional YAML of evaluation parameters; both may be empty) and writes
+/// `out` (default run_dir/eval): evaluation.json, evaluation.md, isprs_*.svg, dsm3_truth_*.ply.
+/// Returns the tables printed by `mopad eval`. Throws InputError for bad input.
+std::string EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
+                        const std::string& out);
+
+}  // namespace mopad::evaluation
