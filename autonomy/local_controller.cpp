@@ -50,6 +50,14 @@ namespace {
 constexpr double kMapObstacleRadius = 1.0;
 // m: obstacles an escape manoeuvre (two arcs of at most 0.8 m) can meet.
 constexpr double kEscapeRadius = 2.2;
+// Checks of the recovery motions: back-up free travel looked at (m) and the least that lets it
+// go on (m), the turn a recovery rotation must have free (rad), the free travel an escape arc
+// needs to go on (m), and how close to its length an arc counts as driven (m).
+constexpr double kBackUpCheck = 0.3;
+constexpr double kBackUpMinFree = 0.05;
+constexpr double kRotateCheck = 0.2;
+constexpr double kEscapeMinFree = 0.02;
+constexpr double kArcEndTolerance = 0.005;
 
 std::string Fmt(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0) {
   char buf[256];
@@ -396,351 +404,394 @@ ControlOutput LocalController::AfterRecoveryMotion(double time, const Pose2& X_M
   return out;
 }
 
-ControlOutput LocalController::Update(double time, const Pose2& X_MB, LocalisationStatus loc,
-                                      const interfaces::LrfScan& scan) {
-  const LocalControllerParams& P = params_;
-  if (mode_ == Mode::kDone) return terminal_;
-  const double dt = last_time_ ? std::max(0.0, time - *last_time_) : 0.0;
+// ---- One control step: one function per mode, in the order Update runs them.
+
+LocalController::Step LocalController::BeginStep(double time, const Pose2& X_MB, const interfaces::LrfScan& scan) {
+  Step c;
+  c.time = time;
+  c.X_MB = X_MB;
+  c.dt = last_time_ ? std::max(0.0, time - *last_time_) : 0.0;
   if (!last_time_) {
     anchor_pose_ = X_MB;
     anchor_time_ = time;
   }
   last_time_ = time;
-  auto emit = [&](ControlOutput out, bool limit = true) {
-    out.cmd = limit ? Limit(out.cmd, dt) : out.cmd;
-    out.recoveries = recoveries_;
-    last_cmd_ = out.cmd;
-    return out;
-  };
-
   // LRF returns in base_link, each range the median of its neighbours' (a scanner's range
-  // noise, 3 cm here, would otherwise put the nearest of many returns 2-3 sigma too close).
-  const std::vector<Vec2> pts = BasePoints(scan);
+  // noise would otherwise put the nearest of many returns 2-3 sigma too close).
+  c.pts = BasePoints(scan);
+  return c;
+}
 
-  // The map's obstacles near the base, in base_link, with the LRF returns: `around()`, for
-  // the motions the LRFs do not cover (looked up only when such a motion is checked).
-  std::optional<std::vector<Vec2>> around_pts;
-  auto around = [&]() -> const std::vector<Vec2>& {
-    if (!around_pts) {
-      around_pts = pts;
-      if (map_obstacles_)
-        for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) around_pts->push_back(InFrame(X_MB, q));
-    }
-    return *around_pts;
-  };
+// The map's obstacles near the base, in base_link, with the LRF returns: for the motions the
+// LRFs do not cover (looked up only when such a motion is checked).
+const std::vector<Vec2>& LocalController::Around(Step& c) const {
+  if (!c.around) {
+    c.around = c.pts;
+    if (map_obstacles_)
+      for (const Vec2& q : map_obstacles_(c.X_MB, kMapObstacleRadius)) c.around->push_back(InFrame(c.X_MB, q));
+  }
+  return *c.around;
+}
 
-  // Localisation first: never drive on a pose the filter does not trust.
+ControlOutput LocalController::Emit(const Step& c, ControlOutput out, bool limit) {
+  out.cmd = limit ? Limit(out.cmd, c.dt) : out.cmd;
+  out.recoveries = recoveries_;
+  last_cmd_ = out.cmd;
+  return out;
+}
+
+void LocalController::ResetAnchor(const Step& c) {
+  anchor_pose_ = c.X_MB;
+  anchor_time_ = c.time;
+}
+
+// Localisation first: never drive on a pose the filter does not trust.
+std::optional<ControlOutput> LocalController::LocalisationStep(Step& c, LocalisationStatus loc) {
+  const LocalControllerParams& P = params_;
   if (loc == LocalisationStatus::kLost || loc == LocalisationStatus::kRelocalising ||
       loc == LocalisationStatus::kNotInitialised) {
-    if (!lost_since_) lost_since_ = time;
-    if (time - *lost_since_ > P.lost_timeout) {
-      return Finish(NavStatus::kLocalisationLost,
-                    Fmt("localisation lost for %.0f s (AMCL: ", time - *lost_since_) +
-                        perception::ToString(loc) + "); stopped");
+    if (!lost_since_) lost_since_ = c.time;
+    if (c.time - *lost_since_ > P.lost_timeout) {
+      return Finish(NavStatus::kLocalisationLost, Fmt("localisation lost for %.0f s (AMCL: ", c.time - *lost_since_) +
+                                                      perception::ToString(loc) + "); stopped");
     }
     ControlOutput out;
     out.status = NavStatus::kLocalisationLost;
-    const bool can_turn = FreeTravel(around(), 0.0, 1.0, P.stop_distance, 0.3) >= 0.3;
+    const bool can_turn =
+        FreeTravel(Around(c), 0.0, 1.0, P.stop_distance, P.lost_turn_check) >= P.lost_turn_check;
     out.cmd = {0.0, can_turn ? P.lost_rotation_speed : 0.0};
     out.message = std::string("localisation ") + perception::ToString(loc) +
                   (can_turn ? ": rotating in place to re-localise" : ": stopped (no room to rotate)");
-    anchor_pose_ = X_MB;
-    anchor_time_ = time;
-    return emit(out);
+    ResetAnchor(c);
+    return Emit(c, out);
   }
   if (lost_since_) {  // re-localised: the pose may have jumped, so pick the path up again
     lost_since_.reset();
     closest_ = 0;
-    anchor_pose_ = X_MB;
-    anchor_time_ = time;
+    ResetAnchor(c);
     if (replan_) {
-      const GlobalPlan plan = replan_(X_MB, {});
+      const GlobalPlan plan = replan_(c.X_MB, {});
       if (plan.ok()) InstallPlan(plan);
     }
   }
+  return std::nullopt;
+}
 
-  // Recovery motions.
-  if (mode_ == Mode::kBackUp) {
-    const double moved = std::hypot(X_MB.x - recovery_start_.x, X_MB.y - recovery_start_.y);
-    const double free = FreeTravel(around(), -P.backup_speed, 0.0, P.stop_distance, 0.3);
-    if (moved >= P.backup_distance || free < 0.05 || time - anchor_time_ > P.stuck_timeout) {
-      return emit(AfterRecoveryMotion(time, X_MB, pts));
-    }
-    ControlOutput out;
-    out.status = NavStatus::kRecovering;
-    out.cmd = {-P.backup_speed, 0.0};
-    out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
-    return emit(out);
-  }
-  if (mode_ == Mode::kEscape) {
-    // Length driven along this arc, from the chord and the turn since its start.
-    const double chord = std::hypot(X_MB.x - escape_arc_start_.x, X_MB.y - escape_arc_start_.y);
-    const double half_turn = 0.5 * std::abs(WrapAngle(X_MB.yaw - escape_arc_start_.yaw));
-    double driven = half_turn > 1e-3 ? chord * half_turn / std::sin(half_turn) : chord;
-    if (driven >= escape_[escape_arc_].length - 0.005) {
-      if (++escape_arc_ == escape_.size()) {
-        // Done: a path from here (the old one may start with the narrow stretch just left).
-        turn_blocked_ = false;
-        return emit(AfterRecoveryMotion(time, X_MB, pts));
-      }
-      escape_arc_start_ = X_MB;
-      driven = 0.0;
-    }
-    const ArcMove& b = escape_[escape_arc_];
-    const double left = b.length - driven;
-    const double free = FreeTravel(around(), b.v, b.w, P.passage_side_margin, std::clamp(left, 0.05, 0.3));
-    if (free < 0.02 || time > escape_deadline_) {
-      return emit(AfterRecoveryMotion(time, X_MB, pts));  // the map or the LRF disagree: replan
-    }
-    ControlOutput out;
-    out.status = NavStatus::kRecovering;
-    out.cmd = {b.v, b.w};
-    out.message = Fmt("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
-                      static_cast<double>(escape_arc_ + 1), static_cast<double>(escape_.size()));
-    return emit(out);
-  }
-  if (mode_ == Mode::kRotate) {
-    recovery_turned_ += std::abs(WrapAngle(X_MB.yaw - recovery_last_yaw_));
-    recovery_last_yaw_ = X_MB.yaw;
-    const bool can_turn = FreeTravel(around(), 0.0, 1.0, P.stop_distance, 0.2) >= 0.2;
-    if (recovery_turned_ >= 2.0 * kPi || !can_turn || time - anchor_time_ > 4.0 * kPi / P.lost_rotation_speed) {
-      return emit(AfterRecoveryMotion(time, X_MB, pts));
-    }
-    ControlOutput out;
-    out.status = NavStatus::kRecovering;
-    out.cmd = {0.0, std::max(P.lost_rotation_speed, 0.3)};
-    out.message = Fmt("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_, RadToDeg(recovery_turned_));
-    return emit(out);
-  }
+ControlOutput LocalController::BackUpStep(Step& c) {
+  const LocalControllerParams& P = params_;
+  const double moved = std::hypot(c.X_MB.x - recovery_start_.x, c.X_MB.y - recovery_start_.y);
+  const double free = FreeTravel(Around(c), -P.backup_speed, 0.0, P.stop_distance, kBackUpCheck);
+  if (moved >= P.backup_distance || free < kBackUpMinFree || c.time - anchor_time_ > P.stuck_timeout)
+    return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));
+  ControlOutput out;
+  out.status = NavStatus::kRecovering;
+  out.cmd = {-P.backup_speed, 0.0};
+  out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
+  return Emit(c, out);
+}
 
-  // Progress along the path: closest point within a forward window.
-  {
-    double best = std::numeric_limits<double>::infinity();
-    std::size_t best_k = closest_;
-    const double s_max = path_[closest_].s + 2.0;
-    for (std::size_t k = closest_; k < path_.size() && path_[k].s <= s_max; ++k) {
+ControlOutput LocalController::EscapeStep(Step& c) {
+  const LocalControllerParams& P = params_;
+  // Length driven along this arc, from the chord and the turn since its start.
+  const double chord = std::hypot(c.X_MB.x - escape_arc_start_.x, c.X_MB.y - escape_arc_start_.y);
+  const double half_turn = 0.5 * std::abs(WrapAngle(c.X_MB.yaw - escape_arc_start_.yaw));
+  double driven = half_turn > 1e-3 ? chord * half_turn / std::sin(half_turn) : chord;
+  if (driven >= escape_[escape_arc_].length - kArcEndTolerance) {
+    if (++escape_arc_ == escape_.size()) {
+      // Done: a path from here (the old one may start with the narrow stretch just left).
+      turn_blocked_ = false;
+      return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));
+    }
+    escape_arc_start_ = c.X_MB;
+    driven = 0.0;
+  }
+  const ArcMove& b = escape_[escape_arc_];
+  const double left = b.length - driven;
+  const double free = FreeTravel(Around(c), b.v, b.w, P.passage_side_margin, std::clamp(left, 0.05, 0.3));
+  if (free < kEscapeMinFree || c.time > escape_deadline_)
+    return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));  // the map or the LRF disagree: replan
+  ControlOutput out;
+  out.status = NavStatus::kRecovering;
+  out.cmd = {b.v, b.w};
+  out.message = Fmt("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
+                    static_cast<double>(escape_arc_ + 1), static_cast<double>(escape_.size()));
+  return Emit(c, out);
+}
+
+ControlOutput LocalController::RotateStep(Step& c) {
+  const LocalControllerParams& P = params_;
+  recovery_turned_ += std::abs(WrapAngle(c.X_MB.yaw - recovery_last_yaw_));
+  recovery_last_yaw_ = c.X_MB.yaw;
+  const bool can_turn = FreeTravel(Around(c), 0.0, 1.0, P.stop_distance, kRotateCheck) >= kRotateCheck;
+  if (recovery_turned_ >= 2.0 * kPi || !can_turn || c.time - anchor_time_ > 4.0 * kPi / P.lost_rotation_speed)
+    return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));
+  ControlOutput out;
+  out.status = NavStatus::kRecovering;
+  out.cmd = {0.0, std::max(P.lost_rotation_speed, P.min_recovery_rotation_speed)};
+  out.message = Fmt("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_, RadToDeg(recovery_turned_));
+  return Emit(c, out);
+}
+
+// Progress along the path: the closest point within a forward window (the whole path when
+// the base is far off it, e.g. after a jump of the estimate).
+void LocalController::TrackProgress(const Pose2& X_MB) {
+  const LocalControllerParams& P = params_;
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_k = closest_;
+  const double s_max = path_[closest_].s + P.path_search_window;
+  for (std::size_t k = closest_; k < path_.size() && path_[k].s <= s_max; ++k) {
+    const double d = std::hypot(path_[k].pose.x - X_MB.x, path_[k].pose.y - X_MB.y);
+    if (d < best) {
+      best = d;
+      best_k = k;
+    }
+  }
+  if (best > P.path_reacquire_distance) {
+    for (std::size_t k = 0; k < path_.size(); ++k) {
       const double d = std::hypot(path_[k].pose.x - X_MB.x, path_[k].pose.y - X_MB.y);
       if (d < best) {
         best = d;
         best_k = k;
       }
     }
-    if (best > 1.0) {  // far off (e.g. after a jump): search the whole path
-      for (std::size_t k = 0; k < path_.size(); ++k) {
-        const double d = std::hypot(path_[k].pose.x - X_MB.x, path_[k].pose.y - X_MB.y);
-        if (d < best) {
-          best = d;
-          best_k = k;
-        }
-      }
-    }
-    closest_ = best_k;
   }
-  const double s_here = path_[closest_].s;
-  if (recoveries_ > 0 && s_here - s_at_last_recovery_ > 1.0) recoveries_ = 0;  // made good
+  closest_ = best_k;
+}
 
-  const Vec2 goal_p(goal_.x, goal_.y);
+// The passage the base is in or approaching; passages it is through are marked done.
+LocalController::PassageState* LocalController::CurrentPassage(const Vec2& here, double s_here) {
+  const LocalControllerParams& P = params_;
+  for (auto& p : passages_) {
+    if (p.done) continue;
+    // Through: the body's rear past the narrowest point, along the path or along the passage
+    // axis; or at the end of a path that ends in or just beyond the passage (a scan stop after
+    // a door): the crossing only follows the axis and would drive on past the goal.
+    const double through = 0.5 * P.footprint_length + P.passage_exit_clearance;
+    const Vec2 ax(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
+    if (s_here > p.passage.s + through || ax.dot(here - p.passage.centre) > through ||
+        (closest_ + 1 == path_.size() && s_here >= p.passage.s)) {
+      p.done = true;
+      continue;
+    }
+    if (Approaching(p, s_here)) return &p;
+  }
+  return nullptr;
+}
+
+// Door passage: align with the axis first, then cross it centred between the jambs the LRF
+// sees. `margin` becomes the crossing's side margin; `turn_needed` the alignment that must be
+// free as a whole (facing away from the passage).
+void LocalController::PassageStep(const Step& c, PassageState& passage, double s_here, ControlOutput& out,
+                                  double& margin, double& turn_needed) const {
+  const LocalControllerParams& P = params_;
+  const Vec2 here(c.X_MB.x, c.X_MB.y);
+  const double axis_yaw = passage.passage.axis_yaw;
+  const Vec2 axis(std::cos(axis_yaw), std::sin(axis_yaw));
+  if (!passage.aligned) {
+    const double herr = WrapAngle(axis_yaw - c.X_MB.yaw);
+    if (std::abs(herr) < DegToRad(P.passage_align_deg)) {
+      passage.aligned = true;
+    } else {
+      out.status = NavStatus::kDoorPassage;
+      const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
+      out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+      if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);  // facing away: see Update
+      out.message = Fmt("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
+                        "before its centre",
+                        RadToDeg(herr), passage.passage.s - s_here);
+      return;
+    }
+  }
+  // Crossing: follow the axis, centred between the jambs the LRF sees.
+  out.status = NavStatus::kDoorPassage;
+  margin = P.passage_side_margin;
+  const Vec2 off = here - passage.passage.centre;
+  const double lateral = axis.x() * off.y() - axis.y() * off.x();  // + = left of the axis
+  // Jambs: returns beside the body, per slice the median lateral distance (JambDistance).
+  const double d_left = JambDistance(c.pts, +1.0), d_right = JambDistance(c.pts, -1.0);
+  const double half_w = 0.5 * P.footprint_width;
+  double centring = -lateral;  // desired leftward shift (m)
+  std::string source = "map";
+  if (std::isfinite(d_left) && std::isfinite(d_right)) {
+    centring = 0.5 * (d_left - d_right);
+    source = "LRF";
+    if (std::min(d_left, d_right) - half_w < P.passage_side_margin) {
+      out.cmd = {};
+      out.status = NavStatus::kBlocked;
+      out.message = Fmt("door passage: side clearance %.3f m (left %.2f, right %.2f) below "
+                        "the %.2f m margin",
+                        std::min(d_left, d_right) - half_w, d_left, d_right, P.passage_side_margin);
+      return;
+    }
+  }
+  const double herr = WrapAngle(axis_yaw - c.X_MB.yaw);
+  const double w = P.heading_gain * herr + P.centring_gain * centring;
+  out.cmd = {P.passage_speed, std::clamp(w, -0.5 * P.max_angular_speed, 0.5 * P.max_angular_speed)};
+  out.message = Fmt("door passage: crossing at %.2f m/s, %.3f m off centre (", P.passage_speed, -centring) +
+                source + ")";
+}
+
+// Pure pursuit along the path, a turn on the spot toward it when it lies too far off the
+// heading, and the final approach onto the goal point.
+void LocalController::PursuitStep(const Step& c, double s_here, double d_goal, ControlOutput& out,
+                                  double& turn_needed) const {
+  const LocalControllerParams& P = params_;
+  std::size_t t = closest_;
+  while (t + 1 < path_.size() && path_[t].s < s_here + P.lookahead) ++t;
+  const Vec2 target = InFrame(c.X_MB, Vec2(path_[t].pose.x, path_[t].pose.y));
+  const double alpha = std::atan2(target.y(), target.x());
+  const double L2 = std::max(target.squaredNorm(), 1e-6);
+  if (d_goal < P.final_approach_distance && t + 1 == path_.size()) {
+    // Final approach to a point: drive forward or back onto it, then rotate.
+    const double limit = P.final_approach_turn_rate;
+    const double v = std::clamp(0.8 * target.x(), -P.final_approach_speed, P.final_approach_speed);
+    const double w = std::abs(target.x()) > 0.02 || std::abs(target.y()) > 0.02
+                         ? P.heading_gain * std::atan2(target.y(), std::abs(target.x())) *
+                               (target.x() >= 0 ? 1.0 : -1.0)
+                         : 0.0;
+    if (std::abs(target.y()) > 0.5 * std::abs(target.x()) + 0.02 && d_goal > 0.08) {
+      out.cmd = {0.0, std::clamp(P.heading_gain * alpha, -limit, limit)};
+    } else {
+      out.cmd = {std::copysign(std::max(std::abs(v), 0.02), v), std::clamp(w, -limit, limit)};
+    }
+    out.message = Fmt("final approach: %.3f m to the goal", d_goal);
+  } else if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
+    const double w = std::clamp(P.heading_gain * alpha, -P.max_angular_speed, P.max_angular_speed);
+    out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_path_turn_speed), w)};
+    turn_needed = std::abs(alpha) - DegToRad(P.rotate_in_place_deg) + 0.1;
+    out.message = Fmt("turning toward the path (%.0f deg)", RadToDeg(alpha));
+  } else {
+    const double kappa = 2.0 * target.y() / L2;
+    double v = P.max_linear_speed * std::min(1.0, d_goal / P.approach_distance);
+    // Slow for an upcoming passage.
+    for (const auto& p : passages_) {
+      const double to_go = p.passage.s - s_here;
+      if (!p.done && to_go > 0.0 && to_go < P.passage_entry_distance + 1.0)
+        v = std::min(v, std::max(P.passage_speed, v * (to_go - P.passage_entry_distance)));
+    }
+    v = std::max(P.min_speed, v * std::max(0.3, std::cos(alpha)));
+    double w = v * kappa;
+    if (std::abs(w) > P.max_angular_speed) {
+      v = P.max_angular_speed / std::abs(kappa);
+      w = std::copysign(P.max_angular_speed, w);
+    }
+    out.cmd = {v, w};
+    out.message = Fmt("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
+  }
+}
+
+// Obstacles the map lacks: the footprint swept along the commanded arc against the base LRF
+// (and, backing up or turning, the map). Blocks or slows `out`.
+void LocalController::CheckMotion(Step& c, ControlOutput& out, double margin, double turn_needed) {
+  const LocalControllerParams& P = params_;
+  const double v = out.cmd.v, w = out.cmd.w;
+  if (std::abs(v) > 1e-6) {
+    const double horizon = std::max(0.3, std::abs(v) * P.collision_horizon);
+    const double free = FreeTravel(v < 0.0 ? Around(c) : c.pts, v, w, margin, horizon);
+    if (free < P.stop_distance + 1e-9) {
+      out.cmd = {};
+      out.status = NavStatus::kBlocked;
+      out.message = Fmt("blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
+                        "of free travel",
+                        free);
+    } else if (free < P.slowdown_distance && free < horizon) {
+      const double k = (free - P.stop_distance) / (P.slowdown_distance - P.stop_distance);
+      const double vmin = std::min(P.min_speed, std::abs(v));
+      const double vs = std::max(vmin, std::abs(v) * k);
+      out.cmd.w *= vs / std::abs(v);
+      out.cmd.v = std::copysign(vs, v);
+    }
+  } else if (std::abs(w) > 1e-6) {
+    // Begun in the mouth of a niche and stopped half way, a turn wedges the base's corners
+    // against both sides, where not even an escape manoeuvre gets it out (at least the next
+    // min_turn_check rad are checked).
+    const double turn = std::max(P.min_turn_check, turn_needed);
+    if (FreeTravel(Around(c), 0.0, w, std::min(margin, P.passage_side_margin), turn) < turn) {
+      out.cmd = {};
+      out.status = NavStatus::kBlocked;
+      out.message = "blocked: no room to rotate in place (obstacle in the base LRF)";
+      turn_blocked_ = mode_ == Mode::kFollow;  // not at the goal's final rotation
+    }
+  }
+}
+
+// Blocked: wait, then recover. Stuck: no progress while commanding motion.
+ControlOutput LocalController::BlockedOrStuck(Step& c, ControlOutput out) {
+  const LocalControllerParams& P = params_;
+  if (out.status != NavStatus::kBlocked) turn_blocked_ = false;
+  if (out.status == NavStatus::kBlocked) {
+    last_blocked_time_ = c.time;
+    if (!blocked_since_) blocked_since_ = c.time;
+    if (c.time - *blocked_since_ >= P.blocked_wait) {
+      return Emit(c, StartRecovery(c.time, c.X_MB, out.message + Fmt(" for %.1f s", c.time - *blocked_since_), c.pts),
+                  false);
+    }
+    out.message += Fmt("; waiting %.1f s before recovery", P.blocked_wait - (c.time - *blocked_since_));
+    ResetAnchor(c);
+    return Emit(c, out);
+  }
+  // Hysteresis: a base creeping at the edge of the stop distance stays "blocked" for the
+  // recovery timer until it has been free for blocked_release_time.
+  if (c.time - last_blocked_time_ > P.blocked_release_time) blocked_since_.reset();
+  const double moved = std::hypot(c.X_MB.x - anchor_pose_.x, c.X_MB.y - anchor_pose_.y);
+  const double turned = std::abs(WrapAngle(c.X_MB.yaw - anchor_pose_.yaw));
+  if (moved > P.progress_distance || turned > P.progress_turn ||
+      (std::abs(out.cmd.v) < 1e-6 && std::abs(out.cmd.w) < 1e-6)) {
+    ResetAnchor(c);
+  } else if (c.time - anchor_time_ > P.stuck_timeout) {
+    return Emit(c,
+                StartRecovery(c.time, c.X_MB,
+                              Fmt("stuck: moved %.3f m in %.1f s while commanded", moved, c.time - anchor_time_), c.pts),
+                false);
+  }
+  return Emit(c, out);
+}
+
+ControlOutput LocalController::Update(double time, const Pose2& X_MB, LocalisationStatus loc,
+                                      const interfaces::LrfScan& scan) {
+  const LocalControllerParams& P = params_;
+  if (mode_ == Mode::kDone) return terminal_;
+  Step c = BeginStep(time, X_MB, scan);
+  if (auto out = LocalisationStep(c, loc)) return *out;
+  if (mode_ == Mode::kBackUp) return BackUpStep(c);
+  if (mode_ == Mode::kEscape) return EscapeStep(c);
+  if (mode_ == Mode::kRotate) return RotateStep(c);
+
+  TrackProgress(X_MB);
+  const double s_here = path_[closest_].s;
+  if (recoveries_ > 0 && s_here - s_at_last_recovery_ > P.recovery_reset_progress) recoveries_ = 0;  // made good
   const Vec2 here(X_MB.x, X_MB.y);
-  const double d_goal = (goal_p - here).norm();
+  const double d_goal = (Vec2(goal_.x, goal_.y) - here).norm();
   const double yaw_err_goal = WrapAngle(goal_.yaw - X_MB.yaw);
 
   ControlOutput out;
   out.status = NavStatus::kFollowing;
   double margin = P.safety_margin;
-  // rad: the whole of a turn on the spot that the branch below starts, where it must be free
-  // before it starts: a turn toward the path, and aligning with a passage the base faces away
-  // from (more than 90 deg off its axis: it stands in the narrow stretch or just past it). A
+  // rad: the whole of a turn on the spot that the step starts, where it must be free before
+  // it starts: a turn toward the path, and aligning with a passage the base faces away from
+  // (more than 90 deg off its axis: it stands in the narrow stretch or just past it). A
   // smaller alignment and the final rotation turn as far as they can: a doorway seldom leaves
   // room for all of it at once, and the crossing centres the base as it goes.
   double turn_needed = 0.0;
 
   // Goal: final approach and rotation.
-  if (mode_ == Mode::kFinalRotate && d_goal > 2.5 * P.goal_tolerance_xy) mode_ = Mode::kFollow;
+  if (mode_ == Mode::kFinalRotate && d_goal > P.final_rotate_release * P.goal_tolerance_xy) mode_ = Mode::kFollow;
   if (mode_ != Mode::kFinalRotate && d_goal < P.goal_tolerance_xy) mode_ = Mode::kFinalRotate;
   if (mode_ == Mode::kFinalRotate) {
     if (!align_yaw_ || std::abs(yaw_err_goal) < DegToRad(P.goal_tolerance_yaw_deg)) {
-      return Finish(NavStatus::kArrived,
-                    Fmt("arrived: %.3f m and %.2f deg from the goal", d_goal,
-                        RadToDeg(std::abs(yaw_err_goal))));
+      return Finish(NavStatus::kArrived, Fmt("arrived: %.3f m and %.2f deg from the goal", d_goal,
+                                             RadToDeg(std::abs(yaw_err_goal))));
     }
     const double w = std::clamp(P.heading_gain * yaw_err_goal, -P.max_angular_speed, P.max_angular_speed);
-    out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.08), w)};
-    out.message = Fmt("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)", d_goal,
-                      RadToDeg(yaw_err_goal));
+    out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+    out.message = Fmt("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)", d_goal, RadToDeg(yaw_err_goal));
+  } else if (PassageState* passage = CurrentPassage(here, s_here)) {
+    PassageStep(c, *passage, s_here, out, margin, turn_needed);
   } else {
-    // Which passage (if any) are we in or approaching?
-    PassageState* passage = nullptr;
-    for (auto& p : passages_) {
-      if (p.done) continue;
-      // Through: the body's rear past the narrowest point, along the path or along the
-      // passage axis; or at the end of a path that ends in or just beyond the passage (a scan
-      // stop after a door): the crossing only follows the axis and would drive on past the
-      // goal.
-      const double through = 0.5 * P.footprint_length + 0.2;
-      const Vec2 ax(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
-      if (s_here > p.passage.s + through || ax.dot(here - p.passage.centre) > through ||
-          (closest_ + 1 == path_.size() && s_here >= p.passage.s)) {
-        p.done = true;
-        continue;
-      }
-      if (Approaching(p, s_here)) {
-        passage = &p;
-        break;
-      }
-    }
-    const double axis_yaw = passage ? passage->passage.axis_yaw : 0.0;
-    const Vec2 axis(std::cos(axis_yaw), std::sin(axis_yaw));
-    if (passage && !passage->aligned) {
-      const double herr = WrapAngle(axis_yaw - X_MB.yaw);
-      if (std::abs(herr) < DegToRad(P.passage_align_deg)) {
-        passage->aligned = true;
-      } else {
-        out.status = NavStatus::kDoorPassage;
-        const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
-        out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.08), w)};
-        if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);  // facing away: see below
-        out.message = Fmt("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
-                          "before its centre", RadToDeg(herr), passage->passage.s - s_here);
-      }
-    }
-    if (passage && passage->aligned) {
-      // Crossing: follow the axis, centred between the jambs the LRF sees.
-      out.status = NavStatus::kDoorPassage;
-      margin = P.passage_side_margin;
-      const Vec2 off = here - passage->passage.centre;
-      const double lateral = axis.x() * off.y() - axis.y() * off.x();  // + = left of the axis
-      // Jambs: returns beside the body (within its length, outside its half width's inner
-      // half: anything closer to the axis is ahead and is the forward check's business), per
-      // 5 cm slice along the body the median lateral distance, the nearest slice counting.
-      const double d_left = JambDistance(pts, +1.0), d_right = JambDistance(pts, -1.0);
-      const double half_w = 0.5 * P.footprint_width;
-      double centring = -lateral;  // desired leftward shift (m)
-      std::string source = "map";
-      if (std::isfinite(d_left) && std::isfinite(d_right)) {
-        centring = 0.5 * (d_left - d_right);
-        source = "LRF";
-        if (std::min(d_left, d_right) - half_w < P.passage_side_margin) {
-          out.cmd = {};
-          out.status = NavStatus::kBlocked;
-          out.message = Fmt("door passage: side clearance %.3f m (left %.2f, right %.2f) below "
-                            "the %.2f m margin",
-                            std::min(d_left, d_right) - half_w, d_left, d_right,
-                            P.passage_side_margin);
-        }
-      }
-      if (out.status != NavStatus::kBlocked) {
-        const double herr = WrapAngle(axis_yaw - X_MB.yaw);
-        const double w = P.heading_gain * herr + P.centring_gain * centring;
-        out.cmd = {P.passage_speed, std::clamp(w, -0.5 * P.max_angular_speed, 0.5 * P.max_angular_speed)};
-        out.message = Fmt("door passage: crossing at %.2f m/s, %.3f m off centre (", P.passage_speed,
-                          -centring) + source + ")";
-      }
-    } else if (!passage) {
-      // Pure pursuit.
-      std::size_t t = closest_;
-      while (t + 1 < path_.size() && path_[t].s < s_here + P.lookahead) ++t;
-      const Vec2 target = InFrame(X_MB, Vec2(path_[t].pose.x, path_[t].pose.y));
-      const double alpha = std::atan2(target.y(), target.x());
-      const double L2 = std::max(target.squaredNorm(), 1e-6);
-      if (d_goal < 0.3 && t + 1 == path_.size()) {
-        // Final approach to a point: drive forward or back onto it, then rotate.
-        const double v = std::clamp(0.8 * target.x(), -0.1, 0.1);
-        const double w = std::abs(target.x()) > 0.02 || std::abs(target.y()) > 0.02
-                             ? P.heading_gain * std::atan2(target.y(), std::abs(target.x())) *
-                                   (target.x() >= 0 ? 1.0 : -1.0)
-                             : 0.0;
-        if (std::abs(target.y()) > 0.5 * std::abs(target.x()) + 0.02 && d_goal > 0.08) {
-          out.cmd = {0.0, std::clamp(P.heading_gain * alpha, -0.6, 0.6)};
-        } else {
-          out.cmd = {std::copysign(std::max(std::abs(v), 0.02), v), std::clamp(w, -0.6, 0.6)};
-        }
-        out.message = Fmt("final approach: %.3f m to the goal", d_goal);
-      } else if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
-        const double w = std::clamp(P.heading_gain * alpha, -P.max_angular_speed, P.max_angular_speed);
-        out.cmd = {0.0, std::copysign(std::max(std::abs(w), 0.1), w)};
-        turn_needed = std::abs(alpha) - DegToRad(P.rotate_in_place_deg) + 0.1;
-        out.message = Fmt("turning toward the path (%.0f deg)", RadToDeg(alpha));
-      } else {
-        const double kappa = 2.0 * target.y() / L2;
-        double v = P.max_linear_speed * std::min(1.0, d_goal / P.approach_distance);
-        // Slow for an upcoming passage.
-        for (const auto& p : passages_) {
-          const double to_go = p.passage.s - s_here;
-          if (!p.done && to_go > 0.0 && to_go < P.passage_entry_distance + 1.0)
-            v = std::min(v, std::max(P.passage_speed, v * (to_go - P.passage_entry_distance)));
-        }
-        v = std::max(P.min_speed, v * std::max(0.3, std::cos(alpha)));
-        double w = v * kappa;
-        if (std::abs(w) > P.max_angular_speed) {
-          v = P.max_angular_speed / std::abs(kappa);
-          w = std::copysign(P.max_angular_speed, w);
-        }
-        out.cmd = {v, w};
-        out.message = Fmt("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
-      }
-    }
+    PursuitStep(c, s_here, d_goal, out, turn_needed);
   }
-
-  // Obstacles the map lacks: forward check of the footprint along the commanded arc.
-  if (out.status != NavStatus::kBlocked) {
-    const double v = out.cmd.v, w = out.cmd.w;
-    if (std::abs(v) > 1e-6) {
-      const double horizon = std::max(0.3, std::abs(v) * P.collision_horizon);
-      const double free = FreeTravel(v < 0.0 ? around() : pts, v, w, margin, horizon);
-      if (free < P.stop_distance + 1e-9) {
-        out.cmd = {};
-        out.status = NavStatus::kBlocked;
-        out.message = Fmt("blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
-                          "of free travel", free);
-      } else if (free < P.slowdown_distance && free < horizon) {
-        const double k = (free - P.stop_distance) / (P.slowdown_distance - P.stop_distance);
-        const double vmin = std::min(P.min_speed, std::abs(v));
-        const double vs = std::max(vmin, std::abs(v) * k);
-        out.cmd.w *= vs / std::abs(v);
-        out.cmd.v = std::copysign(vs, v);
-      }
-    } else if (std::abs(w) > 1e-6) {
-      // Begun in the mouth of a niche and stopped half way, a turn wedges the base's corners
-      // against both sides, where not even an escape manoeuvre gets it out (at least the next
-      // 0.15 rad are checked).
-      const double turn = std::max(0.15, turn_needed);
-      if (FreeTravel(around(), 0.0, w, std::min(margin, P.passage_side_margin), turn) < turn) {
-        out.cmd = {};
-        out.status = NavStatus::kBlocked;
-        out.message = "blocked: no room to rotate in place (obstacle in the base LRF)";
-        turn_blocked_ = mode_ == Mode::kFollow;  // not at the goal's final rotation
-      }
-    }
-  }
-
-  // Blocked: wait, then recover. Stuck: no progress while commanding motion.
-  if (out.status != NavStatus::kBlocked) turn_blocked_ = false;
-  if (out.status == NavStatus::kBlocked) {
-    last_blocked_time_ = time;
-    if (!blocked_since_) blocked_since_ = time;
-    if (time - *blocked_since_ >= P.blocked_wait) {
-      return emit(StartRecovery(time, X_MB, out.message + Fmt(" for %.1f s", time - *blocked_since_), pts),
-                  false);
-    }
-    out.message += Fmt("; waiting %.1f s before recovery", P.blocked_wait - (time - *blocked_since_));
-    anchor_pose_ = X_MB;
-    anchor_time_ = time;
-    return emit(out);
-  }
-  // Hysteresis: a base creeping at the edge of the stop distance stays "blocked" for the
-  // recovery timer until it has been free for a second.
-  if (time - last_blocked_time_ > 1.0) blocked_since_.reset();
-  const double moved = std::hypot(X_MB.x - anchor_pose_.x, X_MB.y - anchor_pose_.y);
-  const double turned = std::abs(WrapAngle(X_MB.yaw - anchor_pose_.yaw));
-  if (moved > P.progress_distance || turned > 0.1 ||
-      (std::abs(out.cmd.v) < 1e-6 && std::abs(out.cmd.w) < 1e-6)) {
-    anchor_pose_ = X_MB;
-    anchor_time_ = time;
-  } else if (time - anchor_time_ > P.stuck_timeout) {
-    return emit(StartRecovery(time, X_MB, Fmt("stuck: moved %.3f m in %.1f s while commanded",
-                                              moved, time - anchor_time_), pts), false);
-  }
-  return emit(out);
+  if (out.status != NavStatus::kBlocked) CheckMotion(c, out, margin, turn_needed);
+  return BlockedOrStuck(c, out);
 }
 
 }  // namespace mopad::autonomy

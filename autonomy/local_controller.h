@@ -74,6 +74,27 @@ struct LocalControllerParams {
   int range_median_window = 5;
   double lost_rotation_speed = 0.3;      ///< rad/s while localisation is lost, [0, 5]
   double lost_timeout = 30.0;            ///< s lost before giving up, (0, 3600]
+  double lost_turn_check = 0.3;          ///< rad of turn that must be free to rotate while lost, (0, 6.3]
+  double min_recovery_rotation_speed = 0.3;  ///< rad/s, floor of the recovery rotation, [0, 5]
+  double min_turn_speed = 0.08;          ///< rad/s, floor of alignment and final-rotation turns, [0, 5]
+  double min_path_turn_speed = 0.1;      ///< rad/s, floor of a turn on the spot toward the path, [0, 5]
+  double min_turn_check = 0.15;          ///< rad, a turn on the spot must have at least this free, (0, 6.3]
+  double path_search_window = 2.0;       ///< m of path ahead of the last closest point searched, (0, 100]
+  /// m: farther than this from the closest point of that window, the whole path is searched
+  /// (the estimate jumped). (0, 100]
+  double path_reacquire_distance = 1.0;
+  double recovery_reset_progress = 1.0;  ///< m of path made good after which recoveries count from 0, (0, 100]
+  double final_approach_distance = 0.3;  ///< m from the goal where the final approach starts, (0, 5]
+  double final_approach_speed = 0.1;     ///< m/s, largest speed of the final approach, (0, 1]
+  double final_approach_turn_rate = 0.6; ///< rad/s, largest turn rate of the final approach, (0, 10]
+  /// The final rotation gives way to following again beyond this many goal_tolerance_xy. [1, 100]
+  double final_rotate_release = 2.5;
+  /// m the body's rear must be past a passage's narrowest point for the crossing to end, [0, 5]
+  double passage_exit_clearance = 0.2;
+  double progress_turn = 0.1;            ///< rad of turn that counts as progress, (0, 6.3]
+  /// s free after which a base blocked at the edge of the stop distance stops counting as
+  /// blocked for the recovery timer, [0, 600]
+  double blocked_release_time = 1.0;
 
   template <class V>
   void Visit(V& v) {
@@ -111,6 +132,21 @@ struct LocalControllerParams {
     v("range_median_window", range_median_window, Bounds{1, 31});
     v("lost_rotation_speed", lost_rotation_speed, Bounds{0.0, 5.0});
     v("lost_timeout", lost_timeout, Bounds{1e-3, 3600.0});
+    v("lost_turn_check", lost_turn_check, Bounds{1e-3, 6.3});
+    v("min_recovery_rotation_speed", min_recovery_rotation_speed, Bounds{0.0, 5.0});
+    v("min_turn_speed", min_turn_speed, Bounds{0.0, 5.0});
+    v("min_path_turn_speed", min_path_turn_speed, Bounds{0.0, 5.0});
+    v("min_turn_check", min_turn_check, Bounds{1e-3, 6.3});
+    v("path_search_window", path_search_window, Bounds{1e-3, 100.0});
+    v("path_reacquire_distance", path_reacquire_distance, Bounds{1e-3, 100.0});
+    v("recovery_reset_progress", recovery_reset_progress, Bounds{1e-3, 100.0});
+    v("final_approach_distance", final_approach_distance, Bounds{1e-3, 5.0});
+    v("final_approach_speed", final_approach_speed, Bounds{1e-3, 1.0});
+    v("final_approach_turn_rate", final_approach_turn_rate, Bounds{1e-3, 10.0});
+    v("final_rotate_release", final_rotate_release, Bounds{1.0, 100.0});
+    v("passage_exit_clearance", passage_exit_clearance, Bounds{0.0, 5.0});
+    v("progress_turn", progress_turn, Bounds{1e-3, 6.3});
+    v("blocked_release_time", blocked_release_time, Bounds{0.0, 600.0});
   }
   /// ValidateParams plus cross-field checks; throws InputError.
   void Validate() const;
@@ -217,6 +253,30 @@ class LocalController {
     bool aligned = false;
     bool done = false;
   };
+
+  /// What one Update sees: its time, pose, the LRF returns in base_link and, looked up on
+  /// demand, those plus the map's obstacles near the base (Around).
+  struct Step {
+    double time = 0.0, dt = 0.0;
+    Pose2 X_MB;
+    std::vector<Vec2> pts;
+    std::optional<std::vector<Vec2>> around;
+  };
+  Step BeginStep(double time, const Pose2& X_MB, const interfaces::LrfScan& scan);
+  const std::vector<Vec2>& Around(Step& c) const;
+  ControlOutput Emit(const Step& c, ControlOutput out, bool limit = true);
+  void ResetAnchor(const Step& c);
+  std::optional<ControlOutput> LocalisationStep(Step& c, perception::LocalisationStatus loc);
+  ControlOutput BackUpStep(Step& c);
+  ControlOutput EscapeStep(Step& c);
+  ControlOutput RotateStep(Step& c);
+  void TrackProgress(const Pose2& X_MB);
+  PassageState* CurrentPassage(const Vec2& here, double s_here);
+  void PassageStep(const Step& c, PassageState& passage, double s_here, ControlOutput& out, double& margin,
+                   double& turn_needed) const;
+  void PursuitStep(const Step& c, double s_here, double d_goal, ControlOutput& out, double& turn_needed) const;
+  void CheckMotion(Step& c, ControlOutput& out, double margin, double turn_needed);
+  ControlOutput BlockedOrStuck(Step& c, ControlOutput out);
 
   ControlOutput Finish(NavStatus s, const std::string& message);
   ControlOutput StartRecovery(double time, const Pose2& X_MB, const std::string& reason,
