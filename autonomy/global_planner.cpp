@@ -19,6 +19,7 @@
 #include <mutex>
 #include <queue>
 
+#include "common/format.h"
 #include "common/error.h"
 #include "common/rng.h"
 
@@ -59,12 +60,6 @@ void SeedOmplOnce(std::uint64_t seed) {
     // OMPL treats 0 as "from the clock": keep the seed non-zero.
     ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(Mix64(seed) % 0x7FFFFFFFull) + 1);
   });
-}
-
-std::string Fmt(const char* fmt, double a, double b = 0.0, double c = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c);
-  return buf;
 }
 
 /// What the sampler draws from: valid cells of the start's component, and its medial axis.
@@ -196,17 +191,17 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   if (!map.Contains(map.CellOf(s0)) || !m.field.IsFree(s0, P.min_start_clearance) ||
       start_clear < P.min_start_clearance) {
     plan.status = PlanStatus::kStartInvalid;
-    plan.message = Fmt("start (%.2f, %.2f) is off the map, not known free, or too close to an "
+    plan.message = FormatNumbers("start (%.2f, %.2f) is off the map, not known free, or too close to an "
                        "obstacle (clearance %.2f m)", s0.x(), s0.y(), start_clear) +
-                   Fmt(", needs >= %.2f m", P.min_start_clearance);
+                   FormatNumbers(", needs >= %.2f m", P.min_start_clearance);
     return plan;
   }
   const double goal_clear = m.field.Clearance(g0);
   if (!m.Valid(g0, P.robot_radius)) {
     plan.status = PlanStatus::kGoalInvalid;
-    plan.message = Fmt("goal (%.2f, %.2f) is off the map, not known free, or too close to an "
+    plan.message = FormatNumbers("goal (%.2f, %.2f) is off the map, not known free, or too close to an "
                        "obstacle (clearance %.2f m)", g0.x(), g0.y(), goal_clear) +
-                   Fmt(", needs >= %.2f m (robot radius)", P.robot_radius);
+                   FormatNumbers(", needs >= %.2f m (robot radius)", P.robot_radius);
     return plan;
   }
   const int w = map.Width(), h = map.Height();
@@ -243,7 +238,7 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     }
     if (!found) {
       plan.status = PlanStatus::kStartInvalid;
-      plan.message = Fmt("start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
+      plan.message = FormatNumbers("start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
                          "robot radius", s0.x(), s0.y(), start_clear);
       return plan;
     }
@@ -269,7 +264,7 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   const Cell gc = map.CellOf(g0);
   if (!comp[idx(gc)]) {
     plan.status = PlanStatus::kUnreachable;
-    plan.message = Fmt("goal (%.2f, %.2f) is not connected to the start in free space with "
+    plan.message = FormatNumbers("goal (%.2f, %.2f) is not connected to the start in free space with "
                        "%.2f m clearance (closed door or blocked passage?)",
                        g0.x(), g0.y(), P.robot_radius);
     return plan;
@@ -641,7 +636,7 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     plan.min_clearance = std::min(plan.min_clearance, plan.path[k].clearance);
   }
   plan.status = PlanStatus::kFound;
-  plan.message = Fmt("path %.2f m, min clearance %.2f m, ", plan.length, plan.min_clearance) +
+  plan.message = FormatNumbers("path %.2f m, min clearance %.2f m, ", plan.length, plan.min_clearance) +
                  std::to_string(plan.passages.size()) + " passages, " +
                  std::to_string(plan.iterations) + " RRT* iterations";
   return plan;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 
+#include "common/format.h"
 #include "common/error.h"
 
 namespace mopad::autonomy {
@@ -58,12 +59,6 @@ constexpr double kBackUpMinFree = 0.05;
 constexpr double kRotateCheck = 0.2;
 constexpr double kEscapeMinFree = 0.02;
 constexpr double kArcEndTolerance = 0.005;
-
-std::string Fmt(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
-  return buf;
-}
 
 /// Pose after moving along the arc (v, w) for time t from the identity.
 Pose2 Arc(double v, double w, double t) {
@@ -356,9 +351,9 @@ ControlOutput LocalController::StartRecovery(double time, const Pose2& X_MB,
       escape_deadline_ = time + 2.0 * length / P.backup_speed + 4.0;
       std::string arcs;
       for (const ArcMove& a : escape_)
-        arcs += std::string(arcs.empty() ? "" : ", then ") + Fmt("%.1f m ", a.length) +
+        arcs += std::string(arcs.empty() ? "" : ", then ") + FormatNumbers("%.1f m ", a.length) +
                 (a.v < 0 ? "back" : "forward") +
-                (std::abs(a.w) < 1e-9 ? "" : Fmt(" on a %.2f m radius", std::abs(a.v / a.w)));
+                (std::abs(a.w) < 1e-9 ? "" : FormatNumbers(" on a %.2f m radius", std::abs(a.v / a.w)));
       out.message = "recovery " + std::to_string(recoveries_) + "/" + std::to_string(P.max_recoveries) +
                     ": escape manoeuvre, " + arcs + " (" + reason + ")";
       return out;
@@ -452,7 +447,7 @@ std::optional<ControlOutput> LocalController::LocalisationStep(Step& c, Localisa
       loc == LocalisationStatus::kNotInitialised) {
     if (!lost_since_) lost_since_ = c.time;
     if (c.time - *lost_since_ > P.lost_timeout) {
-      return Finish(NavStatus::kLocalisationLost, Fmt("localisation lost for %.0f s (AMCL: ", c.time - *lost_since_) +
+      return Finish(NavStatus::kLocalisationLost, FormatNumbers("localisation lost for %.0f s (AMCL: ", c.time - *lost_since_) +
                                                       perception::ToString(loc) + "); stopped");
     }
     ControlOutput out;
@@ -486,7 +481,7 @@ ControlOutput LocalController::BackUpStep(Step& c) {
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.cmd = {-P.backup_speed, 0.0};
-  out.message = Fmt("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
+  out.message = FormatNumbers("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
   return Emit(c, out);
 }
 
@@ -513,7 +508,7 @@ ControlOutput LocalController::EscapeStep(Step& c) {
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.cmd = {b.v, b.w};
-  out.message = Fmt("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
+  out.message = FormatNumbers("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
                     static_cast<double>(escape_arc_ + 1), static_cast<double>(escape_.size()));
   return Emit(c, out);
 }
@@ -528,7 +523,7 @@ ControlOutput LocalController::RotateStep(Step& c) {
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.cmd = {0.0, std::max(P.lost_rotation_speed, P.min_recovery_rotation_speed)};
-  out.message = Fmt("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_, RadToDeg(recovery_turned_));
+  out.message = FormatNumbers("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_, RadToDeg(recovery_turned_));
   return Emit(c, out);
 }
 
@@ -596,7 +591,7 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
       const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
       out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
       if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);  // facing away: see Update
-      out.message = Fmt("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
+      out.message = FormatNumbers("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
                         "before its centre",
                         RadToDeg(herr), passage.passage.s - s_here);
       return;
@@ -618,7 +613,7 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
     if (std::min(d_left, d_right) - half_w < P.passage_side_margin) {
       out.cmd = {};
       out.status = NavStatus::kBlocked;
-      out.message = Fmt("door passage: side clearance %.3f m (left %.2f, right %.2f) below "
+      out.message = FormatNumbers("door passage: side clearance %.3f m (left %.2f, right %.2f) below "
                         "the %.2f m margin",
                         std::min(d_left, d_right) - half_w, d_left, d_right, P.passage_side_margin);
       return;
@@ -627,7 +622,7 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
   const double herr = WrapAngle(axis_yaw - c.X_MB.yaw);
   const double w = P.heading_gain * herr + P.centring_gain * centring;
   out.cmd = {P.passage_speed, std::clamp(w, -0.5 * P.max_angular_speed, 0.5 * P.max_angular_speed)};
-  out.message = Fmt("door passage: crossing at %.2f m/s, %.3f m off centre (", P.passage_speed, -centring) +
+  out.message = FormatNumbers("door passage: crossing at %.2f m/s, %.3f m off centre (", P.passage_speed, -centring) +
                 source + ")";
 }
 
@@ -654,12 +649,12 @@ void LocalController::PursuitStep(const Step& c, double s_here, double d_goal, C
     } else {
       out.cmd = {std::copysign(std::max(std::abs(v), 0.02), v), std::clamp(w, -limit, limit)};
     }
-    out.message = Fmt("final approach: %.3f m to the goal", d_goal);
+    out.message = FormatNumbers("final approach: %.3f m to the goal", d_goal);
   } else if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
     const double w = std::clamp(P.heading_gain * alpha, -P.max_angular_speed, P.max_angular_speed);
     out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_path_turn_speed), w)};
     turn_needed = std::abs(alpha) - DegToRad(P.rotate_in_place_deg) + 0.1;
-    out.message = Fmt("turning toward the path (%.0f deg)", RadToDeg(alpha));
+    out.message = FormatNumbers("turning toward the path (%.0f deg)", RadToDeg(alpha));
   } else {
     const double kappa = 2.0 * target.y() / L2;
     double v = P.max_linear_speed * std::min(1.0, d_goal / P.approach_distance);
@@ -676,7 +671,7 @@ void LocalController::PursuitStep(const Step& c, double s_here, double d_goal, C
       w = std::copysign(P.max_angular_speed, w);
     }
     out.cmd = {v, w};
-    out.message = Fmt("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
+    out.message = FormatNumbers("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
   }
 }
 
@@ -691,7 +686,7 @@ void LocalController::CheckMotion(Step& c, ControlOutput& out, double margin, do
     if (free < P.stop_distance + 1e-9) {
       out.cmd = {};
       out.status = NavStatus::kBlocked;
-      out.message = Fmt("blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
+      out.message = FormatNumbers("blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
                         "of free travel",
                         free);
     } else if (free < P.slowdown_distance && free < horizon) {
@@ -723,10 +718,10 @@ ControlOutput LocalController::BlockedOrStuck(Step& c, ControlOutput out) {
     last_blocked_time_ = c.time;
     if (!blocked_since_) blocked_since_ = c.time;
     if (c.time - *blocked_since_ >= P.blocked_wait) {
-      return Emit(c, StartRecovery(c.time, c.X_MB, out.message + Fmt(" for %.1f s", c.time - *blocked_since_), c.pts),
+      return Emit(c, StartRecovery(c.time, c.X_MB, out.message + FormatNumbers(" for %.1f s", c.time - *blocked_since_), c.pts),
                   false);
     }
-    out.message += Fmt("; waiting %.1f s before recovery", P.blocked_wait - (c.time - *blocked_since_));
+    out.message += FormatNumbers("; waiting %.1f s before recovery", P.blocked_wait - (c.time - *blocked_since_));
     ResetAnchor(c);
     return Emit(c, out);
   }
@@ -741,7 +736,7 @@ ControlOutput LocalController::BlockedOrStuck(Step& c, ControlOutput out) {
   } else if (c.time - anchor_time_ > P.stuck_timeout) {
     return Emit(c,
                 StartRecovery(c.time, c.X_MB,
-                              Fmt("stuck: moved %.3f m in %.1f s while commanded", moved, c.time - anchor_time_), c.pts),
+                              FormatNumbers("stuck: moved %.3f m in %.1f s while commanded", moved, c.time - anchor_time_), c.pts),
                 false);
   }
   return Emit(c, out);
@@ -779,12 +774,12 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   if (mode_ != Mode::kFinalRotate && d_goal < P.goal_tolerance_xy) mode_ = Mode::kFinalRotate;
   if (mode_ == Mode::kFinalRotate) {
     if (!align_yaw_ || std::abs(yaw_err_goal) < DegToRad(P.goal_tolerance_yaw_deg)) {
-      return Finish(NavStatus::kArrived, Fmt("arrived: %.3f m and %.2f deg from the goal", d_goal,
+      return Finish(NavStatus::kArrived, FormatNumbers("arrived: %.3f m and %.2f deg from the goal", d_goal,
                                              RadToDeg(std::abs(yaw_err_goal))));
     }
     const double w = std::clamp(P.heading_gain * yaw_err_goal, -P.max_angular_speed, P.max_angular_speed);
     out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
-    out.message = Fmt("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)", d_goal, RadToDeg(yaw_err_goal));
+    out.message = FormatNumbers("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)", d_goal, RadToDeg(yaw_err_goal));
   } else if (PassageState* passage = CurrentPassage(here, s_here)) {
     PassageStep(c, *passage, s_here, out, margin, turn_needed);
   } else {

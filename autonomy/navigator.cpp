@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "autonomy/exploration.h"
+#include "common/format.h"
 #include "common/error.h"
 #include "perception/point_cloud_ops.h"
 
@@ -18,12 +19,6 @@ namespace {
 
 using perception::Compose;
 using perception::Inverse;
-
-std::string Fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d);
-  return buf;
-}
 
 // Robot side: a TLS scan's returns in the map frame, using the robot's own pose estimate and
 // the calibrated mount. Only points that can matter for the 2D map (floor to band top) are kept;
@@ -673,12 +668,12 @@ struct Navigator::Impl {
     mark_visited();
     while (running) {
       if (t >= params.max_time - 1e-9) {
-        Finish(DriveStatus::kTimeout, Fmt("no arrival within %.1f s of simulation time", params.max_time));
+        Finish(DriveStatus::kTimeout, FormatNumbers("no arrival within %.1f s of simulation time", params.max_time));
         break;
       }
       if (params.stall_time > 0.0 && t - last_new_cell > params.stall_time) {
         Finish(DriveStatus::kBlocked,
-               Fmt("no progress: for %.0f s the base only revisited places it had been to in this "
+               FormatNumbers("no progress: for %.0f s the base only revisited places it had been to in this "
                    "drive (plans alternating between blocked routes)",
                    params.stall_time));
         break;

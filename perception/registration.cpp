@@ -11,6 +11,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "common/format.h"
 #include "common/error.h"
 #include "common/frames.h"
 
@@ -131,12 +132,6 @@ Reduced Reduce(const Accum& a, int dof) {
     }
   }
   return red;
-}
-
-std::string Fmt(const char* f, double a) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, a);
-  return buf;
 }
 
 }  // namespace
@@ -356,7 +351,7 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
       const Eigen::Vector3d c = T * src_centroid;
       const Accum a = Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
       if (a.planar < 12 || a.weight <= 0.0) {
-        failure = "only " + std::to_string(a.planar) + " correspondences within " + Fmt("%.3g", dist) + " m";
+        failure = "only " + std::to_string(a.planar) + " correspondences within " + FormatNumbers("%.3g", dist) + " m";
         break;
       }
       const Reduced red = Reduce(a, params.dof);
@@ -430,17 +425,17 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   std::vector<std::string> why;
   if (!failure.empty()) why.push_back(failure);
   else if (!res.converged) why.push_back("not converged in " + std::to_string(params.max_iterations) +
-                                         " iterations of the last stage (step " + Fmt("%.2g", last_dt) + " m, " +
-                                         Fmt("%.2g", RadToDeg(last_dr)) + " deg)");
+                                         " iterations of the last stage (step " + FormatNumbers("%.2g", last_dt) + " m, " +
+                                         FormatNumbers("%.2g", RadToDeg(last_dr)) + " deg)");
   if (res.fitness < params.min_fitness) {
-    why.push_back("fitness " + Fmt("%.3f", res.fitness) + " < min_fitness " + Fmt("%.3f", params.min_fitness));
+    why.push_back("fitness " + FormatNumbers("%.3f", res.fitness) + " < min_fitness " + FormatNumbers("%.3f", params.min_fitness));
   }
   if (res.rmse > params.max_rmse) {
-    why.push_back("rmse " + Fmt("%.4f", res.rmse) + " m > max_rmse " + Fmt("%.4f", params.max_rmse));
+    why.push_back("rmse " + FormatNumbers("%.4f", res.rmse) + " m > max_rmse " + FormatNumbers("%.4f", params.max_rmse));
   }
   if (res.free_space_violation > params.max_free_space_violation) {
-    why.push_back("free-space violation " + Fmt("%.3f", res.free_space_violation) + " > " +
-                  Fmt("%.3f", params.max_free_space_violation) + " (source points where the map saw empty space)");
+    why.push_back("free-space violation " + FormatNumbers("%.3f", res.free_space_violation) + " > " +
+                  FormatNumbers("%.3f", params.max_free_space_violation) + " (source points where the map saw empty space)");
   }
   if (res.degenerate) {
     const Vec6& d = res.weakest_direction;
