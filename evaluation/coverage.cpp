@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 
 namespace mopad::evaluation {
 namespace {
@@ -108,7 +108,7 @@ CoverageReport ComputeCoverage(const StructuralSurfaces& surfaces, const std::ve
 
 CoverageReport ComputeCoverageFromPly(const StructuralSurfaces& surfaces, const std::vector<std::uint8_t>& observable,
                                       const std::string& ply_path, const Pose3& X_WM, const CoverageParams& params) {
-  const interfaces::PointCloud cloud = interfaces::ReadPly(ply_path);
+  const io::PointCloud cloud = io::ReadPly(ply_path);
   return ComputeCoverage(surfaces, observable, cloud.points, X_WM, params);
 }
 

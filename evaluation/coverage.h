@@ -67,7 +67,7 @@ CoverageReport ComputeCoverage(const StructuralSurfaces& surfaces, const std::ve
                                std::span<const Eigen::Vector3f> p_M, const Pose3& X_WM,
                                const CoverageParams& params = {});
 
-/// Reads the points of a PLY (interfaces::ReadPly: x y z in the map frame) and computes coverage.
+/// Reads the points of a PLY (io::ReadPly: x y z in the map frame) and computes coverage.
 CoverageReport ComputeCoverageFromPly(const StructuralSurfaces& surfaces, const std::vector<std::uint8_t>& observable,
                                       const std::string& ply_path, const Pose3& X_WM,
                                       const CoverageParams& params = {});

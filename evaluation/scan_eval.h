@@ -60,7 +60,7 @@ std::vector<Sm1Label> TruthLabels(const interfaces::TlsScan& scan, const sim::Tl
                                   const LabelTruthParams& params = {});
 
 /// The valid cells of a grid in the order scan PLYs list points (column by column, top row
-/// first; interfaces/scan_io.h): returns grid[i] for each valid cell.
+/// first; io/scan_io.h): returns grid[i] for each valid cell.
 std::vector<Sm1Label> InPlyOrder(const interfaces::TlsScan& scan, const std::vector<Sm1Label>& grid);
 
 /// Agreement of estimated with true labels. Only points whose truth is not kNone count; an

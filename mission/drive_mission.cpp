@@ -18,6 +18,7 @@
 #include <cstdlib>
 
 #include "common/error.h"
+#include "io/tum.h"
 
 namespace mopad::mission {
 namespace {
@@ -68,12 +69,7 @@ DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
 
 std::string ToTum(const std::vector<TrajectorySample>& samples) {
   std::string out;
-  char buf[160];
-  for (const auto& s : samples) {
-    std::snprintf(buf, sizeof buf, "%.3f %.6f %.6f 0.000000 0.000000 0.000000 %.9f %.9f\n", s.t,
-                  s.pose.x, s.pose.y, std::sin(0.5 * s.pose.yaw), std::cos(0.5 * s.pose.yaw));
-    out += buf;
-  }
+  for (const auto& s : samples) out += io::TumLinePlanar(s.t, s.pose.x, s.pose.y, s.pose.yaw);
   return out;
 }
 

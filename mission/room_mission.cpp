@@ -11,6 +11,8 @@
 #include <fstream>
 
 #include "common/error.h"
+#include "io/text_file.h"
+#include "io/tum.h"
 #include "modelling/model_io.h"
 #include "perception/point_cloud_ops.h"
 
@@ -18,14 +20,6 @@ namespace mopad::mission {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string TumLine(double t, const Pose3& X) {
-  const Eigen::Quaterniond q(X.rotation());
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", t, X.translation().x(),
-                X.translation().y(), X.translation().z(), q.x(), q.y(), q.z(), q.w());
-  return buf;
-}
 
 nlohmann::ordered_json PoseJson(const Pose3& X) {
   const Eigen::Quaterniond q(X.rotation());
@@ -52,8 +46,8 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
   const fs::path d(dir);
   model.WriteSm1((d / "sm1.ply").string());
-  modelling::WriteTextFile((d / "sm2.json").string(), modelling::Sm2Json(model.GetRoi(), sm3.room));
-  modelling::WriteTextFile((d / "sm3.json").string(), modelling::Sm3Json(sm3));
+  io::WriteTextFile((d / "sm2.json").string(), modelling::Sm2Json(model.GetRoi(), sm3.room));
+  io::WriteTextFile((d / "sm3.json").string(), modelling::Sm3Json(sm3));
   modelling::WriteDsm3Ply(model.Voxels(), (d / "dsm3.ply").string());
   {
     std::ofstream f(d / "model.json");
@@ -61,7 +55,7 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   }
   {
     std::ofstream f(d / "scan_poses.tum");
-    for (const auto& s : result.scans) f << TumLine(s.sim_time, s.X_MS);
+    for (const auto& s : result.scans) f << io::TumLine(s.sim_time, s.X_MS);
   }
   const DriveResult drive = session.Result();
   {

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "common/error.h"
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 
 namespace mopad::modelling {
 namespace {
@@ -80,15 +80,8 @@ std::string Sm3Json(const StructuralModel& m) {
   return j.dump(1);
 }
 
-void WriteTextFile(const std::string& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, "cannot write the file");
-  f << text << "\n";
-  if (!f) throw InputError(path, "write failed");
-}
-
 void WriteDsm3Ply(const VoxelSpace& vs, const std::string& path) {
-  interfaces::PointCloud cloud;
+  io::PointCloud cloud;
   char buf[160];
   std::snprintf(buf, sizeof buf, "mopad_dsm3_voxel_size %.6f", vs.Size());
   cloud.comments.push_back(buf);
@@ -100,10 +93,10 @@ void WriteDsm3Ply(const VoxelSpace& vs, const std::string& path) {
   for (int l = 0; l < kVoxelLabelCount; ++l)
     cloud.comments.push_back("mopad_dsm3_label " + std::to_string(l) + " " +
                              ToString(static_cast<VoxelLabel>(l)));
-  interfaces::ScalarField label{"scalar_label", interfaces::PlyType::kUInt8, {}};
-  interfaces::ScalarField fi{"scalar_i", interfaces::PlyType::kInt32, {}};
-  interfaces::ScalarField fj{"scalar_j", interfaces::PlyType::kInt32, {}};
-  interfaces::ScalarField fk{"scalar_k", interfaces::PlyType::kInt32, {}};
+  io::ScalarField label{"scalar_label", io::PlyType::kUInt8, {}};
+  io::ScalarField fi{"scalar_i", io::PlyType::kInt32, {}};
+  io::ScalarField fj{"scalar_j", io::PlyType::kInt32, {}};
+  io::ScalarField fk{"scalar_k", io::PlyType::kInt32, {}};
   for (int k = 0; k < vs.Nz(); ++k)
     for (int j = 0; j < vs.Ny(); ++j)
       for (int i = 0; i < vs.Nx(); ++i) {
@@ -115,7 +108,7 @@ void WriteDsm3Ply(const VoxelSpace& vs, const std::string& path) {
         fi.values.push_back(i), fj.values.push_back(j), fk.values.push_back(k);
       }
   cloud.fields = {std::move(label), std::move(fi), std::move(fj), std::move(fk)};
-  interfaces::WritePly(path, cloud);
+  io::WritePly(path, cloud);
 }
 
 }  // namespace mopad::modelling

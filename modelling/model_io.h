@@ -15,7 +15,6 @@ inline constexpr int kModelFormatVersion = 1;
 
 std::string Sm2Json(const Roi& roi, const std::string& room);
 std::string Sm3Json(const StructuralModel& model);
-void WriteTextFile(const std::string& path, const std::string& text);
 /// Every voxel inside the RoI (flag kInside or on a face) with its DSM3 label and indices.
 void WriteDsm3Ply(const VoxelSpace& voxels, const std::string& path);
 

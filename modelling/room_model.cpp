@@ -1142,13 +1142,13 @@ void RoomModel::UpdateCoverage() {
   coverage_.push_back(f);
 }
 
-interfaces::PointCloud RoomModel::Sm1Cloud() const {
-  interfaces::PointCloud cloud;
+io::PointCloud RoomModel::Sm1Cloud() const {
+  io::PointCloud cloud;
   cloud.points = points_;
   cloud.colors = colours_;
-  interfaces::ScalarField inten{"scalar_intensity", interfaces::PlyType::kFloat32, {}};
-  interfaces::ScalarField label{"scalar_label", interfaces::PlyType::kUInt8, {}};
-  interfaces::ScalarField scan{"scalar_scan", interfaces::PlyType::kUInt16, {}};
+  io::ScalarField inten{"scalar_intensity", io::PlyType::kFloat32, {}};
+  io::ScalarField label{"scalar_label", io::PlyType::kUInt8, {}};
+  io::ScalarField scan{"scalar_scan", io::PlyType::kUInt16, {}};
   inten.values.assign(intensity_.begin(), intensity_.end());
   label.values.resize(labels_.size());
   for (std::size_t i = 0; i < labels_.size(); ++i) label.values[i] = static_cast<double>(labels_[i]);
@@ -1168,7 +1168,7 @@ interfaces::PointCloud RoomModel::Sm1Cloud() const {
   return cloud;
 }
 
-void RoomModel::WriteSm1(const std::string& path) const { interfaces::WritePly(path, Sm1Cloud()); }
+void RoomModel::WriteSm1(const std::string& path) const { io::WritePly(path, Sm1Cloud()); }
 
 std::string RoomModel::FiguresJson() const {
   std::string s = "{";

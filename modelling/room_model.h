@@ -29,7 +29,7 @@
 
 #include "common/frames.h"
 #include "common/params.h"
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 #include "interfaces/tls_scan.h"
 #include "modelling/roi.h"
 #include "modelling/voxel_space.h"
@@ -154,7 +154,7 @@ class RoomModel {
 
   /// SM1 as a cloud: x y z red green blue scalar_intensity scalar_label scalar_scan, with the
   /// scan poses and heights in header comments.
-  interfaces::PointCloud Sm1Cloud() const;
+  io::PointCloud Sm1Cloud() const;
   /// Writes Sm1Cloud() as binary PLY (InputError on I/O failure).
   void WriteSm1(const std::string& path) const;
   /// The figures (heights, perimeter, columns, faces, voxel label counts, coverage history,

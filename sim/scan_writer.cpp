@@ -4,10 +4,10 @@ namespace mopad::sim {
 
 ScanFileSink::ScanFileSink(const ScanOutputPaths& paths, const interfaces::TlsScan& header,
                            const TlsTruth& truth_header, std::uint64_t expected_points) {
-  ply_ = std::make_unique<interfaces::TlsPlyStreamWriter>(paths.ply, header, expected_points);
+  ply_ = std::make_unique<io::TlsPlyStreamWriter>(paths.ply, header, expected_points);
   wide_row_ = ply_->wide_row();
   wide_col_ = ply_->wide_col();
-  if (!paths.ptx.empty()) ptx_ = std::make_unique<interfaces::TlsPtxStreamWriter>(paths.ptx, header);
+  if (!paths.ptx.empty()) ptx_ = std::make_unique<io::TlsPtxStreamWriter>(paths.ptx, header);
   if (!paths.truth.empty()) {
     truth_ = std::make_unique<TlsTruthPlyStreamWriter>(paths.truth, truth_header, expected_points);
   }
@@ -18,8 +18,8 @@ ScanFileSink::~ScanFileSink() = default;
 void ScanFileSink::Process(ScanBlock& b) {
   for (auto& e : b.encoded) e.clear();
   b.encoded_count = {};
-  b.encoded_count[0] = interfaces::TlsPlyStreamWriter::EncodePoints(b.points, wide_row_, wide_col_, b.encoded[0]);
-  if (ptx_) interfaces::TlsPtxStreamWriter::EncodeCells(b.points, b.encoded[1]);
+  b.encoded_count[0] = io::TlsPlyStreamWriter::EncodePoints(b.points, wide_row_, wide_col_, b.encoded[0]);
+  if (ptx_) io::TlsPtxStreamWriter::EncodeCells(b.points, b.encoded[1]);
   if (truth_) {
     b.encoded_count[2] = TlsTruthPlyStreamWriter::Encode(b.points.data(), b.truth.data(), b.points.size(), b.encoded[2]);
   }

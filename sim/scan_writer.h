@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 #include "sim/tls_scanner.h"
 
 namespace mopad::sim {
@@ -37,8 +37,8 @@ class ScanFileSink final : public ScanSink {
   std::function<void(std::uint64_t)> on_progress;
 
  private:
-  std::unique_ptr<interfaces::TlsPlyStreamWriter> ply_;
-  std::unique_ptr<interfaces::TlsPtxStreamWriter> ptx_;
+  std::unique_ptr<io::TlsPlyStreamWriter> ply_;
+  std::unique_ptr<io::TlsPtxStreamWriter> ptx_;
   std::unique_ptr<TlsTruthPlyStreamWriter> truth_;
   bool wide_row_ = false, wide_col_ = false;
   std::uint64_t points_ = 0, columns_ = 0;

@@ -48,8 +48,8 @@ std::vector<std::string> TruthComments(const TlsTruth& t) {
   return c;
 }
 
-const std::vector<std::pair<std::string, interfaces::PlyType>>& TruthProperties() {
-  using interfaces::PlyType;
+const std::vector<std::pair<std::string, io::PlyType>>& TruthProperties() {
+  using io::PlyType;
   static const std::vector<std::pair<std::string, PlyType>> props = {
       {"x", PlyType::kFloat32},           {"y", PlyType::kFloat32},          {"z", PlyType::kFloat32},
       {"scalar_label", PlyType::kUInt8},  {"scalar_element", PlyType::kInt32}, {"scalar_part", PlyType::kInt32},

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "common/frames.h"
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 #include "interfaces/tls_scan.h"
 
 namespace mopad::sim {
@@ -66,7 +66,7 @@ class TlsTruthPlyStreamWriter {
   void Close() { ply_.Close(); }
 
  private:
-  interfaces::PlyStreamWriter ply_;
+  io::PlyStreamWriter ply_;
 };
 
 }  // namespace mopad::sim

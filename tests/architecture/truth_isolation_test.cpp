@@ -17,9 +17,9 @@ namespace {
 namespace fs = std::filesystem;
 using Graph = std::map<std::string, std::vector<std::string>>;
 
-const std::vector<std::string> kRobotTargets = {"mopad_perception", "mopad_modelling",
+const std::vector<std::string> kRobotTargets = {"mopad_io", "mopad_perception", "mopad_modelling",
                                                 "mopad_autonomy"};
-const std::vector<std::string> kRobotDirs = {"perception", "modelling", "autonomy"};
+const std::vector<std::string> kRobotDirs = {"io", "perception", "modelling", "autonomy"};
 // Targets and third-party libraries that carry or read the truth, and the mission library
 // (the simulated robot and its truth log): the robot's brain reaches none of them.
 const std::set<std::string> kTruthTargets = {"mopad_scenes", "mopad_sim", "mopad_evaluation", "mopad_mission",

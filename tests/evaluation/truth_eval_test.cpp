@@ -16,7 +16,7 @@
 #include "evaluation/scan_eval.h"
 #include "evaluation/truth_eval.h"
 #include "evaluation/truth_surfaces.h"
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 #include "scenes/generator.h"
 #include "scenes/geometry.h"
 #include "scenes/scene_spec.h"
@@ -346,10 +346,10 @@ TEST(Coverage, PointsOnOneWallCoverExactlyThatWallsShare) {
   EXPECT_NEAR(half.room.ShareOfTotal(), wall / 2 / total, 1e-6);  // unobservable cells never count
   EXPECT_NE(CoverageToJson(rep).find("\"name\": \"wall_s\""), std::string::npos);
   // Through a PLY file, same answer.
-  interfaces::PointCloud cloud;
+  io::PointCloud cloud;
   cloud.points = p_M;
   const std::string path = (std::filesystem::temp_directory_path() / "mopad_truth_eval_cov.ply").string();
-  interfaces::WritePly(path, cloud);
+  io::WritePly(path, cloud);
   EXPECT_EQ(CoverageToJson(ComputeCoverageFromPly(s, {}, path, X_WM)), CoverageToJson(rep));
   std::remove(path.c_str());
 }

@@ -388,12 +388,12 @@ TEST(RoomModel, Sm1PlyHasTheLabelledColouredCloud) {
   model.AddScan(a.scan, a.X_MS);
   const std::string path = (std::filesystem::temp_directory_path() / "mopad_sm1_fields.ply").string();
   model.WriteSm1(path);
-  const interfaces::PointCloud c = interfaces::ReadPly(path);
+  const io::PointCloud c = io::ReadPly(path);
   std::filesystem::remove(path);
   ASSERT_EQ(c.points.size(), model.PointCount());
   ASSERT_EQ(c.colors.size(), model.PointCount());
-  const interfaces::ScalarField* label = c.Field("scalar_label");
-  const interfaces::ScalarField* scan = c.Field("scalar_scan");
+  const io::ScalarField* label = c.Field("scalar_label");
+  const io::ScalarField* scan = c.Field("scalar_scan");
   ASSERT_NE(c.Field("scalar_intensity"), nullptr);
   ASSERT_NE(label, nullptr);
   ASSERT_NE(scan, nullptr);

@@ -1,4 +1,4 @@
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include "sim/tls_scanner.h"
 #include "tests/sim/test_scenes.h"
 
-namespace mopad::interfaces {
+namespace mopad::io {
 namespace {
 
 std::string TempPath(const std::string& name) {
@@ -172,4 +172,4 @@ TEST(ScanIo, CloudCompareOpensTheScanWithAllFields) {
 }
 
 }  // namespace
-}  // namespace mopad::interfaces
+}  // namespace mopad::io

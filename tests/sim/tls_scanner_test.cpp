@@ -9,7 +9,7 @@
 #include <sstream>
 #include <type_traits>
 
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 #include "sim/scan_writer.h"
 #include "sim/threads.h"
 #include "tests/sim/test_scenes.h"
@@ -526,8 +526,8 @@ TEST(TlsScanner, OutputIsByteIdenticalWithOneAndTwoThreads) {
     TlsTruth truth;
     const auto scan = scanner.Scan(req, &truth);
     const std::string ply = TempPath("mem.ply"), ptx = TempPath("mem.ptx"), tply = TempPath("mem.truth.ply");
-    interfaces::WriteTlsScanPly(ply, scan);
-    interfaces::WriteTlsScanPtx(ptx, scan);
+    io::WriteTlsScanPly(ply, scan);
+    io::WriteTlsScanPtx(ptx, scan);
     WriteTlsTruthPly(tply, scan, truth);
     EXPECT_TRUE(ReadBytes(ply) == one[0]);
     EXPECT_TRUE(ReadBytes(ptx) == one[1]);
@@ -555,7 +555,7 @@ TEST(TlsScanner, ScanCarriesNoTruth) {
   p.step_deg = 2;
   const auto scan = TlsScanner(world, p).Scan(At(0, 0, 0));
   const std::string path = TempPath("notruth.ply");
-  interfaces::WriteTlsScanPly(path, scan);
+  io::WriteTlsScanPly(path, scan);
   const std::string bytes = ReadBytes(path);
   const std::string header = bytes.substr(0, bytes.find("end_header"));
   for (const char* bad : {"label", "element", "part", "class", "door", "true", "flags", "X_WS", "bias"}) {

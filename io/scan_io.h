@@ -1,7 +1,7 @@
 #pragma once
 // Point-cloud files: binary little-endian PLY (any labelled cloud, and TLS scans) and PTX
-// (one organised TLS scan per file). Lives in interfaces so the robot's libraries can write
-// clouds too; it knows nothing of ground truth.
+// (one organised TLS scan per file). In io/ (file formats without truth) so the robot's
+// libraries can write clouds too.
 //
 // PLY field names follow what Debian's CloudCompare 2.11 and Open3D both read: x y z (float),
 // red green blue (uchar), and every other field named `scalar_*` (CloudCompare keeps only the
@@ -40,7 +40,10 @@
 
 #include "interfaces/tls_scan.h"
 
-namespace mopad::interfaces {
+namespace mopad::io {
+
+using interfaces::TlsPoint;
+using interfaces::TlsScan;
 
 /// PLY scalar types (the classic names are written: char uchar short ushort int uint float
 /// double).
@@ -151,4 +154,4 @@ class TlsPtxStreamWriter {
   std::FILE* file_ = nullptr;
 };
 
-}  // namespace mopad::interfaces
+}  // namespace mopad::io

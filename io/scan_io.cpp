@@ -1,4 +1,4 @@
-#include "interfaces/scan_io.h"
+#include "io/scan_io.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -12,7 +12,7 @@
 
 #include "common/error.h"
 
-namespace mopad::interfaces {
+namespace mopad::io {
 
 static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
 
@@ -650,4 +650,4 @@ TlsScan ReadTlsScanPtx(const std::string& path) {
   return scan;
 }
 
-}  // namespace mopad::interfaces
+}  // namespace mopad::io
