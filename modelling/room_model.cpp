@@ -179,6 +179,8 @@ constexpr std::int64_t kGapRows = 2;
 // m, 3D range under which a return may be followed by surfaces too close to return (scanners'
 // minimum ranges are 0.5-1.5 m).
 constexpr double kNearRange = 2.0;
+// m: a return this close to the scan's shortest one lies at the scanner's minimum range.
+constexpr double kMinRangeSlack = 0.1;
 
 std::int64_t VoxelKey(const Eigen::Vector3f& p, double size) {
   const auto q = [size](float v) {
@@ -276,6 +278,9 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   }
   rec.end = points_.size();
   if (rec.end == rec.begin) throw InputError(where, "scan has no valid return");
+  rec.min_range = std::numeric_limits<double>::infinity();
+  for (const auto& p : scan.points)
+    if (p.valid()) rec.min_range = std::min(rec.min_range, static_cast<double>(p.range));
   labels_.resize(points_.size(), PointLabel::kNone);
   scans_.push_back(rec);
   scan_poses_.push_back(X_MS);
@@ -392,9 +397,16 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
       // return (a lintel over a door beside the scanner), and the next return is the next
       // room's ceiling: the walk ends. On the ceiling a gap is a dropout, unless the last
       // ceiling return was itself near the minimum range (a low ceiling beside a door wall).
-      if ((column_index_[k] & kGapBit) && ceiling_like && (!any || !on_ceiling || last_near)) break;
+      // A gap before a column's first return, when that return is ceiling at the scan's
+      // shortest range, is the ceiling inside the scanner's minimum range (a low ceiling right
+      // above the scanner), not a wall too close to return.
+      const double range = (p.cast<double>() - rec.origin).norm();
+      const bool near = range < kNearRange;
+      const bool ceiling_above = !any && std::abs(dz) <= tol && range <= rec.min_range + kMinRangeSlack;
+      if ((column_index_[k] & kGapBit) && ceiling_like && !ceiling_above && (!any || !on_ceiling || last_near))
+        break;
       if (ceiling_like) {
-        last_near = (p.cast<double>() - rec.origin).norm() < kNearRange;
+        last_near = near;
         if (rho > best_rho) {
           best_rho = rho;
           vertex = q;

@@ -169,6 +169,7 @@ class RoomModel {
     std::size_t begin = 0, end = 0;  // range in the full-resolution arrays
     Vec3 origin = Vec3::Zero();      // scanner centre, map
     std::vector<Vec2> outline;       // plan outline of its ceiling view (map)
+    double min_range = 0.0;          // m, the shortest return of the scan (its minimum range)
   };
 
   void UpdateWorkingCloud(std::size_t begin, std::size_t end);

@@ -66,6 +66,22 @@ TEST(RoomModel, FloorCeilingAndPerimeterOfABoxRoomWithAnOpenDoor) {
   EXPECT_TRUE(model.Columns().empty());
 }
 
+// A low ceiling (2.5 m: 1.1 m above the scanner centre) lies inside the scanner's 1.5 m minimum
+// range in the top rows of every column, so each column's first return follows a gap. That gap
+// is the ceiling, not a wall too close to return: the outline must still be traced (random
+// floors with 2.6-2.7 m ceilings got no perimeter and no model at all).
+TEST(RoomModel, PerimeterUnderACeilingInsideTheMinimumRange) {
+  const sim::EmbreeWorld world(testing::RoomWithDoorScene(6, 4, 2.5f));
+  ASSERT_GE(TestTls().range_min, 1.5);
+  const SimScan s = TakeScan(world, TestTls(), 2.0, 1.8, 0);
+  RoomModel model;
+  model.AddScan(s.scan, s.X_MS);
+  EXPECT_NEAR(model.CeilingZ(), 2.5, 0.01);
+  const std::vector<Vec2> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+  ASSERT_EQ(model.Perimeter().size(), 4u) << model.FiguresJson();
+  EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
+}
+
 TEST(RoomModel, PerimeterDoesNotLeakThroughADoorBesideTheScanner) {
   // 0.6 m from the door wall (a 2 m hall is always < 1 m from one): the lintel over the door
   // is closer than the scanner's 1.5 m minimum range below ~66 deg elevation, so it returns
