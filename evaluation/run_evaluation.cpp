@@ -253,7 +253,7 @@ void WriteTruthDsm3Ply(const std::string& path, const Dsm3Voxels& grid_of,
 
 }  // namespace
 
-std::string EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
+RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
                         const std::string& out) {
   std::string report;
   EvalParams params;
@@ -585,7 +585,7 @@ std::string EvaluateRun(const std::string& run_dir, const std::string& truth_fil
               Fmt(params.report_buffer, 0, 100).c_str());
   Append(report, "wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
               dir.string().c_str());
-  return report;
+  return {report, summary};
 }
 
 }  // namespace mopad::evaluation

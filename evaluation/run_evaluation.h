@@ -4,13 +4,20 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace mopad::evaluation {
 
 /// Scores the models of `run_dir` against the truth (`truth_file` overrides the scene's sidecar;
 /// `config` is an optional YAML of evaluation parameters; both may be empty) and writes
 /// `out` (default run_dir/eval): evaluation.json, evaluation.md, isprs_*.svg, dsm3_truth_*.ply.
-/// Returns the tables printed by `mopad eval`. Throws InputError for bad input.
-std::string EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
+/// Returns the tables `mopad eval` prints and the pooled summary (evaluation.json's "summary").
+/// Throws InputError for bad input.
+struct RunEvaluation {
+  std::string tables;
+  nlohmann::ordered_json summary;
+};
+RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
                         const std::string& out);
 
 }  // namespace mopad::evaluation

@@ -116,6 +116,7 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
     job.plan_points_W.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
   }
   job.labels = model.CountLabels();
+  job.path_length = session.Result().path_length;
   job.points = model.PointCount();
   if (evaluate) {
     job.evaluation = EvaluateRoom(*mw.world, *mw.truth, room, session, job.mission, model, labels.Labels());

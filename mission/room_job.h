@@ -69,6 +69,7 @@ struct RoomJob {
   std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height (world)
   modelling::LabelCounts labels;
   std::size_t points = 0;
+  double path_length = 0.0;  ///< m, true distance driven in the room
 };
 RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
                    const RoomMissionParams& params,

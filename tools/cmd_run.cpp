@@ -1,11 +1,6 @@
-// `mopad run`: the main job. Generates the default scene (or --spec), then runs the closed-loop
-// room-scanning mission (issue 5; mission/room_mission.h) in every room: the robot starts at a
-// harness-chosen free spot in the room and chooses every later scan position itself
-// (next-best-scan), until the paper's stopping rule holds. Writes per room the robot's models
-// (SM1, SM2, SM3, DSM3; docs/models.md) and the evaluation against the truth (per room: coverage,
-// registration, SM1 labels; all rooms: `mopad eval`'s model scores in eval/), plus a summary
-// and a self-contained report. Room-to-room exploration (the Dynamic Traversal Tree) replaces
-// the per-room start placement when it lands.
+// `mopad run`: the main job (README). The default scene (or --spec), the room job
+// (mission/room_job.h) in every room, a room that fails recorded with its reason, `mopad eval`
+// over all rooms, summary.json and the report.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -14,8 +9,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "common/params.h"
 #include "mission/room_mission.h"
 #include "scenes/generator.h"
@@ -34,15 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double Seconds(Clock::time_point a) {
-  return std::chrono::duration<double>(Clock::now() - a).count();
-}
-
-std::string Fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
+double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+std::string Fixed(double v, int digits) { return FormatNumbers(("%." + std::to_string(digits) + "f").c_str(), v); }
 
 }  // namespace
 
@@ -108,18 +98,29 @@ void RegisterRunCommand(CLI::App& app) {
                             "registration error max (mm / deg)", "SM1 labels agree"},
                            {}};
     nlohmann::ordered_json rooms_json = nlohmann::json::array();
+    int rooms_failed = 0;
     for (const std::string& id : room_ids) {
       t0 = Clock::now();
       const std::string room_dir = (dir / "rooms" / id).string();
-      const mission::RoomJob job = mission::RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
+      // A room that fails is recorded with its reason and the run goes on with the next.
+      std::optional<mission::RoomJob> job_or;
+      try {
+        job_or = mission::RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
+      } catch (const std::exception& ex) {
+        const double t_failed = Seconds(t0);
+        std::printf("room %s: failed: %s (%.1f s)\n", id.c_str(), ex.what(), t_failed);
+        rooms_table.rows.push_back({id, "-", "-", std::string("failed: ") + ex.what(), "-", "-", "-"});
+        rooms_json.push_back({{"room", id}, {"status", "failed"}, {"reason", ex.what()}, {"seconds", t_failed}});
+        ++rooms_failed;
+        continue;
+      }
+      const mission::RoomJob& job = *job_or;
       const double t_room = Seconds(t0);
       const auto& m = job.mission;
       double max_proc = 0.0;
       for (const auto& s : m.scans)
         max_proc = std::max(max_proc, s.t_registration + s.t_model + s.t_nbs);
       const double robot_cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.ratio;
-      std::ifstream sf(fs::path(room_dir) / "summary.json");
-      const auto drive = nlohmann::json::parse(sf);
       const mission::RoomEvaluation& e = *job.evaluation;
       std::printf("room %s: %zu scans, robot coverage %.3f; evaluation: %.3f of observable, %.3f "
                   "of total, registration max %.1f mm / %.3f deg, labels %.4f (%.1f s)\n",
@@ -128,7 +129,7 @@ void RegisterRunCommand(CLI::App& app) {
                   e.max_rotation_error_deg, e.labels.Accuracy(), t_room);
       rooms_table.rows.push_back({id, std::to_string(m.scans.size()), Fixed(robot_cov, 3),
                                   m.stop_reason, Fixed(max_proc, 2),
-                                  Fixed(drive.value("path_length_m", 0.0), 2),
+                                  Fixed(job.path_length, 2),
                                   std::to_string(job.points)});
       eval_table.rows.push_back({id, Fixed(e.coverage.room.ShareOfObservable(), 3),
                                  Fixed(e.coverage.room.ShareOfTotal(), 3),
@@ -144,6 +145,7 @@ void RegisterRunCommand(CLI::App& app) {
       }
       nlohmann::ordered_json rj;
       rj["room"] = id;
+      rj["status"] = "scanned";
       rj["dir"] = "rooms/" + id;
       rj["scans"] = m.scans.size();
       rj["stop_reason"] = m.stop_reason;
@@ -158,13 +160,11 @@ void RegisterRunCommand(CLI::App& app) {
     // 3. The models against the truth (`mopad eval` over every room): eval/.
     t0 = Clock::now();
     std::printf("models against the truth (mopad eval):\n");
-    std::fputs(evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string()).c_str(), stdout);
+    const evaluation::RunEvaluation run_eval =
+        evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string());
+    std::fputs(run_eval.tables.c_str(), stdout);
     const double t_eval = Seconds(t0);
-    nlohmann::json ev_summary;
-    {
-      std::ifstream ef(dir / "eval" / "evaluation.json");
-      ev_summary = nlohmann::json::parse(ef).at("summary");
-    }
+    const nlohmann::ordered_json& ev_summary = run_eval.summary;
     ReportTable model_table{"Structural models against the truth (mopad eval, eval/evaluation.md)",
                             {"figure", "value"},
                             {}};
@@ -173,7 +173,7 @@ void RegisterRunCommand(CLI::App& app) {
       for (const auto& [cls, d] : ev_summary.at("detection").items()) {
         tp += d.at("tp").get<int>(), n += d.at("n_truth").get<int>(), fp += d.at("fp").get<int>();
       }
-      auto num = [&](const nlohmann::json& v, double scale, int digits) {
+      auto num = [&](const nlohmann::ordered_json& v, double scale, int digits) {
         return v.is_number() ? Fixed(scale * v.get<double>(), digits) : std::string("-");
       };
       model_table.rows = {
@@ -202,6 +202,7 @@ void RegisterRunCommand(CLI::App& app) {
     j["seed"] = params.drive.seed;
     j["tls_step_deg"] = params.scan_step_deg;
     j["rooms"] = rooms_json;
+    j["rooms_failed"] = rooms_failed;
     j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", ev_summary}};
     j["seconds"] = {{"generate", t_generate}, {"eval", t_eval}, {"total", Seconds(t_start)}};
     std::ofstream(dir / "summary.json") << j.dump(2) << "\n";
