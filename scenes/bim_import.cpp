@@ -16,6 +16,7 @@
 #include "scenes/bsc_catalogue.h"
 #include "scenes/geometry.h"
 #include "scenes/gltf_writer.h"
+#include "scenes/scene_check.h"
 #include "scenes/scene_loader.h"
 
 namespace mopad::scenes {
@@ -25,11 +26,12 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Poly3 = std::vector<Vector3d>;
 
-constexpr double kMinPieceArea = 1e-8;   // m^2: clipped slivers below this are dropped
-constexpr double kLeafGap = 0.003;       // m, leaf-to-hole clearance (as the generator's)
-constexpr double kFacingCos = 0.999;     // a face is parallel to a room plane (2.6 deg)
-constexpr double kOpeningReach = 0.8;    // m: an opening's centre lies this deep behind a face
-constexpr std::size_t kGuidLength = 22;  // IFC GlobalId, base64 of 128 bits
+constexpr double kMinPieceArea = 1e-8;      // m^2: clipped slivers below this are dropped
+constexpr double kLeafGap = 0.003;          // m, leaf-to-hole clearance (as the generator's)
+constexpr double kFacingCos = 0.999;        // a face is parallel to a room plane (2.6 deg)
+constexpr double kOpeningReach = 0.8;       // m: an opening's centre lies this deep behind a face
+constexpr double kPassageTolerance = 0.01;  // m: two rooms' edges on one line
+constexpr std::size_t kGuidLength = 22;     // IFC GlobalId, base64 of 128 bits
 
 std::string Fmt(double v, int precision = 3) {
   std::ostringstream s;
@@ -590,6 +592,7 @@ class Importer {
     FloorsAndCeilings();
     Columns();
     Openings();
+    Passages();
     Components();
     Rest();
     Finish();
@@ -1193,6 +1196,7 @@ class Importer {
       o.host_walls = {f0.id};
       o.rooms = {r0.room.id};
       FillRect(&o, holes[0]);
+      for (const Hole& h : holes) holes_.push_back(h);
       std::string room_b;
       if (door)
         for (std::size_t k = 1; k < holes.size(); ++k) {
@@ -1265,6 +1269,44 @@ class Importer {
                             Fmt(o.u1 - o.u0, 2) + " x " + Fmt(o.v1 - o.v0, 2) + " m, at " +
                             Fmt(deg, 1) + " deg (BIM leaf replaced by a hinged leaf)");
     }
+  }
+
+  // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.
+  void Passages() {
+    std::set<std::pair<int, int>> done;
+    for (std::size_t fi = 0; fi < faces_.size(); ++fi)
+      for (std::size_t gi = fi + 1; gi < faces_.size(); ++gi) {
+        const Face& f = faces_[fi];
+        const Face& g = faces_[gi];
+        if (f.room == g.room || f.n.dot(g.n) > -kFacingCos ||
+            std::abs(f.W(g.a)) > kPassageTolerance || done.count({f.room, g.room}))
+          continue;
+        const double g0 = f.U(g.a), g1 = f.U(g.a + g.length * g.dir);
+        const double s0 = std::max(0.0, std::min(g0, g1)),
+                     s1 = std::min(f.length, std::max(g0, g1));
+        if (s1 - s0 < kMinClearDoorWidth) continue;
+        const double v = f.z0 + 0.5 * (std::min(f.z1, g.z1) - f.z0);
+        std::vector<std::pair<double, double>> cov = Coverage(f, false, v);
+        for (const Hole& h : holes_)
+          if (h.face == fi) cov.emplace_back(h.u0, h.u1);  // doors and windows are not passages
+        std::sort(cov.begin(), cov.end());
+        double widest = 0.0, at = s0;
+        for (const auto& [a, b] : cov) {
+          if (b <= at) continue;
+          widest = std::max(widest, std::min(a, s1) - at);
+          at = std::max(at, b);
+          if (at >= s1) break;
+        }
+        widest = std::max(widest, s1 - at);
+        if (widest < kMinClearDoorWidth) continue;
+        done.insert({f.room, g.room});
+        done.insert({g.room, f.room});
+        out_.truth.connections.push_back({"", rooms_[f.room].room.id, rooms_[g.room].room.id});
+        out_.truth.format_version = kTruthFormatVersionPassages;
+        out_.report.push_back("open passage between " + rooms_[f.room].room.id + " and " +
+                              rooms_[g.room].room.id + ": " + Fmt(widest, 2) +
+                              " m of shared boundary without a wall");
+      }
   }
 
   void Components() {
@@ -1482,6 +1524,7 @@ class Importer {
   double z0_ = 0.0, top_ = -1e300;
   std::vector<RoomData> rooms_;
   std::vector<Face> faces_;
+  std::vector<Hole> holes_;  // of every opening, on every face it was found in
   std::map<std::size_t, double> floor_area_, ceiling_area_;
   std::map<int, int> columns_in_;
   std::vector<StructuralElement> walls_, floors_, ceilings_, columns_;
