@@ -11,7 +11,9 @@
 #include "scenes/bim_import.h"
 #include "scenes/bsc_catalogue.h"
 #include "scenes/generator.h"
+#include "scenes/gltf_writer.h"
 #include "scenes/ground_truth.h"
+#include "scenes/plan_view.h"
 #include "scenes/random_floor.h"
 #include "scenes/scene_check.h"
 #include "scenes/scene_loader.h"
@@ -123,6 +125,32 @@ void RegisterSceneCommands(CLI::App& app) {
       for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
       PrintSummary(Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
       std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out->c_str(), out->c_str());
+    });
+  }
+  {
+    auto* cmd = scene->add_subcommand("plan",
+                                      "Draw a plan-view PNG of a scene folder and its "
+                                      "truth (walls red, doors green, windows blue)");
+    auto path = std::make_shared<std::string>();
+    auto out = std::make_shared<std::string>();
+    auto p = std::make_shared<scenes::PlanViewParams>();
+    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
+    cmd->add_option("-o,--output", *out, "PNG file to write")->required();
+    cmd->add_option("--pixel-size", p->pixel_size, "Metres per pixel")->default_val(0.02);
+    cmd->add_option("--cut-height", p->cut_height, "Section height above the floor, m")
+        ->default_val(1.2);
+    cmd->callback([=] {
+      const ScenePaths sp = ResolveScene(*path);
+      if (!sp.truth)
+        throw InputError(*path, "no ground truth next to the scene", "",
+                         "scene.truth.json beside scene.glb");
+      const scenes::Texture t = scenes::RenderPlanView(scenes::LoadScene(sp.geometry),
+                                                       scenes::ReadGroundTruth(*sp.truth), *p);
+      const std::vector<std::uint8_t> png = scenes::EncodePng(t);
+      std::ofstream f(*out, std::ios::binary | std::ios::trunc);
+      f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+      if (!f) throw InputError(*out, "cannot write file");
+      std::printf("wrote %s (%d x %d)\n", out->c_str(), t.width, t.height);
     });
   }
   {
