@@ -342,8 +342,11 @@ class Output {
 enum class Role { kSpace, kWall, kSlab, kColumn, kDoor, kWindow, kComponent, kFurniture, kOther };
 
 // Catalogue class of a component IFC class ("" = not a component class). Sizes pick sockets.
-std::string ComponentClass(const std::string& ifc, const Eigen::Vector3d& size) {
-  const std::string c = Lower(ifc);
+std::string ComponentClass(const std::string& ifc, const std::string& type_class,
+                           const Eigen::Vector3d& size) {
+  // IFC 2x3 has no IfcOutlet or IfcSwitchingDevice: a generic IfcFlowTerminal/IfcFlowController
+  // says what it is through its type object (IfcOutletType -> "ifcoutlet").
+  const std::string c = type_class.empty() ? Lower(ifc) : type_class;
   if (c == "ifcoutlet") {
     const double w = std::max(size.x(), size.y());
     return w < 0.12 ? "socket_x1" : w < 0.22 ? "socket_x2" : "socket_x4";
@@ -354,6 +357,7 @@ std::string ComponentClass(const std::string& ifc, const Eigen::Vector3d& size) 
     return "electrical_panel";
   if (c == "ifcspaceheater") return "radiator";
   if (c == "ifcsensor") return "smoke_detector";  // kept only when ceiling-mounted (below)
+  if (!type_class.empty() && c != Lower(ifc)) return ComponentClass(ifc, "", size);
   return "other:" + ifc;
 }
 
@@ -606,19 +610,12 @@ class Importer {
     lo.import_ifc_spaces = true;
     scene_ = LoadScene(path_, lo);
     const std::string ext = Lower(std::filesystem::path(path_).extension().string());
-    if (ext == ".ifc") {
-      text_ = ReadText(path_);
-      step_ = IndexStep(text_);
-      length_scale_ = FullLengthScale(text_, step_, path_);
-      for (const auto& [id, body] : step_.bodies) {
-        const std::vector<std::string> a = Attributes(body);
-        if (a.size() < 3) continue;
-        const std::string guid = StepString(a[0]);
-        if (guid.size() == kGuidLength) names_[guid] = StepString(a[2]);
-      }
-    }
+    if (ext == ".ifc") ReadStepInfo(path_);
+    std::set<std::string> own_ids;
+    for (const MeshPart& part : scene_.parts) own_ids.insert(part.element_id);
     for (const std::string& m : p_.merge) {
       const Scene other = LoadScene(m, lo);
+      if (Lower(std::filesystem::path(m).extension().string()) == ".ifc") ReadStepInfo(m);
       const int offset = static_cast<int>(scene_.materials.size());
       for (const Material& mat : other.materials) scene_.materials.push_back(mat);
       const int tex_offset = static_cast<int>(scene_.textures.size());
@@ -626,17 +623,22 @@ class Importer {
       for (std::size_t k = offset; k < scene_.materials.size(); ++k)
         if (scene_.materials[k].base_color_texture >= 0)
           scene_.materials[k].base_color_texture += tex_offset;
-      std::size_t taken = 0;
+      std::size_t taken = 0, known = 0;
       for (MeshPart part : other.parts) {
         const Role r = RoleOf(part.subclass, part.element_class);
         if (r != Role::kComponent && r != Role::kFurniture) continue;
+        if (own_ids.count(part.element_id)) {  // the same GlobalId: the same element
+          ++known;
+          continue;
+        }
         if (part.material >= 0) part.material += offset;
         merged_parts_.insert(scene_.parts.size());
         scene_.parts.push_back(std::move(part));
         ++taken;
       }
       out_.report.push_back("merge " + m + ": " + std::to_string(taken) +
-                            " component/furniture part(s) taken, the rest of that model ignored");
+                            " component/furniture part(s) taken, " + std::to_string(known) +
+                            " already in the model, the rest of that model ignored");
     }
     // Elements in order of first appearance.
     std::map<std::string, std::size_t> index;
@@ -655,6 +657,51 @@ class Importer {
       e.parts.push_back(i);
       e.merged = e.merged || merged_parts_.count(i) > 0;
       for (const auto& v : part.positions) e.box.extend(v.cast<double>());
+    }
+  }
+
+  // Names, type objects and storey spaces from an IFC file's STEP text (GlobalId keyed).
+  void ReadStepInfo(const std::string& path) {
+    const std::string text = ReadText(path);
+    const StepIndex step = IndexStep(text);
+    std::map<unsigned long, std::string> guid_of;
+    for (const auto& [id, body] : step.bodies) {
+      const std::vector<std::string> a = Attributes(body);
+      if (a.size() < 3) continue;
+      const std::string guid = StepString(a[0]);
+      if (guid.size() != kGuidLength) continue;
+      guid_of[id] = guid;
+      names_[guid] = StepString(a[2]);
+    }
+    auto refs = [](const std::string& list) {
+      std::vector<unsigned long> out;
+      for (std::size_t q = list.find('#'); q != std::string::npos; q = list.find('#', q + 1))
+        out.push_back(std::strtoul(list.c_str() + q + 1, nullptr, 10));
+      return out;
+    };
+    for (const auto& [id, body] : step.bodies) {
+      const std::string entity = EntityOf(body);
+      const std::vector<std::string> a = Attributes(body);
+      if (entity == "IFCRELDEFINESBYTYPE" && a.size() >= 6) {
+        // (guid, owner, name, description, (#objects), #type)
+        const auto type = step.bodies.find(refs(a[5]).empty() ? 0 : refs(a[5])[0]);
+        if (type == step.bodies.end()) continue;
+        std::string cls = Lower(EntityOf(type->second));
+        if (cls.size() > 4 && cls.compare(cls.size() - 4, 4, "type") == 0)
+          cls.resize(cls.size() - 4);
+        for (unsigned long o : refs(a[4]))
+          if (guid_of.count(o)) type_class_[guid_of[o]] = cls;
+      } else if (entity == "IFCRELAGGREGATES" && a.size() >= 6) {
+        // (guid, owner, name, description, #relating, (#related)): spaces of a storey.
+        const std::vector<unsigned long> whole = refs(a[4]);
+        if (whole.empty() || !step.bodies.count(whole[0]) ||
+            EntityOf(step.bodies.at(whole[0])) != "IFCBUILDINGSTOREY")
+          continue;
+        for (unsigned long o : refs(a[5]))
+          if (step.bodies.count(o) && EntityOf(step.bodies.at(o)) == "IFCSPACE" &&
+              guid_of.count(o) && guid_of.count(whole[0]))
+            storey_spaces_[guid_of[whole[0]]].push_back(guid_of[o]);
+      }
     }
   }
 
@@ -774,6 +821,17 @@ class Importer {
                             std::to_string(poly.size()) + " corners, " + Fmt(SignedArea(poly), 2) +
                             " m2, height " + Fmt(r.room.ceiling_z - r.room.floor_z, 2) + " m");
     }
+    // Spaces the STEP text puts on this storey that assimp gave no geometry at all.
+    const auto listed = storey_spaces_.find(NodeGuid(storey_));
+    if (listed != storey_spaces_.end())
+      for (const std::string& guid : listed->second) {
+        bool seen = false;
+        for (const Element& e : elements_) seen = seen || NodeGuid(e.node) == guid;
+        if (seen) continue;
+        ++spaces;
+        out_.report.push_back("IfcSpace '" + names_[guid] + "' (" + guid +
+                              "): space without representation; no room");
+      }
     if (rooms_.empty())
       throw InputError(path_, "no room can be made on storey '" + StoreyName(storey_) + "'",
                        std::to_string(spaces) + " IfcSpace(s), none with a usable volume",
@@ -1426,7 +1484,9 @@ class Importer {
     if (host == nullptr) return false;
     const Vector3d shift = ceiling ? Vector3d(0, 0, gap) : Vector3d(-gap * host->normal);
     ServiceComponent s;
-    std::string cls = ComponentClass(e.ifc, e.box.sizes());
+    const auto type = type_class_.find(NodeGuid(e.node));
+    std::string cls =
+        ComponentClass(e.ifc, type == type_class_.end() ? "" : type->second, e.box.sizes());
     if (cls == "smoke_detector" && !ceiling) cls = "other:" + e.ifc;
     s.bsc_class = cls;
     s.id = (cls.rfind("other:", 0) == 0 ? "other" : cls) + "_" + std::to_string(++(*counts)[cls]);
@@ -1513,10 +1573,9 @@ class Importer {
   const std::string path_;
   const BimImportParams p_;
   Scene scene_;
-  std::string text_;
-  StepIndex step_;
-  double length_scale_ = 1.0;
-  std::map<std::string, std::string> names_;  // GlobalId -> IFC Name
+  std::map<std::string, std::string> names_;       // GlobalId -> IFC Name
+  std::map<std::string, std::string> type_class_;  // GlobalId -> "ifcoutlet" (its type object)
+  std::map<std::string, std::vector<std::string>> storey_spaces_;  // storey -> space GlobalIds
   std::set<std::size_t> merged_parts_, storey_parts_;
   std::vector<Element> elements_;
   std::string storey_;
