@@ -926,6 +926,7 @@ class Importer {
                 Poly3 in;
                 Split(piece, f.Region(), &in, &next);
                 if (!in.empty()) {
+                  if (NormalOf(in).dot(f.n) < 0.0) std::reverse(in.begin(), in.end());
                   f.pieces.emplace_back(ei, std::move(in));
                   f.materials.push_back(part.material);
                 }
@@ -956,6 +957,8 @@ class Importer {
                   Poly3 in;
                   Split(piece, region, &in, &next);
                   if (!in.empty()) {
+                    // Front faces into the room (docs/scene-format.md), whatever the file did.
+                    if ((NormalOf(in).z() > 0.0) != up) std::reverse(in.begin(), in.end());
                     const std::string id = (up ? "floor_" : "ceiling_") + room.room.id;
                     (up ? floor_area_ : ceiling_area_)[r] += Area(in);
                     out_bucket_
@@ -1256,6 +1259,7 @@ class Importer {
       FillRect(&o, holes[0]);
       for (const Hole& h : holes) holes_.push_back(h);
       std::string room_b;
+      std::size_t hole_b = holes.size();
       if (door)
         for (std::size_t k = 1; k < holes.size(); ++k) {
           const Face& fk = faces_[holes[k].face];
@@ -1263,6 +1267,7 @@ class Importer {
             o.host_walls.push_back(fk.id);
             room_b = rooms_[fk.room].room.id;
             o.rooms.push_back(room_b);
+            hole_b = k;
             break;
           }
         }
@@ -1284,48 +1289,101 @@ class Importer {
         out_.truth.openings.push_back(o);
         continue;
       }
-      // Door: the BIM leaf and frame are replaced by a leaf hinged at the hole's jamb, on the
-      // face of the nearest room, "left" seen from there (docs/scene-import.md).
+      // Door: the BIM leaf and frame are replaced by a leaf hinged at a jamb of the hole
+      // (docs/scene-import.md). Where it swings: the first of (larger room, smaller room) x
+      // (left, right hinge) whose swept square fits in that room; else the nearest room, left.
       const double deg = DoorAngleDeg(o.id, e);
       const double lambda = DegToRad(deg);
-      const Vector3d n = f0.n;                         // into the swing room
-      const Vector3d dd = Vector3d::UnitZ().cross(n);  // hinge -> latch for a left hinge
-      const Vector3d axis = dd.cross(n).normalized();
-      const double u_h = holes[0].u1 - kLeafGap;  // dd = -dir: hinge at the high-u jamb
-      const Vector3d hinge =
-          f0.a + u_h * f0.dir + 0.001 * n + Vector3d(0, 0, holes[0].v0 - f0.a.z());
-      const double lw = holes[0].u1 - holes[0].u0 - 2 * kLeafGap;
       const double lt = p_.leaf_thickness;
+      std::vector<std::size_t> sides{0};
+      if (hole_b < holes.size()) {
+        sides.push_back(hole_b);
+        if (SignedArea(rooms_[faces_[holes[hole_b].face].room].poly) > SignedArea(r0.poly))
+          std::swap(sides[0], sides[1]);
+      }
+      struct Swing {
+        const Face* f;
+        const Hole* h;
+        bool left;
+        Vector3d n, dd, hinge;
+        double lw;
+      };
+      auto make = [&](std::size_t k, bool left) {
+        const Hole& h = holes[k];
+        const Face& f = faces_[h.face];
+        Swing sw{&f, &h, left, f.n, Vector3d::Zero(), Vector3d::Zero(), 0.0};
+        // Left hinge seen from the swing room: hinge -> latch = z x n = -dir, hinge at u1.
+        sw.dd =
+            left ? Vector3d(Vector3d::UnitZ().cross(f.n)) : Vector3d(f.n.cross(Vector3d::UnitZ()));
+        const double u_h = left ? h.u1 - kLeafGap : h.u0 + kLeafGap;
+        sw.hinge = f.a + u_h * f.dir + 0.001 * f.n + Vector3d(0, 0, h.v0 - f.a.z());
+        sw.lw = h.u1 - h.u0 - 2 * kLeafGap;
+        return sw;
+      };
+      auto fits = [&](const Swing& sw) {
+        const Polygon2& poly = rooms_[sw.f->room].poly;
+        for (const auto& [a, b] : {std::pair{0.02, 1.0}, std::pair{1.0, 1.0}, std::pair{0.5, 0.5}})
+          if (!PointInPolygon((sw.hinge + sw.lw * (a * sw.dd + b * sw.n)).head<2>(), poly))
+            return false;
+        return true;
+      };
+      Swing sw = make(0, true);
+      bool fitted = false;
+      for (std::size_t k : sides) {
+        for (bool left : {true, false}) {
+          const Swing c = make(k, left);
+          if (fits(c)) {
+            sw = c;
+            fitted = true;
+            break;
+          }
+        }
+        if (fitted) break;
+      }
+      if (!fitted)
+        out_.report.push_back(NiceName(e.node) +
+                              ": its leaf fits in neither room when open; "
+                              "it swings into " +
+                              r0.room.id);
+      const Vector3d n = sw.n, dd = sw.dd;
+      const Vector3d axis = dd.cross(n).normalized();
       const Vector3d rd = std::cos(lambda) * dd + std::sin(lambda) * n;
       const Vector3d rn = std::cos(lambda) * n - std::sin(lambda) * dd;
-      Bucket& leaf = out_bucket_.Get(o.id, ElementClass::kDoorLeaf, "door", r0.room.id,
+      const std::string swing_room = rooms_[sw.f->room].room.id;
+      Bucket& leaf = out_bucket_.Get(o.id, ElementClass::kDoorLeaf, "door", swing_room,
                                      LeafMaterial(), o.id + "/leaf");
       MeshPart box;
       PartBuilder pb(&box);
       Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-      // (rd, rn, z) is left-handed (rd x rn = dd x n = -z): mirror x to keep faces outward.
-      X.linear().col(0) = -rd;
+      // A left hinge makes (rd, rn, z) left-handed (rd x rn = dd x n = -z): mirror x then.
+      const bool mirror = rd.cross(rn).z() < 0.0;
+      X.linear().col(0) = mirror ? Vector3d(-rd) : rd;
       X.linear().col(1) = rn;
       X.linear().col(2) = Vector3d::UnitZ();
-      X.translation() = hinge;
-      pb.AddBox(X, {-lw, -lt, 0.01}, {0.0, 0.0, holes[0].v1 - holes[0].v0 - kLeafGap});
+      X.translation() = sw.hinge;
+      const double top = sw.h->v1 - sw.h->v0 - kLeafGap;
+      if (mirror)
+        pb.AddBox(X, {-sw.lw, -lt, 0.01}, {0.0, 0.0, top});
+      else
+        pb.AddBox(X, {0.0, -lt, 0.01}, {sw.lw, 0.0, top});
       for (const auto& t : box.triangles)
         leaf.pieces.push_back({box.positions[t[0]].cast<double>(),
                                box.positions[t[1]].cast<double>(),
                                box.positions[t[2]].cast<double>()});
-      o.hinge_side = "left";
-      o.swing_room = r0.room.id;
+      o.hinge_side = sw.left ? "left" : "right";
+      o.swing_room = swing_room;
+      o.hinge_point = sw.hinge;
+      o.hinge_axis = axis;
       o.opening_angle = lambda;
       o.state = DoorStateFromAngle(lambda);
-      o.hinge_point = hinge;
-      o.hinge_axis = axis;
       o.leaf_thickness = lt;
       out_.truth.openings.push_back(o);
       out_.truth.connections.push_back({o.id, r0.room.id, room_b});
       out_.report.push_back("door " + o.id + " = " + NiceName(e.node) + " between " + r0.room.id +
                             " and " + (room_b.empty() ? "outside" : room_b) + ", " +
                             Fmt(o.u1 - o.u0, 2) + " x " + Fmt(o.v1 - o.v0, 2) + " m, at " +
-                            Fmt(deg, 1) + " deg (BIM leaf replaced by a hinged leaf)");
+                            Fmt(deg, 1) + " deg, hinged " + o.hinge_side + " into " + swing_room +
+                            " (BIM leaf replaced)");
     }
   }
 
@@ -1560,6 +1618,8 @@ class Importer {
     }
     out_.scene.source = path_;
     out_.scene.materials = scene_.materials;
+    // The format's materials are all double-sided; BIM solids are closed, their winding varies.
+    for (Material& m : out_.scene.materials) m.double_sided = true;
     out_.scene.textures = scene_.textures;
     out_.scene.parts = out_bucket_.Parts();
     // Sort opening-less other ids to keep the truth's element order stable (file order).
