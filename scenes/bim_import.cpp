@@ -1004,6 +1004,7 @@ class Importer {
         continue;
       }
       f.kept = true;
+      for (const auto& piece : f.pieces) walls_with_faces_.insert(piece.first);
       f.umin = umin;
       f.umax = umax;
       f.vmin = vmin;
@@ -1616,6 +1617,18 @@ class Importer {
       s.element_class = ElementClass::kOther;
       out_.truth.elements.push_back(s);
     }
+    for (std::size_t i = 0; i < elements_.size(); ++i) {
+      bool contained = false;
+      for (std::size_t pi : elements_[i].parts) contained = contained || storey_parts_.count(pi);
+      if (contained && !elements_[i].merged) ++out_.storey_elements[elements_[i].ifc];
+    }
+    out_.walls_with_room_faces = static_cast<int>(walls_with_faces_.size());
+    std::string counts;
+    for (const auto& [cls, n] : out_.storey_elements)
+      counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + cls;
+    out_.report.push_back("IFC elements with geometry on the storey: " + counts);
+    out_.report.push_back(std::to_string(out_.walls_with_room_faces) +
+                          " IFC wall(s) give the room-side wall faces");
     out_.scene.source = path_;
     out_.scene.materials = scene_.materials;
     // The format's materials are all double-sided; BIM solids are closed, their winding varies.
@@ -1643,7 +1656,8 @@ class Importer {
   double z0_ = 0.0, top_ = -1e300;
   std::vector<RoomData> rooms_;
   std::vector<Face> faces_;
-  std::vector<Hole> holes_;  // of every opening, on every face it was found in
+  std::vector<Hole> holes_;                 // of every opening, on every face it was found in
+  std::set<std::size_t> walls_with_faces_;  // elements
   std::map<std::size_t, double> floor_area_, ceiling_area_;
   std::map<int, int> columns_in_;
   std::vector<StructuralElement> walls_, floors_, ceilings_, columns_;

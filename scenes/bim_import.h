@@ -55,6 +55,10 @@ struct BimImport {
   GroundTruth truth;
   /// One line each: what the file lacked, what was repaired, replaced or left out.
   std::vector<std::string> report;
+  /// IFC class -> elements with geometry in the storey's node tree (what the file holds).
+  std::map<std::string, int> storey_elements;
+  /// IFC wall elements of any storey that gave at least one room-side wall face.
+  int walls_with_room_faces = 0;
 };
 
 /// Imports `path` (.ifc IFC 2x3, or .glb/.gltf converted from IFC whose node names carry the
