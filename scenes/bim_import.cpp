@@ -1250,6 +1250,28 @@ class Importer {
                               "around it; kept as other");
         continue;
       }
+      {
+        // The format's openings are rectangles: say so when the hole is not one (round window).
+        const Hole& h = holes[0];
+        const Face& f = faces_[h.face];
+        const std::vector<HalfSpace> rect{{-f.dir, -f.dir.dot(f.a) - h.u0},
+                                          {f.dir, f.dir.dot(f.a) + h.u1},
+                                          {-Vector3d::UnitZ(), -h.v0},
+                                          {Vector3d::UnitZ(), h.v1}};
+        double covered = 0.0;
+        for (const auto& [el, piece] : f.pieces) {
+          Poly3 in;
+          std::vector<Poly3> outside;
+          Split(piece, rect, &in, &outside);
+          covered += Area(in);
+        }
+        const double share = covered / ((h.u1 - h.u0) * (h.v1 - h.v0));
+        if (share > 0.001)
+          out_.report.push_back(NiceName(e.node) + ": its hole is not a rectangle (" +
+                                Fmt(100.0 * share, 1) +
+                                " % of its bounding rectangle is wall); "
+                                "the truth keeps the rectangle and validate will say so");
+      }
       Opening o;
       o.id = door ? "D" + std::to_string(++doors) : "W" + std::to_string(++windows);
       o.type = door ? OpeningType::kDoor : OpeningType::kWindow;
