@@ -833,7 +833,10 @@ class Importer {
                               "): space without representation; no room");
       }
     if (rooms_.empty())
-      throw InputError(path_, "no room can be made on storey '" + StoreyName(storey_) + "'",
+      throw InputError(path_,
+                       storey_.empty()
+                           ? std::string("no room can be made in the model")
+                           : "no room can be made on storey '" + StoreyName(storey_) + "'",
                        std::to_string(spaces) + " IfcSpace(s), none with a usable volume",
                        "IfcSpace volumes (IFC 2x3, or glTF converted with its spaces kept)");
   }

@@ -25,6 +25,12 @@
 namespace mopad::tools {
 namespace {
 
+std::string FormatMetres(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.3f", v);
+  return buf;
+}
+
 void PrintSummary(const SceneSummary& s) { std::printf("%s\n", FormatSceneSummary(s).c_str()); }
 
 void GenerateAndWrite(const scenes::SceneSpec& spec, const std::string& out_dir) {
@@ -89,9 +95,8 @@ void RegisterSceneCommands(CLI::App& app) {
       PrintSummary(s);
       if (std::filesystem::path(p.geometry).extension() == ".ifc")
         for (const scenes::BimStorey& st : scenes::ListIfcStoreys(p.geometry))
-          std::printf(
-              "storey '%s' (%s): elevation %s\n", st.name.c_str(), st.global_id.c_str(),
-              st.has_elevation ? (std::to_string(st.elevation) + " m").c_str() : "not given");
+          std::printf("storey '%s' (%s): elevation %s\n", st.name.c_str(), st.global_id.c_str(),
+                      st.has_elevation ? (FormatMetres(st.elevation) + " m").c_str() : "not given");
     });
   }
   {
