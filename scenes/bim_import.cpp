@@ -215,6 +215,26 @@ std::string NodeLabel(const std::string& node) {
   return end > first ? node.substr(first + 1, end - first - 1) : "";
 }
 
+// Valid UTF-8 for ids and names written to JSON and glTF: invalid bytes (Latin-1 names some
+// IFC writers leave in STEP strings) become '?'.
+std::string CleanUtf8(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    bool ok = n > 0 && i + n <= s.size() && !(n == 1 && c < 0x20);
+    for (int k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(s[i + k]) >> 6) == 2;
+    if (ok) {
+      out.append(s, i, static_cast<std::size_t>(n));
+      i += static_cast<std::size_t>(n);
+    } else {
+      out += '?';
+      ++i;
+    }
+  }
+  return out;
+}
+
 std::string NoSpaces(std::string s) {
   s.erase(std::remove_if(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c) != 0; }),
           s.end());
@@ -644,7 +664,7 @@ class Importer {
     std::map<std::string, std::size_t> index;
     for (std::size_t i = 0; i < scene_.parts.size(); ++i) {
       const MeshPart& part = scene_.parts[i];
-      const std::string id = part.element_id.empty() ? "unlabelled" : part.element_id;
+      const std::string id = part.element_id.empty() ? "unlabelled" : CleanUtf8(part.element_id);
       auto [it, fresh] = index.emplace(id, elements_.size());
       if (fresh) {
         Element e;
@@ -691,6 +711,14 @@ class Importer {
           cls.resize(cls.size() - 4);
         for (unsigned long o : refs(a[4]))
           if (guid_of.count(o)) type_class_[guid_of[o]] = cls;
+      } else if (entity == "IFCRELCONTAINEDINSPATIALSTRUCTURE" && a.size() >= 6) {
+        // (guid, owner, name, description, (#elements), #structure)
+        const std::vector<unsigned long> where = refs(a[5]);
+        if (where.empty() || !guid_of.count(where[0])) continue;
+        for (unsigned long o : refs(a[4]))
+          if (guid_of.count(o) && step.bodies.count(o))
+            storey_contained_[guid_of[where[0]]].emplace_back(guid_of[o],
+                                                              EntityOf(step.bodies.at(o)));
       } else if (entity == "IFCRELAGGREGATES" && a.size() >= 6) {
         // (guid, owner, name, description, #relating, (#related)): spaces of a storey.
         const std::vector<unsigned long> whole = refs(a[4]);
@@ -767,7 +795,7 @@ class Importer {
     }
     const std::string guid = NodeGuid(storey_);
     out_.truth.storeys.push_back(
-        {storey_.empty() ? "storey_0" : NoSpaces(StoreyName(storey_)), 0.0, 3.0});
+        {storey_.empty() ? "storey_0" : CleanUtf8(NoSpaces(StoreyName(storey_))), 0.0, 3.0});
     for (std::size_t i = 0; i < storeys.size(); ++i)
       if (storeys[i] == storey_ && i + 1 < storeys.size()) next_storey_low_ = low[storeys[i + 1]];
     for (std::size_t i = 0; i < scene_.parts.size(); ++i)
@@ -832,6 +860,19 @@ class Importer {
         out_.report.push_back("IfcSpace '" + names_[guid] + "' (" + guid +
                               "): space without representation; no room");
       }
+    // Elements the STEP text puts on this storey that assimp made no geometry for.
+    static const std::set<std::string> kNoBody = {
+        "IFCANNOTATION",       "IFCGRID",   "IFCVIRTUALELEMENT", "IFCOPENINGELEMENT", "IFCSPACE",
+        "IFCDISTRIBUTIONPORT", "IFCSYSTEM", "IFCZONE",           "IFCGROUP",          "IFCPROXY"};
+    const auto contained = storey_contained_.find(NodeGuid(storey_));
+    if (contained != storey_contained_.end()) {
+      std::set<std::string> with_geometry;
+      for (const Element& e : elements_) with_geometry.insert(NodeGuid(e.node));
+      for (const auto& [guid, entity] : contained->second)
+        if (!kNoBody.count(entity) && !with_geometry.count(guid))
+          out_.report.push_back(entity + " '" + CleanUtf8(names_[guid]) + "' (" + guid +
+                                "): no geometry (assimp made none); left out");
+    }
     if (rooms_.empty())
       throw InputError(path_,
                        storey_.empty()
@@ -852,6 +893,12 @@ class Importer {
     // above (its underside is the ceiling), the site, elements of no storey.
     const double lo = z0_ - 0.01, hi = top + 0.01;
     for (Element& e : elements_) {
+      if (IfcClassFromNodeName(e.node) == "IfcSite" && !p_.keep_site) {
+        if (!e.parts.empty() && !e.box.isEmpty())
+          out_.report.push_back(NiceName(e.node) + ": terrain left out (--keep-site keeps it)");
+        e.in_storey = false;
+        continue;
+      }
       if (e.in_storey || e.role == Role::kSpace) continue;
       const bool slab = e.role == Role::kSlab || IfcClassFromNodeName(e.node) == "IfcBeam";
       const double zmin = e.box.min().z(), zmax = e.box.max().z();
@@ -1627,7 +1674,7 @@ class Importer {
       if (!used_door_keys_.count(key))
         throw InputError(path_, "--doors names no door of this storey", "'" + key + "'",
                          "a door id (D1), IFC GlobalId or IFC Name");
-    out_.truth.scene_name = std::filesystem::path(path_).stem().string();
+    out_.truth.scene_name = CleanUtf8(std::filesystem::path(path_).stem().string());
     for (const RoomData& r : rooms_) out_.truth.rooms.push_back(r.room);
     for (const auto& w : walls_) out_.truth.elements.push_back(w);
     for (const auto& f : floors_) out_.truth.elements.push_back(f);
@@ -1655,11 +1702,29 @@ class Importer {
     out_.report.push_back(std::to_string(out_.walls_with_room_faces) +
                           " IFC wall(s) give the room-side wall faces");
     out_.scene.source = path_;
-    out_.scene.materials = scene_.materials;
-    // The format's materials are all double-sided; BIM solids are closed, their winding varies.
-    for (Material& m : out_.scene.materials) m.double_sided = true;
-    out_.scene.textures = scene_.textures;
+    // Only the materials (and their textures) the parts use, in order of first use.
     out_.scene.parts = out_bucket_.Parts();
+    std::map<int, int> material_index, texture_index;
+    for (MeshPart& part : out_.scene.parts) {
+      if (part.material < 0) continue;
+      auto [it, fresh] =
+          material_index.emplace(part.material, static_cast<int>(out_.scene.materials.size()));
+      if (fresh) {
+        Material m = scene_.materials[static_cast<std::size_t>(part.material)];
+        // The format's materials are all double-sided; BIM solids' winding varies.
+        m.double_sided = true;
+        if (m.base_color_texture >= 0) {
+          auto [t, new_texture] = texture_index.emplace(
+              m.base_color_texture, static_cast<int>(out_.scene.textures.size()));
+          if (new_texture)
+            out_.scene.textures.push_back(
+                scene_.textures[static_cast<std::size_t>(m.base_color_texture)]);
+          m.base_color_texture = t->second;
+        }
+        out_.scene.materials.push_back(m);
+      }
+      part.material = it->second;
+    }
     // Sort opening-less other ids to keep the truth's element order stable (file order).
     std::set<std::string> ids;
     for (const auto& e : out_.truth.elements)
@@ -1674,6 +1739,8 @@ class Importer {
   std::map<std::string, std::string> names_;       // GlobalId -> IFC Name
   std::map<std::string, std::string> type_class_;  // GlobalId -> "ifcoutlet" (its type object)
   std::map<std::string, std::vector<std::string>> storey_spaces_;  // storey -> space GlobalIds
+  // storey GlobalId -> (element GlobalId, ENTITY) of IfcRelContainedInSpatialStructure
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> storey_contained_;
   std::set<std::size_t> merged_parts_, storey_parts_;
   std::vector<Element> elements_;
   std::string storey_;

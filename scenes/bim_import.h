@@ -41,6 +41,7 @@ struct BimImportParams {
   bool floor_from_spaces = false;    ///< make missing floors from the space footprint
   bool ceiling_from_spaces = false;  ///< make missing ceilings from the space footprint
   std::vector<std::string> merge;    ///< further models whose components are added (same frame)
+  bool keep_site = false;            ///< keep IfcSite geometry (terrain) as `other`
   double leaf_thickness = 0.04;      ///< m, (0, 0.2]: generated door leaves
   double plane_tolerance = 0.003;    ///< m, (0, 0.05]: a face lies on a room's wall/floor plane
   double component_snap = 0.05;      ///< m, [0, 0.5]: largest gap between a component and host

@@ -122,6 +122,7 @@ void RegisterSceneCommands(CLI::App& app) {
     cmd->add_flag("--ceiling-from-spaces", p->ceiling_from_spaces,
                   "Make missing ceilings from the space footprints");
     cmd->add_option("--merge", p->merge, "Further model whose components are added (repeatable)");
+    cmd->add_flag("--keep-site", p->keep_site, "Keep the IfcSite terrain geometry");
     cmd->callback([=] {
       scenes::BimImportParams params = *p;
       params.door_angles_deg = scenes::ParseDoorAngles(*doors);

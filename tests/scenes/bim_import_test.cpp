@@ -45,6 +45,7 @@ struct FixtureOptions {
   std::string schema = "IFC2X3";
   bool broken_foot_unit = false;
   bool outlet = true;
+  bool extra_door_without_geometry = false;
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -79,6 +80,8 @@ class IfcWriter {
       Add("IFCRELDEFINESBYTYPE('" + Guid() + "',#5,$,$,(#" + std::to_string(outlet) + "),#" +
           std::to_string(type) + ")");
     }
+    if (o_.extra_door_without_geometry)
+      elements_.push_back(Add("IFCDOOR('" + Guid() + "',#5,'Door-2',$,$,#12,$,$,2.0,0.9)"));
     const int space = Element("IFCSPACE", "1", Rect(0.0, 0.0, 4.0, 3.0, 0.0, 2.5));
     std::vector<int> spaces{space};
     if (o_.extra_space_without_representation)
@@ -346,6 +349,17 @@ TEST_F(BimImportTest, SpaceWithoutRepresentationIsReportedInOneLine) {
     lines += l.find("space without representation") != std::string::npos;
   }
   EXPECT_EQ(lines, 1);
+}
+
+TEST_F(BimImportTest, ElementWithoutGeometryIsReportedInOneLine) {
+  FixtureOptions o;
+  o.extra_door_without_geometry = true;
+  const BimImport imp = ImportBim(Fixture(o));
+  int lines = 0;
+  for (const auto& l : imp.report)
+    lines += l.rfind("IFCDOOR 'Door-2'", 0) == 0 && l.find("no geometry") != std::string::npos;
+  EXPECT_EQ(lines, 1);
+  ExpectFixtureTruth(imp, 0.0, 90.0);  // the rest is imported as before
 }
 
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
