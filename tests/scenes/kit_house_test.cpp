@@ -2,6 +2,7 @@
 // by assimp, via tinygltf. Same triangles, same elements per class, Z-up world.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -12,7 +13,9 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/frames.h"
 #include "scenes/bim_import.h"
+#include "scenes/geometry.h"
 #include "scenes/scene_check.h"
 #include "scenes/scene_loader.h"
 
@@ -224,6 +227,64 @@ TEST_F(KitHouse, GroundFloorImportHoldsTheCountsOfTheStepText) {
   EXPECT_EQ(windows, step.windows);
   EXPECT_EQ(imp.storey_elements.at("IfcWallStandardCase"), step.walls);
   const CheckReport rep = CheckScene(imp.scene, imp.truth);
+  EXPECT_TRUE(rep.ok()) << rep.Summary();
+}
+
+// The same house placed elsewhere and turned by 30 deg (the site's placement edited in the STEP
+// text): a building nobody tuned on, with the same answers where they do not depend on the
+// placement.
+TEST_F(KitHouse, HouseTurnedAndMovedGivesTheSameTruthUpToThePlacement) {
+  std::ifstream in(Ifc());
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string site = "#564= IFCLOCALPLACEMENT($,#44);";
+  ASSERT_NE(text.find(site), std::string::npos);
+  text.replace(text.find(site), site.size(),
+               "#564= IFCLOCALPLACEMENT($,#9999990);\n"
+               "#9999990= IFCAXIS2PLACEMENT3D(#9999993,#9999991,#9999992);\n"
+               "#9999991= IFCDIRECTION((0.,0.,1.));\n"
+               "#9999992= IFCDIRECTION((0.8660254037844387,0.5,0.));\n"
+               "#9999993= IFCCARTESIANPOINT((123.4,-56.7,10.));");
+  const fs::path turned = fs::temp_directory_path() / "mopad_kit_turned.ifc";
+  std::ofstream(turned) << text;
+  BimImportParams p;
+  p.ceiling_from_spaces = true;
+  const BimImport a = ImportBim(Ifc(), p);
+  const BimImport b = ImportBim(turned.string(), p);
+  fs::remove(turned);
+  auto sorted = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  auto areas = [&](const GroundTruth& t) {
+    std::vector<double> v;
+    for (const auto& r : t.rooms) v.push_back(SignedArea(r.polygon));
+    return sorted(v);
+  };
+  auto walls = [&](const GroundTruth& t) {
+    std::vector<double> v;
+    for (const auto& e : t.elements)
+      if (e.element_class == ElementClass::kWall) v.push_back(e.length * 100 + e.height);
+    return sorted(v);
+  };
+  auto openings = [&](const GroundTruth& t) {
+    std::vector<double> v;
+    for (const auto& o : t.openings) v.push_back((o.u1 - o.u0) * 100 + (o.v1 - o.v0));
+    return sorted(v);
+  };
+  for (const auto& [va, vb] :
+       {std::pair{areas(a.truth), areas(b.truth)}, std::pair{walls(a.truth), walls(b.truth)},
+        std::pair{openings(a.truth), openings(b.truth)}}) {
+    ASSERT_EQ(va.size(), vb.size());
+    for (std::size_t i = 0; i < va.size(); ++i) EXPECT_NEAR(va[i], vb[i], 2e-3) << i;
+  }
+  EXPECT_EQ(a.truth.connections.size(), b.truth.connections.size());
+  // The turn: a wall direction of the turned house is at 30 deg (mod 90) from the axes.
+  for (const auto& e : b.truth.elements)
+    if (e.element_class == ElementClass::kWall) {
+      const double deg = std::fmod(RadToDeg(std::atan2(e.u_axis.y(), e.u_axis.x())) + 360.0, 90.0);
+      EXPECT_NEAR(deg, 30.0, 0.01) << e.id;
+    }
+  const CheckReport rep = CheckScene(b.scene, b.truth);
   EXPECT_TRUE(rep.ok()) << rep.Summary();
 }
 
