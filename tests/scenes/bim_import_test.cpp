@@ -46,6 +46,7 @@ struct FixtureOptions {
   bool broken_foot_unit = false;
   bool outlet = true;
   bool extra_door_without_geometry = false;
+  bool split_space = false;  // two 2 x 3 m spaces side by side, no wall between them
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -82,8 +83,13 @@ class IfcWriter {
     }
     if (o_.extra_door_without_geometry)
       elements_.push_back(Add("IFCDOOR('" + Guid() + "',#5,'Door-2',$,$,#12,$,$,2.0,0.9)"));
-    const int space = Element("IFCSPACE", "1", Rect(0.0, 0.0, 4.0, 3.0, 0.0, 2.5));
-    std::vector<int> spaces{space};
+    std::vector<int> spaces;
+    if (o_.split_space) {
+      spaces.push_back(Element("IFCSPACE", "1", Rect(0.0, 0.0, 2.0, 3.0, 0.0, 2.5)));
+      spaces.push_back(Element("IFCSPACE", "2", Rect(2.0, 0.0, 4.0, 3.0, 0.0, 2.5)));
+    } else {
+      spaces.push_back(Element("IFCSPACE", "1", Rect(0.0, 0.0, 4.0, 3.0, 0.0, 2.5)));
+    }
     if (o_.extra_space_without_representation)
       spaces.push_back(Add("IFCSPACE('" + Guid() +
                            "',#5,'2',$,$,#12,$,'Store',.ELEMENT.,"
@@ -360,6 +366,45 @@ TEST_F(BimImportTest, ElementWithoutGeometryIsReportedInOneLine) {
     lines += l.rfind("IFCDOOR 'Door-2'", 0) == 0 && l.find("no geometry") != std::string::npos;
   EXPECT_EQ(lines, 1);
   ExpectFixtureTruth(imp, 0.0, 90.0);  // the rest is imported as before
+}
+
+TEST_F(BimImportTest, SpacesWithoutAWallBetweenThemGetAnOpenPassage) {
+  FixtureOptions o;
+  o.split_space = true;
+  BimImport imp = ImportBim(Fixture(o));
+  ASSERT_EQ(imp.truth.rooms.size(), 2u);
+  EXPECT_EQ(imp.truth.format_version, kTruthFormatVersionPassages);
+  int passages = 0;
+  for (const auto& c : imp.truth.connections)
+    if (c.door.empty()) {
+      ++passages;
+      EXPECT_EQ(c.room_a, "R1");
+      EXPECT_EQ(c.room_b, "R2");
+    }
+  EXPECT_EQ(passages, 1);
+  // 3 walls each (the shared edge has none), a door in R1, the window in R2.
+  int walls = 0;
+  for (const auto& e : imp.truth.elements) walls += e.element_class == ElementClass::kWall;
+  EXPECT_EQ(walls, 6);
+  const CheckReport ok = CheckScene(imp.scene, imp.truth);
+  EXPECT_TRUE(ok.ok()) << ok.Summary();
+  // Written and read back as version 2; as version 1 the passage is a dangling door and the
+  // touching rooms an overlap.
+  WriteBimImport(imp, (dir_ / "v2").string());
+  EXPECT_EQ(ReadGroundTruth((dir_ / "v2" / "scene.truth.json").string()).connections.size(),
+            imp.truth.connections.size());
+  imp.truth.format_version = kTruthFormatVersion;
+  const CheckReport v1 = CheckScene(imp.scene, imp.truth);
+  bool overlap = false;
+  for (const auto& e : v1.errors) overlap = overlap || e.find("overlap") != std::string::npos;
+  EXPECT_TRUE(overlap) << v1.Summary();
+  WriteGroundTruth(imp.truth, (dir_ / "v1.json").string());
+  try {
+    ReadGroundTruth((dir_ / "v1.json").string());
+    ADD_FAILURE() << "version 1 with an open passage was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("dangling door id ''"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
