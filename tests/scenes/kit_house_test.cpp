@@ -16,6 +16,7 @@
 #include "common/frames.h"
 #include "scenes/bim_import.h"
 #include "scenes/geometry.h"
+#include "scenes/gltf_writer.h"
 #include "scenes/scene_check.h"
 #include "scenes/scene_loader.h"
 
@@ -286,6 +287,27 @@ TEST_F(KitHouse, HouseTurnedAndMovedGivesTheSameTruthUpToThePlacement) {
     }
   const CheckReport rep = CheckScene(b.scene, b.truth);
   EXPECT_TRUE(rep.ok()) << rep.Summary();
+}
+
+TEST_F(KitHouse, GlbThatKeptTheSpacesGivesTheSameTruth) {
+  // The house converted to .glb with its space volumes and node paths kept (assimp's load,
+  // written by our glTF writer): the same truth, byte for byte, as from the IFC.
+  LoadOptions spaces;
+  spaces.import_ifc_spaces = true;
+  const fs::path dir = fs::temp_directory_path() / "mopad_kit_glb";
+  fs::create_directories(dir);
+  const fs::path glb = dir / "AC14-FZK-Haus.glb";
+  WriteGlb(LoadScene(Ifc(), spaces), glb.string());
+  BimImportParams p;
+  p.ceiling_from_spaces = true;
+  WriteGroundTruth(ImportBim(Ifc(), p).truth, (dir / "ifc.json").string());
+  WriteGroundTruth(ImportBim(glb.string(), p).truth, (dir / "glb.json").string());
+  std::ifstream a(dir / "ifc.json"), b(dir / "glb.json");
+  const std::string sa((std::istreambuf_iterator<char>(a)), {});
+  const std::string sb((std::istreambuf_iterator<char>(b)), {});
+  fs::remove_all(dir);
+  EXPECT_GT(sa.size(), 10000u);
+  EXPECT_EQ(sa, sb);
 }
 
 TEST_F(KitHouse, GlbWithoutSpaceVolumesIsRefusedInOneLine) {
