@@ -1066,7 +1066,15 @@ class Importer {
       w.id = f.id;
       w.element_class = ElementClass::kWall;
       w.rooms = {room.room.id};
-      w.origin = f.a + umin * f.dir + Vector3d(0, 0, vmin - f.a.z());
+      // The faces' own plane (within plane_tolerance of the room edge; 0 for most files).
+      double offset = 0.0, weight = 0.0;
+      for (const auto& [el, poly] : f.pieces) {
+        const double a = Area(poly);
+        for (const auto& p : poly) offset += a * f.W(p) / static_cast<double>(poly.size());
+        weight += a;
+      }
+      offset = weight > 0.0 ? offset / weight : 0.0;
+      w.origin = f.a + umin * f.dir + offset * f.n + Vector3d(0, 0, vmin - f.a.z());
       w.u_axis = f.dir;
       w.normal = f.n;
       w.length = umax - umin;

@@ -123,6 +123,9 @@ void RegisterSceneCommands(CLI::App& app) {
                   "Make missing ceilings from the space footprints");
     cmd->add_option("--merge", p->merge, "Further model whose components are added (repeatable)");
     cmd->add_flag("--keep-site", p->keep_site, "Keep the IfcSite terrain geometry");
+    cmd->add_option("--plane-tolerance", p->plane_tolerance,
+                    "Largest distance of a wall/floor/ceiling face from the space boundary, m")
+        ->default_val(0.003);
     cmd->callback([=] {
       scenes::BimImportParams params = *p;
       params.door_angles_deg = scenes::ParseDoorAngles(*doors);

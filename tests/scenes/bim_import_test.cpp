@@ -49,6 +49,7 @@ struct FixtureOptions {
   bool outlet = true;
   bool extra_door_without_geometry = false;
   bool split_space = false;  // two 2 x 3 m spaces side by side, no wall between them
+  double space_inset = 0.0;  // m, the space drawn this much inside the walls
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -90,7 +91,8 @@ class IfcWriter {
       spaces.push_back(Element("IFCSPACE", "1", Rect(0.0, 0.0, 2.0, 3.0, 0.0, 2.5)));
       spaces.push_back(Element("IFCSPACE", "2", Rect(2.0, 0.0, 4.0, 3.0, 0.0, 2.5)));
     } else {
-      spaces.push_back(Element("IFCSPACE", "1", Rect(0.0, 0.0, 4.0, 3.0, 0.0, 2.5)));
+      const double d = o_.space_inset;
+      spaces.push_back(Element("IFCSPACE", "1", Rect(d, d, 4.0 - d, 3.0 - d, 0.0, 2.5)));
     }
     if (o_.extra_space_without_representation)
       spaces.push_back(Add("IFCSPACE('" + Guid() +
@@ -426,6 +428,34 @@ TEST_F(BimImportTest, GltfConvertedWithItsSpacesGivesTheSameTruth) {
   const std::string sb((std::istreambuf_iterator<char>(b)), {});
   EXPECT_GT(sa.size(), 1000u);
   EXPECT_EQ(sa, sb);
+}
+
+TEST_F(BimImportTest, SpaceDrawnInsideItsWallsNeedsAPlaneToleranceAndGetsTheWallPlanes) {
+  FixtureOptions o;
+  o.space_inset = 0.02;
+  const std::string path = Fixture(o);
+  // 2 cm is beyond the default 3 mm: no wall is the room's, each edge says so in one line.
+  const BimImport strict = ImportBim(path);
+  int lines = 0;
+  for (const auto& l : strict.report) lines += l.find("no wall face on it") != std::string::npos;
+  EXPECT_EQ(lines, 4);
+  // With 3 cm the walls are found, and the truth takes their own planes (x = 0, 4; y = 0, 3),
+  // not the space's edges 2 cm inside them.
+  BimImportParams p;
+  p.plane_tolerance = 0.03;
+  const BimImport imp = ImportBim(path, p);
+  int walls = 0;
+  for (const auto& e : imp.truth.elements) {
+    if (e.element_class != ElementClass::kWall) continue;
+    ++walls;
+    const double plane = e.origin.dot(e.normal);  // -(distance of the plane from the origin)
+    const bool on_wall = std::abs(e.origin.x()) < 1e-4 || std::abs(e.origin.x() - 4.0) < 1e-4 ||
+                         std::abs(e.origin.y()) < 1e-4 || std::abs(e.origin.y() - 3.0) < 1e-4;
+    EXPECT_TRUE(on_wall) << e.id << " origin " << e.origin.transpose() << " plane " << plane;
+    EXPECT_NEAR(e.height, 2.5, 1e-4);
+  }
+  EXPECT_EQ(walls, 4);
+  EXPECT_EQ(imp.truth.openings.size(), 2u);
 }
 
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
