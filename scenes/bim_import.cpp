@@ -413,7 +413,9 @@ bool IsComponentIfc(const std::string& ifc) {
 
 Role RoleOf(const std::string& ifc, ElementClass cls) {
   const std::string c = Lower(ifc);
-  if (cls == ElementClass::kSpace) return Role::kSpace;
+  // Air: space volumes, and opening volumes when a converter kept them (assimp does not).
+  if (cls == ElementClass::kSpace || c == "ifcopeningelement" || c == "ifcvirtualelement")
+    return Role::kSpace;
   if (cls == ElementClass::kWall) return Role::kWall;
   if (cls == ElementClass::kSlab || cls == ElementClass::kCeiling || cls == ElementClass::kRoof ||
       cls == ElementClass::kFloor)
@@ -823,7 +825,7 @@ class Importer {
   void MakeRooms() {
     int spaces = 0;
     for (const Element& e : elements_) {
-      if (e.role != Role::kSpace || !e.in_storey) continue;
+      if (e.role != Role::kSpace || !e.in_storey || Lower(e.ifc) != "ifcspace") continue;
       ++spaces;
       const std::vector<Poly3> tris = Triangles(e);
       if (tris.empty()) {
