@@ -34,6 +34,7 @@ constexpr double kPassageTolerance = 0.01;  // m: two rooms' edges on one line
 constexpr std::size_t kGuidLength = 22;     // IFC GlobalId, base64 of 128 bits
 
 std::string Fmt(double v, int precision = 3) {
+  if (std::abs(v) < 0.5 * std::pow(10.0, -precision)) v = 0.0;  // no "-0.000"
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(precision);
@@ -1325,6 +1326,12 @@ class Importer {
           Split(piece, rect, &in, &outside);
           covered += Area(in);
         }
+        // An element that fills only part of its hole leaves the rest open (a window in an
+        // opening cut down to the floor).
+        if (e.box.min().z() > h.v0 + 0.05 || e.box.max().z() < h.v1 - 0.05)
+          out_.report.push_back(NiceName(e.node) + ": fills z " + Fmt(e.box.min().z(), 2) + " to " +
+                                Fmt(e.box.max().z(), 2) + " m of its hole's " + Fmt(h.v0, 2) +
+                                " to " + Fmt(h.v1, 2) + " m; the rest of the hole is open");
         const double share = covered / ((h.u1 - h.u0) * (h.v1 - h.v0));
         if (share > 0.001)
           out_.report.push_back(NiceName(e.node) + ": its hole is not a rectangle (" +
