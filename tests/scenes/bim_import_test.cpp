@@ -240,7 +240,7 @@ void ExpectFixtureTruth(const BimImport& imp, double deg, double door_deg) {
   ASSERT_EQ(r.polygon.size(), 4u);
   EXPECT_NEAR(std::abs(SignedArea(r.polygon)), 12.0, 1e-3);
   // Every corner of the room is one of the turned corners.
-  for (const Vector3d c :
+  for (const Vector3d& c :
        {Vector3d(0, 0, 0), Vector3d(4, 0, 0), Vector3d(4, 3, 0), Vector3d(0, 3, 0)}) {
     const Vector3d q = Turned(c, deg);
     double best = 1e9;
