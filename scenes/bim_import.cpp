@@ -30,6 +30,7 @@ constexpr double kMinPieceArea = 1e-8;      // m^2: clipped slivers below this a
 constexpr double kLeafGap = 0.003;          // m, leaf-to-hole clearance (as the generator's)
 constexpr double kFacingCos = 0.999;        // a face is parallel to a room plane (2.6 deg)
 constexpr double kOpeningReach = 0.8;       // m: an opening's centre lies this deep behind a face
+constexpr double kFullCover = 0.995;        // share of a room a floor/ceiling must cover
 constexpr double kPassageTolerance = 0.01;  // m: two rooms' edges on one line
 constexpr std::size_t kGuidLength = 22;     // IFC GlobalId, base64 of 128 bits
 
@@ -612,6 +613,7 @@ class Importer {
     Load();
     SelectStorey();
     MakeRooms();
+    ResolveHeights();
     Shift();
     MakeFaces();
     DistributeStructure();
@@ -885,6 +887,105 @@ class Importer {
                        "IfcSpace volumes (IFC 2x3, or glTF converted with its spaces kept)");
   }
 
+  // Share of room r's footprint covered by slab faces facing up (down) at height z.
+  double SlabCover(std::size_t r, double z, bool up) const {
+    const RoomData& room = rooms_[r];
+    const std::vector<Eigen::Vector3i> ears = TriangulatePolygon(room.poly);
+    double area = 0.0;
+    for (const Element& e : elements_) {
+      if (e.role != Role::kSlab || e.box.min().z() > z + p_.plane_tolerance ||
+          e.box.max().z() < z - p_.plane_tolerance)
+        continue;
+      for (std::size_t pi : e.parts) {
+        const MeshPart& part = scene_.parts[pi];
+        for (const auto& t : part.triangles) {
+          const Poly3 tri{part.positions[t[0]].cast<double>(), part.positions[t[1]].cast<double>(),
+                          part.positions[t[2]].cast<double>()};
+          const Vector3d n = NormalOf(tri);
+          if (up ? n.z() < kFacingCos : n.z() > -kFacingCos) continue;
+          bool on = true;
+          for (const auto& q : tri) on = on && std::abs(q.z() - z) <= p_.plane_tolerance;
+          if (!on) continue;
+          for (const auto& ear : ears) {
+            std::vector<HalfSpace> region;
+            for (int k = 0; k < 3; ++k) {
+              const Vector2d& a = room.poly[ear[k]];
+              const Vector2d& b = room.poly[ear[(k + 1) % 3]];
+              const Vector3d nn(b.y() - a.y(), -(b.x() - a.x()), 0.0);
+              region.push_back({nn, nn.dot(Lift(a, 0.0))});
+            }
+            Poly3 in;
+            std::vector<Poly3> outside;
+            Split(tri, region, &in, &outside);
+            area += Area(in);
+          }
+        }
+      }
+    }
+    return area / SignedArea(room.poly);
+  }
+
+  // A space drawn into the slab above (to the next level, as some tools do) or short of the
+  // ceiling: the room's ceiling (floor) is the fully covering slab face nearest to the space's
+  // top (bottom), within [floor + 1.8 m, top + 1 m] ([bottom - 0.3 m, bottom + 0.3 m]).
+  void ResolveHeights() {
+    for (std::size_t r = 0; r < rooms_.size(); ++r) {
+      Room& room = rooms_[r].room;
+      for (bool up : {true, false}) {
+        const double z_space = up ? room.floor_z : room.ceiling_z;
+        if (SlabCover(r, z_space, up) >= kFullCover) continue;
+        const double lo = up ? z_space - 0.3 : room.floor_z + 1.8;
+        const double hi = up ? z_space + 0.3 : z_space + 1.0;
+        // Candidate planes (mm): slab faces facing the right way over the room's box.
+        Eigen::AlignedBox2d room_box;
+        for (const auto& v : rooms_[r].poly) room_box.extend(v);
+        std::set<long long> heights;
+        for (const Element& e : elements_) {
+          if (e.role != Role::kSlab) continue;
+          for (std::size_t pi : e.parts) {
+            const MeshPart& part = scene_.parts[pi];
+            for (const auto& t : part.triangles) {
+              const Poly3 tri{part.positions[t[0]].cast<double>(),
+                              part.positions[t[1]].cast<double>(),
+                              part.positions[t[2]].cast<double>()};
+              const Vector3d n = NormalOf(tri);
+              if ((up ? n.z() < kFacingCos : n.z() > -kFacingCos) || tri[0].z() < lo ||
+                  tri[0].z() > hi)
+                continue;
+              Eigen::AlignedBox2d box;
+              for (const auto& q : tri) box.extend(q.head<2>());
+              if (box.intersects(room_box)) heights.insert(std::llround(tri[0].z() * 1000.0));
+            }
+          }
+        }
+        double best = 0.0, best_d = 1e300;
+        for (long long h : heights) {
+          // The exact height of that plane: a vertex's, not the rounded value.
+          const double z = static_cast<double>(h) / 1000.0;
+          const double d = std::abs(z - z_space);
+          if (d < best_d && SlabCover(r, z, up) >= kFullCover) {
+            best = z;
+            best_d = d;
+          }
+        }
+        if (best_d > 1e299) continue;  // FloorsAndCeilings refuses or repairs
+        // Snap to the plane's own height (the vertices' mean within the tolerance).
+        double sum = 0.0, n = 0.0;
+        for (const Element& e : elements_) {
+          if (e.role != Role::kSlab) continue;
+          for (std::size_t pi : e.parts)
+            for (const auto& v : scene_.parts[pi].positions)
+              if (std::abs(v.z() - best) <= 1e-3) sum += v.z(), n += 1.0;
+        }
+        const double z = n > 0 ? sum / n : best;
+        out_.report.push_back(NiceName(rooms_[r].node) + ": its " + (up ? "floor" : "ceiling") +
+                              " is the slab face at z = " + Fmt(z) + " m, not the space's " +
+                              (up ? "bottom" : "top") + " at " + Fmt(z_space) + " m");
+        (up ? room.floor_z : room.ceiling_z) = z;
+      }
+    }
+  }
+
   void Shift() {
     z0_ = 1e300;
     double top = -1e300;
@@ -1101,7 +1202,7 @@ class Importer {
         const std::string id = what + "_" + room.room.id;
         const ElementClass cls = up ? ElementClass::kFloor : ElementClass::kCeiling;
         const double z = up ? room.room.floor_z : room.room.ceiling_z;
-        if (have < 0.995 * area) {
+        if (have < kFullCover * area) {
           const std::string line = "room " + room.room.id + " (" + NiceName(room.node) +
                                    "): " + Fmt(100.0 * have / area, 1) + " % of its " + what +
                                    " has geometry at z = " + Fmt(z) + " m";

@@ -48,8 +48,9 @@ struct FixtureOptions {
   bool broken_foot_unit = false;
   bool outlet = true;
   bool extra_door_without_geometry = false;
-  bool split_space = false;  // two 2 x 3 m spaces side by side, no wall between them
-  double space_inset = 0.0;  // m, the space drawn this much inside the walls
+  bool split_space = false;   // two 2 x 3 m spaces side by side, no wall between them
+  double space_inset = 0.0;   // m, the space drawn this much inside the walls
+  double space_height = 2.5;  // m (the ceiling slab's underside is at 2.5)
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -92,7 +93,8 @@ class IfcWriter {
       spaces.push_back(Element("IFCSPACE", "2", Rect(2.0, 0.0, 4.0, 3.0, 0.0, 2.5)));
     } else {
       const double d = o_.space_inset;
-      spaces.push_back(Element("IFCSPACE", "1", Rect(d, d, 4.0 - d, 3.0 - d, 0.0, 2.5)));
+      spaces.push_back(
+          Element("IFCSPACE", "1", Rect(d, d, 4.0 - d, 3.0 - d, 0.0, o_.space_height)));
     }
     if (o_.extra_space_without_representation)
       spaces.push_back(Add("IFCSPACE('" + Guid() +
@@ -456,6 +458,21 @@ TEST_F(BimImportTest, SpaceDrawnInsideItsWallsNeedsAPlaneToleranceAndGetsTheWall
   }
   EXPECT_EQ(walls, 4);
   EXPECT_EQ(imp.truth.openings.size(), 2u);
+}
+
+TEST_F(BimImportTest, SpaceDrawnIntoOrShortOfTheSlabGetsTheSlabsCeiling) {
+  // Some tools draw a room's volume up to the next level (into the slab), others short of the
+  // ceiling: the ceiling is the slab face at 2.5 m either way, said in one line.
+  for (const double h : {2.8, 2.3}) {
+    FixtureOptions o;
+    o.space_height = h;
+    const BimImport imp = ImportBim(Fixture(o, "h" + std::to_string(h) + ".ifc"));
+    ExpectFixtureTruth(imp, 0.0, 90.0);
+    int lines = 0;
+    for (const auto& l : imp.report)
+      lines += l.find("its ceiling is the slab face at z = 2.500 m") != std::string::npos;
+    EXPECT_EQ(lines, 1) << h;
+  }
 }
 
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
