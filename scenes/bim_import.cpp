@@ -271,15 +271,24 @@ double Area(const Poly3& p) {
   return 0.5 * s.norm();
 }
 
+// A piece worth keeping: not a float-noise sliver (area or width under ~1 um).
+bool Solid(const Poly3& p) {
+  const double area = Area(p);
+  if (area <= kMinPieceArea) return false;
+  double perimeter = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) perimeter += (p[(i + 1) % p.size()] - p[i]).norm();
+  return area > 1e-6 * perimeter;
+}
+
 // poly = inside + sum(outside): inside = poly within all half-spaces (empty if a sliver).
 void Split(const Poly3& poly, const std::vector<HalfSpace>& region, Poly3* inside,
            std::vector<Poly3>* outside) {
   Poly3 rest = poly;
   for (const HalfSpace& h : region) {
     Poly3 out = Clip(rest, -h.n, -h.c);
-    if (Area(out) > kMinPieceArea) outside->push_back(std::move(out));
+    if (Solid(out)) outside->push_back(std::move(out));
     rest = Clip(rest, h.n, h.c);
-    if (Area(rest) <= kMinPieceArea) {
+    if (!Solid(rest)) {
       inside->clear();
       return;
     }
@@ -623,7 +632,6 @@ class Importer {
     Openings();
     Passages();
     Components();
-    Rest();
     Finish();
     return std::move(out_);
   }
@@ -1056,11 +1064,15 @@ class Importer {
     other_ids_.insert(el.node);
   }
 
-  // Wall triangles onto room wall faces; slab triangles onto floors and ceilings.
+  // Faces on a room's wall planes onto its wall faces (from walls, and from whatever else
+  // forms the wall surface: coverings, parts, proxies, curtain-wall plates); slab faces onto
+  // floors and ceilings; the rest of these elements is `other`.
   void DistributeStructure() {
     for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
       const Element& e = elements_[ei];
-      if (!e.in_storey || (e.role != Role::kWall && e.role != Role::kSlab)) continue;
+      if (!e.in_storey ||
+          (e.role != Role::kWall && e.role != Role::kSlab && e.role != Role::kOther))
+        continue;
       for (std::size_t pi : e.parts) {
         const MeshPart& part = scene_.parts[pi];
         for (const auto& t : part.triangles) {
@@ -1069,7 +1081,7 @@ class Importer {
                                    part.positions[t[2]].cast<double>()}};
           const Vector3d n = NormalOf(rest[0]);
           if (n.isZero()) continue;
-          if (e.role == Role::kWall) {
+          if (std::abs(n.z()) < 1.0 - kFacingCos) {
             for (Face& f : faces_) {
               if (n.dot(f.n) < kFacingCos) continue;
               bool on = true;
@@ -1088,7 +1100,7 @@ class Importer {
               rest = std::move(next);
               if (rest.empty()) break;
             }
-          } else {
+          } else if (e.role == Role::kSlab) {
             for (std::size_t r = 0; r < rooms_.size() && !rest.empty(); ++r) {
               const RoomData& room = rooms_[r];
               const bool up = n.z() >= kFacingCos, down = n.z() <= -kFacingCos;
@@ -1158,7 +1170,8 @@ class Importer {
         continue;
       }
       f.kept = true;
-      for (const auto& piece : f.pieces) walls_with_faces_.insert(piece.first);
+      for (const auto& piece : f.pieces)
+        if (elements_[piece.first].role == Role::kWall) walls_with_faces_.insert(piece.first);
       f.umin = umin;
       f.umax = umax;
       f.vmin = vmin;
@@ -1775,16 +1788,6 @@ class Importer {
     out_.report.push_back("component " + s.id + " = " + NiceName(e.node) + " (" + cls + ") on " +
                           host->id);
     return true;
-  }
-
-  void Rest() {
-    for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
-      const Element& e = elements_[ei];
-      if (!e.in_storey) continue;
-      if (e.role == Role::kOther) {
-        for (std::size_t pi : e.parts) AllToLeftover(ei, pi);
-      }
-    }
   }
 
   void Finish() {

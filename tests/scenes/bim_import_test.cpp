@@ -51,6 +51,7 @@ struct FixtureOptions {
   bool split_space = false;   // two 2 x 3 m spaces side by side, no wall between them
   double space_inset = 0.0;   // m, the space drawn this much inside the walls
   double space_height = 2.5;  // m (the ceiling slab's underside is at 2.5)
+  bool west_lining = false;   // the west wall 18 cm, its room face a 2 cm IfcCovering
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -62,7 +63,12 @@ class IfcWriter {
     Header();
     const int wall_s = Element("IFCWALLSTANDARDCASE", "South", Rect(-0.2, -0.2, 4.2, 0.0, 0, 2.5));
     Element("IFCWALLSTANDARDCASE", "North", Rect(-0.2, 3.0, 4.2, 3.2, 0, 2.5));
-    Element("IFCWALLSTANDARDCASE", "West", Rect(-0.2, 0.0, 0.0, 3.0, 0, 2.5));
+    if (o_.west_lining) {
+      Element("IFCWALLSTANDARDCASE", "West", Rect(-0.2, 0.0, -0.02, 3.0, 0, 2.5));
+      Element("IFCCOVERING", "Lining", Rect(-0.02, 0.0, 0.0, 3.0, 0, 2.5), ".CLADDING.");
+    } else {
+      Element("IFCWALLSTANDARDCASE", "West", Rect(-0.2, 0.0, 0.0, 3.0, 0, 2.5));
+    }
     const int wall_e = Element("IFCWALLSTANDARDCASE", "East", Rect(4.0, 0.0, 4.2, 3.0, 0, 2.5));
     if (o_.floor_slab)
       Element("IFCSLAB", "Floor", Rect(-0.2, -0.2, 4.2, 3.2, -0.2, 0.2), ".FLOOR.");
@@ -194,7 +200,7 @@ class IfcWriter {
       id = Add(head + ",.ELEMENT.,.INTERNAL.,$)");
     else if (entity == "IFCDOOR" || entity == "IFCWINDOW")
       id = Add(head + "," + L(b.h) + "," + L(0.9) + ")");
-    else if (entity == "IFCSLAB")
+    else if (!predefined.empty())
       id = Add(head + "," + predefined + ")");
     else
       id = Add(head + ")");
@@ -473,6 +479,16 @@ TEST_F(BimImportTest, SpaceDrawnIntoOrShortOfTheSlabGetsTheSlabsCeiling) {
       lines += l.find("its ceiling is the slab face at z = 2.500 m") != std::string::npos;
     EXPECT_EQ(lines, 1) << h;
   }
+}
+
+TEST_F(BimImportTest, WallSurfaceMadeByACoveringIsTheRoomsWall) {
+  // The west wall's room face is a 2 cm lining (IfcCovering), not the wall itself: it is still
+  // the room's wall, and the analytic truth is unchanged.
+  FixtureOptions o;
+  o.west_lining = true;
+  const BimImport imp = ImportBim(Fixture(o));
+  ExpectFixtureTruth(imp, 0.0, 90.0);
+  EXPECT_EQ(imp.walls_with_room_faces, 3);  // IFC walls; the fourth face is the covering's
 }
 
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
