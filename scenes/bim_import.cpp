@@ -30,6 +30,7 @@ constexpr double kMinPieceArea = 1e-8;      // m^2: clipped slivers below this a
 constexpr double kLeafGap = 0.003;          // m, leaf-to-hole clearance (as the generator's)
 constexpr double kFacingCos = 0.999;        // a face is parallel to a room plane (2.6 deg)
 constexpr double kOpeningReach = 0.8;       // m: an opening's centre lies this deep behind a face
+constexpr double kFarFromOrigin = 1e4;      // m: beyond this, float loses the millimetre
 constexpr double kFullCover = 0.995;        // share of a room a floor/ceiling must cover
 constexpr double kPassageTolerance = 0.01;  // m: two rooms' edges on one line
 constexpr std::size_t kGuidLength = 22;     // IFC GlobalId, base64 of 128 bits
@@ -712,6 +713,28 @@ class Importer {
         out.push_back(std::strtoul(list.c_str() + q + 1, nullptr, 10));
       return out;
     };
+    // Georeferenced coordinates: assimp 5.2.5 computes IFC geometry partly in float.
+    double far = 0.0;
+    for (const auto& [id, body] : step.bodies) {
+      if (body.compare(0, 17, "IFCCARTESIANPOINT") != 0) continue;
+      const std::size_t open = body.find("((");
+      if (open == std::string::npos) continue;
+      const char* c = body.c_str() + open + 2;
+      for (int k = 0; k < 3; ++k) {
+        char* end = nullptr;
+        const double v = std::strtod(c, &end);
+        if (end == c) break;
+        if (std::isfinite(v)) far = std::max(far, std::abs(v));
+        c = end;
+        while (*c == ',' || *c == ' ') ++c;
+      }
+    }
+    far *= FullLengthScale(text, step, path);
+    if (far > kFarFromOrigin)
+      out_.report.push_back(path + ": coordinates reach " + Fmt(far / 1000.0, 1) +
+                            " km from the origin (georeferenced); assimp 5.2.5 computes IFC "
+                            "geometry partly in float: expect errors of " +
+                            Fmt(far * 1.2e-7 * 1000.0, 0) + " mm or more");
     for (const auto& [id, body] : step.bodies) {
       const std::string entity = EntityOf(body);
       const std::vector<std::string> a = Attributes(body);
