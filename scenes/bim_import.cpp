@@ -537,7 +537,7 @@ bool Footprint(const std::vector<Poly3>& tris, double z_min, double tol, Polygon
     if (fresh) pts.emplace_back(p.x(), p.y());
     return it->second;
   };
-  std::map<std::pair<int, int>, int> edges;
+  std::vector<std::pair<int, int>> directed;
   for (const Poly3& t : tris) {
     if (NormalOf(t).z() > -kFacingCos) continue;
     bool low = true;
@@ -546,7 +546,29 @@ bool Footprint(const std::vector<Poly3>& tris, double z_min, double tol, Polygon
     // Seen from above a downward face runs clockwise; store edges reversed (CCW from above).
     const int a = key(t[0]), b = key(t[1]), c = key(t[2]);
     if (a == b || b == c || a == c) continue;
-    for (auto [p, q] : {std::pair{b, a}, std::pair{c, b}, std::pair{a, c}}) ++edges[{p, q}];
+    for (auto [p, q] : {std::pair{b, a}, std::pair{c, b}, std::pair{a, c}})
+      directed.push_back({p, q});
+  }
+  // T-junctions (a vertex of one face on an edge of its neighbour, common in BRep spaces):
+  // split every edge at the vertices lying on it, so inner edges pair up with their reverse.
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& [a, b] : directed) {
+    const Vector2d pa = pts[a], pb = pts[b];
+    const double len = (pb - pa).norm();
+    std::vector<std::pair<double, int>> on;  // (position along the edge, vertex)
+    for (int v = 0; v < static_cast<int>(pts.size()); ++v) {
+      if (v == a || v == b) continue;
+      const double t = (pts[v] - pa).dot(pb - pa) / (len * len);
+      if (t <= 0.0 || t >= 1.0) continue;
+      if ((pa + t * (pb - pa) - pts[v]).norm() <= 1e-4) on.push_back({t, v});
+    }
+    std::sort(on.begin(), on.end());
+    int from = a;
+    for (const auto& [t, v] : on) {
+      ++edges[{from, v}];
+      from = v;
+    }
+    ++edges[{from, b}];
   }
   std::map<int, int> next;
   for (const auto& [e, count] : edges) {

@@ -53,6 +53,7 @@ struct FixtureOptions {
   double space_height = 2.5;  // m (the ceiling slab's underside is at 2.5)
   bool west_lining = false;   // the west wall 18 cm, its room face a 2 cm IfcCovering
   bool far = false;           // georeferenced: the building at (500 km, 5400 km)
+  bool brep_space = false;    // the space a faceted BRep whose bottom has a T-junction
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -98,6 +99,8 @@ class IfcWriter {
     if (o_.split_space) {
       spaces.push_back(Element("IFCSPACE", "1", Rect(0.0, 0.0, 2.0, 3.0, 0.0, 2.5)));
       spaces.push_back(Element("IFCSPACE", "2", Rect(2.0, 0.0, 4.0, 3.0, 0.0, 2.5)));
+    } else if (o_.brep_space) {
+      spaces.push_back(BrepSpace());
     } else {
       const double d = o_.space_inset;
       spaces.push_back(
@@ -210,6 +213,41 @@ class IfcWriter {
     if (entity != "IFCSPACE" && entity != "IFCOPENINGELEMENT") elements_.push_back(id);
     return id;
   }
+  // The 4 x 3 x 2.5 m room as an IfcFacetedBrep; its bottom is two faces, the second with a
+  // vertex at (2, 1.5) on the first one's edge x = 2 (a T-junction).
+  int BrepSpace() {
+    auto pt = [&](double x, double y, double z) {
+      const Vector2d q = Turn({x, y});
+      return "#" + std::to_string(
+                       Add("IFCCARTESIANPOINT((" + L(q.x()) + "," + L(q.y()) + "," + L(z) + "))"));
+    };
+    auto face = [&](const std::vector<std::string>& loop) {
+      std::string refs;
+      for (const auto& r : loop) refs += (refs.empty() ? "" : ",") + r;
+      const int l = Add("IFCPOLYLOOP((" + refs + "))");
+      const int b = Add("IFCFACEOUTERBOUND(#" + std::to_string(l) + ",.T.)");
+      return "#" + std::to_string(Add("IFCFACE((#" + std::to_string(b) + "))"));
+    };
+    const double h = 2.5;
+    std::vector<std::string> faces{
+        face({pt(0, 0, 0), pt(0, 3, 0), pt(2, 3, 0), pt(2, 0, 0)}),
+        face({pt(2, 0, 0), pt(2, 1.5, 0), pt(2, 3, 0), pt(4, 3, 0), pt(4, 0, 0)}),
+        face({pt(0, 0, h), pt(4, 0, h), pt(4, 3, h), pt(0, 3, h)}),
+        face({pt(0, 0, 0), pt(4, 0, 0), pt(4, 0, h), pt(0, 0, h)}),
+        face({pt(4, 0, 0), pt(4, 3, 0), pt(4, 3, h), pt(4, 0, h)}),
+        face({pt(4, 3, 0), pt(0, 3, 0), pt(0, 3, h), pt(4, 3, h)}),
+        face({pt(0, 3, 0), pt(0, 0, 0), pt(0, 0, h), pt(0, 3, h)})};
+    std::string refs;
+    for (const auto& f : faces) refs += (refs.empty() ? "" : ",") + f;
+    const int shell = Add("IFCCLOSEDSHELL((" + refs + "))");
+    const int brep = Add("IFCFACETEDBREP(#" + std::to_string(shell) + ")");
+    const int rep =
+        Add("IFCSHAPEREPRESENTATION(#14,'Body','Brep',(#" + std::to_string(brep) + "))");
+    const int shape = Add("IFCPRODUCTDEFINITIONSHAPE($,$,(#" + std::to_string(rep) + "))");
+    return Add("IFCSPACE('" + Guid() + "',#5,'1',$,$,#12,#" + std::to_string(shape) +
+               ",$,.ELEMENT.,.INTERNAL.,$)");
+  }
+
   void Rel(const std::string& entity, int a, int b) {
     Add(entity + "('" + Guid() + "',#5,$,$,#" + std::to_string(a) + ",#" + std::to_string(b) + ")");
   }
@@ -507,6 +545,12 @@ TEST_F(BimImportTest, GeoreferencedModelIsImportedWithAWarning) {
     lines +=
         l.find("coordinates reach 5400.0 km from the origin (georeferenced)") != std::string::npos;
   EXPECT_EQ(lines, 1);
+}
+
+TEST_F(BimImportTest, BrepSpaceWithATJunctionGivesItsRoom) {
+  FixtureOptions o;
+  o.brep_space = true;
+  ExpectFixtureTruth(ImportBim(Fixture(o)), 0.0, 90.0);
 }
 
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
