@@ -835,9 +835,20 @@ class Importer {
           "no IfcBuildingStorey in the node paths: the whole model is one "
           "storey");
     } else if (p_.storey.empty()) {
+      // The lowest storey with a space volume (foundation or site levels often have none).
+      std::set<std::string> with_spaces;
+      for (std::size_t i = 0; i < scene_.parts.size(); ++i)
+        if (!merged_parts_.count(i) && scene_.parts[i].element_class == ElementClass::kSpace &&
+            !scene_.parts[i].triangles.empty())
+          with_spaces.insert(StoreyOf(scene_.parts[i].name));
       storey_ = storeys.front();
+      for (const std::string& st : storeys)
+        if (with_spaces.count(st)) {
+          storey_ = st;
+          break;
+        }
       if (storeys.size() > 1)
-        out_.report.push_back("storey " + StoreyName(storey_) + " (the lowest of " +
+        out_.report.push_back("storey " + StoreyName(storey_) + " (the lowest with spaces of " +
                               std::to_string(storeys.size()) + "; choose with --storey)");
     } else {
       std::string names;

@@ -34,7 +34,7 @@
 namespace mopad::scenes {
 
 struct BimImportParams {
-  std::string storey;            ///< IFC storey Name, node name or GlobalId; "" = lowest storey
+  std::string storey;  ///< IFC storey Name, node name or GlobalId; "" = lowest with spaces
   double door_angle_deg = 90.0;  ///< deg, [0, 180]: opening angle of every door
   /// Per-door angles, deg [0, 180], keyed by truth id (D1), IFC GlobalId or IFC Name.
   std::map<std::string, double> door_angles_deg;

@@ -54,6 +54,7 @@ struct FixtureOptions {
   bool west_lining = false;   // the west wall 18 cm, its room face a 2 cm IfcCovering
   bool far = false;           // georeferenced: the building at (500 km, 5400 km)
   bool brep_space = false;    // the space a faceted BRep whose bottom has a T-junction
+  bool foundation = false;    // a lower storey "Foundation" with a footing and no space
 };
 
 // Writes a small IFC 2x3 STEP file; returns its path.
@@ -110,6 +111,13 @@ class IfcWriter {
       spaces.push_back(Add("IFCSPACE('" + Guid() +
                            "',#5,'2',$,$,#12,$,'Store',.ELEMENT.,"
                            ".INTERNAL.,$)"));
+    if (o_.foundation) {
+      const int footing =
+          Element("IFCFOOTING", "Footing", Rect(-0.2, -0.2, 4.2, 3.2, -1.0, 0.5), ".PAD_FOOTING.");
+      elements_.pop_back();  // contained in the foundation storey, not the ground floor
+      Add("IFCRELCONTAINEDINSPATIALSTRUCTURE('" + Guid() + "',#5,$,$,(#" + std::to_string(footing) +
+          "),#" + std::to_string(foundation_) + ")");
+    }
     std::string contained, agg;
     for (int e : elements_) contained += (contained.empty() ? "#" : ",#") + std::to_string(e);
     for (int s : spaces) agg += (agg.empty() ? "#" : ",#") + std::to_string(s);
@@ -176,7 +184,11 @@ class IfcWriter {
         std::to_string(site) + "))");
     Add("IFCRELAGGREGATES('" + Guid() + "',#5,$,$,#" + std::to_string(site) + ",(#" +
         std::to_string(building) + "))");
-    Add("IFCRELAGGREGATES('" + Guid() + "',#5,$,$,#" + std::to_string(building) + ",(#15))");
+    if (o_.foundation)
+      foundation_ =
+          Add("IFCBUILDINGSTOREY('" + Guid() + "',#5,'Foundation',$,$,#12,$,$,.ELEMENT.,-1.)");
+    Add("IFCRELAGGREGATES('" + Guid() + "',#5,$,$,#" + std::to_string(building) + ",(#15" +
+        (o_.foundation ? ",#" + std::to_string(foundation_) : std::string()) + "))");
     up_ = Add("IFCDIRECTION((0.,0.,1.))");
   }
   int Element(const std::string& entity, const std::string& name, const Box& b,
@@ -254,9 +266,23 @@ class IfcWriter {
 
   FixtureOptions o_;
   std::ostringstream out_;
-  int id_ = 0, guid_ = 0, up_ = 0;
+  int id_ = 0, guid_ = 0, up_ = 0, foundation_ = 0;
   std::vector<int> elements_;
 };
+
+// Each malformed variant: one line, `path: error: ...`.
+void ExpectOneLineError(const std::function<void()>& f, const std::string& prefix,
+                        const std::string& contains) {
+  try {
+    f();
+    ADD_FAILURE() << "no error for " << contains;
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind(prefix, 0), 0u) << m;
+    EXPECT_NE(m.find(contains), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+}
 
 class BimImportTest : public ::testing::Test {
  protected:
@@ -553,6 +579,20 @@ TEST_F(BimImportTest, BrepSpaceWithATJunctionGivesItsRoom) {
   ExpectFixtureTruth(ImportBim(Fixture(o)), 0.0, 90.0);
 }
 
+TEST_F(BimImportTest, DefaultStoreyIsTheLowestWithSpaces) {
+  // The lowest storey, "Foundation", holds only a footing: the default is the ground floor.
+  FixtureOptions o;
+  o.foundation = true;
+  const std::string path = Fixture(o);
+  ExpectFixtureTruth(ImportBim(path), 0.0, 90.0);
+  EXPECT_EQ(ListIfcStoreys(path).size(), 2u);
+  BimImportParams p;
+  p.storey = "Foundation";
+  ExpectOneLineError([&] { ImportBim(path, p); },
+                     path + ": error: no room can be made on storey 'Foundation'",
+                     "none with a usable volume");
+}
+
 TEST_F(BimImportTest, SameInputGivesTheSameBytes) {
   const std::string path = Fixture({});
   WriteBimImport(ImportBim(path), (dir_ / "a").string());
@@ -587,20 +627,6 @@ TEST_F(BimImportTest, MissingFloorIsRefusedOrMadeFromTheSpace) {
   p.floor_from_spaces = true;
   const BimImport imp = ImportBim(path, p);
   ExpectFixtureTruth(imp, 0.0, 90.0);
-}
-
-// Each malformed variant: one line, `path: error: ...`.
-void ExpectOneLineError(const std::function<void()>& f, const std::string& prefix,
-                        const std::string& contains) {
-  try {
-    f();
-    ADD_FAILURE() << "no error for " << contains;
-  } catch (const InputError& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(m.rfind(prefix, 0), 0u) << m;
-    EXPECT_NE(m.find(contains), std::string::npos) << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-  }
 }
 
 TEST_F(BimImportTest, MalformedInputsGiveOneClearLine) {
