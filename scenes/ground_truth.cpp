@@ -219,8 +219,11 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
           {"format_version", "scene_name", "units", "up_axis", "storeys", "rooms", "elements",
            "openings", "service_components", "furniture", "connections"});
   const Json& ver = r.Field(j, "", "format_version");
-  if (!ver.is_number_integer() || ver.get<int>() != kTruthFormatVersion) {
-    r.Fail("", "unsupported format_version", ver.dump(), std::to_string(kTruthFormatVersion));
+  if (!ver.is_number_integer() ||
+      (ver.get<int>() != kTruthFormatVersion && ver.get<int>() != kTruthFormatVersionPassages)) {
+    r.Fail(
+        "", "unsupported format_version", ver.dump(),
+        std::to_string(kTruthFormatVersion) + " or " + std::to_string(kTruthFormatVersionPassages));
   }
   t.format_version = ver.get<int>();
   t.scene_name = r.Str(j, "", "scene_name");
@@ -415,7 +418,11 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
   for (std::size_t i = 0; i < t.connections.size(); ++i) {
     const auto& cn = t.connections[i];
     const Opening* o = t.FindOpening(cn.door);
-    if (!o || o->type != OpeningType::kDoor)
+    const bool passage = cn.door.empty() && t.format_version >= kTruthFormatVersionPassages;
+    if (passage && (cn.room_b.empty() || cn.room_a == cn.room_b))
+      r.Fail(At("connections", i) + ".room_b", "an open passage joins two rooms",
+             "'" + cn.room_b + "'", "a room other than room_a");
+    if (!passage && (!o || o->type != OpeningType::kDoor))
       r.Fail(At("connections", i) + ".door", "dangling door id '" + cn.door + "'");
     need_room(At("connections", i) + ".room_a", cn.room_a, false);
     need_room(At("connections", i) + ".room_b", cn.room_b, true);

@@ -11,7 +11,11 @@
 
 namespace mopad::scenes {
 
+/// Version the generator writes. Version 2 (written by the BIM import when it needs it) adds open
+/// passages: connections with door "" between rooms that share a boundary without a wall, and
+/// rooms that touch along such a boundary. Readers accept 1 and 2.
 inline constexpr int kTruthFormatVersion = 1;
+inline constexpr int kTruthFormatVersionPassages = 2;
 
 struct Storey {
   std::string id;
@@ -59,9 +63,9 @@ struct Opening {
   double u0 = 0.0, u1 = 0.0, v0 = 0.0, v1 = 0.0;
   std::vector<Eigen::Vector3d> corners;  ///< the same rectangle in world frame (4, CCW)
   // Doors only:
-  std::string hinge_side;                    ///< "left" | "right", seen from the swing room
-  std::string swing_room;                    ///< room the leaf opens into ("" = outside)
-  double opening_angle = 0.0;                ///< lambda, rad, [0, pi/2 .. 110 deg]
+  std::string hinge_side;      ///< "left" | "right", seen from the swing room
+  std::string swing_room;      ///< room the leaf opens into ("" = outside)
+  double opening_angle = 0.0;  ///< lambda, rad, [0, pi/2 .. 110 deg]
   DoorState state = DoorState::kClosed;
   Eigen::Vector3d hinge_point = Eigen::Vector3d::Zero();  ///< bottom of the hinge axis, world
   Eigen::Vector3d hinge_axis = Eigen::Vector3d::UnitZ();  ///< unit; +angle opens the leaf
@@ -75,10 +79,10 @@ struct ServiceComponent {
   std::string bsc_class;  ///< catalogue class, e.g. "socket_x2", "smoke_detector"
   std::string host;       ///< element id of the wall or ceiling it is mounted on
   std::string room;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< m, world, centre of the visible face's
-                                                     ///< footprint on the host surface
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitX(); ///< unit, out of the host surface
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< m: width (along host u), height, depth
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();   ///< m, world, centre of the visible face's
+                                                      ///< footprint on the host surface
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  ///< unit, out of the host surface
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();     ///< m: width (along host u), height, depth
 };
 
 struct FurnitureItem {
@@ -90,9 +94,10 @@ struct FurnitureItem {
   Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< m, box extents before yaw
 };
 
-/// Edge of the room connectivity graph: a door between two rooms ("" = outside).
+/// Edge of the room connectivity graph: a door between two rooms ("" = outside), or (format
+/// version 2) an open passage between two rooms (door "").
 struct RoomConnection {
-  std::string door;
+  std::string door;  ///< opening id; "" = open passage (version 2)
   std::string room_a;
   std::string room_b;
 };

@@ -1,10 +1,12 @@
 #include "scenes/scene_check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/frames.h"
 #include "scenes/geometry.h"
@@ -15,7 +17,7 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-constexpr double kSurfaceTol = 1e-3;  // m, "on its host within 1 mm"
+constexpr double kSurfaceTol = 1e-3;    // m, "on its host within 1 mm"
 constexpr double kPlacementTol = 5e-3;  // m, BSC geometry centre/size vs its truth entry
 
 std::string F(double v) {
@@ -23,6 +25,41 @@ std::string F(double v) {
   s.precision(4);
   s << v;
   return s.str();
+}
+
+constexpr double kOverlapArea = 1e-4;  // m^2, interiors of touching rooms (version 2)
+
+Polygon2 ClipConvex(const Polygon2& p, const Vector2d& a, const Vector2d& b) {
+  // Keeps the part of convex p left of the directed line a -> b.
+  Polygon2 out;
+  auto side = [&](const Vector2d& x) {
+    const Vector2d d = b - a, e = x - a;
+    return d.x() * e.y() - d.y() * e.x();
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vector2d& s = p[i];
+    const Vector2d& q = p[(i + 1) % p.size()];
+    const double ds = side(s), dq = side(q);
+    if (ds >= 0.0) out.push_back(s);
+    if ((ds > 0.0 && dq < 0.0) || (ds < 0.0 && dq > 0.0))
+      out.push_back(s + ds / (ds - dq) * (q - s));
+  }
+  return out;
+}
+
+// Area of the intersection of two simple polygons (sum over pairs of their ear triangles).
+double InteriorOverlapArea(const Polygon2& a_in, const Polygon2& b_in) {
+  Polygon2 a = a_in, b = b_in;
+  if (SignedArea(a) < 0) std::reverse(a.begin(), a.end());
+  if (SignedArea(b) < 0) std::reverse(b.begin(), b.end());
+  double area = 0.0;
+  for (const auto& ta : TriangulatePolygon(a))
+    for (const auto& tb : TriangulatePolygon(b)) {
+      Polygon2 p{a[ta[0]], a[ta[1]], a[ta[2]]};
+      for (int k = 0; k < 3 && p.size() >= 3; ++k) p = ClipConvex(p, b[tb[k]], b[tb[(k + 1) % 3]]);
+      if (p.size() >= 3) area += std::abs(SignedArea(p));
+    }
+  return area;
 }
 
 }  // namespace
@@ -221,17 +258,32 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     if (outside) err("bsc '" + b.id + "' extends outside its host '" + h->id + "'");
   }
 
-  // 4. Rooms do not overlap.
+  // 4. Rooms do not overlap. Version 1 (walls between all rooms): not even touch. Version 2
+  // (open passages): rooms may share a boundary, their interiors must not overlap.
   for (std::size_t i = 0; i < t.rooms.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (t.rooms[i].polygon.size() >= 3 && t.rooms[j].polygon.size() >= 3 &&
-          PolygonsIntersect(t.rooms[i].polygon, t.rooms[j].polygon))
-        err("rooms '" + t.rooms[i].id + "' and '" + t.rooms[j].id + "' overlap");
+    for (std::size_t j = 0; j < i; ++j) {
+      const Polygon2& a = t.rooms[i].polygon;
+      const Polygon2& b = t.rooms[j].polygon;
+      if (a.size() < 3 || b.size() < 3) continue;
+      bool overlap = PolygonsIntersect(a, b);
+      if (overlap && t.format_version >= kTruthFormatVersionPassages) {
+        try {
+          overlap = InteriorOverlapArea(a, b) > kOverlapArea;
+        } catch (const std::invalid_argument&) {  // not simple: keep the strict answer
+        }
+      }
+      if (overlap) err("rooms '" + t.rooms[i].id + "' and '" + t.rooms[j].id + "' overlap");
+    }
 
   // 5. Reachability through open doors wide enough for the robot.
   if (!t.rooms.empty()) {
     std::map<std::string, std::vector<std::string>> graph;
     for (const RoomConnection& c : t.connections) {
+      if (c.door.empty() && !c.room_b.empty()) {  // open passage (format version 2)
+        graph[c.room_a].push_back(c.room_b);
+        graph[c.room_b].push_back(c.room_a);
+        continue;
+      }
       const Opening* o = t.FindOpening(c.door);
       if (!o || c.room_b.empty()) continue;
       if (o->state != DoorState::kOpen) continue;

@@ -1,17 +1,19 @@
 // `mopad scene ...`: generate, random, info, validate, catalogue.
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "common/error.h"
 #include "interfaces/object_model_catalogue.h"
+#include "scenes/bim_import.h"
 #include "scenes/bsc_catalogue.h"
 #include "scenes/generator.h"
+#include "scenes/gltf_writer.h"
 #include "scenes/ground_truth.h"
+#include "scenes/plan_view.h"
 #include "scenes/random_floor.h"
 #include "scenes/scene_check.h"
 #include "scenes/scene_loader.h"
@@ -23,9 +25,13 @@
 namespace mopad::tools {
 namespace {
 
-void PrintSummary(const SceneSummary& s) {
-  std::printf("%s\n", FormatSceneSummary(s).c_str());
+std::string FormatMetres(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.3f", v);
+  return buf;
 }
+
+void PrintSummary(const SceneSummary& s) { std::printf("%s\n", FormatSceneSummary(s).c_str()); }
 
 void GenerateAndWrite(const scenes::SceneSpec& spec, const std::string& out_dir) {
   const scenes::GeneratedScene g = scenes::Generate(spec);
@@ -41,13 +47,13 @@ void RegisterSceneCommands(CLI::App& app) {
   scene->require_subcommand(1);
 
   {
-    auto* cmd = scene->add_subcommand("generate", "Generate scene.glb + scene.truth.json from a "
-                                                  "YAML spec (docs/scene-spec.md)");
+    auto* cmd = scene->add_subcommand("generate",
+                                      "Generate scene.glb + scene.truth.json from a "
+                                      "YAML spec (docs/scene-spec.md)");
     auto spec = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto seed = std::make_shared<std::int64_t>(-1);
-    cmd->add_option("spec", *spec, "Scene spec YAML (e.g. scenes/office_5rooms.yaml)")
-        ->required();
+    cmd->add_option("spec", *spec, "Scene spec YAML (e.g. scenes/office_5rooms.yaml)")->required();
     cmd->add_option("-o,--output", *out, "Output folder")->required();
     cmd->add_option("--seed", *seed, "Override the spec's seed (furniture, rule-based BSCs)")
         ->check(CLI::NonNegativeNumber);
@@ -71,8 +77,9 @@ void RegisterSceneCommands(CLI::App& app) {
     auto* cmd = scene->add_subcommand("info", "Counts per class, bounding box, triangles, rooms");
     auto path = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
-    cmd->add_option("scene", *path, "Scene folder (scene.glb + scene.truth.json) or file (.glb, "
-                                    ".gltf, .obj, .ply, .fbx, .ifc)")
+    cmd->add_option("scene", *path,
+                    "Scene folder (scene.glb + scene.truth.json) or file (.glb, "
+                    ".gltf, .obj, .ply, .fbx, .ifc)")
         ->required();
     cmd->add_flag("--json", *json, "Print JSON instead of a table");
     cmd->callback([=] {
@@ -81,18 +88,86 @@ void RegisterSceneCommands(CLI::App& app) {
       std::optional<scenes::GroundTruth> truth;
       if (p.truth) truth = scenes::ReadGroundTruth(*p.truth);
       const SceneSummary s = Summarise(sc, truth ? &*truth : nullptr, p.geometry);
-      if (*json)
+      if (*json) {
         std::printf("%s\n", SceneSummaryJson(s).c_str());
-      else
-        PrintSummary(s);
+        return;
+      }
+      PrintSummary(s);
+      if (std::filesystem::path(p.geometry).extension() == ".ifc")
+        for (const scenes::BimStorey& st : scenes::ListIfcStoreys(p.geometry))
+          std::printf("storey '%s' (%s): elevation %s\n", st.name.c_str(), st.global_id.c_str(),
+                      st.has_elevation ? (FormatMetres(st.elevation) + " m").c_str() : "not given");
     });
   }
   {
-    auto* cmd = scene->add_subcommand("validate", "Check a generated scene's truth against its "
-                                                  "geometry (exit 1 if it finds errors)");
+    auto* cmd = scene->add_subcommand("import",
+                                      "Make a scene folder with exact truth from a BIM "
+                                      "model (IFC 2x3, docs/scene-import.md)");
     auto path = std::make_shared<std::string>();
-    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")
+    auto out = std::make_shared<std::string>();
+    auto doors = std::make_shared<std::vector<std::string>>();
+    auto p = std::make_shared<scenes::BimImportParams>();
+    cmd->add_option("model", *path, "IFC 2x3 file (or glTF converted from IFC with its spaces)")
         ->required();
+    cmd->add_option("-o,--output", *out, "Output folder")->required();
+    cmd->add_option("--storey", p->storey, "Storey Name, node name or GlobalId (default: lowest)");
+    auto* angle = cmd->add_option("--door-angle", p->door_angle_deg,
+                                  "Opening angle of every door, deg [0, 180]")
+                      ->default_val(90.0);
+    cmd->add_option("--doors", *doors, "Per-door angles ID=DEG (ID: D1, GlobalId or IFC Name)")
+        ->delimiter(',')
+        ->excludes(angle);
+    cmd->add_flag("--floor-from-spaces", p->floor_from_spaces,
+                  "Make missing floors from the space footprints");
+    cmd->add_flag("--ceiling-from-spaces", p->ceiling_from_spaces,
+                  "Make missing ceilings from the space footprints");
+    cmd->add_option("--merge", p->merge, "Further model whose components are added (repeatable)");
+    cmd->add_flag("--keep-site", p->keep_site, "Keep the IfcSite terrain geometry");
+    cmd->add_option("--plane-tolerance", p->plane_tolerance,
+                    "Largest distance of a wall/floor/ceiling face from the space boundary, m")
+        ->default_val(0.003);
+    cmd->callback([=] {
+      scenes::BimImportParams params = *p;
+      params.door_angles_deg = scenes::ParseDoorAngles(*doors);
+      const scenes::BimImport imported = scenes::ImportBim(*path, params);
+      scenes::WriteBimImport(imported, *out);
+      for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
+      PrintSummary(Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
+      std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out->c_str(), out->c_str());
+    });
+  }
+  {
+    auto* cmd = scene->add_subcommand("plan",
+                                      "Draw a plan-view PNG of a scene folder and its "
+                                      "truth (walls red, doors green, windows blue)");
+    auto path = std::make_shared<std::string>();
+    auto out = std::make_shared<std::string>();
+    auto p = std::make_shared<scenes::PlanViewParams>();
+    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
+    cmd->add_option("-o,--output", *out, "PNG file to write")->required();
+    cmd->add_option("--pixel-size", p->pixel_size, "Metres per pixel")->default_val(0.02);
+    cmd->add_option("--cut-height", p->cut_height, "Section height above the floor, m")
+        ->default_val(1.2);
+    cmd->callback([=] {
+      const scenes::ScenePaths sp = scenes::ResolveScene(*path);
+      if (!sp.truth)
+        throw InputError(*path, "no ground truth next to the scene", "",
+                         "scene.truth.json beside scene.glb");
+      const scenes::Texture t = scenes::RenderPlanView(scenes::LoadScene(sp.geometry),
+                                                       scenes::ReadGroundTruth(*sp.truth), *p);
+      const std::vector<std::uint8_t> png = scenes::EncodePng(t);
+      std::ofstream f(*out, std::ios::binary | std::ios::trunc);
+      f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+      if (!f) throw InputError(*out, "cannot write file");
+      std::printf("wrote %s (%d x %d)\n", out->c_str(), t.width, t.height);
+    });
+  }
+  {
+    auto* cmd = scene->add_subcommand("validate",
+                                      "Check a generated scene's truth against its "
+                                      "geometry (exit 1 if it finds errors)");
+    auto path = std::make_shared<std::string>();
+    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
     cmd->callback([=] {
       const scenes::ScenePaths p = scenes::ResolveScene(*path);
       if (!p.truth)
@@ -109,9 +184,10 @@ void RegisterSceneCommands(CLI::App& app) {
     });
   }
   {
-    auto* cmd = scene->add_subcommand("catalogue", "Write the BSC object-model catalogue (sizes, "
-                                                   "colour and depth images): what a robot may "
-                                                   "know, never where objects are");
+    auto* cmd = scene->add_subcommand("catalogue",
+                                      "Write the BSC object-model catalogue (sizes, "
+                                      "colour and depth images): what a robot may "
+                                      "know, never where objects are");
     auto out = std::make_shared<std::string>();
     auto pixel = std::make_shared<double>(0.002);
     cmd->add_option("-o,--output", *out, "Output folder")->required();

@@ -1,0 +1,86 @@
+#pragma once
+// A BIM model (IFC 2x3 through assimp) becomes a scene folder with exact truth
+// (docs/scene-import.md): the same scene.glb + scene.truth.json the generator writes.
+//
+// What comes from where (one storey per import):
+//  - rooms: IfcSpace volumes of the storey (footprint = outline of the space's bottom face,
+//    floor_z / ceiling_z = its lowest / highest point);
+//  - walls: every room polygon edge whose vertical plane carries IfcWall* faces facing the room
+//    becomes `wall_<room>_<edge>`; those wall triangles are cut to the room's edge and height
+//    and relabelled, so the truth is the geometry's own faces (openings are already cut);
+//  - floors / ceilings: upward (downward) slab or covering faces at the room's floor (ceiling)
+//    height, cut to the room polygon; missing ones refused or, with floor_from_spaces /
+//    ceiling_from_spaces, made from the space footprint;
+//  - doors / windows: their hole in the room-side wall faces (measured on the geometry around
+//    the element's centre); a door's BIM geometry is replaced by a generated leaf hinged at the
+//    hole's jamb and opened to the requested angle (BIM draws doors closed); windows keep their
+//    geometry (glass = transmissive materials);
+//  - service components (IfcOutlet, IfcSwitchingDevice, IfcAlarm, IfcSensor, IfcFlow*, small
+//    IfcBuildingElementProxy, ...): hosted on the nearest wall face or ceiling within
+//    component_snap, moved onto it, class from the catalogue or `other:<IfcClass>`;
+//  - furniture (IfcFurnishingElement, IfcFurniture): furniture truth, type = IFC class;
+//  - everything else of the storey (wall outsides and reveals, stairs, beams, railings, the
+//    slab above) stays as class `other` with the IFC node name as id.
+// World: Z-up metres, the storey's lowest room floor at z = 0. Deterministic: the same input
+// gives the same bytes. Every refusal is an InputError, one line.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "scenes/ground_truth.h"
+#include "scenes/scene.h"
+
+namespace mopad::scenes {
+
+struct BimImportParams {
+  std::string storey;  ///< IFC storey Name, node name or GlobalId; "" = lowest with spaces
+  double door_angle_deg = 90.0;  ///< deg, [0, 180]: opening angle of every door
+  /// Per-door angles, deg [0, 180], keyed by truth id (D1), IFC GlobalId or IFC Name.
+  std::map<std::string, double> door_angles_deg;
+  bool floor_from_spaces = false;    ///< make missing floors from the space footprint
+  bool ceiling_from_spaces = false;  ///< make missing ceilings from the space footprint
+  std::vector<std::string> merge;    ///< further models whose components are added (same frame)
+  bool keep_site = false;            ///< keep IfcSite geometry (terrain) as `other`
+  double leaf_thickness = 0.04;      ///< m, (0, 0.2]: generated door leaves
+  double plane_tolerance = 0.003;    ///< m, (0, 0.05]: a face lies on a room's wall/floor plane
+  double component_snap = 0.05;      ///< m, [0, 0.5]: largest gap between a component and host
+  double min_face_area = 0.01;       ///< m^2, > 0: smaller wall faces are not made elements
+
+  /// Throws InputError naming the field, its value and the allowed range.
+  void Validate() const;
+};
+
+struct BimImport {
+  Scene scene;
+  GroundTruth truth;
+  /// One line each: what the file lacked, what was repaired, replaced or left out.
+  std::vector<std::string> report;
+  /// IFC class -> elements with geometry in the storey's node tree (what the file holds).
+  std::map<std::string, int> storey_elements;
+  /// IFC wall elements of any storey that gave at least one room-side wall face.
+  int walls_with_room_faces = 0;
+};
+
+/// Imports `path` (.ifc IFC 2x3, or .glb/.gltf converted from IFC whose node names carry the
+/// IFC classes and which kept the IfcSpace volumes). Throws InputError.
+BimImport ImportBim(const std::string& path, const BimImportParams& params = {});
+
+/// Parses `--doors` items "ID=DEG" (DEG in [0, 180]); throws InputError naming the item.
+std::map<std::string, double> ParseDoorAngles(const std::vector<std::string>& items);
+
+/// Writes DIR/scene.glb and DIR/scene.truth.json (DIR is created).
+void WriteBimImport(const BimImport& imported, const std::string& dir);
+
+struct BimStorey {
+  std::string name;        ///< IFC Name ("0. Erdgeschoss")
+  std::string global_id;   ///< IFC GlobalId
+  double elevation = 0.0;  ///< m, the storey's Elevation attribute in the file's units, scaled
+  bool has_elevation = false;
+};
+
+/// The IfcBuildingStorey entities of an IFC STEP file in file order (for `mopad scene info`).
+/// Throws InputError if the file cannot be read or is not IFC.
+std::vector<BimStorey> ListIfcStoreys(const std::string& path);
+
+}  // namespace mopad::scenes
