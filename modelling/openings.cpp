@@ -1,0 +1,594 @@
+#include "modelling/openings.h"
+
+#include <Eigen/Dense>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "common/error.h"
+#include "common/rng.h"
+
+namespace mopad::modelling {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+}  // namespace
+
+void OpeningParams::Validate() const {
+  ValidateParams(*this, "openings.");
+  orthoimage.Validate();
+  auto order = [](const char* lo_name, double lo, const char* hi_name, double hi) {
+    if (lo > hi)
+      throw InputError("", std::string("parameter 'openings.") + lo_name + "' exceeds '" + hi_name + "'",
+                       std::to_string(lo), "<= " + std::to_string(hi));
+  };
+  order("door_min_width", door_min_width, "door_max_width", door_max_width);
+  order("door_min_height", door_min_height, "door_max_height", door_max_height);
+  order("window_min_width", window_min_width, "window_max_width", window_max_width);
+  order("window_min_height", window_min_height, "window_max_height", window_max_height);
+  order("canny_low", canny_low, "canny_high", canny_high);
+  order("casing_min", casing_min, "casing_max", casing_max);
+}
+
+const char* ToString(OpeningType t) { return t == OpeningType::kDoor ? "door" : "window"; }
+
+const char* ToString(DoorState s) {
+  switch (s) {
+    case DoorState::kClosed: return "closed";
+    case DoorState::kSemiOpen: return "semi_open";
+    case DoorState::kOpen: return "open";
+  }
+  return "closed";
+}
+
+DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg) {
+  if (lambda_deg >= 90.0) return DoorState::kOpen;
+  if (lambda_deg >= closed_below_deg) return DoorState::kSemiOpen;
+  return DoorState::kClosed;
+}
+
+// ---- Step 1: wall area ----
+
+WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
+  WallArea out;
+  const std::size_t n = static_cast<std::size_t>(img.Cols()) * img.Rows();
+  // Colour seeds: pixels on the plane, binned 8x8x8; the mode bin and its 26 neighbours.
+  std::vector<int> hist(512, 0);
+  auto bin_of = [](const std::array<std::uint8_t, 3>& c) {
+    return std::array<int, 3>{c[0] / 32, c[1] / 32, c[2] / 32};
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (img.Count(i) == 0 || std::abs(img.Depth(i)) > p.flush_depth) continue;
+    const auto b = bin_of(img.Rgb(i));
+    ++hist[(b[0] * 8 + b[1]) * 8 + b[2]];
+  }
+  const int mode = static_cast<int>(std::max_element(hist.begin(), hist.end()) - hist.begin());
+  const std::array<int, 3> mb{mode / 64, (mode / 8) % 8, mode % 8};
+  std::array<double, 3> sum{0, 0, 0};
+  double k = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (img.Count(i) == 0 || std::abs(img.Depth(i)) > p.flush_depth) continue;
+    const auto b = bin_of(img.Rgb(i));
+    if (std::abs(b[0] - mb[0]) > 1 || std::abs(b[1] - mb[1]) > 1 || std::abs(b[2] - mb[2]) > 1)
+      continue;
+    for (int c = 0; c < 3; ++c) sum[c] += img.Rgb(i)[c];
+    ++k;
+  }
+  if (k > 0)
+    for (int c = 0; c < 3; ++c) out.wall_rgb[c] = sum[c] / k;
+  out.classes.assign(n, OrthoClass::kOccluded);
+  std::size_t wall = 0;
+  const double tol2 = p.colour_tolerance * p.colour_tolerance;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (img.Count(i) == 0) {
+      out.classes[i] = img.Passed(i) > img.Blocked(i) ? OrthoClass::kThrough : OrthoClass::kOccluded;
+      continue;
+    }
+    const double d = img.Depth(i);
+    if (d < -p.recess_depth) {
+      out.classes[i] = OrthoClass::kRecessed;
+    } else if (d > p.flush_depth) {
+      out.classes[i] = OrthoClass::kProtruding;
+    } else {
+      double e2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double dc = img.Rgb(i)[c] - out.wall_rgb[c];
+        e2 += dc * dc;
+      }
+      out.classes[i] = (k > 0 && e2 <= tol2) ? OrthoClass::kWall : OrthoClass::kOffColour;
+      if (out.classes[i] == OrthoClass::kWall) ++wall;
+    }
+  }
+  out.wall_share = n > 0 ? static_cast<double>(wall) / n : 0.0;
+  return out;
+}
+
+namespace {
+
+// ---- Step 2: straight lines ----
+
+struct Line {
+  double pos = 0;  // column (vertical line) or row (horizontal line), pixel index
+  int a = 0, b = 0;  // extent along the other axis, inclusive
+  int Length() const { return b - a + 1; }
+};
+
+// Runs of `on(i, j)` along j for each i, gaps <= gap bridged, length >= min_len, merged when
+// parallel within 2 pixels and overlapping; the longest max_lines, ordered by position.
+template <class On>
+std::vector<Line> FindLines(int n_i, int n_j, On on, int gap, int min_len, int max_lines) {
+  std::vector<Line> raw;
+  for (int i = 0; i < n_i; ++i) {
+    int start = -1, last = -1;
+    for (int j = 0; j <= n_j; ++j) {
+      const bool o = j < n_j && on(i, j);
+      if (o) {
+        if (start < 0) start = j;
+        else if (j - last - 1 > gap) {
+          if (last - start + 1 >= min_len) raw.push_back({double(i), start, last});
+          start = j;
+        }
+        last = j;
+      }
+    }
+    if (start >= 0 && last - start + 1 >= min_len) raw.push_back({double(i), start, last});
+  }
+  // Merge (raw is ordered by position, then extent).
+  std::vector<Line> merged;
+  std::vector<double> weight;
+  for (const Line& l : raw) {
+    bool done = false;
+    for (std::size_t m = merged.size(); m-- > 0;) {
+      Line& g = merged[m];
+      if (l.pos - g.pos > 2.0) break;
+      if (l.a > g.b + gap || l.b < g.a - gap) continue;
+      const double w0 = weight[m], w1 = l.Length();
+      g.pos = (g.pos * w0 + l.pos * w1) / (w0 + w1);
+      g.a = std::min(g.a, l.a), g.b = std::max(g.b, l.b);
+      weight[m] = w0 + w1;
+      done = true;
+      break;
+    }
+    if (!done) merged.push_back(l), weight.push_back(l.Length());
+  }
+  std::stable_sort(merged.begin(), merged.end(),
+                   [](const Line& x, const Line& y) { return x.Length() > y.Length(); });
+  if (static_cast<int>(merged.size()) > max_lines) merged.resize(max_lines);
+  std::sort(merged.begin(), merged.end(), [](const Line& x, const Line& y) {
+    return std::tie(x.pos, x.a, x.b) < std::tie(y.pos, y.a, y.b);
+  });
+  return merged;
+}
+
+// Sum of a 0/1 mask over [c0, c1) x [r0, r1) from its integral image (clipped).
+struct Integral {
+  cv::Mat s;  // CV_32S, (rows+1) x (cols+1)
+  int cols = 0, rows = 0;
+  explicit Integral(const cv::Mat& mask) : cols(mask.cols), rows(mask.rows) { cv::integral(mask, s, CV_32S); }
+  double Sum(int c0, int c1, int r0, int r1) const {
+    c0 = std::clamp(c0, 0, cols), c1 = std::clamp(c1, 0, cols);
+    r0 = std::clamp(r0, 0, rows), r1 = std::clamp(r1, 0, rows);
+    if (c1 <= c0 || r1 <= r0) return 0.0;
+    return s.at<int>(r1, c1) - s.at<int>(r0, c1) - s.at<int>(r1, c0) + s.at<int>(r0, c0);
+  }
+};
+
+struct Candidate {
+  OpeningType type = OpeningType::kDoor;
+  int cl = 0, cr = 0, rt = 0, rb = 0;  // side lines: columns cl < cr, rows rt < rb (rb: bottom)
+  double score = 0, known = 0, evidence = 0, through = 0, support = 0;
+  bool valid = false;
+};
+
+struct Masks {
+  Integral known, ev_door, ev_window, through, wall, edge_v, edge_h, hidden_v, hidden_h;
+};
+
+cv::Mat ClassMask(const WallArea& area, int cols, int rows, std::initializer_list<OrthoClass> cs) {
+  cv::Mat m(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const OrthoClass k = area.classes[static_cast<std::size_t>(r) * cols + c];
+      for (OrthoClass x : cs)
+        if (k == x) m.at<std::uint8_t>(r, c) = 1;
+    }
+  return m;
+}
+
+// Scores one rectangle (see the file comment, step 3).
+void Score(Candidate& k, const Masks& m, const OpeningParams& p, double px, int floor_row) {
+  const int sb = std::max(1, static_cast<int>(std::lround(p.side_band / px)));
+  const int ring = std::max(1, static_cast<int>(std::lround(p.ring / px)));
+  const int c0 = k.cl + 1, c1 = k.cr, r0 = k.rt + 1, r1 = k.rb;
+  const double area = double(c1 - c0) * (r1 - r0);
+  if (area <= 0) return;
+  k.known = m.known.Sum(c0, c1, r0, r1) / area;
+  const Integral& ev = k.type == OpeningType::kDoor ? m.ev_door : m.ev_window;
+  const double known_px = m.known.Sum(c0, c1, r0, r1);
+  k.evidence = known_px > 0 ? ev.Sum(c0, c1, r0, r1) / known_px : 0.0;
+  k.through = m.through.Sum(c0, c1, r0, r1) / area;
+  // Frame support: edge share of each side's visible length.
+  auto side_v = [&](int col) {
+    const double len = r1 - r0;
+    const double e = m.edge_v.Sum(col, col + 1, r0, r1);
+    const double hidden = m.hidden_v.Sum(col, col + 1, r0, r1);
+    return len - hidden > 0.25 * len ? e / (len - hidden) : 0.0;
+  };
+  auto side_h = [&](int row) {
+    const double len = c1 - c0;
+    const double e = m.edge_h.Sum(c0, c1, row, row + 1);
+    const double hidden = m.hidden_h.Sum(c0, c1, row, row + 1);
+    return len - hidden > 0.25 * len ? e / (len - hidden) : 0.0;
+  };
+  double s_min = std::min({side_v(k.cl), side_v(k.cr), side_h(k.rt)});
+  double s_sum = side_v(k.cl) + side_v(k.cr) + side_h(k.rt);
+  int sides = 3;
+  if (k.type == OpeningType::kWindow) {
+    s_min = std::min(s_min, side_h(k.rb));
+    s_sum += side_h(k.rb);
+    ++sides;
+  }
+  k.support = std::min(1.0, s_sum / sides);
+  const double ev_area = ev.Sum(c0, c1, r0, r1) * px * px;
+  k.valid = k.known >= p.min_known_share && k.evidence >= p.min_evidence_share &&
+            ev_area >= p.min_evidence_area && s_min >= p.min_side_support;
+  if (k.valid && k.type == OpeningType::kWindow) {
+    // Location: a sill has wall under it.
+    const int b0 = k.rb + sb + 1, b1 = std::min(b0 + ring, floor_row);
+    const double band = double(c1 - c0) * std::max(0, b1 - b0);
+    const double wall = m.wall.Sum(c0, c1, b0, b1);
+    if (band <= 0 || wall / band < p.min_sill_wall_share) k.valid = false;
+  }
+  if (!k.valid) return;
+  // Outside ring (left, right, top): evidence there means the rectangle is inside a larger one.
+  const int o = sb + 1;
+  const double ring_area = 2.0 * ring * (r1 - r0) + double(c1 - c0 + 2 * (o + ring)) * ring;
+  const double ring_ev = ev.Sum(k.cl - o - ring, k.cl - o + 1, r0, r1) +
+                         ev.Sum(k.cr + o, k.cr + o + ring, r0, r1) +
+                         ev.Sum(k.cl - o - ring, k.cr + o + ring, k.rt - o - ring, k.rt - o + 1);
+  const double outer = std::clamp(ring_ev / std::max(1.0, ring_area), 0.0, 1.0);
+  k.score = k.support * k.evidence * (1.0 - 0.5 * outer) * std::min(1.0, 0.5 + k.known);
+}
+
+double Overlap(const Candidate& a, const Candidate& b) {
+  const int w = std::min(a.cr, b.cr) - std::max(a.cl, b.cl);
+  const int h = std::min(a.rb, b.rb) - std::max(a.rt, b.rt);
+  if (w <= 0 || h <= 0) return 0.0;
+  const double aa = double(a.cr - a.cl) * (a.rb - a.rt), ab = double(b.cr - b.cl) * (b.rb - b.rt);
+  return double(w) * h / std::min(aa, ab);
+}
+
+}  // namespace
+
+// ---- Step 4: the door leaf ----
+
+LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1,
+                    double v0, double v1, const OpeningParams& p, std::uint64_t index) {
+  LeafFit out;
+  const double w = u1 - u0, h = v1 - v0;
+  if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
+  std::vector<Vec2> pts;  // (u, depth)
+  for (const auto& pf : *in.points) {
+    const Vec3 q = pf.cast<double>();
+    const Vec2 uv = frame.ToUv(q);
+    if (uv.y() < v0 + 0.25 * h || uv.y() > v0 + 0.85 * h) continue;
+    if (uv.x() < u0 - 0.4 * w || uv.x() > u1 + 0.4 * w) continue;
+    const double d = frame.Depth(q);
+    if (d < -(w + 0.5) || d > w + 0.1) continue;
+    // The wall and its casing beside the opening are not the leaf.
+    if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
+    pts.push_back({uv.x(), d});
+  }
+  if (static_cast<int>(pts.size()) < p.leaf_min_points) return out;
+  std::vector<Vec2> sample;
+  const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
+  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+  // A leaf's line passes a jamb: the segment u = u_j, depth in [-0.5, 0.05].
+  auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
+    for (double uj : {u0, u1}) {
+      if (std::abs(dir.x()) > 1e-6) {
+        const double t = (uj - a.x()) / dir.x();
+        const double d = a.y() + t * dir.y();
+        if (d >= -0.5 && d <= 0.05) return true;
+      }
+      const Vec2 nrm(-dir.y(), dir.x());
+      for (double dj : {-0.5, 0.05})
+        if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < 0.1) return true;
+    }
+    return false;
+  };
+  CounterRng rng(p.seed, "sm4_leaf", index);
+  int best = 0;
+  Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
+  const std::size_t n = sample.size();
+  for (int it = 0; it < p.leaf_iterations; ++it) {
+    const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
+    const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
+    const Vec2 dv = sample[j] - sample[i];
+    if (dv.norm() < 0.05) continue;
+    const Vec2 dir = dv.normalized();
+    if (!near_jamb(sample[i], dir)) continue;
+    const Vec2 nrm(-dir.y(), dir.x());
+    int c = 0;
+    for (const auto& q : sample)
+      if (std::abs(nrm.dot(q - sample[i])) <= p.leaf_inlier) ++c;
+    if (c > best) best = c, best_a = sample[i], best_dir = dir;
+  }
+  if (best == 0) return out;
+  // Least squares on the inliers of all points, twice.
+  Vec2 a = best_a, dir = best_dir;
+  std::vector<Vec2> inl;
+  for (int round = 0; round < 2; ++round) {
+    const Vec2 nrm(-dir.y(), dir.x());
+    inl.clear();
+    for (const auto& q : pts)
+      if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
+    if (inl.size() < 3) return out;
+    Vec2 mean = Vec2::Zero();
+    for (const auto& q : inl) mean += q;
+    mean /= static_cast<double>(inl.size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    a = mean;
+    dir = es.eigenvectors().col(1).normalized();
+  }
+  double t0 = 1e300, t1 = -1e300;
+  for (const auto& q : inl) t0 = std::min(t0, dir.dot(q - a)), t1 = std::max(t1, dir.dot(q - a));
+  out.inliers = static_cast<int>(inl.size());
+  out.extent = t1 - t0;
+  if (out.inliers < p.leaf_min_points || out.extent < p.leaf_min_extent * w) {
+    out.inliers = 0;
+    return out;
+  }
+  // Hinge end: the end nearer a jamb (plan distance to the jamb segments).
+  const Vec2 e0 = a + t0 * dir, e1 = a + t1 * dir;
+  auto jamb_dist = [&](const Vec2& e, double* uj_out) {
+    double best_d = 1e300;
+    for (double uj : {u0, u1}) {
+      const double dd = std::clamp(e.y(), -0.5, 0.05);
+      const double dist = (e - Vec2(uj, dd)).norm();
+      if (dist < best_d) best_d = dist, *uj_out = uj;
+    }
+    return best_d;
+  };
+  double uj0 = u0, uj1 = u0;
+  const double d0 = jamb_dist(e0, &uj0), d1 = jamb_dist(e1, &uj1);
+  const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
+  const double uj = d0 <= d1 ? uj0 : uj1;
+  const Vec2 hf = free_end - hinge;
+  double lambda = std::atan2(std::abs(hf.y()), std::abs(hf.x())) * kRadToDeg;
+  // Swung past the hinge jamb (free end outside the opening on the hinge's side): > 90 deg.
+  const bool left = std::abs(uj - u0) <= std::abs(uj - u1);
+  if ((left && free_end.x() < hinge.x() - 0.02) || (!left && free_end.x() > hinge.x() + 0.02))
+    lambda = 180.0 - lambda;
+  out.lambda_deg = lambda;
+  return out;
+}
+
+// ---- Steps 1-4 for one wall ----
+
+std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
+                                                const OrthoPoints& points,
+                                                const OpeningParams& p, double floor_v) {
+  p.Validate();
+  std::vector<DetectedOpening> out;
+  const int cols = img.Cols(), rows = img.Rows();
+  if (cols < 3 || rows < 3) return out;
+  const double px = img.Pixel();
+  const WallArea area = SegmentWallArea(img, p);
+
+  // J_C, J_D and the evidence mask as images.
+  cv::Mat colour(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0)), depth(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = img.Index(c, r);
+      if (img.Count(i) == 0) continue;
+      const auto rgb = img.Rgb(i);
+      colour.at<cv::Vec3b>(r, c) = cv::Vec3b(rgb[0], rgb[1], rgb[2]);
+      depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
+          std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
+    }
+  const cv::Mat ev_door = ClassMask(area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat ev_window = ClassMask(area, cols, rows, {OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat known = ClassMask(area, cols, rows, {OrthoClass::kWall, OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat hidden = ClassMask(area, cols, rows, {OrthoClass::kOccluded, OrthoClass::kProtruding});
+  const cv::Mat through = ClassMask(area, cols, rows, {OrthoClass::kThrough});
+  const cv::Mat wall = ClassMask(area, cols, rows, {OrthoClass::kWall});
+  cv::Mat e_c, e_d, e_e, edges;
+  cv::Canny(colour, e_c, p.canny_low, p.canny_high);
+  cv::Canny(depth, e_d, p.canny_low, p.canny_high);
+  cv::Mat ev255 = ev_door * 255;
+  cv::Canny(ev255, e_e, p.canny_low, p.canny_high);
+  cv::bitwise_or(e_c, e_d, edges);
+  cv::bitwise_or(edges, e_e, edges);
+  cv::Mat edge01 = edges / 255;
+  const int sb = std::max(1, static_cast<int>(std::lround(p.side_band / px)));
+  cv::Mat edge_v, edge_h, hid_v, hid_h;
+  cv::dilate(edge01, edge_v, cv::Mat::ones(1, 2 * sb + 1, CV_8U));
+  cv::dilate(edge01, edge_h, cv::Mat::ones(2 * sb + 1, 1, CV_8U));
+  // Hidden rows of a side: no edge and occluded or protruding somewhere across the band.
+  cv::Mat hid_dv, hid_dh;
+  cv::dilate(hidden, hid_dv, cv::Mat::ones(1, 2 * sb + 1, CV_8U));
+  cv::dilate(hidden, hid_dh, cv::Mat::ones(2 * sb + 1, 1, CV_8U));
+  hid_v = hid_dv & (1 - edge_v);
+  hid_h = hid_dh & (1 - edge_h);
+  const Masks m{Integral(known), Integral(ev_door), Integral(ev_window), Integral(through),
+                Integral(wall), Integral(edge_v), Integral(edge_h), Integral(hid_v), Integral(hid_h)};
+
+  // Lines along columns (vertical) and rows (horizontal), on the edge map with a 1-pixel slack.
+  const int gap = static_cast<int>(std::lround(p.line_gap / px));
+  const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
+  auto e_at = [&](int r, int c) { return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0; };
+  const std::vector<Line> vert = FindLines(cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); },
+                                           gap, min_len, p.max_lines);
+  const std::vector<Line> horz = FindLines(rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); },
+                                           gap, min_len, p.max_lines);
+
+  // Rectangles.
+  const int floor_row = std::clamp(
+      static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
+  std::vector<Candidate> cands;
+  for (std::size_t a = 0; a < vert.size(); ++a)
+    for (std::size_t b = a + 1; b < vert.size(); ++b) {
+      const int cl = static_cast<int>(std::lround(vert[a].pos)), cr = static_cast<int>(std::lround(vert[b].pos));
+      const double width = (cr - cl) * px;
+      if (width < std::min(p.door_min_width, p.window_min_width)) continue;
+      if (width > std::max(p.door_max_width, p.window_max_width)) continue;
+      for (const Line& t : horz) {
+        // The top line spans at least half the width between the sides.
+        const int ov = std::min(t.b, cr) - std::max(t.a, cl);
+        if (ov < 0.5 * (cr - cl)) continue;
+        const int rt = static_cast<int>(std::lround(t.pos));
+        // Door: bottom at the floor.
+        const double dh = (floor_row - rt) * px;
+        if (width >= p.door_min_width && width <= p.door_max_width && dh >= p.door_min_height &&
+            dh <= p.door_max_height) {
+          Candidate k;
+          k.type = OpeningType::kDoor, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = floor_row;
+          Score(k, m, p, px, floor_row);
+          if (k.valid) cands.push_back(k);
+        }
+        if (width < p.window_min_width || width > p.window_max_width) continue;
+        for (const Line& bl : horz) {
+          const int rb = static_cast<int>(std::lround(bl.pos));
+          const double wh = (rb - rt) * px, sill = (floor_row - rb) * px;
+          if (wh < p.window_min_height || wh > p.window_max_height || sill < p.min_sill) continue;
+          const int ovb = std::min(bl.b, cr) - std::max(bl.a, cl);
+          if (ovb < 0.5 * (cr - cl)) continue;
+          Candidate k;
+          k.type = OpeningType::kWindow, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = rb;
+          Score(k, m, p, px, floor_row);
+          if (k.valid) cands.push_back(k);
+        }
+      }
+    }
+  // Best first (ties: position), non-maximum suppression by overlap.
+  std::vector<std::size_t> order(cands.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return cands[x].score > cands[y].score;
+  });
+  std::vector<Candidate> kept;
+  for (std::size_t oi : order) {
+    const Candidate& k = cands[oi];
+    bool clash = false;
+    for (const Candidate& q : kept)
+      if (Overlap(k, q) > p.max_overlap) clash = true;
+    if (!clash) kept.push_back(k);
+  }
+  // The hole, not the casing: a valid rectangle inset by a casing's width on every side.
+  const int in_min = static_cast<int>(std::lround(p.casing_min / px));
+  const int in_max = static_cast<int>(std::lround(p.casing_max / px));
+  const int in_tol = static_cast<int>(std::lround(p.casing_tolerance / px));
+  for (Candidate& k : kept) {
+    const Candidate* best = nullptr;
+    for (const Candidate& q : cands) {
+      if (q.type != k.type) continue;
+      const int il = q.cl - k.cl, ir = k.cr - q.cr, it = q.rt - k.rt;
+      const int ib = k.type == OpeningType::kWindow ? k.rb - q.rb : il;
+      const int lo = std::min({il, ir, it, ib}), hi = std::max({il, ir, it, ib});
+      if (lo < in_min || hi > in_max || hi - lo > in_tol) continue;
+      if (best == nullptr || q.score > best->score) best = &q;
+    }
+    if (best != nullptr) {
+      const double conf = k.score;
+      k = *best;
+      k.score = std::max(conf, best->score);
+    }
+  }
+  std::sort(kept.begin(), kept.end(), [](const Candidate& x, const Candidate& y) {
+    return std::tie(x.cl, x.rt) < std::tie(y.cl, y.rt);
+  });
+  const PatchFrame& f = img.Frame();
+  for (const Candidate& k : kept) {
+    DetectedOpening o;
+    o.type = k.type;
+    o.host = host;
+    o.u0 = img.ColU(k.cl + 0.5), o.u1 = img.ColU(k.cr + 0.5);
+    o.v1 = img.RowV(k.rt + 0.5);
+    o.v0 = k.type == OpeningType::kDoor ? floor_v : img.RowV(k.rb + 0.5);
+    o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+    o.confidence = std::clamp(k.score, 0.0, 1.0);
+    o.known_share = k.known, o.evidence_share = k.evidence, o.through_share = k.through;
+    o.side_support = k.support;
+    if (o.type == OpeningType::kDoor) {
+      const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p,
+                                       static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
+      o.leaf_points = leaf.inliers;
+      if (leaf.inliers > 0) {
+        o.opening_angle_deg = leaf.lambda_deg;
+        o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg);
+      } else {
+        // No leaf seen: open if the robot saw through it, else closed (its leaf is the wall's
+        // colour and flush, or hidden).
+        o.state = k.through >= 0.3 ? DoorState::kOpen : DoorState::kClosed;
+      }
+      if (o.state == DoorState::kClosed) {
+        o.clear_width_m = 0.0;
+      } else {
+        const double lam = std::isnan(o.opening_angle_deg) ? 90.0 : o.opening_angle_deg;
+        const double l = lam / kRadToDeg;
+        const double intrusion = std::max(0.0, o.Width() * std::cos(l)) + p.leaf_thickness * std::sin(l);
+        o.clear_width_m = std::max(0.0, o.Width() - intrusion);
+      }
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
+Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
+                        const OpeningParams& params,
+                        std::vector<std::pair<std::string, Orthoimage>>* images) {
+  params.Validate();
+  Sm4Model out;
+  out.room = sm3.room;
+  for (const StructuralPatch& patch : sm3.patches) {
+    if (patch.patch_class != PatchClass::kWall) continue;
+    const PatchFrame frame = PatchFrame::Of(patch);
+    Orthoimage img = BuildOrthoimage(points, frame, params.orthoimage);
+    std::vector<DetectedOpening> found = DetectWallOpenings(img, patch.id, points, params, 0.0);
+    for (auto& o : found) out.openings.push_back(std::move(o));
+    if (images != nullptr) images->emplace_back(patch.id, std::move(img));
+  }
+  for (std::size_t i = 0; i < out.openings.size(); ++i)
+    out.openings[i].id = "opening_" + std::to_string(i + 1);
+  return out;
+}
+
+std::vector<std::uint8_t> ClosedDoorPointMask(const std::vector<Eigen::Vector3f>& points,
+                                              const std::vector<StructuralPatch>& patches,
+                                              const std::vector<DetectedOpening>& openings,
+                                              double margin, double band) {
+  std::vector<std::uint8_t> mask(points.size(), 0);
+  for (const DetectedOpening& o : openings) {
+    if (o.type != OpeningType::kDoor || o.state != DoorState::kClosed) continue;
+    const auto it = std::find_if(patches.begin(), patches.end(),
+                                 [&](const StructuralPatch& s) { return s.id == o.host; });
+    if (it == patches.end()) continue;
+    const PatchFrame f = PatchFrame::Of(*it);
+    // The rectangle from the map-frame corners, so a refitted host still finds its door.
+    double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+    for (const Vec3& c : o.corners) {
+      const Vec2 uv = f.ToUv(c);
+      u0 = std::min(u0, uv.x()), u1 = std::max(u1, uv.x());
+      v0 = std::min(v0, uv.y()), v1 = std::max(v1, uv.y());
+    }
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 q = points[i].cast<double>();
+      if (std::abs(f.Depth(q)) > band) continue;
+      const Vec2 uv = f.ToUv(q);
+      if (uv.x() >= u0 - margin && uv.x() <= u1 + margin && uv.y() >= v0 - margin &&
+          uv.y() <= v1 + margin)
+        mask[i] = 1;
+    }
+  }
+  return mask;
+}
+
+}  // namespace mopad::modelling
