@@ -1,11 +1,10 @@
 #include "modelling/openings.h"
 
 #include <Eigen/Dense>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <tuple>
 
 #include "common/error.h"
@@ -23,8 +22,9 @@ void OpeningParams::Validate() const {
   orthoimage.Validate();
   auto order = [](const char* lo_name, double lo, const char* hi_name, double hi) {
     if (lo > hi)
-      throw InputError("", std::string("parameter 'openings.") + lo_name + "' exceeds '" + hi_name + "'",
-                       std::to_string(lo), "<= " + std::to_string(hi));
+      throw InputError(
+          "", std::string("parameter 'openings.") + lo_name + "' exceeds '" + hi_name + "'",
+          std::to_string(lo), "<= " + std::to_string(hi));
   };
   order("door_min_width", door_min_width, "door_max_width", door_max_width);
   order("door_min_height", door_min_height, "door_max_height", door_max_height);
@@ -38,9 +38,12 @@ const char* ToString(OpeningType t) { return t == OpeningType::kDoor ? "door" : 
 
 const char* ToString(DoorState s) {
   switch (s) {
-    case DoorState::kClosed: return "closed";
-    case DoorState::kSemiOpen: return "semi_open";
-    case DoorState::kOpen: return "open";
+    case DoorState::kClosed:
+      return "closed";
+    case DoorState::kSemiOpen:
+      return "semi_open";
+    case DoorState::kOpen:
+      return "open";
   }
   return "closed";
 }
@@ -85,7 +88,8 @@ WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
   const double tol2 = p.colour_tolerance * p.colour_tolerance;
   for (std::size_t i = 0; i < n; ++i) {
     if (img.Count(i) == 0) {
-      out.classes[i] = img.Passed(i) > img.Blocked(i) ? OrthoClass::kThrough : OrthoClass::kOccluded;
+      out.classes[i] =
+          img.Passed(i) > img.Blocked(i) ? OrthoClass::kThrough : OrthoClass::kOccluded;
       continue;
     }
     const double d = img.Depth(i);
@@ -112,7 +116,7 @@ namespace {
 // ---- Step 2: straight lines ----
 
 struct Line {
-  double pos = 0;  // column (vertical line) or row (horizontal line), pixel index
+  double pos = 0;    // column (vertical line) or row (horizontal line), pixel index
   int a = 0, b = 0;  // extent along the other axis, inclusive
   int Length() const { return b - a + 1; }
 };
@@ -127,7 +131,8 @@ std::vector<Line> FindLines(int n_i, int n_j, On on, int gap, int min_len, int m
     for (int j = 0; j <= n_j; ++j) {
       const bool o = j < n_j && on(i, j);
       if (o) {
-        if (start < 0) start = j;
+        if (start < 0)
+          start = j;
         else if (j - last - 1 > gap) {
           if (last - start + 1 >= min_len) raw.push_back({double(i), start, last});
           start = j;
@@ -168,7 +173,9 @@ std::vector<Line> FindLines(int n_i, int n_j, On on, int gap, int min_len, int m
 struct Integral {
   cv::Mat s;  // CV_32S, (rows+1) x (cols+1)
   int cols = 0, rows = 0;
-  explicit Integral(const cv::Mat& mask) : cols(mask.cols), rows(mask.rows) { cv::integral(mask, s, CV_32S); }
+  explicit Integral(const cv::Mat& mask) : cols(mask.cols), rows(mask.rows) {
+    cv::integral(mask, s, CV_32S);
+  }
   double Sum(int c0, int c1, int r0, int r1) const {
     c0 = std::clamp(c0, 0, cols), c1 = std::clamp(c1, 0, cols);
     r0 = std::clamp(r0, 0, rows), r1 = std::clamp(r1, 0, rows);
@@ -185,7 +192,8 @@ struct Candidate {
 };
 
 struct Masks {
-  Integral known, ev_door, ev_window, through, wall, edge_v, edge_h, hidden_v, hidden_h;
+  Integral known, ev_door, ev_window, through, wall, edge_v, edge_h, hidden_v, hidden_h, flush,
+      hidden;
 };
 
 cv::Mat ClassMask(const WallArea& area, int cols, int rows, std::initializer_list<OrthoClass> cs) {
@@ -211,30 +219,29 @@ void Score(Candidate& k, const Masks& m, const OpeningParams& p, double px, int 
   const double known_px = m.known.Sum(c0, c1, r0, r1);
   k.evidence = known_px > 0 ? ev.Sum(c0, c1, r0, r1) / known_px : 0.0;
   k.through = m.through.Sum(c0, c1, r0, r1) / area;
-  // Frame support: edge share of each side's visible length.
-  auto side_v = [&](int col) {
-    const double len = r1 - r0;
-    const double e = m.edge_v.Sum(col, col + 1, r0, r1);
-    const double hidden = m.hidden_v.Sum(col, col + 1, r0, r1);
-    return len - hidden > 0.25 * len ? e / (len - hidden) : 0.0;
+  // Frame support: edge share of each side's visible length; a side hidden over 75% of its
+  // length (by a cabinet, or by the door's own opened leaf) is unknown, and one may be.
+  int unknown = 0;
+  double s_sum = 0.0, s_min = 1.0;
+  auto side = [&](double len, double e, double hidden) {
+    if (len - hidden <= 0.25 * len) {
+      ++unknown;
+      return;
+    }
+    const double s = std::min(1.0, e / (len - hidden));
+    s_sum += s, s_min = std::min(s_min, s);
   };
-  auto side_h = [&](int row) {
-    const double len = c1 - c0;
-    const double e = m.edge_h.Sum(c0, c1, row, row + 1);
-    const double hidden = m.hidden_h.Sum(c0, c1, row, row + 1);
-    return len - hidden > 0.25 * len ? e / (len - hidden) : 0.0;
-  };
-  double s_min = std::min({side_v(k.cl), side_v(k.cr), side_h(k.rt)});
-  double s_sum = side_v(k.cl) + side_v(k.cr) + side_h(k.rt);
+  side(r1 - r0, m.edge_v.Sum(k.cl, k.cl + 1, r0, r1), m.hidden_v.Sum(k.cl, k.cl + 1, r0, r1));
+  side(r1 - r0, m.edge_v.Sum(k.cr, k.cr + 1, r0, r1), m.hidden_v.Sum(k.cr, k.cr + 1, r0, r1));
+  side(c1 - c0, m.edge_h.Sum(c0, c1, k.rt, k.rt + 1), m.hidden_h.Sum(c0, c1, k.rt, k.rt + 1));
   int sides = 3;
   if (k.type == OpeningType::kWindow) {
-    s_min = std::min(s_min, side_h(k.rb));
-    s_sum += side_h(k.rb);
+    side(c1 - c0, m.edge_h.Sum(c0, c1, k.rb, k.rb + 1), m.hidden_h.Sum(c0, c1, k.rb, k.rb + 1));
     ++sides;
   }
-  k.support = std::min(1.0, s_sum / sides);
+  k.support = s_sum / sides;
   const double ev_area = ev.Sum(c0, c1, r0, r1) * px * px;
-  k.valid = k.known >= p.min_known_share && k.evidence >= p.min_evidence_share &&
+  k.valid = unknown <= 1 && k.known >= p.min_known_share && k.evidence >= p.min_evidence_share &&
             ev_area >= p.min_evidence_area && s_min >= p.min_side_support;
   if (k.valid && k.type == OpeningType::kWindow) {
     // Location: a sill has wall under it.
@@ -266,8 +273,8 @@ double Overlap(const Candidate& a, const Candidate& b) {
 
 // ---- Step 4: the door leaf ----
 
-LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1,
-                    double v0, double v1, const OpeningParams& p, std::uint64_t index) {
+LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
+                    double v1, const OpeningParams& p, std::uint64_t index) {
   LeafFit out;
   const double w = u1 - u0, h = v1 - v0;
   if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
@@ -373,8 +380,8 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
 // ---- Steps 1-4 for one wall ----
 
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
-                                                const OrthoPoints& points,
-                                                const OpeningParams& p, double floor_v) {
+                                                const OrthoPoints& points, const OpeningParams& p,
+                                                double floor_v) {
   p.Validate();
   std::vector<DetectedOpening> out;
   const int cols = img.Cols(), rows = img.Rows();
@@ -393,12 +400,18 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
           std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
     }
-  const cv::Mat ev_door = ClassMask(area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
-  const cv::Mat ev_window = ClassMask(area, cols, rows, {OrthoClass::kRecessed, OrthoClass::kThrough});
-  const cv::Mat known = ClassMask(area, cols, rows, {OrthoClass::kWall, OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
-  const cv::Mat hidden = ClassMask(area, cols, rows, {OrthoClass::kOccluded, OrthoClass::kProtruding});
+  const cv::Mat ev_door = ClassMask(
+      area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat ev_window =
+      ClassMask(area, cols, rows, {OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat known = ClassMask(
+      area, cols, rows,
+      {OrthoClass::kWall, OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat hidden =
+      ClassMask(area, cols, rows, {OrthoClass::kOccluded, OrthoClass::kProtruding});
   const cv::Mat through = ClassMask(area, cols, rows, {OrthoClass::kThrough});
   const cv::Mat wall = ClassMask(area, cols, rows, {OrthoClass::kWall});
+  const cv::Mat flush = ClassMask(area, cols, rows, {OrthoClass::kWall, OrthoClass::kOffColour});
   cv::Mat e_c, e_d, e_e, edges;
   cv::Canny(colour, e_c, p.canny_low, p.canny_high);
   cv::Canny(depth, e_d, p.canny_low, p.canny_high);
@@ -418,24 +431,30 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   hid_v = hid_dv & (1 - edge_v);
   hid_h = hid_dh & (1 - edge_h);
   const Masks m{Integral(known), Integral(ev_door), Integral(ev_window), Integral(through),
-                Integral(wall), Integral(edge_v), Integral(edge_h), Integral(hid_v), Integral(hid_h)};
+                Integral(wall),  Integral(edge_v),  Integral(edge_h),    Integral(hid_v),
+                Integral(hid_h), Integral(flush),   Integral(hidden)};
 
   // Lines along columns (vertical) and rows (horizontal), on the edge map with a 1-pixel slack.
   const int gap = static_cast<int>(std::lround(p.line_gap / px));
   const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
-  auto e_at = [&](int r, int c) { return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0; };
-  const std::vector<Line> vert = FindLines(cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); },
-                                           gap, min_len, p.max_lines);
-  const std::vector<Line> horz = FindLines(rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); },
-                                           gap, min_len, p.max_lines);
+  auto e_at = [&](int r, int c) {
+    return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0;
+  };
+  const std::vector<Line> vert = FindLines(
+      cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); }, gap,
+      min_len, p.max_lines);
+  const std::vector<Line> horz = FindLines(
+      rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
+      min_len, p.max_lines);
 
   // Rectangles.
-  const int floor_row = std::clamp(
-      static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
+  const int floor_row =
+      std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   std::vector<Candidate> cands;
   for (std::size_t a = 0; a < vert.size(); ++a)
     for (std::size_t b = a + 1; b < vert.size(); ++b) {
-      const int cl = static_cast<int>(std::lround(vert[a].pos)), cr = static_cast<int>(std::lround(vert[b].pos));
+      const int cl = static_cast<int>(std::lround(vert[a].pos)),
+                cr = static_cast<int>(std::lround(vert[b].pos));
       const double width = (cr - cl) * px;
       if (width < std::min(p.door_min_width, p.window_min_width)) continue;
       if (width > std::max(p.door_max_width, p.window_max_width)) continue;
@@ -470,9 +489,8 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   // Best first (ties: position), non-maximum suppression by overlap.
   std::vector<std::size_t> order(cands.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    return cands[x].score > cands[y].score;
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return cands[x].score > cands[y].score; });
   std::vector<Candidate> kept;
   for (std::size_t oi : order) {
     const Candidate& k = cands[oi];
@@ -481,19 +499,39 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       if (Overlap(k, q) > p.max_overlap) clash = true;
     if (!clash) kept.push_back(k);
   }
-  // The hole, not the casing: a valid rectangle inset by a casing's width on every side.
+  // The hole, not the casing: the valid rectangle inside a kept one whose every side is either
+  // the same line, or inset by a casing's width over a strip on the wall's surface (a casing),
+  // or inset over a strip mostly hidden (an occlusion boundary is no frame); most insets first,
+  // then the largest (the casing's inner edge, not a line further in).
   const int in_min = static_cast<int>(std::lround(p.casing_min / px));
   const int in_max = static_cast<int>(std::lround(p.casing_max / px));
-  const int in_tol = static_cast<int>(std::lround(p.casing_tolerance / px));
+  auto strip_ok = [&](int inset, int c0, int c1, int r0, int r1, int* moved) {
+    if (inset < 0) return false;
+    if (inset <= 1) return true;
+    const double a = double(std::max(0, c1 - c0)) * std::max(0, r1 - r0);
+    if (a <= 0) return false;
+    ++*moved;
+    const double hidden = m.hidden.Sum(c0, c1, r0, r1), seen = a - hidden;
+    if (inset >= in_min && inset <= in_max && seen >= 0.2 * a &&
+        m.flush.Sum(c0, c1, r0, r1) >= p.min_casing_share * seen)
+      return true;
+    return hidden >= p.min_casing_share * a;
+  };
   for (Candidate& k : kept) {
     const Candidate* best = nullptr;
+    int best_moved = 0;
     for (const Candidate& q : cands) {
       if (q.type != k.type) continue;
-      const int il = q.cl - k.cl, ir = k.cr - q.cr, it = q.rt - k.rt;
-      const int ib = k.type == OpeningType::kWindow ? k.rb - q.rb : il;
-      const int lo = std::min({il, ir, it, ib}), hi = std::max({il, ir, it, ib});
-      if (lo < in_min || hi > in_max || hi - lo > in_tol) continue;
-      if (best == nullptr || q.score > best->score) best = &q;
+      int moved = 0;
+      const bool ok = strip_ok(q.cl - k.cl, k.cl + 1, q.cl, q.rt, q.rb, &moved) &&
+                      strip_ok(k.cr - q.cr, q.cr + 1, k.cr, q.rt, q.rb, &moved) &&
+                      strip_ok(q.rt - k.rt, k.cl, k.cr, k.rt + 1, q.rt, &moved) &&
+                      (k.type == OpeningType::kDoor ||
+                       strip_ok(k.rb - q.rb, k.cl, k.cr, q.rb + 1, k.rb, &moved));
+      if (!ok || moved == 0) continue;
+      const auto area = [](const Candidate& c) { return double(c.cr - c.cl) * (c.rb - c.rt); };
+      if (best == nullptr || moved > best_moved || (moved == best_moved && area(q) > area(*best)))
+        best = &q, best_moved = moved;
     }
     if (best != nullptr) {
       const double conf = k.score;
@@ -512,7 +550,8 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
     o.u0 = img.ColU(k.cl + 0.5), o.u1 = img.ColU(k.cr + 0.5);
     o.v1 = img.RowV(k.rt + 0.5);
     o.v0 = k.type == OpeningType::kDoor ? floor_v : img.RowV(k.rb + 0.5);
-    o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+    o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
+                 f.ToMap(o.u0, o.v1)};
     o.confidence = std::clamp(k.score, 0.0, 1.0);
     o.known_share = k.known, o.evidence_share = k.evidence, o.through_share = k.through;
     o.side_support = k.support;
@@ -533,7 +572,8 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       } else {
         const double lam = std::isnan(o.opening_angle_deg) ? 90.0 : o.opening_angle_deg;
         const double l = lam / kRadToDeg;
-        const double intrusion = std::max(0.0, o.Width() * std::cos(l)) + p.leaf_thickness * std::sin(l);
+        const double intrusion =
+            std::max(0.0, o.Width() * std::cos(l)) + p.leaf_thickness * std::sin(l);
         o.clear_width_m = std::max(0.0, o.Width() - intrusion);
       }
     }

@@ -25,9 +25,10 @@
 //     (enough of it known, and most of the known part evidence), its frame (the share of each
 //     side's visible, i.e. not occluded, length that has edge pixels: a partly occluded frame
 //     still counts), and its location (a window's sill has wall below it; a door reaches the
-//     floor). Overlapping accepted rectangles keep the best score; a rectangle that holds a
-//     slightly smaller one inset by a casing's width on every side becomes that one (the hole,
-//     not the casing).
+//     floor). Overlapping accepted rectangles keep the best score; a kept rectangle becomes the
+//     valid one inside it whose every side is the same line or inset over a strip that is a
+//     casing (casing_min..casing_max wide, on the wall's surface) or hidden (an occlusion
+//     boundary is no frame): the hole, not the casing.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
 //     RANSAC and least squares; lambda is its angle to the wall (over 90 deg when the free end
@@ -52,46 +53,46 @@
 namespace mopad::modelling {
 
 struct OpeningParams {
-  OrthoimageParams orthoimage;        ///< J_CD of every wall
-  double flush_depth = 0.05;          ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
-  double recess_depth = 0.025;        ///< m, depth below which a pixel is recessed, [0.005, 0.5]
-  double colour_tolerance = 45.0;     ///< RGB distance (0-255 units) from the wall colour, [1, 255]
-  double depth_step = 0.01;           ///< m per grey level of the depth edge image, [0.001, 0.1]
-  double canny_low = 30.0;            ///< Canny hysteresis thresholds (grey levels), [1, 1000]
-  double canny_high = 60.0;           ///< [1, 1000]
-  double min_line = 0.25;             ///< m, shortest straight line kept, [0.02, 5]
-  double line_gap = 0.04;             ///< m, gaps bridged inside a line, [0, 0.5]
-  int max_lines = 60;                 ///< longest lines kept per direction, [2, 1000]
-  double door_min_width = 0.55;       ///< m, [0.1, 5]
-  double door_max_width = 2.2;        ///< m, [0.1, 5]
-  double door_min_height = 1.7;       ///< m, [0.5, 5]
-  double door_max_height = 2.7;       ///< m, [0.5, 5]
-  double floor_tolerance = 0.06;      ///< m, a door's bottom is this close to the floor, [0, 0.5]
-  double window_min_width = 0.3;      ///< m, [0.05, 10]
-  double window_max_width = 4.0;      ///< m, [0.05, 10]
-  double window_min_height = 0.3;     ///< m, [0.05, 5]
-  double window_max_height = 2.5;     ///< m, [0.05, 5]
-  double min_sill = 0.15;             ///< m, lowest window sill above the floor, [0, 3]
-  double min_known_share = 0.12;      ///< interior share not occluded/unseen/protruding, [0, 1]
-  double min_evidence_share = 0.75;   ///< evidence share of the known interior, [0, 1]
-  double min_evidence_area = 0.08;    ///< m^2, least evidence area of an opening, [0, 10]
-  double min_side_support = 0.5;      ///< edge share of each side's visible length, [0, 1]
-  double side_band = 0.02;            ///< m, edge pixels this close to a side support it, [0, 0.2]
-  double min_sill_wall_share = 0.5;   ///< wall share of the band under a window's sill, [0, 1]
-  double ring = 0.04;                 ///< m, width of the bands checked around a rectangle, [0.01, 0.5]
-  double casing_min = 0.02;           ///< m, smallest casing width between hole and outline, [0, 0.5]
-  double casing_max = 0.15;           ///< m, largest casing width, [0, 0.5]
-  double casing_tolerance = 0.03;     ///< m, casing widths of the sides agree this well, [0, 0.5]
-  double max_overlap = 0.2;           ///< overlap (of the smaller) above which the worse goes, [0, 1]
+  OrthoimageParams orthoimage;       ///< J_CD of every wall
+  double flush_depth = 0.05;         ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
+  double recess_depth = 0.025;       ///< m, depth below which a pixel is recessed, [0.005, 0.5]
+  double colour_tolerance = 45.0;    ///< RGB distance (0-255 units) from the wall colour, [1, 255]
+  double depth_step = 0.01;          ///< m per grey level of the depth edge image, [0.001, 0.1]
+  double canny_low = 30.0;           ///< Canny hysteresis thresholds (grey levels), [1, 1000]
+  double canny_high = 60.0;          ///< [1, 1000]
+  double min_line = 0.25;            ///< m, shortest straight line kept, [0.02, 5]
+  double line_gap = 0.04;            ///< m, gaps bridged inside a line, [0, 0.5]
+  int max_lines = 60;                ///< longest lines kept per direction, [2, 1000]
+  double door_min_width = 0.55;      ///< m, [0.1, 5]
+  double door_max_width = 2.2;       ///< m, [0.1, 5]
+  double door_min_height = 1.7;      ///< m, [0.5, 5]
+  double door_max_height = 2.7;      ///< m, [0.5, 5]
+  double floor_tolerance = 0.06;     ///< m, a door's bottom is this close to the floor, [0, 0.5]
+  double window_min_width = 0.3;     ///< m, [0.05, 10]
+  double window_max_width = 4.0;     ///< m, [0.05, 10]
+  double window_min_height = 0.3;    ///< m, [0.05, 5]
+  double window_max_height = 2.5;    ///< m, [0.05, 5]
+  double min_sill = 0.15;            ///< m, lowest window sill above the floor, [0, 3]
+  double min_known_share = 0.12;     ///< interior share not occluded/unseen/protruding, [0, 1]
+  double min_evidence_share = 0.75;  ///< evidence share of the known interior, [0, 1]
+  double min_evidence_area = 0.08;   ///< m^2, least evidence area of an opening, [0, 10]
+  double min_side_support = 0.5;     ///< edge share of each side's visible length, [0, 1]
+  double side_band = 0.02;           ///< m, edge pixels this close to a side support it, [0, 0.2]
+  double min_sill_wall_share = 0.5;  ///< wall share of the band under a window's sill, [0, 1]
+  double ring = 0.04;             ///< m, width of the bands checked around a rectangle, [0.01, 0.5]
+  double casing_min = 0.04;       ///< m, smallest casing width between hole and outline, [0, 0.5]
+  double casing_max = 0.15;       ///< m, largest casing width, [0, 0.5]
+  double min_casing_share = 0.8;  ///< share of a casing strip on the wall's surface, [0, 1]
+  double max_overlap = 0.2;       ///< overlap (of the smaller) above which the worse goes, [0, 1]
   // Door leaf.
-  double leaf_inlier = 0.015;         ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
-  double leaf_min_extent = 0.3;       ///< share of the width the leaf's points must span, [0, 1]
-  int leaf_min_points = 40;           ///< inliers a leaf needs, [3, 1e7]
-  int leaf_iterations = 400;          ///< RANSAC hypotheses, [1, 1e6]
-  int leaf_max_points = 4000;         ///< points sampled for the fit (even stride), [10, 1e8]
-  double leaf_thickness = 0.04;       ///< m, assumed for the clear width, [0, 0.2]
-  double closed_below_deg = 5.0;      ///< deg, paper's epsilon, [0, 45]
-  std::uint64_t seed = 1;             ///< leaf RANSAC stream
+  double leaf_inlier = 0.015;     ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
+  double leaf_min_extent = 0.3;   ///< share of the width the leaf's points must span, [0, 1]
+  int leaf_min_points = 40;       ///< inliers a leaf needs, [3, 1e7]
+  int leaf_iterations = 400;      ///< RANSAC hypotheses, [1, 1e6]
+  int leaf_max_points = 4000;     ///< points sampled for the fit (even stride), [10, 1e8]
+  double leaf_thickness = 0.04;   ///< m, assumed for the clear width, [0, 0.2]
+  double closed_below_deg = 5.0;  ///< deg, paper's epsilon, [0, 45]
+  std::uint64_t seed = 1;         ///< leaf RANSAC stream
 
   template <class V>
   void Visit(V& v) {
@@ -124,7 +125,7 @@ struct OpeningParams {
     v("ring", ring, Bounds{0.01, 0.5});
     v("casing_min", casing_min, Bounds{0.0, 0.5});
     v("casing_max", casing_max, Bounds{0.0, 0.5});
-    v("casing_tolerance", casing_tolerance, Bounds{0.0, 0.5});
+    v("min_casing_share", min_casing_share, Bounds{0.0, 1.0});
     v("max_overlap", max_overlap, Bounds{0.0, 1.0});
     v("leaf_inlier", leaf_inlier, Bounds{0.001, 0.2});
     v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
@@ -149,9 +150,9 @@ DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg = 5.0
 /// as map-frame corners on the wall plane, counter-clockwise seen from the room, starting at
 /// (u0, v0): (u0,v0) (u1,v0) (u1,v1) (u0,v1).
 struct DetectedOpening {
-  std::string id;    ///< "opening_1", ... (numbered per room in wall order, then u)
+  std::string id;  ///< "opening_1", ... (numbered per room in wall order, then u)
   OpeningType type = OpeningType::kDoor;
-  std::string host;  ///< SM3 patch id, e.g. "wall_3"
+  std::string host;                       ///< SM3 patch id, e.g. "wall_3"
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  ///< m, host frame: the hole, not the casing
   std::array<Vec3, 4> corners{};          ///< map frame, on the wall plane
   // Doors only:
@@ -175,7 +176,12 @@ struct Sm4Model {
 
 /// Per-pixel classes of step 1 (see the file comment).
 enum class OrthoClass : std::uint8_t {
-  kWall = 0, kOffColour = 1, kRecessed = 2, kProtruding = 3, kThrough = 4, kOccluded = 5
+  kWall = 0,
+  kOffColour = 1,
+  kRecessed = 2,
+  kProtruding = 3,
+  kThrough = 4,
+  kOccluded = 5
 };
 
 /// Step 1 of one wall: the wall colour and the class of every pixel (Orthoimage::Index order).

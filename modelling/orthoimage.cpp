@@ -1,12 +1,11 @@
 #include "modelling/orthoimage.h"
 
 #include <Eigen/Geometry>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "common/error.h"
 
@@ -69,9 +68,12 @@ std::array<float, 3> Orthoimage::Hsv(std::size_t i) const {
   const float mx = std::max({r, g, b}), mn = std::min({r, g, b}), d = mx - mn;
   float h = 0.0f;
   if (d > 0.0f) {
-    if (mx == r) h = 60.0f * std::fmod((g - b) / d, 6.0f);
-    else if (mx == g) h = 60.0f * ((b - r) / d + 2.0f);
-    else h = 60.0f * ((r - g) / d + 4.0f);
+    if (mx == r)
+      h = 60.0f * std::fmod((g - b) / d, 6.0f);
+    else if (mx == g)
+      h = 60.0f * ((b - r) / d + 2.0f);
+    else
+      h = 60.0f * ((r - g) / d + 4.0f);
     if (h < 0.0f) h += 360.0f;
   }
   return {h, mx > 0.0f ? d / mx : 0.0f, mx};
@@ -136,7 +138,8 @@ double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
     if (std::abs(frame.Depth(p)) > params.band) continue;
     const Vec2 uv = frame.ToUv(p);
     if (uv.x() < 0 || uv.y() < 0 || uv.x() > frame.width || uv.y() > frame.height) continue;
-    ++cells[{static_cast<long>(std::floor(uv.x() / cell)), static_cast<long>(std::floor(uv.y() / cell))}];
+    ++cells[{static_cast<long>(std::floor(uv.x() / cell)),
+             static_cast<long>(std::floor(uv.y() / cell))}];
   }
   if (cells.empty()) return params.coarsest_pixel;
   std::vector<int> counts;
@@ -154,14 +157,15 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
   params.Validate();
   CheckPoints(in);
   if (!(frame.width > 0.0) || !(frame.height > 0.0))
-    throw InputError("", "orthoimage patch has no extent", std::to_string(frame.width) + " x " +
-                     std::to_string(frame.height), "> 0");
+    throw InputError("", "orthoimage patch has no extent",
+                     std::to_string(frame.width) + " x " + std::to_string(frame.height), "> 0");
   if (pixel <= 0.0) pixel = ChoosePixelSize(in, frame, params);
   const double m = params.margin;
   const double cols_d = std::ceil((frame.width + 2 * m) / pixel - 1e-9);
   const double rows_d = std::ceil((frame.height + 2 * m) / pixel - 1e-9);
   if (cols_d * rows_d > params.max_pixels)
-    throw InputError("", "orthoimage too large", std::to_string(cols_d) + " x " + std::to_string(rows_d),
+    throw InputError("", "orthoimage too large",
+                     std::to_string(cols_d) + " x " + std::to_string(rows_d),
                      "<= max_pixels " + std::to_string(params.max_pixels));
   Orthoimage img(frame, pixel, static_cast<int>(cols_d), static_cast<int>(rows_d));
   img.SetMargin(m);
@@ -216,8 +220,9 @@ void WriteOrthoimagePngs(const Orthoimage& img, const std::string& stem) {
         colour.at<cv::Vec3b>(r, c) = cv::Vec3b(20, 20, 110);
       }
     }
-  for (const auto& [path, mat] : {std::pair<std::string, const cv::Mat*>{stem + "_colour.png", &colour},
-                                  {stem + "_depth.png", &depth}}) {
+  for (const auto& [path, mat] :
+       {std::pair<std::string, const cv::Mat*>{stem + "_colour.png", &colour},
+        {stem + "_depth.png", &depth}}) {
     bool ok = false;
     try {
       ok = cv::imwrite(path, *mat);

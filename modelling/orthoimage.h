@@ -44,9 +44,9 @@ struct OrthoimageParams {
   /// Points per pixel the pixel size aims at, in the median 10 cm cell of the imaged points
   /// (pixel = sqrt(points_per_pixel / median density), clamped), [0.1, 100]
   double points_per_pixel = 2.0;
-  double density_cell = 0.10;    ///< m, cell of the density estimate, [0.01, 1]
-  double margin = 0.0;           ///< m, image extends this far beyond the patch in u and v, [0, 2]
-  int max_pixels = 20'000'000;   ///< refuse larger images (InputError), [1, 1e9]
+  double density_cell = 0.10;   ///< m, cell of the density estimate, [0.01, 1]
+  double margin = 0.0;          ///< m, image extends this far beyond the patch in u and v, [0, 2]
+  int max_pixels = 20'000'000;  ///< refuse larger images (InputError), [1, 1e9]
 
   template <class V>
   void Visit(V& v) {
@@ -86,10 +86,10 @@ struct PatchFrame {
 /// outlive the call. scan_index and scan_origins are optional (both or neither): without them
 /// the passed and blocked counts stay 0.
 struct OrthoPoints {
-  const std::vector<Eigen::Vector3f>* points = nullptr;              ///< map frame
-  const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr; ///< RGB, one per point
-  const std::vector<std::uint16_t>* scan_index = nullptr;            ///< scan of each point
-  std::vector<Vec3> scan_origins;                                    ///< map frame, per scan
+  const std::vector<Eigen::Vector3f>* points = nullptr;               ///< map frame
+  const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr;  ///< RGB, one per point
+  const std::vector<std::uint16_t>* scan_index = nullptr;             ///< scan of each point
+  std::vector<Vec3> scan_origins;                                     ///< map frame, per scan
 };
 
 class Orthoimage {

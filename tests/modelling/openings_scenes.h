@@ -90,7 +90,8 @@ inline void Scan(const Scene& s, const Eigen::Vector3d& origin, double az0, doub
   std::uint64_t ray = 0;
   for (double el = -55.0 * kPi / 180; el <= 60.0 * kPi / 180; el += step)
     for (double az = az0; az <= az1; az += step, ++ray) {
-      const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                              std::sin(el));
       std::vector<std::pair<double, int>> hits;
       for (int i = 0; i < static_cast<int>(s.boxes.size()); ++i) {
         const double t = HitBox(s.boxes[i], origin, d);
@@ -120,7 +121,7 @@ struct HoleSpec {
   Rgb leaf_rgb = kLeafRgb;
   bool swing_into_room = true;  ///< else into the room behind (seen through the hole)
   double lambda_deg = 0.0;
-  bool flush_leaf = false;      ///< a leaf filling the hole at y in [-0.04, 0] (no hinge, closed)
+  bool flush_leaf = false;  ///< a leaf filling the hole at y in [-0.04, 0] (no hinge, closed)
   // Window: glass pane in the middle of the wall.
   bool glass = false;
 };
@@ -130,11 +131,11 @@ inline Scene RoomScene(const HoleSpec& h, bool with_hole = true) {
   Scene s;
   using V = Eigen::Vector3d;
   const double H = 2.7, t = 0.2;
-  s.boxes.push_back(AxisBox(V(-0.3, -4.3, -0.1), V(5.3, 4.3, 0.0), kFloorRgb));   // floor
-  s.boxes.push_back(AxisBox(V(-0.3, -4.3, H), V(5.3, 4.3, H + 0.1), kCeilingRgb)); // ceiling
-  s.boxes.push_back(AxisBox(V(-0.2, -4.2, 0), V(0, 4.2, H), kWallRgb));            // west
-  s.boxes.push_back(AxisBox(V(5.0, -4.2, 0), V(5.2, 4.2, H), kWallRgb));           // east
-  s.boxes.push_back(AxisBox(V(-0.2, 4.0, 0), V(5.2, 4.2, H), kWallRgb));           // north
+  s.boxes.push_back(AxisBox(V(-0.3, -4.3, -0.1), V(5.3, 4.3, 0.0), kFloorRgb));       // floor
+  s.boxes.push_back(AxisBox(V(-0.3, -4.3, H), V(5.3, 4.3, H + 0.1), kCeilingRgb));    // ceiling
+  s.boxes.push_back(AxisBox(V(-0.2, -4.2, 0), V(0, 4.2, H), kWallRgb));               // west
+  s.boxes.push_back(AxisBox(V(5.0, -4.2, 0), V(5.2, 4.2, H), kWallRgb));              // east
+  s.boxes.push_back(AxisBox(V(-0.2, 4.0, 0), V(5.2, 4.2, H), kWallRgb));              // north
   s.boxes.push_back(AxisBox(V(-0.2, -4.2, 0), V(5.2, -4.0, H), Rgb{180, 200, 170}));  // far
   if (!with_hole) {
     s.boxes.push_back(AxisBox(V(0, -t, 0), V(5, 0, H), kWallRgb));
@@ -149,17 +150,21 @@ inline Scene RoomScene(const HoleSpec& h, bool with_hole = true) {
     const double w = 0.08, p = 0.02;
     for (double y0 : {0.0, -t - p}) {
       const double y1 = y0 + p;
-      s.boxes.push_back(AxisBox(V(h.x0 - w, y0, h.z0 > 0 ? h.z0 - w : 0), V(h.x0, y1, h.z1), h.casing_rgb));
-      s.boxes.push_back(AxisBox(V(h.x1, y0, h.z0 > 0 ? h.z0 - w : 0), V(h.x1 + w, y1, h.z1), h.casing_rgb));
+      s.boxes.push_back(
+          AxisBox(V(h.x0 - w, y0, h.z0 > 0 ? h.z0 - w : 0), V(h.x0, y1, h.z1), h.casing_rgb));
+      s.boxes.push_back(
+          AxisBox(V(h.x1, y0, h.z0 > 0 ? h.z0 - w : 0), V(h.x1 + w, y1, h.z1), h.casing_rgb));
       s.boxes.push_back(AxisBox(V(h.x0 - w, y0, h.z1), V(h.x1 + w, y1, h.z1 + w), h.casing_rgb));
-      if (h.z0 > 0) s.boxes.push_back(AxisBox(V(h.x0 - w, y0, h.z0 - w), V(h.x1 + w, y1, h.z0), h.casing_rgb));
+      if (h.z0 > 0)
+        s.boxes.push_back(AxisBox(V(h.x0 - w, y0, h.z0 - w), V(h.x1 + w, y1, h.z0), h.casing_rgb));
     }
   }
   if (h.glass)
     s.boxes.push_back(AxisBox(V(h.x0, -0.11, h.z0), V(h.x1, -0.09, h.z1), kGlassRgb, 0.9));
   if (h.z0 == 0.0 && h.leaf) {
     if (h.flush_leaf) {
-      s.boxes.push_back(AxisBox(V(h.x0 + 0.003, -0.04, 0.01), V(h.x1 - 0.003, 0, h.z1 - 0.003), h.leaf_rgb));
+      s.boxes.push_back(
+          AxisBox(V(h.x0 + 0.003, -0.04, 0.01), V(h.x1 - 0.003, 0, h.z1 - 0.003), h.leaf_rgb));
     } else {
       const double lam = h.lambda_deg * kPi / 180, lt = 0.04, lw = h.x1 - h.x0 - 0.006;
       const double yh = h.swing_into_room ? 0.021 : -t - 0.021;
@@ -170,7 +175,8 @@ inline Scene RoomScene(const HoleSpec& h, bool with_hole = true) {
       Box b;
       b.axes.col(0) = dl, b.axes.col(1) = nl, b.axes.col(2) = V::UnitZ();
       b.half = V(lw / 2, lt / 2, (h.z1 - 0.013) / 2);
-      b.centre = V(h.x0 + 0.003, yh, 0.01) + dl * lw / 2 - nl * lt / 2 + V(0, 0, (h.z1 - 0.013) / 2);
+      b.centre =
+          V(h.x0 + 0.003, yh, 0.01) + dl * lw / 2 - nl * lt / 2 + V(0, 0, (h.z1 - 0.013) / 2);
       b.rgb = h.leaf_rgb;
       s.boxes.push_back(b);
     }

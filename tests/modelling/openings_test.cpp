@@ -1,6 +1,8 @@
 // SM4 (paper §3.3; issue 15): the orthoimage J_CD, opening detection from colour and depth, the
 // door leaf's angle and state, and the sm4.json file. Scenes are coloured boxes scanned by the
 // analytic ray caster of openings_scenes.h; the truth of each is the scene's own numbers.
+#include "modelling/openings.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -9,7 +11,6 @@
 
 #include "common/error.h"
 #include "modelling/model_io.h"
-#include "modelling/openings.h"
 #include "modelling/orthoimage.h"
 #include "tests/modelling/openings_scenes.h"
 
@@ -41,7 +42,8 @@ TEST(Orthoimage, CeilingFrameIsRightHandedWithUAlongX) {
 
 TEST(Orthoimage, PointsLandInTheirPixelWithMeanColourAndSignedDepth) {
   const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
-  std::vector<Eigen::Vector3f> pts = {{4.005f, 0.03f, 1.005f}, {4.005f, 0.01f, 1.005f}, {1.0f, 0.5f, 1.0f}};
+  std::vector<Eigen::Vector3f> pts = {
+      {4.005f, 0.03f, 1.005f}, {4.005f, 0.01f, 1.005f}, {1.0f, 0.5f, 1.0f}};
   std::vector<std::array<std::uint8_t, 3>> rgb = {{100, 0, 0}, {200, 0, 50}, {1, 2, 3}};
   std::vector<std::uint16_t> scan = {0, 0, 0};
   OrthoPoints in;
@@ -146,7 +148,9 @@ std::string Describe(const Sm4Model& m) {
   std::string s;
   for (const auto& o : m.openings) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%s %s on %s u[%.3f %.3f] v[%.3f %.3f] %s lambda=%.2f conf=%.2f known=%.2f ev=%.2f sup=%.2f leaf=%d\n",
+    std::snprintf(buf, sizeof buf,
+                  "%s %s on %s u[%.3f %.3f] v[%.3f %.3f] %s lambda=%.2f conf=%.2f known=%.2f "
+                  "ev=%.2f sup=%.2f leaf=%d\n",
                   o.id.c_str(), ToString(o.type), o.host.c_str(), o.u0, o.u1, o.v0, o.v1,
                   ToString(o.state), o.opening_angle_deg, o.confidence, o.known_share,
                   o.evidence_share, o.side_support, o.leaf_points);
@@ -218,6 +222,7 @@ TEST_P(SemiOpenDoor, AngleWithinThreeDegreesAndStateSemiOpen) {
   ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
   const auto& o = f.on_wall1.at(0);
   EXPECT_EQ(o.type, OpeningType::kDoor);
+  SCOPED_TRACE(Describe(f.sm4));
   ExpectHole(o, h, 0.05);
   EXPECT_NEAR(o.opening_angle_deg, h.lambda_deg, 3.0) << Describe(f.sm4);
   EXPECT_EQ(o.state, DoorState::kSemiOpen);
@@ -364,12 +369,18 @@ TEST(Sm4File, MalformedFilesAreInputErrorsNamingTheField) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(msg(R"({"format":"mopad-sm3","version":1,"room":"A","openings":[]})").find("format"), std::string::npos);
-  EXPECT_NE(msg(R"({"format":"mopad-sm4","version":2,"room":"A","openings":[]})").find("version"), std::string::npos);
-  EXPECT_NE(msg(R"({"format":"mopad-sm4","version":1,"room":"A","openings":[{"id":"o","type":"door","host":"w","corners":[[0,0,0],[1,0,0],[1,0,1]],"confidence":1,"state":"closed","opening_angle_deg":0,"clear_width_m":0}]})")
-                .find("openings[0].corners"), std::string::npos);
-  EXPECT_NE(msg(R"({"format":"mopad-sm4","version":1,"room":"A","openings":[{"id":"o","type":"door","host":"w","corners":[[0,0,0],[1,0,0],[1,0,1],[0,0,1]],"confidence":1,"state":"ajar","opening_angle_deg":0,"clear_width_m":0}]})")
-                .find("state"), std::string::npos);
+  EXPECT_NE(msg(R"({"format":"mopad-sm3","version":1,"room":"A","openings":[]})").find("format"),
+            std::string::npos);
+  EXPECT_NE(msg(R"({"format":"mopad-sm4","version":2,"room":"A","openings":[]})").find("version"),
+            std::string::npos);
+  EXPECT_NE(
+      msg(R"({"format":"mopad-sm4","version":1,"room":"A","openings":[{"id":"o","type":"door","host":"w","corners":[[0,0,0],[1,0,0],[1,0,1]],"confidence":1,"state":"closed","opening_angle_deg":0,"clear_width_m":0}]})")
+          .find("openings[0].corners"),
+      std::string::npos);
+  EXPECT_NE(
+      msg(R"({"format":"mopad-sm4","version":1,"room":"A","openings":[{"id":"o","type":"door","host":"w","corners":[[0,0,0],[1,0,0],[1,0,1],[0,0,1]],"confidence":1,"state":"ajar","opening_angle_deg":0,"clear_width_m":0}]})")
+          .find("state"),
+      std::string::npos);
   EXPECT_NE(msg("{").find("JSON"), std::string::npos);
   EXPECT_THROW(ReadSm4("/nonexistent/sm4.json"), InputError);
 }
