@@ -390,7 +390,14 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   const WallArea area = SegmentWallArea(img, p);
 
   // J_C, J_D and the evidence mask as images.
-  cv::Mat colour(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0)), depth(rows, cols, CV_8U, cv::Scalar(0));
+  // Pixels without points take the wall's colour and depth: a hole's outline is a line of the
+  // evidence mask, and the scan-line gaps of sparse data or the speckle of glass returns must
+  // not make lines in J_C and J_D (a 5x5 median removes what speckle is left).
+  const cv::Vec3b wall_bgr(static_cast<std::uint8_t>(std::lround(area.wall_rgb[0])),
+                           static_cast<std::uint8_t>(std::lround(area.wall_rgb[1])),
+                           static_cast<std::uint8_t>(std::lround(area.wall_rgb[2])));
+  cv::Mat colour(rows, cols, CV_8UC3, cv::Scalar(wall_bgr[0], wall_bgr[1], wall_bgr[2]));
+  cv::Mat depth(rows, cols, CV_8U, cv::Scalar(128));
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = img.Index(c, r);
@@ -413,9 +420,12 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   const cv::Mat wall = ClassMask(area, cols, rows, {OrthoClass::kWall});
   const cv::Mat flush = ClassMask(area, cols, rows, {OrthoClass::kWall, OrthoClass::kOffColour});
   cv::Mat e_c, e_d, e_e, edges;
+  cv::medianBlur(colour, colour, 5);
+  cv::medianBlur(depth, depth, 5);
   cv::Canny(colour, e_c, p.canny_low, p.canny_high);
   cv::Canny(depth, e_d, p.canny_low, p.canny_high);
   cv::Mat ev255 = ev_door * 255;
+  cv::medianBlur(ev255, ev255, 5);
   cv::Canny(ev255, e_e, p.canny_low, p.canny_high);
   cv::bitwise_or(e_c, e_d, edges);
   cv::bitwise_or(edges, e_e, edges);
