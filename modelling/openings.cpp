@@ -48,8 +48,9 @@ const char* ToString(DoorState s) {
   return "closed";
 }
 
-DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg) {
-  if (lambda_deg >= 90.0) return DoorState::kOpen;
+DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg,
+                                double open_tolerance_deg) {
+  if (lambda_deg >= 90.0 - open_tolerance_deg) return DoorState::kOpen;
   if (lambda_deg >= closed_below_deg) return DoorState::kSemiOpen;
   return DoorState::kClosed;
 }
@@ -251,12 +252,14 @@ void Score(Candidate& k, const Masks& m, const OpeningParams& p, double px, int 
     if (band <= 0 || wall / band < p.min_sill_wall_share) k.valid = false;
   }
   if (!k.valid) return;
-  // Outside ring (left, right, top): evidence there means the rectangle is inside a larger one.
+  // Outside ring (left, right, top): seen-through or recessed pixels there mean the rectangle
+  // is inside a larger hole (an off-colour casing around a hole is no such sign).
   const int o = sb + 1;
   const double ring_area = 2.0 * ring * (r1 - r0) + double(c1 - c0 + 2 * (o + ring)) * ring;
-  const double ring_ev = ev.Sum(k.cl - o - ring, k.cl - o + 1, r0, r1) +
-                         ev.Sum(k.cr + o, k.cr + o + ring, r0, r1) +
-                         ev.Sum(k.cl - o - ring, k.cr + o + ring, k.rt - o - ring, k.rt - o + 1);
+  const Integral& deep = m.ev_window;
+  const double ring_ev = deep.Sum(k.cl - o - ring, k.cl - o + 1, r0, r1) +
+                         deep.Sum(k.cr + o, k.cr + o + ring, r0, r1) +
+                         deep.Sum(k.cl - o - ring, k.cr + o + ring, k.rt - o - ring, k.rt - o + 1);
   const double outer = std::clamp(ring_ev / std::max(1.0, ring_area), 0.0, 1.0);
   k.score = k.support * k.evidence * (1.0 - 0.5 * outer) * std::min(1.0, 0.5 + k.known);
 }
@@ -461,6 +464,16 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   const int floor_row =
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   std::vector<Candidate> cands;
+  const int ring_px = std::max(1, static_cast<int>(std::lround(p.ring / px)));
+  // Horizontal lines across at least half the width strictly inside (consistency, step 3).
+  auto interior_lines = [&](int cl, int cr, int rt, int rb) {
+    int n = 0;
+    for (const Line& l : horz)
+      if (l.pos > rt + ring_px && l.pos < rb - ring_px &&
+          std::min(l.b, cr) - std::max(l.a, cl) >= 0.5 * (cr - cl))
+        ++n;
+    return n;
+  };
   for (std::size_t a = 0; a < vert.size(); ++a)
     for (std::size_t b = a + 1; b < vert.size(); ++b) {
       const int cl = static_cast<int>(std::lround(vert[a].pos)),
@@ -479,7 +492,8 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
             dh <= p.door_max_height) {
           Candidate k;
           k.type = OpeningType::kDoor, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = floor_row;
-          Score(k, m, p, px, floor_row);
+          if (interior_lines(cl, cr, rt, floor_row) <= p.max_interior_lines)
+            Score(k, m, p, px, floor_row);
           if (k.valid) cands.push_back(k);
         }
         if (width < p.window_min_width || width > p.window_max_width) continue;
@@ -491,7 +505,7 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
           if (ovb < 0.5 * (cr - cl)) continue;
           Candidate k;
           k.type = OpeningType::kWindow, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = rb;
-          Score(k, m, p, px, floor_row);
+          if (interior_lines(cl, cr, rt, rb) <= p.max_interior_lines) Score(k, m, p, px, floor_row);
           if (k.valid) cands.push_back(k);
         }
       }
@@ -571,7 +585,7 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       o.leaf_points = leaf.inliers;
       if (leaf.inliers > 0) {
         o.opening_angle_deg = leaf.lambda_deg;
-        o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg);
+        o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);
       } else {
         // No leaf seen: open if the robot saw through it, else closed (its leaf is the wall's
         // colour and flush, or hidden).

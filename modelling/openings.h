@@ -22,7 +22,8 @@
 //  3. Rectangles from two vertical lines and a top line, the bottom either the floor (v = 0)
 //     or a horizontal line; kept when their size is a typical door's (bottom at the floor) or
 //     window's (a sill at least min_sill above the floor). Each is validated by its interior
-//     (enough of it known, and most of the known part evidence), its frame (the share of each
+//     (enough of it known, most of the known part evidence, at most max_interior_lines
+//     horizontal lines across it: a shelf is not a door), its frame (the share of each
 //     side's visible, i.e. not occluded, length that has edge pixels: a partly occluded frame
 //     still counts), and its location (a window's sill has wall below it; a door reaches the
 //     floor). Overlapping accepted rectangles keep the best score; a kept rectangle becomes the
@@ -33,9 +34,9 @@
 //     the points in front of and behind the opening (either side of the wall) by a seeded
 //     RANSAC and least squares; lambda is its angle to the wall (over 90 deg when the free end
 //     swings past the hinge jamb). State: open lambda >= 90 deg, semi_open 5 <= lambda < 90,
-//     closed lambda < 5 (paper §3.3). No leaf found while the opening is seen through: open,
-//     angle unknown. Clear width = width - (width cos lambda + leaf_thickness sin lambda), 0
-//     when closed.
+//     closed lambda < 5 (paper §3.3), with open from 90 - open_tolerance_deg (measurement). No leaf
+//     found while the opening is seen through: open, angle unknown. Clear width = width - (width
+//     cos lambda + leaf_thickness sin lambda), 0 when closed.
 //
 // Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k)).
 
@@ -92,7 +93,13 @@ struct OpeningParams {
   int leaf_max_points = 4000;     ///< points sampled for the fit (even stride), [10, 1e8]
   double leaf_thickness = 0.04;   ///< m, assumed for the clear width, [0, 0.2]
   double closed_below_deg = 5.0;  ///< deg, paper's epsilon, [0, 45]
-  std::uint64_t seed = 1;         ///< leaf RANSAC stream
+  /// deg, a leaf measured this close below 90 deg is open (a leaf at 90 deg measures 90 +- 1),
+  /// [0, 10]
+  double open_tolerance_deg = 2.0;
+  /// Horizontal lines across at least half an opening's width allowed strictly inside it (a
+  /// transom, an occluder's top edge); shelves and cabinets have more, [0, 100]
+  int max_interior_lines = 3;
+  std::uint64_t seed = 1;  ///< leaf RANSAC stream
 
   template <class V>
   void Visit(V& v) {
@@ -134,6 +141,8 @@ struct OpeningParams {
     v("leaf_max_points", leaf_max_points, Bounds{10, 100000000});
     v("leaf_thickness", leaf_thickness, Bounds{0.0, 0.2});
     v("closed_below_deg", closed_below_deg, Bounds{0.0, 45.0});
+    v("open_tolerance_deg", open_tolerance_deg, Bounds{0.0, 10.0});
+    v("max_interior_lines", max_interior_lines, Bounds{0, 100});
     v("seed", seed);
   }
   void Validate() const;
@@ -143,8 +152,10 @@ enum class OpeningType : std::uint8_t { kDoor = 0, kWindow = 1 };
 enum class DoorState : std::uint8_t { kClosed = 0, kSemiOpen = 1, kOpen = 2 };
 const char* ToString(OpeningType t);
 const char* ToString(DoorState s);
-/// The paper's thresholds: open >= 90 deg, semi_open >= closed_below_deg, else closed.
-DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg = 5.0);
+/// The paper's thresholds: open >= 90 deg - open_tolerance_deg, semi_open >= closed_below_deg,
+/// else closed.
+DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg = 5.0,
+                                double open_tolerance_deg = 0.0);
 
 /// One recognised opening (SM4). Rectangle in the host wall's PatchFrame (u, v) and, the same,
 /// as map-frame corners on the wall plane, counter-clockwise seen from the room, starting at

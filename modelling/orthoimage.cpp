@@ -113,6 +113,14 @@ void CheckPoints(const OrthoPoints& in) {
                      std::to_string(in.colours->size()), std::to_string(in.points->size()));
   if ((in.scan_index == nullptr) != in.scan_origins.empty())
     throw InputError("", "orthoimage input needs both scan_index and scan_origins, or neither");
+  if (in.no_return_dirs.size() != in.no_return_scan.size())
+    throw InputError("", "orthoimage no_return_dirs and no_return_scan differ in count",
+                     std::to_string(in.no_return_dirs.size()),
+                     std::to_string(in.no_return_scan.size()));
+  for (const auto k : in.no_return_scan)
+    if (k >= in.scan_origins.size())
+      throw InputError("", "orthoimage no_return_scan out of range", std::to_string(k),
+                       "< " + std::to_string(in.scan_origins.size()));
   if (in.scan_index != nullptr) {
     if (in.scan_index->size() != in.points->size())
       throw InputError("", "orthoimage scan_index and points differ in count",
@@ -199,7 +207,34 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
       img.AddBlocked(uv.x(), uv.y());
     }
   }
+  for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
+    const std::size_t s = in.no_return_scan[i];
+    const double dc = origin_depth[s];
+    const double nd = frame.n.dot(in.no_return_dirs[i].cast<double>());
+    if (dc <= 0.0 || nd >= -1e-9) continue;  // behind the plane, or heading away from it
+    const Vec3 x = in.scan_origins[s] + (dc / -nd) * in.no_return_dirs[i].cast<double>();
+    const Vec2 uv = frame.ToUv(x);
+    img.AddPassed(uv.x(), uv.y());
+  }
   return img;
+}
+
+void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,
+                     OrthoPoints& out) {
+  if (scan.points.size() != static_cast<std::size_t>(scan.rows) * scan.columns)
+    throw InputError("", "scan grid and point count disagree", std::to_string(scan.points.size()),
+                     std::to_string(scan.rows) + " x " + std::to_string(scan.columns));
+  const Eigen::Matrix3d R = X_MS.linear();
+  for (std::uint32_t r = 0; r < scan.rows; ++r) {
+    const double el = scan.elevation_max - r * scan.elevation_step;
+    for (std::uint32_t c = 0; c < scan.columns; ++c) {
+      if (scan.at(r, c).valid()) continue;
+      const double az = scan.azimuth_min + c * scan.azimuth_step;
+      const Vec3 d_S(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      out.no_return_dirs.push_back((R * d_S).cast<float>());
+      out.no_return_scan.push_back(scan_index);
+    }
+  }
 }
 
 void WriteOrthoimagePngs(const Orthoimage& img, const std::string& stem) {

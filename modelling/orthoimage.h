@@ -6,7 +6,7 @@
 // and furniture > 0, a recessed leaf or glass < 0), point count, and two ray counts that tell
 // the holes apart:
 //  - passed: rays from a scanner in front of the plane that crossed it at this pixel and ended
-//    more than `band` behind it (seen through an open door, a window's glass);
+//    more than `band` behind it or returned nothing (seen through an open door, a window);
 //  - blocked: rays that ended more than `band` in front of the plane and whose extension meets
 //    it at this pixel (the wall is occluded there, e.g. by a cabinet).
 // A pixel without points, passed or blocked rays was simply not seen.
@@ -33,6 +33,7 @@
 
 #include "common/frames.h"
 #include "common/params.h"
+#include "interfaces/tls_scan.h"
 #include "modelling/structural_model.h"
 
 namespace mopad::modelling {
@@ -89,8 +90,20 @@ struct OrthoPoints {
   const std::vector<Eigen::Vector3f>* points = nullptr;               ///< map frame
   const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr;  ///< RGB, one per point
   const std::vector<std::uint16_t>* scan_index = nullptr;             ///< scan of each point
-  std::vector<Vec3> scan_origins;                                     ///< map frame, per scan
+  std::vector<Vec3> scan_origins;  ///< map frame, per scan  /// Optional (needs scan_origins): rays
+                                   ///< that returned nothing (AddNoReturnRays), as unit
+  /// directions in the map frame with their scan. Such a ray passed every plane it crossed (a
+  /// window to the outside, an open door to far space) and counts as passed there.
+  std::vector<Eigen::Vector3f> no_return_dirs;
+  std::vector<std::uint16_t> no_return_scan;
 };
+
+/// Appends the rays of `scan` without a return (range 0), directions from their grid indices
+/// (row r at elevation_max - r * elevation_step, column c at azimuth_min + c * azimuth_step,
+/// x forward, y left, z up in the scanner frame) rotated into the map frame by X_MS.
+/// InputError if the scan's grid and point count disagree.
+void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,
+                     OrthoPoints& out);
 
 class Orthoimage {
  public:

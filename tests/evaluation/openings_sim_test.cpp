@@ -35,10 +35,12 @@ RoomResult RunRoom(const RoomCase& rc) {
       scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/" + rc.spec + ".yaml"));
   const sim::EmbreeWorld world(g.scene, &g.truth);
   modelling::RoomModel model;
+  modelling::OrthoPoints no_returns;
   for (std::size_t k = 0; k < rc.positions.size(); ++k) {
     const auto s = modelling::testing::TakeScan(world, modelling::testing::TestTls(0.2),
                                                 rc.positions[k].x(), rc.positions[k].y(), k, 11);
     model.AddScan(s.scan, s.X_MS);
+    modelling::AddNoReturnRays(s.scan, s.X_MS, static_cast<std::uint16_t>(k), no_returns);
   }
   // SM3 as the room mission builds it (inliers, at most ~1e6).
   std::vector<Eigen::Vector3d> in;
@@ -57,6 +59,8 @@ RoomResult RunRoom(const RoomCase& rc) {
   pts.colours = &model.Colours();
   pts.scan_index = &model.ScanIndices();
   for (const auto& X : model.ScanPoses()) pts.scan_origins.push_back(X.translation());
+  pts.no_return_dirs = std::move(no_returns.no_return_dirs);
+  pts.no_return_scan = std::move(no_returns.no_return_scan);
   const auto t0 = std::chrono::steady_clock::now();
   const modelling::Sm4Model sm4 = modelling::DetectOpenings(sm3, pts, {});
   RoomResult r;
