@@ -212,7 +212,9 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
     const double dc = origin_depth[s];
     const double nd = frame.n.dot(in.no_return_dirs[i].cast<double>());
     if (dc <= 0.0 || nd >= -1e-9) continue;  // behind the plane, or heading away from it
-    const Vec3 x = in.scan_origins[s] + (dc / -nd) * in.no_return_dirs[i].cast<double>();
+    const double t = dc / -nd;
+    if (t < params.no_return_min_range) continue;
+    const Vec3 x = in.scan_origins[s] + t * in.no_return_dirs[i].cast<double>();
     const Vec2 uv = frame.ToUv(x);
     img.AddPassed(uv.x(), uv.y());
   }

@@ -48,6 +48,10 @@ struct OrthoimageParams {
   double density_cell = 0.10;   ///< m, cell of the density estimate, [0.01, 1]
   double margin = 0.0;          ///< m, image extends this far beyond the patch in u and v, [0, 2]
   int max_pixels = 20'000'000;  ///< refuse larger images (InputError), [1, 1e9]
+  /// m, a ray without a return counts as passed only where it crosses the plane at least this
+  /// far from the scanner: nearer, the surface may simply be inside the scanner's minimum
+  /// range, [0, 100]
+  double no_return_min_range = 2.0;
 
   template <class V>
   void Visit(V& v) {
@@ -58,6 +62,7 @@ struct OrthoimageParams {
     v("density_cell", density_cell, Bounds{0.01, 1.0});
     v("margin", margin, Bounds{0.0, 2.0});
     v("max_pixels", max_pixels, Bounds{1, 1e9});
+    v("no_return_min_range", no_return_min_range, Bounds{0.0, 100.0});
   }
   /// Bounds of every field and finest_pixel <= coarsest_pixel (InputError naming the field).
   void Validate() const;

@@ -89,3 +89,29 @@ TEST(OpeningsSim, Office5RoomsOfficeR3) {
 
 }  // namespace
 }  // namespace mopad::evaluation
+
+namespace mopad::evaluation {
+namespace {
+
+TEST(OpeningsSim, Office5RoomsOpenPlanR1) {
+  const RoomResult r =
+      RunRoom({"office_5rooms", "R1", {{3.0, 5.5}, {8.0, 2.2}, {12.5, 5.8}, {18.5, 6.0}}});
+  EXPECT_GE(r.eval.matched, 0);
+}
+
+TEST(OpeningsSim, Office5RoomsHall) {
+  const RoomResult r =
+      RunRoom({"office_5rooms",
+               "H",
+               {{3.0, 8.6}, {9.0, 8.6}, {15.0, 8.6}, {21.7, 9.0}, {21.7, 14.0}, {21.7, 18.0}}});
+  EXPECT_GE(r.eval.matched, 0);
+}
+
+TEST(OpeningsSim, Office5RoomsOfficeR4) {
+  const RoomResult r =
+      RunRoom({"office_5rooms", "R4", {{12.5, 12.5}, {18.0, 12.5}, {13.0, 17.0}, {18.0, 17.0}}});
+  EXPECT_GE(r.eval.matched, 0);
+}
+
+}  // namespace
+}  // namespace mopad::evaluation

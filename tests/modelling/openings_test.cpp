@@ -79,6 +79,33 @@ TEST(Orthoimage, RaysEndingBehindTheWallMarkWherePassedThrough) {
   EXPECT_EQ(img.Count(img.Index(px[0], px[1])), 0u);
 }
 
+TEST(Orthoimage, RaysWithoutAReturnPassTheWallWhereTheyCrossIt) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
+  // A 3 x 3 grid scan from (2, 2, 1): only the centre ray (straight along -y) returned nothing.
+  interfaces::TlsScan scan;
+  scan.rows = 3, scan.columns = 3;
+  scan.azimuth_min = -testing::kPi / 2 - 0.1, scan.azimuth_step = 0.1;
+  scan.elevation_max = 0.1, scan.elevation_step = 0.1;
+  scan.points.resize(9);
+  for (auto& p : scan.points) p.range = 1.0f;
+  scan.points[4].range = 0.0f;
+  Pose3 X_MS = Pose3::Identity();
+  X_MS.translation() = Vec3(2, 2, 1);
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<std::array<std::uint8_t, 3>> rgb;
+  std::vector<std::uint16_t> idx;
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb, in.scan_index = &idx, in.scan_origins = {X_MS.translation()};
+  AddNoReturnRays(scan, X_MS, 0, in);
+  ASSERT_EQ(in.no_return_dirs.size(), 1u);
+  EXPECT_NEAR((in.no_return_dirs[0].cast<double>() - Vec3(0, -1, 0)).norm(), 0.0, 1e-6);
+  const Orthoimage img = BuildOrthoimage(in, f, {}, 0.01);
+  const auto px = img.PixelOf(3.0, 1.0);  // (x, z) = (2, 1)
+  EXPECT_EQ(img.Passed(img.Index(px[0], px[1])), 1u);
+  in.no_return_scan[0] = 3;
+  EXPECT_THROW(BuildOrthoimage(in, f, {}, 0.01), InputError);
+}
+
 TEST(Orthoimage, PixelSizeFollowsDensityAndIsOneCentimetreWhenDenseEnough) {
   const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}});
   auto grid = [](double spacing) {
@@ -272,6 +299,20 @@ TEST(Openings, PictureLikeSignIsNotAnOpening) {
   testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
   s.boxes.push_back(testing::AxisBox({2.0, 0.0, 1.2}, {2.6, 0.01, 1.65}, {200, 40, 30}));
   s.boxes.push_back(testing::AxisBox({3.2, 0.0, 0.9}, {4.4, 0.015, 1.8}, {30, 60, 160}));
+  const Found f = Detect(s);
+  EXPECT_TRUE(f.sm4.openings.empty()) << Describe(f.sm4);
+}
+
+TEST(Openings, OpenShelfWithAnOffColourBackIsNotADoor) {
+  // 0.9 m wide, 2.0 m tall, 0.35 m deep: a back panel 1 cm in front of the wall (another
+  // colour, on the wall's surface layer like a flush door), sides, and six boards.
+  testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
+  const testing::Rgb wood{178, 158, 122};
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.9, 0.01, 2.0}, wood));
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.02, 0.35, 2.0}, wood));
+  s.boxes.push_back(testing::AxisBox({2.88, 0.0, 0.0}, {2.9, 0.35, 2.0}, wood));
+  for (double z : {0.0, 0.4, 0.8, 1.2, 1.6, 1.98})
+    s.boxes.push_back(testing::AxisBox({2.0, 0.0, z}, {2.9, 0.35, z + 0.02}, wood));
   const Found f = Detect(s);
   EXPECT_TRUE(f.sm4.openings.empty()) << Describe(f.sm4);
 }
