@@ -347,9 +347,20 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
     a = mean;
     dir = es.eigenvectors().col(1).normalized();
   }
-  double t0 = 1e300, t1 = -1e300;
-  for (const auto& q : inl) t0 = std::min(t0, dir.dot(q - a)), t1 = std::max(t1, dir.dot(q - a));
-  out.inliers = static_cast<int>(inl.size());
+  // The leaf is the most populated run of inliers along the line without a gap over 10 cm
+  // (other surfaces on the same line, e.g. a reveal or far furniture, are not the leaf).
+  std::vector<double> ts;
+  for (const auto& q : inl) ts.push_back(dir.dot(q - a));
+  std::sort(ts.begin(), ts.end());
+  std::size_t run_begin = 0, best_begin = 0, best_end = 0;
+  for (std::size_t i = 1; i <= ts.size(); ++i) {
+    if (i == ts.size() || ts[i] - ts[i - 1] > 0.10) {
+      if (i - run_begin > best_end - best_begin) best_begin = run_begin, best_end = i;
+      run_begin = i;
+    }
+  }
+  const double t0 = ts[best_begin], t1 = ts[best_end - 1];
+  out.inliers = static_cast<int>(best_end - best_begin);
   out.extent = t1 - t0;
   if (out.inliers < p.leaf_min_points || out.extent < p.leaf_min_extent * w) {
     out.inliers = 0;
@@ -370,6 +381,7 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   const double d0 = jamb_dist(e0, &uj0), d1 = jamb_dist(e1, &uj1);
   const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
   const double uj = d0 <= d1 ? uj0 : uj1;
+  out.hinge_u = (d0 <= d1 ? e0 : e1).x();
   const Vec2 hf = free_end - hinge;
   double lambda = std::atan2(std::abs(hf.y()), std::abs(hf.x())) * kRadToDeg;
   // Swung past the hinge jamb (free end outside the opening on the hinge's side): > 90 deg.
@@ -474,6 +486,13 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
         ++n;
     return n;
   };
+  // Length of [cl, cr] covered by the horizontal lines within 2 pixels of row `pos`.
+  auto row_cover = [&](double pos, int cl, int cr) {
+    int n = 0;
+    for (const Line& l : horz)
+      if (std::abs(l.pos - pos) <= 2.0) n += std::max(0, std::min(l.b, cr) - std::max(l.a, cl));
+    return std::min(n, cr - cl);
+  };
   for (std::size_t a = 0; a < vert.size(); ++a)
     for (std::size_t b = a + 1; b < vert.size(); ++b) {
       const int cl = static_cast<int>(std::lround(vert[a].pos)),
@@ -481,11 +500,13 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       const double width = (cr - cl) * px;
       if (width < std::min(p.door_min_width, p.window_min_width)) continue;
       if (width > std::max(p.door_max_width, p.window_max_width)) continue;
-      for (const Line& t : horz) {
-        // The top line spans at least half the width between the sides.
-        const int ov = std::min(t.b, cr) - std::max(t.a, cl);
-        if (ov < 0.5 * (cr - cl)) continue;
+      for (std::size_t ti = 0; ti < horz.size(); ++ti) {
+        const Line& t = horz[ti];
         const int rt = static_cast<int>(std::lround(t.pos));
+        if (ti > 0 && std::lround(horz[ti - 1].pos) == rt) continue;  // one row once
+        // The top line spans at least half the width between the sides (its pieces together:
+        // an opened leaf may hide its middle).
+        if (row_cover(t.pos, cl, cr) < 0.5 * (cr - cl)) continue;
         // Door: bottom at the floor.
         const double dh = (floor_row - rt) * px;
         if (width >= p.door_min_width && width <= p.door_max_width && dh >= p.door_min_height &&
@@ -497,12 +518,13 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
           if (k.valid) cands.push_back(k);
         }
         if (width < p.window_min_width || width > p.window_max_width) continue;
-        for (const Line& bl : horz) {
+        for (std::size_t bi = 0; bi < horz.size(); ++bi) {
+          const Line& bl = horz[bi];
           const int rb = static_cast<int>(std::lround(bl.pos));
+          if (bi > 0 && std::lround(horz[bi - 1].pos) == rb) continue;
           const double wh = (rb - rt) * px, sill = (floor_row - rb) * px;
           if (wh < p.window_min_height || wh > p.window_max_height || sill < p.min_sill) continue;
-          const int ovb = std::min(bl.b, cr) - std::max(bl.a, cl);
-          if (ovb < 0.5 * (cr - cl)) continue;
+          if (row_cover(bl.pos, cl, cr) < 0.5 * (cr - cl)) continue;
           Candidate k;
           k.type = OpeningType::kWindow, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = rb;
           if (interior_lines(cl, cr, rt, rb) <= p.max_interior_lines) Score(k, m, p, px, floor_row);
@@ -583,6 +605,27 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p,
                                        static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
       o.leaf_points = leaf.inliers;
+      // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
+      // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
+      // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.
+      if (leaf.inliers > 0 && leaf.extent > o.Width() + p.leaf_widen_margin) {
+        const bool hinge_high = leaf.hinge_u > 0.5 * (o.u0 + o.u1);
+        auto snap = [&](double u) {
+          double best_d = 0.05, out_u = u;
+          for (const Line& l : vert) {
+            const double lu = img.ColU(l.pos + 0.5);
+            if (std::abs(lu - u) < best_d) best_d = std::abs(lu - u), out_u = lu;
+          }
+          return out_u;
+        };
+        const double hinge = snap(leaf.hinge_u);
+        const double latch =
+            snap(hinge_high ? leaf.hinge_u - leaf.extent : leaf.hinge_u + leaf.extent);
+        o.u0 = std::min(o.u0, std::min(hinge, latch));
+        o.u1 = std::max(o.u1, std::max(hinge, latch));
+        o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
+                     f.ToMap(o.u0, o.v1)};
+      }
       if (leaf.inliers > 0) {
         o.opening_angle_deg = leaf.lambda_deg;
         o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);

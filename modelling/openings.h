@@ -86,12 +86,15 @@ struct OpeningParams {
   double min_casing_share = 0.8;  ///< share of a casing strip on the wall's surface, [0, 1]
   double max_overlap = 0.2;       ///< overlap (of the smaller) above which the worse goes, [0, 1]
   // Door leaf.
-  double leaf_inlier = 0.015;     ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
-  double leaf_min_extent = 0.3;   ///< share of the width the leaf's points must span, [0, 1]
-  int leaf_min_points = 40;       ///< inliers a leaf needs, [3, 1e7]
-  int leaf_iterations = 400;      ///< RANSAC hypotheses, [1, 1e6]
-  int leaf_max_points = 4000;     ///< points sampled for the fit (even stride), [10, 1e8]
-  double leaf_thickness = 0.04;   ///< m, assumed for the clear width, [0, 0.2]
+  double leaf_inlier = 0.015;    ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
+  double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
+  int leaf_min_points = 40;      ///< inliers a leaf needs, [3, 1e7]
+  int leaf_iterations = 400;     ///< RANSAC hypotheses, [1, 1e6]
+  int leaf_max_points = 4000;    ///< points sampled for the fit (even stride), [10, 1e8]
+  double leaf_thickness = 0.04;  ///< m, assumed for the clear width, [0, 0.2]
+  /// m, a door narrower than its leaf's points span by more than this widens to the leaf's
+  /// width (its latch jamb hidden behind the opened leaf), [0, 1]
+  double leaf_widen_margin = 0.15;
   double closed_below_deg = 5.0;  ///< deg, paper's epsilon, [0, 45]
   /// deg, a leaf measured this close below 90 deg is open (a leaf at 90 deg measures 90 +- 1),
   /// [0, 10]
@@ -140,6 +143,7 @@ struct OpeningParams {
     v("leaf_iterations", leaf_iterations, Bounds{1, 1000000});
     v("leaf_max_points", leaf_max_points, Bounds{10, 100000000});
     v("leaf_thickness", leaf_thickness, Bounds{0.0, 0.2});
+    v("leaf_widen_margin", leaf_widen_margin, Bounds{0.0, 1.0});
     v("closed_below_deg", closed_below_deg, Bounds{0.0, 45.0});
     v("open_tolerance_deg", open_tolerance_deg, Bounds{0.0, 10.0});
     v("max_interior_lines", max_interior_lines, Bounds{0, 100});
@@ -222,7 +226,8 @@ Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
 struct LeafFit {
   double lambda_deg = std::numeric_limits<double>::quiet_NaN();
   int inliers = 0;
-  double extent = 0.0;  ///< m, span of the inliers along the fitted line
+  double extent = 0.0;   ///< m, span of the inliers along the fitted line
+  double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);
