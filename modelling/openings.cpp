@@ -668,6 +668,42 @@ Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
   return out;
 }
 
+int MarkOpeningVoxels(const std::vector<DetectedOpening>& openings, VoxelSpace& voxels,
+                      double band) {
+  if (voxels.empty()) return 0;
+  const double size = voxels.Size();
+  if (band <= 0.0) band = size;
+  const double inset = 0.375 * size;
+  int marked = 0;
+  for (const DetectedOpening& o : openings) {
+    const Vec3 c0 = o.corners[0];
+    const Vec3 du = o.corners[1] - c0, dv = o.corners[3] - c0;
+    const double w = du.norm(), h = dv.norm();
+    if (w <= 2 * inset || h <= 2 * inset) continue;
+    const Vec3 eu = du / w, ev = dv / h, n = eu.cross(ev).normalized();
+    // Bounding box of the rectangle thickened by the band, in voxel indices.
+    Vec3 lo = c0, hi = c0;
+    for (const Vec3& c : o.corners)
+      for (const Vec3& q : {Vec3(c + band * n), Vec3(c - band * n)})
+        lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    const Eigen::Vector3i a = voxels.VoxelOf(lo), b = voxels.VoxelOf(hi);
+    for (int k = std::max(0, a.z()); k <= std::min(voxels.Nz() - 1, b.z()); ++k)
+      for (int j = std::max(0, a.y()); j <= std::min(voxels.Ny() - 1, b.y()); ++j)
+        for (int i = std::max(0, a.x()); i <= std::min(voxels.Nx() - 1, b.x()); ++i) {
+          const std::size_t idx = voxels.Index(i, j, k);
+          std::uint8_t& f = voxels.MutableFlags(idx);
+          if (!(f & VoxelSpace::kStructural) || (f & VoxelSpace::kOpeningFace)) continue;
+          const Vec3 r = voxels.Centre(i, j, k) - c0;
+          if (std::abs(n.dot(r)) > band) continue;
+          const double pu = eu.dot(r), pv = ev.dot(r);
+          if (pu < inset || pu > w - inset || pv < inset || pv > h - inset) continue;
+          f |= VoxelSpace::kOpeningFace;
+          ++marked;
+        }
+  }
+  return marked;
+}
+
 std::vector<std::uint8_t> ClosedDoorPointMask(const std::vector<Eigen::Vector3f>& points,
                                               const std::vector<StructuralPatch>& patches,
                                               const std::vector<DetectedOpening>& openings,

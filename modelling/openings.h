@@ -50,6 +50,7 @@
 #include "common/params.h"
 #include "modelling/orthoimage.h"
 #include "modelling/structural_model.h"
+#include "modelling/voxel_space.h"
 
 namespace mopad::modelling {
 
@@ -231,6 +232,14 @@ struct LeafFit {
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);
+
+/// DSM3 with SM4 (issue 15, item 5): flags VoxelSpace::kOpeningFace on every structural voxel
+/// whose centre lies within `band` (m; <= 0: one voxel edge) of an opening's plane and inside
+/// its rectangle shrunk by 3/8 of a voxel edge (every 4 x 4 surface sample of the voxel inside
+/// the opening, the evaluator's truth DSM3 rule), so it reads as `opening`. Apply it to a copy of
+/// RoomModel::Voxels() (RoomModel rebuilds its flags on every scan). Returns the voxels flagged.
+int MarkOpeningVoxels(const std::vector<DetectedOpening>& openings, VoxelSpace& voxels,
+                      double band = 0.0);
 
 /// Indices-in-order mask (1 = drop) of the points that lie on a closed door or on its casing:
 /// within `margin` (m) of the door's rectangle in its host wall's (u, v) and within `band` (m)

@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "modelling/model_io.h"
 #include "modelling/orthoimage.h"
+#include "modelling/voxel_space.h"
 #include "tests/modelling/openings_scenes.h"
 
 namespace mopad::modelling {
@@ -337,6 +338,28 @@ TEST(Openings, ClosedDoorPointsAreMaskedForTheWallRefit) {
   EXPECT_EQ(mask, (std::vector<std::uint8_t>{1, 1, 0, 0}));
   o.state = DoorState::kSemiOpen;
   EXPECT_EQ(ClosedDoorPointMask(pts, m.patches, {o}), (std::vector<std::uint8_t>(4, 0)));
+}
+
+TEST(Openings, VoxelsInsideAnOpeningReadAsOpeningWhateverTheyHold) {
+  // A 10 cm grid over x, z in [0, 3], y in [-0.1, 0.1]; the wall y = 0 is the structural layer
+  // j = 1 (y in [0, 0.1)); a closed door x in [1, 2], z in [0, 2.1] on it.
+  VoxelSpace vs(Vec3(0, -0.1, 0), 0.1, 30, 2, 30);
+  for (int k = 0; k < 30; ++k)
+    for (int i = 0; i < 30; ++i)
+      vs.MutableFlags(vs.Index(i, 1, k)) = VoxelSpace::kStructural | VoxelSpace::kOccupied;
+  DetectedOpening o;
+  o.corners = {Vec3(2, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 2.1), Vec3(2, 0, 2.1)};
+  const auto before = vs.LabelCounts();
+  EXPECT_EQ(before[int(VoxelLabel::kStructure)], 900);
+  // Columns i = 10..19 (x centres 1.05..1.95) and rows k = 0..20 (centres up to 2.05; 2.05 is
+  // within 2.1 - 0.0375 of the top): 10 x 21 voxels, the ones straddling the head stay wall.
+  EXPECT_EQ(MarkOpeningVoxels({o}, vs), 10 * 21);
+  const auto after = vs.LabelCounts();
+  EXPECT_EQ(after[int(VoxelLabel::kOpening)], 210);
+  EXPECT_EQ(after[int(VoxelLabel::kStructure)], 900 - 210);
+  EXPECT_EQ(vs.Label(vs.Index(15, 1, 5)), VoxelLabel::kOpening);
+  EXPECT_EQ(vs.Label(vs.Index(9, 1, 5)), VoxelLabel::kStructure);
+  EXPECT_EQ(vs.Label(vs.Index(15, 0, 5)), VoxelLabel::kUnseen);  // not structural: untouched
 }
 
 TEST(Openings, StateThresholdsAreThePapers) {
