@@ -29,6 +29,7 @@ struct RoomCase {
 struct RoomResult {
   OpeningEvaluation eval;
   double sm4_seconds = 0.0;
+  std::int64_t opening_voxels_before = 0, opening_voxels_after = 0;  ///< DSM3 `opening` label
 };
 
 RoomResult RunRoom(const RoomCase& rc) {
@@ -70,6 +71,30 @@ RoomResult RunRoom(const RoomCase& rc) {
   std::printf("[sm4] %s %s: %zu points, %zu SM3 patches, SM4 %.2f s\n%s\n%s\n", rc.spec.c_str(),
               rc.room.c_str(), model.PointCount(), sm3.patches.size(), r.sm4_seconds,
               MarkdownOpeningsTable(r.eval).c_str(), modelling::Sm4Json(sm4).c_str());
+  // DSM3 with the openings.
+  modelling::VoxelSpace voxels = model.Voxels();
+  r.opening_voxels_before = voxels.LabelCounts()[int(modelling::VoxelLabel::kOpening)];
+  modelling::MarkOpeningVoxels(sm4.openings, voxels);
+  r.opening_voxels_after = voxels.LabelCounts()[int(modelling::VoxelLabel::kOpening)];
+  // SM3 again without the closed doors' points: how far each host wall moves.
+  const auto mask = modelling::ClosedDoorPointMask(model.Points(), sm3.patches, sm4.openings);
+  std::vector<Eigen::Vector3d> in2;
+  for (std::size_t i = 0; i < model.Points().size(); ++i)
+    if (labels[i] == modelling::PointLabel::kInlier && !mask[i])
+      in2.push_back(model.Points()[i].cast<double>());
+  input.points = &in2;
+  const modelling::StructuralModel sm3b = modelling::BuildStructuralModel(input, {});
+  for (const auto& o : sm4.openings) {
+    if (o.type != modelling::OpeningType::kDoor || o.state != modelling::DoorState::kClosed)
+      continue;
+    for (std::size_t k = 0; k < sm3.patches.size() && k < sm3b.patches.size(); ++k)
+      if (sm3.patches[k].id == o.host && sm3b.patches[k].id == o.host)
+        std::printf("[sm4] closed %s on %s: wall plane d %.4f with its points, %.4f without\n",
+                    o.id.c_str(), o.host.c_str(), sm3.patches[k].plane.d, sm3b.patches[k].plane.d);
+  }
+  std::printf("[sm4] DSM3 opening voxels: %lld without SM4, %lld with\n",
+              static_cast<long long>(r.opening_voxels_before),
+              static_cast<long long>(r.opening_voxels_after));
   return r;
 }
 
@@ -85,6 +110,7 @@ void ExpectRoom(const RoomResult& r, double min_pr, int wrong_states = 0) {
   EXPECT_GE(e.door_state_right, e.doors - wrong_states);
   EXPECT_LE(e.angle_error_median, 3.0);
   EXPECT_LE(e.angle_error.max, 10.0);
+  EXPECT_GT(r.opening_voxels_after, r.opening_voxels_before);  // closed doors, glass: opening
 }
 
 TEST(OpeningsSim, TwoRoomsDoorRoomR1) {
