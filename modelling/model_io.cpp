@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -192,6 +193,17 @@ Sm4Model ReadSm4(const std::string& path) {
   if (!f) throw InputError(path, "cannot read the file");
   std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   return ParseSm4(text, path);
+}
+
+void WriteSm4Files(const std::string& dir, const Sm4Model& model,
+                   const std::vector<std::pair<std::string, Orthoimage>>& images) {
+  const std::filesystem::path d(dir);
+  WriteTextFile((d / "sm4.json").string(), Sm4Json(model));
+  if (images.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(d / "orthoimages", ec);
+  if (ec) throw InputError((d / "orthoimages").string(), "cannot create the folder", ec.message());
+  for (const auto& [id, image] : images) WriteOrthoimagePngs(image, (d / "orthoimages" / id).string());
 }
 
 void WriteTextFile(const std::string& path, const std::string& text) {

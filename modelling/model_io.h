@@ -5,8 +5,11 @@
 // InputError on I/O failure. Deterministic text (fixed float formatting, stable order).
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "modelling/openings.h"
+#include "modelling/orthoimage.h"
 #include "modelling/roi.h"
 #include "modelling/structural_model.h"
 #include "modelling/voxel_space.h"
@@ -27,6 +30,10 @@ std::string Sm4Json(const Sm4Model& model);
 Sm4Model ParseSm4(const std::string& text, const std::string& where);
 /// Reads sm4.json (InputError if missing or malformed, see ParseSm4).
 Sm4Model ReadSm4(const std::string& path);
+/// Writes `<dir>/sm4.json` and, per image, `<dir>/orthoimages/<patch id>_colour.png` and
+/// `_depth.png` (WriteOrthoimagePngs). `dir` must exist; InputError on I/O failure.
+void WriteSm4Files(const std::string& dir, const Sm4Model& model,
+                   const std::vector<std::pair<std::string, Orthoimage>>& images);
 void WriteTextFile(const std::string& path, const std::string& text);
 /// Every voxel inside the RoI (flag kInside or on a face) with its DSM3 label and indices.
 void WriteDsm3Ply(const VoxelSpace& voxels, const std::string& path);

@@ -424,6 +424,23 @@ TEST(Sm4File, RoundTripKeepsEveryField) {
   EXPECT_EQ(Sm4Json(b), text);
 }
 
+TEST(Sm4File, RoomFilesAreTheJsonAndOneColourAndDepthImagePerWall) {
+  const Cloud c = testing::ScanRoom(testing::RoomScene(HoleSpec{}));
+  std::vector<std::pair<std::string, Orthoimage>> images;
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {}, &images);
+  ASSERT_EQ(images.size(), 4u);
+  EXPECT_EQ(images[0].first, "wall_1");
+  const std::string dir = ::testing::TempDir() + "sm4_room";
+  std::filesystem::create_directories(dir);
+  WriteSm4Files(dir, m, images);
+  EXPECT_EQ(ReadSm4(dir + "/sm4.json").openings.size(), m.openings.size());
+  for (const char* w : {"wall_1", "wall_2", "wall_3", "wall_4"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/orthoimages/" + w + "_colour.png")) << w;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/orthoimages/" + w + "_depth.png")) << w;
+  }
+  EXPECT_THROW(WriteSm4Files("/nonexistent_dir/room", m, images), InputError);
+}
+
 TEST(Sm4File, MalformedFilesAreInputErrorsNamingTheField) {
   auto msg = [](const std::string& text) {
     try {
