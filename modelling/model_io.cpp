@@ -111,9 +111,9 @@ std::string Sm4Json(const Sm4Model& m) {
 
 namespace {
 
-const Json& Field(const Json& j, const char* key, const std::string& where, const std::string& ctx) {
-  if (!j.is_object() || !j.contains(key))
-    throw InputError(where, ctx + key + ": missing field");
+const Json& Field(const Json& j, const char* key, const std::string& where,
+                  const std::string& ctx) {
+  if (!j.is_object() || !j.contains(key)) throw InputError(where, ctx + key + ": missing field");
   return j.at(key);
 }
 
@@ -124,7 +124,8 @@ std::string StringField(const Json& j, const char* key, const std::string& where
   return v.get<std::string>();
 }
 
-double NumberField(const Json& j, const char* key, const std::string& where, const std::string& ctx) {
+double NumberField(const Json& j, const char* key, const std::string& where,
+                   const std::string& ctx) {
   const Json& v = Field(j, key, where, ctx);
   if (!v.is_number() || !std::isfinite(v.get<double>()))
     throw InputError(where, ctx + key + ": wrong type", v.dump(), "a finite number");
@@ -156,9 +157,12 @@ Sm4Model ParseSm4(const std::string& text, const std::string& where) {
     DetectedOpening o;
     o.id = StringField(jo, "id", where, ctx);
     const std::string type = StringField(jo, "type", where, ctx);
-    if (type == "door") o.type = OpeningType::kDoor;
-    else if (type == "window") o.type = OpeningType::kWindow;
-    else throw InputError(where, ctx + "type: unknown", type, "door|window");
+    if (type == "door")
+      o.type = OpeningType::kDoor;
+    else if (type == "window")
+      o.type = OpeningType::kWindow;
+    else
+      throw InputError(where, ctx + "type: unknown", type, "door|window");
     o.host = StringField(jo, "host", where, ctx);
     const Json& cs = Field(jo, "corners", where, ctx);
     if (!cs.is_array() || cs.size() != 4)
@@ -175,10 +179,14 @@ Sm4Model ParseSm4(const std::string& text, const std::string& where) {
     o.confidence = NumberField(jo, "confidence", where, ctx);
     if (o.type == OpeningType::kDoor) {
       const std::string state = StringField(jo, "state", where, ctx);
-      if (state == "closed") o.state = DoorState::kClosed;
-      else if (state == "semi_open") o.state = DoorState::kSemiOpen;
-      else if (state == "open") o.state = DoorState::kOpen;
-      else throw InputError(where, ctx + "state: unknown", state, "closed|semi_open|open");
+      if (state == "closed")
+        o.state = DoorState::kClosed;
+      else if (state == "semi_open")
+        o.state = DoorState::kSemiOpen;
+      else if (state == "open")
+        o.state = DoorState::kOpen;
+      else
+        throw InputError(where, ctx + "state: unknown", state, "closed|semi_open|open");
       const Json& a = Field(jo, "opening_angle_deg", where, ctx);
       if (!a.is_null()) o.opening_angle_deg = NumberField(jo, "opening_angle_deg", where, ctx);
       o.clear_width_m = NumberField(jo, "clear_width_m", where, ctx);
@@ -203,7 +211,8 @@ void WriteSm4Files(const std::string& dir, const Sm4Model& model,
   std::error_code ec;
   std::filesystem::create_directories(d / "orthoimages", ec);
   if (ec) throw InputError((d / "orthoimages").string(), "cannot create the folder", ec.message());
-  for (const auto& [id, image] : images) WriteOrthoimagePngs(image, (d / "orthoimages" / id).string());
+  for (const auto& [id, image] : images)
+    WriteOrthoimagePngs(image, (d / "orthoimages" / id).string());
 }
 
 void WriteTextFile(const std::string& path, const std::string& text) {
