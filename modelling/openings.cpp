@@ -32,6 +32,10 @@ void OpeningParams::Validate() const {
   order("window_min_height", window_min_height, "window_max_height", window_max_height);
   order("canny_low", canny_low, "canny_high", canny_high);
   order("casing_min", casing_min, "casing_max", casing_max);
+  order("leaf_v_low", leaf_v_low, "leaf_v_high", leaf_v_high);
+  if (median_kernel % 2 == 0)
+    throw InputError("", "parameter 'openings.median_kernel' must be odd",
+                     std::to_string(median_kernel), "1, 3, 5, ...");
 }
 
 const char* ToString(OpeningType t) { return t == OpeningType::kDoor ? "door" : "window"; }
@@ -285,10 +289,10 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   for (const auto& pf : *in.points) {
     const Vec3 q = pf.cast<double>();
     const Vec2 uv = frame.ToUv(q);
-    if (uv.y() < v0 + 0.25 * h || uv.y() > v0 + 0.85 * h) continue;
-    if (uv.x() < u0 - 0.4 * w || uv.x() > u1 + 0.4 * w) continue;
+    if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) continue;
+    if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) continue;
     const double d = frame.Depth(q);
-    if (d < -(w + 0.5) || d > w + 0.1) continue;
+    if (d < -(w + p.max_wall_thickness) || d > w + p.leaf_hinge_front) continue;
     // The wall and its casing beside the opening are not the leaf.
     if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
     pts.push_back({uv.x(), d});
@@ -297,17 +301,18 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   std::vector<Vec2> sample;
   const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
   for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
-  // A leaf's line passes a jamb: the segment u = u_j, depth in [-0.5, 0.05].
+  // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
+  // leaf_hinge_front] (hinged on this face or on the far one).
   auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
     for (double uj : {u0, u1}) {
       if (std::abs(dir.x()) > 1e-6) {
         const double t = (uj - a.x()) / dir.x();
         const double d = a.y() + t * dir.y();
-        if (d >= -0.5 && d <= 0.05) return true;
+        if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
       }
       const Vec2 nrm(-dir.y(), dir.x());
-      for (double dj : {-0.5, 0.05})
-        if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < 0.1) return true;
+      for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
+        if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
     }
     return false;
   };
@@ -354,7 +359,7 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   std::sort(ts.begin(), ts.end());
   std::size_t run_begin = 0, best_begin = 0, best_end = 0;
   for (std::size_t i = 1; i <= ts.size(); ++i) {
-    if (i == ts.size() || ts[i] - ts[i - 1] > 0.10) {
+    if (i == ts.size() || ts[i] - ts[i - 1] > p.leaf_run_gap) {
       if (i - run_begin > best_end - best_begin) best_begin = run_begin, best_end = i;
       run_begin = i;
     }
@@ -371,7 +376,7 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   auto jamb_dist = [&](const Vec2& e, double* uj_out) {
     double best_d = 1e300;
     for (double uj : {u0, u1}) {
-      const double dd = std::clamp(e.y(), -0.5, 0.05);
+      const double dd = std::clamp(e.y(), -p.max_wall_thickness, p.leaf_hinge_front);
       const double dist = (e - Vec2(uj, dd)).norm();
       if (dist < best_d) best_d = dist, *uj_out = uj;
     }
@@ -435,12 +440,12 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   const cv::Mat wall = ClassMask(area, cols, rows, {OrthoClass::kWall});
   const cv::Mat flush = ClassMask(area, cols, rows, {OrthoClass::kWall, OrthoClass::kOffColour});
   cv::Mat e_c, e_d, e_e, edges;
-  cv::medianBlur(colour, colour, 5);
-  cv::medianBlur(depth, depth, 5);
+  cv::medianBlur(colour, colour, p.median_kernel);
+  cv::medianBlur(depth, depth, p.median_kernel);
   cv::Canny(colour, e_c, p.canny_low, p.canny_high);
   cv::Canny(depth, e_d, p.canny_low, p.canny_high);
   cv::Mat ev255 = ev_door * 255;
-  cv::medianBlur(ev255, ev255, 5);
+  cv::medianBlur(ev255, ev255, p.median_kernel);
   cv::Canny(ev255, e_e, p.canny_low, p.canny_high);
   cv::bitwise_or(e_c, e_d, edges);
   cv::bitwise_or(edges, e_e, edges);
@@ -632,7 +637,7 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       } else {
         // No leaf seen: open if the robot saw through it, else closed (its leaf is the wall's
         // colour and flush, or hidden).
-        o.state = k.through >= 0.3 ? DoorState::kOpen : DoorState::kClosed;
+        o.state = k.through >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
       }
       if (o.state == DoorState::kClosed) {
         o.clear_width_m = 0.0;

@@ -87,7 +87,17 @@ struct OpeningParams {
   double min_casing_share = 0.8;  ///< share of a casing strip on the wall's surface, [0, 1]
   double max_overlap = 0.2;       ///< overlap (of the smaller) above which the worse goes, [0, 1]
   // Door leaf.
-  double leaf_inlier = 0.015;    ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
+  double leaf_inlier = 0.015;       ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
+  double leaf_v_low = 0.25;         ///< share of the door height where leaf points start, [0, 1]
+  double leaf_v_high = 0.85;        ///< share of the door height where they end, [0, 1]
+  double leaf_u_margin = 0.4;       ///< share of the width searched beyond each jamb, [0, 2]
+  double max_wall_thickness = 0.5;  ///< m, deepest hinge behind the wall face, [0.05, 2]
+  double leaf_hinge_front = 0.05;   ///< m, farthest hinge in front of the wall face, [0, 0.5]
+  double leaf_jamb_reach = 0.1;     ///< m, a leaf's line passes this close to a jamb, [0, 1]
+  double leaf_run_gap = 0.10;       ///< m, gap that ends the leaf's run of points, [0.01, 1]
+  /// Share of a door seen through that makes it open when no leaf is found, [0, 1]
+  double open_through_share = 0.3;
+  int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
   double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
   int leaf_min_points = 40;      ///< inliers a leaf needs, [3, 1e7]
   int leaf_iterations = 400;     ///< RANSAC hypotheses, [1, 1e6]
@@ -139,6 +149,15 @@ struct OpeningParams {
     v("min_casing_share", min_casing_share, Bounds{0.0, 1.0});
     v("max_overlap", max_overlap, Bounds{0.0, 1.0});
     v("leaf_inlier", leaf_inlier, Bounds{0.001, 0.2});
+    v("leaf_v_low", leaf_v_low, Bounds{0.0, 1.0});
+    v("leaf_v_high", leaf_v_high, Bounds{0.0, 1.0});
+    v("leaf_u_margin", leaf_u_margin, Bounds{0.0, 2.0});
+    v("max_wall_thickness", max_wall_thickness, Bounds{0.05, 2.0});
+    v("leaf_hinge_front", leaf_hinge_front, Bounds{0.0, 0.5});
+    v("leaf_jamb_reach", leaf_jamb_reach, Bounds{0.0, 1.0});
+    v("leaf_run_gap", leaf_run_gap, Bounds{0.01, 1.0});
+    v("open_through_share", open_through_share, Bounds{0.0, 1.0});
+    v("median_kernel", median_kernel, Bounds{1, 15});
     v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
     v("leaf_min_points", leaf_min_points, Bounds{3, 10000000});
     v("leaf_iterations", leaf_iterations, Bounds{1, 1000000});
