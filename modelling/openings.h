@@ -11,7 +11,8 @@
 //       off_colour on the plane, another colour (a flush door leaf, a casing, a picture),
 //       recessed   depth < -recess_depth (a leaf or glass set into the wall, the far side),
 //       protruding depth > flush_depth (furniture, an opened leaf: unknown for openings),
-//       through    no point, but rays passed the plane here (an open door, glass),
+//       through    no point, but rays passed the plane here or returned nothing beyond it
+//                  (an open door, a window),
 //       occluded   no point, rays stopped in front (a cabinet), or unseen (nothing).
 //     Evidence of an opening: off_colour, recessed, through (windows: recessed, through).
 //  2. Straight lines: Canny edges of J_C (grey), of J_D (depth quantised to depth_step) and
@@ -32,11 +33,14 @@
 //     boundary is no frame): the hole, not the casing.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
-//     RANSAC and least squares; lambda is its angle to the wall (over 90 deg when the free end
-//     swings past the hinge jamb). State: open lambda >= 90 deg, semi_open 5 <= lambda < 90,
-//     closed lambda < 5 (paper §3.3), with open from 90 - open_tolerance_deg (measurement). No leaf
-//     found while the opening is seen through: open, angle unknown. Clear width = width - (width
-//     cos lambda + leaf_thickness sin lambda), 0 when closed.
+//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers;
+//     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
+//     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
+//     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
+//     deg, semi_open 5 <= lambda < 90, closed lambda < 5 (paper §3.3), with open from 90 -
+//     open_tolerance_deg (measurement). No leaf found: open (angle unknown) if open_through_share
+//     of it is seen through, else closed. Clear width = width - (width cos lambda + leaf_thickness
+//     sin lambda), 0 when closed.
 //
 // Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k)).
 
