@@ -150,6 +150,39 @@ OpeningEvaluation EvaluateOpenings(const std::vector<OpeningRecord>& model,
   return e;
 }
 
+OpeningEvaluation PoolOpenings(const std::vector<OpeningEvaluation>& parts) {
+  OpeningEvaluation e;
+  std::vector<double> angle_errors;
+  for (const OpeningEvaluation& p : parts) {
+    e.rows.insert(e.rows.end(), p.rows.begin(), p.rows.end());
+    e.truth_count += p.truth_count, e.model_count += p.model_count, e.matched += p.matched;
+    e.missed += p.missed, e.false_openings += p.false_openings, e.type_right += p.type_right;
+    e.doors += p.doors, e.door_state_right += p.door_state_right;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 4; ++k) e.state_confusion[i][k] += p.state_confusion[i][k];
+  }
+  for (const OpeningRow& r : e.rows) {
+    e.tp += r.tp, e.fp += r.fp, e.fn += r.fn;
+    e.e_abs.Add(r.e_abs);
+    if (!r.truth_id.empty()) e.e_r.Add(r.e_r);
+    e.fn_max = std::max(e.fn_max, r.fn);
+    e.fp_max = std::max(e.fp_max, r.fp);
+    if (std::isfinite(r.angle_error_deg)) {
+      e.angle_error.Add(r.angle_error_deg);
+      angle_errors.push_back(r.angle_error_deg);
+    }
+  }
+  e.precision = e.tp + e.fp > 0 ? e.tp / (e.tp + e.fp) : 1.0;
+  e.recall = e.tp + e.fn > 0 ? e.tp / (e.tp + e.fn) : 1.0;
+  if (!angle_errors.empty()) {
+    std::sort(angle_errors.begin(), angle_errors.end());
+    const std::size_t n = angle_errors.size();
+    e.angle_error_median =
+        n % 2 ? angle_errors[n / 2] : 0.5 * (angle_errors[n / 2 - 1] + angle_errors[n / 2]);
+  }
+  return e;
+}
+
 std::vector<OpeningRecord> TruthOpenings(const scenes::GroundTruth& truth,
                                          const std::string& room) {
   if (truth.FindRoom(room) == nullptr) {

@@ -91,6 +91,10 @@ OpeningEvaluation EvaluateOpenings(const std::vector<OpeningRecord>& model,
                                    const std::vector<OpeningRecord>& truth,
                                    const OpeningMatchParams& params = {});
 
+/// Pools rooms (or seeds): rows concatenated, counts, areas, confusion and angle errors summed,
+/// Precision/Recall/e_abs/e_r/fn max/fp max/median recomputed over the pooled rows.
+OpeningEvaluation PoolOpenings(const std::vector<OpeningEvaluation>& parts);
+
 /// The truth openings of `room`: every door and window hosted by one of the room's walls, its
 /// rectangle in that wall's plane (clipped to the wall), normal into the room, state and lambda
 /// for doors. InputError for an unknown room.

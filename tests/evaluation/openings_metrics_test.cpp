@@ -116,6 +116,25 @@ TEST(OpeningMetrics, LargestOverlapWinsWhenTwoRecognisedOpeningsCoverOneTruth) {
   EXPECT_NEAR(e.recall, 0.8, 1e-9);
 }
 
+TEST(OpeningMetrics, PoolingTwoRoomsSumsAreasAndRecomputesRatios) {
+  // Room A: the shifted case (tp 1.8, fp 0.2, fn 0.2, angle error 0); room B: a missed 1 m^2
+  // door. Pooled: P = 1.8 / 2.0 = 0.9, R = 1.8 / 3.0 = 0.6, e_abs rows 0.4 and 1.0.
+  const OpeningEvaluation a =
+      EvaluateOpenings({Rect("o1", 1.1, 2.1, 0, 2)}, {Rect("D1", 1, 2, 0, 2)});
+  const OpeningEvaluation b = EvaluateOpenings({}, {Rect("D2", 1, 2, 0, 1)});
+  const OpeningEvaluation p = PoolOpenings({a, b});
+  EXPECT_EQ(p.truth_count, 2);
+  EXPECT_EQ(p.missed, 1);
+  EXPECT_NEAR(p.precision, 0.9, 1e-9);
+  EXPECT_NEAR(p.recall, 0.6, 1e-9);
+  EXPECT_NEAR(p.e_abs.mean, 0.7, 1e-9);
+  EXPECT_NEAR(p.e_abs.max, 1.0, 1e-9);
+  EXPECT_EQ(p.doors, 2);
+  EXPECT_EQ(p.door_state_right, 1);
+  EXPECT_EQ(p.state_confusion[0][3], 1);
+  EXPECT_EQ(p.angle_error.n, 1);
+}
+
 TEST(OpeningMetrics, NoOpeningsOnEitherSideIsPerfect) {
   const OpeningEvaluation e = EvaluateOpenings({}, {});
   EXPECT_DOUBLE_EQ(e.precision, 1.0);
