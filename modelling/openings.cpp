@@ -280,78 +280,80 @@ double Overlap(const Candidate& a, const Candidate& b) {
 
 // ---- Step 4: the door leaf ----
 
-LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
-                    double v1, const OpeningParams& p, std::uint64_t index) {
+namespace {
+
+// One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w.
+// With `fixed` (a point and a unit direction), the line is taken as given: no RANSAC, no
+// least squares; the run, hinge and lambda follow from `pts` along it.
+LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double w,
+                      const OpeningParams& p, std::uint64_t index,
+                      const std::pair<Vec2, Vec2>* fixed = nullptr) {
   LeafFit out;
-  const double w = u1 - u0, h = v1 - v0;
-  if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
-  std::vector<Vec2> pts;  // (u, depth)
-  for (const auto& pf : *in.points) {
-    const Vec3 q = pf.cast<double>();
-    const Vec2 uv = frame.ToUv(q);
-    if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) continue;
-    if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) continue;
-    const double d = frame.Depth(q);
-    if (d < -(w + p.max_wall_thickness) || d > w + p.leaf_hinge_front) continue;
-    // The wall and its casing beside the opening are not the leaf.
-    if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
-    pts.push_back({uv.x(), d});
-  }
   if (static_cast<int>(pts.size()) < p.leaf_min_points) return out;
-  std::vector<Vec2> sample;
-  const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
-  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
-  // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
-  // leaf_hinge_front] (hinged on this face or on the far one).
-  auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
-    for (double uj : {u0, u1}) {
-      if (std::abs(dir.x()) > 1e-6) {
-        const double t = (uj - a.x()) / dir.x();
-        const double d = a.y() + t * dir.y();
-        if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
-      }
-      const Vec2 nrm(-dir.y(), dir.x());
-      for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
-        if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
-    }
-    return false;
-  };
-  CounterRng rng(p.seed, "sm4_leaf", index);
-  int best = 0;
-  Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
-  const std::size_t n = sample.size();
-  for (int it = 0; it < p.leaf_iterations; ++it) {
-    const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
-    const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
-    const Vec2 dv = sample[j] - sample[i];
-    if (dv.norm() < 0.05) continue;
-    const Vec2 dir = dv.normalized();
-    if (!near_jamb(sample[i], dir)) continue;
-    const Vec2 nrm(-dir.y(), dir.x());
-    int c = 0;
-    for (const auto& q : sample)
-      if (std::abs(nrm.dot(q - sample[i])) <= p.leaf_inlier) ++c;
-    if (c > best) best = c, best_a = sample[i], best_dir = dir;
-  }
-  if (best == 0) return out;
-  // Least squares on the inliers of all points, twice.
-  Vec2 a = best_a, dir = best_dir;
+  Vec2 a, dir;
   std::vector<Vec2> inl;
-  for (int round = 0; round < 2; ++round) {
+  if (fixed != nullptr) {
+    a = fixed->first, dir = fixed->second;
     const Vec2 nrm(-dir.y(), dir.x());
-    inl.clear();
     for (const auto& q : pts)
       if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
     if (inl.size() < 3) return out;
-    Vec2 mean = Vec2::Zero();
-    for (const auto& q : inl) mean += q;
-    mean /= static_cast<double>(inl.size());
-    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-    for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-    a = mean;
-    dir = es.eigenvectors().col(1).normalized();
-  }
+  } else {
+    std::vector<Vec2> sample;
+    const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
+    for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+    // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
+    // leaf_hinge_front] (hinged on this face or on the far one).
+    auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
+      for (double uj : {u0, u1}) {
+        if (std::abs(dir.x()) > 1e-6) {
+          const double t = (uj - a.x()) / dir.x();
+          const double d = a.y() + t * dir.y();
+          if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
+        }
+        const Vec2 nrm(-dir.y(), dir.x());
+        for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
+          if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
+      }
+      return false;
+    };
+    CounterRng rng(p.seed, "sm4_leaf", index);
+    int best = 0;
+    Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
+    const std::size_t n = sample.size();
+    for (int it = 0; it < p.leaf_iterations; ++it) {
+      const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
+      const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
+      const Vec2 dv = sample[j] - sample[i];
+      if (dv.norm() < 0.05) continue;
+      const Vec2 dir = dv.normalized();
+      if (!near_jamb(sample[i], dir)) continue;
+      const Vec2 nrm(-dir.y(), dir.x());
+      int c = 0;
+      for (const auto& q : sample)
+        if (std::abs(nrm.dot(q - sample[i])) <= p.leaf_inlier) ++c;
+      if (c > best) best = c, best_a = sample[i], best_dir = dir;
+    }
+    if (best == 0) return out;
+    // Least squares on the inliers of all points, twice.
+    a = best_a, dir = best_dir;
+    for (int round = 0; round < 2; ++round) {
+      const Vec2 nrm(-dir.y(), dir.x());
+      inl.clear();
+      for (const auto& q : pts)
+        if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
+      if (inl.size() < 3) return out;
+      Vec2 mean = Vec2::Zero();
+      for (const auto& q : inl) mean += q;
+      mean /= static_cast<double>(inl.size());
+      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+      for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+      a = mean;
+      dir = es.eigenvectors().col(1).normalized();
+    }
+  }  // fixed
+  out.line_point = a, out.line_dir = dir;
   // The leaf is the most populated run of inliers along the line without a gap over 10 cm
   // (other surfaces on the same line, e.g. a reveal or far furniture, are not the leaf).
   std::vector<double> ts;
@@ -395,6 +397,46 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
     lambda = 180.0 - lambda;
   out.lambda_deg = lambda;
   return out;
+}
+
+}  // namespace
+
+LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
+                    double v1, const OpeningParams& p, std::uint64_t index) {
+  LeafFit out;
+  const double w = u1 - u0, h = v1 - v0;
+  if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
+  std::vector<Vec2> pts;  // (u, depth)
+  for (const auto& pf : *in.points) {
+    const Vec3 q = pf.cast<double>();
+    const Vec2 uv = frame.ToUv(q);
+    if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) continue;
+    if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) continue;
+    const double d = frame.Depth(q);
+    if (d < -(w + p.max_wall_thickness) || d > w + p.leaf_hinge_front) continue;
+    // The wall and its casing beside the opening are not the leaf.
+    if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
+    pts.push_back({uv.x(), d});
+  }
+  // The leaf first from the points off the wall's surface layer: a casing beside a door whose
+  // rectangle came out too wide, or the floor-level reveal, would tilt a line through the leaf;
+  // only a leaf flush with the wall (closed, on this side) needs the layer.
+  std::vector<Vec2> deep;
+  for (const Vec2& q : pts)
+    if (std::abs(q.y()) > p.flush_depth) deep.push_back(q);
+  const LeafFit first = FitLeafPoints(deep, u0, u1, w, p, index);
+  if (first.inliers == 0) return FitLeafPoints(pts, u0, u1, w, p, index);
+  // Its run, hinge and width from all the points along that line (the part near the hinge is
+  // on the surface layer).
+  // Only on the leaf's side of the wall: the reveal behind a leaf opened into the room (or in
+  // front of one opened away) lies on the same line.
+  const double side = first.line_point.y() >= 0.0 ? 1.0 : -1.0;
+  std::vector<Vec2> same_side;
+  for (const Vec2& q : pts)
+    if (side * q.y() >= -p.flush_depth) same_side.push_back(q);
+  const std::pair<Vec2, Vec2> line{first.line_point, first.line_dir};
+  const LeafFit along = FitLeafPoints(same_side, u0, u1, w, p, index, &line);
+  return along.inliers > 0 ? along : first;
 }
 
 // ---- Steps 1-4 for one wall ----

@@ -252,6 +252,7 @@ struct LeafFit {
   int inliers = 0;
   double extent = 0.0;   ///< m, span of the inliers along the fitted line
   double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
+  Vec2 line_point = Vec2::Zero(), line_dir = Vec2::UnitX();  ///< the fitted line in (u, depth)
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);
