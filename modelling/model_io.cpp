@@ -4,10 +4,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "common/error.h"
 #include "io/scan_io.h"
+#include "io/text_file.h"
 
 namespace mopad::modelling {
 namespace {
@@ -78,6 +81,139 @@ std::string Sm3Json(const StructuralModel& m) {
   for (const auto& [a, b] : m.adjacency) adj.push_back({a, b});
   j["adjacency"] = std::move(adj);
   return j.dump(1);
+}
+
+std::string Sm4Json(const Sm4Model& m) {
+  Json j;
+  j["format"] = "mopad-sm4";
+  j["version"] = kModelFormatVersion;
+  j["room"] = m.room;
+  Json os = Json::array();
+  for (const auto& o : m.openings) {
+    Json jo;
+    jo["id"] = o.id;
+    jo["type"] = ToString(o.type);
+    jo["host"] = o.host;
+    Json cs = Json::array();
+    for (const auto& c : o.corners) cs.push_back(V3(c));
+    jo["corners"] = std::move(cs);
+    if (o.type == OpeningType::kDoor) {
+      jo["state"] = ToString(o.state);
+      jo["opening_angle_deg"] =
+          std::isfinite(o.opening_angle_deg) ? Json(R(o.opening_angle_deg, 0.01)) : Json(nullptr);
+      jo["clear_width_m"] = R(o.clear_width_m);
+    }
+    jo["confidence"] = R(o.confidence, 1e-4);
+    os.push_back(std::move(jo));
+  }
+  j["openings"] = std::move(os);
+  return j.dump(1);
+}
+
+namespace {
+
+const Json& Field(const Json& j, const char* key, const std::string& where,
+                  const std::string& ctx) {
+  if (!j.is_object() || !j.contains(key)) throw InputError(where, ctx + key + ": missing field");
+  return j.at(key);
+}
+
+std::string StringField(const Json& j, const char* key, const std::string& where,
+                        const std::string& ctx) {
+  const Json& v = Field(j, key, where, ctx);
+  if (!v.is_string()) throw InputError(where, ctx + key + ": wrong type", v.dump(), "a string");
+  return v.get<std::string>();
+}
+
+double NumberField(const Json& j, const char* key, const std::string& where,
+                   const std::string& ctx) {
+  const Json& v = Field(j, key, where, ctx);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw InputError(where, ctx + key + ": wrong type", v.dump(), "a finite number");
+  return v.get<double>();
+}
+
+}  // namespace
+
+Sm4Model ParseSm4(const std::string& text, const std::string& where) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where, "not valid JSON", e.what());
+  }
+  if (StringField(j, "format", where, "") != "mopad-sm4")
+    throw InputError(where, "format: not an SM4 file", j["format"].dump(), "\"mopad-sm4\"");
+  const double version = NumberField(j, "version", where, "");
+  if (version != kModelFormatVersion)
+    throw InputError(where, "version: unsupported", j["version"].dump(),
+                     std::to_string(kModelFormatVersion));
+  Sm4Model m;
+  m.room = StringField(j, "room", where, "");
+  const Json& os = Field(j, "openings", where, "");
+  if (!os.is_array()) throw InputError(where, "openings: wrong type", "", "an array");
+  for (std::size_t i = 0; i < os.size(); ++i) {
+    const std::string ctx = "openings[" + std::to_string(i) + "].";
+    const Json& jo = os[i];
+    DetectedOpening o;
+    o.id = StringField(jo, "id", where, ctx);
+    const std::string type = StringField(jo, "type", where, ctx);
+    if (type == "door")
+      o.type = OpeningType::kDoor;
+    else if (type == "window")
+      o.type = OpeningType::kWindow;
+    else
+      throw InputError(where, ctx + "type: unknown", type, "door|window");
+    o.host = StringField(jo, "host", where, ctx);
+    const Json& cs = Field(jo, "corners", where, ctx);
+    if (!cs.is_array() || cs.size() != 4)
+      throw InputError(where, ctx + "corners: wrong shape", cs.dump(), "4 points [x, y, z]");
+    for (std::size_t k = 0; k < 4; ++k) {
+      if (!cs[k].is_array() || cs[k].size() != 3)
+        throw InputError(where, ctx + "corners: wrong shape", cs[k].dump(), "[x, y, z]");
+      for (int a = 0; a < 3; ++a) {
+        if (!cs[k][a].is_number() || !std::isfinite(cs[k][a].get<double>()))
+          throw InputError(where, ctx + "corners: not a finite number", cs[k][a].dump());
+        o.corners[k][a] = cs[k][a].get<double>();
+      }
+    }
+    o.confidence = NumberField(jo, "confidence", where, ctx);
+    if (o.type == OpeningType::kDoor) {
+      const std::string state = StringField(jo, "state", where, ctx);
+      if (state == "closed")
+        o.state = DoorState::kClosed;
+      else if (state == "semi_open")
+        o.state = DoorState::kSemiOpen;
+      else if (state == "open")
+        o.state = DoorState::kOpen;
+      else
+        throw InputError(where, ctx + "state: unknown", state, "closed|semi_open|open");
+      const Json& a = Field(jo, "opening_angle_deg", where, ctx);
+      if (!a.is_null()) o.opening_angle_deg = NumberField(jo, "opening_angle_deg", where, ctx);
+      o.clear_width_m = NumberField(jo, "clear_width_m", where, ctx);
+    }
+    m.openings.push_back(std::move(o));
+  }
+  return m;
+}
+
+Sm4Model ReadSm4(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path, "cannot read the file");
+  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  return ParseSm4(text, path);
+}
+
+void WriteSm4Files(const std::string& dir, const Sm4Model& model,
+                   const std::vector<std::pair<std::string, Orthoimage>>& images) {
+  const std::filesystem::path d(dir);
+  io::WriteTextFile((d / "sm4.json").string(), Sm4Json(model));
+  if (images.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(d / "orthoimages", ec);
+  if (ec) throw InputError((d / "orthoimages").string(), "cannot create the folder", ec.message());
+  for (const auto& [id, image] : images)
+    WriteOrthoimagePngs(image, (d / "orthoimages" / id).string());
 }
 
 void WriteDsm3Ply(const VoxelSpace& vs, const std::string& path) {

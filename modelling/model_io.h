@@ -1,10 +1,15 @@
 #pragma once
 // Writers of the robot's model files (docs/models.md, format version 1): SM2 (the final RoI
-// B-rep) and SM3 as JSON, DSM3 as a PLY of labelled voxel centres. Map frame, metres.
+// B-rep), SM3 and SM4 as JSON, DSM3 as a PLY of labelled voxel centres. Map frame, metres.
+// SM4 is also read back (ReadSm4), for the evaluator and round trips.
 // InputError on I/O failure. Deterministic text (fixed float formatting, stable order).
 
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "modelling/openings.h"
+#include "modelling/orthoimage.h"
 #include "modelling/roi.h"
 #include "modelling/structural_model.h"
 #include "modelling/voxel_space.h"
@@ -15,6 +20,20 @@ inline constexpr int kModelFormatVersion = 1;
 
 std::string Sm2Json(const Roi& roi, const std::string& room);
 std::string Sm3Json(const StructuralModel& model);
+/// sm4.json: {"format": "mopad-sm4", "version": 1, "room", "openings": [{"id", "type", "host",
+/// "corners" (4 xyz, CCW seen from the room, the hole), "confidence", and for doors "state",
+/// "opening_angle_deg" (null when unknown), "clear_width_m"}]} (docs/models.md).
+std::string Sm4Json(const Sm4Model& model);
+/// Parses sm4.json text; `where` names it in errors. InputError for a wrong format or version,
+/// a missing or mistyped field, an unknown type or state, corners that are not 4 finite points.
+/// The (u, v) rectangle of each opening is left 0 (the file holds map-frame corners only).
+Sm4Model ParseSm4(const std::string& text, const std::string& where);
+/// Reads sm4.json (InputError if missing or malformed, see ParseSm4).
+Sm4Model ReadSm4(const std::string& path);
+/// Writes `<dir>/sm4.json` and, per image, `<dir>/orthoimages/<patch id>_colour.png` and
+/// `_depth.png` (WriteOrthoimagePngs). `dir` must exist; InputError on I/O failure.
+void WriteSm4Files(const std::string& dir, const Sm4Model& model,
+                   const std::vector<std::pair<std::string, Orthoimage>>& images);
 /// Every voxel inside the RoI (flag kInside or on a face) with its DSM3 label and indices.
 void WriteDsm3Ply(const VoxelSpace& voxels, const std::string& path);
 

@@ -38,6 +38,7 @@ VoxelLabel VoxelSpace::Label(std::size_t index) const {
   const std::uint8_t f = flags_[index];
   const bool occ = f & kOccupied, passed = f & kPassed, structural = f & kStructural;
   if (structural) {
+    if (f & kOpeningFace) return VoxelLabel::kOpening;
     if (occ) return VoxelLabel::kStructure;
     return passed ? VoxelLabel::kOpening : VoxelLabel::kOccludedStructure;
   }

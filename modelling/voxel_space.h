@@ -33,7 +33,15 @@ const char* ToString(VoxelLabel label);
 class VoxelSpace {
  public:
   /// Flag bits per voxel.
-  enum : std::uint8_t { kOccupied = 1, kPassed = 2, kStructural = 4, kInside = 8 };
+  /// kOpeningFace: a structural voxel inside a recognised opening (SM4, MarkOpeningVoxels in
+  /// modelling/openings.h); it reads as opening whatever it holds (a closed leaf, glass).
+  enum : std::uint8_t {
+    kOccupied = 1,
+    kPassed = 2,
+    kStructural = 4,
+    kInside = 8,
+    kOpeningFace = 16
+  };
 
   VoxelSpace() = default;
   /// An all-unseen grid of nx * ny * nz voxels of edge `size` (m) from `origin`.

@@ -1,0 +1,784 @@
+#include "modelling/openings.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <tuple>
+
+#include "common/error.h"
+#include "common/rng.h"
+
+namespace mopad::modelling {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+}  // namespace
+
+void OpeningParams::Validate() const {
+  ValidateParams(*this, "openings.");
+  orthoimage.Validate();
+  auto order = [](const char* lo_name, double lo, const char* hi_name, double hi) {
+    if (lo > hi)
+      throw InputError(
+          "", std::string("parameter 'openings.") + lo_name + "' exceeds '" + hi_name + "'",
+          std::to_string(lo), "<= " + std::to_string(hi));
+  };
+  order("door_min_width", door_min_width, "door_max_width", door_max_width);
+  order("door_min_height", door_min_height, "door_max_height", door_max_height);
+  order("window_min_width", window_min_width, "window_max_width", window_max_width);
+  order("window_min_height", window_min_height, "window_max_height", window_max_height);
+  order("canny_low", canny_low, "canny_high", canny_high);
+  order("casing_min", casing_min, "casing_max", casing_max);
+  order("leaf_v_low", leaf_v_low, "leaf_v_high", leaf_v_high);
+  if (median_kernel % 2 == 0)
+    throw InputError("", "parameter 'openings.median_kernel' must be odd",
+                     std::to_string(median_kernel), "1, 3, 5, ...");
+}
+
+const char* ToString(OpeningType t) { return t == OpeningType::kDoor ? "door" : "window"; }
+
+const char* ToString(DoorState s) {
+  switch (s) {
+    case DoorState::kClosed:
+      return "closed";
+    case DoorState::kSemiOpen:
+      return "semi_open";
+    case DoorState::kOpen:
+      return "open";
+  }
+  return "closed";
+}
+
+DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg,
+                                double open_tolerance_deg) {
+  if (lambda_deg >= 90.0 - open_tolerance_deg) return DoorState::kOpen;
+  if (lambda_deg >= closed_below_deg) return DoorState::kSemiOpen;
+  return DoorState::kClosed;
+}
+
+// ---- Step 1: wall area ----
+
+WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
+  WallArea out;
+  const std::size_t n = static_cast<std::size_t>(img.Cols()) * img.Rows();
+  // Colour seeds: pixels on the plane, binned 8x8x8; the mode bin and its 26 neighbours.
+  std::vector<int> hist(512, 0);
+  auto bin_of = [](const std::array<std::uint8_t, 3>& c) {
+    return std::array<int, 3>{c[0] / 32, c[1] / 32, c[2] / 32};
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (img.Count(i) == 0 || std::abs(img.Depth(i)) > p.flush_depth) continue;
+    const auto b = bin_of(img.Rgb(i));
+    ++hist[(b[0] * 8 + b[1]) * 8 + b[2]];
+  }
+  const int mode = static_cast<int>(std::max_element(hist.begin(), hist.end()) - hist.begin());
+  const std::array<int, 3> mb{mode / 64, (mode / 8) % 8, mode % 8};
+  std::array<double, 3> sum{0, 0, 0};
+  double k = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (img.Count(i) == 0 || std::abs(img.Depth(i)) > p.flush_depth) continue;
+    const auto b = bin_of(img.Rgb(i));
+    if (std::abs(b[0] - mb[0]) > 1 || std::abs(b[1] - mb[1]) > 1 || std::abs(b[2] - mb[2]) > 1)
+      continue;
+    for (int c = 0; c < 3; ++c) sum[c] += img.Rgb(i)[c];
+    ++k;
+  }
+  if (k > 0)
+    for (int c = 0; c < 3; ++c) out.wall_rgb[c] = sum[c] / k;
+  out.classes.assign(n, OrthoClass::kOccluded);
+  std::size_t wall = 0;
+  const double tol2 = p.colour_tolerance * p.colour_tolerance;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (img.Count(i) == 0) {
+      out.classes[i] =
+          img.Passed(i) > img.Blocked(i) ? OrthoClass::kThrough : OrthoClass::kOccluded;
+      continue;
+    }
+    const double d = img.Depth(i);
+    if (d < -p.recess_depth) {
+      out.classes[i] = OrthoClass::kRecessed;
+    } else if (d > p.flush_depth) {
+      out.classes[i] = OrthoClass::kProtruding;
+    } else {
+      double e2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double dc = img.Rgb(i)[c] - out.wall_rgb[c];
+        e2 += dc * dc;
+      }
+      out.classes[i] = (k > 0 && e2 <= tol2) ? OrthoClass::kWall : OrthoClass::kOffColour;
+      if (out.classes[i] == OrthoClass::kWall) ++wall;
+    }
+  }
+  out.wall_share = n > 0 ? static_cast<double>(wall) / n : 0.0;
+  return out;
+}
+
+namespace {
+
+// ---- Step 2: straight lines ----
+
+struct Line {
+  double pos = 0;    // column (vertical line) or row (horizontal line), pixel index
+  int a = 0, b = 0;  // extent along the other axis, inclusive
+  int Length() const { return b - a + 1; }
+};
+
+// Runs of `on(i, j)` along j for each i, gaps <= gap bridged, length >= min_len, merged when
+// parallel within 2 pixels and overlapping; the longest max_lines, ordered by position.
+template <class On>
+std::vector<Line> FindLines(int n_i, int n_j, On on, int gap, int min_len, int max_lines) {
+  std::vector<Line> raw;
+  for (int i = 0; i < n_i; ++i) {
+    int start = -1, last = -1;
+    for (int j = 0; j <= n_j; ++j) {
+      const bool o = j < n_j && on(i, j);
+      if (o) {
+        if (start < 0)
+          start = j;
+        else if (j - last - 1 > gap) {
+          if (last - start + 1 >= min_len) raw.push_back({double(i), start, last});
+          start = j;
+        }
+        last = j;
+      }
+    }
+    if (start >= 0 && last - start + 1 >= min_len) raw.push_back({double(i), start, last});
+  }
+  // Merge (raw is ordered by position, then extent).
+  std::vector<Line> merged;
+  std::vector<double> weight;
+  for (const Line& l : raw) {
+    bool done = false;
+    for (std::size_t m = merged.size(); m-- > 0;) {
+      Line& g = merged[m];
+      if (l.pos - g.pos > 2.0) break;
+      if (l.a > g.b + gap || l.b < g.a - gap) continue;
+      const double w0 = weight[m], w1 = l.Length();
+      g.pos = (g.pos * w0 + l.pos * w1) / (w0 + w1);
+      g.a = std::min(g.a, l.a), g.b = std::max(g.b, l.b);
+      weight[m] = w0 + w1;
+      done = true;
+      break;
+    }
+    if (!done) merged.push_back(l), weight.push_back(l.Length());
+  }
+  std::stable_sort(merged.begin(), merged.end(),
+                   [](const Line& x, const Line& y) { return x.Length() > y.Length(); });
+  if (static_cast<int>(merged.size()) > max_lines) merged.resize(max_lines);
+  std::sort(merged.begin(), merged.end(), [](const Line& x, const Line& y) {
+    return std::tie(x.pos, x.a, x.b) < std::tie(y.pos, y.a, y.b);
+  });
+  return merged;
+}
+
+// Sum of a 0/1 mask over [c0, c1) x [r0, r1) from its integral image (clipped).
+struct Integral {
+  cv::Mat s;  // CV_32S, (rows+1) x (cols+1)
+  int cols = 0, rows = 0;
+  explicit Integral(const cv::Mat& mask) : cols(mask.cols), rows(mask.rows) {
+    cv::integral(mask, s, CV_32S);
+  }
+  double Sum(int c0, int c1, int r0, int r1) const {
+    c0 = std::clamp(c0, 0, cols), c1 = std::clamp(c1, 0, cols);
+    r0 = std::clamp(r0, 0, rows), r1 = std::clamp(r1, 0, rows);
+    if (c1 <= c0 || r1 <= r0) return 0.0;
+    return s.at<int>(r1, c1) - s.at<int>(r0, c1) - s.at<int>(r1, c0) + s.at<int>(r0, c0);
+  }
+};
+
+struct Candidate {
+  OpeningType type = OpeningType::kDoor;
+  int cl = 0, cr = 0, rt = 0, rb = 0;  // side lines: columns cl < cr, rows rt < rb (rb: bottom)
+  double score = 0, known = 0, evidence = 0, through = 0, support = 0;
+  bool valid = false;
+};
+
+struct Masks {
+  Integral known, ev_door, ev_window, through, wall, edge_v, edge_h, hidden_v, hidden_h, flush,
+      hidden;
+};
+
+cv::Mat ClassMask(const WallArea& area, int cols, int rows, std::initializer_list<OrthoClass> cs) {
+  cv::Mat m(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const OrthoClass k = area.classes[static_cast<std::size_t>(r) * cols + c];
+      for (OrthoClass x : cs)
+        if (k == x) m.at<std::uint8_t>(r, c) = 1;
+    }
+  return m;
+}
+
+// Scores one rectangle (see the file comment, step 3).
+void Score(Candidate& k, const Masks& m, const OpeningParams& p, double px, int floor_row) {
+  const int sb = std::max(1, static_cast<int>(std::lround(p.side_band / px)));
+  const int ring = std::max(1, static_cast<int>(std::lround(p.ring / px)));
+  const int c0 = k.cl + 1, c1 = k.cr, r0 = k.rt + 1, r1 = k.rb;
+  const double area = double(c1 - c0) * (r1 - r0);
+  if (area <= 0) return;
+  k.known = m.known.Sum(c0, c1, r0, r1) / area;
+  const Integral& ev = k.type == OpeningType::kDoor ? m.ev_door : m.ev_window;
+  const double known_px = m.known.Sum(c0, c1, r0, r1);
+  k.evidence = known_px > 0 ? ev.Sum(c0, c1, r0, r1) / known_px : 0.0;
+  k.through = m.through.Sum(c0, c1, r0, r1) / area;
+  // Frame support: edge share of each side's visible length; a side hidden over 75% of its
+  // length (by a cabinet, or by the door's own opened leaf) is unknown, and one may be.
+  int unknown = 0;
+  double s_sum = 0.0, s_min = 1.0;
+  auto side = [&](double len, double e, double hidden) {
+    if (len - hidden <= 0.25 * len) {
+      ++unknown;
+      return;
+    }
+    const double s = std::min(1.0, e / (len - hidden));
+    s_sum += s, s_min = std::min(s_min, s);
+  };
+  side(r1 - r0, m.edge_v.Sum(k.cl, k.cl + 1, r0, r1), m.hidden_v.Sum(k.cl, k.cl + 1, r0, r1));
+  side(r1 - r0, m.edge_v.Sum(k.cr, k.cr + 1, r0, r1), m.hidden_v.Sum(k.cr, k.cr + 1, r0, r1));
+  side(c1 - c0, m.edge_h.Sum(c0, c1, k.rt, k.rt + 1), m.hidden_h.Sum(c0, c1, k.rt, k.rt + 1));
+  int sides = 3;
+  if (k.type == OpeningType::kWindow) {
+    side(c1 - c0, m.edge_h.Sum(c0, c1, k.rb, k.rb + 1), m.hidden_h.Sum(c0, c1, k.rb, k.rb + 1));
+    ++sides;
+  }
+  k.support = s_sum / sides;
+  const double ev_area = ev.Sum(c0, c1, r0, r1) * px * px;
+  k.valid = unknown <= 1 && k.known >= p.min_known_share && k.evidence >= p.min_evidence_share &&
+            ev_area >= p.min_evidence_area && s_min >= p.min_side_support;
+  if (k.valid && k.type == OpeningType::kWindow) {
+    // Location: a sill has wall under it.
+    const int b0 = k.rb + sb + 1, b1 = std::min(b0 + ring, floor_row);
+    const double band = double(c1 - c0) * std::max(0, b1 - b0);
+    const double wall = m.wall.Sum(c0, c1, b0, b1);
+    if (band <= 0 || wall / band < p.min_sill_wall_share) k.valid = false;
+  }
+  if (!k.valid) return;
+  // Outside ring (left, right, top): seen-through or recessed pixels there mean the rectangle
+  // is inside a larger hole (an off-colour casing around a hole is no such sign).
+  const int o = sb + 1;
+  const double ring_area = 2.0 * ring * (r1 - r0) + double(c1 - c0 + 2 * (o + ring)) * ring;
+  const Integral& deep = m.ev_window;
+  const double ring_ev = deep.Sum(k.cl - o - ring, k.cl - o + 1, r0, r1) +
+                         deep.Sum(k.cr + o, k.cr + o + ring, r0, r1) +
+                         deep.Sum(k.cl - o - ring, k.cr + o + ring, k.rt - o - ring, k.rt - o + 1);
+  const double outer = std::clamp(ring_ev / std::max(1.0, ring_area), 0.0, 1.0);
+  k.score = k.support * k.evidence * (1.0 - 0.5 * outer) * std::min(1.0, 0.5 + k.known);
+}
+
+double Overlap(const Candidate& a, const Candidate& b) {
+  const int w = std::min(a.cr, b.cr) - std::max(a.cl, b.cl);
+  const int h = std::min(a.rb, b.rb) - std::max(a.rt, b.rt);
+  if (w <= 0 || h <= 0) return 0.0;
+  const double aa = double(a.cr - a.cl) * (a.rb - a.rt), ab = double(b.cr - b.cl) * (b.rb - b.rt);
+  return double(w) * h / std::min(aa, ab);
+}
+
+}  // namespace
+
+// ---- Step 4: the door leaf ----
+
+namespace {
+
+// One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w.
+// With `fixed` (a point and a unit direction), the line is taken as given: no RANSAC, no
+// least squares; the run, hinge and lambda follow from `pts` along it.
+LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double w,
+                      const OpeningParams& p, std::uint64_t index,
+                      const std::pair<Vec2, Vec2>* fixed = nullptr) {
+  LeafFit out;
+  if (static_cast<int>(pts.size()) < p.leaf_min_points) return out;
+  Vec2 a, dir;
+  std::vector<Vec2> inl;
+  if (fixed != nullptr) {
+    a = fixed->first, dir = fixed->second;
+    const Vec2 nrm(-dir.y(), dir.x());
+    for (const auto& q : pts)
+      if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
+    if (inl.size() < 3) return out;
+  } else {
+    std::vector<Vec2> sample;
+    const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
+    for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+    // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
+    // leaf_hinge_front] (hinged on this face or on the far one).
+    auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
+      for (double uj : {u0, u1}) {
+        if (std::abs(dir.x()) > 1e-6) {
+          const double t = (uj - a.x()) / dir.x();
+          const double d = a.y() + t * dir.y();
+          if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
+        }
+        const Vec2 nrm(-dir.y(), dir.x());
+        for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
+          if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
+      }
+      return false;
+    };
+    CounterRng rng(p.seed, "sm4_leaf", index);
+    int best = 0;
+    Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
+    const std::size_t n = sample.size();
+    for (int it = 0; it < p.leaf_iterations; ++it) {
+      const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
+      const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
+      const Vec2 dv = sample[j] - sample[i];
+      if (dv.norm() < 0.05) continue;
+      const Vec2 dir = dv.normalized();
+      if (!near_jamb(sample[i], dir)) continue;
+      const Vec2 nrm(-dir.y(), dir.x());
+      int c = 0;
+      for (const auto& q : sample)
+        if (std::abs(nrm.dot(q - sample[i])) <= p.leaf_inlier) ++c;
+      if (c > best) best = c, best_a = sample[i], best_dir = dir;
+    }
+    if (best == 0) return out;
+    // Least squares on the inliers of all points, twice.
+    a = best_a, dir = best_dir;
+    for (int round = 0; round < 2; ++round) {
+      const Vec2 nrm(-dir.y(), dir.x());
+      inl.clear();
+      for (const auto& q : pts)
+        if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
+      if (inl.size() < 3) return out;
+      Vec2 mean = Vec2::Zero();
+      for (const auto& q : inl) mean += q;
+      mean /= static_cast<double>(inl.size());
+      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+      for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+      a = mean;
+      dir = es.eigenvectors().col(1).normalized();
+    }
+  }  // fixed
+  out.line_point = a, out.line_dir = dir;
+  // The leaf is the most populated run of inliers along the line without a gap over 10 cm
+  // (other surfaces on the same line, e.g. a reveal or far furniture, are not the leaf).
+  std::vector<double> ts;
+  for (const auto& q : inl) ts.push_back(dir.dot(q - a));
+  std::sort(ts.begin(), ts.end());
+  std::size_t run_begin = 0, best_begin = 0, best_end = 0;
+  for (std::size_t i = 1; i <= ts.size(); ++i) {
+    if (i == ts.size() || ts[i] - ts[i - 1] > p.leaf_run_gap) {
+      if (i - run_begin > best_end - best_begin) best_begin = run_begin, best_end = i;
+      run_begin = i;
+    }
+  }
+  const double t0 = ts[best_begin], t1 = ts[best_end - 1];
+  out.inliers = static_cast<int>(best_end - best_begin);
+  out.extent = t1 - t0;
+  if (out.inliers < p.leaf_min_points || out.extent < p.leaf_min_extent * w) {
+    out.inliers = 0;
+    return out;
+  }
+  // Hinge end: the end nearer a jamb (plan distance to the jamb segments).
+  const Vec2 e0 = a + t0 * dir, e1 = a + t1 * dir;
+  auto jamb_dist = [&](const Vec2& e, double* uj_out) {
+    double best_d = 1e300;
+    for (double uj : {u0, u1}) {
+      const double dd = std::clamp(e.y(), -p.max_wall_thickness, p.leaf_hinge_front);
+      const double dist = (e - Vec2(uj, dd)).norm();
+      if (dist < best_d) best_d = dist, *uj_out = uj;
+    }
+    return best_d;
+  };
+  double uj0 = u0, uj1 = u0;
+  const double d0 = jamb_dist(e0, &uj0), d1 = jamb_dist(e1, &uj1);
+  const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
+  const double uj = d0 <= d1 ? uj0 : uj1;
+  out.hinge_u = (d0 <= d1 ? e0 : e1).x();
+  const Vec2 hf = free_end - hinge;
+  double lambda = std::atan2(std::abs(hf.y()), std::abs(hf.x())) * kRadToDeg;
+  // Swung past the hinge jamb (free end outside the opening on the hinge's side): > 90 deg.
+  const bool left = std::abs(uj - u0) <= std::abs(uj - u1);
+  if ((left && free_end.x() < hinge.x() - 0.02) || (!left && free_end.x() > hinge.x() + 0.02))
+    lambda = 180.0 - lambda;
+  out.lambda_deg = lambda;
+  return out;
+}
+
+}  // namespace
+
+LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
+                    double v1, const OpeningParams& p, std::uint64_t index) {
+  LeafFit out;
+  const double w = u1 - u0, h = v1 - v0;
+  if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
+  std::vector<Vec2> pts;  // (u, depth)
+  for (const auto& pf : *in.points) {
+    const Vec3 q = pf.cast<double>();
+    const Vec2 uv = frame.ToUv(q);
+    if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) continue;
+    if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) continue;
+    const double d = frame.Depth(q);
+    if (d < -(w + p.max_wall_thickness) || d > w + p.leaf_hinge_front) continue;
+    // The wall and its casing beside the opening are not the leaf.
+    if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
+    pts.push_back({uv.x(), d});
+  }
+  // The leaf first from the points off the wall's surface layer: a casing beside a door whose
+  // rectangle came out too wide, or the floor-level reveal, would tilt a line through the leaf;
+  // only a leaf flush with the wall (closed, on this side) needs the layer.
+  std::vector<Vec2> deep;
+  for (const Vec2& q : pts)
+    if (std::abs(q.y()) > p.flush_depth) deep.push_back(q);
+  const LeafFit first = FitLeafPoints(deep, u0, u1, w, p, index);
+  if (first.inliers == 0) return FitLeafPoints(pts, u0, u1, w, p, index);
+  // Its run, hinge and width from all the points along that line (the part near the hinge is
+  // on the surface layer).
+  // Only on the leaf's side of the wall: the reveal behind a leaf opened into the room (or in
+  // front of one opened away) lies on the same line.
+  const double side = first.line_point.y() >= 0.0 ? 1.0 : -1.0;
+  std::vector<Vec2> same_side;
+  for (const Vec2& q : pts)
+    if (side * q.y() >= -p.flush_depth) same_side.push_back(q);
+  const std::pair<Vec2, Vec2> line{first.line_point, first.line_dir};
+  const LeafFit along = FitLeafPoints(same_side, u0, u1, w, p, index, &line);
+  return along.inliers > 0 ? along : first;
+}
+
+// ---- Steps 1-4 for one wall ----
+
+std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
+                                                const OrthoPoints& points, const OpeningParams& p,
+                                                double floor_v) {
+  p.Validate();
+  std::vector<DetectedOpening> out;
+  const int cols = img.Cols(), rows = img.Rows();
+  if (cols < 3 || rows < 3) return out;
+  const double px = img.Pixel();
+  const WallArea area = SegmentWallArea(img, p);
+
+  // J_C, J_D and the evidence mask as images.
+  // Pixels without points take the wall's colour and depth: a hole's outline is a line of the
+  // evidence mask, and the scan-line gaps of sparse data or the speckle of glass returns must
+  // not make lines in J_C and J_D (a 5x5 median removes what speckle is left).
+  const cv::Vec3b wall_bgr(static_cast<std::uint8_t>(std::lround(area.wall_rgb[0])),
+                           static_cast<std::uint8_t>(std::lround(area.wall_rgb[1])),
+                           static_cast<std::uint8_t>(std::lround(area.wall_rgb[2])));
+  cv::Mat colour(rows, cols, CV_8UC3, cv::Scalar(wall_bgr[0], wall_bgr[1], wall_bgr[2]));
+  cv::Mat depth(rows, cols, CV_8U, cv::Scalar(128));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = img.Index(c, r);
+      if (img.Count(i) == 0) continue;
+      const auto rgb = img.Rgb(i);
+      colour.at<cv::Vec3b>(r, c) = cv::Vec3b(rgb[0], rgb[1], rgb[2]);
+      depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
+          std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
+    }
+  const cv::Mat ev_door = ClassMask(
+      area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat ev_window =
+      ClassMask(area, cols, rows, {OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat known = ClassMask(
+      area, cols, rows,
+      {OrthoClass::kWall, OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat hidden =
+      ClassMask(area, cols, rows, {OrthoClass::kOccluded, OrthoClass::kProtruding});
+  const cv::Mat through = ClassMask(area, cols, rows, {OrthoClass::kThrough});
+  const cv::Mat wall = ClassMask(area, cols, rows, {OrthoClass::kWall});
+  const cv::Mat flush = ClassMask(area, cols, rows, {OrthoClass::kWall, OrthoClass::kOffColour});
+  cv::Mat e_c, e_d, e_e, edges;
+  cv::medianBlur(colour, colour, p.median_kernel);
+  cv::medianBlur(depth, depth, p.median_kernel);
+  cv::Canny(colour, e_c, p.canny_low, p.canny_high);
+  cv::Canny(depth, e_d, p.canny_low, p.canny_high);
+  cv::Mat ev255 = ev_door * 255;
+  cv::medianBlur(ev255, ev255, p.median_kernel);
+  cv::Canny(ev255, e_e, p.canny_low, p.canny_high);
+  cv::bitwise_or(e_c, e_d, edges);
+  cv::bitwise_or(edges, e_e, edges);
+  cv::Mat edge01 = edges / 255;
+  const int sb = std::max(1, static_cast<int>(std::lround(p.side_band / px)));
+  cv::Mat edge_v, edge_h, hid_v, hid_h;
+  cv::dilate(edge01, edge_v, cv::Mat::ones(1, 2 * sb + 1, CV_8U));
+  cv::dilate(edge01, edge_h, cv::Mat::ones(2 * sb + 1, 1, CV_8U));
+  // Hidden rows of a side: no edge and occluded or protruding somewhere across the band.
+  cv::Mat hid_dv, hid_dh;
+  cv::dilate(hidden, hid_dv, cv::Mat::ones(1, 2 * sb + 1, CV_8U));
+  cv::dilate(hidden, hid_dh, cv::Mat::ones(2 * sb + 1, 1, CV_8U));
+  hid_v = hid_dv & (1 - edge_v);
+  hid_h = hid_dh & (1 - edge_h);
+  const Masks m{Integral(known), Integral(ev_door), Integral(ev_window), Integral(through),
+                Integral(wall),  Integral(edge_v),  Integral(edge_h),    Integral(hid_v),
+                Integral(hid_h), Integral(flush),   Integral(hidden)};
+
+  // Lines along columns (vertical) and rows (horizontal), on the edge map with a 1-pixel slack.
+  const int gap = static_cast<int>(std::lround(p.line_gap / px));
+  const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
+  auto e_at = [&](int r, int c) {
+    return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0;
+  };
+  const std::vector<Line> vert = FindLines(
+      cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); }, gap,
+      min_len, p.max_lines);
+  const std::vector<Line> horz = FindLines(
+      rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
+      min_len, p.max_lines);
+
+  // Rectangles.
+  const int floor_row =
+      std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
+  std::vector<Candidate> cands;
+  const int ring_px = std::max(1, static_cast<int>(std::lround(p.ring / px)));
+  // Horizontal lines across at least half the width strictly inside (consistency, step 3).
+  auto interior_lines = [&](int cl, int cr, int rt, int rb) {
+    int n = 0;
+    for (const Line& l : horz)
+      if (l.pos > rt + ring_px && l.pos < rb - ring_px &&
+          std::min(l.b, cr) - std::max(l.a, cl) >= 0.5 * (cr - cl))
+        ++n;
+    return n;
+  };
+  // Length of [cl, cr] covered by the horizontal lines within 2 pixels of row `pos`.
+  auto row_cover = [&](double pos, int cl, int cr) {
+    int n = 0;
+    for (const Line& l : horz)
+      if (std::abs(l.pos - pos) <= 2.0) n += std::max(0, std::min(l.b, cr) - std::max(l.a, cl));
+    return std::min(n, cr - cl);
+  };
+  for (std::size_t a = 0; a < vert.size(); ++a)
+    for (std::size_t b = a + 1; b < vert.size(); ++b) {
+      const int cl = static_cast<int>(std::lround(vert[a].pos)),
+                cr = static_cast<int>(std::lround(vert[b].pos));
+      const double width = (cr - cl) * px;
+      if (width < std::min(p.door_min_width, p.window_min_width)) continue;
+      if (width > std::max(p.door_max_width, p.window_max_width)) continue;
+      for (std::size_t ti = 0; ti < horz.size(); ++ti) {
+        const Line& t = horz[ti];
+        const int rt = static_cast<int>(std::lround(t.pos));
+        if (ti > 0 && std::lround(horz[ti - 1].pos) == rt) continue;  // one row once
+        // The top line spans at least half the width between the sides (its pieces together:
+        // an opened leaf may hide its middle).
+        if (row_cover(t.pos, cl, cr) < 0.5 * (cr - cl)) continue;
+        // Door: bottom at the floor.
+        const double dh = (floor_row - rt) * px;
+        if (width >= p.door_min_width && width <= p.door_max_width && dh >= p.door_min_height &&
+            dh <= p.door_max_height) {
+          Candidate k;
+          k.type = OpeningType::kDoor, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = floor_row;
+          if (interior_lines(cl, cr, rt, floor_row) <= p.max_interior_lines)
+            Score(k, m, p, px, floor_row);
+          if (k.valid) cands.push_back(k);
+        }
+        if (width < p.window_min_width || width > p.window_max_width) continue;
+        for (std::size_t bi = 0; bi < horz.size(); ++bi) {
+          const Line& bl = horz[bi];
+          const int rb = static_cast<int>(std::lround(bl.pos));
+          if (bi > 0 && std::lround(horz[bi - 1].pos) == rb) continue;
+          const double wh = (rb - rt) * px, sill = (floor_row - rb) * px;
+          if (wh < p.window_min_height || wh > p.window_max_height || sill < p.min_sill) continue;
+          if (row_cover(bl.pos, cl, cr) < 0.5 * (cr - cl)) continue;
+          Candidate k;
+          k.type = OpeningType::kWindow, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = rb;
+          if (interior_lines(cl, cr, rt, rb) <= p.max_interior_lines) Score(k, m, p, px, floor_row);
+          if (k.valid) cands.push_back(k);
+        }
+      }
+    }
+  // Best first (ties: position), non-maximum suppression by overlap.
+  std::vector<std::size_t> order(cands.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return cands[x].score > cands[y].score; });
+  std::vector<Candidate> kept;
+  for (std::size_t oi : order) {
+    const Candidate& k = cands[oi];
+    bool clash = false;
+    for (const Candidate& q : kept)
+      if (Overlap(k, q) > p.max_overlap) clash = true;
+    if (!clash) kept.push_back(k);
+  }
+  // The hole, not the casing: the valid rectangle inside a kept one whose every side is either
+  // the same line, or inset by a casing's width over a strip on the wall's surface (a casing),
+  // or inset over a strip mostly hidden (an occlusion boundary is no frame); most insets first,
+  // then the largest (the casing's inner edge, not a line further in).
+  const int in_min = static_cast<int>(std::lround(p.casing_min / px));
+  const int in_max = static_cast<int>(std::lround(p.casing_max / px));
+  auto strip_ok = [&](int inset, int c0, int c1, int r0, int r1, int* moved) {
+    if (inset < 0) return false;
+    if (inset <= 1) return true;
+    const double a = double(std::max(0, c1 - c0)) * std::max(0, r1 - r0);
+    if (a <= 0) return false;
+    ++*moved;
+    const double hidden = m.hidden.Sum(c0, c1, r0, r1), seen = a - hidden;
+    if (inset >= in_min && inset <= in_max && seen >= 0.2 * a &&
+        m.flush.Sum(c0, c1, r0, r1) >= p.min_casing_share * seen)
+      return true;
+    return hidden >= p.min_casing_share * a;
+  };
+  for (Candidate& k : kept) {
+    const Candidate* best = nullptr;
+    int best_moved = 0;
+    for (const Candidate& q : cands) {
+      if (q.type != k.type) continue;
+      int moved = 0;
+      const bool ok = strip_ok(q.cl - k.cl, k.cl + 1, q.cl, q.rt, q.rb, &moved) &&
+                      strip_ok(k.cr - q.cr, q.cr + 1, k.cr, q.rt, q.rb, &moved) &&
+                      strip_ok(q.rt - k.rt, k.cl, k.cr, k.rt + 1, q.rt, &moved) &&
+                      (k.type == OpeningType::kDoor ||
+                       strip_ok(k.rb - q.rb, k.cl, k.cr, q.rb + 1, k.rb, &moved));
+      if (!ok || moved == 0) continue;
+      const auto area = [](const Candidate& c) { return double(c.cr - c.cl) * (c.rb - c.rt); };
+      if (best == nullptr || moved > best_moved || (moved == best_moved && area(q) > area(*best)))
+        best = &q, best_moved = moved;
+    }
+    if (best != nullptr) {
+      const double conf = k.score;
+      k = *best;
+      k.score = std::max(conf, best->score);
+    }
+  }
+  std::sort(kept.begin(), kept.end(), [](const Candidate& x, const Candidate& y) {
+    return std::tie(x.cl, x.rt) < std::tie(y.cl, y.rt);
+  });
+  const PatchFrame& f = img.Frame();
+  for (const Candidate& k : kept) {
+    DetectedOpening o;
+    o.type = k.type;
+    o.host = host;
+    o.u0 = img.ColU(k.cl + 0.5), o.u1 = img.ColU(k.cr + 0.5);
+    o.v1 = img.RowV(k.rt + 0.5);
+    o.v0 = k.type == OpeningType::kDoor ? floor_v : img.RowV(k.rb + 0.5);
+    o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
+                 f.ToMap(o.u0, o.v1)};
+    o.confidence = std::clamp(k.score, 0.0, 1.0);
+    o.known_share = k.known, o.evidence_share = k.evidence, o.through_share = k.through;
+    o.side_support = k.support;
+    if (o.type == OpeningType::kDoor) {
+      const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p,
+                                       static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
+      o.leaf_points = leaf.inliers;
+      // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
+      // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
+      // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.
+      if (leaf.inliers > 0 && leaf.extent > o.Width() + p.leaf_widen_margin) {
+        const bool hinge_high = leaf.hinge_u > 0.5 * (o.u0 + o.u1);
+        auto snap = [&](double u) {
+          double best_d = 0.05, out_u = u;
+          for (const Line& l : vert) {
+            const double lu = img.ColU(l.pos + 0.5);
+            if (std::abs(lu - u) < best_d) best_d = std::abs(lu - u), out_u = lu;
+          }
+          return out_u;
+        };
+        const double hinge = snap(leaf.hinge_u);
+        const double latch =
+            snap(hinge_high ? leaf.hinge_u - leaf.extent : leaf.hinge_u + leaf.extent);
+        o.u0 = std::min(o.u0, std::min(hinge, latch));
+        o.u1 = std::max(o.u1, std::max(hinge, latch));
+        o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
+                     f.ToMap(o.u0, o.v1)};
+      }
+      if (leaf.inliers > 0) {
+        o.opening_angle_deg = leaf.lambda_deg;
+        o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);
+      } else {
+        // No leaf seen: open if the robot saw through it, else closed (its leaf is the wall's
+        // colour and flush, or hidden).
+        o.state = k.through >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
+      }
+      if (o.state == DoorState::kClosed) {
+        o.clear_width_m = 0.0;
+      } else {
+        const double lam = std::isnan(o.opening_angle_deg) ? 90.0 : o.opening_angle_deg;
+        const double l = lam / kRadToDeg;
+        const double intrusion =
+            std::max(0.0, o.Width() * std::cos(l)) + p.leaf_thickness * std::sin(l);
+        o.clear_width_m = std::max(0.0, o.Width() - intrusion);
+      }
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
+Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
+                        const OpeningParams& params,
+                        std::vector<std::pair<std::string, Orthoimage>>* images) {
+  params.Validate();
+  Sm4Model out;
+  out.room = sm3.room;
+  for (const StructuralPatch& patch : sm3.patches) {
+    if (patch.patch_class != PatchClass::kWall) continue;
+    const PatchFrame frame = PatchFrame::Of(patch);
+    Orthoimage img = BuildOrthoimage(points, frame, params.orthoimage);
+    std::vector<DetectedOpening> found = DetectWallOpenings(img, patch.id, points, params, 0.0);
+    for (auto& o : found) out.openings.push_back(std::move(o));
+    if (images != nullptr) images->emplace_back(patch.id, std::move(img));
+  }
+  for (std::size_t i = 0; i < out.openings.size(); ++i)
+    out.openings[i].id = "opening_" + std::to_string(i + 1);
+  return out;
+}
+
+int MarkOpeningVoxels(const std::vector<DetectedOpening>& openings, VoxelSpace& voxels,
+                      double band) {
+  if (voxels.empty()) return 0;
+  const double size = voxels.Size();
+  if (band <= 0.0) band = size;
+  const double inset = 0.375 * size;
+  int marked = 0;
+  for (const DetectedOpening& o : openings) {
+    const Vec3 c0 = o.corners[0];
+    const Vec3 du = o.corners[1] - c0, dv = o.corners[3] - c0;
+    const double w = du.norm(), h = dv.norm();
+    if (w <= 2 * inset || h <= 2 * inset) continue;
+    const Vec3 eu = du / w, ev = dv / h, n = eu.cross(ev).normalized();
+    // Bounding box of the rectangle thickened by the band, in voxel indices.
+    Vec3 lo = c0, hi = c0;
+    for (const Vec3& c : o.corners)
+      for (const Vec3& q : {Vec3(c + band * n), Vec3(c - band * n)})
+        lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    const Eigen::Vector3i a = voxels.VoxelOf(lo), b = voxels.VoxelOf(hi);
+    for (int k = std::max(0, a.z()); k <= std::min(voxels.Nz() - 1, b.z()); ++k)
+      for (int j = std::max(0, a.y()); j <= std::min(voxels.Ny() - 1, b.y()); ++j)
+        for (int i = std::max(0, a.x()); i <= std::min(voxels.Nx() - 1, b.x()); ++i) {
+          const std::size_t idx = voxels.Index(i, j, k);
+          std::uint8_t& f = voxels.MutableFlags(idx);
+          if (!(f & VoxelSpace::kStructural) || (f & VoxelSpace::kOpeningFace)) continue;
+          const Vec3 r = voxels.Centre(i, j, k) - c0;
+          if (std::abs(n.dot(r)) > band) continue;
+          const double pu = eu.dot(r), pv = ev.dot(r);
+          if (pu < inset || pu > w - inset || pv < inset || pv > h - inset) continue;
+          f |= VoxelSpace::kOpeningFace;
+          ++marked;
+        }
+  }
+  return marked;
+}
+
+std::vector<std::uint8_t> ClosedDoorPointMask(const std::vector<Eigen::Vector3f>& points,
+                                              const std::vector<StructuralPatch>& patches,
+                                              const std::vector<DetectedOpening>& openings,
+                                              double margin, double band) {
+  std::vector<std::uint8_t> mask(points.size(), 0);
+  for (const DetectedOpening& o : openings) {
+    if (o.type != OpeningType::kDoor || o.state != DoorState::kClosed) continue;
+    const auto it = std::find_if(patches.begin(), patches.end(),
+                                 [&](const StructuralPatch& s) { return s.id == o.host; });
+    if (it == patches.end()) continue;
+    const PatchFrame f = PatchFrame::Of(*it);
+    // The rectangle from the map-frame corners, so a refitted host still finds its door.
+    double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+    for (const Vec3& c : o.corners) {
+      const Vec2 uv = f.ToUv(c);
+      u0 = std::min(u0, uv.x()), u1 = std::max(u1, uv.x());
+      v0 = std::min(v0, uv.y()), v1 = std::max(v1, uv.y());
+    }
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 q = points[i].cast<double>();
+      if (std::abs(f.Depth(q)) > band) continue;
+      const Vec2 uv = f.ToUv(q);
+      if (uv.x() >= u0 - margin && uv.x() <= u1 + margin && uv.y() >= v0 - margin &&
+          uv.y() <= v1 + margin)
+        mask[i] = 1;
+    }
+  }
+  return mask;
+}
+
+}  // namespace mopad::modelling

@@ -1,0 +1,277 @@
+#pragma once
+// SM4 (paper §3.3, Figure 9; method of its ref. [62]): doors and windows in each SM3 wall, and
+// each door's opening angle lambda and state, from the wall's orthoimage J_CD
+// (modelling/orthoimage.h) and the room's points.
+//
+// Per wall:
+//  1. Wall area: the wall colour is the densest cluster of coherent colour seeds (a 8x8x8 RGB
+//     histogram of the pixels on the plane, |depth| <= flush_depth; the mode bin and its
+//     neighbours); every pixel is then classified as
+//       wall       on the plane and of the wall colour,
+//       off_colour on the plane, another colour (a flush door leaf, a casing, a picture),
+//       recessed   depth < -recess_depth (a leaf or glass set into the wall, the far side),
+//       protruding depth > flush_depth (furniture, an opened leaf: unknown for openings),
+//       through    no point, but rays passed the plane here or returned nothing beyond it
+//                  (an open door, a window),
+//       occluded   no point, rays stopped in front (a cabinet), or unseen (nothing).
+//     Evidence of an opening: off_colour, recessed, through (windows: recessed, through).
+//  2. Straight lines: Canny edges of J_C (grey), of J_D (depth quantised to depth_step) and
+//     of the evidence mask, OR-ed; because u is horizontal and v vertical, an opening's sides
+//     are columns and rows of the image, so lines are runs of edge pixels along columns
+//     (vertical) and rows (horizontal), gaps up to line_gap, at least min_line long, merged
+//     when parallel and within 2 pixels.
+//  3. Rectangles from two vertical lines and a top line, the bottom either the floor (v = 0)
+//     or a horizontal line; kept when their size is a typical door's (bottom at the floor) or
+//     window's (a sill at least min_sill above the floor). Each is validated by its interior
+//     (enough of it known, most of the known part evidence, at most max_interior_lines
+//     horizontal lines across it: a shelf is not a door), its frame (the share of each
+//     side's visible, i.e. not occluded, length that has edge pixels: a partly occluded frame
+//     still counts), and its location (a window's sill has wall below it; a door reaches the
+//     floor). Overlapping accepted rectangles keep the best score; a kept rectangle becomes the
+//     valid one inside it whose every side is the same line or inset over a strip that is a
+//     casing (casing_min..casing_max wide, on the wall's surface) or hidden (an occlusion
+//     boundary is no frame): the hole, not the casing.
+//  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
+//     the points in front of and behind the opening (either side of the wall) by a seeded
+//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers;
+//     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
+//     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
+//     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
+//     deg, semi_open 5 <= lambda < 90, closed lambda < 5 (paper §3.3), with open from 90 -
+//     open_tolerance_deg (measurement). No leaf found: open (angle unknown) if open_through_share
+//     of it is seen through, else closed. Clear width = width - (width cos lambda + leaf_thickness
+//     sin lambda), 0 when closed.
+//
+// Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k)).
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "common/frames.h"
+#include "common/params.h"
+#include "modelling/orthoimage.h"
+#include "modelling/structural_model.h"
+#include "modelling/voxel_space.h"
+
+namespace mopad::modelling {
+
+struct OpeningParams {
+  OrthoimageParams orthoimage;       ///< J_CD of every wall
+  double flush_depth = 0.05;         ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
+  double recess_depth = 0.025;       ///< m, depth below which a pixel is recessed, [0.005, 0.5]
+  double colour_tolerance = 45.0;    ///< RGB distance (0-255 units) from the wall colour, [1, 255]
+  double depth_step = 0.01;          ///< m per grey level of the depth edge image, [0.001, 0.1]
+  double canny_low = 30.0;           ///< Canny hysteresis thresholds (grey levels), [1, 1000]
+  double canny_high = 60.0;          ///< [1, 1000]
+  double min_line = 0.25;            ///< m, shortest straight line kept, [0.02, 5]
+  double line_gap = 0.04;            ///< m, gaps bridged inside a line, [0, 0.5]
+  int max_lines = 60;                ///< longest lines kept per direction, [2, 1000]
+  double door_min_width = 0.55;      ///< m, [0.1, 5]
+  double door_max_width = 2.2;       ///< m, [0.1, 5]
+  double door_min_height = 1.7;      ///< m, [0.5, 5]
+  double door_max_height = 2.7;      ///< m, [0.5, 5]
+  double floor_tolerance = 0.06;     ///< m, a door's bottom is this close to the floor, [0, 0.5]
+  double window_min_width = 0.3;     ///< m, [0.05, 10]
+  double window_max_width = 4.0;     ///< m, [0.05, 10]
+  double window_min_height = 0.3;    ///< m, [0.05, 5]
+  double window_max_height = 2.5;    ///< m, [0.05, 5]
+  double min_sill = 0.15;            ///< m, lowest window sill above the floor, [0, 3]
+  double min_known_share = 0.12;     ///< interior share not occluded/unseen/protruding, [0, 1]
+  double min_evidence_share = 0.75;  ///< evidence share of the known interior, [0, 1]
+  double min_evidence_area = 0.08;   ///< m^2, least evidence area of an opening, [0, 10]
+  double min_side_support = 0.5;     ///< edge share of each side's visible length, [0, 1]
+  double side_band = 0.02;           ///< m, edge pixels this close to a side support it, [0, 0.2]
+  double min_sill_wall_share = 0.5;  ///< wall share of the band under a window's sill, [0, 1]
+  double ring = 0.04;             ///< m, width of the bands checked around a rectangle, [0.01, 0.5]
+  double casing_min = 0.04;       ///< m, smallest casing width between hole and outline, [0, 0.5]
+  double casing_max = 0.15;       ///< m, largest casing width, [0, 0.5]
+  double min_casing_share = 0.8;  ///< share of a casing strip on the wall's surface, [0, 1]
+  double max_overlap = 0.2;       ///< overlap (of the smaller) above which the worse goes, [0, 1]
+  // Door leaf.
+  double leaf_inlier = 0.015;       ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
+  double leaf_v_low = 0.25;         ///< share of the door height where leaf points start, [0, 1]
+  double leaf_v_high = 0.85;        ///< share of the door height where they end, [0, 1]
+  double leaf_u_margin = 0.4;       ///< share of the width searched beyond each jamb, [0, 2]
+  double max_wall_thickness = 0.5;  ///< m, deepest hinge behind the wall face, [0.05, 2]
+  double leaf_hinge_front = 0.05;   ///< m, farthest hinge in front of the wall face, [0, 0.5]
+  double leaf_jamb_reach = 0.1;     ///< m, a leaf's line passes this close to a jamb, [0, 1]
+  double leaf_run_gap = 0.10;       ///< m, gap that ends the leaf's run of points, [0.01, 1]
+  /// Share of a door seen through that makes it open when no leaf is found, [0, 1]
+  double open_through_share = 0.3;
+  int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
+  double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
+  int leaf_min_points = 40;      ///< inliers a leaf needs, [3, 1e7]
+  int leaf_iterations = 400;     ///< RANSAC hypotheses, [1, 1e6]
+  int leaf_max_points = 4000;    ///< points sampled for the fit (even stride), [10, 1e8]
+  double leaf_thickness = 0.04;  ///< m, assumed for the clear width, [0, 0.2]
+  /// m, a door narrower than its leaf's points span by more than this widens to the leaf's
+  /// width (its latch jamb hidden behind the opened leaf), [0, 1]
+  double leaf_widen_margin = 0.15;
+  double closed_below_deg = 5.0;  ///< deg, paper's epsilon, [0, 45]
+  /// deg, a leaf measured this close below 90 deg is open (a leaf at 90 deg measures 90 +- 1),
+  /// [0, 10]
+  double open_tolerance_deg = 2.0;
+  /// Horizontal lines across at least half an opening's width allowed strictly inside it (a
+  /// transom, an occluder's top edge); shelves and cabinets have more, [0, 100]
+  int max_interior_lines = 3;
+  std::uint64_t seed = 1;  ///< leaf RANSAC stream
+
+  template <class V>
+  void Visit(V& v) {
+    v("orthoimage", orthoimage);
+    v("flush_depth", flush_depth, Bounds{0.005, 0.2});
+    v("recess_depth", recess_depth, Bounds{0.005, 0.5});
+    v("colour_tolerance", colour_tolerance, Bounds{1.0, 255.0});
+    v("depth_step", depth_step, Bounds{0.001, 0.1});
+    v("canny_low", canny_low, Bounds{1.0, 1000.0});
+    v("canny_high", canny_high, Bounds{1.0, 1000.0});
+    v("min_line", min_line, Bounds{0.02, 5.0});
+    v("line_gap", line_gap, Bounds{0.0, 0.5});
+    v("max_lines", max_lines, Bounds{2, 1000});
+    v("door_min_width", door_min_width, Bounds{0.1, 5.0});
+    v("door_max_width", door_max_width, Bounds{0.1, 5.0});
+    v("door_min_height", door_min_height, Bounds{0.5, 5.0});
+    v("door_max_height", door_max_height, Bounds{0.5, 5.0});
+    v("floor_tolerance", floor_tolerance, Bounds{0.0, 0.5});
+    v("window_min_width", window_min_width, Bounds{0.05, 10.0});
+    v("window_max_width", window_max_width, Bounds{0.05, 10.0});
+    v("window_min_height", window_min_height, Bounds{0.05, 5.0});
+    v("window_max_height", window_max_height, Bounds{0.05, 5.0});
+    v("min_sill", min_sill, Bounds{0.0, 3.0});
+    v("min_known_share", min_known_share, Bounds{0.0, 1.0});
+    v("min_evidence_share", min_evidence_share, Bounds{0.0, 1.0});
+    v("min_evidence_area", min_evidence_area, Bounds{0.0, 10.0});
+    v("min_side_support", min_side_support, Bounds{0.0, 1.0});
+    v("side_band", side_band, Bounds{0.0, 0.2});
+    v("min_sill_wall_share", min_sill_wall_share, Bounds{0.0, 1.0});
+    v("ring", ring, Bounds{0.01, 0.5});
+    v("casing_min", casing_min, Bounds{0.0, 0.5});
+    v("casing_max", casing_max, Bounds{0.0, 0.5});
+    v("min_casing_share", min_casing_share, Bounds{0.0, 1.0});
+    v("max_overlap", max_overlap, Bounds{0.0, 1.0});
+    v("leaf_inlier", leaf_inlier, Bounds{0.001, 0.2});
+    v("leaf_v_low", leaf_v_low, Bounds{0.0, 1.0});
+    v("leaf_v_high", leaf_v_high, Bounds{0.0, 1.0});
+    v("leaf_u_margin", leaf_u_margin, Bounds{0.0, 2.0});
+    v("max_wall_thickness", max_wall_thickness, Bounds{0.05, 2.0});
+    v("leaf_hinge_front", leaf_hinge_front, Bounds{0.0, 0.5});
+    v("leaf_jamb_reach", leaf_jamb_reach, Bounds{0.0, 1.0});
+    v("leaf_run_gap", leaf_run_gap, Bounds{0.01, 1.0});
+    v("open_through_share", open_through_share, Bounds{0.0, 1.0});
+    v("median_kernel", median_kernel, Bounds{1, 15});
+    v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
+    v("leaf_min_points", leaf_min_points, Bounds{3, 10000000});
+    v("leaf_iterations", leaf_iterations, Bounds{1, 1000000});
+    v("leaf_max_points", leaf_max_points, Bounds{10, 100000000});
+    v("leaf_thickness", leaf_thickness, Bounds{0.0, 0.2});
+    v("leaf_widen_margin", leaf_widen_margin, Bounds{0.0, 1.0});
+    v("closed_below_deg", closed_below_deg, Bounds{0.0, 45.0});
+    v("open_tolerance_deg", open_tolerance_deg, Bounds{0.0, 10.0});
+    v("max_interior_lines", max_interior_lines, Bounds{0, 100});
+    v("seed", seed);
+  }
+  void Validate() const;
+};
+
+enum class OpeningType : std::uint8_t { kDoor = 0, kWindow = 1 };
+enum class DoorState : std::uint8_t { kClosed = 0, kSemiOpen = 1, kOpen = 2 };
+const char* ToString(OpeningType t);
+const char* ToString(DoorState s);
+/// The paper's thresholds: open >= 90 deg - open_tolerance_deg, semi_open >= closed_below_deg,
+/// else closed.
+DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg = 5.0,
+                                double open_tolerance_deg = 0.0);
+
+/// One recognised opening (SM4). Rectangle in the host wall's PatchFrame (u, v) and, the same,
+/// as map-frame corners on the wall plane, counter-clockwise seen from the room, starting at
+/// (u0, v0): (u0,v0) (u1,v0) (u1,v1) (u0,v1).
+struct DetectedOpening {
+  std::string id;  ///< "opening_1", ... (numbered per room in wall order, then u)
+  OpeningType type = OpeningType::kDoor;
+  std::string host;                       ///< SM3 patch id, e.g. "wall_3"
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  ///< m, host frame: the hole, not the casing
+  std::array<Vec3, 4> corners{};          ///< map frame, on the wall plane
+  // Doors only:
+  DoorState state = DoorState::kClosed;
+  double opening_angle_deg = std::numeric_limits<double>::quiet_NaN();  ///< lambda; NaN unknown
+  double clear_width_m = 0.0;                                           ///< m, passable width
+  double confidence = 0.0;  ///< [0, 1], the validation score
+  // Diagnostics (not in sm4.json): shares of the interior.
+  double known_share = 0.0, evidence_share = 0.0, through_share = 0.0, side_support = 0.0;
+  int leaf_points = 0;  ///< inliers of the leaf fit (0: none)
+
+  double Width() const { return u1 - u0; }
+  double Height() const { return v1 - v0; }
+};
+
+/// SM4 of one room: SM3 plus its openings.
+struct Sm4Model {
+  std::string room;
+  std::vector<DetectedOpening> openings;
+};
+
+/// Per-pixel classes of step 1 (see the file comment).
+enum class OrthoClass : std::uint8_t {
+  kWall = 0,
+  kOffColour = 1,
+  kRecessed = 2,
+  kProtruding = 3,
+  kThrough = 4,
+  kOccluded = 5
+};
+
+/// Step 1 of one wall: the wall colour and the class of every pixel (Orthoimage::Index order).
+struct WallArea {
+  std::array<double, 3> wall_rgb{0, 0, 0};
+  std::vector<OrthoClass> classes;
+  double wall_share = 0.0;  ///< share of the image's pixels that are wall
+};
+WallArea SegmentWallArea(const Orthoimage& image, const OpeningParams& params);
+
+/// The openings of one wall from its orthoimage (steps 1-3) and its doors' leaves (step 4,
+/// from `points`, which may be the same as the image's). `floor_v` is the floor's v in the
+/// image's frame (0 for an SM3 wall). Ids are left empty (DetectOpenings numbers them).
+std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& image, const std::string& host,
+                                                const OrthoPoints& points,
+                                                const OpeningParams& params, double floor_v = 0.0);
+
+/// SM4 of one room: every wall patch of `sm3` imaged (BuildOrthoimage) and searched. InputError
+/// for bad params or point arrays. `images`, when not null, receives the walls' orthoimages
+/// (same order as the wall patches) for writing (WriteOrthoimagePngs) or SM5.
+Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
+                        const OpeningParams& params,
+                        std::vector<std::pair<std::string, Orthoimage>>* images = nullptr);
+
+/// The leaf of a door in [u0, u1] x [v0, v1] of `frame` (step 4): lambda (deg, NaN when no
+/// leaf is found) and the inlier count.
+struct LeafFit {
+  double lambda_deg = std::numeric_limits<double>::quiet_NaN();
+  int inliers = 0;
+  double extent = 0.0;   ///< m, span of the inliers along the fitted line
+  double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
+  Vec2 line_point = Vec2::Zero(), line_dir = Vec2::UnitX();  ///< the fitted line in (u, depth)
+};
+LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
+                    double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);
+
+/// DSM3 with SM4 (issue 15, item 5): flags VoxelSpace::kOpeningFace on every structural voxel
+/// whose centre lies within `band` (m; <= 0: one voxel edge) of an opening's plane and inside
+/// its rectangle shrunk by 3/8 of a voxel edge (every 4 x 4 surface sample of the voxel inside
+/// the opening, the evaluator's truth DSM3 rule), so it reads as `opening`. Apply it to a copy of
+/// RoomModel::Voxels() (RoomModel rebuilds its flags on every scan). Returns the voxels flagged.
+int MarkOpeningVoxels(const std::vector<DetectedOpening>& openings, VoxelSpace& voxels,
+                      double band = 0.0);
+
+/// Indices-in-order mask (1 = drop) of the points that lie on a closed door or on its casing:
+/// within `margin` (m) of the door's rectangle in its host wall's (u, v) and within `band` (m)
+/// of the host plane. For the wall refit, so a closed door never moves its wall. Openings whose
+/// host is not a patch of `patches` are ignored.
+std::vector<std::uint8_t> ClosedDoorPointMask(const std::vector<Eigen::Vector3f>& points,
+                                              const std::vector<StructuralPatch>& patches,
+                                              const std::vector<DetectedOpening>& openings,
+                                              double margin = 0.12, double band = 0.2);
+
+}  // namespace mopad::modelling

@@ -1,0 +1,273 @@
+#include "modelling/orthoimage.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/error.h"
+
+namespace mopad::modelling {
+
+void OrthoimageParams::Validate() const {
+  ValidateParams(*this, "orthoimage.");
+  if (finest_pixel > coarsest_pixel)
+    throw InputError("", "parameter 'orthoimage.finest_pixel' exceeds coarsest_pixel",
+                     std::to_string(finest_pixel), "<= " + std::to_string(coarsest_pixel));
+}
+
+PatchFrame PatchFrame::Of(const Vec3& normal, const std::vector<Vec3>& polygon) {
+  if (polygon.size() < 3)
+    throw InputError("", "orthoimage patch polygon has fewer than 3 vertices",
+                     std::to_string(polygon.size()), ">= 3");
+  if (!normal.allFinite() || normal.norm() < 1e-9)
+    throw InputError("", "orthoimage patch normal is zero or not finite");
+  PatchFrame f;
+  f.n = normal.normalized();
+  if (std::abs(f.n.z()) < 0.9) {
+    f.v = (Vec3::UnitZ() - f.n * f.n.z()).normalized();
+    f.u = f.v.cross(f.n).normalized();
+  } else {
+    f.u = (Vec3::UnitX() - f.n * f.n.x()).normalized();
+    f.v = f.n.cross(f.u).normalized();
+  }
+  double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+  for (const auto& p : polygon) {
+    if (!p.allFinite()) throw InputError("", "orthoimage patch polygon is not finite");
+    u0 = std::min(u0, f.u.dot(p)), u1 = std::max(u1, f.u.dot(p));
+    v0 = std::min(v0, f.v.dot(p)), v1 = std::max(v1, f.v.dot(p));
+  }
+  // Origin on the plane (through the polygon's first vertex) at (u0, v0).
+  const double d0 = f.n.dot(polygon.front());
+  f.origin = u0 * f.u + v0 * f.v + d0 * f.n;
+  f.width = u1 - u0;
+  f.height = v1 - v0;
+  return f;
+}
+
+Orthoimage::Orthoimage(const PatchFrame& frame, double pixel, int cols, int rows)
+    : frame_(frame), pixel_(pixel), cols_(cols), rows_(rows) {
+  const std::size_t n = static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows);
+  count_.assign(n, 0), passed_.assign(n, 0), blocked_.assign(n, 0);
+  rgb_.assign(n, {0, 0, 0});
+  rgb_sum_.assign(n, {0.0, 0.0, 0.0});
+  depth_.assign(n, std::numeric_limits<float>::quiet_NaN());
+  depth_sum_.assign(n, 0.0);
+}
+
+std::array<int, 2> Orthoimage::PixelOf(double pu, double pv) const {
+  const int c = static_cast<int>(std::floor((pu + margin_) / pixel_));
+  const int r = rows_ - 1 - static_cast<int>(std::floor((pv + margin_) / pixel_));
+  return {c, r};
+}
+
+std::array<float, 3> Orthoimage::Hsv(std::size_t i) const {
+  const float r = rgb_[i][0] / 255.0f, g = rgb_[i][1] / 255.0f, b = rgb_[i][2] / 255.0f;
+  const float mx = std::max({r, g, b}), mn = std::min({r, g, b}), d = mx - mn;
+  float h = 0.0f;
+  if (d > 0.0f) {
+    if (mx == r)
+      h = 60.0f * std::fmod((g - b) / d, 6.0f);
+    else if (mx == g)
+      h = 60.0f * ((b - r) / d + 2.0f);
+    else
+      h = 60.0f * ((r - g) / d + 4.0f);
+    if (h < 0.0f) h += 360.0f;
+  }
+  return {h, mx > 0.0f ? d / mx : 0.0f, mx};
+}
+
+void Orthoimage::AddPoint(double pu, double pv, double depth,
+                          const std::array<std::uint8_t, 3>& rgb) {
+  const auto [c, r] = PixelOf(pu, pv);
+  if (!Inside(c, r)) return;
+  const std::size_t i = Index(c, r);
+  const std::uint32_t k = ++count_[i];
+  for (int ch = 0; ch < 3; ++ch) {
+    rgb_sum_[i][ch] += rgb[ch];
+    rgb_[i][ch] = static_cast<std::uint8_t>(std::lround(rgb_sum_[i][ch] / k));
+  }
+  depth_sum_[i] += depth;
+  depth_[i] = static_cast<float>(depth_sum_[i] / k);
+}
+
+void Orthoimage::AddPassed(double pu, double pv) {
+  const auto [c, r] = PixelOf(pu, pv);
+  if (Inside(c, r)) ++passed_[Index(c, r)];
+}
+
+void Orthoimage::AddBlocked(double pu, double pv) {
+  const auto [c, r] = PixelOf(pu, pv);
+  if (Inside(c, r)) ++blocked_[Index(c, r)];
+}
+
+namespace {
+
+void CheckPoints(const OrthoPoints& in) {
+  if (in.points == nullptr || in.colours == nullptr)
+    throw InputError("", "orthoimage input has no points or no colours");
+  if (in.colours->size() != in.points->size())
+    throw InputError("", "orthoimage colours and points differ in count",
+                     std::to_string(in.colours->size()), std::to_string(in.points->size()));
+  if ((in.scan_index == nullptr) != in.scan_origins.empty())
+    throw InputError("", "orthoimage input needs both scan_index and scan_origins, or neither");
+  if (in.no_return_dirs.size() != in.no_return_scan.size())
+    throw InputError("", "orthoimage no_return_dirs and no_return_scan differ in count",
+                     std::to_string(in.no_return_dirs.size()),
+                     std::to_string(in.no_return_scan.size()));
+  for (const auto k : in.no_return_scan)
+    if (k >= in.scan_origins.size())
+      throw InputError("", "orthoimage no_return_scan out of range", std::to_string(k),
+                       "< " + std::to_string(in.scan_origins.size()));
+  if (in.scan_index != nullptr) {
+    if (in.scan_index->size() != in.points->size())
+      throw InputError("", "orthoimage scan_index and points differ in count",
+                       std::to_string(in.scan_index->size()), std::to_string(in.points->size()));
+    for (std::size_t i = 0; i < in.scan_index->size(); ++i)
+      if ((*in.scan_index)[i] >= in.scan_origins.size())
+        throw InputError("", "orthoimage scan_index out of range",
+                         std::to_string((*in.scan_index)[i]),
+                         "< " + std::to_string(in.scan_origins.size()));
+  }
+}
+
+}  // namespace
+
+double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
+                       const OrthoimageParams& params) {
+  params.Validate();
+  CheckPoints(in);
+  const double cell = params.density_cell;
+  std::map<std::pair<long, long>, int> cells;  // ordered: deterministic
+  for (const auto& pf : *in.points) {
+    const Vec3 p = pf.cast<double>();
+    if (std::abs(frame.Depth(p)) > params.band) continue;
+    const Vec2 uv = frame.ToUv(p);
+    if (uv.x() < 0 || uv.y() < 0 || uv.x() > frame.width || uv.y() > frame.height) continue;
+    ++cells[{static_cast<long>(std::floor(uv.x() / cell)),
+             static_cast<long>(std::floor(uv.y() / cell))}];
+  }
+  if (cells.empty()) return params.coarsest_pixel;
+  std::vector<int> counts;
+  counts.reserve(cells.size());
+  for (const auto& [k, c] : cells) counts.push_back(c);
+  std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
+  const double density = counts[counts.size() / 2] / (cell * cell);  // points per m^2
+  double px = std::sqrt(params.points_per_pixel / density);
+  px = std::clamp(px, params.finest_pixel, params.coarsest_pixel);
+  return std::max(params.finest_pixel, std::round(px * 1000.0) / 1000.0);
+}
+
+Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
+                           const OrthoimageParams& params, double pixel) {
+  params.Validate();
+  CheckPoints(in);
+  if (!(frame.width > 0.0) || !(frame.height > 0.0))
+    throw InputError("", "orthoimage patch has no extent",
+                     std::to_string(frame.width) + " x " + std::to_string(frame.height), "> 0");
+  if (pixel <= 0.0) pixel = ChoosePixelSize(in, frame, params);
+  const double m = params.margin;
+  const double cols_d = std::ceil((frame.width + 2 * m) / pixel - 1e-9);
+  const double rows_d = std::ceil((frame.height + 2 * m) / pixel - 1e-9);
+  if (cols_d * rows_d > params.max_pixels)
+    throw InputError("", "orthoimage too large",
+                     std::to_string(cols_d) + " x " + std::to_string(rows_d),
+                     "<= max_pixels " + std::to_string(params.max_pixels));
+  Orthoimage img(frame, pixel, static_cast<int>(cols_d), static_cast<int>(rows_d));
+  img.SetMargin(m);
+  const std::vector<double> origin_depth = [&] {
+    std::vector<double> d;
+    for (const auto& o : in.scan_origins) d.push_back(frame.Depth(o));
+    return d;
+  }();
+  for (std::size_t i = 0; i < in.points->size(); ++i) {
+    const Vec3 p = (*in.points)[i].cast<double>();
+    const double dp = frame.Depth(p);
+    if (std::abs(dp) <= params.band) {
+      const Vec2 uv = frame.ToUv(p);
+      img.AddPoint(uv.x(), uv.y(), dp, (*in.colours)[i]);
+      continue;
+    }
+    if (in.scan_index == nullptr) continue;
+    const std::size_t s = (*in.scan_index)[i];
+    const double dc = origin_depth[s];
+    if (dc <= 0.0) continue;  // the scanner is behind the plane: no evidence about it
+    const Vec3& c = in.scan_origins[s];
+    if (dp < -params.band) {
+      // The ray crossed the plane on its way: the point where it did was seen through.
+      const double t = dc / (dc - dp);
+      const Vec2 uv = frame.ToUv(c + t * (p - c));
+      img.AddPassed(uv.x(), uv.y());
+    } else if (dp < dc) {
+      // The ray stopped in front of the plane while heading for it: occluded there.
+      const double t = dc / (dc - dp);
+      const Vec2 uv = frame.ToUv(c + t * (p - c));
+      img.AddBlocked(uv.x(), uv.y());
+    }
+  }
+  for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
+    const std::size_t s = in.no_return_scan[i];
+    const double dc = origin_depth[s];
+    const double nd = frame.n.dot(in.no_return_dirs[i].cast<double>());
+    if (dc <= 0.0 || nd >= -1e-9) continue;  // behind the plane, or heading away from it
+    const double t = dc / -nd;
+    if (t < params.no_return_min_range) continue;
+    const Vec3 x = in.scan_origins[s] + t * in.no_return_dirs[i].cast<double>();
+    const Vec2 uv = frame.ToUv(x);
+    img.AddPassed(uv.x(), uv.y());
+  }
+  return img;
+}
+
+void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,
+                     OrthoPoints& out) {
+  if (scan.points.size() != static_cast<std::size_t>(scan.rows) * scan.columns)
+    throw InputError("", "scan grid and point count disagree", std::to_string(scan.points.size()),
+                     std::to_string(scan.rows) + " x " + std::to_string(scan.columns));
+  const Eigen::Matrix3d R = X_MS.linear();
+  for (std::uint32_t r = 0; r < scan.rows; ++r) {
+    const double el = scan.elevation_max - r * scan.elevation_step;
+    for (std::uint32_t c = 0; c < scan.columns; ++c) {
+      if (scan.at(r, c).valid()) continue;
+      const double az = scan.azimuth_min + c * scan.azimuth_step;
+      const Vec3 d_S(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      out.no_return_dirs.push_back((R * d_S).cast<float>());
+      out.no_return_scan.push_back(scan_index);
+    }
+  }
+}
+
+void WriteOrthoimagePngs(const Orthoimage& img, const std::string& stem) {
+  cv::Mat colour(img.Rows(), img.Cols(), CV_8UC3, cv::Scalar(0, 0, 0));
+  cv::Mat depth(img.Rows(), img.Cols(), CV_16UC1, cv::Scalar(0));
+  for (int r = 0; r < img.Rows(); ++r)
+    for (int c = 0; c < img.Cols(); ++c) {
+      const std::size_t i = img.Index(c, r);
+      if (img.Count(i) > 0) {
+        const auto rgb = img.Rgb(i);
+        colour.at<cv::Vec3b>(r, c) = cv::Vec3b(rgb[2], rgb[1], rgb[0]);  // OpenCV is BGR
+        const double q = 32768.0 + img.Depth(i) / 1e-4;
+        depth.at<std::uint16_t>(r, c) =
+            static_cast<std::uint16_t>(std::clamp(std::lround(q), 1L, 65535L));
+      } else if (img.Passed(i) > 0) {
+        colour.at<cv::Vec3b>(r, c) = cv::Vec3b(160, 120, 90);
+      } else if (img.Blocked(i) > 0) {
+        colour.at<cv::Vec3b>(r, c) = cv::Vec3b(20, 20, 110);
+      }
+    }
+  for (const auto& [path, mat] :
+       {std::pair<std::string, const cv::Mat*>{stem + "_colour.png", &colour},
+        {stem + "_depth.png", &depth}}) {
+    bool ok = false;
+    try {
+      ok = cv::imwrite(path, *mat);
+    } catch (const cv::Exception& e) {
+      throw InputError(path, "cannot write the image", e.what());
+    }
+    if (!ok) throw InputError(path, "cannot write the image");
+  }
+}
+
+}  // namespace mopad::modelling

@@ -1,0 +1,470 @@
+// SM4 (paper §3.3; issue 15): the orthoimage J_CD, opening detection from colour and depth, the
+// door leaf's angle and state, and the sm4.json file. Scenes are coloured boxes scanned by the
+// analytic ray caster of openings_scenes.h; the truth of each is the scene's own numbers.
+#include "modelling/openings.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "modelling/model_io.h"
+#include "modelling/orthoimage.h"
+#include "modelling/voxel_space.h"
+#include "tests/modelling/openings_scenes.h"
+
+namespace mopad::modelling {
+namespace {
+
+using testing::Cloud;
+using testing::HoleSpec;
+
+// ---- The orthoimage ----
+
+TEST(Orthoimage, WallFrameHasUHorizontalLeftToRightSeenFromTheRoomAndVUp) {
+  const PatchFrame f = PatchFrame::Of(testing::RoomSm3().patches[0]);  // south wall, n = +y
+  EXPECT_NEAR(f.n.dot(Vec3::UnitY()), 1.0, 1e-12);
+  EXPECT_NEAR(f.v.dot(Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_NEAR(f.u.dot(-Vec3::UnitX()), 1.0, 1e-12);  // facing -y, right hand is -x
+  EXPECT_NEAR(f.u.cross(f.v).dot(f.n), 1.0, 1e-12);
+  EXPECT_NEAR(f.width, 5.0, 1e-12);
+  EXPECT_NEAR(f.height, 2.7, 1e-12);
+  EXPECT_NEAR((f.ToMap(0, 0) - Vec3(5, 0, 0)).norm(), 0.0, 1e-12);
+}
+
+TEST(Orthoimage, CeilingFrameIsRightHandedWithUAlongX) {
+  const PatchFrame f = PatchFrame::Of(-Vec3::UnitZ(), {{0, 0, 3}, {0, 2, 3}, {4, 2, 3}, {4, 0, 3}});
+  EXPECT_NEAR(f.u.dot(Vec3::UnitX()), 1.0, 1e-12);
+  EXPECT_NEAR(f.u.cross(f.v).dot(f.n), 1.0, 1e-12);
+  EXPECT_NEAR(f.width, 4.0, 1e-12);
+}
+
+TEST(Orthoimage, PointsLandInTheirPixelWithMeanColourAndSignedDepth) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
+  std::vector<Eigen::Vector3f> pts = {
+      {4.005f, 0.03f, 1.005f}, {4.005f, 0.01f, 1.005f}, {1.0f, 0.5f, 1.0f}};
+  std::vector<std::array<std::uint8_t, 3>> rgb = {{100, 0, 0}, {200, 0, 50}, {1, 2, 3}};
+  std::vector<std::uint16_t> scan = {0, 0, 0};
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb, in.scan_index = &scan, in.scan_origins = {{2.5, 2.0, 1.0}};
+  const Orthoimage img = BuildOrthoimage(in, f, {}, 0.01);
+  EXPECT_EQ(img.Cols(), 500);
+  EXPECT_EQ(img.Rows(), 200);
+  const auto px = img.PixelOf(0.995, 1.005);  // u = 5 - x
+  ASSERT_TRUE(img.Inside(px[0], px[1]));
+  const std::size_t i = img.Index(px[0], px[1]);
+  EXPECT_EQ(img.Count(i), 2u);
+  EXPECT_EQ(img.Rgb(i)[0], 150);
+  EXPECT_EQ(img.Rgb(i)[2], 25);
+  EXPECT_NEAR(img.Depth(i), 0.02, 1e-6);
+  EXPECT_EQ(px[1], 200 - 1 - 100);  // row 0 at the top
+  // The third point is 0.5 m in front (beyond the band): its ray, extended, meets the wall.
+  std::uint32_t blocked = 0;
+  for (std::size_t k = 0; k < 500u * 200u; ++k) blocked += img.Blocked(k);
+  EXPECT_EQ(blocked, 1u);
+}
+
+TEST(Orthoimage, RaysEndingBehindTheWallMarkWherePassedThrough) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
+  // Scanner at y = 2, point at y = -2 straight behind (x = 2, z = 1): crossing at (2, 0, 1).
+  std::vector<Eigen::Vector3f> pts = {{2.0f, -2.0f, 1.0f}};
+  std::vector<std::array<std::uint8_t, 3>> rgb = {{0, 0, 0}};
+  std::vector<std::uint16_t> scan = {0};
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb, in.scan_index = &scan, in.scan_origins = {{2.0, 2.0, 1.0}};
+  const Orthoimage img = BuildOrthoimage(in, f, {}, 0.01);
+  const auto px = img.PixelOf(3.0, 1.0);
+  EXPECT_EQ(img.Passed(img.Index(px[0], px[1])), 1u);
+  EXPECT_EQ(img.Count(img.Index(px[0], px[1])), 0u);
+}
+
+TEST(Orthoimage, RaysWithoutAReturnPassTheWallWhereTheyCrossIt) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
+  // A 3 x 3 grid scan from (2, 2, 1): only the centre ray (straight along -y) returned nothing.
+  interfaces::TlsScan scan;
+  scan.rows = 3, scan.columns = 3;
+  scan.azimuth_min = -testing::kPi / 2 - 0.1, scan.azimuth_step = 0.1;
+  scan.elevation_max = 0.1, scan.elevation_step = 0.1;
+  scan.points.resize(9);
+  for (auto& p : scan.points) p.range = 1.0f;
+  scan.points[4].range = 0.0f;
+  Pose3 X_MS = Pose3::Identity();
+  X_MS.translation() = Vec3(2, 2, 1);
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<std::array<std::uint8_t, 3>> rgb;
+  std::vector<std::uint16_t> idx;
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb, in.scan_index = &idx, in.scan_origins = {X_MS.translation()};
+  AddNoReturnRays(scan, X_MS, 0, in);
+  ASSERT_EQ(in.no_return_dirs.size(), 1u);
+  EXPECT_NEAR((in.no_return_dirs[0].cast<double>() - Vec3(0, -1, 0)).norm(), 0.0, 1e-6);
+  const Orthoimage img = BuildOrthoimage(in, f, {}, 0.01);
+  const auto px = img.PixelOf(3.0, 1.0);  // (x, z) = (2, 1)
+  EXPECT_EQ(img.Passed(img.Index(px[0], px[1])), 1u);
+  in.no_return_scan[0] = 3;
+  EXPECT_THROW(BuildOrthoimage(in, f, {}, 0.01), InputError);
+}
+
+TEST(Orthoimage, PixelSizeFollowsDensityAndIsOneCentimetreWhenDenseEnough) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}});
+  auto grid = [](double spacing) {
+    std::vector<Eigen::Vector3f> p;
+    for (double x = 0.0005; x < 1; x += spacing)
+      for (double z = 0.0005; z < 1; z += spacing) p.push_back({float(x), 0.0f, float(z)});
+    return p;
+  };
+  for (const auto& [spacing, expected] : {std::pair{0.005, 0.01}, {0.02, 0.028}, {0.05, 0.05}}) {
+    const auto pts = grid(spacing);
+    const std::vector<std::array<std::uint8_t, 3>> rgb(pts.size(), {9, 9, 9});
+    OrthoPoints in;
+    in.points = &pts, in.colours = &rgb;
+    EXPECT_NEAR(ChoosePixelSize(in, f, {}), expected, 0.0011) << spacing;
+  }
+}
+
+TEST(Orthoimage, MismatchedInputIsAnInputError) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}});
+  std::vector<Eigen::Vector3f> pts = {{0.5f, 0.0f, 0.5f}};
+  std::vector<std::array<std::uint8_t, 3>> rgb;
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb;
+  EXPECT_THROW(BuildOrthoimage(in, f, {}), InputError);
+  EXPECT_THROW(PatchFrame::Of(Vec3::Zero(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}}), InputError);
+  OrthoimageParams bad;
+  bad.finest_pixel = 0.1, bad.coarsest_pixel = 0.05;
+  rgb.push_back({0, 0, 0});
+  try {
+    BuildOrthoimage(in, f, bad);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("finest_pixel"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Orthoimage, WritesColourAndSixteenBitDepthPngs) {
+  const HoleSpec h;
+  const Cloud c = testing::ScanRoom(testing::RoomScene(h));
+  const PatchFrame f = PatchFrame::Of(testing::RoomSm3().patches[0]);
+  const Orthoimage img = BuildOrthoimage(c.View(), f, {});
+  EXPECT_LE(img.Pixel(), 0.012);  // dense enough for about 1 cm
+  const std::string stem = ::testing::TempDir() + "sm4_wall";
+  WriteOrthoimagePngs(img, stem);
+  EXPECT_GT(std::filesystem::file_size(stem + "_colour.png"), 1000u);
+  EXPECT_GT(std::filesystem::file_size(stem + "_depth.png"), 1000u);
+  EXPECT_THROW(WriteOrthoimagePngs(img, "/nonexistent_dir/x"), InputError);
+}
+
+// ---- Openings in scanned scenes ----
+
+struct Found {
+  Sm4Model sm4;
+  std::vector<DetectedOpening> on_wall1;
+};
+
+Found Detect(const testing::Scene& s, const OpeningParams& p = {}) {
+  const Cloud c = testing::ScanRoom(s);
+  Found f;
+  f.sm4 = DetectOpenings(testing::RoomSm3(), c.View(), p);
+  for (const auto& o : f.sm4.openings)
+    if (o.host == "wall_1") f.on_wall1.push_back(o);
+  return f;
+}
+
+std::string Describe(const Sm4Model& m) {
+  std::string s;
+  for (const auto& o : m.openings) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "%s %s on %s u[%.3f %.3f] v[%.3f %.3f] %s lambda=%.2f conf=%.2f known=%.2f "
+                  "ev=%.2f sup=%.2f leaf=%d\n",
+                  o.id.c_str(), ToString(o.type), o.host.c_str(), o.u0, o.u1, o.v0, o.v1,
+                  ToString(o.state), o.opening_angle_deg, o.confidence, o.known_share,
+                  o.evidence_share, o.side_support, o.leaf_points);
+    s += buf;
+  }
+  return s;
+}
+
+// The hole x in [x0, x1] of the south wall is u in [5 - x1, 5 - x0].
+void ExpectHole(const DetectedOpening& o, const HoleSpec& h, double tol = 0.03) {
+  EXPECT_NEAR(o.u0, 5.0 - h.x1, tol);
+  EXPECT_NEAR(o.u1, 5.0 - h.x0, tol);
+  EXPECT_NEAR(o.v0, h.z0, tol);
+  EXPECT_NEAR(o.v1, h.z1, tol);
+}
+
+TEST(Openings, ClosedDoorWhoseCasingAndLeafHaveTheWallColourIsFoundByDepthAlone) {
+  HoleSpec h;
+  h.casing_rgb = testing::kWallRgb;
+  h.leaf_rgb = testing::kWallRgb;
+  h.swing_into_room = false;  // the leaf sits at the far face: 18 cm deep seen from here
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  EXPECT_EQ(o.type, OpeningType::kDoor);
+  ExpectHole(o, h);
+  EXPECT_EQ(o.state, DoorState::kClosed) << Describe(f.sm4);
+  EXPECT_NEAR(o.clear_width_m, 0.0, 1e-12);
+}
+
+TEST(Openings, FlushDoorOfAnotherColourIsFoundByColourAlone) {
+  HoleSpec h;
+  h.casing = false;
+  h.flush_leaf = true;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  EXPECT_EQ(o.type, OpeningType::kDoor);
+  ExpectHole(o, h);
+  EXPECT_EQ(o.state, DoorState::kClosed) << Describe(f.sm4);
+}
+
+TEST(Openings, ClosedDoorWithCasingGivesTheHoleNotTheCasing) {
+  const HoleSpec h;  // dark casing 8 cm wide, brown leaf flush with the casing's face
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  ExpectHole(f.on_wall1.at(0), h);
+  EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kClosed) << Describe(f.sm4);
+}
+
+TEST(Openings, DoorFortyPercentOccludedByACabinetIsStillFound) {
+  HoleSpec h;
+  testing::Scene s = testing::RoomScene(h);
+  // 1.0 m wide, 0.85 m tall, 0.5 m deep in front of the 0.9 x 2.1 door: ~40% of it hidden.
+  s.boxes.push_back(testing::AxisBox({1.95, 0.05, 0.0}, {2.95, 0.55, 0.85}, testing::kCabinetRgb));
+  const Found f = Detect(s);
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  EXPECT_EQ(o.type, OpeningType::kDoor);
+  ExpectHole(o, h);
+}
+
+class SemiOpenDoor : public ::testing::TestWithParam<double> {};
+
+TEST_P(SemiOpenDoor, AngleWithinThreeDegreesAndStateSemiOpen) {
+  HoleSpec h;
+  h.lambda_deg = GetParam();
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  EXPECT_EQ(o.type, OpeningType::kDoor);
+  SCOPED_TRACE(Describe(f.sm4));
+  ExpectHole(o, h, 0.05);
+  EXPECT_NEAR(o.opening_angle_deg, h.lambda_deg, 3.0) << Describe(f.sm4);
+  EXPECT_EQ(o.state, DoorState::kSemiOpen);
+  EXPECT_GT(o.clear_width_m, 0.0);
+  EXPECT_LT(o.clear_width_m, 0.9);
+}
+INSTANTIATE_TEST_SUITE_P(Lambda, SemiOpenDoor, ::testing::Values(20.0, 45.0, 70.0));
+
+TEST(Openings, DoorOpenedIntoTheRoomBehindIsMeasuredThroughTheHole) {
+  HoleSpec h;
+  h.swing_into_room = false;
+  h.lambda_deg = 45.0;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  EXPECT_NEAR(f.on_wall1.at(0).opening_angle_deg, 45.0, 3.0) << Describe(f.sm4);
+}
+
+TEST(Openings, WideOpenDoorIsOpen) {
+  HoleSpec h;
+  h.lambda_deg = 95.0;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
+}
+
+TEST(Openings, WindowWithGlassIsFoundFromTheRaysThatPassedIt) {
+  HoleSpec h;
+  h.x0 = 1.5, h.x1 = 2.7, h.z0 = 0.9, h.z1 = 2.1;
+  h.leaf = false;
+  h.glass = true;
+  h.casing_rgb = {235, 235, 235};
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  EXPECT_EQ(o.type, OpeningType::kWindow);
+  ExpectHole(o, h);
+}
+
+TEST(Openings, TallCabinetAgainstTheWallIsNotAnOpening) {
+  testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.9, 0.5, 2.0}, testing::kCabinetRgb));
+  const Found f = Detect(s);
+  EXPECT_TRUE(f.sm4.openings.empty()) << Describe(f.sm4);
+}
+
+TEST(Openings, PictureLikeSignIsNotAnOpening) {
+  testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 1.2}, {2.6, 0.01, 1.65}, {200, 40, 30}));
+  s.boxes.push_back(testing::AxisBox({3.2, 0.0, 0.9}, {4.4, 0.015, 1.8}, {30, 60, 160}));
+  const Found f = Detect(s);
+  EXPECT_TRUE(f.sm4.openings.empty()) << Describe(f.sm4);
+}
+
+TEST(Openings, OpenShelfWithAnOffColourBackIsNotADoor) {
+  // 0.9 m wide, 2.0 m tall, 0.35 m deep: a back panel 1 cm in front of the wall (another
+  // colour, on the wall's surface layer like a flush door), sides, and six boards.
+  testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
+  const testing::Rgb wood{178, 158, 122};
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.9, 0.01, 2.0}, wood));
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.02, 0.35, 2.0}, wood));
+  s.boxes.push_back(testing::AxisBox({2.88, 0.0, 0.0}, {2.9, 0.35, 2.0}, wood));
+  for (double z : {0.0, 0.4, 0.8, 1.2, 1.6, 1.98})
+    s.boxes.push_back(testing::AxisBox({2.0, 0.0, z}, {2.9, 0.35, z + 0.02}, wood));
+  const Found f = Detect(s);
+  EXPECT_TRUE(f.sm4.openings.empty()) << Describe(f.sm4);
+}
+
+TEST(Openings, SameInputGivesTheSameBytes) {
+  HoleSpec h;
+  h.lambda_deg = 30.0;
+  const Found a = Detect(testing::RoomScene(h)), b = Detect(testing::RoomScene(h));
+  EXPECT_EQ(Sm4Json(a.sm4), Sm4Json(b.sm4));
+}
+
+TEST(Openings, ClosedDoorPointsAreMaskedForTheWallRefit) {
+  StructuralModel m = testing::RoomSm3();
+  DetectedOpening o;
+  o.type = OpeningType::kDoor, o.state = DoorState::kClosed, o.host = "wall_1";
+  o.corners = {Vec3(2.9, 0, 0), Vec3(2.0, 0, 0), Vec3(2.0, 0, 2.1), Vec3(2.9, 0, 2.1)};
+  const std::vector<Eigen::Vector3f> pts = {{2.5f, 0.02f, 1.0f},   // on the leaf
+                                            {1.95f, 0.02f, 1.0f},  // on the casing
+                                            {1.0f, 0.0f, 1.0f},    // on the wall
+                                            {2.5f, 1.0f, 1.0f}};   // in the room
+  const auto mask = ClosedDoorPointMask(pts, m.patches, {o});
+  EXPECT_EQ(mask, (std::vector<std::uint8_t>{1, 1, 0, 0}));
+  o.state = DoorState::kSemiOpen;
+  EXPECT_EQ(ClosedDoorPointMask(pts, m.patches, {o}), (std::vector<std::uint8_t>(4, 0)));
+}
+
+TEST(Openings, VoxelsInsideAnOpeningReadAsOpeningWhateverTheyHold) {
+  // A 10 cm grid over x, z in [0, 3], y in [-0.1, 0.1]; the wall y = 0 is the structural layer
+  // j = 1 (y in [0, 0.1)); a closed door x in [1, 2], z in [0, 2.1] on it.
+  VoxelSpace vs(Vec3(0, -0.1, 0), 0.1, 30, 2, 30);
+  for (int k = 0; k < 30; ++k)
+    for (int i = 0; i < 30; ++i)
+      vs.MutableFlags(vs.Index(i, 1, k)) = VoxelSpace::kStructural | VoxelSpace::kOccupied;
+  DetectedOpening o;
+  o.corners = {Vec3(2, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 2.1), Vec3(2, 0, 2.1)};
+  const auto before = vs.LabelCounts();
+  EXPECT_EQ(before[int(VoxelLabel::kStructure)], 900);
+  // Columns i = 10..19 (x centres 1.05..1.95) and rows k = 0..20 (centres up to 2.05; 2.05 is
+  // within 2.1 - 0.0375 of the top): 10 x 21 voxels, the ones straddling the head stay wall.
+  EXPECT_EQ(MarkOpeningVoxels({o}, vs), 10 * 21);
+  const auto after = vs.LabelCounts();
+  EXPECT_EQ(after[int(VoxelLabel::kOpening)], 210);
+  EXPECT_EQ(after[int(VoxelLabel::kStructure)], 900 - 210);
+  EXPECT_EQ(vs.Label(vs.Index(15, 1, 5)), VoxelLabel::kOpening);
+  EXPECT_EQ(vs.Label(vs.Index(9, 1, 5)), VoxelLabel::kStructure);
+  EXPECT_EQ(vs.Label(vs.Index(15, 0, 5)), VoxelLabel::kUnseen);  // not structural: untouched
+}
+
+TEST(Openings, StateThresholdsAreThePapers) {
+  EXPECT_EQ(DoorStateFromAngleDeg(0.0), DoorState::kClosed);
+  EXPECT_EQ(DoorStateFromAngleDeg(4.99), DoorState::kClosed);
+  EXPECT_EQ(DoorStateFromAngleDeg(5.0), DoorState::kSemiOpen);
+  EXPECT_EQ(DoorStateFromAngleDeg(89.9), DoorState::kSemiOpen);
+  EXPECT_EQ(DoorStateFromAngleDeg(90.0), DoorState::kOpen);
+}
+
+TEST(Openings, ParamsRoundTripThroughYamlAndRejectBadValues) {
+  OpeningParams p;
+  p.flush_depth = 0.04, p.orthoimage.band = 0.3, p.seed = 9, p.max_lines = 33;
+  const OpeningParams q = LoadParams<OpeningParams>(SaveParams(p), "mem");
+  EXPECT_EQ(q.flush_depth, 0.04);
+  EXPECT_EQ(q.orthoimage.band, 0.3);
+  EXPECT_EQ(q.seed, 9u);
+  EXPECT_EQ(q.max_lines, 33);
+  OpeningParams bad;
+  bad.door_min_width = 3.0;
+  EXPECT_THROW(bad.Validate(), InputError);
+  EXPECT_THROW(LoadParams<OpeningParams>(LoadYamlString("flush_dept: 0.1", "t.yaml"), "t.yaml"),
+               InputError);
+}
+
+// ---- sm4.json ----
+
+TEST(Sm4File, RoundTripKeepsEveryField) {
+  Sm4Model m;
+  m.room = "R1";
+  DetectedOpening d;
+  d.id = "opening_1", d.type = OpeningType::kDoor, d.host = "wall_3";
+  d.corners = {Vec3(1, 2, 0), Vec3(2, 2, 0), Vec3(2, 2, 2.1), Vec3(1, 2, 2.1)};
+  d.state = DoorState::kSemiOpen, d.opening_angle_deg = 37.5, d.clear_width_m = 0.86;
+  d.confidence = 0.93;
+  DetectedOpening w;
+  w.id = "opening_2", w.type = OpeningType::kWindow, w.host = "wall_1";
+  w.corners = {Vec3(0, 0, 0.9), Vec3(1.2, 0, 0.9), Vec3(1.2, 0, 2.1), Vec3(0, 0, 2.1)};
+  w.confidence = 0.5;
+  DetectedOpening u = d;
+  u.id = "opening_3", u.state = DoorState::kOpen, u.opening_angle_deg = std::nan("");
+  m.openings = {d, w, u};
+  const std::string text = Sm4Json(m);
+  const auto j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["format"], "mopad-sm4");
+  EXPECT_EQ(j["version"], 1);
+  EXPECT_FALSE(j["openings"][1].contains("state"));  // doors only
+  EXPECT_TRUE(j["openings"][2]["opening_angle_deg"].is_null());
+  const Sm4Model b = ParseSm4(text, "sm4.json");
+  ASSERT_EQ(b.openings.size(), 3u);
+  EXPECT_EQ(b.room, "R1");
+  EXPECT_EQ(b.openings[0].id, "opening_1");
+  EXPECT_EQ(b.openings[0].host, "wall_3");
+  EXPECT_EQ(b.openings[0].state, DoorState::kSemiOpen);
+  EXPECT_DOUBLE_EQ(b.openings[0].opening_angle_deg, 37.5);
+  EXPECT_DOUBLE_EQ(b.openings[0].clear_width_m, 0.86);
+  EXPECT_DOUBLE_EQ(b.openings[0].confidence, 0.93);
+  EXPECT_EQ(b.openings[1].type, OpeningType::kWindow);
+  EXPECT_DOUBLE_EQ(b.openings[1].corners[2].z(), 2.1);
+  EXPECT_TRUE(std::isnan(b.openings[2].opening_angle_deg));
+  EXPECT_EQ(b.openings[2].state, DoorState::kOpen);
+  EXPECT_EQ(Sm4Json(b), text);
+}
+
+TEST(Sm4File, RoomFilesAreTheJsonAndOneColourAndDepthImagePerWall) {
+  const Cloud c = testing::ScanRoom(testing::RoomScene(HoleSpec{}));
+  std::vector<std::pair<std::string, Orthoimage>> images;
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {}, &images);
+  ASSERT_EQ(images.size(), 4u);
+  EXPECT_EQ(images[0].first, "wall_1");
+  const std::string dir = ::testing::TempDir() + "sm4_room";
+  std::filesystem::create_directories(dir);
+  WriteSm4Files(dir, m, images);
+  EXPECT_EQ(ReadSm4(dir + "/sm4.json").openings.size(), m.openings.size());
+  for (const char* w : {"wall_1", "wall_2", "wall_3", "wall_4"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/orthoimages/" + w + "_colour.png")) << w;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/orthoimages/" + w + "_depth.png")) << w;
+  }
+  EXPECT_THROW(WriteSm4Files("/nonexistent_dir/room", m, images), InputError);
+}
+
+TEST(Sm4File, MalformedFilesAreInputErrorsNamingTheField) {
+  auto msg = [](const std::string& text) {
+    try {
+      ParseSm4(text, "sm4.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(msg(R"({"format":"mopad-sm3","version":1,"room":"A","openings":[]})").find("format"),
+            std::string::npos);
+  EXPECT_NE(msg(R"({"format":"mopad-sm4","version":2,"room":"A","openings":[]})").find("version"),
+            std::string::npos);
+  EXPECT_NE(
+      msg(R"({"format":"mopad-sm4","version":1,"room":"A","openings":[{"id":"o","type":"door","host":"w","corners":[[0,0,0],[1,0,0],[1,0,1]],"confidence":1,"state":"closed","opening_angle_deg":0,"clear_width_m":0}]})")
+          .find("openings[0].corners"),
+      std::string::npos);
+  EXPECT_NE(
+      msg(R"({"format":"mopad-sm4","version":1,"room":"A","openings":[{"id":"o","type":"door","host":"w","corners":[[0,0,0],[1,0,0],[1,0,1],[0,0,1]],"confidence":1,"state":"ajar","opening_angle_deg":0,"clear_width_m":0}]})")
+          .find("state"),
+      std::string::npos);
+  EXPECT_NE(msg("{").find("JSON"), std::string::npos);
+  EXPECT_THROW(ReadSm4("/nonexistent/sm4.json"), InputError);
+}
+
+}  // namespace
+}  // namespace mopad::modelling
