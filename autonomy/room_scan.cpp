@@ -92,6 +92,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);
+      modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1), res.no_return);
       log.t_model = Since(t0);
       if (on_scan) on_scan(log.session_scan, scan);
     } else {

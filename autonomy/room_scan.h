@@ -18,6 +18,8 @@
 #include "autonomy/next_best_scan.h"
 #include "common/frames.h"
 #include "common/params.h"
+#include "modelling/openings.h"
+#include "modelling/orthoimage.h"
 #include "modelling/room_model.h"
 #include "modelling/stopping.h"
 #include "modelling/structural_model.h"
@@ -38,6 +40,7 @@ struct RoomScanParams {
   modelling::StoppingParams stopping;
   NextBestScanParams nbs = DefaultNbs();
   modelling::Sm3Params sm3;
+  modelling::OpeningParams sm4;
 
   static NextBestScanParams DefaultNbs();
   static perception::IcpParams DefaultIcp();
@@ -55,6 +58,7 @@ struct RoomScanParams {
     v("stopping", stopping);
     v("nbs", nbs);
     v("sm3", sm3);
+    v("sm4", sm4);
   }
 };
 
@@ -81,6 +85,9 @@ struct RoomScanLog {
 };
 
 struct RoomScanResult {
+  /// The accepted scans' rays without a return, in the model's scan order (SM4's evidence of
+  /// openings: a ray that returned nothing passed every plane it crossed).
+  modelling::OrthoPoints no_return;
   std::vector<RoomScanLog> scans;
   std::string stop_reason;          ///< why the mission ended (stopping rule, cap, no candidate)
   bool registration_failed = false; ///< some scan could not be registered

@@ -128,6 +128,7 @@ RunInfo ReadRunInfo(const std::string& run_json_path) {
   info.sm1 = resolve("sm1");
   info.sm2 = resolve("sm2");
   info.sm3 = resolve("sm3");
+  info.sm4 = resolve("sm4");
   info.dsm3 = resolve("dsm3");
   return info;
 }

@@ -32,6 +32,8 @@
 #include "common/params.h"
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
+#include "evaluation/metrics_openings.h"
+#include "modelling/model_io.h"
 #include "evaluation/metrics_patches.h"
 #include "evaluation/metrics_voxels.h"
 #include "evaluation/model_files.h"
@@ -61,6 +63,7 @@ struct EvalParams {
   IsprsParams isprs;
   FloorplanParams floorplan;
   TruthDsm3Params dsm3;
+  OpeningMatchParams openings;
   double report_buffer = 0.05;  ///< m, ISPRS buffer of the summary and tables, [0, 1]
   template <class V>
   void Visit(V& v) {
@@ -69,6 +72,7 @@ struct EvalParams {
     v("isprs", isprs);
     v("floorplan", floorplan);
     v("dsm3", dsm3);
+    v("openings", openings);
     v("report_buffer", report_buffer, Bounds{0.0, 1.0});
   }
 };
@@ -123,6 +127,7 @@ struct RoomResult {
   ConfusionMatrix dsm3;
   std::size_t scanners = 0;
   std::optional<ojson> mission;
+  std::optional<OpeningEvaluation> openings;  // SM4, when the run wrote sm4.json
 };
 
 ojson CountsJson(const std::vector<std::uint8_t>& labels) {
@@ -347,6 +352,10 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       if (r.mission->contains("format") && (*r.mission)["format"] == "mopad-evaluation")
         r.mission.reset();
     }
+    if (!run.sm4.empty() && fs::exists(run.sm4)) {
+      const modelling::Sm4Model sm4 = modelling::ReadSm4(run.sm4);
+      r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, run.room), params.openings);
+    }
     results.push_back(std::move(r));
   }
 
@@ -454,6 +463,12 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
         {"registration_rotation_max_deg", Num(r_max)},
         {"sm1_label_accuracy", points > 0 ? Num(correct / points) : ojson(nullptr)}};
   }
+  std::vector<OpeningEvaluation> opening_parts;
+  for (const auto& r : results)
+    if (r.openings) opening_parts.push_back(*r.openings);
+  const std::optional<OpeningEvaluation> pooled_openings =
+      opening_parts.empty() ? std::nullopt : std::optional<OpeningEvaluation>(PoolOpenings(opening_parts));
+  summary["openings"] = pooled_openings ? Ord(ToJson(*pooled_openings)) : ojson(nullptr);
   j["summary"] = summary;
   ojson rooms = ojson::array();
   for (const auto& r : results) {
@@ -474,6 +489,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       x["dsm3"] = nullptr;
     }
     x["mission"] = r.mission ? *r.mission : ojson(nullptr);
+    x["openings"] = r.openings ? Ord(ToJson(*r.openings)) : ojson(nullptr);
     rooms.push_back(x);
   }
   j["rooms"] = rooms;
@@ -530,6 +546,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       WriteTruthDsm3Ply((dir / ("dsm3_truth_" + r.run.room + ".ply")).string(), r.dsm3_voxels,
                         r.dsm3_truth);
     if (r.has_dsm3) md << "### DSM3 voxels\n\n" << MarkdownConfusionTable(r.dsm3) << "\n";
+    if (r.openings) md << "### SM4 openings\n\n" << MarkdownOpeningsTable(*r.openings) << "\n";
     if (r.mission)
       md << "### Mission figures\n\ncoverage of observable "
          << Fmt(MissionNumber(r.mission, "coverage_of_observable"), 4)

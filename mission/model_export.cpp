@@ -25,7 +25,7 @@ void WriteRunJson(const std::string& dir, const sim::SceneWorld& mw, const std::
   for (int r = 0; r < 4; ++r)
     m.push_back({X_WM.matrix()(r, 0), X_WM.matrix()(r, 1), X_WM.matrix()(r, 2), X_WM.matrix()(r, 3)});
   j["X_WM"] = m;
-  j["files"] = {{"sm1", "sm1.ply"}, {"sm2", "sm2.json"}, {"sm3", "sm3.json"}, {"dsm3", "dsm3.ply"}};
+  j["files"] = {{"sm1", "sm1.ply"}, {"sm2", "sm2.json"}, {"sm3", "sm3.json"}, {"sm4", "sm4.json"}, {"dsm3", "dsm3.ply"}};
   const std::string path = (std::filesystem::path(dir) / "run.json").string();
   std::ofstream f(path);
   if (!f) throw InputError(path, "cannot write the file");

@@ -6,6 +6,8 @@
 #include <fstream>
 
 #include "common/error.h"
+#include "modelling/model_io.h"
+#include "modelling/openings.h"
 #include "mission/model_export.h"
 
 namespace mopad::mission {
@@ -103,7 +105,21 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   Sm1TruthCollector labels(session, *mw.truth, room);
   job.mission = RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   const modelling::StructuralModel sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
-  WriteRoomOutputs(job.mission, params, session, model, sm3, dir);
+  // SM4 (paper §3.3): openings in the walls from their colour + depth orthoimages.
+  modelling::OrthoPoints ortho = std::move(job.mission.no_return);
+  ortho.points = &model.Points();
+  ortho.colours = &model.Colours();
+  ortho.scan_index = &model.ScanIndices();
+  for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
+  std::vector<std::pair<std::string, modelling::Orthoimage>> images;
+  const auto t_sm4 = std::chrono::steady_clock::now();
+  const modelling::Sm4Model sm4 = modelling::DetectOpenings(sm3, ortho, params.sm4, &images);
+  job.sm4_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sm4).count();
+  job.openings = sm4.openings.size();
+  modelling::VoxelSpace dsm3 = model.Voxels();
+  modelling::MarkOpeningVoxels(sm4.openings, dsm3);
+  WriteRoomOutputs(job.mission, params, session, model, sm3, dsm3, dir);
+  modelling::WriteSm4Files(dir, sm4, images);
   WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
   WriteModelsGlb(sm3, room, (std::filesystem::path(dir) / "models.glb").string());
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());

@@ -40,7 +40,8 @@ DriveParams RoomMissionParams::DefaultDrive() {
 
 void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& params,
                       const RobotSession& session, const modelling::RoomModel& model,
-                      const modelling::StructuralModel& sm3, const std::string& dir) {
+                      const modelling::StructuralModel& sm3, const modelling::VoxelSpace& dsm3,
+                      const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
@@ -48,7 +49,7 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   model.WriteSm1((d / "sm1.ply").string());
   io::WriteTextFile((d / "sm2.json").string(), modelling::Sm2Json(model.GetRoi(), sm3.room));
   io::WriteTextFile((d / "sm3.json").string(), modelling::Sm3Json(sm3));
-  modelling::WriteDsm3Ply(model.Voxels(), (d / "dsm3.ply").string());
+  modelling::WriteDsm3Ply(dsm3, (d / "dsm3.ply").string());
   {
     std::ofstream f(d / "model.json");
     f << model.FiguresJson() << "\n";

@@ -39,6 +39,7 @@ inline RoomMissionResult RunRoomMission(RobotSession& session, const RoomMission
 /// map.yaml, model.json, summary.json (driving figures) and room.effective.yaml.
 void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& params,
                       const RobotSession& session, const modelling::RoomModel& model,
-                      const modelling::StructuralModel& sm3, const std::string& dir);
+                      const modelling::StructuralModel& sm3, const modelling::VoxelSpace& dsm3,
+                      const std::string& dir);
 
 }  // namespace mopad::mission
