@@ -21,7 +21,7 @@
 #include "tools/commands.h"
 #include "tools/default_scene.h"
 #include "sim/scene_world.h"
-#include "tools/report.h"
+#include "mission/report.h"
 #include "mission/room_job.h"
 #include "tools/scene_summary.h"
 
@@ -47,7 +47,10 @@ void RegisterRunCommand(CLI::App& app) {
   auto config = std::make_shared<std::string>();
   auto rooms = std::make_shared<std::vector<std::string>>();
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/run");
-  cmd->add_option("--spec", *spec_path, "Scene spec YAML (default: the embedded office_5rooms)");
+  auto scene_dir = std::make_shared<std::string>();
+  auto* spec_opt = cmd->add_option("--spec", *spec_path, "Scene spec YAML (default: the embedded office_5rooms)");
+  cmd->add_option("--scene", *scene_dir, "A scene folder with its truth (mopad scene generate|random|import)")
+      ->excludes(spec_opt);
   auto* seed_opt = cmd->add_option("--seed", *seed,
                                    "Run seed: sensor noise, odometry, localisation (default: the config's "
                                    "drive.seed, else 1)");
@@ -67,33 +70,41 @@ void RegisterRunCommand(CLI::App& app) {
     OverrideIfGiven(seed_opt, *seed, params.drive.seed);
     ValidateParams(params, "room.");
 
-    // 1. The world (truth side): the scene is written out so that `mopad eval` can re-read it.
-    const scenes::SceneSpec spec =
-        spec_path->empty() ? scenes::ParseSceneSpec(kDefaultSceneSpec, kDefaultSceneSpecName)
-                           : scenes::LoadSceneSpec(*spec_path);
+    // 1. The world (truth side): a generated scene is written out so that `mopad eval` can
+    //    re-read it; a given scene folder is used where it is.
     auto t0 = Clock::now();
-    scenes::GeneratedScene g = scenes::Generate(spec);
-    scenes::WriteGeneratedScene(g, (dir / "scene").string());
+    std::string scene_name, scene_source;
+    if (scene_dir->empty()) {
+      const scenes::SceneSpec spec = spec_path->empty()
+                                         ? scenes::ParseSceneSpec(kDefaultSceneSpec, kDefaultSceneSpecName)
+                                         : scenes::LoadSceneSpec(*spec_path);
+      scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
+      scene_name = spec.name;
+      scene_source = spec_path->empty() ? kDefaultSceneSpecName : *spec_path;
+    }
+    const std::string scene_folder = scene_dir->empty() ? (dir / "scene").string() : *scene_dir;
+    const sim::SceneWorld mw = sim::LoadSceneWorld(scene_folder);
+    if (!mw.truth) throw InputError(scene_folder + ": error: the scene has no truth sidecar (scene.truth.json)");
+    if (scene_name.empty()) scene_name = mw.truth->scene_name, scene_source = scene_folder;
+    const SceneSummary summary = Summarise(mw.world->scene(), &*mw.truth, scene_folder + "/scene.glb");
     const double t_generate = Seconds(t0);
-    const SceneSummary summary = Summarise(g.scene, &g.truth, (dir / "scene/scene.glb").string());
     std::printf("scene: %s, %zu rooms, %zu walls, %zu doors, %zu windows, %zu service "
                 "components, %zu triangles (%.2f s)\n",
-                spec.name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
+                scene_name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
                 summary.bsc_total, summary.triangles, t_generate);
-    const sim::SceneWorld mw = sim::LoadSceneWorld((dir / "scene").string());
     std::vector<std::string> room_ids = *rooms;
     if (room_ids.empty())
       for (const auto& r : mw.truth->rooms) room_ids.push_back(r.id);
 
     // 2. The room-scanning mission in each room.
-    ReportInput report;
-    report.title = "OpenMoPAD run: " + spec.name;
+    mission::ReportInput report;
+    report.title = "OpenMoPAD run: " + scene_name;
     report.truth = &*mw.truth;
-    ReportTable rooms_table{"Room missions (robot side)",
+    mission::ReportTable rooms_table{"Room missions (robot side)",
                             {"room", "scans", "robot coverage", "stop reason", "max processing / scan (s)",
                              "path (m)", "SM1 points"},
                             {}};
-    ReportTable eval_table{"Evaluation against the truth",
+    mission::ReportTable eval_table{"Evaluation against the truth",
                            {"room", "coverage of observable", "coverage of total",
                             "registration error max (mm / deg)", "SM1 labels agree"},
                            {}};
@@ -137,7 +148,7 @@ void RegisterRunCommand(CLI::App& app) {
                                      Fixed(e.max_rotation_error_deg, 3),
                                  Fixed(e.labels.Accuracy(), 4)});
       for (std::size_t k = 0; k < job.scan_positions_W.size(); ++k) {
-        ReportScan rs;
+        mission::ReportScan rs;
         rs.name = id + "/" + std::to_string(k);
         rs.position = job.scan_positions_W[k];
         if (k == 0) rs.plan_points = job.plan_points_W;
@@ -165,34 +176,13 @@ void RegisterRunCommand(CLI::App& app) {
     std::fputs(run_eval.tables.c_str(), stdout);
     const double t_eval = Seconds(t0);
     const nlohmann::ordered_json& ev_summary = run_eval.summary;
-    ReportTable model_table{"Structural models against the truth (mopad eval, eval/evaluation.md)",
-                            {"figure", "value"},
-                            {}};
-    {
-      int tp = 0, n = 0, fp = 0;
-      for (const auto& [cls, d] : ev_summary.at("detection").items()) {
-        tp += d.at("tp").get<int>(), n += d.at("n_truth").get<int>(), fp += d.at("fp").get<int>();
-      }
-      auto num = [&](const nlohmann::ordered_json& v, double scale, int digits) {
-        return v.is_number() ? Fixed(scale * v.get<double>(), digits) : std::string("-");
-      };
-      model_table.rows = {
-          {"structural elements detected (walls, floors, ceilings, columns)",
-           std::to_string(tp) + " / " + std::to_string(n) + ", " + std::to_string(fp) + " false positives"},
-          {"d_v mean / max (cm)", num(ev_summary["d_v"]["mean"], 100, 2) + " / " + num(ev_summary["d_v"]["max"], 100, 2)},
-          {"d_h mean / max (cm)", num(ev_summary["d_h"]["mean"], 100, 2) + " / " + num(ev_summary["d_h"]["max"], 100, 2)},
-          {"Phi mean / max (deg)", num(ev_summary["phi_deg"]["mean"], 1, 4) + " / " + num(ev_summary["phi_deg"]["max"], 1, 4)},
-          {"ISPRS completeness / correctness at " + num(ev_summary["isprs_buffer"], 100, 0) + " cm",
-           num(ev_summary["isprs_completeness"], 1, 4) + " / " + num(ev_summary["isprs_correctness"], 1, 4)},
-          {"DSM3 structure IoU", num(ev_summary["dsm3_structure_iou"], 1, 4)},
-          {"floorplan mean room IoU", num(ev_summary["floorplan_mean_iou"], 1, 4)}};
-    }
+    const mission::ReportTable model_table = mission::ModelScoresTable(ev_summary);
 
     // 4. Summary and report.
     nlohmann::ordered_json j;
     j["job"] = "run";
-    j["scene"] = {{"spec", spec_path->empty() ? kDefaultSceneSpecName : *spec_path},
-                  {"name", spec.name},
+    j["scene"] = {{"spec", scene_source},
+                  {"name", scene_name},
                   {"rooms", summary.rooms},
                   {"walls", summary.walls},
                   {"doors", summary.doors},
@@ -211,7 +201,7 @@ void RegisterRunCommand(CLI::App& app) {
       eff << YAML::Dump(SaveParams(params)) << "\n";
     }
 
-    report.subtitle = "The robot scans every room of " + spec.name +
+    report.subtitle = "The robot scans every room of " + scene_name +
                       " from positions it chooses itself (next best scan, paper §3.1), starting "
                       "at a harness-chosen free spot per room. Seed " + std::to_string(params.drive.seed) +
                       ", TLS step " + Fixed(params.scan_step_deg, 3) + " deg.";
@@ -236,8 +226,8 @@ void RegisterRunCommand(CLI::App& app) {
                              {{"generate scene", Fixed(t_generate, 2)},
                               {"evaluate models", Fixed(t_eval, 2)},
                               {"total", Fixed(Seconds(t_start), 2)}}});
-    WriteHtmlReport(report, (dir / "report.html").string());
-    WriteMarkdownReport(report, (dir / "report.md").string());
+    mission::WriteHtmlReport(report, (dir / "report.html").string());
+    mission::WriteMarkdownReport(report, (dir / "report.md").string());
     std::printf("%zu rooms in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
                 room_ids.size(), Seconds(t_start), dir.string().c_str());
   });

@@ -1,5 +1,6 @@
+#include "common/format.h"
 #include "common/polygon.h"
-#include "tools/report.h"
+#include "mission/report.h"
 
 #include <Eigen/Geometry>
 
@@ -11,7 +12,7 @@
 
 #include "common/error.h"
 
-namespace mopad::tools {
+namespace mopad::mission {
 namespace {
 
 std::string Escape(const std::string& s) {
@@ -228,4 +229,45 @@ void WriteMarkdownReport(const ReportInput& in, const std::string& path) {
   WriteOrThrow(path, m.str());
 }
 
-}  // namespace mopad::tools
+
+ReportTable ModelScoresTable(const nlohmann::ordered_json& summary) {
+  ReportTable t{"Models against the truth (mopad eval, eval/evaluation.md)", {"figure", "value"}, {}};
+  int tp = 0, n = 0, fp = 0;
+  for (const auto& [cls, d] : summary.at("detection").items())
+    tp += d.at("tp").get<int>(), n += d.at("n_truth").get<int>(), fp += d.at("fp").get<int>();
+  auto num = [](const nlohmann::ordered_json& v, double scale, int digits) {
+    return v.is_number() ? FormatNumbers(("%." + std::to_string(digits) + "f").c_str(), scale * v.get<double>())
+                         : std::string("-");
+  };
+  auto pair = [&](const char* key, double scale, int digits) {
+    return num(summary[key]["mean"], scale, digits) + " / " + num(summary[key]["max"], scale, digits);
+  };
+  t.rows = {{"structural elements detected (walls, floors, ceilings, columns)",
+             std::to_string(tp) + " / " + std::to_string(n) + ", " + std::to_string(fp) + " false positives"},
+            {"d_v mean / max (cm)", pair("d_v", 100, 2)},
+            {"d_h mean / max (cm)", pair("d_h", 100, 2)},
+            {"Phi mean / max (deg)", pair("phi_deg", 1, 4)},
+            {"ISPRS completeness / correctness at " + num(summary["isprs_buffer"], 100, 0) + " cm",
+             num(summary["isprs_completeness"], 1, 4) + " / " + num(summary["isprs_correctness"], 1, 4)},
+            {"DSM3 structure IoU", num(summary["dsm3_structure_iou"], 1, 4)},
+            {"floorplan mean room IoU", num(summary["floorplan_mean_iou"], 1, 4)}};
+  const auto& o = summary["openings"];
+  if (o.is_object()) {
+    t.rows.push_back({"SM4 openings: precision / recall of areas",
+                      num(o["precision"], 1, 4) + " / " + num(o["recall"], 1, 4)});
+    t.rows.push_back({"SM4 openings: matched / truth, false",
+                      std::to_string(o["matched"].get<int>()) + " / " +
+                          std::to_string(o["matched"].get<int>() + o["missed"].get<int>()) + ", " +
+                          std::to_string(o["false_openings"].get<int>())});
+    t.rows.push_back({"SM4 e_abs mean / max (m2), e_r mean / max",
+                      num(o["e_abs_m2"]["mean"], 1, 3) + " / " + num(o["e_abs_m2"]["max"], 1, 3) + ", " +
+                          num(o["e_r"]["mean"], 1, 3) + " / " + num(o["e_r"]["max"], 1, 3)});
+    t.rows.push_back({"SM4 door states right; angle error median / max (deg)",
+                      std::to_string(o["door_states"]["right"].get<int>()) + " / " +
+                          std::to_string(o["door_states"]["doors"].get<int>()) + "; " +
+                          num(o["angle_error_deg"]["median"], 1, 2) + " / " + num(o["angle_error_deg"]["max"], 1, 2)});
+  }
+  return t;
+}
+
+}  // namespace mopad::mission

@@ -4,13 +4,14 @@
 // a plan-view slice of the scanned points. No external files, scripts or fonts.
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "scenes/ground_truth.h"
 
-namespace mopad::tools {
+namespace mopad::mission {
 
 struct ReportScan {
   std::string name;
@@ -34,8 +35,11 @@ struct ReportInput {
 
 /// Plan-view SVG (also embedded in the HTML). Empty string if there is nothing to draw.
 std::string PlanSvg(const ReportInput& input);
+/// The pooled model scores of `mopad eval` (evaluation.json's summary) as a report table: SM3
+/// detection, d_v, d_h, Phi, ISPRS, DSM3, floorplan, and SM4 openings when scored.
+ReportTable ModelScoresTable(const nlohmann::ordered_json& summary);
 void WriteHtmlReport(const ReportInput& input, const std::string& path);
 /// The same tables as GitHub-flavoured Markdown (for CI summaries).
 void WriteMarkdownReport(const ReportInput& input, const std::string& path);
 
-}  // namespace mopad::tools
+}  // namespace mopad::mission
