@@ -7,9 +7,9 @@
 
 namespace mopad::autonomy {
 
-std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from, const Vec2& goal,
-                                     const ExplorationParams& p, const std::vector<Pose2>& scan_poses,
-                                     std::string* why) {
+std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from,
+                                     const Vec2& goal, const ExplorationParams& p,
+                                     const std::vector<Pose2>& scan_poses, std::string* why) {
   const double pass_clearance = p.pass_clearance, target_clearance = p.target_clearance;
   const double exclusion = p.exclusion, blind_radius = p.blind_radius;
   const perception::DistanceField known(grid, /*unknown_is_obstacle=*/true);
@@ -52,7 +52,8 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
     queue.pop();
     if (d > dist[idx]) continue;
     if (idx == ti) break;
-    const perception::Cell c{static_cast<int>(idx % grid.Width()), static_cast<int>(idx / grid.Width())};
+    const perception::Cell c{static_cast<int>(idx % grid.Width()),
+                             static_cast<int>(idx / grid.Width())};
     for (int dj = -1; dj <= 1; ++dj)
       for (int di = -1; di <= 1; ++di) {
         if (di == 0 && dj == 0) continue;
@@ -86,14 +87,16 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
   };
   std::vector<Vec2> wide, any;  // along the route, in order
   for (const std::size_t k : path) {
-    const perception::Cell c{static_cast<int>(k % grid.Width()), static_cast<int>(k / grid.Width())};
+    const perception::Cell c{static_cast<int>(k % grid.Width()),
+                             static_cast<int>(k / grid.Width())};
     // Around a scan position the map is known (the LRF sweeps cover the TLS blind cone, all
     // but the LRFs' rear gap).
     bool near_scan = false;
     for (const Pose2& sp : scan_poses)
-      near_scan = near_scan || std::hypot(centre(k).x() - sp.x, centre(k).y() - sp.y) < blind_radius;
-    if (!near_scan &&
-        (grid.State(c) != perception::CellState::kFree || known.ClearanceOfCell(c) < pass_clearance))
+      near_scan =
+          near_scan || std::hypot(centre(k).x() - sp.x, centre(k).y() - sp.y) < blind_radius;
+    if (!near_scan && (grid.State(c) != perception::CellState::kFree ||
+                       known.ClearanceOfCell(c) < pass_clearance))
       break;
     if (spent(centre(k))) continue;
     any.push_back(centre(k));
@@ -104,7 +107,8 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
   std::vector<Vec2> out(wide.rbegin(), wide.rend());
   for (auto it = any.rbegin(); it != any.rend(); ++it)
     if (std::find(out.begin(), out.end(), *it) == out.end()) out.push_back(*it);
-  if (out.empty()) *why = "no progress: the route leaves the known space where the robot has already scanned";
+  if (out.empty())
+    *why = "no progress: the route leaves the known space where the robot has already scanned";
   return out;
 }
 

@@ -15,7 +15,8 @@ struct ExplorationParams {
   double target_clearance = 0.55;  ///< m, preferred clearance of a scan target
   double exclusion = 0.5;          ///< m, targets this close to an earlier scan position are spent
   double blind_radius = 0.5;       ///< m, around scan positions the map counts as known
-  double unknown_cost = 3.0;       ///< cost per metre of unknown or too narrow cells, relative to known free
+  double unknown_cost =
+      3.0;  ///< cost per metre of unknown or too narrow cells, relative to known free
 };
 
 /// An optimistic route from `from` to `goal` (unknown cells count as free; occupied cells and
@@ -29,9 +30,9 @@ struct ExplorationParams {
 /// are spent. Empty + `why`: no passable cell near the robot, the goal inside obstacles, no
 /// route even through unknown space, or no progress (the route leaves the known space where
 /// the robot has already scanned; `why` then starts with "no progress").
-std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from, const Vec2& goal,
-                                     const ExplorationParams& params, const std::vector<Pose2>& scan_poses,
-                                     std::string* why);
+std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from,
+                                     const Vec2& goal, const ExplorationParams& params,
+                                     const std::vector<Pose2>& scan_poses, std::string* why);
 
 /// Fraction of the grid cells within `radius` of `p` that are known (free or occupied).
 double KnownFraction(const perception::OccupancyGrid& grid, const Vec2& p, double radius);

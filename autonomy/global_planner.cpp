@@ -19,8 +19,8 @@
 #include <mutex>
 #include <queue>
 
-#include "common/format.h"
 #include "common/error.h"
+#include "common/format.h"
 #include "common/rng.h"
 
 namespace mopad::autonomy {
@@ -41,11 +41,16 @@ void GlobalPlannerParams::Validate() const {
 
 const char* ToString(PlanStatus s) {
   switch (s) {
-    case PlanStatus::kFound: return "found";
-    case PlanStatus::kStartInvalid: return "start_invalid";
-    case PlanStatus::kGoalInvalid: return "goal_invalid";
-    case PlanStatus::kUnreachable: return "unreachable";
-    case PlanStatus::kNoPathInBudget: return "no_path_in_budget";
+    case PlanStatus::kFound:
+      return "found";
+    case PlanStatus::kStartInvalid:
+      return "start_invalid";
+    case PlanStatus::kGoalInvalid:
+      return "goal_invalid";
+    case PlanStatus::kUnreachable:
+      return "unreachable";
+    case PlanStatus::kNoPathInBudget:
+      return "no_path_in_budget";
   }
   return "?";
 }
@@ -126,8 +131,7 @@ Vec2 ToVec(const ob::State* s) {
 struct GlobalPlanner::Impl {
   OccupancyGrid map;
   DistanceField field;
-  Impl(const OccupancyGrid& m, bool unknown_is_obstacle)
-      : map(m), field(m, unknown_is_obstacle) {}
+  Impl(const OccupancyGrid& m, bool unknown_is_obstacle) : map(m), field(m, unknown_is_obstacle) {}
 
   bool Valid(const Vec2& p, double radius) const { return field.IsFree(p, radius); }
 
@@ -136,7 +140,8 @@ struct GlobalPlanner::Impl {
     const double len = (b - a).norm();
     const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * map.Resolution()))));
     double c = std::numeric_limits<double>::infinity();
-    for (int k = 0; k <= n; ++k) c = std::min(c, field.Clearance(Vec2(a + (b - a) * (double(k) / n))));
+    for (int k = 0; k <= n; ++k)
+      c = std::min(c, field.Clearance(Vec2(a + (b - a) * (double(k) / n))));
     return c;
   }
 };
@@ -191,16 +196,20 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   if (!map.Contains(map.CellOf(s0)) || !m.field.IsFree(s0, P.min_start_clearance) ||
       start_clear < P.min_start_clearance) {
     plan.status = PlanStatus::kStartInvalid;
-    plan.message = FormatNumbers("start (%.2f, %.2f) is off the map, not known free, or too close to an "
-                       "obstacle (clearance %.2f m)", s0.x(), s0.y(), start_clear) +
+    plan.message = FormatNumbers(
+                       "start (%.2f, %.2f) is off the map, not known free, or too close to an "
+                       "obstacle (clearance %.2f m)",
+                       s0.x(), s0.y(), start_clear) +
                    FormatNumbers(", needs >= %.2f m", P.min_start_clearance);
     return plan;
   }
   const double goal_clear = m.field.Clearance(g0);
   if (!m.Valid(g0, P.robot_radius)) {
     plan.status = PlanStatus::kGoalInvalid;
-    plan.message = FormatNumbers("goal (%.2f, %.2f) is off the map, not known free, or too close to an "
-                       "obstacle (clearance %.2f m)", g0.x(), g0.y(), goal_clear) +
+    plan.message = FormatNumbers(
+                       "goal (%.2f, %.2f) is off the map, not known free, or too close to an "
+                       "obstacle (clearance %.2f m)",
+                       g0.x(), g0.y(), goal_clear) +
                    FormatNumbers(", needs >= %.2f m (robot radius)", P.robot_radius);
     return plan;
   }
@@ -238,8 +247,10 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     }
     if (!found) {
       plan.status = PlanStatus::kStartInvalid;
-      plan.message = FormatNumbers("start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
-                         "robot radius", s0.x(), s0.y(), start_clear);
+      plan.message = FormatNumbers(
+          "start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
+          "robot radius",
+          s0.x(), s0.y(), start_clear);
       return plan;
     }
     s = map.CentreOf(sc);
@@ -264,9 +275,10 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   const Cell gc = map.CellOf(g0);
   if (!comp[idx(gc)]) {
     plan.status = PlanStatus::kUnreachable;
-    plan.message = FormatNumbers("goal (%.2f, %.2f) is not connected to the start in free space with "
-                       "%.2f m clearance (closed door or blocked passage?)",
-                       g0.x(), g0.y(), P.robot_radius);
+    plan.message = FormatNumbers(
+        "goal (%.2f, %.2f) is not connected to the start in free space with "
+        "%.2f m clearance (closed door or blocked passage?)",
+        g0.x(), g0.y(), P.robot_radius);
     return plan;
   }
   auto data = std::make_shared<SamplerData>();
@@ -276,10 +288,10 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       cells.push_back(map.CentreOf({i, j}));
       // Medial axis: a local maximum of clearance along x or along y.
       const double c = m.field.ClearanceOfCell({i, j});
-      const bool ridge_x = c >= m.field.ClearanceOfCell({i - 1, j}) &&
-                           c >= m.field.ClearanceOfCell({i + 1, j});
-      const bool ridge_y = c >= m.field.ClearanceOfCell({i, j - 1}) &&
-                           c >= m.field.ClearanceOfCell({i, j + 1});
+      const bool ridge_x =
+          c >= m.field.ClearanceOfCell({i - 1, j}) && c >= m.field.ClearanceOfCell({i + 1, j});
+      const bool ridge_y =
+          c >= m.field.ClearanceOfCell({i, j - 1}) && c >= m.field.ClearanceOfCell({i, j + 1});
       if (ridge_x || ridge_y) data->medial.push_back(cells.back());
     }
   }
@@ -291,7 +303,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
 
   // 2. OMPL RRT* in R^2 over the map's extent.
   std::vector<Vec2> vertices;
-  if ((g0 - s).norm() < P.goal_tolerance || m.SegmentClearance(s, g0) >= P.robot_radius + P.shortcut_margin) {
+  if ((g0 - s).norm() < P.goal_tolerance ||
+      m.SegmentClearance(s, g0) >= P.robot_radius + P.shortcut_margin) {
     vertices = {s, g0};  // trivially straight
   } else {
     auto space = std::make_shared<ob::RealVectorStateSpace>(2);
@@ -363,7 +376,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
           const Cell nb{c.i + di[e], c.j + dj[e]};
           if (!map.Contains(nb) || !comp[idx(nb)]) continue;
           const std::size_t nk = idx(nb);
-          const double nd = d + res * (e < 4 ? 1.0 : std::sqrt(2.0)) * 0.5 * (cell_cost[k] + cell_cost[nk]);
+          const double nd =
+              d + res * (e < 4 ? 1.0 : std::sqrt(2.0)) * 0.5 * (cell_cost[k] + cell_cost[nk]);
           if (nd < dist[nk]) dist[nk] = nd, parent[nk] = k, open.emplace(nd, nk);
         }
       }
@@ -374,7 +388,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
         vertices.push_back(s);
         // Every 4th cell is enough for the shortcuts (they only remove vertices).
         for (std::size_t k = 1; k + 1 < chain.size(); k += 4)
-          vertices.push_back(map.CentreOf({static_cast<int>(chain[k] % w), static_cast<int>(chain[k] / w)}));
+          vertices.push_back(
+              map.CentreOf({static_cast<int>(chain[k] % w), static_cast<int>(chain[k] / w)}));
         vertices.push_back(g0);
       }
     }
@@ -400,7 +415,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       plan.iterations += static_cast<int>(rrt->numIterations());
       if (pdef->hasExactSolution()) {
         const auto& path = static_cast<const og::PathGeometric&>(*pdef->getSolutionPath());
-        for (std::size_t k = 0; k < path.getStateCount(); ++k) vertices.push_back(ToVec(path.getState(k)));
+        for (std::size_t k = 0; k < path.getStateCount(); ++k)
+          vertices.push_back(ToVec(path.getState(k)));
       }
     }
     if (vertices.empty()) {
@@ -414,7 +430,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       std::vector<Vec2> out{vertices.front()};
       std::size_t i = 0;
       std::vector<double> seg(vertices.size() - 1);
-      for (std::size_t k = 0; k + 1 < vertices.size(); ++k) seg[k] = m.SegmentClearance(vertices[k], vertices[k + 1]);
+      for (std::size_t k = 0; k + 1 < vertices.size(); ++k)
+        seg[k] = m.SegmentClearance(vertices[k], vertices[k + 1]);
       while (i + 1 < vertices.size()) {
         // The farthest j whose straight segment keeps min(robot_radius + margin, clearance
         // of the replaced sub-path); i + 1 always qualifies.
@@ -423,7 +440,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
         for (std::size_t j = i + 2; j < vertices.size(); ++j) {
           sub = std::min(sub, seg[j - 1]);
           const double need = std::min(P.robot_radius + P.shortcut_margin, sub);
-          if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need) best = j;
+          if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need)
+            best = j;
         }
         out.push_back(vertices[best]);
         i = best;
@@ -443,7 +461,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       simplifier.smoothBSpline(path, static_cast<unsigned>(P.smoothing_steps));
       std::vector<Vec2> smooth;
       bool ok = true;
-      for (std::size_t k = 0; k < path.getStateCount(); ++k) smooth.push_back(ToVec(path.getState(k)));
+      for (std::size_t k = 0; k < path.getStateCount(); ++k)
+        smooth.push_back(ToVec(path.getState(k)));
       for (std::size_t k = 0; k + 1 < smooth.size() && ok; ++k)
         ok = m.SegmentClearance(smooth[k], smooth[k + 1]) >= P.robot_radius;
       if (ok && smooth.size() >= 2) vertices.swap(smooth);
@@ -519,8 +538,10 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
           const Vec2 off = qc - c;
           if (off.norm() > reach) continue;
           const double side = d.x() * off.y() - d.y() * off.x();
-          if (side > 0) left.push_back(qc);
-          else if (side < 0) right.push_back(qc);
+          if (side > 0)
+            left.push_back(qc);
+          else if (side < 0)
+            right.push_back(qc);
         }
       }
       double dl = std::numeric_limits<double>::infinity(), dr = dl, gap = dl;
@@ -575,11 +596,13 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
         const Vec2 goal_p = vertices.back();
         if ((goal_p - it->centre).dot(a) > 0.0) {
           if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
-              m.SegmentClearance(p_in, it->centre) < need || m.SegmentClearance(it->centre, goal_p) < need)
+              m.SegmentClearance(p_in, it->centre) < need ||
+              m.SegmentClearance(it->centre, goal_p) < need)
             continue;
           next.insert(next.end(), {q_in, p_in, it->centre, goal_p});
         } else {  // the goal is in the doorway, before its centre
-          if (m.SegmentClearance(q_in, p_in) < need || m.SegmentClearance(p_in, goal_p) < need) continue;
+          if (m.SegmentClearance(q_in, p_in) < need || m.SegmentClearance(p_in, goal_p) < need)
+            continue;
           next.insert(next.end(), {q_in, p_in, goal_p});
         }
       } else {
@@ -636,9 +659,10 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     plan.min_clearance = std::min(plan.min_clearance, plan.path[k].clearance);
   }
   plan.status = PlanStatus::kFound;
-  plan.message = FormatNumbers("path %.2f m, min clearance %.2f m, ", plan.length, plan.min_clearance) +
-                 std::to_string(plan.passages.size()) + " passages, " +
-                 std::to_string(plan.iterations) + " RRT* iterations";
+  plan.message =
+      FormatNumbers("path %.2f m, min clearance %.2f m, ", plan.length, plan.min_clearance) +
+      std::to_string(plan.passages.size()) + " passages, " + std::to_string(plan.iterations) +
+      " RRT* iterations";
   return plan;
 }
 

@@ -13,7 +13,8 @@
 //     nearest valid cell), then a flood fill of valid cells: a goal outside the start's
 //     component is *unreachable* (a closed door, a blocked corridor) — decided exactly and
 //     quickly, before any sampling;
-//  2. a grid Dijkstra seed path (`grid_seed`, default) or OMPL RRT* (Karaman & Frazzoli 2011) minimising a clearance-weighted path length
+//  2. a grid Dijkstra seed path (`grid_seed`, default) or OMPL RRT* (Karaman & Frazzoli 2011)
+//  minimising a clearance-weighted path length
 //     (StateCostIntegralObjective, cost per metre 1 + w * max(0, 1 - clearance/preferred)),
 //     with a state sampler drawing valid cells of the start's component, biased to the medial
 //     axis of free space (MAPRM, Wilmarth et al. 1999) so that door gaps get samples;
@@ -46,27 +47,27 @@
 namespace mopad::autonomy {
 
 struct GlobalPlannerParams {
-  double robot_radius = 0.30;        ///< m, clearance every path point needs, (0, 5]
-  double min_start_clearance = 0.15; ///< m, a start with less is invalid, [0, robot_radius]
-  double preferred_clearance = 0.7;  ///< m, clearance beyond which there is no penalty, (0, 10]
-  double clearance_weight = 3.0;     ///< cost weight of missing clearance, [0, 100]
-  bool unknown_is_obstacle = true;   ///< plan only through known free cells
+  double robot_radius = 0.30;         ///< m, clearance every path point needs, (0, 5]
+  double min_start_clearance = 0.15;  ///< m, a start with less is invalid, [0, robot_radius]
+  double preferred_clearance = 0.7;   ///< m, clearance beyond which there is no penalty, (0, 10]
+  double clearance_weight = 3.0;      ///< cost weight of missing clearance, [0, 100]
+  bool unknown_is_obstacle = true;    ///< plan only through known free cells
   /// Seed path from a grid Dijkstra over the start's component with the same clearance cost
   /// (8-connected, deterministic), then the shortcuts and OMPL's B-spline smoothing; RRT* runs
   /// only when false. The grid search is exact and about 10x cheaper than 8000 RRT* iterations.
   bool grid_seed = true;
-  int max_iterations = 8000;         ///< RRT* iterations per attempt, [100, 10000000]
-  int max_attempts = 2;              ///< attempts (fresh tree, new samples) before giving up, [1, 20]
-  double range = 1.5;                ///< m, RRT* maximum extension, (0, 100]
-  double goal_bias = 0.05;           ///< fraction of samples at the goal, [0, 1]
-  double medial_axis_bias = 0.5;     ///< fraction of samples on the medial axis, [0, 1]
-  double goal_tolerance = 0.01;      ///< m, OMPL goal region radius, (0, 1]
-  double shortcut_margin = 0.15;     ///< m, see header comment, [0, 5]
-  double passage_clearance = 0.55;   ///< m, path clearance below which a passage starts, [0, 5]
-  double max_passage_length = 1.5;   ///< m, longer narrow stretches are corridors, (0, 50]
-  double passage_straight = 0.6;     ///< m, straight run through a passage centre each side
-  int smoothing_steps = 5;           ///< B-spline smoothing passes, [0, 100]
-  double waypoint_spacing = 0.05;    ///< m, spacing of the returned path, (0, 1]
+  int max_iterations = 8000;      ///< RRT* iterations per attempt, [100, 10000000]
+  int max_attempts = 2;           ///< attempts (fresh tree, new samples) before giving up, [1, 20]
+  double range = 1.5;             ///< m, RRT* maximum extension, (0, 100]
+  double goal_bias = 0.05;        ///< fraction of samples at the goal, [0, 1]
+  double medial_axis_bias = 0.5;  ///< fraction of samples on the medial axis, [0, 1]
+  double goal_tolerance = 0.01;   ///< m, OMPL goal region radius, (0, 1]
+  double shortcut_margin = 0.15;  ///< m, see header comment, [0, 5]
+  double passage_clearance = 0.55;  ///< m, path clearance below which a passage starts, [0, 5]
+  double max_passage_length = 1.5;  ///< m, longer narrow stretches are corridors, (0, 50]
+  double passage_straight = 0.6;    ///< m, straight run through a passage centre each side
+  int smoothing_steps = 5;          ///< B-spline smoothing passes, [0, 100]
+  double waypoint_spacing = 0.05;   ///< m, spacing of the returned path, (0, 1]
 
   template <class V>
   void Visit(V& v) {
@@ -94,11 +95,11 @@ struct GlobalPlannerParams {
 };
 
 enum class PlanStatus {
-  kFound,             ///< a valid path
-  kStartInvalid,      ///< start off the map, in an obstacle, or too close to one
-  kGoalInvalid,       ///< goal off the map, in an obstacle, or closer than robot_radius to one
-  kUnreachable,       ///< goal not connected to the start in free space (e.g. a closed door)
-  kNoPathInBudget,    ///< connected, but no path within the iteration budget
+  kFound,           ///< a valid path
+  kStartInvalid,    ///< start off the map, in an obstacle, or too close to one
+  kGoalInvalid,     ///< goal off the map, in an obstacle, or closer than robot_radius to one
+  kUnreachable,     ///< goal not connected to the start in free space (e.g. a closed door)
+  kNoPathInBudget,  ///< connected, but no path within the iteration budget
 };
 const char* ToString(PlanStatus s);
 
@@ -113,19 +114,19 @@ struct Passage {
 
 /// One waypoint of a planned path.
 struct PathPoint {
-  Pose2 pose;             ///< map frame; yaw along the path (goal yaw at the end)
-  double clearance = 0.0; ///< m, map clearance at the point
-  double s = 0.0;         ///< m, arc length from the start
+  Pose2 pose;              ///< map frame; yaw along the path (goal yaw at the end)
+  double clearance = 0.0;  ///< m, map clearance at the point
+  double s = 0.0;          ///< m, arc length from the start
 };
 
 struct GlobalPlan {
   PlanStatus status = PlanStatus::kNoPathInBudget;
-  std::string message;           ///< one line explaining the status
-  std::vector<PathPoint> path;   ///< empty unless kFound
-  std::vector<Passage> passages; ///< doorways crossed, in path order
-  double length = 0.0;           ///< m
-  double min_clearance = 0.0;    ///< m, over the path
-  int iterations = 0;            ///< RRT* iterations spent
+  std::string message;            ///< one line explaining the status
+  std::vector<PathPoint> path;    ///< empty unless kFound
+  std::vector<Passage> passages;  ///< doorways crossed, in path order
+  double length = 0.0;            ///< m
+  double min_clearance = 0.0;     ///< m, over the path
+  int iterations = 0;             ///< RRT* iterations spent
   bool ok() const { return status == PlanStatus::kFound; }
 };
 

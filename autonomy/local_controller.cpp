@@ -6,8 +6,8 @@
 #include <limits>
 #include <optional>
 
-#include "common/format.h"
 #include "common/error.h"
+#include "common/format.h"
 
 namespace mopad::autonomy {
 
@@ -16,8 +16,10 @@ using perception::LocalisationStatus;
 void LocalControllerParams::Validate() const {
   ValidateParams(*this, "local_controller.");
   if (min_speed > max_linear_speed || passage_speed > max_linear_speed) {
-    throw InputError("", "local_controller min_speed and passage_speed must not exceed "
-                     "max_linear_speed", std::to_string(std::max(min_speed, passage_speed)),
+    throw InputError("",
+                     "local_controller min_speed and passage_speed must not exceed "
+                     "max_linear_speed",
+                     std::to_string(std::max(min_speed, passage_speed)),
                      "<= " + std::to_string(max_linear_speed));
   }
   if (slowdown_distance < stop_distance) {
@@ -32,14 +34,22 @@ void LocalControllerParams::Validate() const {
 
 const char* ToString(NavStatus s) {
   switch (s) {
-    case NavStatus::kIdle: return "idle";
-    case NavStatus::kFollowing: return "following";
-    case NavStatus::kDoorPassage: return "door_passage";
-    case NavStatus::kRecovering: return "recovering";
-    case NavStatus::kBlocked: return "blocked";
-    case NavStatus::kArrived: return "arrived";
-    case NavStatus::kUnreachable: return "unreachable";
-    case NavStatus::kLocalisationLost: return "localisation_lost";
+    case NavStatus::kIdle:
+      return "idle";
+    case NavStatus::kFollowing:
+      return "following";
+    case NavStatus::kDoorPassage:
+      return "door_passage";
+    case NavStatus::kRecovering:
+      return "recovering";
+    case NavStatus::kBlocked:
+      return "blocked";
+    case NavStatus::kArrived:
+      return "arrived";
+    case NavStatus::kUnreachable:
+      return "unreachable";
+    case NavStatus::kLocalisationLost:
+      return "localisation_lost";
   }
   return "?";
 }
@@ -121,7 +131,9 @@ ControlOutput LocalController::Finish(NavStatus s, const std::string& message) {
 
 std::vector<double> LocalController::MedianFiltered(const interfaces::LrfScan& scan, int window) {
   const std::size_t n = scan.ranges.size();
-  auto valid = [&](double r) { return std::isfinite(r) && r >= scan.range_min && r < scan.range_max; };
+  auto valid = [&](double r) {
+    return std::isfinite(r) && r >= scan.range_min && r < scan.range_max;
+  };
   std::vector<double> out(n, std::numeric_limits<double>::quiet_NaN());
   const long h = std::max(0, window / 2);
   std::vector<double> w;
@@ -162,8 +174,10 @@ double LocalController::BoxDistance(const Vec2& q_B) const {
 
 double LocalController::FreeTravel(const std::vector<Vec2>& points_B, double v, double w,
                                    double margin, double horizon) const {
-  const double radius = std::hypot(0.5 * params_.footprint_length + std::abs(params_.footprint_offset_x),
-                                   0.5 * params_.footprint_width) + margin;
+  const double radius =
+      std::hypot(0.5 * params_.footprint_length + std::abs(params_.footprint_offset_x),
+                 0.5 * params_.footprint_width) +
+      margin;
   const double reach = std::abs(v) < 1e-9 ? radius : radius + horizon;
   // A point already within the margin (the base stopped close beside a cabinet, or was
   // pushed there) blocks only motions that bring it closer still: otherwise every motion,
@@ -281,7 +295,8 @@ std::vector<Vec2> LocalController::BasePoints(const interfaces::LrfScan& scan) c
   return pts;
 }
 
-bool LocalController::CanTurn(const Pose2& X_MB, const interfaces::LrfScan& scan, double angle) const {
+bool LocalController::CanTurn(const Pose2& X_MB, const interfaces::LrfScan& scan,
+                              double angle) const {
   std::vector<Vec2> pts = BasePoints(scan);
   if (map_obstacles_)
     for (const Vec2& q : map_obstacles_(X_MB, kMapObstacleRadius)) pts.push_back(InFrame(X_MB, q));
@@ -292,7 +307,8 @@ bool LocalController::CanTurn(const Pose2& X_MB, const interfaces::LrfScan& scan
 Vec2 LocalController::HeadingTarget(const Pose2& X_MB) const {
   for (const PassageState& p : passages_)
     if (!p.done && !p.aligned && closest_ < path_.size() && Approaching(p, path_[closest_].s))
-      return Vec2(X_MB.x, X_MB.y) + Vec2(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
+      return Vec2(X_MB.x, X_MB.y) +
+             Vec2(std::cos(p.passage.axis_yaw), std::sin(p.passage.axis_yaw));
   std::size_t k = std::min(closest_, path_.size() - 1);
   const double s_to = path_[k].s + 1.0;
   while (k + 1 < path_.size() && path_[k].s < s_to) ++k;
@@ -307,9 +323,12 @@ interfaces::VelocityCommand LocalController::Limit(interfaces::VelocityCommand c
   if (dt > 0.0) {
     // Acceleration limits on speeding up only: stopping must never be delayed here.
     if (std::abs(cmd.v) > std::abs(last_cmd_.v) && cmd.v * last_cmd_.v >= 0.0)
-      cmd.v = std::copysign(std::min(std::abs(cmd.v), std::abs(last_cmd_.v) + P.max_linear_acceleration * dt), cmd.v);
+      cmd.v = std::copysign(
+          std::min(std::abs(cmd.v), std::abs(last_cmd_.v) + P.max_linear_acceleration * dt), cmd.v);
     if (std::abs(cmd.w) > std::abs(last_cmd_.w) && cmd.w * last_cmd_.w >= 0.0)
-      cmd.w = std::copysign(std::min(std::abs(cmd.w), std::abs(last_cmd_.w) + P.max_angular_acceleration * dt), cmd.w);
+      cmd.w = std::copysign(
+          std::min(std::abs(cmd.w), std::abs(last_cmd_.w) + P.max_angular_acceleration * dt),
+          cmd.w);
   }
   return cmd;
 }
@@ -351,16 +370,19 @@ ControlOutput LocalController::StartRecovery(double time, const Pose2& X_MB,
       escape_deadline_ = time + 2.0 * length / P.backup_speed + 4.0;
       std::string arcs;
       for (const ArcMove& a : escape_)
-        arcs += std::string(arcs.empty() ? "" : ", then ") + FormatNumbers("%.1f m ", a.length) +
-                (a.v < 0 ? "back" : "forward") +
-                (std::abs(a.w) < 1e-9 ? "" : FormatNumbers(" on a %.2f m radius", std::abs(a.v / a.w)));
-      out.message = "recovery " + std::to_string(recoveries_) + "/" + std::to_string(P.max_recoveries) +
-                    ": escape manoeuvre, " + arcs + " (" + reason + ")";
+        arcs +=
+            std::string(arcs.empty() ? "" : ", then ") + FormatNumbers("%.1f m ", a.length) +
+            (a.v < 0 ? "back" : "forward") +
+            (std::abs(a.w) < 1e-9 ? "" : FormatNumbers(" on a %.2f m radius", std::abs(a.v / a.w)));
+      out.message = "recovery " + std::to_string(recoveries_) + "/" +
+                    std::to_string(P.max_recoveries) + ": escape manoeuvre, " + arcs + " (" +
+                    reason + ")";
       return out;
     }
   }
   out.message = "recovery " + std::to_string(recoveries_) + "/" + std::to_string(P.max_recoveries) +
-                (mode_ == Mode::kBackUp ? ": backing up" : ": rotating in place") + " (" + reason + ")";
+                (mode_ == Mode::kBackUp ? ": backing up" : ": rotating in place") + " (" + reason +
+                ")";
   return out;
 }
 
@@ -374,7 +396,8 @@ ControlOutput LocalController::AfterRecoveryMotion(double time, const Pose2& X_M
   out.status = NavStatus::kRecovering;
   out.recoveries = recoveries_;
   if (!replan_) {
-    out.message = "recovery " + std::to_string(recoveries_) + ": motion done, resuming (no replanner)";
+    out.message =
+        "recovery " + std::to_string(recoveries_) + ": motion done, resuming (no replanner)";
     return out;
   }
   std::vector<Vec2> obstacles;
@@ -401,7 +424,8 @@ ControlOutput LocalController::AfterRecoveryMotion(double time, const Pose2& X_M
 
 // ---- One control step: one function per mode, in the order Update runs them.
 
-LocalController::Step LocalController::BeginStep(double time, const Pose2& X_MB, const interfaces::LrfScan& scan) {
+LocalController::Step LocalController::BeginStep(double time, const Pose2& X_MB,
+                                                 const interfaces::LrfScan& scan) {
   Step c;
   c.time = time;
   c.X_MB = X_MB;
@@ -423,7 +447,8 @@ const std::vector<Vec2>& LocalController::Around(Step& c) const {
   if (!c.around) {
     c.around = c.pts;
     if (map_obstacles_)
-      for (const Vec2& q : map_obstacles_(c.X_MB, kMapObstacleRadius)) c.around->push_back(InFrame(c.X_MB, q));
+      for (const Vec2& q : map_obstacles_(c.X_MB, kMapObstacleRadius))
+        c.around->push_back(InFrame(c.X_MB, q));
   }
   return *c.around;
 }
@@ -447,16 +472,18 @@ std::optional<ControlOutput> LocalController::LocalisationStep(Step& c, Localisa
       loc == LocalisationStatus::kNotInitialised) {
     if (!lost_since_) lost_since_ = c.time;
     if (c.time - *lost_since_ > P.lost_timeout) {
-      return Finish(NavStatus::kLocalisationLost, FormatNumbers("localisation lost for %.0f s (AMCL: ", c.time - *lost_since_) +
-                                                      perception::ToString(loc) + "); stopped");
+      return Finish(NavStatus::kLocalisationLost,
+                    FormatNumbers("localisation lost for %.0f s (AMCL: ", c.time - *lost_since_) +
+                        perception::ToString(loc) + "); stopped");
     }
     ControlOutput out;
     out.status = NavStatus::kLocalisationLost;
     const bool can_turn =
         FreeTravel(Around(c), 0.0, 1.0, P.stop_distance, P.lost_turn_check) >= P.lost_turn_check;
     out.cmd = {0.0, can_turn ? P.lost_rotation_speed : 0.0};
-    out.message = std::string("localisation ") + perception::ToString(loc) +
-                  (can_turn ? ": rotating in place to re-localise" : ": stopped (no room to rotate)");
+    out.message =
+        std::string("localisation ") + perception::ToString(loc) +
+        (can_turn ? ": rotating in place to re-localise" : ": stopped (no room to rotate)");
     ResetAnchor(c);
     return Emit(c, out);
   }
@@ -476,12 +503,14 @@ ControlOutput LocalController::BackUpStep(Step& c) {
   const LocalControllerParams& P = params_;
   const double moved = std::hypot(c.X_MB.x - recovery_start_.x, c.X_MB.y - recovery_start_.y);
   const double free = FreeTravel(Around(c), -P.backup_speed, 0.0, P.stop_distance, kBackUpCheck);
-  if (moved >= P.backup_distance || free < kBackUpMinFree || c.time - anchor_time_ > P.stuck_timeout)
+  if (moved >= P.backup_distance || free < kBackUpMinFree ||
+      c.time - anchor_time_ > P.stuck_timeout)
     return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.cmd = {-P.backup_speed, 0.0};
-  out.message = FormatNumbers("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved, P.backup_distance);
+  out.message = FormatNumbers("recovery %.0f: backing up (%.2f of %.2f m)", recoveries_, moved,
+                              P.backup_distance);
   return Emit(c, out);
 }
 
@@ -502,13 +531,16 @@ ControlOutput LocalController::EscapeStep(Step& c) {
   }
   const ArcMove& b = escape_[escape_arc_];
   const double left = b.length - driven;
-  const double free = FreeTravel(Around(c), b.v, b.w, P.passage_side_margin, std::clamp(left, 0.05, 0.3));
+  const double free =
+      FreeTravel(Around(c), b.v, b.w, P.passage_side_margin, std::clamp(left, 0.05, 0.3));
   if (free < kEscapeMinFree || c.time > escape_deadline_)
-    return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));  // the map or the LRF disagree: replan
+    return Emit(c,
+                AfterRecoveryMotion(c.time, c.X_MB, c.pts));  // the map or the LRF disagree: replan
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.cmd = {b.v, b.w};
-  out.message = FormatNumbers("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
+  out.message =
+      FormatNumbers("recovery %.0f: escape manoeuvre, arc %.0f of %.0f", recoveries_,
                     static_cast<double>(escape_arc_ + 1), static_cast<double>(escape_.size()));
   return Emit(c, out);
 }
@@ -517,13 +549,16 @@ ControlOutput LocalController::RotateStep(Step& c) {
   const LocalControllerParams& P = params_;
   recovery_turned_ += std::abs(WrapAngle(c.X_MB.yaw - recovery_last_yaw_));
   recovery_last_yaw_ = c.X_MB.yaw;
-  const bool can_turn = FreeTravel(Around(c), 0.0, 1.0, P.stop_distance, kRotateCheck) >= kRotateCheck;
-  if (recovery_turned_ >= 2.0 * kPi || !can_turn || c.time - anchor_time_ > 4.0 * kPi / P.lost_rotation_speed)
+  const bool can_turn =
+      FreeTravel(Around(c), 0.0, 1.0, P.stop_distance, kRotateCheck) >= kRotateCheck;
+  if (recovery_turned_ >= 2.0 * kPi || !can_turn ||
+      c.time - anchor_time_ > 4.0 * kPi / P.lost_rotation_speed)
     return Emit(c, AfterRecoveryMotion(c.time, c.X_MB, c.pts));
   ControlOutput out;
   out.status = NavStatus::kRecovering;
   out.cmd = {0.0, std::max(P.lost_rotation_speed, P.min_recovery_rotation_speed)};
-  out.message = FormatNumbers("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_, RadToDeg(recovery_turned_));
+  out.message = FormatNumbers("recovery %.0f: rotating in place (%.0f of 360 deg)", recoveries_,
+                              RadToDeg(recovery_turned_));
   return Emit(c, out);
 }
 
@@ -576,8 +611,8 @@ LocalController::PassageState* LocalController::CurrentPassage(const Vec2& here,
 // Door passage: align with the axis first, then cross it centred between the jambs the LRF
 // sees. `margin` becomes the crossing's side margin; `turn_needed` the alignment that must be
 // free as a whole (facing away from the passage).
-void LocalController::PassageStep(const Step& c, PassageState& passage, double s_here, ControlOutput& out,
-                                  double& margin, double& turn_needed) const {
+void LocalController::PassageStep(const Step& c, PassageState& passage, double s_here,
+                                  ControlOutput& out, double& margin, double& turn_needed) const {
   const LocalControllerParams& P = params_;
   const Vec2 here(c.X_MB.x, c.X_MB.y);
   const double axis_yaw = passage.passage.axis_yaw;
@@ -591,9 +626,10 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
       const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
       out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
       if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);  // facing away: see Update
-      out.message = FormatNumbers("door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
-                        "before its centre",
-                        RadToDeg(herr), passage.passage.s - s_here);
+      out.message = FormatNumbers(
+          "door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
+          "before its centre",
+          RadToDeg(herr), passage.passage.s - s_here);
       return;
     }
   }
@@ -613,16 +649,18 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
     if (std::min(d_left, d_right) - half_w < P.passage_side_margin) {
       out.cmd = {};
       out.status = NavStatus::kBlocked;
-      out.message = FormatNumbers("door passage: side clearance %.3f m (left %.2f, right %.2f) below "
-                        "the %.2f m margin",
-                        std::min(d_left, d_right) - half_w, d_left, d_right, P.passage_side_margin);
+      out.message = FormatNumbers(
+          "door passage: side clearance %.3f m (left %.2f, right %.2f) below "
+          "the %.2f m margin",
+          std::min(d_left, d_right) - half_w, d_left, d_right, P.passage_side_margin);
       return;
     }
   }
   const double herr = WrapAngle(axis_yaw - c.X_MB.yaw);
   const double w = P.heading_gain * herr + P.centring_gain * centring;
   out.cmd = {P.passage_speed, std::clamp(w, -0.5 * P.max_angular_speed, 0.5 * P.max_angular_speed)};
-  out.message = FormatNumbers("door passage: crossing at %.2f m/s, %.3f m off centre (", P.passage_speed, -centring) +
+  out.message = FormatNumbers("door passage: crossing at %.2f m/s, %.3f m off centre (",
+                              P.passage_speed, -centring) +
                 source + ")";
 }
 
@@ -671,7 +709,8 @@ void LocalController::PursuitStep(const Step& c, double s_here, double d_goal, C
       w = std::copysign(P.max_angular_speed, w);
     }
     out.cmd = {v, w};
-    out.message = FormatNumbers("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
+    out.message =
+        FormatNumbers("following: %.2f m along the path, %.2f m to the goal", s_here, d_goal);
   }
 }
 
@@ -686,9 +725,10 @@ void LocalController::CheckMotion(Step& c, ControlOutput& out, double margin, do
     if (free < P.stop_distance + 1e-9) {
       out.cmd = {};
       out.status = NavStatus::kBlocked;
-      out.message = FormatNumbers("blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
-                        "of free travel",
-                        free);
+      out.message = FormatNumbers(
+          "blocked: an obstacle in the base LRF (not in the map) leaves %.2f m "
+          "of free travel",
+          free);
     } else if (free < P.slowdown_distance && free < horizon) {
       const double k = (free - P.stop_distance) / (P.slowdown_distance - P.stop_distance);
       const double vmin = std::min(P.min_speed, std::abs(v));
@@ -718,10 +758,14 @@ ControlOutput LocalController::BlockedOrStuck(Step& c, ControlOutput out) {
     last_blocked_time_ = c.time;
     if (!blocked_since_) blocked_since_ = c.time;
     if (c.time - *blocked_since_ >= P.blocked_wait) {
-      return Emit(c, StartRecovery(c.time, c.X_MB, out.message + FormatNumbers(" for %.1f s", c.time - *blocked_since_), c.pts),
+      return Emit(c,
+                  StartRecovery(
+                      c.time, c.X_MB,
+                      out.message + FormatNumbers(" for %.1f s", c.time - *blocked_since_), c.pts),
                   false);
     }
-    out.message += FormatNumbers("; waiting %.1f s before recovery", P.blocked_wait - (c.time - *blocked_since_));
+    out.message += FormatNumbers("; waiting %.1f s before recovery",
+                                 P.blocked_wait - (c.time - *blocked_since_));
     ResetAnchor(c);
     return Emit(c, out);
   }
@@ -736,7 +780,9 @@ ControlOutput LocalController::BlockedOrStuck(Step& c, ControlOutput out) {
   } else if (c.time - anchor_time_ > P.stuck_timeout) {
     return Emit(c,
                 StartRecovery(c.time, c.X_MB,
-                              FormatNumbers("stuck: moved %.3f m in %.1f s while commanded", moved, c.time - anchor_time_), c.pts),
+                              FormatNumbers("stuck: moved %.3f m in %.1f s while commanded", moved,
+                                            c.time - anchor_time_),
+                              c.pts),
                 false);
   }
   return Emit(c, out);
@@ -754,7 +800,8 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
 
   TrackProgress(X_MB);
   const double s_here = path_[closest_].s;
-  if (recoveries_ > 0 && s_here - s_at_last_recovery_ > P.recovery_reset_progress) recoveries_ = 0;  // made good
+  if (recoveries_ > 0 && s_here - s_at_last_recovery_ > P.recovery_reset_progress)
+    recoveries_ = 0;  // made good
   const Vec2 here(X_MB.x, X_MB.y);
   const double d_goal = (Vec2(goal_.x, goal_.y) - here).norm();
   const double yaw_err_goal = WrapAngle(goal_.yaw - X_MB.yaw);
@@ -770,16 +817,19 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
   double turn_needed = 0.0;
 
   // Goal: final approach and rotation.
-  if (mode_ == Mode::kFinalRotate && d_goal > P.final_rotate_release * P.goal_tolerance_xy) mode_ = Mode::kFollow;
+  if (mode_ == Mode::kFinalRotate && d_goal > P.final_rotate_release * P.goal_tolerance_xy)
+    mode_ = Mode::kFollow;
   if (mode_ != Mode::kFinalRotate && d_goal < P.goal_tolerance_xy) mode_ = Mode::kFinalRotate;
   if (mode_ == Mode::kFinalRotate) {
     if (!align_yaw_ || std::abs(yaw_err_goal) < DegToRad(P.goal_tolerance_yaw_deg)) {
-      return Finish(NavStatus::kArrived, FormatNumbers("arrived: %.3f m and %.2f deg from the goal", d_goal,
-                                             RadToDeg(std::abs(yaw_err_goal))));
+      return Finish(NavStatus::kArrived, FormatNumbers("arrived: %.3f m and %.2f deg from the goal",
+                                                       d_goal, RadToDeg(std::abs(yaw_err_goal))));
     }
-    const double w = std::clamp(P.heading_gain * yaw_err_goal, -P.max_angular_speed, P.max_angular_speed);
+    const double w =
+        std::clamp(P.heading_gain * yaw_err_goal, -P.max_angular_speed, P.max_angular_speed);
     out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
-    out.message = FormatNumbers("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)", d_goal, RadToDeg(yaw_err_goal));
+    out.message = FormatNumbers("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)",
+                                d_goal, RadToDeg(yaw_err_goal));
   } else if (PassageState* passage = CurrentPassage(here, s_here)) {
     PassageStep(c, *passage, s_here, out, margin, turn_needed);
   } else {

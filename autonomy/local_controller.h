@@ -38,60 +38,64 @@
 namespace mopad::autonomy {
 
 struct LocalControllerParams {
-  double max_linear_speed = 0.5;         ///< m/s, (0, 5]
-  double max_angular_speed = 1.0;        ///< rad/s, (0, 10]
-  double max_linear_acceleration = 0.8;  ///< m/s^2, speeding up only, (0, 20]
-  double max_angular_acceleration = 2.0; ///< rad/s^2, speeding up only, (0, 50]
-  double lookahead = 0.5;                ///< m, pure-pursuit lookahead, (0, 5]
-  double rotate_in_place_deg = 40.0;     ///< deg, heading error above which it turns on the spot
-  double heading_gain = 2.0;             ///< 1/s, yaw-rate per radian of heading error, (0, 20]
-  double approach_distance = 0.8;        ///< m, slow down within this of the goal, (0, 10]
-  double min_speed = 0.05;               ///< m/s, floor of the slowed speed, (0, max]
-  double goal_tolerance_xy = 0.04;       ///< m, position tolerance at the goal, (0, 1]
-  double goal_tolerance_yaw_deg = 2.0;   ///< deg, yaw tolerance at the goal, (0, 90]
-  double footprint_length = 0.6;         ///< m, along base_link x, (0, 5]
-  double footprint_width = 0.5;          ///< m, along base_link y, (0, 5]
-  double footprint_offset_x = 0.0;       ///< m, footprint centre ahead of base_link, [-2, 2]
-  double safety_margin = 0.06;           ///< m, added around the footprint when checking, [0, 1]
-  double collision_horizon = 2.0;        ///< s, forward simulation of the command, (0, 20]
-  double stop_distance = 0.04;           ///< m, free travel below which the base stops, [0, 1]
-  double slowdown_distance = 0.8;        ///< m, free travel below which speed scales down
-  double passage_speed = 0.2;            ///< m/s, speed through passages, (0, max]
-  double passage_align_deg = 4.0;        ///< deg, heading tolerance before entering, (0, 45]
-  double passage_entry_distance = 0.7;   ///< m before the narrowest point where it aligns
-  double passage_side_margin = 0.03;     ///< m, minimum side clearance while crossing, [0, 1]
-  double centring_gain = 2.0;            ///< rad/s per m of off-centre, [0, 50]
-  double blocked_wait = 2.0;             ///< s blocked before a recovery starts, [0, 600]
-  double stuck_timeout = 4.0;            ///< s without progress before a recovery, (0, 600]
-  double progress_distance = 0.05;       ///< m of motion that counts as progress, (0, 5]
-  double backup_distance = 0.25;         ///< m, recovery back-up length, (0, 5]
-  double backup_speed = 0.12;            ///< m/s, (0, 1]; also the escape manoeuvre's speed
-  double escape_arc_length = 0.8;        ///< m, longest arc of an escape manoeuvre; 0 = none
-  int max_recoveries = 4;                ///< recoveries before giving up as blocked, [0, 100]
-  double replan_radius = 2.5;            ///< m, LRF points within this are passed to replans
+  double max_linear_speed = 0.5;          ///< m/s, (0, 5]
+  double max_angular_speed = 1.0;         ///< rad/s, (0, 10]
+  double max_linear_acceleration = 0.8;   ///< m/s^2, speeding up only, (0, 20]
+  double max_angular_acceleration = 2.0;  ///< rad/s^2, speeding up only, (0, 50]
+  double lookahead = 0.5;                 ///< m, pure-pursuit lookahead, (0, 5]
+  double rotate_in_place_deg = 40.0;      ///< deg, heading error above which it turns on the spot
+  double heading_gain = 2.0;              ///< 1/s, yaw-rate per radian of heading error, (0, 20]
+  double approach_distance = 0.8;         ///< m, slow down within this of the goal, (0, 10]
+  double min_speed = 0.05;                ///< m/s, floor of the slowed speed, (0, max]
+  double goal_tolerance_xy = 0.04;        ///< m, position tolerance at the goal, (0, 1]
+  double goal_tolerance_yaw_deg = 2.0;    ///< deg, yaw tolerance at the goal, (0, 90]
+  double footprint_length = 0.6;          ///< m, along base_link x, (0, 5]
+  double footprint_width = 0.5;           ///< m, along base_link y, (0, 5]
+  double footprint_offset_x = 0.0;        ///< m, footprint centre ahead of base_link, [-2, 2]
+  double safety_margin = 0.06;            ///< m, added around the footprint when checking, [0, 1]
+  double collision_horizon = 2.0;         ///< s, forward simulation of the command, (0, 20]
+  double stop_distance = 0.04;            ///< m, free travel below which the base stops, [0, 1]
+  double slowdown_distance = 0.8;         ///< m, free travel below which speed scales down
+  double passage_speed = 0.2;             ///< m/s, speed through passages, (0, max]
+  double passage_align_deg = 4.0;         ///< deg, heading tolerance before entering, (0, 45]
+  double passage_entry_distance = 0.7;    ///< m before the narrowest point where it aligns
+  double passage_side_margin = 0.03;      ///< m, minimum side clearance while crossing, [0, 1]
+  double centring_gain = 2.0;             ///< rad/s per m of off-centre, [0, 50]
+  double blocked_wait = 2.0;              ///< s blocked before a recovery starts, [0, 600]
+  double stuck_timeout = 4.0;             ///< s without progress before a recovery, (0, 600]
+  double progress_distance = 0.05;        ///< m of motion that counts as progress, (0, 5]
+  double backup_distance = 0.25;          ///< m, recovery back-up length, (0, 5]
+  double backup_speed = 0.12;             ///< m/s, (0, 1]; also the escape manoeuvre's speed
+  double escape_arc_length = 0.8;         ///< m, longest arc of an escape manoeuvre; 0 = none
+  int max_recoveries = 4;                 ///< recoveries before giving up as blocked, [0, 100]
+  double replan_radius = 2.5;             ///< m, LRF points within this are passed to replans
   /// Each LRF range is replaced by the median of this many neighbours (odd; 1 = raw) before
   /// any check, as a laser median filter does. [1, 31]
   int range_median_window = 5;
-  double lost_rotation_speed = 0.3;      ///< rad/s while localisation is lost, [0, 5]
-  double lost_timeout = 30.0;            ///< s lost before giving up, (0, 3600]
-  double lost_turn_check = 0.3;          ///< rad of turn that must be free to rotate while lost, (0, 6.3]
+  double lost_rotation_speed = 0.3;  ///< rad/s while localisation is lost, [0, 5]
+  double lost_timeout = 30.0;        ///< s lost before giving up, (0, 3600]
+  double lost_turn_check = 0.3;  ///< rad of turn that must be free to rotate while lost, (0, 6.3]
   double min_recovery_rotation_speed = 0.3;  ///< rad/s, floor of the recovery rotation, [0, 5]
-  double min_turn_speed = 0.08;          ///< rad/s, floor of alignment and final-rotation turns, [0, 5]
-  double min_path_turn_speed = 0.1;      ///< rad/s, floor of a turn on the spot toward the path, [0, 5]
-  double min_turn_check = 0.15;          ///< rad, a turn on the spot must have at least this free, (0, 6.3]
-  double path_search_window = 2.0;       ///< m of path ahead of the last closest point searched, (0, 100]
+  double min_turn_speed = 0.08;      ///< rad/s, floor of alignment and final-rotation turns, [0, 5]
+  double min_path_turn_speed = 0.1;  ///< rad/s, floor of a turn on the spot toward the path, [0, 5]
+  double min_turn_check = 0.15;  ///< rad, a turn on the spot must have at least this free, (0, 6.3]
+  double path_search_window =
+      2.0;  ///< m of path ahead of the last closest point searched, (0, 100]
   /// m: farther than this from the closest point of that window, the whole path is searched
   /// (the estimate jumped). (0, 100]
   double path_reacquire_distance = 1.0;
-  double recovery_reset_progress = 1.0;  ///< m of path made good after which recoveries count from 0, (0, 100]
-  double final_approach_distance = 0.3;  ///< m from the goal where the final approach starts, (0, 5]
-  double final_approach_speed = 0.1;     ///< m/s, largest speed of the final approach, (0, 1]
-  double final_approach_turn_rate = 0.6; ///< rad/s, largest turn rate of the final approach, (0, 10]
+  double recovery_reset_progress =
+      1.0;  ///< m of path made good after which recoveries count from 0, (0, 100]
+  double final_approach_distance =
+      0.3;                            ///< m from the goal where the final approach starts, (0, 5]
+  double final_approach_speed = 0.1;  ///< m/s, largest speed of the final approach, (0, 1]
+  double final_approach_turn_rate =
+      0.6;  ///< rad/s, largest turn rate of the final approach, (0, 10]
   /// The final rotation gives way to following again beyond this many goal_tolerance_xy. [1, 100]
   double final_rotate_release = 2.5;
   /// m the body's rear must be past a passage's narrowest point for the crossing to end, [0, 5]
   double passage_exit_clearance = 0.2;
-  double progress_turn = 0.1;            ///< rad of turn that counts as progress, (0, 6.3]
+  double progress_turn = 0.1;  ///< rad of turn that counts as progress, (0, 6.3]
   /// s free after which a base blocked at the edge of the stop distance stops counting as
   /// blocked for the recovery timer, [0, 600]
   double blocked_release_time = 1.0;
@@ -175,7 +179,7 @@ struct ControlOutput {
   NavStatus status = NavStatus::kIdle;
   std::string message;  ///< one line: what and why (distances in m)
   bool finished = false;
-  int recoveries = 0;   ///< recoveries used so far on this goal
+  int recoveries = 0;  ///< recoveries used so far on this goal
 };
 
 /// Replanner callback: a new plan from `X_MB` to the goal, avoiding `obstacles_M` (LRF points
@@ -227,7 +231,8 @@ class LocalController {
   /// `points_B` (base_link) and ends where the base can turn on the spot toward `target_B`
   /// (base_link), or already faces it within rotate_in_place_deg with 0.3 m free ahead.
   /// Empty when there is none. Exposed for tests.
-  std::vector<ArcMove> EscapeManoeuvre(const std::vector<Vec2>& points_B, const Vec2& target_B) const;
+  std::vector<ArcMove> EscapeManoeuvre(const std::vector<Vec2>& points_B,
+                                       const Vec2& target_B) const;
 
   /// The scan's returns in base_link, each range the median of its neighbours'
   /// (range_median_window).
@@ -272,9 +277,10 @@ class LocalController {
   ControlOutput RotateStep(Step& c);
   void TrackProgress(const Pose2& X_MB);
   PassageState* CurrentPassage(const Vec2& here, double s_here);
-  void PassageStep(const Step& c, PassageState& passage, double s_here, ControlOutput& out, double& margin,
+  void PassageStep(const Step& c, PassageState& passage, double s_here, ControlOutput& out,
+                   double& margin, double& turn_needed) const;
+  void PursuitStep(const Step& c, double s_here, double d_goal, ControlOutput& out,
                    double& turn_needed) const;
-  void PursuitStep(const Step& c, double s_here, double d_goal, ControlOutput& out, double& turn_needed) const;
   void CheckMotion(Step& c, ControlOutput& out, double margin, double turn_needed);
   ControlOutput BlockedOrStuck(Step& c, ControlOutput out);
 
@@ -318,8 +324,8 @@ class LocalController {
   Pose2 recovery_start_;
   double recovery_turned_ = 0.0, recovery_last_yaw_ = 0.0;
   std::string recovery_reason_;
-  bool turn_blocked_ = false;     // the last blocked step was a turn on the spot
-  std::vector<ArcMove> escape_;   // the escape manoeuvre under way
+  bool turn_blocked_ = false;    // the last blocked step was a turn on the spot
+  std::vector<ArcMove> escape_;  // the escape manoeuvre under way
   std::size_t escape_arc_ = 0;
   Pose2 escape_arc_start_;
   double escape_deadline_ = 0.0;

@@ -1,5 +1,6 @@
 #include "autonomy/navigator.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,11 +8,9 @@
 #include <optional>
 #include <set>
 
-#include <Eigen/Eigenvalues>
-
 #include "autonomy/exploration.h"
-#include "common/format.h"
 #include "common/error.h"
+#include "common/format.h"
 #include "perception/point_cloud_ops.h"
 
 namespace mopad::autonomy {
@@ -61,11 +60,16 @@ ExplorationParams ExplorationParamsOf(const NavigatorParams& p) {
 
 const char* ToString(DriveStatus s) {
   switch (s) {
-    case DriveStatus::kArrived: return "arrived";
-    case DriveStatus::kUnreachable: return "unreachable";
-    case DriveStatus::kBlocked: return "blocked";
-    case DriveStatus::kLocalisationLost: return "localisation_lost";
-    case DriveStatus::kTimeout: return "timeout";
+    case DriveStatus::kArrived:
+      return "arrived";
+    case DriveStatus::kUnreachable:
+      return "unreachable";
+    case DriveStatus::kBlocked:
+      return "blocked";
+    case DriveStatus::kLocalisationLost:
+      return "localisation_lost";
+    case DriveStatus::kTimeout:
+      return "timeout";
   }
   return "?";
 }
@@ -155,11 +159,11 @@ struct Navigator::Impl {
   Pose2 goal_M{};
   Pose2 target_M{};
   bool final_leg = true;
-  int nav_scans = 0;            // scans taken by the current NavigateTo
-  int relegs = 0;               // legs planned again by the current NavigateTo since its last scan
-  int map_replans = 0;          // legs replanned because the driving sweeps put an obstacle on them
-  bool looked_around = false;   // since the last scan (LookAround)
-  std::vector<Vec2> leg_path;   // the path being followed (map)
+  int nav_scans = 0;           // scans taken by the current NavigateTo
+  int relegs = 0;              // legs planned again by the current NavigateTo since its last scan
+  int map_replans = 0;         // legs replanned because the driving sweeps put an obstacle on them
+  bool looked_around = false;  // since the last scan (LookAround)
+  std::vector<Vec2> leg_path;  // the path being followed (map)
 
   double t = 0.0;    // s, platform time
   Pose2 X_MB_est{};  // map frame := base_link at the first scan
@@ -210,7 +214,8 @@ struct Navigator::Impl {
   // Robot side: one turn on the spot, mapping the LRF sweeps. The LRFs see 270 deg and the TLS
   // nothing within its minimum range (1.5 m for the VZ-400), so a wall close behind the base
   // stays unknown at a scan position, and an optimistic route can leave the room through it
-  // (docs/navigation.md, the look-around). Turns as far as the base LRF and the map leave room, up to 360 deg.
+  // (docs/navigation.md, the look-around). Turns as far as the base LRF and the map leave room, up
+  // to 360 deg.
   void LookAround() {
     looked_around = true;
     const double start_time = t;
@@ -227,7 +232,8 @@ struct Navigator::Impl {
     }
     cmd = {};
     if (params.trace)
-      std::fprintf(stderr, "t=%.2f looked around: turned %.0f deg in %.1f s\n", t, RadToDeg(turned), t - start_time);
+      std::fprintf(stderr, "t=%.2f looked around: turned %.0f deg in %.1f s\n", t, RadToDeg(turned),
+                   t - start_time);
     planner->SetMap(grid);
   }
 
@@ -285,9 +291,9 @@ struct Navigator::Impl {
                       est.status == perception::LocalisationStatus::kRelocalising;
     if (lost && !was_lost) ++log.lost_events;
     if (params.trace && log.estimated.size() % 50 == 0)
-      std::fprintf(stderr, "   amcl est (%.2f %.2f) %s (%s) n=%d inl=%.2f odom (%.2f %.2f)\n", X_MB_est.x,
-                   X_MB_est.y, perception::ToString(est.status), est.message.c_str(), est.particles,
-                   est.inlier_ratio, odom.X_OB.x, odom.X_OB.y);
+      std::fprintf(stderr, "   amcl est (%.2f %.2f) %s (%s) n=%d inl=%.2f odom (%.2f %.2f)\n",
+                   X_MB_est.x, X_MB_est.y, perception::ToString(est.status), est.message.c_str(),
+                   est.particles, est.inlier_ratio, odom.X_OB.x, odom.X_OB.y);
     was_lost = lost;
     X_MB_est = est.PoseAt(odom.X_OB);
     log.estimated.push_back({t, X_MB_est});
@@ -306,7 +312,8 @@ struct Navigator::Impl {
     ++nav_scans;
     looked_around = false;
     log.scan_poses.push_back(X_MB_est);
-    batches.push_back(ScanPointsInMap(last_scan, last_scan.X_MS_estimate, params.grid.obstacle_z_max + 0.1,
+    batches.push_back(ScanPointsInMap(last_scan, last_scan.X_MS_estimate,
+                                      params.grid.obstacle_z_max + 0.1,
                                       params.max_points_per_scan));
     batch_origins.push_back(last_scan.X_MS_estimate.translation());
     scan_sweeps_at = map_sweeps.size();
@@ -315,7 +322,8 @@ struct Navigator::Impl {
     map_sweeps.push_back({platform.TopSweep(), X_MB_est, inf});
     RebuildMap();
     RestartLocaliser(X_MB_est);
-    if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated) ++log.amcl_updates;
+    if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated)
+      ++log.amcl_updates;
     if (first) log.estimated.push_back({t, X_MB_est});
     // The base stands still while the head turns, stepped like any other time.
     const double t_end = t + still_for;
@@ -338,12 +346,14 @@ struct Navigator::Impl {
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov_xy);
         amcl_sigma = std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
       }
-      const perception::RegistrationDecision d =
-          perception::AcceptRegistration(r, last_scan.X_MS_estimate, params.icp, params.acceptance, amcl_sigma);
-      log.scan_registration_messages.push_back("scan " + std::to_string(log.tls_scans) + ": " + d.message);
+      const perception::RegistrationDecision d = perception::AcceptRegistration(
+          r, last_scan.X_MS_estimate, params.icp, params.acceptance, amcl_sigma);
+      log.scan_registration_messages.push_back("scan " + std::to_string(log.tls_scans) + ": " +
+                                               d.message);
       if (!d.use) {
         ++log.scan_registrations_failed;
-        if (params.trace) std::fprintf(stderr, "t=%.2f scan registration refused: %s\n", t, r.message.c_str());
+        if (params.trace)
+          std::fprintf(stderr, "t=%.2f scan registration refused: %s\n", t, r.message.c_str());
       } else {
         r.ok || d.creeping ? ++log.scan_registrations_ok : ++log.scan_registrations_degenerate;
         last_scan.X_MS_estimate = r.X_MS;
@@ -353,7 +363,8 @@ struct Navigator::Impl {
     // A refused scan joins too, with its AMCL pose: it is usually the first look into new
     // space (a room entered through its door), and without it no later scan there would find
     // a counterpart. Its error is what the map would carry without registration.
-    scan_map->Add(perception::Transform(pts, last_scan.X_MS_estimate), last_scan.X_MS_estimate.translation());
+    scan_map->Add(perception::Transform(pts, last_scan.X_MS_estimate),
+                  last_scan.X_MS_estimate.translation());
   }
 
   void CorrectLastScanPose(const Pose3& X_MS) {
@@ -372,7 +383,8 @@ struct Navigator::Impl {
     const Pose2 now = Compose(Compose(X_MB_scan, Inverse(old)), X_MB_est);
     X_MB_est = now;
     RestartLocaliser(now);
-    if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated) ++log.amcl_updates;
+    if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated)
+      ++log.amcl_updates;
   }
 
   // Robot side: both LRF sweeps into the map every map_lrf_period while localised (not into
@@ -418,7 +430,8 @@ struct Navigator::Impl {
       if (occupied_near(leg_path[k], r)) return true;
     }
     return (leg_path.back() - here).norm() <= params.map_lrf_range &&
-           (leg_path.back() - here).norm() >= 0.4 && occupied_near(leg_path.back(), params.planner.robot_radius);
+           (leg_path.back() - here).norm() >= 0.4 &&
+           occupied_near(leg_path.back(), params.planner.robot_radius);
   }
 
   // A leg ended blocked or unreachable: plan it again (true) with what the LRFs added to the
@@ -431,9 +444,11 @@ struct Navigator::Impl {
     if (params.trace) std::fprintf(stderr, "t=%.2f re-leg %d after: %s\n", t, relegs, why.c_str());
     bool fresh = nav_scans + 1 < params.max_scans;
     for (const Pose2& sp : log.scan_poses)
-      fresh = fresh && std::hypot(X_MB_est.x - sp.x, X_MB_est.y - sp.y) >= params.frontier_exclusion;
+      fresh =
+          fresh && std::hypot(X_MB_est.x - sp.x, X_MB_est.y - sp.y) >= params.frontier_exclusion;
     if (fresh) {
-      if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated) ++log.amcl_updates;
+      if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated)
+        ++log.amcl_updates;
       const auto& e = amcl->Estimate();
       fresh = e.status == perception::LocalisationStatus::kLocalised &&
               e.inlier_ratio >= params.amcl.lost_inlier_ratio;
@@ -456,7 +471,8 @@ struct Navigator::Impl {
     final_leg = final;
     // A scan position needs no particular heading (the TLS turns 360 deg): arrive along the
     // path instead of turning on the spot, which a doorway may not allow.
-    if (!final && plan.path.size() >= 2) plan.path.back().pose.yaw = plan.path[plan.path.size() - 2].pose.yaw;
+    if (!final && plan.path.size() >= 2)
+      plan.path.back().pose.yaw = plan.path[plan.path.size() - 2].pose.yaw;
     target_M = plan.path.back().pose;
     leg_path.clear();
     for (const auto& q : plan.path) leg_path.emplace_back(q.pose.x, q.pose.y);
@@ -464,8 +480,9 @@ struct Navigator::Impl {
     for (const auto& p : plan.path) poses.push_back(p.pose);
     log.plans.push_back(std::move(poses));
     if (params.trace) {
-      std::fprintf(stderr, "t=%.2f plan to (%.2f %.2f) final=%d len %.2f minclr %.2f passages %zu\n", t,
-                   target_M.x, target_M.y, final, plan.length, plan.min_clearance, plan.passages.size());
+      std::fprintf(
+          stderr, "t=%.2f plan to (%.2f %.2f) final=%d len %.2f minclr %.2f passages %zu\n", t,
+          target_M.x, target_M.y, final, plan.length, plan.min_clearance, plan.passages.size());
       for (const auto& q : plan.passages)
         std::fprintf(stderr, "  passage (%.2f %.2f) yaw %.2f width %.2f s %.2f\n", q.centre.x(),
                      q.centre.y(), q.axis_yaw, q.width, q.s);
@@ -505,29 +522,36 @@ struct Navigator::Impl {
             return std::hypot(entry.x() - sp.x, entry.y() - sp.y) < params.door_entry_scan_distance;
           })) {
         std::size_t ka = a;
-        while (ka > 0 && (plan.path[ka].clearance < narrow || plan.path[ka].s > plan.path[a].s - params.door_entry_standoff)) --ka;
+        while (ka > 0 && (plan.path[ka].clearance < narrow ||
+                          plan.path[ka].s > plan.path[a].s - params.door_entry_standoff))
+          --ka;
         if (params.trace)
-          std::fprintf(stderr, "t=%.2f narrow stretch at s %.2f-%.2f, no scan near its entry: stop at s %.2f\n",
-                       t, plan.path[a].s, plan.path[b].s, plan.path[ka].s);
+          std::fprintf(
+              stderr,
+              "t=%.2f narrow stretch at s %.2f-%.2f, no scan near its entry: stop at s %.2f\n", t,
+              plan.path[a].s, plan.path[b].s, plan.path[ka].s);
         if (plan.path[ka].s >= params.min_scan_progress) {
           TruncatePlan(plan, ka);
           return;
         }
       }
       if (params.door_exit_scan_distance <= 0.0 || b >= k) return;
-      const double s_exit = 0.5 * (plan.path[a].s + plan.path[b].s) + params.door_exit_scan_distance;
+      const double s_exit =
+          0.5 * (plan.path[a].s + plan.path[b].s) + params.door_exit_scan_distance;
       std::size_t ke = b;
       while (ke < k && (plan.path[ke].s < s_exit || plan.path[ke].clearance < narrow)) ++ke;
       if (ke >= k) return;
       const PathPoint& e = plan.path[ke];
       // Near the exit and on its side (the scan in front of the doorway does not count).
-      const bool scanned_near = std::any_of(log.scan_poses.begin(), log.scan_poses.end(), [&](const Pose2& sp) {
-        const double d = std::hypot(e.pose.x - sp.x, e.pose.y - sp.y);
-        return d < 2.0 * params.door_exit_scan_distance && d < std::hypot(entry.x() - sp.x, entry.y() - sp.y);
-      });
+      const bool scanned_near =
+          std::any_of(log.scan_poses.begin(), log.scan_poses.end(), [&](const Pose2& sp) {
+            const double d = std::hypot(e.pose.x - sp.x, e.pose.y - sp.y);
+            return d < 2.0 * params.door_exit_scan_distance &&
+                   d < std::hypot(entry.x() - sp.x, entry.y() - sp.y);
+          });
       if (params.trace)
-        std::fprintf(stderr, "t=%.2f narrow stretch at s %.2f-%.2f, exit s %.2f%s\n", t, plan.path[a].s,
-                     plan.path[b].s, e.s, scanned_near ? " (scanned near)" : "");
+        std::fprintf(stderr, "t=%.2f narrow stretch at s %.2f-%.2f, exit s %.2f%s\n", t,
+                     plan.path[a].s, plan.path[b].s, e.s, scanned_near ? " (scanned near)" : "");
       if (!scanned_near && e.s >= params.min_scan_progress) {
         TruncatePlan(plan, ke);
         return;
@@ -560,7 +584,8 @@ struct Navigator::Impl {
     auto near_scans = [&](const PathPoint& q) {
       if (params.max_distance_from_scans <= 0.0) return true;
       for (const Pose2& sp : log.scan_poses)
-        if (std::hypot(q.pose.x - sp.x, q.pose.y - sp.y) <= params.max_distance_from_scans) return true;
+        if (std::hypot(q.pose.x - sp.x, q.pose.y - sp.y) <= params.max_distance_from_scans)
+          return true;
       return false;
     };
     auto drivable = [&](const PathPoint& q) { return well_known(q) && near_scans(q); };
@@ -572,8 +597,8 @@ struct Navigator::Impl {
       return true;
     }
     if (budget_spent) {
-      Finish(DriveStatus::kUnreachable,
-             "no route to the goal after " + std::to_string(log.tls_scans) + " scans (" + why + ")");
+      Finish(DriveStatus::kUnreachable, "no route to the goal after " +
+                                            std::to_string(log.tls_scans) + " scans (" + why + ")");
       return false;
     }
     if (plan.ok()) {
@@ -586,7 +611,9 @@ struct Navigator::Impl {
       // (clearance >= robot_radius + doorway_margin), and from the doorway only when already
       // there (the short straight approach from in front of it).
       std::size_t kb = k;
-      while (kb > 0 && plan.path[kb].clearance < params.planner.robot_radius + params.doorway_margin) --kb;
+      while (kb > 0 &&
+             plan.path[kb].clearance < params.planner.robot_radius + params.doorway_margin)
+        --kb;
       if (plan.path[kb].s >= params.min_scan_progress) k = kb;
       if (k + 1 >= plan.path.size() || plan.path[k].s < params.min_scan_progress) {
         Install(plan, true);
@@ -602,16 +629,17 @@ struct Navigator::Impl {
     const Vec2 g(goal_M.x, goal_M.y);
     std::string no_target;
     const std::vector<Vec2> targets =
-        ExplorationTargets(grid, Vec2(X_MB_est.x, X_MB_est.y), g, ExplorationParamsOf(params), log.scan_poses,
-                           &no_target);
-    if (targets.empty() && params.look_around && !looked_around && no_target.rfind("no progress", 0) == 0) {
+        ExplorationTargets(grid, Vec2(X_MB_est.x, X_MB_est.y), g, ExplorationParamsOf(params),
+                           log.scan_poses, &no_target);
+    if (targets.empty() && params.look_around && !looked_around &&
+        no_target.rfind("no progress", 0) == 0) {
       LookAround();
       return PlanLeg();
     }
     if (targets.empty()) {
       Finish(DriveStatus::kUnreachable,
-             "goal not connected to the start in the robot's map after " + std::to_string(log.tls_scans) +
-                 " scans (" + why + "); exploring: " + no_target +
+             "goal not connected to the start in the robot's map after " +
+                 std::to_string(log.tls_scans) + " scans (" + why + "); exploring: " + no_target +
                  " (a closed door or an obstacle blocks the way)");
       return false;
     }
@@ -668,12 +696,14 @@ struct Navigator::Impl {
     mark_visited();
     while (running) {
       if (t >= params.max_time - 1e-9) {
-        Finish(DriveStatus::kTimeout, FormatNumbers("no arrival within %.1f s of simulation time", params.max_time));
+        Finish(DriveStatus::kTimeout,
+               FormatNumbers("no arrival within %.1f s of simulation time", params.max_time));
         break;
       }
       if (params.stall_time > 0.0 && t - last_new_cell > params.stall_time) {
         Finish(DriveStatus::kBlocked,
-               FormatNumbers("no progress: for %.0f s the base only revisited places it had been to in this "
+               FormatNumbers(
+                   "no progress: for %.0f s the base only revisited places it had been to in this "
                    "drive (plans alternating between blocked routes)",
                    params.stall_time));
         break;
@@ -684,7 +714,8 @@ struct Navigator::Impl {
       if (leg_blocked && map_replans < kMaxMapReplans) {
         leg_blocked = false;
         ++map_replans;
-        if (params.trace) std::fprintf(stderr, "t=%.2f leg blocked in the updated map: replanning\n", t);
+        if (params.trace)
+          std::fprintf(stderr, "t=%.2f leg blocked in the updated map: replanning\n", t);
         planner->SetMap(grid);
         cmd = {};
         running = PlanLeg();
@@ -706,7 +737,8 @@ struct Navigator::Impl {
             // stop). A scan that does not match the map means the robot is lost (e.g.
             // kidnapped while driving): stop with the reason rather than map a wrong room.
             cmd = {};
-            if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated) ++log.amcl_updates;
+            if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated)
+              ++log.amcl_updates;
             const auto& e = amcl->Estimate();
             if (e.status == perception::LocalisationStatus::kLost ||
                 e.status == perception::LocalisationStatus::kRelocalising ||
@@ -746,15 +778,16 @@ struct Navigator::Impl {
     }
     return log.status;
   }
-
-
 };
 
-Navigator::Navigator(interfaces::RobotPlatform& platform, const NavigatorParams& params, std::uint64_t seed)
+Navigator::Navigator(interfaces::RobotPlatform& platform, const NavigatorParams& params,
+                     std::uint64_t seed)
     : impl_(std::make_unique<Impl>(platform, params, seed)) {}
 Navigator::~Navigator() = default;
 
-const interfaces::TlsScan& Navigator::TakeScan(double step_deg_override) { return impl_->TakeScan(step_deg_override); }
+const interfaces::TlsScan& Navigator::TakeScan(double step_deg_override) {
+  return impl_->TakeScan(step_deg_override);
+}
 const interfaces::TlsScan& Navigator::LastScan() const { return impl_->last_scan; }
 void Navigator::CorrectLastScanPose(const Pose3& X_MS) { impl_->CorrectLastScanPose(X_MS); }
 void Navigator::ExtendMap(const Vec2& p_M) {

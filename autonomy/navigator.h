@@ -39,14 +39,15 @@
 namespace mopad::autonomy {
 
 struct NavigatorParams {
-  double max_time = 600.0;         ///< s of platform time before `timeout`, (0, 1e5]
-  double tls_step_deg = 0.2;       ///< deg, angular step of the scans taken for maps, [0.05, 5]
-  int max_scans = 20;              ///< TLS scans per NavigateTo, the mission's first included, [1, 100]
+  double max_time = 600.0;    ///< s of platform time before `timeout`, (0, 1e5]
+  double tls_step_deg = 0.2;  ///< deg, angular step of the scans taken for maps, [0.05, 5]
+  int max_scans = 20;         ///< TLS scans per NavigateTo, the mission's first included, [1, 100]
   double min_scan_progress = 0.1;  ///< m, a new scan target must be this much closer, (0, 10]
-  double goal_known_radius = 1.0;    ///< m, neighbourhood of the goal checked before the last leg, (0, 10]
-  double goal_known_fraction = 0.85; ///< mapped share of it needed to drive there directly, [0, 1]
-  double scan_target_clearance = 0.55; ///< m, clearance of scan-and-go targets, (0, 5]
-  double doorway_margin = 0.1;       ///< m, scan stops keep this clearance beyond robot_radius, [0, 2]
+  double goal_known_radius =
+      1.0;  ///< m, neighbourhood of the goal checked before the last leg, (0, 10]
+  double goal_known_fraction = 0.85;  ///< mapped share of it needed to drive there directly, [0, 1]
+  double scan_target_clearance = 0.55;  ///< m, clearance of scan-and-go targets, (0, 5]
+  double doorway_margin = 0.1;  ///< m, scan stops keep this clearance beyond robot_radius, [0, 2]
   /// m along the path: entering space the map does not know well through a door passage, the
   /// robot scans this far beyond the passage (MoPAD's scan "after the doorframe", which still
   /// sees the room behind through the door and so registers against it). 0 = off. [0, 10]
@@ -59,12 +60,14 @@ struct NavigatorParams {
   /// every scan position (AMCL tracks best where its map is complete, near the scans).
   /// Exploration legs are not cut by it. 0 = off. [0, 100]
   double max_distance_from_scans = 4.0;
-  double frontier_exclusion = 0.5;   ///< m, exploration targets this close to a scan position are spent, [0, 10]
-  double scan_blind_radius = 0.5;    ///< m, around scan positions the map counts as known, [0, 10]
+  double frontier_exclusion =
+      0.5;  ///< m, exploration targets this close to a scan position are spent, [0, 10]
+  double scan_blind_radius = 0.5;  ///< m, around scan positions the map counts as known, [0, 10]
   double initial_sigma_xy = 0.01;  ///< m, AMCL's initial std after each scan, [1e-4, 10]
   double initial_sigma_yaw_deg = 0.5;  ///< deg, AMCL's initial yaw std after each scan, [1e-3, 180]
-  double map_margin = 1.0;         ///< m, grid margin around the scanned points, [0, 20]
-  std::uint64_t max_points_per_scan = 400000;  ///< band points kept per scan (thinned beyond), [1, 1e9]
+  double map_margin = 1.0;             ///< m, grid margin around the scanned points, [0, 20]
+  std::uint64_t max_points_per_scan =
+      400000;  ///< band points kept per scan (thinned beyond), [1, 1e9]
   /// s: while localised, both LRF sweeps go into the obstacle map this often (0: only those at
   /// scan positions), traced up to `map_lrf_range`, so obstacles the TLS saw edge-on (an open
   /// door leaf) appear before the base reaches them. [0, 100]

@@ -14,7 +14,8 @@ namespace mopad::autonomy {
 void NextBestScanParams::Validate() const {
   ValidateParams(*this, "next_best_scan.");
   if (elevation_min_deg >= elevation_max_deg) {
-    throw InputError("", "parameter 'next_best_scan.elevation_min_deg' must be below elevation_max_deg",
+    throw InputError("",
+                     "parameter 'next_best_scan.elevation_min_deg' must be below elevation_max_deg",
                      std::to_string(elevation_min_deg), "< " + std::to_string(elevation_max_deg));
   }
   if (range_min >= range_max) {
@@ -26,9 +27,9 @@ void NextBestScanParams::Validate() const {
 namespace {
 
 struct Target {
-  Vec3 p = Vec3::Zero();  // patch centroid, moved half a voxel into the room
-  Vec3 n = Vec3::UnitZ(); // outward face normal
-  double weight = 0.0;    // probability x area (x frontier factor), m^2
+  Vec3 p = Vec3::Zero();   // patch centroid, moved half a voxel into the room
+  Vec3 n = Vec3::UnitZ();  // outward face normal
+  double weight = 0.0;     // probability x area (x frontier factor), m^2
   int face = -1;
   bool frontier = false;  // on a face without structural data
 };
@@ -112,7 +113,8 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
                        const Pose2& current_M, double scan_step_deg, const NextBestScanParams& P) {
   P.Validate();
   if (!(scan_step_deg > 0.0 && scan_step_deg <= 10.0))
-    throw InputError("", "next best scan: scan step must be in (0, 10] deg", std::to_string(scan_step_deg), "(0, 10]");
+    throw InputError("", "next best scan: scan step must be in (0, 10] deg",
+                     std::to_string(scan_step_deg), "(0, 10]");
   NbsResult out;
   out.goal = current_M;
   const modelling::Roi& roi = model.GetRoi();
@@ -257,10 +259,11 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
   }
   char buf[320];
   if (out.chosen < 0) {
-    std::snprintf(buf, sizeof(buf),
-                  "no next best scan: %zu candidates (%d unsafe, %d unreachable), %zu target patches, "
-                  "none with a gain",
-                  nc, out.rejected_unsafe, out.rejected_unreachable, targets.size());
+    std::snprintf(
+        buf, sizeof(buf),
+        "no next best scan: %zu candidates (%d unsafe, %d unreachable), %zu target patches, "
+        "none with a gain",
+        nc, out.rejected_unsafe, out.rejected_unreachable, targets.size());
     out.message = buf;
     return out;
   }

@@ -39,24 +39,24 @@
 namespace mopad::autonomy {
 
 struct NextBestScanParams {
-  double candidate_spacing = 0.5;     ///< m, candidate grid step, [0.05, 5]
-  double robot_radius = 0.35;         ///< m, footprint radius, (0, 5]
-  double safety_margin = 0.10;        ///< m, extra clearance of a candidate, [0, 5]
-  bool unknown_is_obstacle = false;   ///< treat unknown map cells as obstacles
-  double mast_height = 1.4;           ///< m, scanner centre above the floor, [0, 10]
-  double elevation_max_deg = 60.0;    ///< deg, scanner's upper limit, [-90, 90]
-  double elevation_min_deg = -40.0;   ///< deg, scanner's lower limit, [-90, 90]
-  double range_min = 1.5;             ///< m, [0, 100]
-  double range_max = 60.0;            ///< m, (0, 1000]
-  double max_incidence_deg = 80.0;    ///< deg, from the face normal, [0, 90]
-  double patch_size = 0.3;            ///< m, face cells grouped into target patches, [0.02, 5]
+  double candidate_spacing = 0.5;         ///< m, candidate grid step, [0.05, 5]
+  double robot_radius = 0.35;             ///< m, footprint radius, (0, 5]
+  double safety_margin = 0.10;            ///< m, extra clearance of a candidate, [0, 5]
+  bool unknown_is_obstacle = false;       ///< treat unknown map cells as obstacles
+  double mast_height = 1.4;               ///< m, scanner centre above the floor, [0, 10]
+  double elevation_max_deg = 60.0;        ///< deg, scanner's upper limit, [-90, 90]
+  double elevation_min_deg = -40.0;       ///< deg, scanner's lower limit, [-90, 90]
+  double range_min = 1.5;                 ///< m, [0, 100]
+  double range_max = 60.0;                ///< m, (0, 1000]
+  double max_incidence_deg = 80.0;        ///< deg, from the face normal, [0, 90]
+  double patch_size = 0.3;                ///< m, face cells grouped into target patches, [0.02, 5]
   double probability_structural = 0.9;    ///< [0, 1]
   double probability_unclassified = 0.5;  ///< [0, 1]
   /// Expected structural area behind one m^2 of frontier face: a room leg w = 3 m wide,
   /// H = 2.7 m high, seen D = 4 m deep shows (2 w D + 2 D H + w H) / (w H) ~ 6 times the
   /// frontier's area (floor, ceiling, two side walls, end wall). [0, 100]
   double frontier_factor = 6.0;
-  double stop_short = 0.15;           ///< m, voxels this close to a target do not block, [0, 2]
+  double stop_short = 0.15;  ///< m, voxels this close to a target do not block, [0, 2]
   /// An unsensed patch that an earlier scan position passes the same visibility test for was
   /// evidently not sensable from there (hidden by something the voxels miss, an opening not
   /// recognised): per such scan its weight is multiplied by 1 - (1 - revisit_factor) x the
@@ -89,20 +89,20 @@ struct NextBestScanParams {
 
 struct NbsCandidate {
   Vec2 position = Vec2::Zero();  ///< m, map frame
-  double gain = 0.0;             ///< expected newly sensed structural area, m^2 (certainty of the RoI)
+  double gain = 0.0;  ///< expected newly sensed structural area, m^2 (certainty of the RoI)
   int visible_patches = 0;
   std::vector<double> face_certainty;  ///< per RoI face (m^2); sums to gain
 };
 
 struct NbsResult {
-  bool found = false;            ///< false: no safe reachable candidate, or none with gain > 0
+  bool found = false;  ///< false: no safe reachable candidate, or none with gain > 0
   std::vector<NbsCandidate> candidates;  ///< every safe reachable candidate, grid order
-  int chosen = -1;               ///< index into candidates
-  Pose2 goal;                    ///< chosen base pose (yaw kept from the current pose)
-  double expected_gain = 0.0;    ///< m^2
-  int rejected_unsafe = 0;       ///< grid points inside the RoI without enough clearance
-  int rejected_unreachable = 0;  ///< safe but not connected to the current pose
-  std::string message;           ///< one line with the figures
+  int chosen = -1;                       ///< index into candidates
+  Pose2 goal;                            ///< chosen base pose (yaw kept from the current pose)
+  double expected_gain = 0.0;            ///< m^2
+  int rejected_unsafe = 0;               ///< grid points inside the RoI without enough clearance
+  int rejected_unreachable = 0;          ///< safe but not connected to the current pose
+  std::string message;                   ///< one line with the figures
 };
 
 /// Computes the next best scan from the robot's own model and obstacle map. Throws InputError
@@ -111,6 +111,7 @@ struct NbsResult {
 /// face cell c it gives the chance that a patch seen at range r and incidence a gets a point in
 /// each cell, min(1, c / (r step)) * min(1, c cos(a) / (r step)).
 NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
-                       const Pose2& current_M, double scan_step_deg, const NextBestScanParams& params = {});
+                       const Pose2& current_M, double scan_step_deg,
+                       const NextBestScanParams& params = {});
 
 }  // namespace mopad::autonomy

@@ -13,7 +13,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double Since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 }  // namespace
 
@@ -47,8 +49,8 @@ perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
   return p;
 }
 
-RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, modelling::RoomModel& model,
-                           const ScanHook& on_scan) {
+RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
+                           modelling::RoomModel& model, const ScanHook& on_scan) {
   ValidateParams(params, "room.");
   params.icp.Validate();
   const auto wall0 = Clock::now();
@@ -73,8 +75,9 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
     const perception::Points source_S = perception::ScanPoints(scan);
     if (k > 0) {
       log.registration = perception::RegisterScan(source_S, target, log.X_MS_prior, params.icp);
-      log.registered =
-          perception::AcceptRegistration(log.registration, log.X_MS_prior, params.icp, params.acceptance, 0.0).use;
+      log.registered = perception::AcceptRegistration(log.registration, log.X_MS_prior, params.icp,
+                                                      params.acceptance, 0.0)
+                           .use;
       if (log.registration.ok) {
         log.X_MS = log.registration.X_MS;
         session.CorrectLastScanPose(log.X_MS);
@@ -92,7 +95,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);
-      modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1), res.no_return);
+      modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
+                                 res.no_return);
       log.t_model = Since(t0);
       if (on_scan) on_scan(log.session_scan, scan);
     } else {
@@ -108,8 +112,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
       break;
     }
     if (k + 1 == params.max_scans) {
-      res.stop_reason = "stop: scan cap of " + std::to_string(params.max_scans) +
-                        " reached (" + stop.message + ")";
+      res.stop_reason = "stop: scan cap of " + std::to_string(params.max_scans) + " reached (" +
+                        stop.message + ")";
       res.scans.push_back(std::move(log));
       break;
     }
@@ -118,8 +122,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
     // chosen candidate, the next best ones (by expected gain) are tried.
     bool moved = false;
     t0 = Clock::now();
-    const NbsResult nbs =
-        NextBestScan(model, session.Map(), session.EstimatedPose(), params.scan_step_deg, params.nbs);
+    const NbsResult nbs = NextBestScan(model, session.Map(), session.EstimatedPose(),
+                                       params.scan_step_deg, params.nbs);
     log.t_nbs = Since(t0);
     log.candidates = static_cast<int>(nbs.candidates.size());
     log.nav_message = nbs.message;
@@ -151,8 +155,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
       });
       order.insert(order.end(), rest.begin(), rest.end());
     }
-    for (int attempt = 0; attempt < params.nav_attempts &&
-                          attempt < static_cast<int>(order.size()) && !moved;
+    for (int attempt = 0;
+         attempt < params.nav_attempts && attempt < static_cast<int>(order.size()) && !moved;
          ++attempt) {
       const NbsCandidate& c = nbs.candidates[order[attempt]];
       const Pose2 goal{c.position.x(), c.position.y(),
@@ -172,9 +176,9 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params, mod
     res.scans.push_back(std::move(log));
     if (!moved) {
       const RoomScanLog& last = res.scans.back();
-      res.stop_reason = "stop: no reachable next-best-scan position (" +
-                        (last.nav_message.empty() ? std::string("no candidate") : last.nav_message) +
-                        ")";
+      res.stop_reason =
+          "stop: no reachable next-best-scan position (" +
+          (last.nav_message.empty() ? std::string("no candidate") : last.nav_message) + ")";
       break;
     }
   }

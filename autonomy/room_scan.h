@@ -29,8 +29,8 @@ namespace mopad::autonomy {
 
 struct RoomScanParams {
   double scan_step_deg = 0.2;  ///< deg, TLS angular step of the room scans, [0.02, 5]
-  int max_scans = 10;          ///< hard cap of scans in the room (beyond the paper's rule), [1, 100]
-  int nav_attempts = 5;        ///< NBS candidates tried when driving to one fails, [1, 20]
+  int max_scans = 10;    ///< hard cap of scans in the room (beyond the paper's rule), [1, 100]
+  int nav_attempts = 5;  ///< NBS candidates tried when driving to one fails, [1, 20]
   /// m, NBS candidates this close to a position whose scan could not be registered are not
   /// chosen again (the model did not change, so the same spot would win again), [0, 10]
   double failed_scan_exclusion = 1.0;
@@ -72,13 +72,13 @@ struct RoomScanLog {
   bool registered = true;                ///< false: ICP refused; the scan was left out of the model
   perception::RegistrationResult registration;  ///< empty for the first scan
   modelling::CoverageFigures coverage;
-  std::string stop_message;              ///< the stopping rule's verdict after this scan
+  std::string stop_message;  ///< the stopping rule's verdict after this scan
   // Next best scan chosen after this scan (none after the last one).
   bool has_next = false;
-  Pose2 next_goal;                       ///< base pose, map frame
-  double expected_gain = 0.0;            ///< NBS certainty of the chosen candidate
+  Pose2 next_goal;             ///< base pose, map frame
+  double expected_gain = 0.0;  ///< NBS certainty of the chosen candidate
   int candidates = 0;
-  std::string nav_status;                ///< outcome of driving there
+  std::string nav_status;  ///< outcome of driving there
   std::string nav_message;
   // Wall-clock seconds of the processing steps (reporting only).
   double t_registration = 0.0, t_model = 0.0, t_nbs = 0.0, t_scan = 0.0, t_drive = 0.0;
@@ -89,15 +89,15 @@ struct RoomScanResult {
   /// openings: a ray that returned nothing passed every plane it crossed).
   modelling::OrthoPoints no_return;
   std::vector<RoomScanLog> scans;
-  std::string stop_reason;          ///< why the mission ended (stopping rule, cap, no candidate)
-  bool registration_failed = false; ///< some scan could not be registered
+  std::string stop_reason;           ///< why the mission ended (stopping rule, cap, no candidate)
+  bool registration_failed = false;  ///< some scan could not be registered
   double sim_time = 0.0, wall_time = 0.0;
 };
 
 /// Scans the room the robot stands in. `model` receives the final RoomModel. `on_scan`
 /// (optional) sees every scan the model accepted, with the navigator's scan index.
 using ScanHook = std::function<void(int index, const interfaces::TlsScan& scan)>;
-RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params, modelling::RoomModel& model,
-                           const ScanHook& on_scan = {});
+RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params,
+                           modelling::RoomModel& model, const ScanHook& on_scan = {});
 
 }  // namespace mopad::autonomy

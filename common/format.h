@@ -8,7 +8,8 @@ namespace mopad {
 
 /// `format` (printf conversions for doubles only: %f, %e, %g with their flags) applied to up
 /// to four numbers, into a string of any length.
-inline std::string FormatNumbers(const char* format, double a = 0, double b = 0, double c = 0, double d = 0) {
+inline std::string FormatNumbers(const char* format, double a = 0, double b = 0, double c = 0,
+                                 double d = 0) {
   char buf[256];
   const int n = std::snprintf(buf, sizeof buf, format, a, b, c, d);
   if (n < static_cast<int>(sizeof buf)) return buf;

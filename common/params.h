@@ -55,11 +55,16 @@ namespace detail {
 
 template <class T>
 std::string TypeName() {
-  if constexpr (std::is_same_v<T, bool>) return "a boolean";
-  else if constexpr (std::is_integral_v<T>) return "an integer";
-  else if constexpr (std::is_floating_point_v<T>) return "a number";
-  else if constexpr (std::is_same_v<T, std::string>) return "a string";
-  else return "a value";
+  if constexpr (std::is_same_v<T, bool>)
+    return "a boolean";
+  else if constexpr (std::is_integral_v<T>)
+    return "an integer";
+  else if constexpr (std::is_floating_point_v<T>)
+    return "a number";
+  else if constexpr (std::is_same_v<T, std::string>)
+    return "a string";
+  else
+    return "a value";
 }
 
 template <class T>
@@ -102,8 +107,7 @@ class YamlReader {
         }
         value = child.as<T>();
       } catch (const YAML::Exception&) {
-        throw InputError(where, "wrong type for '" + name + "'", Describe(child),
-                         TypeName<T>());
+        throw InputError(where, "wrong type for '" + name + "'", Describe(child), TypeName<T>());
       }
       CheckBounds(where, name, value, b);
     }
@@ -217,10 +221,11 @@ class FieldRecorder {
       : base_(static_cast<const char*>(base)), context_(std::move(context)), problems_(problems) {}
   template <class U>
   void operator()(const char* key, const U& value, Bounds = {}) {
-    fields_.push_back({static_cast<std::size_t>(reinterpret_cast<const char*>(&value) - base_), sizeof(U),
-                       alignof(U), key});
+    fields_.push_back({static_cast<std::size_t>(reinterpret_cast<const char*>(&value) - base_),
+                       sizeof(U), alignof(U), key});
     if constexpr (HasVisit<U>::value) {
-      for (auto& p : FieldsMissingFromVisit(value, context_ + key + ".")) problems_.push_back(std::move(p));
+      for (auto& p : FieldsMissingFromVisit(value, context_ + key + "."))
+        problems_.push_back(std::move(p));
     }
   }
   void Check(std::size_t struct_size, std::size_t struct_align) {
@@ -232,15 +237,15 @@ class FieldRecorder {
       if (f.offset < end) {
         problems_.push_back(context_ + f.key + ": visited twice or overlapping '" + after + "'");
       } else if (f.offset - end >= f.align) {
-        problems_.push_back(context_ + ": " + std::to_string(f.offset - end) + " bytes between '" + after +
-                            "' and '" + f.key + "' are not visited");
+        problems_.push_back(context_ + ": " + std::to_string(f.offset - end) + " bytes between '" +
+                            after + "' and '" + f.key + "' are not visited");
       }
       end = std::max(end, f.offset + f.size);
       after = f.key;
     }
     if (struct_size - end >= struct_align)
-      problems_.push_back(context_ + ": " + std::to_string(struct_size - end) + " bytes after '" + after +
-                          "' are not visited");
+      problems_.push_back(context_ + ": " + std::to_string(struct_size - end) + " bytes after '" +
+                          after + "' are not visited");
   }
 
  private:

@@ -1,9 +1,8 @@
 #pragma once
 // Plane polygons: the one point-in-polygon test of the tree (robot and world side alike).
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 namespace mopad {
 
@@ -15,7 +14,8 @@ inline bool PointInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Ve
   for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
     const Eigen::Vector2d& a = polygon[i];
     const Eigen::Vector2d& b = polygon[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
       inside = !inside;
   }
   return inside;

@@ -34,12 +34,14 @@ struct CoverageParams {
 
 /// Areas of one group of cells (the room, a class or an element), m^2.
 struct CoverageFigures {
-  std::string name;               ///< "room" id, class name ("wall") or element id
+  std::string name;  ///< "room" id, class name ("wall") or element id
   double total_area = 0.0;
   double observable_area = 0.0;
   double sensed_area = 0.0;             ///< sensed cells, observable or not (raw)
   double sensed_observable_area = 0.0;  ///< sensed cells that are observable
-  double ShareOfObservable() const { return observable_area > 0 ? sensed_observable_area / observable_area : 0.0; }
+  double ShareOfObservable() const {
+    return observable_area > 0 ? sensed_observable_area / observable_area : 0.0;
+  }
   double ShareOfTotal() const { return total_area > 0 ? sensed_observable_area / total_area : 0.0; }
 };
 
@@ -47,28 +49,32 @@ struct CoverageReport {
   CoverageFigures room;
   std::vector<CoverageFigures> per_class;    ///< wall, floor, ceiling, column (classes present)
   std::vector<CoverageFigures> per_element;  ///< StructuralSurfaces::elements order
-  std::uint64_t points = 0;          ///< points given
-  std::uint64_t points_on_cells = 0; ///< points that fell on some cell
+  std::uint64_t points = 0;                  ///< points given
+  std::uint64_t points_on_cells = 0;         ///< points that fell on some cell
 };
 
 /// One flag per cell: 1 when a point p_M (robot map frame) maps into it. Parallel,
 /// deterministic.
-std::vector<std::uint8_t> SensedCells(const StructuralSurfaces& surfaces, std::span<const Eigen::Vector3f> p_M,
-                                      const Pose3& X_WM, const CoverageParams& params = {},
+std::vector<std::uint8_t> SensedCells(const StructuralSurfaces& surfaces,
+                                      std::span<const Eigen::Vector3f> p_M, const Pose3& X_WM,
+                                      const CoverageParams& params = {},
                                       std::uint64_t* points_on_cells = nullptr);
 
 /// Area figures from per-cell flags (`observable` as from ComputeObservability; empty = all
 /// cells observable). InputError when a flag vector has the wrong size.
-CoverageReport SummariseCoverage(const StructuralSurfaces& surfaces, const std::vector<std::uint8_t>& observable,
+CoverageReport SummariseCoverage(const StructuralSurfaces& surfaces,
+                                 const std::vector<std::uint8_t>& observable,
                                  const std::vector<std::uint8_t>& sensed);
 
 /// SensedCells + SummariseCoverage.
-CoverageReport ComputeCoverage(const StructuralSurfaces& surfaces, const std::vector<std::uint8_t>& observable,
+CoverageReport ComputeCoverage(const StructuralSurfaces& surfaces,
+                               const std::vector<std::uint8_t>& observable,
                                std::span<const Eigen::Vector3f> p_M, const Pose3& X_WM,
                                const CoverageParams& params = {});
 
 /// Reads the points of a PLY (io::ReadPly: x y z in the map frame) and computes coverage.
-CoverageReport ComputeCoverageFromPly(const StructuralSurfaces& surfaces, const std::vector<std::uint8_t>& observable,
+CoverageReport ComputeCoverageFromPly(const StructuralSurfaces& surfaces,
+                                      const std::vector<std::uint8_t>& observable,
                                       const std::string& ply_path, const Pose3& X_WM,
                                       const CoverageParams& params = {});
 

@@ -1,4 +1,3 @@
-#include "common/polygon.h"
 #include "evaluation/metrics.h"
 
 #include <algorithm>
@@ -6,6 +5,7 @@
 #include <limits>
 
 #include "common/error.h"
+#include "common/polygon.h"
 
 namespace mopad::evaluation {
 

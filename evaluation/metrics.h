@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "common/frames.h"
-#include "common/polygon.h"
 #include "common/params.h"
+#include "common/polygon.h"
 
 namespace mopad::evaluation {
 

@@ -129,7 +129,6 @@ std::vector<Vec3> SamplePatch(const Patch& patch, double spacing, double* area_p
   return out;
 }
 
-
 IsprsResult EvaluateIsprs(const std::vector<Patch>& source, const std::vector<Patch>& reference,
                           const IsprsParams& params) {
   ValidateParams(params, "isprs.");

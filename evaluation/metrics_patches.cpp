@@ -6,7 +6,6 @@
 #include <map>
 
 #include "common/error.h"
-
 #include "evaluation/hungarian.h"
 
 namespace mopad::evaluation {
@@ -183,9 +182,8 @@ std::vector<Vec2> ConvexHull(std::vector<Vec2> p) {
   std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   });
-  p.erase(std::unique(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
-            return (a - b).norm() < 1e-12;
-          }),
+  p.erase(std::unique(p.begin(), p.end(),
+                      [](const Vec2& a, const Vec2& b) { return (a - b).norm() < 1e-12; }),
           p.end());
   if (p.size() < 3) return p;
   auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
@@ -303,8 +301,7 @@ ColumnEvaluation EvaluateColumns(const std::vector<ColumnObject>& model,
       p.faces = EvaluatePatches(m.faces, t.faces, faces);
       const auto& d = p.faces.detection[static_cast<int>(SurfaceClass::kColumn)];
       auto& fd = out.face_detection;
-      fd.n_truth += d.n_truth, fd.n_model += d.n_model, fd.tp += d.tp, fd.fp += d.fp,
-          fd.fn += d.fn;
+      fd.n_truth += d.n_truth, fd.n_model += d.n_model, fd.tp += d.tp, fd.fp += d.fp, fd.fn += d.fn;
       const auto& a = p.faces.accuracy[static_cast<int>(SurfaceClass::kColumn)];
       out.face_accuracy.d_v.Merge(a.d_v);
       out.face_accuracy.d_h.Merge(a.d_h);

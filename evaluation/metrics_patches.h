@@ -120,8 +120,9 @@ double NormalAngleDeg(const Vec3& a, const Vec3& b, bool oriented);
 // e.g. a square column's 4), where a face-to-face pairing is meaningful; round columns get none.
 
 struct ColumnMatchParams {
-  double min_plan_iou = 0.5;     ///< footprint IoU a match needs (strictly more), [0, 1)
-  int max_polygonal_faces = 8;   ///< truth columns with more faces are round (no face pairing), [3, 1000]
+  double min_plan_iou = 0.5;  ///< footprint IoU a match needs (strictly more), [0, 1)
+  int max_polygonal_faces =
+      8;  ///< truth columns with more faces are round (no face pairing), [3, 1000]
   template <class V>
   void Visit(V& v) {
     v("min_plan_iou", min_plan_iou, Bounds{0.0, 1.0 - 1e-9});
@@ -135,8 +136,8 @@ struct ColumnObject {
   std::vector<Patch> faces;     ///< vertical faces, class column, normals pointing away from it
   std::vector<Vec2> footprint;  ///< plan convex hull of the face vertices, CCW
   double z_min = 0.0, z_max = 0.0;
-  Vec2 Centre() const;          ///< area centroid of the footprint
-  double Area() const;          ///< m^2, footprint area
+  Vec2 Centre() const;  ///< area centroid of the footprint
+  double Area() const;  ///< m^2, footprint area
 };
 
 /// A column object from its faces (footprint = convex hull, heights = vertex z range).
@@ -162,7 +163,7 @@ struct ColumnPair {
 };
 
 struct ColumnEvaluation {
-  ClassDetection detection;  ///< objects: n_truth, n_model, tp, fp, fn
+  ClassDetection detection;       ///< objects: n_truth, n_model, tp, fp, fn
   std::vector<ColumnPair> pairs;  ///< by truth index
   std::vector<std::string> unmatched_model_ids, unmatched_truth_ids;
   ErrorStats plan_iou;  ///< over TP pairs (mean/max of the IoU itself)

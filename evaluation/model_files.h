@@ -28,7 +28,7 @@ struct RunInfo {
   std::vector<std::string> doors;  ///< door-angle overrides "ID=DEG" the run used (optional)
   std::string room;
   std::uint64_t seed = 0;
-  Pose3 X_WM = Pose3::Identity();   ///< map -> world (the true start pose of the base)
+  Pose3 X_WM = Pose3::Identity();        ///< map -> world (the true start pose of the base)
   std::string sm1, sm2, sm3, sm4, dsm3;  ///< absolute or dir-relative resolved paths; "" = absent
 };
 RunInfo ReadRunInfo(const std::string& run_json_path);

@@ -31,7 +31,8 @@ std::vector<Eigen::Vector3d> ClipZ(const std::vector<Eigen::Vector3d>& in, doubl
   return out;
 }
 
-double SegmentDistance2(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+double SegmentDistance2(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
   const double l2 = ab.squaredNorm();
   double t = l2 > 0 ? (p - a).dot(ab) / l2 : 0.0;
@@ -45,7 +46,9 @@ void Edt1d(const double* f, int n, double* d, int* v, double* z) {
   v[0] = 0;
   z[0] = -std::numeric_limits<double>::infinity();
   z[1] = std::numeric_limits<double>::infinity();
-  const auto S = [&](int q, int p) { return ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p)); };
+  const auto S = [&](int q, int p) {
+    return ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p));
+  };
   for (int q = 1; q < n; ++q) {
     double s = S(q, v[k]);
     while (s <= z[k]) {
@@ -70,11 +73,12 @@ ReachableArea ComputeReachable(const scenes::Scene& scene, const scenes::GroundT
                                const std::string& room, const ObservabilityParams& params) {
   ValidateParams(params, "observability.");
   if (params.body_z_max <= params.body_z_min) {
-    throw InputError("", "observability.body_z_max must exceed body_z_min", std::to_string(params.body_z_max),
-                     "> " + std::to_string(params.body_z_min));
+    throw InputError("", "observability.body_z_max must exceed body_z_min",
+                     std::to_string(params.body_z_max), "> " + std::to_string(params.body_z_min));
   }
   const scenes::Room* r = truth.FindRoom(room);
-  if (!r) throw InputError(scene.source, "unknown room", "'" + room + "'", "a room of the ground truth");
+  if (!r)
+    throw InputError(scene.source, "unknown room", "'" + room + "'", "a room of the ground truth");
   const double res = params.raster_resolution;
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const Eigen::Vector2d& p : r->polygon) {
@@ -90,17 +94,20 @@ ReachableArea ComputeReachable(const scenes::Scene& scene, const scenes::GroundT
   std::vector<std::uint8_t> occupied(n, 0);
   const double zlo = r->floor_z + params.body_z_min, zhi = r->floor_z + params.body_z_max;
   const double reach = res * std::sqrt(0.5) + 1e-9;  // conservative: centre within half a diagonal
-  const auto centre = [&](int i, int j) { return Eigen::Vector2d(lo.x() + (i + 0.5) * res, lo.y() + (j + 0.5) * res); };
+  const auto centre = [&](int i, int j) {
+    return Eigen::Vector2d(lo.x() + (i + 0.5) * res, lo.y() + (j + 0.5) * res);
+  };
 
   // Rasterise the band's triangles.
   for (const scenes::MeshPart& part : scene.parts) {
     for (const Eigen::Vector3i& t : part.triangles) {
-      std::vector<Eigen::Vector3d> poly = {part.positions[t[0]].cast<double>(), part.positions[t[1]].cast<double>(),
+      std::vector<Eigen::Vector3d> poly = {part.positions[t[0]].cast<double>(),
+                                           part.positions[t[1]].cast<double>(),
                                            part.positions[t[2]].cast<double>()};
       Eigen::Vector3d blo = poly[0].cwiseMin(poly[1]).cwiseMin(poly[2]);
       Eigen::Vector3d bhi = poly[0].cwiseMax(poly[1]).cwiseMax(poly[2]);
-      if (bhi.z() < zlo || blo.z() > zhi || bhi.x() < lo.x() || blo.x() > hi.x() || bhi.y() < lo.y() ||
-          blo.y() > hi.y()) {
+      if (bhi.z() < zlo || blo.z() > zhi || bhi.x() < lo.x() || blo.x() > hi.x() ||
+          bhi.y() < lo.y() || blo.y() > hi.y()) {
         continue;
       }
       poly = ClipZ(ClipZ(poly, zlo, -1.0), zhi, 1.0);
@@ -121,9 +128,11 @@ ReachableArea ComputeReachable(const scenes::Scene& scene, const scenes::GroundT
       const double orient = area2 > 0 ? 1.0 : -1.0;
       const bool flat = std::abs(area2) < 1e-12;
       const int ia = std::max(0, static_cast<int>(std::floor((plo.x() - reach - lo.x()) / res)));
-      const int ib = std::min(nx - 1, static_cast<int>(std::floor((phi.x() + reach - lo.x()) / res)));
+      const int ib =
+          std::min(nx - 1, static_cast<int>(std::floor((phi.x() + reach - lo.x()) / res)));
       const int ja = std::max(0, static_cast<int>(std::floor((plo.y() - reach - lo.y()) / res)));
-      const int jb = std::min(ny - 1, static_cast<int>(std::floor((phi.y() + reach - lo.y()) / res)));
+      const int jb =
+          std::min(ny - 1, static_cast<int>(std::floor((phi.y() + reach - lo.y()) / res)));
       for (int j = ja; j <= jb; ++j) {
         for (int i = ia; i <= ib; ++i) {
           const std::size_t k = static_cast<std::size_t>(j) * nx + i;
@@ -213,8 +222,10 @@ ReachableArea ComputeReachable(const scenes::Scene& scene, const scenes::GroundT
   out.free_area = static_cast<double>(best_size) * res * res;
   if (best < 0) return out;
   const double step = params.grid_step;
-  const long ja = static_cast<long>(std::ceil(lo.y() / step)), jb = static_cast<long>(std::floor(hi.y() / step));
-  const long ia = static_cast<long>(std::ceil(lo.x() / step)), ib = static_cast<long>(std::floor(hi.x() / step));
+  const long ja = static_cast<long>(std::ceil(lo.y() / step)),
+             jb = static_cast<long>(std::floor(hi.y() / step));
+  const long ia = static_cast<long>(std::ceil(lo.x() / step)),
+             ib = static_cast<long>(std::floor(hi.x() / step));
   for (long j = ja; j <= jb; ++j)
     for (long i = ia; i <= ib; ++i) {
       const Eigen::Vector2d p(i * step, j * step);
@@ -226,8 +237,10 @@ ReachableArea ComputeReachable(const scenes::Scene& scene, const scenes::GroundT
   return out;
 }
 
-Observability ComputeObservability(const sim::EmbreeWorld& world, const StructuralSurfaces& surfaces,
-                                   const ReachableArea& reachable, const ObservabilityParams& params) {
+Observability ComputeObservability(const sim::EmbreeWorld& world,
+                                   const StructuralSurfaces& surfaces,
+                                   const ReachableArea& reachable,
+                                   const ObservabilityParams& params) {
   ValidateParams(params, "observability.");
   Observability out;
   const std::size_t nc = surfaces.cells.size();
@@ -239,7 +252,8 @@ Observability ComputeObservability(const sim::EmbreeWorld& world, const Structur
   // Scene part -> surface element (or -1).
   const scenes::Scene& scene = world.scene();
   std::map<std::string, int> element_of;
-  for (std::size_t e = 0; e < surfaces.elements.size(); ++e) element_of[surfaces.elements[e].id] = static_cast<int>(e);
+  for (std::size_t e = 0; e < surfaces.elements.size(); ++e)
+    element_of[surfaces.elements[e].id] = static_cast<int>(e);
   std::vector<int> part_element(scene.parts.size(), -1);
   for (std::size_t p = 0; p < scene.parts.size(); ++p) {
     if (!scenes::IsStructural(scene.parts[p].element_class)) continue;
@@ -285,50 +299,54 @@ Observability ComputeObservability(const sim::EmbreeWorld& world, const Structur
   std::size_t next = 0;
   int round = 0;
   while (next < np && !unseen.empty()) {
-    const std::size_t batch = std::min<std::size_t>({np - next, std::size_t{1} << std::min(round, 4)});
+    const std::size_t batch =
+        std::min<std::size_t>({np - next, std::size_t{1} << std::min(round, 4)});
     ++round;
     const std::size_t chunks = (unseen.size() + kChunk - 1) / kChunk;
     const std::size_t tasks = batch * chunks;
     std::vector<std::vector<std::int32_t>> seen(tasks);
     std::vector<std::uint64_t> rays(tasks, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks, 1), [&](const tbb::blocked_range<std::size_t>& rr) {
-      std::vector<Eigen::Vector3f> origins, dirs;
-      std::vector<sim::RayHit> hits;
-      std::vector<std::int32_t> ids;
-      std::vector<float> lens;
-      for (std::size_t task = rr.begin(); task != rr.end(); ++task) {
-        const std::size_t b = task / chunks, ch = task % chunks;
-        const Eigen::Vector2d& p = pos[order[next + b]];
-        const Eigen::Vector3d c(p.x(), p.y(), z_scan);
-        origins.clear();
-        dirs.clear();
-        ids.clear();
-        lens.clear();
-        const std::size_t k1 = std::min(unseen.size(), (ch + 1) * kChunk);
-        for (std::size_t k = ch * kChunk; k < k1; ++k) {
-          const SurfaceCell& cell = surfaces.cells[unseen[k]];
-          const Eigen::Vector3d d = cell.centre - c;
-          if (cell.normal.dot(d) >= 0) continue;  // back side
-          const double L = d.norm();
-          if (L < params.range_min || L > params.range_max) continue;
-          const double s = d.z() / L;
-          if (s > sin_max || s < sin_min) continue;
-          origins.push_back(c.cast<float>());
-          dirs.push_back((d / L).cast<float>());
-          ids.push_back(unseen[k]);
-          lens.push_back(static_cast<float>(L));
-        }
-        hits.resize(ids.size());
-        world.IntersectMany(origins, dirs, 0.0f, std::numeric_limits<float>::infinity(), hits);
-        rays[task] = ids.size();
-        for (std::size_t q = 0; q < ids.size(); ++q) {
-          const sim::RayHit& h = hits[q];
-          if (!h.hit() || part_element[h.part] != surfaces.cells[ids[q]].element) continue;
-          if (h.t < lens[q] - params.hit_tolerance || h.t > lens[q] + params.hit_tolerance) continue;
-          seen[task].push_back(ids[q]);
-        }
-      }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, tasks, 1),
+        [&](const tbb::blocked_range<std::size_t>& rr) {
+          std::vector<Eigen::Vector3f> origins, dirs;
+          std::vector<sim::RayHit> hits;
+          std::vector<std::int32_t> ids;
+          std::vector<float> lens;
+          for (std::size_t task = rr.begin(); task != rr.end(); ++task) {
+            const std::size_t b = task / chunks, ch = task % chunks;
+            const Eigen::Vector2d& p = pos[order[next + b]];
+            const Eigen::Vector3d c(p.x(), p.y(), z_scan);
+            origins.clear();
+            dirs.clear();
+            ids.clear();
+            lens.clear();
+            const std::size_t k1 = std::min(unseen.size(), (ch + 1) * kChunk);
+            for (std::size_t k = ch * kChunk; k < k1; ++k) {
+              const SurfaceCell& cell = surfaces.cells[unseen[k]];
+              const Eigen::Vector3d d = cell.centre - c;
+              if (cell.normal.dot(d) >= 0) continue;  // back side
+              const double L = d.norm();
+              if (L < params.range_min || L > params.range_max) continue;
+              const double s = d.z() / L;
+              if (s > sin_max || s < sin_min) continue;
+              origins.push_back(c.cast<float>());
+              dirs.push_back((d / L).cast<float>());
+              ids.push_back(unseen[k]);
+              lens.push_back(static_cast<float>(L));
+            }
+            hits.resize(ids.size());
+            world.IntersectMany(origins, dirs, 0.0f, std::numeric_limits<float>::infinity(), hits);
+            rays[task] = ids.size();
+            for (std::size_t q = 0; q < ids.size(); ++q) {
+              const sim::RayHit& h = hits[q];
+              if (!h.hit() || part_element[h.part] != surfaces.cells[ids[q]].element) continue;
+              if (h.t < lens[q] - params.hit_tolerance || h.t > lens[q] + params.hit_tolerance)
+                continue;
+              seen[task].push_back(ids[q]);
+            }
+          }
+        });
     for (std::size_t t = 0; t < tasks; ++t) {
       out.rays += rays[t];
       for (std::int32_t id : seen[t]) out.observable[id] = 1;

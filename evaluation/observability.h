@@ -39,17 +39,17 @@
 namespace mopad::evaluation {
 
 struct ObservabilityParams {
-  double grid_step = 0.2;          ///< m, lattice of candidate scan positions, [0.02, 5]
-  double robot_radius = 0.35;      ///< m, disc footprint of the base, [0, 3]
-  double body_z_min = 0.02;        ///< m above the floor, bottom of the collision band, [0, 3]
-  double body_z_max = 1.9;         ///< m above the floor, top of the collision band, [0, 5]
-  double raster_resolution = 0.02; ///< m, plan raster of the collision test, [0.005, 0.5]
-  double mast_height = 1.4;        ///< m, scanner centre above the floor, [0, 5]
-  double elevation_max_deg = 60.0; ///< deg, highest beam, [-90, 90]
-  double elevation_min_deg = -40.0;///< deg, lowest beam, [-90, 90]
-  double range_min = 1.5;          ///< m, closer surfaces are not reported, [0, 100]
-  double range_max = 100.0;        ///< m, [0.1, 1e4]
-  double hit_tolerance = 0.02;     ///< m, first hit may be this much short of the cell, [0, 1]
+  double grid_step = 0.2;            ///< m, lattice of candidate scan positions, [0.02, 5]
+  double robot_radius = 0.35;        ///< m, disc footprint of the base, [0, 3]
+  double body_z_min = 0.02;          ///< m above the floor, bottom of the collision band, [0, 3]
+  double body_z_max = 1.9;           ///< m above the floor, top of the collision band, [0, 5]
+  double raster_resolution = 0.02;   ///< m, plan raster of the collision test, [0.005, 0.5]
+  double mast_height = 1.4;          ///< m, scanner centre above the floor, [0, 5]
+  double elevation_max_deg = 60.0;   ///< deg, highest beam, [-90, 90]
+  double elevation_min_deg = -40.0;  ///< deg, lowest beam, [-90, 90]
+  double range_min = 1.5;            ///< m, closer surfaces are not reported, [0, 100]
+  double range_max = 100.0;          ///< m, [0.1, 1e4]
+  double hit_tolerance = 0.02;       ///< m, first hit may be this much short of the cell, [0, 1]
 
   template <class V>
   void Visit(V& v) {
@@ -88,7 +88,9 @@ struct Observability {
 
 /// Which cells of `surfaces` are visible from some position of `reachable`. Parallel (TBB);
 /// deterministic (the same bytes with any number of threads).
-Observability ComputeObservability(const sim::EmbreeWorld& world, const StructuralSurfaces& surfaces,
-                                   const ReachableArea& reachable, const ObservabilityParams& params = {});
+Observability ComputeObservability(const sim::EmbreeWorld& world,
+                                   const StructuralSurfaces& surfaces,
+                                   const ReachableArea& reachable,
+                                   const ObservabilityParams& params = {});
 
 }  // namespace mopad::evaluation

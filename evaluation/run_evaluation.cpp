@@ -15,6 +15,8 @@
 // plot and the truth DSM3 (dsm3_truth_<room>.ply, dsm3.ply's format), and DIR/eval.effective.yaml;
 // prints a summary table. Model files are read with evaluation/model_files.h (docs/models.md);
 // their frame is the run's map frame.
+#include "evaluation/run_evaluation.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -33,14 +35,13 @@
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_openings.h"
-#include "modelling/model_io.h"
 #include "evaluation/metrics_patches.h"
 #include "evaluation/metrics_voxels.h"
 #include "evaluation/model_files.h"
 #include "evaluation/report_tables.h"
 #include "evaluation/truth_models.h"
+#include "modelling/model_io.h"
 #include "scenes/ground_truth.h"
-#include "evaluation/run_evaluation.h"
 #include "sim/scene_world.h"
 
 namespace mopad::evaluation {
@@ -258,8 +259,8 @@ void WriteTruthDsm3Ply(const std::string& path, const Dsm3Voxels& grid_of,
 
 }  // namespace
 
-RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
-                        const std::string& out) {
+RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_file,
+                          const std::string& config, const std::string& out) {
   std::string report;
   EvalParams params;
   if (!config.empty()) params = LoadParamsFile<EvalParams>(config);
@@ -307,11 +308,9 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       return out;
     };
     try {
-      r.patches =
-          EvaluatePatches(no_columns(model), no_columns(truth_patches), params.patches);
-      r.columns = EvaluateColumns(GroupModelColumns(model),
-                                      TruthColumns(*truth, run.room), params.columns,
-                                      params.patches);
+      r.patches = EvaluatePatches(no_columns(model), no_columns(truth_patches), params.patches);
+      r.columns = EvaluateColumns(GroupModelColumns(model), TruthColumns(*truth, run.room),
+                                  params.columns, params.patches);
       r.isprs = EvaluateIsprs(model, truth_patches, params.isprs);
     } catch (const InputError& e) {
       throw InputError(run.sm3 + ": " + e.what());
@@ -333,8 +332,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       std::vector<Vec3> scanners;
       for (const auto& p : ReadTumPositions(poses)) scanners.push_back(run.X_WM * p);
       r.scanners = scanners.size();
-      r.dsm3_truth = TruthDsm3(*mw.world, *truth, run.room, dsm.grid, dsm.ijk, run.X_WM,
-                                   scanners, params.dsm3);
+      r.dsm3_truth = TruthDsm3(*mw.world, *truth, run.room, dsm.grid, dsm.ijk, run.X_WM, scanners,
+                               params.dsm3);
       r.dsm3_pred = dsm.labels;
       r.dsm3_voxels = dsm;
       r.dsm3 = ComputeDsm3Confusion(r.dsm3_truth, r.dsm3_pred);
@@ -354,7 +353,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     }
     if (!run.sm4.empty() && fs::exists(run.sm4)) {
       const modelling::Sm4Model sm4 = modelling::ReadSm4(run.sm4);
-      r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, run.room), params.openings);
+      r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, run.room),
+                                    params.openings);
     }
     results.push_back(std::move(r));
   }
@@ -371,8 +371,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
         if (t.id == r.run.room) truth_rooms.push_back(t);
     }
   }
-  const FloorplanResult plan =
-      EvaluateFloorplan(predicted, truth_rooms, params.floorplan);
+  const FloorplanResult plan = EvaluateFloorplan(predicted, truth_rooms, params.floorplan);
 
   // Pooled figures.
   PatchEvaluation pooled;
@@ -430,8 +429,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   ojson det;
   for (auto c : AllSurfaceClasses()) {
     const auto& d = pooled.detection[static_cast<int>(c)];
-    det[SurfaceClassName(c)] = {
-        {"n_truth", d.n_truth}, {"tp", d.tp}, {"fp", d.fp}, {"fn", d.fn}};
+    det[SurfaceClassName(c)] = {{"n_truth", d.n_truth}, {"tp", d.tp}, {"fp", d.fp}, {"fn", d.fn}};
   }
   summary["detection"] = det;
   summary["d_v"] = Ord(ToJson(pooled.d_v));
@@ -467,7 +465,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   for (const auto& r : results)
     if (r.openings) opening_parts.push_back(*r.openings);
   const std::optional<OpeningEvaluation> pooled_openings =
-      opening_parts.empty() ? std::nullopt : std::optional<OpeningEvaluation>(PoolOpenings(opening_parts));
+      opening_parts.empty() ? std::nullopt
+                            : std::optional<OpeningEvaluation>(PoolOpenings(opening_parts));
   summary["openings"] = pooled_openings ? Ord(ToJson(*pooled_openings)) : ojson(nullptr);
   j["summary"] = summary;
   ojson rooms = ojson::array();
@@ -517,8 +516,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   for (const auto& r : results) {
     const int b = r.isprs.BufferIndex(params.report_buffer);
     md << "| " << r.run.room;
-    for (int c = 0; c < kNumSurfaceClasses; ++c)
-      md << " | " << det_cell(r.patches.detection[c]);
+    for (int c = 0; c < kNumSurfaceClasses; ++c) md << " | " << det_cell(r.patches.detection[c]);
     md << " | " << Fmt(r.patches.d_v.mean, 2, 100) << " | " << Fmt(r.patches.d_h.mean, 2, 100)
        << " | " << Fmt(r.patches.phi_deg.mean, 4) << " | " << Fmt(r.isprs.all.completeness[b], 4)
        << " | " << Fmt(r.isprs.all.correctness[b], 4) << " | "
@@ -527,11 +525,10 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   md << "| **all**";
   for (int c = 0; c < kNumSurfaceClasses; ++c) md << " | " << det_cell(pooled.detection[c]);
   md << " | " << Fmt(pooled.d_v.mean, 2, 100) << " | " << Fmt(pooled.d_h.mean, 2, 100) << " | "
-     << Fmt(pooled.phi_deg.mean, 4) << " | " << Fmt(compl_b, 4) << " | " << Fmt(corr_b, 4)
-     << " | " << (any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
+     << Fmt(pooled.phi_deg.mean, 4) << " | " << Fmt(compl_b, 4) << " | " << Fmt(corr_b, 4) << " | "
+     << (any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
   md << "## Floorplan (all rooms)\n\n" << MarkdownFloorplanTable(plan) << "\n";
-  if (any_dsm3)
-    md << "## DSM3 (all rooms)\n\n" << MarkdownConfusionTable(pooled_dsm3) << "\n";
+  if (any_dsm3) md << "## DSM3 (all rooms)\n\n" << MarkdownConfusionTable(pooled_dsm3) << "\n";
   for (const auto& r : results) {
     md << "## Room " << r.run.room << "\n\n### SM3 structural elements\n\n"
        << MarkdownPatchTable(r.patches) << "\n";
@@ -552,15 +549,15 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
          << Fmt(MissionNumber(r.mission, "coverage_of_observable"), 4)
          << ", registration error max "
          << Fmt(MissionNumber(r.mission, "registration_error_max", "translation_m"), 2, 100)
-         << " cm, SM1 label accuracy "
-         << Fmt(MissionNumber(r.mission, "sm1_labels", "accuracy"), 4) << "\n\n";
+         << " cm, SM1 label accuracy " << Fmt(MissionNumber(r.mission, "sm1_labels", "accuracy"), 4)
+         << "\n\n";
   }
   std::ofstream(dir / "evaluation.md") << md.str();
 
   // Summary on stdout.
-  Append(report, "%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", "room", "walls", "floor",
-              "ceiling", "columns", "d_v(cm)", "d_h(cm)", "phi(deg)", "compl", "corr", "dsm3",
-              "cover");
+  Append(report, "%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", "room", "walls",
+         "floor", "ceiling", "columns", "d_v(cm)", "d_h(cm)", "phi(deg)", "compl", "corr", "dsm3",
+         "cover");
   auto cell = [](const ClassDetection& d) {
     return std::to_string(d.tp) + "/" + std::to_string(d.n_truth) +
            (d.fp ? "+" + std::to_string(d.fp) + "FP" : "");
@@ -568,40 +565,38 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   for (const auto& r : results) {
     const int b = r.isprs.BufferIndex(params.report_buffer);
     Append(report, "%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", r.run.room.c_str(),
-                cell(r.patches.detection[0]).c_str(), cell(r.patches.detection[1]).c_str(),
-                cell(r.patches.detection[2]).c_str(), cell(r.columns.detection).c_str(),
-                Fmt(r.patches.d_v.mean, 2, 100).c_str(), Fmt(r.patches.d_h.mean, 2, 100).c_str(),
-                Fmt(r.patches.phi_deg.mean, 4).c_str(),
-                Fmt(r.isprs.all.completeness[b], 4).c_str(),
-                Fmt(r.isprs.all.correctness[b], 4).c_str(),
-                r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4).c_str() : "-",
-                Fmt(MissionNumber(r.mission, "coverage_of_observable"), 3).c_str());
+           cell(r.patches.detection[0]).c_str(), cell(r.patches.detection[1]).c_str(),
+           cell(r.patches.detection[2]).c_str(), cell(r.columns.detection).c_str(),
+           Fmt(r.patches.d_v.mean, 2, 100).c_str(), Fmt(r.patches.d_h.mean, 2, 100).c_str(),
+           Fmt(r.patches.phi_deg.mean, 4).c_str(), Fmt(r.isprs.all.completeness[b], 4).c_str(),
+           Fmt(r.isprs.all.correctness[b], 4).c_str(),
+           r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4).c_str() : "-",
+           Fmt(MissionNumber(r.mission, "coverage_of_observable"), 3).c_str());
   }
   Append(report, "%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s\n", "all",
-              cell(pooled.detection[0]).c_str(), cell(pooled.detection[1]).c_str(),
-              cell(pooled.detection[2]).c_str(), cell(pooled.detection[3]).c_str(),
-              Fmt(pooled.d_v.mean, 2, 100).c_str(), Fmt(pooled.d_h.mean, 2, 100).c_str(),
-              Fmt(pooled.phi_deg.mean, 4).c_str(), Fmt(compl_b, 4).c_str(),
-              Fmt(corr_b, 4).c_str(),
-              any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4).c_str() : "-");
+         cell(pooled.detection[0]).c_str(), cell(pooled.detection[1]).c_str(),
+         cell(pooled.detection[2]).c_str(), cell(pooled.detection[3]).c_str(),
+         Fmt(pooled.d_v.mean, 2, 100).c_str(), Fmt(pooled.d_h.mean, 2, 100).c_str(),
+         Fmt(pooled.phi_deg.mean, 4).c_str(), Fmt(compl_b, 4).c_str(), Fmt(corr_b, 4).c_str(),
+         any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4).c_str() : "-");
   if (pooled_columns.detection.n_truth + pooled_columns.detection.n_model > 0)
-    Append(report, 
-        "columns (objects): %d/%d TP, %d FP; plan IoU mean %s, centre error mean %s cm, "
-        "diameter error mean %s cm, height error mean %s cm; square-column faces d_h %s cm, "
-        "Phi %s deg\n",
-        pooled_columns.detection.tp, pooled_columns.detection.n_truth,
-        pooled_columns.detection.fp, Fmt(pooled_columns.plan_iou.mean, 3).c_str(),
-        Fmt(pooled_columns.centre_error.mean, 2, 100).c_str(),
-        Fmt(pooled_columns.diameter_error.mean, 2, 100).c_str(),
-        Fmt(pooled_columns.height_error.mean, 2, 100).c_str(),
-        Fmt(pooled_columns.face_accuracy.d_h.mean, 2, 100).c_str(),
-        Fmt(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
+    Append(report,
+           "columns (objects): %d/%d TP, %d FP; plan IoU mean %s, centre error mean %s cm, "
+           "diameter error mean %s cm, height error mean %s cm; square-column faces d_h %s cm, "
+           "Phi %s deg\n",
+           pooled_columns.detection.tp, pooled_columns.detection.n_truth,
+           pooled_columns.detection.fp, Fmt(pooled_columns.plan_iou.mean, 3).c_str(),
+           Fmt(pooled_columns.centre_error.mean, 2, 100).c_str(),
+           Fmt(pooled_columns.diameter_error.mean, 2, 100).c_str(),
+           Fmt(pooled_columns.height_error.mean, 2, 100).c_str(),
+           Fmt(pooled_columns.face_accuracy.d_h.mean, 2, 100).c_str(),
+           Fmt(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
   Append(report, "floorplan: mean room IoU %s, corner recall@10cm %s; ISPRS at %s cm buffer\n",
-              Fmt(plan.mean_truth_iou, 4).c_str(),
-              plan.corners.size() > 1 ? Fmt(plan.corners[1].score.recall, 3).c_str() : "-",
-              Fmt(params.report_buffer, 0, 100).c_str());
+         Fmt(plan.mean_truth_iou, 4).c_str(),
+         plan.corners.size() > 1 ? Fmt(plan.corners[1].score.recall, 3).c_str() : "-",
+         Fmt(params.report_buffer, 0, 100).c_str());
   Append(report, "wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
-              dir.string().c_str());
+         dir.string().c_str());
   return {report, summary};
 }
 

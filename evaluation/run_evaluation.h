@@ -2,9 +2,8 @@
 // `mopad eval`'s work (docs/evaluation.md): the models of a run folder (a room run, or a main-job
 // folder with rooms/*/run.json) scored against the scene's truth.
 
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace mopad::evaluation {
 
@@ -17,7 +16,7 @@ struct RunEvaluation {
   std::string tables;
   nlohmann::ordered_json summary;
 };
-RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_file, const std::string& config,
-                        const std::string& out);
+RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_file,
+                          const std::string& config, const std::string& out);
 
 }  // namespace mopad::evaluation

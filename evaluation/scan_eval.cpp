@@ -21,18 +21,25 @@ PoseError RegistrationError(const Pose3& X_MS_estimated, const Pose3& X_MS_true)
   return e;
 }
 
-Pose3 TrueScannerPoseInMap(const Pose3& X_WM, const sim::TlsTruth& truth) { return X_WM.inverse() * truth.X_WS; }
+Pose3 TrueScannerPoseInMap(const Pose3& X_WM, const sim::TlsTruth& truth) {
+  return X_WM.inverse() * truth.X_WS;
+}
 
-PoseError ScanRegistrationError(const Pose3& X_MS_estimated, const Pose3& X_WM, const sim::TlsTruth& truth) {
+PoseError ScanRegistrationError(const Pose3& X_MS_estimated, const Pose3& X_WM,
+                                const sim::TlsTruth& truth) {
   return RegistrationError(X_MS_estimated, TrueScannerPoseInMap(X_WM, truth));
 }
 
 std::string_view ToString(Sm1Label label) {
   switch (label) {
-    case Sm1Label::kNone: return "none";
-    case Sm1Label::kInlier: return "inlier";
-    case Sm1Label::kOutlier: return "outlier";
-    case Sm1Label::kClutter: return "clutter";
+    case Sm1Label::kNone:
+      return "none";
+    case Sm1Label::kInlier:
+      return "inlier";
+    case Sm1Label::kOutlier:
+      return "outlier";
+    case Sm1Label::kClutter:
+      return "clutter";
   }
   return "none";
 }
@@ -53,12 +60,14 @@ std::vector<Sm1Label> TruthLabels(const interfaces::TlsScan& scan, const sim::Tl
   // Truth element table index -> structural element of this room.
   std::set<std::string> own;
   for (const scenes::StructuralElement& e : ground_truth.elements) {
-    if (scenes::IsStructural(e.element_class) && std::find(e.rooms.begin(), e.rooms.end(), room) != e.rooms.end()) {
+    if (scenes::IsStructural(e.element_class) &&
+        std::find(e.rooms.begin(), e.rooms.end(), room) != e.rooms.end()) {
       own.insert(e.id);
     }
   }
   std::vector<std::uint8_t> is_own(truth.element_ids.size(), 0);
-  for (std::size_t k = 0; k < truth.element_ids.size(); ++k) is_own[k] = own.count(truth.element_ids[k]) ? 1 : 0;
+  for (std::size_t k = 0; k < truth.element_ids.size(); ++k)
+    is_own[k] = own.count(truth.element_ids[k]) ? 1 : 0;
 
   std::vector<Sm1Label> out(scan.points.size(), Sm1Label::kNone);
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
@@ -70,23 +79,25 @@ std::vector<Sm1Label> TruthLabels(const interfaces::TlsScan& scan, const sim::Tl
       continue;
     }
     const auto cls = static_cast<scenes::ElementClass>(t.element_class);
-    if (t.element >= 0 && static_cast<std::size_t>(t.element) < is_own.size() && is_own[t.element] &&
-        scenes::IsStructural(cls)) {
+    if (t.element >= 0 && static_cast<std::size_t>(t.element) < is_own.size() &&
+        is_own[t.element] && scenes::IsStructural(cls)) {
       out[i] = Sm1Label::kInlier;
       continue;
     }
     Eigen::Vector3d p_S(p.x, p.y, p.z);
-    if (t.true_range > 0.0f && p_S.norm() > 0) p_S = p_S.normalized() * static_cast<double>(t.true_range);
+    if (t.true_range > 0.0f && p_S.norm() > 0)
+      p_S = p_S.normalized() * static_cast<double>(t.true_range);
     const Eigen::Vector3d p_W = truth.X_WS * p_S;
     const Eigen::Vector2d q(p_W.x(), p_W.y());
-    const bool outside =
-        !scenes::PointInPolygon(q, r->polygon) && scenes::DistanceToBoundary(q, r->polygon) > params.outside_margin;
+    const bool outside = !scenes::PointInPolygon(q, r->polygon) &&
+                         scenes::DistanceToBoundary(q, r->polygon) > params.outside_margin;
     out[i] = outside ? Sm1Label::kOutlier : Sm1Label::kClutter;
   }
   return out;
 }
 
-std::vector<Sm1Label> InPlyOrder(const interfaces::TlsScan& scan, const std::vector<Sm1Label>& grid) {
+std::vector<Sm1Label> InPlyOrder(const interfaces::TlsScan& scan,
+                                 const std::vector<Sm1Label>& grid) {
   if (grid.size() != scan.points.size()) {
     throw InputError("", "label grid does not match the scan", std::to_string(grid.size()),
                      std::to_string(scan.points.size()));
@@ -108,7 +119,8 @@ void LabelAccuracy::Add(const LabelAccuracy& o) {
     for (int b = 0; b < 3; ++b) confusion[a][b] += o.confusion[a][b];
 }
 
-LabelAccuracy CompareLabels(std::span<const Sm1Label> truth, std::span<const std::uint8_t> estimated) {
+LabelAccuracy CompareLabels(std::span<const Sm1Label> truth,
+                            std::span<const std::uint8_t> estimated) {
   if (truth.size() != estimated.size()) {
     throw InputError("", "label counts differ", std::to_string(estimated.size()) + " estimated",
                      std::to_string(truth.size()) + " (one per truth label)");
@@ -116,7 +128,9 @@ LabelAccuracy CompareLabels(std::span<const Sm1Label> truth, std::span<const std
   LabelAccuracy acc;
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const std::uint8_t e = estimated[i];
-    if (e > 3) throw InputError("", "label out of range at point " + std::to_string(i), std::to_string(e), "0..3");
+    if (e > 3)
+      throw InputError("", "label out of range at point " + std::to_string(i), std::to_string(e),
+                       "0..3");
     const int t = static_cast<int>(truth[i]);
     if (t == 0) continue;
     ++acc.points;

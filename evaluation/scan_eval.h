@@ -30,8 +30,8 @@ namespace mopad::evaluation {
 
 /// Pose error of one scan.
 struct PoseError {
-  double translation = 0.0;  ///< m, |t_est - t_true|
-  double rotation_deg = 0.0; ///< deg, angle of R_est^T R_true, [0, 180]
+  double translation = 0.0;   ///< m, |t_est - t_true|
+  double rotation_deg = 0.0;  ///< deg, angle of R_est^T R_true, [0, 180]
 };
 
 /// Error of an estimated scanner pose X_MS_est against the true one.
@@ -39,7 +39,8 @@ PoseError RegistrationError(const Pose3& X_MS_estimated, const Pose3& X_MS_true)
 /// The true scanner pose in the map frame: X_MW * X_WS (X_WS from the scan's truth).
 Pose3 TrueScannerPoseInMap(const Pose3& X_WM, const sim::TlsTruth& truth);
 /// RegistrationError(X_MS_estimated, TrueScannerPoseInMap(X_WM, truth)).
-PoseError ScanRegistrationError(const Pose3& X_MS_estimated, const Pose3& X_WM, const sim::TlsTruth& truth);
+PoseError ScanRegistrationError(const Pose3& X_MS_estimated, const Pose3& X_WM,
+                                const sim::TlsTruth& truth);
 
 enum class Sm1Label : std::uint8_t { kNone = 0, kInlier = 1, kOutlier = 2, kClutter = 3 };
 std::string_view ToString(Sm1Label label);
@@ -61,22 +62,26 @@ std::vector<Sm1Label> TruthLabels(const interfaces::TlsScan& scan, const sim::Tl
 
 /// The valid cells of a grid in the order scan PLYs list points (column by column, top row
 /// first; io/scan_io.h): returns grid[i] for each valid cell.
-std::vector<Sm1Label> InPlyOrder(const interfaces::TlsScan& scan, const std::vector<Sm1Label>& grid);
+std::vector<Sm1Label> InPlyOrder(const interfaces::TlsScan& scan,
+                                 const std::vector<Sm1Label>& grid);
 
 /// Agreement of estimated with true labels. Only points whose truth is not kNone count; an
 /// estimated kNone for such a point counts as wrong (`unlabelled`).
 struct LabelAccuracy {
-  std::uint64_t points = 0;     ///< points with a truth label
+  std::uint64_t points = 0;  ///< points with a truth label
   std::uint64_t correct = 0;
-  std::uint64_t unlabelled = 0; ///< truth labelled, estimate kNone
+  std::uint64_t unlabelled = 0;  ///< truth labelled, estimate kNone
   /// confusion[t - 1][e - 1]: truth t, estimate e, for t, e in {inlier, outlier, clutter}.
   std::array<std::array<std::uint64_t, 3>, 3> confusion{};
-  double Accuracy() const { return points ? static_cast<double>(correct) / static_cast<double>(points) : 0.0; }
+  double Accuracy() const {
+    return points ? static_cast<double>(correct) / static_cast<double>(points) : 0.0;
+  }
   void Add(const LabelAccuracy& o);
 };
 
 /// Compares element-wise; InputError when the sizes differ or a value is not 0..3.
-LabelAccuracy CompareLabels(std::span<const Sm1Label> truth, std::span<const std::uint8_t> estimated);
+LabelAccuracy CompareLabels(std::span<const Sm1Label> truth,
+                            std::span<const std::uint8_t> estimated);
 LabelAccuracy CompareLabels(std::span<const Sm1Label> truth, std::span<const Sm1Label> estimated);
 
 /// Deterministic JSON: {"points", "correct", "unlabelled", "accuracy", "confusion": 3x3 rows =

@@ -38,7 +38,7 @@ struct RoomTruth {
 
 /// Samples `room`'s surfaces, its reachable positions and observable cells in `world`'s scene
 /// (build `world` with WorldOptions::robust for exact figures; observability.h).
-RoomTruth ComputeRoomTruth(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth, const std::string& room,
-                           const TruthEvalParams& params = {});
+RoomTruth ComputeRoomTruth(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
+                           const std::string& room, const TruthEvalParams& params = {});
 
 }  // namespace mopad::evaluation

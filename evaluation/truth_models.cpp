@@ -161,8 +161,7 @@ std::vector<Patch> TruthPatches(const scenes::GroundTruth& truth, const std::str
   return out;
 }
 
-std::vector<ColumnObject> TruthColumns(const scenes::GroundTruth& truth,
-                                       const std::string& room) {
+std::vector<ColumnObject> TruthColumns(const scenes::GroundTruth& truth, const std::string& room) {
   FindRoomOrThrow(truth, room);
   std::vector<ColumnObject> out;
   for (const auto& e : truth.elements)

@@ -56,8 +56,10 @@ bool InsideConvex(const Poly2& p, const Eigen::Vector2d& x) {
     const double cr = e.x() * w.y() - e.y() * w.x();
     if (std::abs(cr) < 1e-15) continue;
     const int s = cr > 0 ? 1 : -1;
-    if (sign == 0) sign = s;
-    else if (s != sign) return false;
+    if (sign == 0)
+      sign = s;
+    else if (s != sign)
+      return false;
   }
   return true;
 }
@@ -92,11 +94,14 @@ std::int32_t StructuralSurfaces::FindCell(const Eigen::Vector3d& p, double toler
   return best;
 }
 
-StructuralSurfaces SampleStructuralSurfaces(const scenes::Scene& scene, const scenes::GroundTruth& truth,
-                                            const std::string& room, const SurfaceSamplingParams& params) {
+StructuralSurfaces SampleStructuralSurfaces(const scenes::Scene& scene,
+                                            const scenes::GroundTruth& truth,
+                                            const std::string& room,
+                                            const SurfaceSamplingParams& params) {
   ValidateParams(params, "surface_sampling.");
   const scenes::Room* r = truth.FindRoom(room);
-  if (!r) throw InputError(scene.source, "unknown room", "'" + room + "'", "a room of the ground truth");
+  if (!r)
+    throw InputError(scene.source, "unknown room", "'" + room + "'", "a room of the ground truth");
   StructuralSurfaces out;
   out.room = room;
   out.cell_size = params.cell_size;

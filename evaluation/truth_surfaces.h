@@ -36,18 +36,18 @@ struct SurfaceSamplingParams {
 /// One planar face of an element with its cell grid: cell (i, j) of the plane covers
 /// u in [(i0 + i) s, (i0 + i + 1) s), v likewise; `index` maps (j * ni + i) to a cell, -1 = none.
 struct SurfacePlane {
-  int element = -1;                 ///< index into StructuralSurfaces::elements
-  Eigen::Vector3d normal;           ///< unit, visible side
-  double offset = 0.0;              ///< normal . p on the plane, m
-  Eigen::Vector3d u_axis, v_axis;   ///< unit, in the plane; u x v = normal
+  int element = -1;                    ///< index into StructuralSurfaces::elements
+  Eigen::Vector3d normal;              ///< unit, visible side
+  double offset = 0.0;                 ///< normal . p on the plane, m
+  Eigen::Vector3d u_axis, v_axis;      ///< unit, in the plane; u x v = normal
   int i0 = 0, j0 = 0, ni = 0, nj = 0;  ///< grid window in cell units
-  std::vector<std::int32_t> index;  ///< ni * nj, cell index or -1
+  std::vector<std::int32_t> index;     ///< ni * nj, cell index or -1
 };
 
 struct SurfaceCell {
-  Eigen::Vector3d centre;  ///< m, world: area centroid of the covered part (on the surface)
-  Eigen::Vector3d normal;  ///< unit, visible side
-  double area = 0.0;       ///< m^2, covered part of the square
+  Eigen::Vector3d centre;     ///< m, world: area centroid of the covered part (on the surface)
+  Eigen::Vector3d normal;     ///< unit, visible side
+  double area = 0.0;          ///< m^2, covered part of the square
   std::int32_t element = -1;  ///< index into StructuralSurfaces::elements
   std::int32_t plane = -1;    ///< index into StructuralSurfaces::planes
   scenes::ElementClass element_class = scenes::ElementClass::kUnknown;
@@ -62,10 +62,10 @@ struct SurfaceElement {
 struct StructuralSurfaces {
   std::string room;
   double cell_size = 0.05;
-  double floor_z = 0.0;  ///< m, from the truth room
+  double floor_z = 0.0;                  ///< m, from the truth room
   std::vector<SurfaceElement> elements;  ///< in GroundTruth::elements order
   std::vector<SurfacePlane> planes;
-  std::vector<SurfaceCell> cells;        ///< plane by plane, row-major (v then u) inside a plane
+  std::vector<SurfaceCell> cells;  ///< plane by plane, row-major (v then u) inside a plane
 
   double TotalArea() const;  ///< m^2, sum of cell areas (= the triangles' area, less float slivers
                              ///< below 1e-4 of a cell along hole edges)
@@ -76,7 +76,9 @@ struct StructuralSurfaces {
 
 /// Samples room `room`'s structural surfaces. InputError for an unknown room or a room without
 /// structural geometry.
-StructuralSurfaces SampleStructuralSurfaces(const scenes::Scene& scene, const scenes::GroundTruth& truth,
-                                            const std::string& room, const SurfaceSamplingParams& params = {});
+StructuralSurfaces SampleStructuralSurfaces(const scenes::Scene& scene,
+                                            const scenes::GroundTruth& truth,
+                                            const std::string& room,
+                                            const SurfaceSamplingParams& params = {});
 
 }  // namespace mopad::evaluation

@@ -5,8 +5,8 @@
 #include <bit>
 #include <cctype>
 #include <cerrno>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -36,18 +36,25 @@ constexpr int kMaxImageSide = 16384;
 
 const char* MountingName(Mounting m) {
   switch (m) {
-    case Mounting::kWall: return "wall";
-    case Mounting::kCeiling: return "ceiling";
-    case Mounting::kFloor: return "floor";
+    case Mounting::kWall:
+      return "wall";
+    case Mounting::kCeiling:
+      return "ceiling";
+    case Mounting::kFloor:
+      return "floor";
   }
   return "wall";
 }
 
 bool ParseMounting(const std::string& s, Mounting* out) {
-  if (s == "wall") *out = Mounting::kWall;
-  else if (s == "ceiling") *out = Mounting::kCeiling;
-  else if (s == "floor") *out = Mounting::kFloor;
-  else return false;
+  if (s == "wall")
+    *out = Mounting::kWall;
+  else if (s == "ceiling")
+    *out = Mounting::kCeiling;
+  else if (s == "floor")
+    *out = Mounting::kFloor;
+  else
+    return false;
   return true;
 }
 
@@ -83,8 +90,8 @@ void CheckModelForWrite(const ObjectModel& m, const std::string& dir) {
   if (!IsSafeName(m.class_name))
     throw InputError(dir, "object model class name not usable as a file name",
                      "'" + m.class_name + "'", "[A-Za-z0-9_.-]+");
-  for (auto [name, v] : {std::pair{"width", m.width}, {"height", m.height},
-                         {"pixel_size", m.pixel_size}}) {
+  for (auto [name, v] :
+       {std::pair{"width", m.width}, {"height", m.height}, {"pixel_size", m.pixel_size}}) {
     if (!std::isfinite(v) || v <= 0.0)
       throw InputError(where, std::string(name) + " must be positive", Num(v), "> 0");
   }
@@ -124,8 +131,7 @@ class HeaderReader {
   std::string Token(const std::string& what) {
     SkipSpace();
     std::string t;
-    while (pos_ < b_.size() && !std::isspace(static_cast<unsigned char>(b_[pos_])) &&
-           t.size() < 64)
+    while (pos_ < b_.size() && !std::isspace(static_cast<unsigned char>(b_[pos_])) && t.size() < 64)
       t += b_[pos_++];
     if (t.empty()) throw InputError(path_, "truncated header", "end of file", what);
     return t;
@@ -246,7 +252,9 @@ T Get(const YAML::Node& map, const char* key, const std::string& file, const std
   if (!n) throw InputError(YamlWhere(file, map), "missing key '" + std::string(key) + "'");
   if (!n.IsScalar())
     throw InputError(YamlWhere(file, n), "wrong type for '" + std::string(key) + "'",
-                     "a " + std::string(n.IsMap() ? "map" : n.IsSequence() ? "sequence" : "null"),
+                     "a " + std::string(n.IsMap()        ? "map"
+                                        : n.IsSequence() ? "sequence"
+                                                         : "null"),
                      what);
   try {
     return n.as<T>();
@@ -260,8 +268,8 @@ double GetPositive(const YAML::Node& map, const char* key, const std::string& fi
                    bool allow_zero) {
   const double v = Get<double>(map, key, file, "a number");
   if (!std::isfinite(v) || v < 0.0 || (!allow_zero && v == 0.0))
-    throw InputError(YamlWhere(file, map[key]), "'" + std::string(key) + "' out of range",
-                     Num(v), allow_zero ? ">= 0" : "> 0");
+    throw InputError(YamlWhere(file, map[key]), "'" + std::string(key) + "' out of range", Num(v),
+                     allow_zero ? ">= 0" : "> 0");
   return v;
 }
 
@@ -291,8 +299,10 @@ void WriteCatalogue(const ObjectModelCatalogue& catalogue, const std::string& di
     << "# PPM (P6), depth (protrusion from the host surface, m) as little-endian PFM (Pf).\n"
     << "format: " << kFormatName << "\n"
     << "version: " << kFormatVersion << "\n";
-  if (catalogue.models.empty()) y << "models: []\n";
-  else y << "models:\n";
+  if (catalogue.models.empty())
+    y << "models: []\n";
+  else
+    y << "models:\n";
   for (const auto& m : catalogue.models) {
     const std::string colour_file = m.class_name + "_colour.ppm";
     const std::string depth_file = m.class_name + "_depth.pfm";
@@ -359,8 +369,8 @@ ObjectModelCatalogue ReadCatalogue(const std::string& dir) {
     ObjectModel m;
     m.class_name = Get<std::string>(n, "class_name", file, "a string");
     if (!IsSafeName(m.class_name))
-      throw InputError(YamlWhere(file, n["class_name"]), "bad class name",
-                       "'" + m.class_name + "'", "[A-Za-z0-9_.-]+");
+      throw InputError(YamlWhere(file, n["class_name"]), "bad class name", "'" + m.class_name + "'",
+                       "[A-Za-z0-9_.-]+");
     if (!seen.insert(m.class_name).second)
       throw InputError(YamlWhere(file, n["class_name"]), "duplicate class name",
                        "'" + m.class_name + "'", "unique class names");
@@ -372,8 +382,8 @@ ObjectModelCatalogue ReadCatalogue(const std::string& dir) {
     m.height = GetPositive(n, "height", file, false);
     m.depth = GetPositive(n, "depth", file, true);
     m.pixel_size = GetPositive(n, "pixel_size", file, false);
-    for (auto [key, out] : {std::pair{"image_width", &m.image_width},
-                            std::pair{"image_height", &m.image_height}}) {
+    for (auto [key, out] :
+         {std::pair{"image_width", &m.image_width}, std::pair{"image_height", &m.image_height}}) {
       *out = Get<int>(n, key, file, "an integer");
       if (*out <= 0 || *out > kMaxImageSide)
         throw InputError(YamlWhere(file, n[key]), "'" + std::string(key) + "' out of range",
@@ -381,11 +391,13 @@ ObjectModelCatalogue ReadCatalogue(const std::string& dir) {
     }
     const std::string colour_file = Get<std::string>(n, "colour_file", file, "a file name");
     const std::string depth_file = Get<std::string>(n, "depth_file", file, "a file name");
-    for (auto [key, name] : {std::pair{"colour_file", &colour_file},
-                             std::pair{"depth_file", &depth_file}}) {
+    for (auto [key, name] :
+         {std::pair{"colour_file", &colour_file}, std::pair{"depth_file", &depth_file}}) {
       if (!IsSafeName(*name))
-        throw InputError(YamlWhere(file, n[key]), "file name must be a plain name inside the "
-                         "catalogue directory", "'" + *name + "'", "[A-Za-z0-9_.-]+");
+        throw InputError(YamlWhere(file, n[key]),
+                         "file name must be a plain name inside the "
+                         "catalogue directory",
+                         "'" + *name + "'", "[A-Za-z0-9_.-]+");
     }
     m.colour_rgb = ReadPpm(fs::path(dir) / colour_file, m.image_width, m.image_height,
                            YamlWhere(file, n["colour_file"]));

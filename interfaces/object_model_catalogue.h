@@ -14,10 +14,10 @@ enum class Mounting { kWall, kCeiling, kFloor };
 struct ObjectModel {
   std::string class_name;  ///< e.g. "socket_x2"
   Mounting mounting = Mounting::kWall;
-  double width = 0.0;      ///< m, along the host surface's horizontal (u) axis
-  double height = 0.0;     ///< m, along the host surface's vertical (v) axis
-  double depth = 0.0;      ///< m, protrusion from the host surface (0 = flush / built-in)
-  double pixel_size = 0.0; ///< m per pixel of the images below
+  double width = 0.0;       ///< m, along the host surface's horizontal (u) axis
+  double height = 0.0;      ///< m, along the host surface's vertical (v) axis
+  double depth = 0.0;       ///< m, protrusion from the host surface (0 = flush / built-in)
+  double pixel_size = 0.0;  ///< m per pixel of the images below
   int image_width = 0, image_height = 0;
   std::vector<std::uint8_t> colour_rgb;  ///< image_width * image_height * 3, top row first
   std::vector<float> depth_m;            ///< image_width * image_height, protrusion in m

@@ -14,7 +14,8 @@
 
 namespace mopad::io {
 
-static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "PLY writer assumes a little-endian host");
 
 namespace {
 
@@ -22,14 +23,22 @@ constexpr int kCountWidth = 20;  // digits reserved for the vertex count (fits a
 
 const char* PlyTypeName(PlyType t) {
   switch (t) {
-    case PlyType::kInt8: return "char";
-    case PlyType::kUInt8: return "uchar";
-    case PlyType::kInt16: return "short";
-    case PlyType::kUInt16: return "ushort";
-    case PlyType::kInt32: return "int";
-    case PlyType::kUInt32: return "uint";
-    case PlyType::kFloat32: return "float";
-    case PlyType::kFloat64: return "double";
+    case PlyType::kInt8:
+      return "char";
+    case PlyType::kUInt8:
+      return "uchar";
+    case PlyType::kInt16:
+      return "short";
+    case PlyType::kUInt16:
+      return "ushort";
+    case PlyType::kInt32:
+      return "int";
+    case PlyType::kUInt32:
+      return "uint";
+    case PlyType::kFloat32:
+      return "float";
+    case PlyType::kFloat64:
+      return "double";
   }
   return "?";
 }
@@ -37,24 +46,28 @@ const char* PlyTypeName(PlyType t) {
 int PlyTypeSize(PlyType t) {
   switch (t) {
     case PlyType::kInt8:
-    case PlyType::kUInt8: return 1;
+    case PlyType::kUInt8:
+      return 1;
     case PlyType::kInt16:
-    case PlyType::kUInt16: return 2;
+    case PlyType::kUInt16:
+      return 2;
     case PlyType::kInt32:
     case PlyType::kUInt32:
-    case PlyType::kFloat32: return 4;
-    case PlyType::kFloat64: return 8;
+    case PlyType::kFloat32:
+      return 4;
+    case PlyType::kFloat64:
+      return 8;
   }
   return 0;
 }
 
 bool ParsePlyType(const std::string& s, PlyType* t) {
   static const std::pair<const char*, PlyType> kNames[] = {
-      {"char", PlyType::kInt8},     {"int8", PlyType::kInt8},     {"uchar", PlyType::kUInt8},
-      {"uint8", PlyType::kUInt8},   {"short", PlyType::kInt16},   {"int16", PlyType::kInt16},
-      {"ushort", PlyType::kUInt16}, {"uint16", PlyType::kUInt16}, {"int", PlyType::kInt32},
-      {"int32", PlyType::kInt32},   {"uint", PlyType::kUInt32},   {"uint32", PlyType::kUInt32},
-      {"float", PlyType::kFloat32}, {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
+      {"char", PlyType::kInt8},      {"int8", PlyType::kInt8},       {"uchar", PlyType::kUInt8},
+      {"uint8", PlyType::kUInt8},    {"short", PlyType::kInt16},     {"int16", PlyType::kInt16},
+      {"ushort", PlyType::kUInt16},  {"uint16", PlyType::kUInt16},   {"int", PlyType::kInt32},
+      {"int32", PlyType::kInt32},    {"uint", PlyType::kUInt32},     {"uint32", PlyType::kUInt32},
+      {"float", PlyType::kFloat32},  {"float32", PlyType::kFloat32}, {"double", PlyType::kFloat64},
       {"float64", PlyType::kFloat64}};
   for (const auto& [name, type] : kNames) {
     if (s == name) {
@@ -67,27 +80,89 @@ bool ParsePlyType(const std::string& s, PlyType* t) {
 
 void PutValue(char* dst, PlyType t, double v) {
   switch (t) {
-    case PlyType::kInt8: { auto x = static_cast<std::int8_t>(v); std::memcpy(dst, &x, 1); break; }
-    case PlyType::kUInt8: { auto x = static_cast<std::uint8_t>(v); std::memcpy(dst, &x, 1); break; }
-    case PlyType::kInt16: { auto x = static_cast<std::int16_t>(v); std::memcpy(dst, &x, 2); break; }
-    case PlyType::kUInt16: { auto x = static_cast<std::uint16_t>(v); std::memcpy(dst, &x, 2); break; }
-    case PlyType::kInt32: { auto x = static_cast<std::int32_t>(v); std::memcpy(dst, &x, 4); break; }
-    case PlyType::kUInt32: { auto x = static_cast<std::uint32_t>(v); std::memcpy(dst, &x, 4); break; }
-    case PlyType::kFloat32: { auto x = static_cast<float>(v); std::memcpy(dst, &x, 4); break; }
-    case PlyType::kFloat64: std::memcpy(dst, &v, 8); break;
+    case PlyType::kInt8: {
+      auto x = static_cast<std::int8_t>(v);
+      std::memcpy(dst, &x, 1);
+      break;
+    }
+    case PlyType::kUInt8: {
+      auto x = static_cast<std::uint8_t>(v);
+      std::memcpy(dst, &x, 1);
+      break;
+    }
+    case PlyType::kInt16: {
+      auto x = static_cast<std::int16_t>(v);
+      std::memcpy(dst, &x, 2);
+      break;
+    }
+    case PlyType::kUInt16: {
+      auto x = static_cast<std::uint16_t>(v);
+      std::memcpy(dst, &x, 2);
+      break;
+    }
+    case PlyType::kInt32: {
+      auto x = static_cast<std::int32_t>(v);
+      std::memcpy(dst, &x, 4);
+      break;
+    }
+    case PlyType::kUInt32: {
+      auto x = static_cast<std::uint32_t>(v);
+      std::memcpy(dst, &x, 4);
+      break;
+    }
+    case PlyType::kFloat32: {
+      auto x = static_cast<float>(v);
+      std::memcpy(dst, &x, 4);
+      break;
+    }
+    case PlyType::kFloat64:
+      std::memcpy(dst, &v, 8);
+      break;
   }
 }
 
 double GetValue(const char* src, PlyType t) {
   switch (t) {
-    case PlyType::kInt8: { std::int8_t x; std::memcpy(&x, src, 1); return x; }
-    case PlyType::kUInt8: { std::uint8_t x; std::memcpy(&x, src, 1); return x; }
-    case PlyType::kInt16: { std::int16_t x; std::memcpy(&x, src, 2); return x; }
-    case PlyType::kUInt16: { std::uint16_t x; std::memcpy(&x, src, 2); return x; }
-    case PlyType::kInt32: { std::int32_t x; std::memcpy(&x, src, 4); return x; }
-    case PlyType::kUInt32: { std::uint32_t x; std::memcpy(&x, src, 4); return x; }
-    case PlyType::kFloat32: { float x; std::memcpy(&x, src, 4); return x; }
-    case PlyType::kFloat64: { double x; std::memcpy(&x, src, 8); return x; }
+    case PlyType::kInt8: {
+      std::int8_t x;
+      std::memcpy(&x, src, 1);
+      return x;
+    }
+    case PlyType::kUInt8: {
+      std::uint8_t x;
+      std::memcpy(&x, src, 1);
+      return x;
+    }
+    case PlyType::kInt16: {
+      std::int16_t x;
+      std::memcpy(&x, src, 2);
+      return x;
+    }
+    case PlyType::kUInt16: {
+      std::uint16_t x;
+      std::memcpy(&x, src, 2);
+      return x;
+    }
+    case PlyType::kInt32: {
+      std::int32_t x;
+      std::memcpy(&x, src, 4);
+      return x;
+    }
+    case PlyType::kUInt32: {
+      std::uint32_t x;
+      std::memcpy(&x, src, 4);
+      return x;
+    }
+    case PlyType::kFloat32: {
+      float x;
+      std::memcpy(&x, src, 4);
+      return x;
+    }
+    case PlyType::kFloat64: {
+      double x;
+      std::memcpy(&x, src, 8);
+      return x;
+    }
   }
   return 0;
 }
@@ -121,17 +196,20 @@ std::FILE* OpenForWrite(const std::string& path) {
 }
 
 void WriteOrThrow(std::FILE* f, const void* data, std::size_t n, const std::string& path) {
-  if (n && std::fwrite(data, 1, n, f) != n) throw InputError(path, "write failed", std::strerror(errno));
+  if (n && std::fwrite(data, 1, n, f) != n)
+    throw InputError(path, "write failed", std::strerror(errno));
 }
 
 // TLS-scan PLY header comments and properties.
 std::vector<std::string> TlsComments(const TlsScan& s) {
-  return {"mopad_tls_scan 1", "mopad_scan_id " + std::to_string(s.scan_id),
+  return {"mopad_tls_scan 1",
+          "mopad_scan_id " + std::to_string(s.scan_id),
           "mopad_start_time " + FormatDouble(s.start_time),
           "mopad_grid " + std::to_string(s.rows) + " " + std::to_string(s.columns) + " " +
               FormatDouble(s.azimuth_min) + " " + FormatDouble(s.azimuth_step) + " " +
               FormatDouble(s.elevation_max) + " " + FormatDouble(s.elevation_step),
-          "mopad_X_BS" + PoseWords(s.X_BS), "mopad_X_MS_estimate" + PoseWords(s.X_MS_estimate)};
+          "mopad_X_BS" + PoseWords(s.X_BS),
+          "mopad_X_MS_estimate" + PoseWords(s.X_MS_estimate)};
 }
 
 std::vector<std::pair<std::string, PlyType>> TlsProperties(bool wide_row, bool wide_col) {
@@ -201,7 +279,8 @@ PlyHeader ParseHeader(std::istream& in, const std::string& path) {
         in_vertex = seen_vertex = true;
         h.vertex_count = n;
       } else {
-        if (!seen_vertex) throw InputError(where(), "element before 'vertex' is not supported", name);
+        if (!seen_vertex)
+          throw InputError(where(), "element before 'vertex' is not supported", name);
         in_vertex = false;
       }
     } else if (word == "property") {
@@ -240,8 +319,8 @@ const ScalarField* PointCloud::Field(const std::string& name) const {
 void WritePly(const std::string& path, const PointCloud& cloud) {
   const std::size_t n = cloud.points.size();
   if (!cloud.colors.empty() && cloud.colors.size() != n) {
-    throw InputError(path, "colour count differs from point count", std::to_string(cloud.colors.size()),
-                     std::to_string(n));
+    throw InputError(path, "colour count differs from point count",
+                     std::to_string(cloud.colors.size()), std::to_string(n));
   }
   std::string header = "ply\nformat binary_little_endian 1.0\n";
   for (const auto& c : cloud.comments) {
@@ -257,8 +336,8 @@ void WritePly(const std::string& path, const PointCloud& cloud) {
   }
   for (const auto& f : cloud.fields) {
     if (f.values.size() != n) {
-      throw InputError(path, "field '" + f.name + "' has the wrong length", std::to_string(f.values.size()),
-                       std::to_string(n));
+      throw InputError(path, "field '" + f.name + "' has the wrong length",
+                       std::to_string(f.values.size()), std::to_string(n));
     }
     if (f.name.empty() || f.name.find_first_of(" \t\n") != std::string::npos) {
       throw InputError(path, "invalid PLY property name", "'" + f.name + "'");
@@ -306,13 +385,20 @@ PointCloud ReadPly(const std::string& path) {
   cloud.comments = h.comments;
   std::vector<const PlyHeader::Prop*> others;
   for (const auto& p : h.props) {
-    if (p.name == "x") px = &p;
-    else if (p.name == "y") py = &p;
-    else if (p.name == "z") pz = &p;
-    else if (p.name == "red") pr = &p;
-    else if (p.name == "green") pg = &p;
-    else if (p.name == "blue") pb = &p;
-    else others.push_back(&p);
+    if (p.name == "x")
+      px = &p;
+    else if (p.name == "y")
+      py = &p;
+    else if (p.name == "z")
+      pz = &p;
+    else if (p.name == "red")
+      pr = &p;
+    else if (p.name == "green")
+      pg = &p;
+    else if (p.name == "blue")
+      pb = &p;
+    else
+      others.push_back(&p);
   }
   if (!px || !py || !pz) throw InputError(path, "vertex element lacks x, y or z");
   const bool has_color = pr && pg && pb;
@@ -378,7 +464,8 @@ PlyStreamWriter::PlyStreamWriter(const std::string& path, const std::vector<std:
     // Preallocating lets the kernel skip block allocation during the writes (about 3x faster
     // buffered writes on ext4); Close() trims the file to its real length.
     std::fflush(file_);
-    (void)posix_fallocate(fileno(file_), 0, static_cast<off_t>(bytes_ + expected_points * record_size_));
+    (void)posix_fallocate(fileno(file_), 0,
+                          static_cast<off_t>(bytes_ + expected_points * record_size_));
   }
 }
 
@@ -455,7 +542,8 @@ std::uint64_t TlsPlyStreamWriter::EncodePoints(std::span<const TlsPoint> points,
 
 void WriteTlsScanPly(const std::string& path, const TlsScan& scan) {
   if (scan.points.size() != static_cast<std::size_t>(scan.rows) * scan.columns) {
-    throw InputError(path, "scan grid size mismatch", std::to_string(scan.points.size()) + " points",
+    throw InputError(path, "scan grid size mismatch",
+                     std::to_string(scan.points.size()) + " points",
                      std::to_string(scan.rows) + " x " + std::to_string(scan.columns));
   }
   TlsPlyStreamWriter writer(path, scan);
@@ -464,7 +552,8 @@ void WriteTlsScanPly(const std::string& path, const TlsScan& scan) {
   for (std::uint32_t c = 0; c < scan.columns; ++c) {
     for (std::uint32_t r = 0; r < scan.rows; ++r) column[r] = scan.at(r, c);
     bytes.clear();
-    const auto n = TlsPlyStreamWriter::EncodePoints(column, writer.wide_row(), writer.wide_col(), bytes);
+    const auto n =
+        TlsPlyStreamWriter::EncodePoints(column, writer.wide_row(), writer.wide_col(), bytes);
     writer.Append(bytes, n);
   }
   writer.Close();
@@ -478,21 +567,26 @@ TlsScan ReadTlsScanPly(const std::string& path) {
     std::istringstream ls(c);
     std::string key;
     ls >> key;
-    if (key == "mopad_tls_scan") tagged = true;
-    else if (key == "mopad_scan_id") ls >> scan.scan_id;
-    else if (key == "mopad_start_time") ls >> scan.start_time;
+    if (key == "mopad_tls_scan")
+      tagged = true;
+    else if (key == "mopad_scan_id")
+      ls >> scan.scan_id;
+    else if (key == "mopad_start_time")
+      ls >> scan.start_time;
     else if (key == "mopad_grid") {
-      ls >> scan.rows >> scan.columns >> scan.azimuth_min >> scan.azimuth_step >> scan.elevation_max >>
-          scan.elevation_step;
+      ls >> scan.rows >> scan.columns >> scan.azimuth_min >> scan.azimuth_step >>
+          scan.elevation_max >> scan.elevation_step;
       grid = !ls.fail();
     } else if (key == "mopad_X_BS") {
       if (!ParsePoseWords(ls, &scan.X_BS)) throw InputError(path, "malformed mopad_X_BS comment");
     } else if (key == "mopad_X_MS_estimate") {
-      if (!ParsePoseWords(ls, &scan.X_MS_estimate)) throw InputError(path, "malformed mopad_X_MS_estimate comment");
+      if (!ParsePoseWords(ls, &scan.X_MS_estimate))
+        throw InputError(path, "malformed mopad_X_MS_estimate comment");
     }
   }
   if (!tagged || !grid) throw InputError(path, "not a mopad TLS scan PLY (no mopad_grid comment)");
-  const char* names[] = {"scalar_intensity", "scalar_range", "scalar_row", "scalar_column", "scalar_timestamp"};
+  const char* names[] = {"scalar_intensity", "scalar_range", "scalar_row", "scalar_column",
+                         "scalar_timestamp"};
   const ScalarField* f[5];
   for (int i = 0; i < 5; ++i) {
     f[i] = cloud.Field(names[i]);
@@ -580,7 +674,9 @@ void TlsPtxStreamWriter::EncodeCells(std::span<const TlsPoint> cells, std::strin
   }
 }
 
-void TlsPtxStreamWriter::Append(const std::string& text) { WriteOrThrow(file_, text.data(), text.size(), path_); }
+void TlsPtxStreamWriter::Append(const std::string& text) {
+  WriteOrThrow(file_, text.data(), text.size(), path_);
+}
 
 void TlsPtxStreamWriter::Close() {
   if (!file_) return;
@@ -611,7 +707,8 @@ TlsScan ReadTlsScanPtx(const std::string& path) {
   TlsScan scan;
   long long cols = 0, rows = 0;
   in >> cols >> rows;
-  if (!in || cols <= 0 || rows <= 0) throw InputError(path + ":1", "malformed PTX header (columns, rows)");
+  if (!in || cols <= 0 || rows <= 0)
+    throw InputError(path + ":1", "malformed PTX header (columns, rows)");
   double v[3 * 4 + 4 * 4];
   for (double& x : v) in >> x;
   if (!in) throw InputError(path, "malformed PTX header (pose)");
@@ -627,7 +724,8 @@ TlsScan ReadTlsScanPtx(const std::string& path) {
   std::getline(in, line);  // rest of the last header line
   for (long long c = 0; c < cols; ++c) {
     for (long long r = 0; r < rows; ++r) {
-      if (!std::getline(in, line)) throw InputError(path, "PTX file truncated", "", std::to_string(rows * cols) + " cells");
+      if (!std::getline(in, line))
+        throw InputError(path, "PTX file truncated", "", std::to_string(rows * cols) + " cells");
       std::istringstream ls(line);
       double x, y, z, i;
       int cr = 0, cg = 0, cb = 0;

@@ -28,6 +28,7 @@
 // Errors: every reader/writer throws mopad::InputError naming the file.
 // Thread-safety: free functions are reentrant; a stream writer belongs to one thread.
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -35,8 +36,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "interfaces/tls_scan.h"
 
@@ -47,7 +46,16 @@ using interfaces::TlsScan;
 
 /// PLY scalar types (the classic names are written: char uchar short ushort int uint float
 /// double).
-enum class PlyType : std::uint8_t { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
+enum class PlyType : std::uint8_t {
+  kInt8,
+  kUInt8,
+  kInt16,
+  kUInt16,
+  kInt32,
+  kUInt32,
+  kFloat32,
+  kFloat64
+};
 
 /// One extra per-point field of a cloud (stored as double, written as `type`).
 struct ScalarField {
@@ -58,10 +66,10 @@ struct ScalarField {
 
 /// A generic (e.g. labelled) point cloud.
 struct PointCloud {
-  std::vector<Eigen::Vector3f> points;           ///< m, frame given by the producer
+  std::vector<Eigen::Vector3f> points;              ///< m, frame given by the producer
   std::vector<std::array<std::uint8_t, 3>> colors;  ///< empty or one per point (sRGB)
-  std::vector<ScalarField> fields;               ///< each with one value per point
-  std::vector<std::string> comments;             ///< header comments (no newlines)
+  std::vector<ScalarField> fields;                  ///< each with one value per point
+  std::vector<std::string> comments;                ///< header comments (no newlines)
 
   const ScalarField* Field(const std::string& name) const;
 };
@@ -121,7 +129,8 @@ class TlsPlyStreamWriter {
  public:
   /// `meta` supplies grid geometry, poses and ids; its points are ignored. `expected_points` is
   /// an upper bound used to preallocate the file (0 = none).
-  TlsPlyStreamWriter(const std::string& path, const TlsScan& meta, std::uint64_t expected_points = 0);
+  TlsPlyStreamWriter(const std::string& path, const TlsScan& meta,
+                     std::uint64_t expected_points = 0);
 
   /// Appends the binary records of the valid points among `points` to `out`; returns how many.
   static std::uint64_t EncodePoints(std::span<const TlsPoint> points, bool wide_row, bool wide_col,

@@ -8,8 +8,9 @@ namespace mopad::io {
 std::string TumLine(double t, const Eigen::Isometry3d& X) {
   const Eigen::Quaterniond q(X.rotation());
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", t, X.translation().x(),
-                X.translation().y(), X.translation().z(), q.x(), q.y(), q.z(), q.w());
+  std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", t,
+                X.translation().x(), X.translation().y(), X.translation().z(), q.x(), q.y(), q.z(),
+                q.w());
   return buf;
 }
 

@@ -2,9 +2,8 @@
 // TUM trajectory files (`t tx ty tz qx qy qz qw`, one pose per line; the format of the TUM RGB-D
 // benchmark tools and evo): the robot's trajectories and scan poses. Deterministic text.
 
-#include <string>
-
 #include <Eigen/Geometry>
+#include <string>
 
 namespace mopad::io {
 

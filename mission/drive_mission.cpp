@@ -1,24 +1,23 @@
 #include "mission/drive_mission.h"
 
-#include "mission/robot_session.h"
-
-#include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <optional>
-#include <cstdlib>
 
 #include "common/error.h"
 #include "io/tum.h"
+#include "mission/robot_session.h"
 
 namespace mopad::mission {
 namespace {
@@ -135,8 +134,10 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   j["contacts"] = r.contacts;
   j["contact_events"] = nlohmann::json::array();
   for (const auto& c : r.contact_events)
-    j["contact_events"].push_back({{"time_s", c.time}, {"X_WB", {c.X_WB.x, c.X_WB.y, c.X_WB.yaw}},
-                                   {"speed_mps", c.speed}, {"impulse_Ns", c.impulse}});
+    j["contact_events"].push_back({{"time_s", c.time},
+                                   {"X_WB", {c.X_WB.x, c.X_WB.y, c.X_WB.yaw}},
+                                   {"speed_mps", c.speed},
+                                   {"impulse_Ns", c.impulse}});
   j["blocked_steps"] = r.blocked_steps;
   j["path_length_m"] = r.path_length;
   j["tls_scans"] = r.tls_scans;
@@ -154,7 +155,8 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   j["sim_time_s"] = r.sim_time;
   j["wall_time_s"] = r.wall_time;
   j["real_time_factor"] = r.RealTimeFactor();
-  j["frames"] = "map = robot start pose; trajectories in map; truth expressed in map via X_WB(0)^-1";
+  j["frames"] =
+      "map = robot start pose; trajectories in map; truth expressed in map via X_WB(0)^-1";
   write("summary.json", j.dump(2) + "\n");
   write("drive.effective.yaml", YAML::Dump(SaveParams(params)) + "\n");
 }

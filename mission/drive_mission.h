@@ -39,8 +39,8 @@ namespace mopad::mission {
 /// One drive: the simulated robot (sensors, body, control period) and its navigator. YAML keys
 /// are flat: the world's fields, then the navigator's (autonomy/navigator.h).
 struct DriveParams {
-  std::uint64_t seed = 1;  ///< run seed: sensor noise, odometry drift, AMCL, planner
-  double control_dt = 0.02;                    ///< s, physics/control step, [0.001, 0.2]
+  std::uint64_t seed = 1;    ///< run seed: sensor noise, odometry drift, AMCL, planner
+  double control_dt = 0.02;  ///< s, physics/control step, [0.001, 0.2]
   std::string lrf_profile = "hokuyo_utm30lx";  ///< profile of both LRFs (sim/lrf.h)
   std::string tls_profile = "riegl_vz400";     ///< TLS profile (sim/tls_params.h)
   /// The base stands still for a TLS scan's duration (pulses / pulse rate of the profile);
@@ -68,9 +68,9 @@ using autonomy::ToString;
 using autonomy::TrajectorySample;
 
 struct DriveRequest {
-  Pose2 X_WB_start;          ///< true start pose (world) — where the simulator puts the body
-  Pose2 X_WB_goal;           ///< goal (world); handed to the robot in its map frame
-  std::vector<Pose2> via;    ///< waypoints (world) reached in order before the goal
+  Pose2 X_WB_start;        ///< true start pose (world) — where the simulator puts the body
+  Pose2 X_WB_goal;         ///< goal (world); handed to the robot in its map frame
+  std::vector<Pose2> via;  ///< waypoints (world) reached in order before the goal
   /// Kidnapping test hook (world side): at `kidnap_time` s (> 0) the true body jumps to
   /// `kidnap_to` (world) without the odometry seeing it. <= 0: no kidnapping.
   double kidnap_time = 0.0;
@@ -80,23 +80,23 @@ struct DriveRequest {
 /// A drive's figures: what the navigator did (autonomy::NavigatorLog) and, world side, what
 /// really happened (truth, contacts, distance, sensor counts).
 struct DriveResult : autonomy::NavigatorLog {
-  std::vector<TrajectorySample> truth;      ///< true pose expressed in the map frame, per step
+  std::vector<TrajectorySample> truth;  ///< true pose expressed in the map frame, per step
   perception::OccupancyGrid map{perception::OccupancyGridParams{}, Vec2::Zero(), 1, 1};
-  Pose2 final_true_M;            ///< final true pose, map frame
-  double goal_error_xy = 0.0;    ///< m, |true final - goal|
+  Pose2 final_true_M;          ///< final true pose, map frame
+  double goal_error_xy = 0.0;  ///< m, |true final - goal|
   double goal_error_yaw_deg = 0.0;
   double loc_rms = 0.0, loc_max = 0.0;  ///< m, |estimate - truth| over all steps
   double loc_yaw_rms_deg = 0.0, loc_yaw_max_deg = 0.0;
-  int contacts = 0;              ///< body contact episodes
+  int contacts = 0;                               ///< body contact episodes
   std::vector<sim::ContactEvent> contact_events;  ///< where and when (truth, world frame)
   int blocked_steps = 0;
-  double path_length = 0.0;      ///< m, true distance travelled
-  double sim_time = 0.0;         ///< s
-  double wall_time = 0.0;        ///< s (reporting only)
+  double path_length = 0.0;  ///< m, true distance travelled
+  double sim_time = 0.0;     ///< s
+  double wall_time = 0.0;    ///< s (reporting only)
   int lrf_sweeps = 0;
-  int teleports = 0;             ///< kidnappings applied (world side)
-  double tls_time = 0.0;         ///< s of simulation time spent standing for TLS scans
-  double tls_wall_time = 0.0;    ///< s of wall time spent simulating TLS scans (reporting only)
+  int teleports = 0;           ///< kidnappings applied (world side)
+  double tls_time = 0.0;       ///< s of simulation time spent standing for TLS scans
+  double tls_wall_time = 0.0;  ///< s of wall time spent simulating TLS scans (reporting only)
   double RealTimeFactor() const { return wall_time > 0 ? sim_time / wall_time : 0.0; }
 };
 

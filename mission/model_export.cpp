@@ -1,9 +1,8 @@
 #include "mission/model_export.h"
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "scenes/geometry.h"
@@ -23,9 +22,14 @@ void WriteRunJson(const std::string& dir, const sim::SceneWorld& mw, const std::
   j["seed"] = seed;
   nlohmann::ordered_json m = nlohmann::json::array();
   for (int r = 0; r < 4; ++r)
-    m.push_back({X_WM.matrix()(r, 0), X_WM.matrix()(r, 1), X_WM.matrix()(r, 2), X_WM.matrix()(r, 3)});
+    m.push_back(
+        {X_WM.matrix()(r, 0), X_WM.matrix()(r, 1), X_WM.matrix()(r, 2), X_WM.matrix()(r, 3)});
   j["X_WM"] = m;
-  j["files"] = {{"sm1", "sm1.ply"}, {"sm2", "sm2.json"}, {"sm3", "sm3.json"}, {"sm4", "sm4.json"}, {"dsm3", "dsm3.ply"}};
+  j["files"] = {{"sm1", "sm1.ply"},
+                {"sm2", "sm2.json"},
+                {"sm3", "sm3.json"},
+                {"sm4", "sm4.json"},
+                {"dsm3", "dsm3.ply"}};
   const std::string path = (std::filesystem::path(dir) / "run.json").string();
   std::ofstream f(path);
   if (!f) throw InputError(path, "cannot write the file");
@@ -35,18 +39,30 @@ void WriteRunJson(const std::string& dir, const sim::SceneWorld& mw, const std::
 void WriteModelsGlb(const modelling::StructuralModel& sm3, const std::string& room,
                     const std::string& path) {
   scenes::Scene scene;
-  scene.source = "robot model of room " + room;  // the glTF scene name: not the output path (same run, same bytes)
+  scene.source = "robot model of room " +
+                 room;  // the glTF scene name: not the output path (same run, same bytes)
   struct ClassStyle {
     modelling::PatchClass cls;
     scenes::ElementClass element;
     const char* name;
     Eigen::Vector4f colour;
   };
-  const ClassStyle styles[] = {
-      {modelling::PatchClass::kWall, scenes::ElementClass::kWall, "wall", {0.85f, 0.80f, 0.70f, 1.f}},
-      {modelling::PatchClass::kFloor, scenes::ElementClass::kFloor, "floor", {0.45f, 0.50f, 0.55f, 1.f}},
-      {modelling::PatchClass::kCeiling, scenes::ElementClass::kCeiling, "ceiling", {0.95f, 0.95f, 0.95f, 1.f}},
-      {modelling::PatchClass::kColumn, scenes::ElementClass::kColumn, "column", {0.70f, 0.35f, 0.30f, 1.f}}};
+  const ClassStyle styles[] = {{modelling::PatchClass::kWall,
+                                scenes::ElementClass::kWall,
+                                "wall",
+                                {0.85f, 0.80f, 0.70f, 1.f}},
+                               {modelling::PatchClass::kFloor,
+                                scenes::ElementClass::kFloor,
+                                "floor",
+                                {0.45f, 0.50f, 0.55f, 1.f}},
+                               {modelling::PatchClass::kCeiling,
+                                scenes::ElementClass::kCeiling,
+                                "ceiling",
+                                {0.95f, 0.95f, 0.95f, 1.f}},
+                               {modelling::PatchClass::kColumn,
+                                scenes::ElementClass::kColumn,
+                                "column",
+                                {0.70f, 0.35f, 0.30f, 1.f}}};
   for (const auto& s : styles) {
     scenes::Material m;
     m.name = s.name;
@@ -61,7 +77,8 @@ void WriteModelsGlb(const modelling::StructuralModel& sm3, const std::string& ro
     // Triangulate in the patch's plane (u, v with u x v = n: CCW stays CCW).
     const Eigen::Vector3d n = p.plane.n.normalized();
     const Eigen::Vector3d u = (std::abs(n.z()) < 0.9 ? Eigen::Vector3d::UnitZ().cross(n)
-                                                     : Eigen::Vector3d::UnitX().cross(n)).normalized();
+                                                     : Eigen::Vector3d::UnitX().cross(n))
+                                  .normalized();
     const Eigen::Vector3d v = n.cross(u);
     scenes::Polygon2 poly;
     for (const auto& q : p.polygon) poly.emplace_back(q.dot(u), q.dot(v));

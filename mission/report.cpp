@@ -1,9 +1,6 @@
-#include "common/format.h"
-#include "common/polygon.h"
 #include "mission/report.h"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +8,8 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
+#include "common/polygon.h"
 
 namespace mopad::mission {
 namespace {
@@ -19,11 +18,20 @@ std::string Escape(const std::string& s) {
   std::string o;
   for (char c : s) {
     switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      default:
+        o += c;
     }
   }
   return o;
@@ -37,9 +45,12 @@ std::string Fmt(double v) {
 
 const char* DoorColour(scenes::DoorState s) {
   switch (s) {
-    case scenes::DoorState::kOpen: return "#2e9d3a";
-    case scenes::DoorState::kSemiOpen: return "#e69500";
-    case scenes::DoorState::kClosed: return "#c62828";
+    case scenes::DoorState::kOpen:
+      return "#2e9d3a";
+    case scenes::DoorState::kSemiOpen:
+      return "#e69500";
+    case scenes::DoorState::kClosed:
+      return "#c62828";
   }
   return "#000";
 }
@@ -77,8 +88,8 @@ Eigen::Vector2d LabelPoint(const std::vector<Eigen::Vector2d>& poly) {
   double best_d = 1e18;
   for (int i = 1; i < 40; ++i)
     for (int j = 1; j < 40; ++j) {
-      const Eigen::Vector2d p = box.min() + Eigen::Vector2d(box.sizes().x() * i / 40.0,
-                                                            box.sizes().y() * j / 40.0);
+      const Eigen::Vector2d p =
+          box.min() + Eigen::Vector2d(box.sizes().x() * i / 40.0, box.sizes().y() * j / 40.0);
       if (PointInPolygon(p, poly) && (p - c).squaredNorm() < best_d) {
         best_d = (p - c).squaredNorm();
         best = p;
@@ -125,9 +136,8 @@ std::string PlanSvg(const ReportInput& in) {
     for (const auto& f : in.truth->furniture) {
       s << "<g transform='translate(" << v.P(f.centre.x(), f.centre.y()) << ") rotate("
         << Fmt(-f.yaw * 180.0 / 3.14159265358979) << ")'><rect fill='#bbb' fill-opacity='0.6' x='"
-        << Fmt(-f.size.x() * scale / 2) << "' y='" << Fmt(-f.size.y() * scale / 2)
-        << "' width='" << Fmt(f.size.x() * scale) << "' height='" << Fmt(f.size.y() * scale)
-        << "'/></g>\n";
+        << Fmt(-f.size.x() * scale / 2) << "' y='" << Fmt(-f.size.y() * scale / 2) << "' width='"
+        << Fmt(f.size.x() * scale) << "' height='" << Fmt(f.size.y() * scale) << "'/></g>\n";
     }
     for (const auto& o : in.truth->openings) {
       if (o.corners.size() < 2) continue;
@@ -172,8 +182,8 @@ std::string PlanSvg(const ReportInput& in) {
   if (in.truth)
     for (const auto& r : in.truth->rooms) {
       const Eigen::Vector2d c = LabelPoint(r.polygon);
-      s << "<text font-weight='bold' x='" << Fmt(v.X(c.x())) << "' y='" << Fmt(v.Y(c.y()))
-        << "'>" << Escape(r.id) << "</text>\n";
+      s << "<text font-weight='bold' x='" << Fmt(v.X(c.x())) << "' y='" << Fmt(v.Y(c.y())) << "'>"
+        << Escape(r.id) << "</text>\n";
     }
   s << "</svg>\n";
   return s.str();
@@ -181,8 +191,8 @@ std::string PlanSvg(const ReportInput& in) {
 
 void WriteHtmlReport(const ReportInput& in, const std::string& path) {
   std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>"
-    << Escape(in.title) << "</title>\n<style>body{font-family:sans-serif;margin:2em;color:#222}"
+  h << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>" << Escape(in.title)
+    << "</title>\n<style>body{font-family:sans-serif;margin:2em;color:#222}"
     << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 10px;"
     << "text-align:right}th{background:#eee}td:first-child{text-align:left}"
     << ".legend span{display:inline-block;margin-right:1.5em}</style></head><body>\n";
@@ -229,28 +239,32 @@ void WriteMarkdownReport(const ReportInput& in, const std::string& path) {
   WriteOrThrow(path, m.str());
 }
 
-
 ReportTable ModelScoresTable(const nlohmann::ordered_json& summary) {
-  ReportTable t{"Models against the truth (mopad eval, eval/evaluation.md)", {"figure", "value"}, {}};
+  ReportTable t{
+      "Models against the truth (mopad eval, eval/evaluation.md)", {"figure", "value"}, {}};
   int tp = 0, n = 0, fp = 0;
   for (const auto& [cls, d] : summary.at("detection").items())
     tp += d.at("tp").get<int>(), n += d.at("n_truth").get<int>(), fp += d.at("fp").get<int>();
   auto num = [](const nlohmann::ordered_json& v, double scale, int digits) {
-    return v.is_number() ? FormatNumbers(("%." + std::to_string(digits) + "f").c_str(), scale * v.get<double>())
+    return v.is_number() ? FormatNumbers(("%." + std::to_string(digits) + "f").c_str(),
+                                         scale * v.get<double>())
                          : std::string("-");
   };
   auto pair = [&](const char* key, double scale, int digits) {
-    return num(summary[key]["mean"], scale, digits) + " / " + num(summary[key]["max"], scale, digits);
+    return num(summary[key]["mean"], scale, digits) + " / " +
+           num(summary[key]["max"], scale, digits);
   };
-  t.rows = {{"structural elements detected (walls, floors, ceilings, columns)",
-             std::to_string(tp) + " / " + std::to_string(n) + ", " + std::to_string(fp) + " false positives"},
-            {"d_v mean / max (cm)", pair("d_v", 100, 2)},
-            {"d_h mean / max (cm)", pair("d_h", 100, 2)},
-            {"Phi mean / max (deg)", pair("phi_deg", 1, 4)},
-            {"ISPRS completeness / correctness at " + num(summary["isprs_buffer"], 100, 0) + " cm",
-             num(summary["isprs_completeness"], 1, 4) + " / " + num(summary["isprs_correctness"], 1, 4)},
-            {"DSM3 structure IoU", num(summary["dsm3_structure_iou"], 1, 4)},
-            {"floorplan mean room IoU", num(summary["floorplan_mean_iou"], 1, 4)}};
+  t.rows = {
+      {"structural elements detected (walls, floors, ceilings, columns)",
+       std::to_string(tp) + " / " + std::to_string(n) + ", " + std::to_string(fp) +
+           " false positives"},
+      {"d_v mean / max (cm)", pair("d_v", 100, 2)},
+      {"d_h mean / max (cm)", pair("d_h", 100, 2)},
+      {"Phi mean / max (deg)", pair("phi_deg", 1, 4)},
+      {"ISPRS completeness / correctness at " + num(summary["isprs_buffer"], 100, 0) + " cm",
+       num(summary["isprs_completeness"], 1, 4) + " / " + num(summary["isprs_correctness"], 1, 4)},
+      {"DSM3 structure IoU", num(summary["dsm3_structure_iou"], 1, 4)},
+      {"floorplan mean room IoU", num(summary["floorplan_mean_iou"], 1, 4)}};
   const auto& o = summary["openings"];
   if (o.is_object()) {
     t.rows.push_back({"SM4 openings: precision / recall of areas",
@@ -260,12 +274,13 @@ ReportTable ModelScoresTable(const nlohmann::ordered_json& summary) {
                           std::to_string(o["matched"].get<int>() + o["missed"].get<int>()) + ", " +
                           std::to_string(o["false_openings"].get<int>())});
     t.rows.push_back({"SM4 e_abs mean / max (m2), e_r mean / max",
-                      num(o["e_abs_m2"]["mean"], 1, 3) + " / " + num(o["e_abs_m2"]["max"], 1, 3) + ", " +
-                          num(o["e_r"]["mean"], 1, 3) + " / " + num(o["e_r"]["max"], 1, 3)});
+                      num(o["e_abs_m2"]["mean"], 1, 3) + " / " + num(o["e_abs_m2"]["max"], 1, 3) +
+                          ", " + num(o["e_r"]["mean"], 1, 3) + " / " + num(o["e_r"]["max"], 1, 3)});
     t.rows.push_back({"SM4 door states right; angle error median / max (deg)",
                       std::to_string(o["door_states"]["right"].get<int>()) + " / " +
                           std::to_string(o["door_states"]["doors"].get<int>()) + "; " +
-                          num(o["angle_error_deg"]["median"], 1, 2) + " / " + num(o["angle_error_deg"]["max"], 1, 2)});
+                          num(o["angle_error_deg"]["median"], 1, 2) + " / " +
+                          num(o["angle_error_deg"]["max"], 1, 2)});
   }
   return t;
 }

@@ -2,7 +2,8 @@
 
 namespace mopad::mission {
 
-RobotSession::RobotSession(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start)
+RobotSession::RobotSession(const sim::EmbreeWorld& world, const DriveParams& params,
+                           const Pose2& X_WB_start)
     : params_(params),
       world_robot_(world, params, X_WB_start, params.seed),
       navigator_(world_robot_, params.navigator, params.seed) {}

@@ -24,8 +24,8 @@ namespace mopad::mission {
 
 class RobotSession {
  public:
-  /// Places the body at `X_WB_start` (world); params.seed seeds both sides. Throws InputError for invalid params or a start
-  /// pose in collision with the scene.
+  /// Places the body at `X_WB_start` (world); params.seed seeds both sides. Throws InputError for
+  /// invalid params or a start pose in collision with the scene.
   RobotSession(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start);
   RobotSession(const RobotSession&) = delete;
   RobotSession& operator=(const RobotSession&) = delete;

@@ -6,9 +6,9 @@
 #include <fstream>
 
 #include "common/error.h"
+#include "mission/model_export.h"
 #include "modelling/model_io.h"
 #include "modelling/openings.h"
-#include "mission/model_export.h"
 
 namespace mopad::mission {
 
@@ -27,8 +27,7 @@ autonomy::ScanHook Sm1TruthCollector::Hook() {
 
 RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
                             const std::string& room, const RobotSession& session,
-                            const RoomMissionResult& result,
-                            const modelling::RoomModel& model,
+                            const RoomMissionResult& result, const modelling::RoomModel& model,
                             const std::vector<evaluation::Sm1Label>& truth_labels) {
   const auto t0 = std::chrono::steady_clock::now();
   RoomEvaluation e;
@@ -49,7 +48,8 @@ RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundT
     e.registration.push_back(pe);
   }
   std::vector<std::uint8_t> est(model.Labels().size());
-  for (std::size_t i = 0; i < est.size(); ++i) est[i] = static_cast<std::uint8_t>(model.Labels()[i]);
+  for (std::size_t i = 0; i < est.size(); ++i)
+    est[i] = static_cast<std::uint8_t>(model.Labels()[i]);
   if (truth_labels.size() != est.size())
     throw std::runtime_error("room eval: " + std::to_string(truth_labels.size()) +
                              " truth labels for " + std::to_string(est.size()) + " SM1 points");
@@ -81,11 +81,12 @@ nlohmann::ordered_json ToJson(const RoomEvaluation& e) {
 }
 
 RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
-                   const RoomMissionParams& params,
-                   const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate) {
+                   const RoomMissionParams& params, const std::optional<Pose2>& start_W,
+                   const std::string& dir, bool evaluate) {
   if (!mw.truth)
-    throw InputError("room: error: the scene has no truth sidecar; got no rooms, expected a "
-                     "generated scene (scene.truth.json) or a spec");
+    throw InputError(
+        "room: error: the scene has no truth sidecar; got no rooms, expected a "
+        "generated scene (scene.truth.json) or a spec");
   const scenes::Room* r = mw.truth->FindRoom(room);
   if (!r) {
     std::string ids;
@@ -103,7 +104,8 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   RobotSession session(*mw.world, params.drive, job.start_W);
   modelling::RoomModel model(params.model);
   Sm1TruthCollector labels(session, *mw.truth, room);
-  job.mission = RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
+  job.mission =
+      RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   const modelling::StructuralModel sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
   // SM4 (paper §3.3): openings in the walls from their colour + depth orthoimages.
   modelling::OrthoPoints ortho = std::move(job.mission.no_return);
@@ -135,7 +137,8 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   job.path_length = session.Result().path_length;
   job.points = model.PointCount();
   if (evaluate) {
-    job.evaluation = EvaluateRoom(*mw.world, *mw.truth, room, session, job.mission, model, labels.Labels());
+    job.evaluation =
+        EvaluateRoom(*mw.world, *mw.truth, room, session, job.mission, model, labels.Labels());
     std::ofstream(std::filesystem::path(dir) / "evaluation.json")
         << ToJson(*job.evaluation).dump(2) << "\n";
   }

@@ -13,9 +13,9 @@
 #include "evaluation/scan_eval.h"
 #include "evaluation/truth_eval.h"
 #include "evaluation/truth_surfaces.h"
-#include "modelling/room_model.h"
-#include "mission/room_mission.h"
 #include "mission/robot_session.h"
+#include "mission/room_mission.h"
+#include "modelling/room_model.h"
 #include "scenes/ground_truth.h"
 #include "sim/embree_world.h"
 #include "sim/scene_world.h"
@@ -26,8 +26,7 @@ namespace mopad::mission {
 /// stores its points (column by column, as in the scan PLY) (pass Hook() to RunRoomMission).
 class Sm1TruthCollector {
  public:
-  Sm1TruthCollector(const RobotSession& session, const scenes::GroundTruth& truth,
-                    std::string room)
+  Sm1TruthCollector(const RobotSession& session, const scenes::GroundTruth& truth, std::string room)
       : session_(session), truth_(truth), room_(std::move(room)) {}
   autonomy::ScanHook Hook();
   const std::vector<evaluation::Sm1Label>& Labels() const { return labels_; }
@@ -51,8 +50,7 @@ struct RoomEvaluation {
 
 RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
                             const std::string& room, const RobotSession& session,
-                            const RoomMissionResult& result,
-                            const modelling::RoomModel& model,
+                            const RoomMissionResult& result, const modelling::RoomModel& model,
                             const std::vector<evaluation::Sm1Label>& truth_labels);
 
 nlohmann::ordered_json ToJson(const RoomEvaluation& e);
@@ -62,7 +60,7 @@ nlohmann::ordered_json ToJson(const RoomEvaluation& e);
 /// evaluation written to dir/evaluation.json.
 struct RoomJob {
   std::string room;
-  Pose2 start_W;                               ///< where the harness put the robot (world)
+  Pose2 start_W;  ///< where the harness put the robot (world)
   RoomMissionResult mission;
   std::optional<RoomEvaluation> evaluation;
   std::vector<Eigen::Vector3d> scan_positions_W;  ///< true scanner centres (world), for plots
@@ -74,7 +72,7 @@ struct RoomJob {
   double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
 };
 RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
-                   const RoomMissionParams& params,
-                   const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate);
+                   const RoomMissionParams& params, const std::optional<Pose2>& start_W,
+                   const std::string& dir, bool evaluate);
 
 }  // namespace mopad::mission

@@ -1,6 +1,5 @@
 #include "mission/room_mission.h"
 
-#include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -9,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "io/text_file.h"
@@ -89,10 +89,10 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
     j["X_MS"] = PoseJson(s.X_MS);
     if (s.index > 0) {
       const auto& r = s.registration;
-      j["registration"] = {{"ok", r.ok},           {"converged", r.converged},
-                           {"fitness", r.fitness}, {"rmse", r.rmse},
-                           {"degenerate", r.degenerate}, {"iterations", r.iterations},
-                           {"message", r.message}};
+      j["registration"] = {
+          {"ok", r.ok},          {"converged", r.converged},   {"fitness", r.fitness},
+          {"rmse", r.rmse},      {"degenerate", r.degenerate}, {"iterations", r.iterations},
+          {"message", r.message}};
     }
     j["coverage"] = {{"ratio", s.coverage.ratio},
                      {"increment", s.coverage.increment},
@@ -107,8 +107,10 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
                    {"nav_status", s.nav_status},
                    {"nav_message", s.nav_message}};
     }
-    j["seconds"] = {{"scan", s.t_scan},   {"registration", s.t_registration},
-                    {"model", s.t_model}, {"nbs", s.t_nbs},
+    j["seconds"] = {{"scan", s.t_scan},
+                    {"registration", s.t_registration},
+                    {"model", s.t_model},
+                    {"nbs", s.t_nbs},
                     {"processing", s.t_registration + s.t_model + s.t_nbs},
                     {"drive", s.t_drive}};
     scans.push_back(std::move(j));

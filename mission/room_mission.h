@@ -30,7 +30,8 @@ using RoomMissionResult = autonomy::RoomScanResult;
 
 /// Runs the room loop with the session's robot (already placed in the room).
 inline RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams& params,
-                                        modelling::RoomModel& model, const autonomy::ScanHook& on_scan = {}) {
+                                        modelling::RoomModel& model,
+                                        const autonomy::ScanHook& on_scan = {}) {
   return autonomy::RunRoomScan(session.Robot(), params, model, on_scan);
 }
 

@@ -62,7 +62,8 @@ struct SimRobot::Impl {
     body.emplace(params.body, vertices, triangles, X_WB_start, seed);
     if (body->InCollision(X_WB_start)) {
       char buf[160];
-      std::snprintf(buf, sizeof buf, "drive: start pose (%.3f, %.3f) is in collision with the scene", X_WB_start.x,
+      std::snprintf(buf, sizeof buf,
+                    "drive: start pose (%.3f, %.3f) is in collision with the scene", X_WB_start.x,
                     X_WB_start.y);
       throw InputError(buf);
     }
@@ -152,8 +153,8 @@ struct SimRobot::Impl {
   }
 };
 
-SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
-                   std::uint64_t seed)
+SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params,
+                   const Pose2& X_WB_start, std::uint64_t seed)
     : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed)) {}
 SimRobot::~SimRobot() = default;
 
@@ -163,12 +164,16 @@ bool SimRobot::Step(const interfaces::VelocityCommand& cmd) { return impl_->Step
 const interfaces::Odometry& SimRobot::WheelOdometry() const { return impl_->body->Odometry(); }
 const interfaces::LrfScan& SimRobot::BaseSweep() const { return impl_->base_scan; }
 const interfaces::LrfScan& SimRobot::TopSweep() const { return impl_->top_scan; }
-interfaces::TlsScan SimRobot::Scan(double step_deg, double* still_for) { return impl_->Scan(step_deg, still_for); }
+interfaces::TlsScan SimRobot::Scan(double step_deg, double* still_for) {
+  return impl_->Scan(step_deg, still_for);
+}
 
 Pose2 SimRobot::X_MW() const { return impl_->X_MW; }
 Pose2 SimRobot::TruePoseInWorld() const { return impl_->body->TruePose(); }
 Pose2 SimRobot::TruePoseInMap() const { return Compose(impl_->X_MW, impl_->body->TruePose()); }
-const std::vector<autonomy::TrajectorySample>& SimRobot::TrueTrajectory() const { return impl_->truth; }
+const std::vector<autonomy::TrajectorySample>& SimRobot::TrueTrajectory() const {
+  return impl_->truth;
+}
 const std::vector<sim::TlsTruth>& SimRobot::ScanTruths() const { return impl_->truths; }
 void SimRobot::SetKeepScanTruths(bool keep) { impl_->keep_truths = keep; }
 void SimRobot::ScheduleTeleport(double t, const Pose2& X_WB) { impl_->teleport.emplace(t, X_WB); }
@@ -179,7 +184,8 @@ void SimRobot::FillResult(DriveResult& res) const {
   res.truth = m.truth;
   res.sim_time = m.t;
   res.final_true_M = TruePoseInMap();
-  res.goal_error_xy = std::hypot(res.final_true_M.x - res.goal_M.x, res.final_true_M.y - res.goal_M.y);
+  res.goal_error_xy =
+      std::hypot(res.final_true_M.x - res.goal_M.x, res.final_true_M.y - res.goal_M.y);
   res.goal_error_yaw_deg = RadToDeg(std::abs(WrapAngle(res.final_true_M.yaw - res.goal_M.yaw)));
   // Localisation error: the estimate against the truth, sample for sample.
   double loc_sq = 0.0, yaw_sq = 0.0;

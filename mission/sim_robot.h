@@ -24,7 +24,8 @@ class SimRobot final : public interfaces::RobotPlatform {
  public:
   /// Places the body at `X_WB_start` (world). Throws InputError for invalid params or a start
   /// pose in collision with the scene (door leaves as the world has them).
-  SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start, std::uint64_t seed);
+  SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
+           std::uint64_t seed);
   ~SimRobot() override;
   SimRobot(const SimRobot&) = delete;
   SimRobot& operator=(const SimRobot&) = delete;

@@ -1,12 +1,11 @@
 #include "modelling/model_io.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "io/scan_io.h"

@@ -95,7 +95,7 @@ struct OrthoPoints {
   const std::vector<Eigen::Vector3f>* points = nullptr;               ///< map frame
   const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr;  ///< RGB, one per point
   const std::vector<std::uint16_t>* scan_index = nullptr;             ///< scan of each point
-  std::vector<Vec3> scan_origins;  ///< map frame, per scan
+  std::vector<Vec3> scan_origins;                                     ///< map frame, per scan
   /// Optional (needs scan_origins): rays that returned nothing (AddNoReturnRays), as unit
   /// directions in the map frame with their scan. Such a ray passed every plane it crossed (a
   /// window to the outside, an open door to far space) and counts as passed there.

@@ -1,16 +1,21 @@
-#include "common/polygon.h"
 #include "modelling/roi.h"
 
 #include <cmath>
+
+#include "common/polygon.h"
 
 namespace mopad::modelling {
 
 const char* ToString(FaceKind kind) {
   switch (kind) {
-    case FaceKind::kFloor: return "floor";
-    case FaceKind::kCeiling: return "ceiling";
-    case FaceKind::kWall: return "wall";
-    case FaceKind::kColumn: return "column";
+    case FaceKind::kFloor:
+      return "floor";
+    case FaceKind::kCeiling:
+      return "ceiling";
+    case FaceKind::kWall:
+      return "wall";
+    case FaceKind::kColumn:
+      return "column";
   }
   return "?";
 }

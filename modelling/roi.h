@@ -33,8 +33,8 @@ enum class FaceCell : std::uint8_t {
 
 struct RoiFace {
   FaceKind kind = FaceKind::kWall;
-  int element = -1;  ///< wall: perimeter edge index; column face: column index; else -1
-  std::vector<int> loop;                ///< vertex indices, CCW seen from outside (normal)
+  int element = -1;       ///< wall: perimeter edge index; column face: column index; else -1
+  std::vector<int> loop;  ///< vertex indices, CCW seen from outside (normal)
   std::vector<std::vector<int>> holes;  ///< floor/ceiling: column footprints
   Vec3 normal = Vec3::UnitZ();          ///< unit, outward (away from the room's free space)
   double area = 0.0;                    ///< m^2, exact polygon area (holes removed)
@@ -45,10 +45,10 @@ struct RoiFace {
   // Raster: cell (iu, iv) covers origin + [iu, iu+1) * cell * u_axis + [iv, iv+1) * cell * v_axis.
   Vec3 origin = Vec3::Zero();
   Vec3 u_axis = Vec3::UnitX(), v_axis = Vec3::UnitZ();  ///< unit, in the face plane
-  double cell = 0.1;  ///< m
+  double cell = 0.1;                                    ///< m
   int nu = 0, nv = 0;
-  std::vector<FaceCell> cells;    ///< nu * nv, index iv * nu + iu
-  std::vector<float> cell_area;   ///< m^2 of face inside each cell (0 for kOff)
+  std::vector<FaceCell> cells;   ///< nu * nv, index iv * nu + iu
+  std::vector<float> cell_area;  ///< m^2 of face inside each cell (0 for kOff)
 
   Vec3 CellCentre(int iu, int iv) const {
     return origin + (iu + 0.5) * cell * u_axis + (iv + 0.5) * cell * v_axis;
@@ -58,8 +58,8 @@ struct RoiFace {
 };
 
 struct RoiEdge {
-  int v0 = -1, v1 = -1;      ///< vertex indices
-  int face0 = -1, face1 = -1;///< the two faces sharing the edge
+  int v0 = -1, v1 = -1;        ///< vertex indices
+  int face0 = -1, face1 = -1;  ///< the two faces sharing the edge
 };
 
 struct Roi {
@@ -80,6 +80,5 @@ struct Roi {
 
 /// Signed area of a plan polygon (positive when CCW), m^2.
 double SignedArea(const std::vector<Vec2>& polygon);
-
 
 }  // namespace mopad::modelling

@@ -3,12 +3,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numeric>
-#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
@@ -17,10 +17,14 @@ namespace mopad::modelling {
 
 const char* ToString(PointLabel label) {
   switch (label) {
-    case PointLabel::kNone: return "none";
-    case PointLabel::kInlier: return "inlier";
-    case PointLabel::kOutlier: return "outlier";
-    case PointLabel::kClutter: return "clutter";
+    case PointLabel::kNone:
+      return "none";
+    case PointLabel::kInlier:
+      return "inlier";
+    case PointLabel::kOutlier:
+      return "outlier";
+    case PointLabel::kClutter:
+      return "clutter";
   }
   return "?";
 }
@@ -31,11 +35,11 @@ const char* ToString(PointLabel label) {
 // corners; a coarse raster lists the segments near each cell so a point costs a few segments.
 struct RoomModel::Boundary {
   struct Seg {
-    Vec2 a = Vec2::Zero(), b = Vec2::Zero();  // ends
+    Vec2 a = Vec2::Zero(), b = Vec2::Zero();    // ends
     Vec2 t = Vec2::UnitX(), n = Vec2::UnitY();  // unit direction, unit outward normal
     double len = 0.0;
     Vec2 na = Vec2::UnitY(), nb = Vec2::UnitY();  // pseudo-normals at a and b
-    int face = -1;    // RoI face index
+    int face = -1;                                // RoI face index
     bool column = false;
   };
   std::vector<Seg> segs;
@@ -162,11 +166,10 @@ struct RoomModel::Boundary {
   }
 };
 
-
 namespace {
 
-constexpr double kRefitGuard = 0.1;  // m, edge ends left out of a refit (corners)
-constexpr double kChamferMax = 0.3;  // m, unfitted corner-cutting edges collapsed below this
+constexpr double kRefitGuard = 0.1;     // m, edge ends left out of a refit (corners)
+constexpr double kChamferMax = 0.3;     // m, unfitted corner-cutting edges collapsed below this
 constexpr double kRefitHighBand = 2.2;  // m above the floor: above door heads (2.0-2.1 m)
 // column_index_ packs the azimuth column with two flags.
 constexpr std::uint32_t kRayCastBit = 0x80000000u;  // on the ray-casting stride
@@ -232,10 +235,18 @@ LabelCounts RoomModel::CountLabels() const {
   LabelCounts c;
   for (PointLabel l : labels_) {
     switch (l) {
-      case PointLabel::kNone: ++c.none; break;
-      case PointLabel::kInlier: ++c.inlier; break;
-      case PointLabel::kOutlier: ++c.outlier; break;
-      case PointLabel::kClutter: ++c.clutter; break;
+      case PointLabel::kNone:
+        ++c.none;
+        break;
+      case PointLabel::kInlier:
+        ++c.inlier;
+        break;
+      case PointLabel::kOutlier:
+        ++c.outlier;
+        break;
+      case PointLabel::kClutter:
+        ++c.clutter;
+        break;
     }
   }
   return c;
@@ -402,8 +413,10 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
       // above the scanner), not a wall too close to return.
       const double range = (p.cast<double>() - rec.origin).norm();
       const bool near = range < kNearRange;
-      const bool ceiling_above = !any && std::abs(dz) <= tol && range <= rec.min_range + kMinRangeSlack;
-      if ((column_index_[k] & kGapBit) && ceiling_like && !ceiling_above && (!any || !on_ceiling || last_near))
+      const bool ceiling_above =
+          !any && std::abs(dz) <= tol && range <= rec.min_range + kMinRangeSlack;
+      if ((column_index_[k] & kGapBit) && ceiling_like && !ceiling_above &&
+          (!any || !on_ceiling || last_near))
         break;
       if (ceiling_like) {
         last_near = near;
@@ -417,7 +430,7 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
         continue;
       }
       if (dz > 0 && rho < last_rho - 0.05) continue;  // an occluder in front of the ceiling
-      if (!any && p.z() > rec.origin.z()) {  // a wall right beside the scanner
+      if (!any && p.z() > rec.origin.z()) {           // a wall right beside the scanner
         vertex = q;
         best_rho = rho;
       }
@@ -563,7 +576,8 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
       if (std::abs(s - s0) <= tol) {
         sel.push_back(p);
         mean += p;
-        const std::size_t b = std::min(bins.size() - 1, static_cast<std::size_t>((p - a).dot(t) / 0.1));
+        const std::size_t b =
+            std::min(bins.size() - 1, static_cast<std::size_t>((p - a).dot(t) / 0.1));
         bins[b] = 1;
         if (near_high[k]) sel_high.push_back(p), bins_high[b] = 1;
       }
@@ -591,7 +605,8 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
       Vec2 dir = es.eigenvectors().col(1);
       if (dir.dot(t) < 0) dir = -dir;
-      return dir.dot(t) < std::cos(DegToRad(10.0)) ? t : dir;  // else keep the direction, only shift
+      return dir.dot(t) < std::cos(DegToRad(10.0)) ? t
+                                                   : dir;  // else keep the direction, only shift
     };
     Vec2 dir = pca_dir(sel, mean);
     // Tighten about the wall peak: clutter flush against part of a wall (a closed door leaf or
@@ -610,8 +625,8 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
         const Vec2 nn(ld.y(), -ld.x());
         for (const auto& p : sel)
           if (std::abs((p - lp).dot(nn)) <= f * tol) tight.push_back(p), m2 += p;
-        if (static_cast<int>(tight.size()) < std::max(params_.refit_min_points,
-                                                      static_cast<int>(0.2 * sel.size())))
+        if (static_cast<int>(tight.size()) <
+            std::max(params_.refit_min_points, static_cast<int>(0.2 * sel.size())))
           break;
         lp = m2 / static_cast<double>(tight.size());
         ld = pca_dir(tight, lp);
@@ -699,7 +714,8 @@ void RoomModel::DetectColumns() {
   }
   for (const auto& p : work_points_) {
     if (p.z() < z0 || p.z() >= z1) continue;
-    const int i = static_cast<int>((p.x() - lo.x()) / c), j = static_cast<int>((p.y() - lo.y()) / c);
+    const int i = static_cast<int>((p.x() - lo.x()) / c),
+              j = static_cast<int>((p.y() - lo.y()) / c);
     if (i < 0 || j < 0 || i >= w || j >= h || !inside.at<std::uint8_t>(j, i)) continue;
     const int s = std::min(kSlices - 1, static_cast<int>((p.z() - z0) / sh));
     mask[static_cast<std::size_t>(j) * w + i] |= static_cast<std::uint16_t>(1u << s);
@@ -707,7 +723,8 @@ void RoomModel::DetectColumns() {
   cv::Mat top = cv::Mat::zeros(h, w, CV_8U);
   for (int j = 0; j < h; ++j) {
     for (int i = 0; i < w; ++i) {
-      if (mask[static_cast<std::size_t>(j) * w + i] & (1u << (kSlices - 1))) top.at<std::uint8_t>(j, i) = 255;
+      if (mask[static_cast<std::size_t>(j) * w + i] & (1u << (kSlices - 1)))
+        top.at<std::uint8_t>(j, i) = 255;
     }
   }
   cv::dilate(top, top, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
@@ -728,7 +745,8 @@ void RoomModel::DetectColumns() {
     std::vector<cv::Point2f> pts;
     for (const auto& p : work_points_) {
       if (p.z() < z0 || p.z() >= z1) continue;
-      const int i = static_cast<int>((p.x() - lo.x()) / c), j = static_cast<int>((p.y() - lo.y()) / c);
+      const int i = static_cast<int>((p.x() - lo.x()) / c),
+                j = static_cast<int>((p.y() - lo.y()) / c);
       if (i < 0 || j < 0 || i >= w || j >= h || labels.at<int>(j, i) != k) continue;
       pts.emplace_back(p.x(), p.y());
     }
@@ -765,7 +783,8 @@ void RoomModel::BuildRoi() {
   std::vector<int> pb, pt;
   add_loop_vertices(roi.perimeter, pb, pt);
   std::vector<std::vector<int>> cb(roi.columns.size()), ct(roi.columns.size());
-  for (std::size_t k = 0; k < roi.columns.size(); ++k) add_loop_vertices(roi.columns[k], cb[k], ct[k]);
+  for (std::size_t k = 0; k < roi.columns.size(); ++k)
+    add_loop_vertices(roi.columns[k], cb[k], ct[k]);
 
   Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const auto& v : roi.perimeter) {
@@ -803,7 +822,8 @@ void RoomModel::BuildRoi() {
   for (std::size_t k = 0; k < roi.columns.size(); ++k) floor.holes.push_back(cb[k]);
   RoiFace ceiling = horizontal(FaceKind::kCeiling, zc);
   ceiling.loop = pt;
-  for (std::size_t k = 0; k < roi.columns.size(); ++k) ceiling.holes.emplace_back(ct[k].rbegin(), ct[k].rend());
+  for (std::size_t k = 0; k < roi.columns.size(); ++k)
+    ceiling.holes.emplace_back(ct[k].rbegin(), ct[k].rend());
   roi.faces.push_back(std::move(floor));
   roi.faces.push_back(std::move(ceiling));
 
@@ -839,7 +859,8 @@ void RoomModel::BuildRoi() {
   for (int i = 0; i < n; ++i) {
     const Vec2 a = roi.perimeter[i], b = roi.perimeter[(i + 1) % n];
     const Vec2 t = (b - a).normalized();
-    vertical(FaceKind::kWall, i, a, b, Vec2(t.y(), -t.x()), {pb[i], pb[(i + 1) % n], pt[(i + 1) % n], pt[i]});
+    vertical(FaceKind::kWall, i, a, b, Vec2(t.y(), -t.x()),
+             {pb[i], pb[(i + 1) % n], pt[(i + 1) % n], pt[i]});
   }
   std::vector<int> col0(roi.columns.size());
   for (std::size_t k = 0; k < roi.columns.size(); ++k) {
@@ -899,8 +920,8 @@ static Classified ClassifyWith(const RoomModelParams& P, const Roi& roi,
   }
   if (sd > P.wall_tolerance) {
     const bool column = seg >= 0 && bnd->segs[seg].column;
-    const bool in_reveal = sd <= P.reveal_depth && p.z() > zf + P.plane_tolerance &&
-                           p.z() < zc - P.plane_tolerance;
+    const bool in_reveal =
+        sd <= P.reveal_depth && p.z() > zf + P.plane_tolerance && p.z() < zc - P.plane_tolerance;
     out.label = (column || in_reveal) ? PointLabel::kClutter : PointLabel::kOutlier;
     return out;
   }
@@ -952,7 +973,8 @@ void RoomModel::LabelAll() {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_.size(), 1 << 14),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        labels_[i] = ClassifyWith(params_, roi_, bp, points_[i].cast<double>()).label;
+                        labels_[i] =
+                            ClassifyWith(params_, roi_, bp, points_[i].cast<double>()).label;
                       }
                     });
   work_labels_.resize(work_points_.size());
@@ -960,7 +982,8 @@ void RoomModel::LabelAll() {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work_points_.size(), 1 << 14),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        const Classified c = ClassifyWith(params_, roi_, bp, work_points_[i].cast<double>());
+                        const Classified c =
+                            ClassifyWith(params_, roi_, bp, work_points_[i].cast<double>());
                         work_labels_[i] = c.label;
                         work_face_[i] = c.face;
                       }
@@ -1039,14 +1062,15 @@ void RoomModel::UpdateVoxels(bool new_scan_only) {
   // Layer 1 is centred on the floor.
   const double oz = roi_.floor_z - 1.5 * v;
   bool reuse = new_scan_only && !voxels_.empty() &&
-               std::abs(voxels_.Origin().z() - oz) < 0.25 * v &&
-               voxels_.Origin().x() <= lo.x() && voxels_.Origin().y() <= lo.y() &&
+               std::abs(voxels_.Origin().z() - oz) < 0.25 * v && voxels_.Origin().x() <= lo.x() &&
+               voxels_.Origin().y() <= lo.y() &&
                voxels_.Origin().x() + v * voxels_.Nx() >= hi.x() &&
                voxels_.Origin().y() + v * voxels_.Ny() >= hi.y() &&
                voxels_.Origin().z() + v * voxels_.Nz() >= roi_.ceiling_z + v;
   if (!reuse) {
     const double extra = 1.0;  // m, growth room before the next re-cast
-    const Vec3 origin(std::floor((lo.x() - extra) / v) * v, std::floor((lo.y() - extra) / v) * v, oz);
+    const Vec3 origin(std::floor((lo.x() - extra) / v) * v, std::floor((lo.y() - extra) / v) * v,
+                      oz);
     const int nx = static_cast<int>(std::ceil((hi.x() + extra - origin.x()) / v));
     const int ny = static_cast<int>(std::ceil((hi.y() + extra - origin.y()) / v));
     const int nz = static_cast<int>(std::ceil((roi_.ceiling_z + 1.5 * v - oz) / v));
@@ -1137,13 +1161,18 @@ void RoomModel::UpdateCoverage() {
   for (const auto& face : roi_.faces) {
     for (std::size_t c = 0; c < face.cells.size(); ++c) {
       switch (face.cells[c]) {
-        case FaceCell::kOff: break;
-        case FaceCell::kUnsensed: on += face.cell_area[c]; break;
+        case FaceCell::kOff:
+          break;
+        case FaceCell::kUnsensed:
+          on += face.cell_area[c];
+          break;
         case FaceCell::kSensed:
           on += face.cell_area[c];
           f.sensed_area += face.cell_area[c];
           break;
-        case FaceCell::kOpening: f.opening_area += face.cell_area[c]; break;
+        case FaceCell::kOpening:
+          f.opening_area += face.cell_area[c];
+          break;
       }
     }
   }
@@ -1163,18 +1192,20 @@ io::PointCloud RoomModel::Sm1Cloud() const {
   io::ScalarField scan{"scalar_scan", io::PlyType::kUInt16, {}};
   inten.values.assign(intensity_.begin(), intensity_.end());
   label.values.resize(labels_.size());
-  for (std::size_t i = 0; i < labels_.size(); ++i) label.values[i] = static_cast<double>(labels_[i]);
+  for (std::size_t i = 0; i < labels_.size(); ++i)
+    label.values[i] = static_cast<double>(labels_[i]);
   scan.values.assign(scan_index_.begin(), scan_index_.end());
   cloud.fields = {std::move(inten), std::move(label), std::move(scan)};
   char buf[256];
   cloud.comments.push_back("mopad_sm1 labels 0=none 1=inlier 2=outlier 3=clutter");
-  std::snprintf(buf, sizeof(buf), "mopad_heights floor_z %.4f ceiling_z %.4f", roi_.floor_z, roi_.ceiling_z);
+  std::snprintf(buf, sizeof(buf), "mopad_heights floor_z %.4f ceiling_z %.4f", roi_.floor_z,
+                roi_.ceiling_z);
   cloud.comments.push_back(buf);
   for (std::size_t s = 0; s < scan_poses_.size(); ++s) {
     const Eigen::Quaterniond q(scan_poses_[s].linear());
     const Vec3 t = scan_poses_[s].translation();
-    std::snprintf(buf, sizeof(buf), "mopad_scan_pose %zu %.6f %.6f %.6f %.9f %.9f %.9f %.9f", s, t.x(),
-                  t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
+    std::snprintf(buf, sizeof(buf), "mopad_scan_pose %zu %.6f %.6f %.6f %.9f %.9f %.9f %.9f", s,
+                  t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
     cloud.comments.push_back(buf);
   }
   return cloud;
@@ -1194,14 +1225,16 @@ std::string RoomModel::FiguresJson() const {
   num("ceiling_z", roi_.ceiling_z);
   s += "\"perimeter\": [";
   for (std::size_t i = 0; i < roi_.perimeter.size(); ++i) {
-    std::snprintf(buf, sizeof(buf), "%s[%.4f, %.4f]", i ? ", " : "", roi_.perimeter[i].x(), roi_.perimeter[i].y());
+    std::snprintf(buf, sizeof(buf), "%s[%.4f, %.4f]", i ? ", " : "", roi_.perimeter[i].x(),
+                  roi_.perimeter[i].y());
     s += buf;
   }
   s += "], \"columns\": [";
   for (std::size_t k = 0; k < roi_.columns.size(); ++k) {
     s += k ? ", [" : "[";
     for (std::size_t i = 0; i < roi_.columns[k].size(); ++i) {
-      std::snprintf(buf, sizeof(buf), "%s[%.4f, %.4f]", i ? ", " : "", roi_.columns[k][i].x(), roi_.columns[k][i].y());
+      std::snprintf(buf, sizeof(buf), "%s[%.4f, %.4f]", i ? ", " : "", roi_.columns[k][i].x(),
+                    roi_.columns[k][i].y());
       s += buf;
     }
     s += "]";
@@ -1209,31 +1242,37 @@ std::string RoomModel::FiguresJson() const {
   s += "], \"faces\": [";
   for (std::size_t i = 0; i < roi_.faces.size(); ++i) {
     const RoiFace& f = roi_.faces[i];
-    std::snprintf(buf, sizeof(buf), "%s{\"kind\": \"%s\", \"element\": %d, \"area\": %.4f, \"structural\": %s, \"sensed_share\": %.4f}",
-                  i ? ", " : "", ToString(f.kind), f.element, f.area, f.structural ? "true" : "false", f.sensed_share);
+    std::snprintf(buf, sizeof(buf),
+                  "%s{\"kind\": \"%s\", \"element\": %d, \"area\": %.4f, \"structural\": %s, "
+                  "\"sensed_share\": %.4f}",
+                  i ? ", " : "", ToString(f.kind), f.element, f.area,
+                  f.structural ? "true" : "false", f.sensed_share);
     s += buf;
   }
   s += "], \"voxels\": {";
   const auto counts = voxels_.LabelCounts();
   for (int l = 0; l < kVoxelLabelCount; ++l) {
-    std::snprintf(buf, sizeof(buf), "%s\"%s\": %lld", l ? ", " : "", ToString(static_cast<VoxelLabel>(l)),
-                  static_cast<long long>(counts[l]));
+    std::snprintf(buf, sizeof(buf), "%s\"%s\": %lld", l ? ", " : "",
+                  ToString(static_cast<VoxelLabel>(l)), static_cast<long long>(counts[l]));
     s += buf;
   }
   std::snprintf(buf, sizeof(buf), ", \"size\": %.3f}, ", voxels_.Size());
   s += buf;
   const LabelCounts lc = CountLabels();
-  std::snprintf(buf, sizeof(buf), "\"labels\": {\"none\": %lld, \"inlier\": %lld, \"outlier\": %lld, \"clutter\": %lld}, ",
-                static_cast<long long>(lc.none), static_cast<long long>(lc.inlier),
-                static_cast<long long>(lc.outlier), static_cast<long long>(lc.clutter));
+  std::snprintf(
+      buf, sizeof(buf),
+      "\"labels\": {\"none\": %lld, \"inlier\": %lld, \"outlier\": %lld, \"clutter\": %lld}, ",
+      static_cast<long long>(lc.none), static_cast<long long>(lc.inlier),
+      static_cast<long long>(lc.outlier), static_cast<long long>(lc.clutter));
   s += buf;
   s += "\"coverage\": [";
   for (std::size_t i = 0; i < coverage_.size(); ++i) {
     const CoverageFigures& c = coverage_[i];
-    std::snprintf(buf, sizeof(buf),
-                  "%s{\"scans\": %d, \"sensed_area\": %.4f, \"total_area\": %.4f, \"opening_area\": %.4f, "
-                  "\"ratio\": %.5f, \"increment\": %.5f}",
-                  i ? ", " : "", c.scans, c.sensed_area, c.total_area, c.opening_area, c.ratio, c.increment);
+    std::snprintf(
+        buf, sizeof(buf),
+        "%s{\"scans\": %d, \"sensed_area\": %.4f, \"total_area\": %.4f, \"opening_area\": %.4f, "
+        "\"ratio\": %.5f, \"increment\": %.5f}",
+        i ? ", " : "", c.scans, c.sensed_area, c.total_area, c.opening_area, c.ratio, c.increment);
     s += buf;
   }
   s += "]}";

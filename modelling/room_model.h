@@ -29,8 +29,8 @@
 
 #include "common/frames.h"
 #include "common/params.h"
-#include "io/scan_io.h"
 #include "interfaces/tls_scan.h"
+#include "io/scan_io.h"
 #include "modelling/roi.h"
 #include "modelling/voxel_space.h"
 
@@ -41,33 +41,35 @@ enum class PointLabel : std::uint8_t { kNone = 0, kInlier = 1, kOutlier = 2, kCl
 const char* ToString(PointLabel label);
 
 struct RoomModelParams {
-  double working_voxel = 0.02;       ///< m, working-cloud downsampling, [0.005, 0.2]
-  double histogram_bin = 0.01;       ///< m, Z-histogram bin, [0.002, 0.1]
-  double plane_tolerance = 0.03;     ///< m, |z - floor| or |z - ceiling| of structural points, [0.005, 0.2]
-  double wall_tolerance = 0.015;     ///< m, plan distance to a wall/column face of its points, [0.005, 0.2]
-  double ceiling_tolerance = 0.05;   ///< m, |z - ceiling| for the perimeter trace, [0.01, 0.3]
+  double working_voxel = 0.02;  ///< m, working-cloud downsampling, [0.005, 0.2]
+  double histogram_bin = 0.01;  ///< m, Z-histogram bin, [0.002, 0.1]
+  double plane_tolerance =
+      0.03;  ///< m, |z - floor| or |z - ceiling| of structural points, [0.005, 0.2]
+  double wall_tolerance =
+      0.015;  ///< m, plan distance to a wall/column face of its points, [0.005, 0.2]
+  double ceiling_tolerance = 0.05;  ///< m, |z - ceiling| for the perimeter trace, [0.01, 0.3]
   /// Points just beyond a wall face (in the reveal of a door or window: frames, glass, a closed
   /// leaf) up to this depth and between floor and ceiling are clutter, not outliers. 0 = the
   /// paper's rule (everything outside the perimeter is an outlier). [0, 1]
   double reveal_depth = 0.0;
-  double perimeter_raster = 0.025;   ///< m, plan raster of the ceiling outline, [0.005, 0.2]
-  double perimeter_epsilon = 0.04;   ///< m, polygon simplification tolerance, [0.005, 0.5]
-  double min_edge_length = 0.1;      ///< m, shorter simplified edges are merged, [0, 2]
-  double refit_band = 0.1;           ///< m, wall points gathered around an edge for its refit, [0.01, 1]
-  int refit_min_points = 30;         ///< points an edge needs to be refit, [3, 100000]
-  double column_max_size = 1.5;      ///< m, largest column footprint side, [0.1, 10]
+  double perimeter_raster = 0.025;  ///< m, plan raster of the ceiling outline, [0.005, 0.2]
+  double perimeter_epsilon = 0.04;  ///< m, polygon simplification tolerance, [0.005, 0.5]
+  double min_edge_length = 0.1;     ///< m, shorter simplified edges are merged, [0, 2]
+  double refit_band = 0.1;    ///< m, wall points gathered around an edge for its refit, [0.01, 1]
+  int refit_min_points = 30;  ///< points an edge needs to be refit, [3, 100000]
+  double column_max_size = 1.5;          ///< m, largest column footprint side, [0.1, 10]
   double column_min_height_share = 0.7;  ///< share of the floor-ceiling height seen, [0.1, 1]
   /// m, RoI face raster cell, [0.02, 1]. 5 cm: a cell counts as sensed from one point, so
   /// larger cells overstate sparse far coverage (the evaluator scores 5 cm cells).
   double face_cell = 0.05;
-  double structural_share = 0.05;    ///< sensed share that makes a face structural, [0, 1]
-  double voxel_size = 0.1;           ///< m, voxel space edge, [0.02, 1]
-  double voxel_margin = 0.5;         ///< m, grid margin around the RoI, [0, 5]
+  double structural_share = 0.05;  ///< sensed share that makes a face structural, [0, 1]
+  double voxel_size = 0.1;         ///< m, voxel space edge, [0.02, 1]
+  double voxel_margin = 0.5;       ///< m, grid margin around the RoI, [0, 5]
   /// m, a RoI face is taken this far into the room when picking its voxel layer, so a face the
   /// robot places a few mm behind a voxel boundary still lands on the room side as the truth's
   /// does (DSM3: one structural layer per face), [0, 0.45 * voxel_size]
   double structure_tolerance = 0.01;
-  int ray_stride = 2;                ///< every n-th row and column is ray-cast into voxels, [1, 64]
+  int ray_stride = 2;  ///< every n-th row and column is ray-cast into voxels, [1, 64]
 
   template <class V>
   void Visit(V& v) {
@@ -97,10 +99,10 @@ struct RoomModelParams {
 /// Coverage of the structural elements after a scan (areas in m^2).
 struct CoverageFigures {
   int scans = 0;
-  double sensed_area = 0.0;    ///< sensed cells of all RoI faces
-  double total_area = 0.0;     ///< estimated structural area: RoI face area minus openings
-  double opening_area = 0.0;   ///< face cells seen through (doors, windows)
-  double ratio = 0.0;          ///< sensed_area / total_area
+  double sensed_area = 0.0;   ///< sensed cells of all RoI faces
+  double total_area = 0.0;    ///< estimated structural area: RoI face area minus openings
+  double opening_area = 0.0;  ///< face cells seen through (doors, windows)
+  double ratio = 0.0;         ///< sensed_area / total_area
   /// (sensed_area - previous sensed_area) / total_area; equals ratio for the first scan.
   double increment = 0.0;
 };
@@ -195,7 +197,8 @@ class RoomModel {
   std::vector<std::uint32_t> column_index_;  // azimuth column of each point in its scan
   std::vector<PointLabel> labels_;
   // Working cloud.
-  std::unordered_map<std::int64_t, std::uint32_t> work_slot_;  // voxel key -> slot (insertion order)
+  std::unordered_map<std::int64_t, std::uint32_t>
+      work_slot_;  // voxel key -> slot (insertion order)
   std::vector<Eigen::Vector3d> work_sum_;
   std::vector<std::uint32_t> work_count_;
   std::vector<Eigen::Vector3f> work_points_;

@@ -30,7 +30,8 @@ enum class StopReason { kContinue = 0, kCoverageReached, kIncrementTooSmall, kMa
 struct StopDecision {
   bool stop = false;
   StopReason reason = StopReason::kContinue;
-  std::string message;  ///< e.g. "stop: coverage 0.934 >= epsilon1 0.900 (sensed 112.3 m2 of 120.2 m2)"
+  std::string
+      message;  ///< e.g. "stop: coverage 0.934 >= epsilon1 0.900 (sensed 112.3 m2 of 120.2 m2)"
 };
 
 /// Applies the rule to the figures after the latest scan. The increment criterion needs at

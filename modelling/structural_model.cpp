@@ -50,7 +50,8 @@ bool ThreePlanes(const Plane& a, const Plane& b, const Plane& c, Eigen::Vector3d
   return true;
 }
 
-Plane VerticalPlaneThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& into) {
+Plane VerticalPlaneThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                           const Eigen::Vector2d& into) {
   Plane p;
   p.n = Eigen::Vector3d(into.x(), into.y(), 0.0).normalized();
   p.d = -p.n.dot(Eigen::Vector3d(a.x(), a.y(), 0.0));
@@ -183,7 +184,8 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
     const Plane& cur = ring.planes[i];
     Eigen::Vector3d b, u;
     if (!ThreePlanes(prev, cur, floor, &b)) b = Eigen::Vector3d(loop[i].x(), loop[i].y(), floor_z);
-    if (!ThreePlanes(prev, cur, ceiling, &u)) u = Eigen::Vector3d(loop[i].x(), loop[i].y(), ceiling_z);
+    if (!ThreePlanes(prev, cur, ceiling, &u))
+      u = Eigen::Vector3d(loop[i].x(), loop[i].y(), ceiling_z);
     ring.bottom.push_back(b);
     ring.top.push_back(u);
   }
@@ -300,10 +302,14 @@ CircleFit FitColumnCircle(const std::vector<Eigen::Vector3d>& points,
 
 const char* ToString(PatchClass c) {
   switch (c) {
-    case PatchClass::kWall: return "wall";
-    case PatchClass::kFloor: return "floor";
-    case PatchClass::kCeiling: return "ceiling";
-    case PatchClass::kColumn: return "column";
+    case PatchClass::kWall:
+      return "wall";
+    case PatchClass::kFloor:
+      return "floor";
+    case PatchClass::kCeiling:
+      return "ceiling";
+    case PatchClass::kColumn:
+      return "column";
   }
   return "?";
 }
@@ -350,7 +356,8 @@ PlaneFit FitPlaneMlesac(const std::vector<Eigen::Vector3d>& all, const Sm3Params
       gamma = sum / static_cast<double>(e2.size());
     }
     double cost = 0.0;
-    for (double x : e2) cost -= std::log(gamma * norm_in * std::exp(-x / (2 * s2)) + (1 - gamma) / v);
+    for (double x : e2)
+      cost -= std::log(gamma * norm_in * std::exp(-x / (2 * s2)) + (1 - gamma) / v);
     if (cost < best_cost) best_cost = cost, best = Plane{n, d};
   }
   if (!std::isfinite(best_cost)) return out;
@@ -389,7 +396,10 @@ std::pair<double, double> FloorCeilingFromHistogram(const std::vector<Eigen::Vec
   const int first = order[0];
   int second = -1;
   for (int i : order)
-    if (std::abs(i - first) * bin >= 1.0 && h[i] > 0) { second = i; break; }
+    if (std::abs(i - first) * bin >= 1.0 && h[i] > 0) {
+      second = i;
+      break;
+    }
   if (second < 0)
     throw InputError("sm3: error: the Z-histogram has one maximum; got points spanning " +
                      std::to_string(zmax - zmin) + " m, expected a floor and a ceiling");
@@ -417,7 +427,8 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   m.room = input.room;
   std::tie(m.floor_z, m.ceiling_z) = FloorCeilingFromHistogram(pts, prm.histogram_bin);
   const PlaneFit floor = FitHorizontal(pts, m.floor_z, /*up=*/true, prm, input.room + "/floor");
-  const PlaneFit ceiling = FitHorizontal(pts, m.ceiling_z, /*up=*/false, prm, input.room + "/ceiling");
+  const PlaneFit ceiling =
+      FitHorizontal(pts, m.ceiling_z, /*up=*/false, prm, input.room + "/ceiling");
 
   const std::vector<Eigen::Vector2d> loop = MergeCollinear(input.perimeter, prm.merge_angle_deg);
   const Ring walls = FitRing(loop, /*into_left=*/true, pts, floor.plane, ceiling.plane, m.floor_z,
@@ -460,7 +471,8 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   c.polygon = walls.top;
   c.support = ceiling.support, c.rms = ceiling.rms, c.fitted = ceiling.fitted;
   const int ceiling_id = add(std::move(c));
-  for (int w : wall_ids) m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
+  for (int w : wall_ids)
+    m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
 
   for (std::size_t k = 0; k < input.columns.size(); ++k) {
     const auto footprint =
@@ -489,7 +501,8 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
       }
       auto on = [](const Plane& p, const Eigen::Vector2d& q, double z) {
         return std::abs(p.n.z()) > 1e-9
-                   ? Eigen::Vector3d(q.x(), q.y(), -(p.n.x() * q.x() + p.n.y() * q.y() + p.d) / p.n.z())
+                   ? Eigen::Vector3d(q.x(), q.y(),
+                                     -(p.n.x() * q.x() + p.n.y() * q.y() + p.d) / p.n.z())
                    : Eigen::Vector3d(q.x(), q.y(), z);
       };
       for (int i = 0; i < s; ++i) {
@@ -500,15 +513,16 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
       ring = FitRing(footprint, /*into_left=*/false, pts, floor.plane, ceiling.plane, m.floor_z,
                      m.ceiling_z, prm, input.room + "/column_" + std::to_string(k + 1));
     }
-    const auto ids = add_ring(ring, PatchClass::kColumn, "column_" + std::to_string(k + 1) + "_face_");
-    for (int id : ids) m.adjacency.emplace_back(id, floor_id), m.adjacency.emplace_back(id, ceiling_id);
+    const auto ids =
+        add_ring(ring, PatchClass::kColumn, "column_" + std::to_string(k + 1) + "_face_");
+    for (int id : ids)
+      m.adjacency.emplace_back(id, floor_id), m.adjacency.emplace_back(id, ceiling_id);
   }
   return m;
 }
 
-StructuralModel BuildRoomSm3(const RoomModel& model,
-                                        const Sm3Params& params,
-                                        const std::string& room) {
+StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params,
+                             const std::string& room) {
   const auto& labels = model.Labels();
   const auto& pts = model.Points();
   std::size_t inliers = 0;
@@ -518,8 +532,7 @@ StructuralModel BuildRoomSm3(const RoomModel& model,
   in.reserve(inliers / stride + 1);
   std::size_t n = 0;
   for (std::size_t i = 0; i < pts.size(); ++i)
-    if (labels[i] == PointLabel::kInlier && n++ % stride == 0)
-      in.push_back(pts[i].cast<double>());
+    if (labels[i] == PointLabel::kInlier && n++ % stride == 0) in.push_back(pts[i].cast<double>());
   Sm3Input input;
   input.room = room;
   input.points = &in;

@@ -23,20 +23,26 @@
 namespace mopad::modelling {
 
 struct Sm3Params {
-  double histogram_bin = 0.02;      ///< m, Z-histogram bin, [0.001, 0.5]
-  double plane_band = 0.10;         ///< m, points this close to a hypothesised surface feed its fit, (0, 1]
-  double corner_margin = 0.15;      ///< m, wall points this close to a corner are left out of the fit, [0, 2]
-  double mlesac_sigma = 0.005;      ///< m, inlier noise of MLESAC's Gaussian, (0, 0.5]
-  int mlesac_iterations = 300;      ///< hypotheses per plane, [1, 100000]
-  int min_points = 50;              ///< points needed to fit a plane (else the edge line is used), [3, 1e7]
-  double merge_angle_deg = 2.0;     ///< consecutive walls closer than this in direction merge, [0, 45]
-  int max_fit_points = 2000;        ///< points scoring each MLESAC hypothesis (even subsample), [100, 1e8]
-  std::uint64_t seed = 1;           ///< MLESAC sampling
+  double histogram_bin = 0.02;  ///< m, Z-histogram bin, [0.001, 0.5]
+  double plane_band =
+      0.10;  ///< m, points this close to a hypothesised surface feed its fit, (0, 1]
+  double corner_margin =
+      0.15;  ///< m, wall points this close to a corner are left out of the fit, [0, 2]
+  double mlesac_sigma = 0.005;  ///< m, inlier noise of MLESAC's Gaussian, (0, 0.5]
+  int mlesac_iterations = 300;  ///< hypotheses per plane, [1, 100000]
+  int min_points = 50;  ///< points needed to fit a plane (else the edge line is used), [3, 1e7]
+  double merge_angle_deg = 2.0;  ///< consecutive walls closer than this in direction merge, [0, 45]
+  int max_fit_points =
+      2000;                ///< points scoring each MLESAC hypothesis (even subsample), [100, 1e8]
+  std::uint64_t seed = 1;  ///< MLESAC sampling
   // Round columns (see the file comment).
-  int round_min_vertices = 6;        ///< footprint vertices (after merging) a round column has at least, [3, 1000]
-  double round_max_turn_deg = 60.0;  ///< deg, no footprint corner of a round column turns more, (0, 180]
-  double round_max_rms_ratio = 0.05; ///< circle fit residual RMS / radius accepted as round, (0, 1]
-  int round_segments = 16;           ///< faces of the prism that models a round column, [3, 360]
+  int round_min_vertices =
+      6;  ///< footprint vertices (after merging) a round column has at least, [3, 1000]
+  double round_max_turn_deg =
+      60.0;  ///< deg, no footprint corner of a round column turns more, (0, 180]
+  double round_max_rms_ratio =
+      0.05;                 ///< circle fit residual RMS / radius accepted as round, (0, 1]
+  int round_segments = 16;  ///< faces of the prism that models a round column, [3, 360]
   /// m, column footprint edges shorter than this collapse into a corner (a traced 1 mm chamfer
   /// gave a sliver face with a clockwise polygon), [0, 1]
   double min_column_edge = 0.05;
@@ -73,9 +79,9 @@ struct Plane {
 /// Result of one MLESAC + least-squares fit.
 struct PlaneFit {
   Plane plane;
-  int support = 0;     ///< points within 3 sigma of the final plane
-  double rms = 0.0;    ///< m, of the supporting points
-  bool fitted = false; ///< false: too few points (the caller's fallback was used)
+  int support = 0;      ///< points within 3 sigma of the final plane
+  double rms = 0.0;     ///< m, of the supporting points
+  bool fitted = false;  ///< false: too few points (the caller's fallback was used)
 };
 
 /// MLESAC over `points` (3-point hypotheses, mixture of Gaussian inliers and uniform outliers,
@@ -85,13 +91,13 @@ PlaneFit FitPlaneMlesac(const std::vector<Eigen::Vector3d>& points, const Sm3Par
                         const std::string& stream);
 
 struct StructuralPatch {
-  std::string id;                         ///< "wall_1", "floor", "ceiling", "column_1_face_2"
+  std::string id;  ///< "wall_1", "floor", "ceiling", "column_1_face_2"
   PatchClass patch_class = PatchClass::kWall;
   Plane plane;
-  std::vector<Eigen::Vector3d> polygon;   ///< closed, CCW seen from inside the room (along -n)
-  int support = 0;                        ///< points supporting the plane
-  double rms = 0.0;                       ///< m
-  bool fitted = false;                    ///< plane from data (false: from the perimeter only)
+  std::vector<Eigen::Vector3d> polygon;  ///< closed, CCW seen from inside the room (along -n)
+  int support = 0;                       ///< points supporting the plane
+  double rms = 0.0;                      ///< m
+  bool fitted = false;                   ///< plane from data (false: from the perimeter only)
 };
 
 struct StructuralModel {
@@ -142,6 +148,7 @@ class RoomModel;
 
 /// SM3 of a room from its RoomModel: the inlier points (at most ~1 M, evenly subsampled), the
 /// RoI perimeter and the columns (paper §3.2). `room` labels the model.
-StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params, const std::string& room);
+StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params,
+                             const std::string& room);
 
 }  // namespace mopad::modelling

@@ -8,18 +8,28 @@ namespace mopad::modelling {
 
 const char* ToString(VoxelLabel label) {
   switch (label) {
-    case VoxelLabel::kUnseen: return "unseen";
-    case VoxelLabel::kEmpty: return "empty";
-    case VoxelLabel::kStructure: return "structure";
-    case VoxelLabel::kOccludedStructure: return "occluded_structure";
-    case VoxelLabel::kClutter: return "clutter";
-    case VoxelLabel::kOpening: return "opening";
+    case VoxelLabel::kUnseen:
+      return "unseen";
+    case VoxelLabel::kEmpty:
+      return "empty";
+    case VoxelLabel::kStructure:
+      return "structure";
+    case VoxelLabel::kOccludedStructure:
+      return "occluded_structure";
+    case VoxelLabel::kClutter:
+      return "clutter";
+    case VoxelLabel::kOpening:
+      return "opening";
   }
   return "?";
 }
 
 VoxelSpace::VoxelSpace(const Vec3& origin, double size, int nx, int ny, int nz)
-    : origin_(origin), size_(size), nx_(nx), ny_(ny), nz_(nz),
+    : origin_(origin),
+      size_(size),
+      nx_(nx),
+      ny_(ny),
+      nz_(nz),
       flags_(static_cast<std::size_t>(nx) * ny * nz, 0) {}
 
 Eigen::Vector3i VoxelSpace::VoxelOf(const Vec3& p) const {
@@ -59,8 +69,8 @@ namespace {
 // voxel in order, with t in metres from a; stops when visit returns false, at b's voxel
 // (not visited unless `include_last`), or when the ray leaves the grid.
 template <class Visit>
-void Traverse(const Vec3& origin, double size, int nx, int ny, int nz, const Vec3& a,
-              const Vec3& b, Visit&& visit) {
+void Traverse(const Vec3& origin, double size, int nx, int ny, int nz, const Vec3& a, const Vec3& b,
+              Visit&& visit) {
   const Vec3 d = b - a;
   const double len = d.norm();
   if (!(len > 1e-9)) return;
@@ -124,7 +134,8 @@ void VoxelSpace::MarkPassed(const Vec3& a, const Vec3& b) {
   std::uint8_t* data = flags_.data();
   Traverse(origin_, size_, nx_, ny_, nz_, a, b, [data](std::size_t index, double) {
     std::atomic_ref<std::uint8_t> f(data[index]);
-    if (!(f.load(std::memory_order_relaxed) & kPassed)) f.fetch_or(kPassed, std::memory_order_relaxed);
+    if (!(f.load(std::memory_order_relaxed) & kPassed))
+      f.fetch_or(kPassed, std::memory_order_relaxed);
     return true;
   });
 }

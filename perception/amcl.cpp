@@ -38,11 +38,16 @@ void AmclParams::Validate() const {
 
 const char* ToString(LocalisationStatus s) {
   switch (s) {
-    case LocalisationStatus::kNotInitialised: return "not_initialised";
-    case LocalisationStatus::kLocalised: return "localised";
-    case LocalisationStatus::kUncertain: return "uncertain";
-    case LocalisationStatus::kLost: return "lost";
-    case LocalisationStatus::kRelocalising: return "relocalising";
+    case LocalisationStatus::kNotInitialised:
+      return "not_initialised";
+    case LocalisationStatus::kLocalised:
+      return "localised";
+    case LocalisationStatus::kUncertain:
+      return "uncertain";
+    case LocalisationStatus::kLost:
+      return "lost";
+    case LocalisationStatus::kRelocalising:
+      return "relocalising";
   }
   return "?";
 }
@@ -74,11 +79,11 @@ struct PoseMean {
 }  // namespace
 
 struct Amcl::Impl {
-  DistanceField likelihood;       // occupied cells only
+  DistanceField likelihood;          // occupied cells only
   std::vector<std::uint8_t> mapped;  // per cell: 1 = known (free or occupied)
   Vec2 origin;
   int width = 0, height = 0;
-  std::vector<Vec2> free_centres; // cells for uniform sampling
+  std::vector<Vec2> free_centres;      // cells for uniform sampling
   std::vector<Vec2> search_positions;  // lattice of the global search
   bool pending_search = false;
   double resolution;
@@ -92,8 +97,11 @@ struct Amcl::Impl {
   double w_slow = 0.0, w_fast = 0.0;
 
   Impl(const OccupancyGrid& map, const AmclParams& p)
-      : likelihood(map, false, p.likelihood_max_dist), origin(map.Origin()), width(map.Width()),
-        height(map.Height()), resolution(map.Resolution()) {
+      : likelihood(map, false, p.likelihood_max_dist),
+        origin(map.Origin()),
+        width(map.Width()),
+        height(map.Height()),
+        resolution(map.Resolution()) {
     mapped.assign(static_cast<std::size_t>(width) * height, 0);
     for (int j = 0; j < height; ++j)
       for (int i = 0; i < width; ++i)
@@ -110,7 +118,8 @@ struct Amcl::Impl {
     const Vec2 extent(map.Width() * map.Resolution(), map.Height() * map.Resolution());
     for (double y = o.y() + 0.5 * step; y < o.y() + extent.y(); y += step)
       for (double x = o.x() + 0.5 * step; x < o.x() + extent.x(); x += step)
-        if (clearance.IsFree(Vec2(x, y), p.global_min_clearance)) search_positions.emplace_back(x, y);
+        if (clearance.IsFree(Vec2(x, y), p.global_min_clearance))
+          search_positions.emplace_back(x, y);
   }
 };
 
@@ -164,8 +173,8 @@ void Amcl::SetInitialPose(const Pose2& X_MB, const Eigen::Matrix3d& cov) {
 
 void Amcl::StartGlobalLocalisation() {
   if (impl_->free_centres.empty()) {
-    throw InputError("", "AMCL global localisation: the map has no free cell with clearance",
-                     "", ">= " + std::to_string(params_.global_min_clearance) + " m");
+    throw InputError("", "AMCL global localisation: the map has no free cell with clearance", "",
+                     ">= " + std::to_string(params_.global_min_clearance) + " m");
   }
   const std::uint64_t epoch = ++impl_->update_index;
   const int n = params_.max_particles;
@@ -221,8 +230,8 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
     const double r1n = std::min(std::abs(rot1), std::abs(WrapAngle(rot1 - kPi)));
     const double r2n = std::min(std::abs(rot2), std::abs(WrapAngle(rot2 - kPi)));
     const double s_rot1 = std::sqrt(p.odom_alpha1 * r1n * r1n + p.odom_alpha2 * trans * trans);
-    const double s_trans = std::sqrt(p.odom_alpha3 * trans * trans +
-                                     p.odom_alpha4 * (r1n * r1n + r2n * r2n));
+    const double s_trans =
+        std::sqrt(p.odom_alpha3 * trans * trans + p.odom_alpha4 * (r1n * r1n + r2n * r2n));
     const double s_rot2 = std::sqrt(p.odom_alpha1 * r2n * r2n + p.odom_alpha2 * trans * trans);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& range) {
       for (std::size_t k = range.begin(); k != range.end(); ++k) {
@@ -247,7 +256,8 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
       const double r = scan.ranges[k];
       if (std::isfinite(r) && r >= scan.range_min && r < scan.range_max) valid.push_back(k);
     }
-    const std::size_t want = std::min<std::size_t>(valid.size(), static_cast<std::size_t>(p.max_beams));
+    const std::size_t want =
+        std::min<std::size_t>(valid.size(), static_cast<std::size_t>(p.max_beams));
     const Pose3& X_BL = scan.X_BL;
     for (std::size_t b = 0; b < want; ++b) {
       const std::size_t k = valid[b * valid.size() / want];
@@ -370,7 +380,8 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   }
   const double cr = p.cluster_radius, ca = DegToRad(p.cluster_angle_deg);
   const PoseMean mean = weighted_mean([&](const Particle& q) {
-    return std::hypot(q.x - mode.x, q.y - mode.y) <= cr && std::abs(WrapAngle(q.yaw - mode.yaw)) <= ca;
+    return std::hypot(q.x - mode.x, q.y - mode.y) <= cr &&
+           std::abs(WrapAngle(q.yaw - mode.yaw)) <= ca;
   });
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const auto& q : particles_) {
@@ -385,7 +396,8 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
     const double c = std::cos(X_MB.yaw), s = std::sin(X_MB.yaw);
     for (const Vec2& b : beams) {
       const Vec2 e(X_MB.x + c * b.x() - s * b.y(), X_MB.y + s * b.x() + c * b.y());
-      const bool near_obstacle = m.likelihood.ObstacleDistance(e, p.likelihood_max_dist) < p.inlier_distance;
+      const bool near_obstacle =
+          m.likelihood.ObstacleDistance(e, p.likelihood_max_dist) < p.inlier_distance;
       const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
       const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
       const bool in_map = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
@@ -404,13 +416,12 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
       (m.w_slow > 0.0 && p.recovery_alpha_slow > 0.0 && p.recovery_alpha_fast > 0.0)
           ? std::max(0.0, 1.0 - m.w_fast / m.w_slow)
           : 0.0;
-  if (n_eff < p.resample_neff_ratio * static_cast<double>(n) || m.relocalising ||
-      p_inject > 0.05) {
+  if (n_eff < p.resample_neff_ratio * static_cast<double>(n) || m.relocalising || p_inject > 0.05) {
     result.resampled = true;
     CounterRng rng(Key(seed_, "amcl/resample", u, 0));
     // KLD (Fox 2003): k = bins a large resampled set would occupy.
-    const auto comb = LowVariance(particles_, static_cast<std::size_t>(p.max_particles),
-                                  rng.Uniform());
+    const auto comb =
+        LowVariance(particles_, static_cast<std::size_t>(p.max_particles), rng.Uniform());
     std::vector<std::int64_t> bins;
     bins.reserve(comb.size());
     for (std::size_t idx : comb) bins.push_back(bin_key(particles_[idx]));
@@ -422,9 +433,9 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
       const double t = 1.0 - a + std::sqrt(a) * p.kld_z;
       n_kld = (k_bins - 1.0) / (2.0 * p.kld_err) * t * t * t;
     }
-    const auto target = static_cast<std::size_t>(
-        std::clamp(std::ceil(n_kld), static_cast<double>(p.min_particles),
-                   static_cast<double>(p.max_particles)));
+    const auto target =
+        static_cast<std::size_t>(std::clamp(std::ceil(n_kld), static_cast<double>(p.min_particles),
+                                            static_cast<double>(p.max_particles)));
     const auto pick = LowVariance(particles_, target, rng.Uniform());
     std::vector<Particle> next(target);
     const bool can_inject = p_inject > 0.0 && !m.free_centres.empty();
@@ -461,8 +472,9 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   const bool converged = sxy < p.converged_sigma_xy && syaw < DegToRad(p.converged_sigma_yaw_deg);
   const bool good_match = !beams.empty() && !inconclusive && inlier_ratio >= p.lost_inlier_ratio;
   char buf[200];
-  std::snprintf(buf, sizeof buf, "sigma_xy %.3f m, sigma_yaw %.2f deg, inliers %.0f%%, N_eff %.0f/%zu",
-                sxy, RadToDeg(syaw), 100.0 * inlier_ratio, n_eff, n);
+  std::snprintf(buf, sizeof buf,
+                "sigma_xy %.3f m, sigma_yaw %.2f deg, inliers %.0f%%, N_eff %.0f/%zu", sxy,
+                RadToDeg(syaw), 100.0 * inlier_ratio, n_eff, n);
   const std::string health(buf);
   if (m.relocalising) {
     ++m.reloc_updates;
@@ -474,7 +486,8 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
       e.message = "re-localised after " + std::to_string(m.reloc_updates) + " updates; " + health;
     } else {
       e.status = LocalisationStatus::kRelocalising;
-      e.message = "global re-localisation, update " + std::to_string(m.reloc_updates) + "; " + health;
+      e.message =
+          "global re-localisation, update " + std::to_string(m.reloc_updates) + "; " + health;
     }
     return result;
   }
@@ -508,14 +521,16 @@ void Amcl::SeedFromGlobalSearch(const std::vector<Vec2>& beams_B, double range_m
   const double yaw_step = 2.0 * kPi / n_yaw;
   // Beams to score, evenly spaced.
   std::vector<Vec2> beams;
-  const std::size_t want = std::min<std::size_t>(beams_B.size(), static_cast<std::size_t>(p.global_search_beams));
+  const std::size_t want =
+      std::min<std::size_t>(beams_B.size(), static_cast<std::size_t>(p.global_search_beams));
   for (std::size_t b = 0; b < want; ++b) beams.push_back(beams_B[b * beams_B.size() / want]);
   // Beam endpoints rotated for every yaw bin.
   std::vector<Vec2> rotated(static_cast<std::size_t>(n_yaw) * beams.size());
   for (int t = 0; t < n_yaw; ++t) {
     const double yaw = -kPi + t * yaw_step, c = std::cos(yaw), s = std::sin(yaw);
     for (std::size_t b = 0; b < beams.size(); ++b)
-      rotated[t * beams.size() + b] = Vec2(c * beams[b].x() - s * beams[b].y(), s * beams[b].x() + c * beams[b].y());
+      rotated[t * beams.size() + b] =
+          Vec2(c * beams[b].x() - s * beams[b].y(), s * beams[b].x() + c * beams[b].y());
   }
   const double sigma = p.global_sigma_hit;
   const double hit_norm = p.z_hit / (kSqrt2Pi * sigma), rand_term = p.z_rand / range_max;
@@ -526,7 +541,8 @@ void Amcl::SeedFromGlobalSearch(const std::vector<Vec2>& beams_B, double range_m
       for (int t = 0; t < n_yaw; ++t) {
         double sum = 0.0;
         for (std::size_t b = 0; b < beams.size(); ++b) {
-          const double d = m.likelihood.CentreDistance(x + rotated[t * beams.size() + b], p.likelihood_max_dist);
+          const double d =
+              m.likelihood.CentreDistance(x + rotated[t * beams.size() + b], p.likelihood_max_dist);
           sum += std::log(hit_norm * std::exp(-0.5 * d * d / (sigma * sigma)) + rand_term);
         }
         score[k * n_yaw + t] = static_cast<float>(sum);

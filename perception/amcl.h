@@ -19,8 +19,9 @@
 // - health: weighted pose, covariance, effective particle count N_eff = 1 / sum(w^2), and the
 //   ratio of beams whose endpoint lies within `inlier_distance` of a mapped obstacle at the
 //   estimate, among the beams ending in mapped space (unknown space is no evidence; with too
-//   few such beams the update is inconclusive). `lost_updates` consecutive updates below `lost_inlier_ratio` declare the filter
-//   lost (status kLost in that update) and, if enabled, start global re-localisation;
+//   few such beams the update is inconclusive). `lost_updates` consecutive updates below
+//   `lost_inlier_ratio` declare the filter lost (status kLost in that update) and, if enabled,
+//   start global re-localisation;
 // - global (re-)localisation: uniform particles over free space do not reliably find the right
 //   mode in symmetric buildings, so the next scan is first matched exhaustively (correlative
 //   search: every free position on a `global_search_step` lattice x every
@@ -55,39 +56,39 @@ Pose2 Compose(const Pose2& a, const Pose2& b);
 Pose2 Inverse(const Pose2& a);
 
 struct AmclParams {
-  int min_particles = 500;          ///< count, [10, max_particles]
-  int max_particles = 5000;         ///< count, [min_particles, 200000]
-  double kld_err = 0.05;            ///< KLD bound epsilon, (0, 1)
-  double kld_z = 2.33;              ///< upper standard normal quantile z_(1-delta), (0, 5]
-  double bin_size_xy = 0.2;         ///< m, KLD histogram bin, (0, 5]
-  double bin_size_yaw_deg = 10.0;   ///< deg, KLD histogram bin, (0, 180]
-  double odom_alpha1 = 0.05;        ///< rotation noise from rotation, [0, 10]
-  double odom_alpha2 = 0.01;        ///< rotation noise from translation, [0, 10]
-  double odom_alpha3 = 0.05;        ///< translation noise from translation, [0, 10]
-  double odom_alpha4 = 0.01;        ///< translation noise from rotation, [0, 10]
-  int max_beams = 60;               ///< beams used per scan, evenly spaced, [2, 10000]
-  double z_hit = 0.9;               ///< mixture weight of the Gaussian hit term, (0, 1]
-  double z_rand = 0.1;              ///< mixture weight of the uniform term, [0, 1]
+  int min_particles = 500;         ///< count, [10, max_particles]
+  int max_particles = 5000;        ///< count, [min_particles, 200000]
+  double kld_err = 0.05;           ///< KLD bound epsilon, (0, 1)
+  double kld_z = 2.33;             ///< upper standard normal quantile z_(1-delta), (0, 5]
+  double bin_size_xy = 0.2;        ///< m, KLD histogram bin, (0, 5]
+  double bin_size_yaw_deg = 10.0;  ///< deg, KLD histogram bin, (0, 180]
+  double odom_alpha1 = 0.05;       ///< rotation noise from rotation, [0, 10]
+  double odom_alpha2 = 0.01;       ///< rotation noise from translation, [0, 10]
+  double odom_alpha3 = 0.05;       ///< translation noise from translation, [0, 10]
+  double odom_alpha4 = 0.01;       ///< translation noise from rotation, [0, 10]
+  int max_beams = 60;              ///< beams used per scan, evenly spaced, [2, 10000]
+  double z_hit = 0.9;              ///< mixture weight of the Gaussian hit term, (0, 1]
+  double z_rand = 0.1;             ///< mixture weight of the uniform term, [0, 1]
   /// A beam ending in an unknown cell (a wall face the map has not seen yet, e.g. the far side
   /// of a wall entered through its door) is scored as if this far (m) from an obstacle, not by
   /// its distance to the nearest mapped one, which would pull the estimate towards poses that
   /// put it on a mapped face. 0 = off (plain likelihood field). [0, 5]
   double unknown_endpoint_distance = 0.0;
-  double sigma_hit = 0.05;          ///< m, std of the hit term while tracking, (0, 5]
-  double global_sigma_hit = 0.2;    ///< m, std of the hit term while re-localising, (0, 5]
-  double likelihood_max_dist = 2.0; ///< m, distance field cap, (0, 100]
-  double update_min_d = 0.05;       ///< m, odometry travel that triggers an update, [0, 10]
-  double update_min_a_deg = 3.0;    ///< deg, odometry rotation that triggers an update, [0, 180]
-  double resample_neff_ratio = 0.5; ///< resample when N_eff < ratio * N, [0, 1]
+  double sigma_hit = 0.05;             ///< m, std of the hit term while tracking, (0, 5]
+  double global_sigma_hit = 0.2;       ///< m, std of the hit term while re-localising, (0, 5]
+  double likelihood_max_dist = 2.0;    ///< m, distance field cap, (0, 100]
+  double update_min_d = 0.05;          ///< m, odometry travel that triggers an update, [0, 10]
+  double update_min_a_deg = 3.0;       ///< deg, odometry rotation that triggers an update, [0, 180]
+  double resample_neff_ratio = 0.5;    ///< resample when N_eff < ratio * N, [0, 1]
   double recovery_alpha_slow = 0.001;  ///< Augmented MCL long-term rate, [0, 1]
   double recovery_alpha_fast = 0.1;    ///< Augmented MCL short-term rate, [0, 1]
-  double inlier_distance = 0.1;     ///< m, endpoint-to-map distance of a matching beam, (0, 5]
-  double lost_inlier_ratio = 0.5;   ///< below this the update counts as bad, [0, 1]
+  double inlier_distance = 0.1;        ///< m, endpoint-to-map distance of a matching beam, (0, 5]
+  double lost_inlier_ratio = 0.5;      ///< below this the update counts as bad, [0, 1]
   /// The inlier ratio counts only beams ending in mapped (known) cells; with fewer than this
   /// share of all beams there the update is inconclusive (neither bad nor good), [0, 1]
   double min_mapped_beam_fraction = 0.25;
-  int lost_updates = 3;             ///< consecutive bad updates that declare loss, [1, 1000]
-  bool relocalise_when_lost = true; ///< start global re-localisation on loss
+  int lost_updates = 3;                ///< consecutive bad updates that declare loss, [1, 1000]
+  bool relocalise_when_lost = true;    ///< start global re-localisation on loss
   double global_min_clearance = 0.2;   ///< m, clearance of uniformly drawn poses, [0, 5]
   double global_search_step = 0.1;     ///< m, position lattice of the global search, (0, 5]
   double global_search_yaw_deg = 5.0;  ///< deg, yaw step of the global search, (0, 90]
@@ -95,9 +96,9 @@ struct AmclParams {
   int global_hypotheses = 20;          ///< best distinct poses seeded with particles, [1, 1000]
   int relocalisation_min_updates = 3;  ///< updates before a re-localisation may converge, [1, 1000]
   double converged_sigma_xy = 0.1;     ///< m, position std for "localised", (0, 10]
-  double converged_sigma_yaw_deg = 5.0;///< deg, yaw std for "localised", (0, 180]
-  double cluster_radius = 0.5;      ///< m, particles within this of the mode form the estimate
-  double cluster_angle_deg = 30.0;  ///< deg, idem for yaw
+  double converged_sigma_yaw_deg = 5.0;  ///< deg, yaw std for "localised", (0, 180]
+  double cluster_radius = 0.5;           ///< m, particles within this of the mode form the estimate
+  double cluster_angle_deg = 30.0;       ///< deg, idem for yaw
 
   template <class V>
   void Visit(V& v) {
@@ -154,16 +155,16 @@ const char* ToString(LocalisationStatus s);
 
 struct LocalisationEstimate {
   LocalisationStatus status = LocalisationStatus::kNotInitialised;
-  std::string message;          ///< why the status is what it is, for logs and summaries
-  Pose2 X_MB;                   ///< base_link in map at the last filter update
-  Pose2 X_MO;                   ///< odom in map: X_MB = Compose(X_MO, X_OB)
+  std::string message;  ///< why the status is what it is, for logs and summaries
+  Pose2 X_MB;           ///< base_link in map at the last filter update
+  Pose2 X_MO;           ///< odom in map: X_MB = Compose(X_MO, X_OB)
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< (x, y, yaw) about X_MB; m^2, rad^2
-  double n_eff = 0.0;           ///< effective particle count, 1 / sum(w^2)
-  int particles = 0;            ///< current particle count
-  double inlier_ratio = 0.0;    ///< fraction of beams matching the map at X_MB, [0, 1]
+  double n_eff = 0.0;                                    ///< effective particle count, 1 / sum(w^2)
+  int particles = 0;                                     ///< current particle count
+  double inlier_ratio = 0.0;          ///< fraction of beams matching the map at X_MB, [0, 1]
   double w_slow = 0.0, w_fast = 0.0;  ///< Augmented MCL likelihood averages (per beam)
-  std::uint64_t updates = 0;    ///< filter updates so far
-  double timestamp = 0.0;       ///< s, odometry time of the last update
+  std::uint64_t updates = 0;          ///< filter updates so far
+  double timestamp = 0.0;             ///< s, odometry time of the last update
   /// Current pose estimate for a newer odometry reading (odometry between filter updates).
   Pose2 PoseAt(const Pose2& X_OB) const { return Compose(X_MO, X_OB); }
 };
@@ -175,7 +176,7 @@ struct Particle {
 
 /// Result of one call to Update.
 struct AmclUpdateResult {
-  bool updated = false;        ///< a filter update ran (enough motion, or forced)
+  bool updated = false;  ///< a filter update ran (enough motion, or forced)
   bool resampled = false;
   bool lost_detected = false;  ///< loss declared in this update
 };

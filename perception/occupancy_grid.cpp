@@ -83,8 +83,7 @@ OccupancyGrid::OccupancyGrid(const OccupancyGridParams& params, const Vec2& orig
 }
 
 OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params,
-                                      const std::vector<Eigen::Vector3d>& points_M,
-                                      double margin) {
+                                      const std::vector<Eigen::Vector3d>& points_M, double margin) {
   Vec2 lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
   Vec2 hi = -lo;
   for (const auto& p : points_M) {
@@ -95,7 +94,8 @@ OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params,
   if (!lo.allFinite()) throw InputError("", "cannot size an occupancy grid from no points");
   const double r = params.resolution;
   // Snap the origin to a multiple of the resolution so maps of the same site line up.
-  const Vec2 origin((std::floor((lo.x() - margin) / r)) * r, (std::floor((lo.y() - margin) / r)) * r);
+  const Vec2 origin((std::floor((lo.x() - margin) / r)) * r,
+                    (std::floor((lo.y() - margin) / r)) * r);
   const int w = static_cast<int>(std::ceil((hi.x() + margin - origin.x()) / r)) + 1;
   const int h = static_cast<int>(std::ceil((hi.y() + margin - origin.y()) / r)) + 1;
   return OccupancyGrid(params, origin, w, h);
@@ -112,8 +112,8 @@ Vec2 OccupancyGrid::CentreOf(const Cell& c) const {
 
 void OccupancyGrid::Add(const Cell& c, double delta) {
   float& l = log_odds_[Index(c)];
-  l = static_cast<float>(std::clamp(static_cast<double>(l) + delta, params_.log_odds_min,
-                                    params_.log_odds_max));
+  l = static_cast<float>(
+      std::clamp(static_cast<double>(l) + delta, params_.log_odds_min, params_.log_odds_max));
 }
 
 void OccupancyGrid::AddReturn(const Cell& c, const Vec2& p) {
@@ -141,12 +141,13 @@ OccupancyGrid::ReturnSegment OccupancyGrid::ObstacleSegment(const Cell& c) const
   const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
   const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
   if (!(l1 > 0.0) || l2 > 0.1 * l1) return seg;
-  Vec2 dir = std::abs(sxy) > 1e-12 ? Vec2(l1 - syy, sxy) : (sxx >= syy ? Vec2::UnitX() : Vec2::UnitY());
+  Vec2 dir =
+      std::abs(sxy) > 1e-12 ? Vec2(l1 - syy, sxy) : (sxx >= syy ? Vec2::UnitX() : Vec2::UnitY());
   seg.direction = dir.normalized();
   // Uniform spread along a segment of length L has variance L^2 / 12.
   // A wall crosses the whole cell, however sparse the returns in it.
-  seg.half_length = std::clamp(std::sqrt(3.0 * l1), 0.5 * params_.resolution,
-                               0.75 * params_.resolution);
+  seg.half_length =
+      std::clamp(std::sqrt(3.0 * l1), 0.5 * params_.resolution, 0.75 * params_.resolution);
   return seg;
 }
 
@@ -188,7 +189,7 @@ void OccupancyGrid::InsertPoints(const std::vector<Eigen::Vector3d>& points_M) {
 }
 
 void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
-                              const std::vector<Eigen::Vector3d>& points_M) {
+                               const std::vector<Eigen::Vector3d>& points_M) {
   if (!o.allFinite() || params_.ray_clear_z_max <= 0.0) return;
   const double cap = params_.ray_clear_z_max, res = params_.resolution;
   const double bin = params_.ray_bin_deg * kPi / 180.0;
@@ -262,7 +263,8 @@ void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_M
       if (c == end && hit) {
         Add(c, params_.log_odds_hit);
         AddReturn(c, p.head<2>());
-      } else if (!(c == end) && (params_.lrf_clears_cloud_obstacles || !(cloud_obstacle_[Index(c)] & 1))) {
+      } else if (!(c == end) &&
+                 (params_.lrf_clears_cloud_obstacles || !(cloud_obstacle_[Index(c)] & 1))) {
         Add(c, params_.log_odds_miss);
       }
     });
@@ -273,9 +275,15 @@ void OccupancyGrid::SetState(const Cell& c, CellState state) {
   if (!Contains(c)) return;
   float& l = log_odds_[Index(c)];
   switch (state) {
-    case CellState::kOccupied: l = static_cast<float>(params_.log_odds_max); break;
-    case CellState::kFree: l = static_cast<float>(params_.log_odds_min); break;
-    case CellState::kUnknown: l = 0.0f; break;
+    case CellState::kOccupied:
+      l = static_cast<float>(params_.log_odds_max);
+      break;
+    case CellState::kFree:
+      l = static_cast<float>(params_.log_odds_min);
+      break;
+    case CellState::kUnknown:
+      l = 0.0f;
+      break;
   }
 }
 
@@ -355,7 +363,8 @@ DistanceField::DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle
       for (int i = 0; i < width_; ++i) {
         if (src.at<std::uint8_t>(j, i) != 0) continue;
         const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
-        if (label_segment.size() <= l) label_segment.resize(l + 1, std::numeric_limits<std::uint32_t>::max());
+        if (label_segment.size() <= l)
+          label_segment.resize(l + 1, std::numeric_limits<std::uint32_t>::max());
         label_segment[l] = static_cast<std::uint32_t>(segments_.size());
         segments_.push_back(grid.ObstacleSegment(Cell{i, j}));
       }
@@ -363,7 +372,8 @@ DistanceField::DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle
     for (int j = 0; j < height_; ++j) {
       for (int i = 0; i < width_; ++i) {
         const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
-        if (l < label_segment.size()) nearest_[static_cast<std::size_t>(j) * width_ + i] = label_segment[l];
+        if (l < label_segment.size())
+          nearest_[static_cast<std::size_t>(j) * width_ + i] = label_segment[l];
       }
     }
   }
@@ -453,9 +463,15 @@ void WriteMap(const OccupancyGrid& grid, const std::string& yaml_path) {
     for (int i = 0; i < grid.Width(); ++i) {
       std::uint8_t v = 205;
       switch (grid.State(Cell{i, j})) {
-        case CellState::kFree: v = 254; break;
-        case CellState::kOccupied: v = 0; break;
-        case CellState::kUnknown: v = 205; break;
+        case CellState::kFree:
+          v = 254;
+          break;
+        case CellState::kOccupied:
+          v = 0;
+          break;
+        case CellState::kUnknown:
+          v = 205;
+          break;
       }
       img.at<std::uint8_t>(grid.Height() - 1 - j, i) = v;  // top row = highest y
     }
@@ -485,10 +501,9 @@ OccupancyGrid ReadMap(const std::string& yaml_path, const OccupancyGridParams& p
   namespace fs = std::filesystem;
   const YAML::Node root = LoadYamlFile(yaml_path);
   if (!root.IsMap()) throw InputError(YamlWhere(yaml_path, root), "map YAML must be a map");
-  RejectUnknownKeys(root,
-                    {"image", "mode", "resolution", "origin", "negate", "occupied_thresh",
-                     "free_thresh"},
-                    yaml_path, "");
+  RejectUnknownKeys(
+      root, {"image", "mode", "resolution", "origin", "negate", "occupied_thresh", "free_thresh"},
+      yaml_path, "");
   auto need = [&](const char* key) {
     const YAML::Node n = root[key];
     if (!n) throw InputError(yaml_path, std::string("map YAML lacks '") + key + "'");

@@ -29,20 +29,20 @@ namespace mopad::perception {
 enum class CellState : std::uint8_t { kUnknown = 0, kFree = 1, kOccupied = 2 };
 
 struct OccupancyGridParams {
-  double resolution = 0.05;      ///< m per cell, [0.005, 1]
-  double obstacle_z_min = 0.08;  ///< m, lower edge of the obstacle band (map z), [-1, 5]
-  double obstacle_z_max = 1.90;  ///< m, upper edge of the obstacle band (map z), [-1, 10]
-  double floor_z_max = 0.04;     ///< m, points with |z| <= this are floor: free evidence, [0, 0.5]
-  int min_points_per_cell = 2;   ///< obstacle points of one batch needed to mark a cell, [1, 1000]
-  double log_odds_hit = 0.85;    ///< added to a cell with an obstacle return, (0, 10]
-  double log_odds_miss = -0.4;   ///< added to a cell a beam passed through, [-10, 0)
-  double log_odds_min = -2.0;    ///< clamp (keeps the map able to change), [-20, 0)
-  double log_odds_max = 3.5;     ///< clamp, (0, 20]
-  double occupied_thresh = 0.65; ///< probability above which a cell is occupied, (0.5, 1)
-  double free_thresh = 0.196;    ///< probability below which a cell is free, (0, 0.5)
-  double cloud_log_odds_hit = 2.0;    ///< InsertPoints: added to a cell with band points, (0, 20]
-  double cloud_log_odds_floor = -2.0; ///< InsertPoints: added to a floor-only cell, [-20, 0)
-  bool clear_on_no_return = false;  ///< LRF: trace free space along no-return beams
+  double resolution = 0.05;       ///< m per cell, [0.005, 1]
+  double obstacle_z_min = 0.08;   ///< m, lower edge of the obstacle band (map z), [-1, 5]
+  double obstacle_z_max = 1.90;   ///< m, upper edge of the obstacle band (map z), [-1, 10]
+  double floor_z_max = 0.04;      ///< m, points with |z| <= this are floor: free evidence, [0, 0.5]
+  int min_points_per_cell = 2;    ///< obstacle points of one batch needed to mark a cell, [1, 1000]
+  double log_odds_hit = 0.85;     ///< added to a cell with an obstacle return, (0, 10]
+  double log_odds_miss = -0.4;    ///< added to a cell a beam passed through, [-10, 0)
+  double log_odds_min = -2.0;     ///< clamp (keeps the map able to change), [-20, 0)
+  double log_odds_max = 3.5;      ///< clamp, (0, 20]
+  double occupied_thresh = 0.65;  ///< probability above which a cell is occupied, (0.5, 1)
+  double free_thresh = 0.196;     ///< probability below which a cell is free, (0, 0.5)
+  double cloud_log_odds_hit = 2.0;     ///< InsertPoints: added to a cell with band points, (0, 20]
+  double cloud_log_odds_floor = -2.0;  ///< InsertPoints: added to a floor-only cell, [-20, 0)
+  bool clear_on_no_return = false;     ///< LRF: trace free space along no-return beams
   /// LRF beams may clear cells with 3D band evidence. Default false: a planar beam at one
   /// height passes under a desk top or over a low cabinet the cloud saw; it proves nothing
   /// about the rest of the band the body occupies.
@@ -102,7 +102,9 @@ class OccupancyGrid {
   const Vec2& Origin() const { return origin_; }
   int Width() const { return width_; }
   int Height() const { return height_; }
-  bool Contains(const Cell& c) const { return c.i >= 0 && c.j >= 0 && c.i < width_ && c.j < height_; }
+  bool Contains(const Cell& c) const {
+    return c.i >= 0 && c.j >= 0 && c.i < width_ && c.j < height_;
+  }
   Cell CellOf(const Vec2& p_M) const;
   Vec2 CentreOf(const Cell& c) const;
   std::size_t Index(const Cell& c) const {
@@ -171,7 +173,8 @@ class OccupancyGrid {
   std::vector<float> return_dx_, return_dy_;  // sums of return offsets from the cell centre, m
   std::vector<float> return_xx_, return_xy_, return_yy_;  // sums of their products, m^2
   std::vector<std::uint32_t> return_n_;
-  std::vector<std::uint8_t> cloud_obstacle_;  // bit 0: marked by 3D band points; bit 1: any band point
+  std::vector<std::uint8_t>
+      cloud_obstacle_;  // bit 0: marked by 3D band points; bit 1: any band point
 };
 
 /// Clearance of every cell: distance (m) from its centre to the boundary of the nearest
@@ -181,8 +184,7 @@ class OccupancyGrid {
 class DistanceField {
  public:
   /// Obstacles are occupied cells, plus unknown cells if `unknown_is_obstacle`.
-  DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle,
-                double max_distance = 1e9);
+  DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle, double max_distance = 1e9);
   DistanceField(const DistanceField&) = default;
   DistanceField& operator=(const DistanceField&) = default;
   DistanceField(DistanceField&&) noexcept = default;
@@ -215,7 +217,7 @@ class DistanceField {
   std::vector<float> centre_distance_;  // m, centre to nearest obstacle centre
   std::vector<std::uint32_t> nearest_;  // per cell: index into segments_ (UINT32_MAX = none)
   std::vector<OccupancyGrid::ReturnSegment> segments_;
-  std::vector<std::uint8_t> free_;      // known free (for IsFree)
+  std::vector<std::uint8_t> free_;  // known free (for IsFree)
 };
 
 /// Writes `yaml_path` and the PNG beside it (same stem), ROS map_server "trinary" convention:

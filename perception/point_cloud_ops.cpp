@@ -22,15 +22,18 @@ constexpr std::int64_t kHalfRange = std::int64_t{1} << 20;  // cells per half ax
 struct PointsAdaptor {
   const Points* pts = nullptr;
   std::size_t kdtree_get_point_count() const { return pts->size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*pts)[i][static_cast<int>(dim)]; }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
+    return (*pts)[i][static_cast<int>(dim)];
+  }
   template <class Bbox>
   bool kdtree_get_bbox(Bbox&) const {
     return false;
   }
 };
 
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor,
-                                                 3, std::uint32_t>;
+using Tree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                        PointsAdaptor, 3, std::uint32_t>;
 
 // Result set for "nearest within a radius": the search prunes with the current best.
 class NearestWithin {
@@ -60,7 +63,8 @@ class NearestWithin {
 
 }  // namespace
 
-Points ScanPoints(const interfaces::TlsScan& scan, const Eigen::Isometry3d& X_FS, double min_range, double max_range) {
+Points ScanPoints(const interfaces::TlsScan& scan, const Eigen::Isometry3d& X_FS, double min_range,
+                  double max_range) {
   if (!(min_range >= 0.0) || !(max_range > min_range)) {
     throw InputError("", "bad range limits for ScanPoints",
                      "[" + std::to_string(min_range) + ", " + std::to_string(max_range) + "]",
@@ -85,7 +89,8 @@ std::int64_t VoxelKey(const Eigen::Vector3d& p, double voxel_size) {
   std::int64_t packed = 0;
   for (int a = 0; a < 3; ++a) {
     const double c = std::floor(p[a] / voxel_size);
-    if (!std::isfinite(c) || c < -static_cast<double>(kHalfRange) || c >= static_cast<double>(kHalfRange)) {
+    if (!std::isfinite(c) || c < -static_cast<double>(kHalfRange) ||
+        c >= static_cast<double>(kHalfRange)) {
       throw InputError("", "point outside the voxel grid", std::to_string(p[a]),
                        "finite and within +-" + std::to_string(kHalfRange * voxel_size) + " m");
     }
@@ -115,11 +120,13 @@ std::vector<VoxelCell> Voxelize(const Points& points, double voxel_size) {
     c.sum += p;
     ++c.count;
   }
-  std::sort(cells.begin(), cells.end(), [](const VoxelCell& x, const VoxelCell& y) { return x.key < y.key; });
+  std::sort(cells.begin(), cells.end(),
+            [](const VoxelCell& x, const VoxelCell& y) { return x.key < y.key; });
   return cells;
 }
 
-std::vector<VoxelCell> MergeVoxels(const std::vector<VoxelCell>& a, const std::vector<VoxelCell>& b) {
+std::vector<VoxelCell> MergeVoxels(const std::vector<VoxelCell>& a,
+                                   const std::vector<VoxelCell>& b) {
   std::vector<VoxelCell> out;
   out.reserve(a.size() + b.size());
   std::size_t i = 0, j = 0;
@@ -156,7 +163,8 @@ struct KdTree3::Impl {
 KdTree3::KdTree3(Points points) : impl_(std::make_unique<Impl>()) {
   impl_->points = std::move(points);
   impl_->adaptor.pts = &impl_->points;
-  impl_->tree = std::make_unique<Tree>(3, impl_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  impl_->tree =
+      std::make_unique<Tree>(3, impl_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   impl_->tree->buildIndex();
 }
 KdTree3::~KdTree3() = default;
@@ -166,7 +174,8 @@ KdTree3& KdTree3::operator=(KdTree3&&) noexcept = default;
 const Points& KdTree3::points() const { return impl_->points; }
 std::size_t KdTree3::size() const { return impl_->points.size(); }
 
-std::int64_t KdTree3::Nearest(const Eigen::Vector3d& q, double max_distance, double* dist_sq) const {
+std::int64_t KdTree3::Nearest(const Eigen::Vector3d& q, double max_distance,
+                              double* dist_sq) const {
   if (impl_->points.empty()) return -1;
   NearestWithin result(max_distance * max_distance);
   impl_->tree->findNeighbors(result, q.data(), nanoflann::SearchParams());
@@ -177,7 +186,8 @@ std::int64_t KdTree3::Nearest(const Eigen::Vector3d& q, double max_distance, dou
 
 void KdTree3::Knn(const Eigen::Vector3d& q, int k, std::vector<std::uint32_t>& indices,
                   std::vector<double>& dist_sq) const {
-  const std::size_t kk = std::min<std::size_t>(static_cast<std::size_t>(std::max(k, 0)), impl_->points.size());
+  const std::size_t kk =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(k, 0)), impl_->points.size());
   indices.resize(kk);
   dist_sq.resize(kk);
   if (kk == 0) return;
@@ -193,7 +203,8 @@ namespace {
 void CheckNormalArgs(int k, double max_radius, int min_neighbours) {
   if (k < 3 || min_neighbours < 3 || min_neighbours > k || !(max_radius > 0.0)) {
     throw InputError("", "bad normal estimation parameters",
-                     "k=" + std::to_string(k) + " min_neighbours=" + std::to_string(min_neighbours) +
+                     "k=" + std::to_string(k) +
+                         " min_neighbours=" + std::to_string(min_neighbours) +
                          " max_radius=" + std::to_string(max_radius),
                      "3 <= min_neighbours <= k, max_radius > 0");
   }
@@ -202,7 +213,8 @@ void CheckNormalArgs(int k, double max_radius, int min_neighbours) {
 // PCA normal of point i from its k nearest neighbours within max_radius (a pure function of the
 // tree's point set and i).
 Normal NormalAt(const KdTree3& tree, std::size_t i, int k, double r2, int min_neighbours,
-                const Eigen::Vector3d& viewpoint, std::vector<std::uint32_t>& idx, std::vector<double>& d2) {
+                const Eigen::Vector3d& viewpoint, std::vector<std::uint32_t>& idx,
+                std::vector<double>& d2) {
   const Points& pts = tree.points();
   tree.Knn(pts[i], k, idx, d2);
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -229,21 +241,23 @@ Normal NormalAt(const KdTree3& tree, std::size_t i, int k, double r2, int min_ne
 
 }  // namespace
 
-std::vector<Normal> EstimateNormals(const KdTree3& tree, int k, double max_radius, int min_neighbours,
-                                    const Eigen::Vector3d& viewpoint) {
+std::vector<Normal> EstimateNormals(const KdTree3& tree, int k, double max_radius,
+                                    int min_neighbours, const Eigen::Vector3d& viewpoint) {
   CheckNormalArgs(k, max_radius, min_neighbours);
   std::vector<Normal> normals(tree.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tree.size(), 256), [&](const auto& range) {
     std::vector<std::uint32_t> idx;
     std::vector<double> d2;
     for (std::size_t i = range.begin(); i != range.end(); ++i)
-      normals[i] = NormalAt(tree, i, k, max_radius * max_radius, min_neighbours, viewpoint, idx, d2);
+      normals[i] =
+          NormalAt(tree, i, k, max_radius * max_radius, min_neighbours, viewpoint, idx, d2);
   });
   return normals;
 }
 
-void EstimateNormalsAt(const KdTree3& tree, const std::vector<std::uint32_t>& which, int k, double max_radius,
-                       int min_neighbours, const Eigen::Vector3d& viewpoint, std::vector<Normal>& normals) {
+void EstimateNormalsAt(const KdTree3& tree, const std::vector<std::uint32_t>& which, int k,
+                       double max_radius, int min_neighbours, const Eigen::Vector3d& viewpoint,
+                       std::vector<Normal>& normals) {
   CheckNormalArgs(k, max_radius, min_neighbours);
   if (normals.size() != tree.size()) {
     throw InputError("", "normals and tree sizes differ", std::to_string(normals.size()),
@@ -253,7 +267,8 @@ void EstimateNormalsAt(const KdTree3& tree, const std::vector<std::uint32_t>& wh
     std::vector<std::uint32_t> idx;
     std::vector<double> d2;
     for (std::size_t w = range.begin(); w != range.end(); ++w)
-      normals[which[w]] = NormalAt(tree, which[w], k, max_radius * max_radius, min_neighbours, viewpoint, idx, d2);
+      normals[which[w]] =
+          NormalAt(tree, which[w], k, max_radius * max_radius, min_neighbours, viewpoint, idx, d2);
   });
 }
 

@@ -20,7 +20,8 @@ using Points = std::vector<Eigen::Vector3d>;
 
 /// The valid returns of `scan` with range in [min_range, max_range], mapped by `X_FS` (scanner
 /// frame S to the caller's frame F), in grid order (row-major). InputError on bad bounds.
-Points ScanPoints(const interfaces::TlsScan& scan, const Eigen::Isometry3d& X_FS = Eigen::Isometry3d::Identity(),
+Points ScanPoints(const interfaces::TlsScan& scan,
+                  const Eigen::Isometry3d& X_FS = Eigen::Isometry3d::Identity(),
                   double min_range = 0.0, double max_range = 1e9);
 
 /// Applies X_BA to every point (A -> B).
@@ -43,7 +44,8 @@ std::int64_t VoxelKey(const Eigen::Vector3d& p, double voxel_size);
 std::vector<VoxelCell> Voxelize(const Points& points, double voxel_size);
 
 /// Merges two key-sorted cell lists (sums and counts of equal keys add), keeping the order.
-std::vector<VoxelCell> MergeVoxels(const std::vector<VoxelCell>& a, const std::vector<VoxelCell>& b);
+std::vector<VoxelCell> MergeVoxels(const std::vector<VoxelCell>& a,
+                                   const std::vector<VoxelCell>& b);
 
 /// One point per occupied voxel: the centroid of its points, in voxel-key order.
 Points VoxelDownsample(const Points& points, double voxel_size);
@@ -62,9 +64,11 @@ class KdTree3 {
   const Points& points() const;
   std::size_t size() const;
   /// Index of the nearest point within `max_distance` (squared distance in `dist_sq`), or -1.
-  std::int64_t Nearest(const Eigen::Vector3d& q, double max_distance, double* dist_sq = nullptr) const;
+  std::int64_t Nearest(const Eigen::Vector3d& q, double max_distance,
+                       double* dist_sq = nullptr) const;
   /// Up to k nearest points, closest first; a pure function of the point set and the query.
-  void Knn(const Eigen::Vector3d& q, int k, std::vector<std::uint32_t>& indices, std::vector<double>& dist_sq) const;
+  void Knn(const Eigen::Vector3d& q, int k, std::vector<std::uint32_t>& indices,
+           std::vector<double>& dist_sq) const;
 
  private:
   struct Impl;
@@ -81,11 +85,13 @@ struct Normal {
 /// PCA normals of `tree`'s points from their k nearest neighbours within `max_radius` (the
 /// point itself included); valid with at least `min_neighbours` (>= 3) of them. Normals point
 /// towards `viewpoint` (n . (viewpoint - p) >= 0). Parallel over points, deterministic.
-std::vector<Normal> EstimateNormals(const KdTree3& tree, int k, double max_radius, int min_neighbours = 5,
+std::vector<Normal> EstimateNormals(const KdTree3& tree, int k, double max_radius,
+                                    int min_neighbours = 5,
                                     const Eigen::Vector3d& viewpoint = Eigen::Vector3d::Zero());
 /// The same for the points `which` only: normals[which[i]] is (re)computed, the others are
 /// left as they are (normals.size() must equal tree.size()). Used for incremental map updates.
-void EstimateNormalsAt(const KdTree3& tree, const std::vector<std::uint32_t>& which, int k, double max_radius,
-                       int min_neighbours, const Eigen::Vector3d& viewpoint, std::vector<Normal>& normals);
+void EstimateNormalsAt(const KdTree3& tree, const std::vector<std::uint32_t>& which, int k,
+                       double max_radius, int min_neighbours, const Eigen::Vector3d& viewpoint,
+                       std::vector<Normal>& normals);
 
 }  // namespace mopad::perception

@@ -11,8 +11,8 @@
 #include <unordered_set>
 #include <utility>
 
-#include "common/format.h"
 #include "common/error.h"
+#include "common/format.h"
 #include "common/frames.h"
 
 namespace mopad::perception {
@@ -30,32 +30,36 @@ Kernel ParseKernel(const std::string& name) {
   if (name == "huber") return Kernel::kHuber;
   if (name == "tukey") return Kernel::kTukey;
   if (name == "cauchy") return Kernel::kCauchy;
-  throw InputError("", "parameter 'robust_kernel' unknown", "'" + name + "'", "none | huber | tukey | cauchy");
+  throw InputError("", "parameter 'robust_kernel' unknown", "'" + name + "'",
+                   "none | huber | tukey | cauchy");
 }
 
 // IRLS weight of a residual r for kernel scale k.
 double KernelWeight(Kernel kernel, double r, double k) {
   const double a = std::abs(r);
   switch (kernel) {
-    case Kernel::kNone: return 1.0;
-    case Kernel::kHuber: return a <= k ? 1.0 : k / a;
+    case Kernel::kNone:
+      return 1.0;
+    case Kernel::kHuber:
+      return a <= k ? 1.0 : k / a;
     case Kernel::kTukey: {
       if (a >= k) return 0.0;
       const double u = 1.0 - (r / k) * (r / k);
       return u * u;
     }
-    case Kernel::kCauchy: return 1.0 / (1.0 + (r / k) * (r / k));
+    case Kernel::kCauchy:
+      return 1.0 / (1.0 + (r / k) * (r / k));
   }
   return 1.0;
 }
 
 // Sums of one correspondence pass (per block, then reduced in block order).
 struct Accum {
-  Mat6 H = Mat6::Zero();  // sum w J J^T, J = [(p - c) x n; n]
-  Vec6 g = Vec6::Zero();  // sum w J r
-  double weight = 0.0;    // sum w
-  double lever2 = 0.0;    // sum w |p - c|^2
-  double r2 = 0.0;        // sum r^2 (unweighted) over planar matches
+  Mat6 H = Mat6::Zero();    // sum w J J^T, J = [(p - c) x n; n]
+  Vec6 g = Vec6::Zero();    // sum w J r
+  double weight = 0.0;      // sum w
+  double lever2 = 0.0;      // sum w |p - c|^2
+  double r2 = 0.0;          // sum r^2 (unweighted) over planar matches
   std::size_t matched = 0;  // source points with a map point within the distance
   std::size_t planar = 0;   // of which the map point has a usable normal
   void Add(const Accum& o) {
@@ -69,8 +73,9 @@ struct Accum {
   }
 };
 
-Accum Correspond(const Points& src, const Eigen::Isometry3d& T, const Eigen::Vector3d& c, const PointMap& map,
-                 double max_dist, Kernel kernel, double kernel_scale, double max_curvature) {
+Accum Correspond(const Points& src, const Eigen::Isometry3d& T, const Eigen::Vector3d& c,
+                 const PointMap& map, double max_dist, Kernel kernel, double kernel_scale,
+                 double max_curvature) {
   const std::size_t blocks = (src.size() + kBlock - 1) / kBlock;
   std::vector<Accum> partial(blocks);
   const Points& q = map.points();
@@ -147,7 +152,8 @@ void IcpParams::Validate() const {
   }
   if (!(min_range < max_range)) {
     throw InputError("", "parameter 'min_range' must be below 'max_range'",
-                     std::to_string(min_range) + " >= " + std::to_string(max_range), "min_range < max_range");
+                     std::to_string(min_range) + " >= " + std::to_string(max_range),
+                     "min_range < max_range");
   }
 }
 
@@ -157,14 +163,15 @@ void IcpParams::Validate() const {
 struct RangeImage {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   int n_az = 0, n_el = 0;
-  double bin = 0.0;  // rad
+  double bin = 0.0;             // rad
   std::vector<float> nearest;   // n_el * n_az, +inf = no return
   std::vector<float> farthest;  // idem, 0 = no return
   // Bin of direction d (non-zero), or -1.
   std::int64_t Bin(const Eigen::Vector3d& d, double r) const {
     const int a = std::clamp(static_cast<int>((std::atan2(d.y(), d.x()) + kPi) / bin), 0, n_az - 1);
-    const int e = std::clamp(static_cast<int>((std::asin(std::clamp(d.z() / r, -1.0, 1.0)) + 0.5 * kPi) / bin), 0,
-                             n_el - 1);
+    const int e = std::clamp(
+        static_cast<int>((std::asin(std::clamp(d.z() / r, -1.0, 1.0)) + 0.5 * kPi) / bin), 0,
+        n_el - 1);
     return static_cast<std::int64_t>(e) * n_az + a;
   }
 };
@@ -244,8 +251,8 @@ void PointMap::Add(const Points& points_M) {
       normals[k] = impl_->normals[static_cast<std::size_t>(from_old[k])];
     }
   }
-  EstimateNormalsAt(*tree, which, p.normal_neighbours, p.normal_radius, std::min(5, p.normal_neighbours),
-                    Eigen::Vector3d::Zero(), normals);
+  EstimateNormalsAt(*tree, which, p.normal_neighbours, p.normal_radius,
+                    std::min(5, p.normal_neighbours), Eigen::Vector3d::Zero(), normals);
   impl_->cells = std::move(merged);
   impl_->tree = std::move(tree);
   impl_->normals = std::move(normals);
@@ -255,14 +262,16 @@ void PointMap::Add(const Points& points_M) {
 std::size_t PointMap::last_normals_recomputed() const { return impl_->last_recomputed; }
 
 void PointMap::Add(const Points& points_M, const Eigen::Vector3d& origin_M) {
-  if (!origin_M.allFinite()) throw InputError("", "scan origin is not finite", "", "a finite point");
+  if (!origin_M.allFinite())
+    throw InputError("", "scan origin is not finite", "", "a finite point");
   Add(points_M);
   RangeImage img;
   img.origin = origin_M;
   img.bin = DegToRad(impl_->params.free_space_bin_deg);
   img.n_az = static_cast<int>(std::ceil(2.0 * kPi / img.bin));
   img.n_el = static_cast<int>(std::ceil(kPi / img.bin)) + 1;
-  img.nearest.assign(static_cast<std::size_t>(img.n_az) * img.n_el, std::numeric_limits<float>::infinity());
+  img.nearest.assign(static_cast<std::size_t>(img.n_az) * img.n_el,
+                     std::numeric_limits<float>::infinity());
   img.farthest.assign(img.nearest.size(), 0.0f);
   for (const auto& p : points_M) {
     const Eigen::Vector3d d = p - origin_M;
@@ -300,15 +309,18 @@ double PointMap::FreeSpaceViolation(const Points& points_M) const {
 
 bool PointMap::empty() const { return !impl_->tree || impl_->tree->size() == 0; }
 std::size_t PointMap::size() const { return impl_->tree ? impl_->tree->size() : 0; }
-const Points& PointMap::points() const { return impl_->tree ? impl_->tree->points() : impl_->empty_points; }
+const Points& PointMap::points() const {
+  return impl_->tree ? impl_->tree->points() : impl_->empty_points;
+}
 const std::vector<Normal>& PointMap::normals() const { return impl_->normals; }
 const KdTree3& PointMap::tree() const { return *impl_->tree; }
 const IcpParams& PointMap::params() const { return impl_->params; }
 
-// ---- ICP -----------------------------------------------------------------------------------------
+// ---- ICP
+// -----------------------------------------------------------------------------------------
 
-RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, const Eigen::Isometry3d& prior_X_MS,
-                                const IcpParams& params) {
+RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
+                                const Eigen::Isometry3d& prior_X_MS, const IcpParams& params) {
   params.Validate();
   if (!prior_X_MS.matrix().allFinite()) {
     throw InputError("", "registration prior is not finite", "", "a finite pose");
@@ -320,7 +332,8 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   // Source: range gate, then voxel centroids in the scanner frame.
   Points gated;
   gated.reserve(source_S.size());
-  const double rmin2 = params.min_range * params.min_range, rmax2 = params.max_range * params.max_range;
+  const double rmin2 = params.min_range * params.min_range,
+               rmax2 = params.max_range * params.max_range;
   for (const auto& p : source_S) {
     const double r2 = p.squaredNorm();
     if (std::isfinite(r2) && r2 >= rmin2 && r2 <= rmax2) gated.push_back(p);
@@ -329,8 +342,9 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   res.source_points = src.size();
   res.target_points = target.size();
   if (src.empty() || target.empty()) {
-    res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") + " (" +
-                  std::to_string(src.size()) + " source / " + std::to_string(target.size()) + " map points)";
+    res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") +
+                  " (" + std::to_string(src.size()) + " source / " + std::to_string(target.size()) +
+                  " map points)";
     return res;
   }
   Eigen::Vector3d src_centroid = Eigen::Vector3d::Zero();
@@ -343,15 +357,18 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   double last_dt = 0.0, last_dr = 0.0;
   bool stage_converged = false;
   std::string failure;
-  for (std::size_t stage = 0; stage < params.max_correspondence.size() && failure.empty(); ++stage) {
+  for (std::size_t stage = 0; stage < params.max_correspondence.size() && failure.empty();
+       ++stage) {
     const double dist = params.max_correspondence[stage];
     const double scale = params.kernel_scale_ratio * dist;
     stage_converged = false;
     for (int it = 0; it < params.max_iterations; ++it) {
       const Eigen::Vector3d c = T * src_centroid;
-      const Accum a = Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
+      const Accum a =
+          Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
       if (a.planar < 12 || a.weight <= 0.0) {
-        failure = "only " + std::to_string(a.planar) + " correspondences within " + FormatNumbers("%.3g", dist) + " m";
+        failure = "only " + std::to_string(a.planar) + " correspondences within " +
+                  FormatNumbers("%.3g", dist) + " m";
         break;
       }
       const Reduced red = Reduce(a, params.dof);
@@ -407,12 +424,14 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
     const Eigen::Vector3d q = T * p;
     if (target.tree().Nearest(q, last_dist) < 0) unmatched.push_back(q);
   }
-  res.free_space_violation = target.FreeSpaceViolation(unmatched) * static_cast<double>(unmatched.size()) /
+  res.free_space_violation = target.FreeSpaceViolation(unmatched) *
+                             static_cast<double>(unmatched.size()) /
                              static_cast<double>(src.size());
   if (fin.planar >= 12 && fin.weight > 0.0) {
     const Reduced red = Reduce(fin, params.dof);
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
-    res.information.assign(es.eigenvalues().data(), es.eigenvalues().data() + es.eigenvalues().size());
+    res.information.assign(es.eigenvalues().data(),
+                           es.eigenvalues().data() + es.eigenvalues().size());
     for (int k = 0; k < static_cast<int>(red.idx.size()); ++k) {
       res.weakest_direction[red.idx[k]] = es.eigenvectors()(k, 0);
     }
@@ -423,35 +442,44 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   }
 
   std::vector<std::string> why;
-  if (!failure.empty()) why.push_back(failure);
-  else if (!res.converged) why.push_back("not converged in " + std::to_string(params.max_iterations) +
-                                         " iterations of the last stage (step " + FormatNumbers("%.2g", last_dt) + " m, " +
-                                         FormatNumbers("%.2g", RadToDeg(last_dr)) + " deg)");
+  if (!failure.empty())
+    why.push_back(failure);
+  else if (!res.converged)
+    why.push_back("not converged in " + std::to_string(params.max_iterations) +
+                  " iterations of the last stage (step " + FormatNumbers("%.2g", last_dt) + " m, " +
+                  FormatNumbers("%.2g", RadToDeg(last_dr)) + " deg)");
   if (res.fitness < params.min_fitness) {
-    why.push_back("fitness " + FormatNumbers("%.3f", res.fitness) + " < min_fitness " + FormatNumbers("%.3f", params.min_fitness));
+    why.push_back("fitness " + FormatNumbers("%.3f", res.fitness) + " < min_fitness " +
+                  FormatNumbers("%.3f", params.min_fitness));
   }
   if (res.rmse > params.max_rmse) {
-    why.push_back("rmse " + FormatNumbers("%.4f", res.rmse) + " m > max_rmse " + FormatNumbers("%.4f", params.max_rmse));
+    why.push_back("rmse " + FormatNumbers("%.4f", res.rmse) + " m > max_rmse " +
+                  FormatNumbers("%.4f", params.max_rmse));
   }
   if (res.free_space_violation > params.max_free_space_violation) {
-    why.push_back("free-space violation " + FormatNumbers("%.3f", res.free_space_violation) + " > " +
-                  FormatNumbers("%.3f", params.max_free_space_violation) + " (source points where the map saw empty space)");
+    why.push_back("free-space violation " + FormatNumbers("%.3f", res.free_space_violation) +
+                  " > " + FormatNumbers("%.3f", params.max_free_space_violation) +
+                  " (source points where the map saw empty space)");
   }
   if (res.degenerate) {
     const Vec6& d = res.weakest_direction;
     char buf[160];
     std::snprintf(buf, sizeof buf,
-                  "degenerate: information %.3g < %.3g along (rx %.2f ry %.2f rz %.2f tx %.2f ty %.2f tz %.2f)",
-                  res.information.front(), params.degeneracy_threshold, d[0], d[1], d[2], d[3], d[4], d[5]);
+                  "degenerate: information %.3g < %.3g along (rx %.2f ry %.2f rz %.2f tx %.2f ty "
+                  "%.2f tz %.2f)",
+                  res.information.front(), params.degeneracy_threshold, d[0], d[1], d[2], d[3],
+                  d[4], d[5]);
     why.push_back(buf);
   }
   res.ok = why.empty();
   char figures[320];
   std::snprintf(figures, sizeof figures,
-                "fitness %.3f, rmse %.2f mm, free-space violation %.4f, %d iterations, last step %.2g m / %.2g deg, "
+                "fitness %.3f, rmse %.2f mm, free-space violation %.4f, %d iterations, last step "
+                "%.2g m / %.2g deg, "
                 "min information %.3g, %zu source / %zu map points",
-                res.fitness, res.rmse * 1e3, res.free_space_violation, res.iterations, last_dt, RadToDeg(last_dr),
-                res.information.empty() ? 0.0 : res.information.front(), res.source_points, res.target_points);
+                res.fitness, res.rmse * 1e3, res.free_space_violation, res.iterations, last_dt,
+                RadToDeg(last_dr), res.information.empty() ? 0.0 : res.information.front(),
+                res.source_points, res.target_points);
   if (res.ok) {
     res.message = std::string("registration ok: ") + figures;
   } else {
@@ -462,20 +490,25 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, 
   return res;
 }
 
-RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap& target, const IcpParams& params) {
+RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap& target,
+                                const IcpParams& params) {
   params.Validate();
-  return RegisterScan(ScanPoints(scan, Eigen::Isometry3d::Identity(), params.min_range, params.max_range), target,
-                      scan.X_MS_estimate, params);
+  return RegisterScan(
+      ScanPoints(scan, Eigen::Isometry3d::Identity(), params.min_range, params.max_range), target,
+      scan.X_MS_estimate, params);
 }
 
-RegistrationDecision AcceptRegistration(const RegistrationResult& r, const Eigen::Isometry3d& prior_X_MS,
-                                        const IcpParams& icp, const RegistrationAcceptanceParams& policy,
+RegistrationDecision AcceptRegistration(const RegistrationResult& r,
+                                        const Eigen::Isometry3d& prior_X_MS, const IcpParams& icp,
+                                        const RegistrationAcceptanceParams& policy,
                                         double prior_sigma) {
   RegistrationDecision d;
-  d.creeping = policy.creeping_step_factor > 0.0 && !r.converged && !r.degenerate && r.iterations > 0 &&
+  d.creeping = policy.creeping_step_factor > 0.0 && !r.converged && !r.degenerate &&
+               r.iterations > 0 &&
                r.last_step <= policy.creeping_step_factor * icp.min_delta_translation &&
                r.last_step_deg <= policy.creeping_step_factor * icp.min_delta_rotation_deg;
-  const bool fits = (r.converged || d.creeping) && r.fitness >= icp.min_fitness && r.rmse <= icp.max_rmse &&
+  const bool fits = (r.converged || d.creeping) && r.fitness >= icp.min_fitness &&
+                    r.rmse <= icp.max_rmse &&
                     r.free_space_violation <= icp.max_free_space_violation;
   const Eigen::Isometry3d dX = prior_X_MS.inverse() * r.X_MS;
   d.correction = dX.translation().head<2>().norm();
@@ -488,11 +521,12 @@ RegistrationDecision AcceptRegistration(const RegistrationResult& r, const Eigen
   const bool flaw_accepted = fits && ((r.degenerate && policy.accept_degenerate) || d.creeping);
   d.use = (r.ok || flaw_accepted) && d.within_bounds;
   char figures[160];
-  std::snprintf(figures, sizeof figures, "; correction %.3f m / %.3f deg, prior sigma %.3f m, gate %.3f m",
-                d.correction, d.correction_deg, prior_sigma, d.gate);
+  std::snprintf(figures, sizeof figures,
+                "; correction %.3f m / %.3f deg, prior sigma %.3f m, gate %.3f m", d.correction,
+                d.correction_deg, prior_sigma, d.gate);
   d.message = std::string(d.use ? "" : "refused, prior kept: ") +
-              (d.creeping && fits ? "converged but for a creep below the step limit: " : "") + r.message +
-              figures + (d.within_bounds ? "" : " (too large)");
+              (d.creeping && fits ? "converged but for a creep below the step limit: " : "") +
+              r.message + figures + (d.within_bounds ? "" : " (too large)");
   return d;
 }
 

@@ -40,12 +40,12 @@
 namespace mopad::perception {
 
 struct IcpParams {
-  double voxel_size = 0.05;         ///< m, voxel grid of the accumulated map, [0.005, 1]
-  double source_voxel_size = 0.1;   ///< m, voxel grid of the new scan, [0.005, 2]
+  double voxel_size = 0.05;        ///< m, voxel grid of the accumulated map, [0.005, 1]
+  double source_voxel_size = 0.1;  ///< m, voxel grid of the new scan, [0.005, 2]
   /// m, coarse-to-fine maximum correspondence distances, one ICP stage each, (0, 10]. The 1 m
   /// first stage widens the basin: office rooms register from priors 1.2 m / 20 deg off.
   std::vector<double> max_correspondence = {1.0, 0.5, 0.2, 0.08};
-  int max_iterations = 30;          ///< Gauss-Newton iterations per stage, [1, 1000]
+  int max_iterations = 30;               ///< Gauss-Newton iterations per stage, [1, 1000]
   double min_delta_translation = 1e-5;   ///< m, stage converged when a step is below both, (0, 1]
   double min_delta_rotation_deg = 1e-4;  ///< deg, idem, (0, 10]
   /// 4: x, y, z, yaw, roll and pitch kept from the prior (the inclinometer's levelling, paper
@@ -54,12 +54,12 @@ struct IcpParams {
   /// levels to ~0.01 deg. Use 6 for an unlevelled or badly levelled scanner.
   int dof = 4;
   std::string robust_kernel = "tukey";  ///< none | huber | tukey | cauchy
-  double kernel_scale_ratio = 0.5;  ///< kernel scale / stage correspondence distance, (0, 10]
-  int normal_neighbours = 12;       ///< k of the map's PCA normals, [3, 100]
-  double normal_radius = 0.25;      ///< m, neighbours farther than this are ignored, (0, 5]
-  double max_normal_curvature = 0.1;  ///< map points less planar than this are unused, (0, 1/3]
-  double min_fitness = 0.5;         ///< ok needs at least this share of matched source points, [0, 1]
-  double max_rmse = 0.03;           ///< m, ok needs the final RMS residual below this, (0, 1]
+  double kernel_scale_ratio = 0.5;      ///< kernel scale / stage correspondence distance, (0, 10]
+  int normal_neighbours = 12;           ///< k of the map's PCA normals, [3, 100]
+  double normal_radius = 0.25;          ///< m, neighbours farther than this are ignored, (0, 5]
+  double max_normal_curvature = 0.1;    ///< map points less planar than this are unused, (0, 1/3]
+  double min_fitness = 0.5;  ///< ok needs at least this share of matched source points, [0, 1]
+  double max_rmse = 0.03;    ///< m, ok needs the final RMS residual below this, (0, 1]
   double degeneracy_threshold = 0.02;  ///< min normalised eigenvalue of the information, [0, 1]
   /// Free-space check: a source point with no map point within the last stage's distance and
   /// closer to a map scan's origin than that scan's nearest return in the same direction bin
@@ -67,11 +67,11 @@ struct IcpParams {
   /// span at most the margin in range count (grazing surfaces and depth edges do not). ok
   /// needs the share of such points at most max_free_space_violation. Measured (office_5rooms,
   /// 12 correct registrations): <= 0.0027; poses 90 or 180 deg off: 0.012 to 0.13.
-  double free_space_bin_deg = 0.5;         ///< deg, direction bins of each map scan, [0.05, 10]
-  double free_space_margin = 0.1;          ///< m, plus 2 % of the range, [0, 10]
-  double max_free_space_violation = 0.006; ///< share of source points, [0, 1]
-  double min_range = 0.0;           ///< m, source points closer to the scanner are dropped, [0, 1000]
-  double max_range = 1000.0;        ///< m, source points farther are dropped, (0, 1e6]
+  double free_space_bin_deg = 0.5;          ///< deg, direction bins of each map scan, [0.05, 10]
+  double free_space_margin = 0.1;           ///< m, plus 2 % of the range, [0, 10]
+  double max_free_space_violation = 0.006;  ///< share of source points, [0, 1]
+  double min_range = 0.0;     ///< m, source points closer to the scanner are dropped, [0, 1000]
+  double max_range = 1000.0;  ///< m, source points farther are dropped, (0, 1e6]
 
   template <class V>
   void Visit(V& v) {
@@ -103,16 +103,17 @@ struct IcpParams {
 
 struct RegistrationResult {
   Eigen::Isometry3d X_MS = Eigen::Isometry3d::Identity();  ///< refined scanner pose in the map
-  bool ok = false;  ///< converged, fits, free space consistent, well conditioned: safe to accumulate
-  bool converged = false;   ///< the last stage's step fell below the deltas within max_iterations
-  double fitness = 0.0;     ///< share of source points matched in the last stage, [0, 1]
-  double rmse = 0.0;        ///< m, RMS point-to-plane residual of the matches
+  bool ok =
+      false;  ///< converged, fits, free space consistent, well conditioned: safe to accumulate
+  bool converged = false;  ///< the last stage's step fell below the deltas within max_iterations
+  double fitness = 0.0;    ///< share of source points matched in the last stage, [0, 1]
+  double rmse = 0.0;       ///< m, RMS point-to-plane residual of the matches
   /// Share of source points lying in space a map scan saw empty (0 if the map has no origins).
   double free_space_violation = 0.0;
-  int iterations = 0;       ///< Gauss-Newton iterations over all stages
+  int iterations = 0;          ///< Gauss-Newton iterations over all stages
   double last_step = 0.0;      ///< m, translation of the last Gauss-Newton step
   double last_step_deg = 0.0;  ///< deg, rotation of the last Gauss-Newton step
-  bool degenerate = false;  ///< some direction is ill-constrained (e.g. a long corridor)
+  bool degenerate = false;     ///< some direction is ill-constrained (e.g. a long corridor)
   /// Eigenvalues (ascending) of the normalised Gauss-Newton information at the result, in
   /// homogeneous units (rotations scaled by the RMS lever arm): 6 values, or 4 in 4 DoF.
   /// Degenerate if the smallest is below degeneracy_threshold.
@@ -121,7 +122,7 @@ struct RegistrationResult {
   Eigen::Matrix<double, 6, 1> weakest_direction = Eigen::Matrix<double, 6, 1>::Zero();
   std::size_t source_points = 0;  ///< after downsampling
   std::size_t target_points = 0;
-  std::string message;      ///< one line: the outcome with its figures
+  std::string message;  ///< one line: the outcome with its figures
 };
 
 /// The one policy that decides whether a registration's pose replaces the prior (the room scan
@@ -160,9 +161,9 @@ struct RegistrationAcceptanceParams {
 };
 
 struct RegistrationDecision {
-  bool use = false;       ///< the registered pose replaces the prior
-  bool creeping = false;  ///< counted as converged while creeping (see creeping_step_factor)
-  bool within_bounds = false;  ///< the correction is within the gate and the yaw bound
+  bool use = false;             ///< the registered pose replaces the prior
+  bool creeping = false;        ///< counted as converged while creeping (see creeping_step_factor)
+  bool within_bounds = false;   ///< the correction is within the gate and the yaw bound
   double correction = 0.0;      ///< m, x-y distance of the result from the prior
   double correction_deg = 0.0;  ///< deg, yaw difference
   double gate = 0.0;            ///< m, the x-y bound applied
@@ -171,8 +172,9 @@ struct RegistrationDecision {
 
 /// Applies `policy` to `r` registered from `prior_X_MS` with `icp`; `prior_sigma` (m) is the
 /// largest x-y standard deviation of the prior (0 when unknown).
-RegistrationDecision AcceptRegistration(const RegistrationResult& r, const Eigen::Isometry3d& prior_X_MS,
-                                        const IcpParams& icp, const RegistrationAcceptanceParams& policy,
+RegistrationDecision AcceptRegistration(const RegistrationResult& r,
+                                        const Eigen::Isometry3d& prior_X_MS, const IcpParams& icp,
+                                        const RegistrationAcceptanceParams& policy,
                                         double prior_sigma);
 
 /// The accumulated target S(t-1) in the map frame: voxel-grid centroids (sums kept, so scans
@@ -198,9 +200,9 @@ class PointMap {
   double FreeSpaceViolation(const Points& points_M) const;
   bool empty() const;
   std::size_t size() const;
-  const Points& points() const;          ///< voxel centroids, in voxel-key order
+  const Points& points() const;  ///< voxel centroids, in voxel-key order
   const std::vector<Normal>& normals() const;
-  const KdTree3& tree() const;           ///< precondition: !empty()
+  const KdTree3& tree() const;  ///< precondition: !empty()
   const IcpParams& params() const;
   /// Normals recomputed by the last Add (cells within normal_radius of a changed cell; the
   /// others keep theirs, which is exact: a normal only depends on points within that radius).
@@ -214,11 +216,12 @@ class PointMap {
 /// Refines `prior_X_MS` so that `source_S` (scanner frame) lies on `target` (see the file
 /// comment). Throws InputError for bad params or a non-finite prior; an empty target or source
 /// gives ok = false with a message.
-RegistrationResult RegisterScan(const Points& source_S, const PointMap& target, const Eigen::Isometry3d& prior_X_MS,
-                                const IcpParams& params);
+RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
+                                const Eigen::Isometry3d& prior_X_MS, const IcpParams& params);
 
 /// Convenience for a whole scan: its valid returns within [min_range, max_range] of params,
 /// from the prior scan.X_MS_estimate (the robot's odometry / localisation estimate).
-RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap& target, const IcpParams& params);
+RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap& target,
+                                const IcpParams& params);
 
 }  // namespace mopad::perception

@@ -1,12 +1,13 @@
 #include "scenes/assimp_loader.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <Eigen/Core>
 #include <algorithm>
+#include <assimp/Importer.hpp>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -15,8 +16,6 @@
 #include <map>
 #include <sstream>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "common/error.h"
 #include "common/frames.h"
@@ -71,8 +70,10 @@ std::string_view EntityBody(std::string_view text, unsigned long id) {
     // Up to the ';' that ends the instance, skipping quoted strings ('' is an escaped quote).
     bool quoted = false;
     for (std::size_t j = i; j < text.size(); ++j) {
-      if (text[j] == '\'') quoted = !quoted;
-      else if (text[j] == ';' && !quoted) return text.substr(i, j - i);
+      if (text[j] == '\'')
+        quoted = !quoted;
+      else if (text[j] == ';' && !quoted)
+        return text.substr(i, j - i);
     }
     return {};
   }
@@ -101,10 +102,10 @@ std::vector<unsigned long> References(std::string_view s) {
 
 double SiPrefixScale(std::string_view body) {
   static const std::pair<const char*, double> kPrefixes[] = {
-      {".EXA.", 1e18},   {".PETA.", 1e15}, {".TERA.", 1e12},  {".GIGA.", 1e9},
-      {".MEGA.", 1e6},   {".KILO.", 1e3},  {".HECTO.", 1e2},  {".DECA.", 1e1},
-      {".DECI.", 1e-1},  {".CENTI.", 1e-2}, {".MILLI.", 1e-3}, {".MICRO.", 1e-6},
-      {".NANO.", 1e-9},  {".PICO.", 1e-12}, {".FEMTO.", 1e-15}, {".ATTO.", 1e-18}};
+      {".EXA.", 1e18},  {".PETA.", 1e15},  {".TERA.", 1e12},   {".GIGA.", 1e9},
+      {".MEGA.", 1e6},  {".KILO.", 1e3},   {".HECTO.", 1e2},   {".DECA.", 1e1},
+      {".DECI.", 1e-1}, {".CENTI.", 1e-2}, {".MILLI.", 1e-3},  {".MICRO.", 1e-6},
+      {".NANO.", 1e-9}, {".PICO.", 1e-12}, {".FEMTO.", 1e-15}, {".ATTO.", 1e-18}};
   const std::string up = Upper(body);
   for (const auto& [name, scale] : kPrefixes)
     if (up.find(name) != std::string::npos) return scale;
@@ -145,9 +146,8 @@ double IfcUnappliedLengthScale(std::string_view text, const std::string& where) 
   }
   if (pos == std::string_view::npos) return 1.0;
   const std::size_t semi = text.find(';', pos);
-  const std::string_view assignment = text.substr(pos, semi == std::string_view::npos
-                                                           ? std::string_view::npos
-                                                           : semi - pos);
+  const std::string_view assignment =
+      text.substr(pos, semi == std::string_view::npos ? std::string_view::npos : semi - pos);
   for (unsigned long ref : References(assignment)) {
     const std::string_view unit = EntityBody(text, ref);
     if (Upper(unit).find(".LENGTHUNIT.") == std::string::npos) continue;
@@ -173,8 +173,8 @@ double IfcUnappliedLengthScale(std::string_view text, const std::string& where) 
     char* end = nullptr;
     const double value = std::strtod(number.c_str(), &end);
     const std::vector<unsigned long> mwu_refs = References(mwu);
-    const std::string_view si = mwu_refs.empty() ? std::string_view{}
-                                                 : EntityBody(text, mwu_refs.back());
+    const std::string_view si =
+        mwu_refs.empty() ? std::string_view{} : EntityBody(text, mwu_refs.back());
     if (end == number.c_str() || !std::isfinite(value) || value <= 0.0 ||
         EntityName(si) != "IFCSIUNIT")
       throw InputError(where, "cannot read the IFC length conversion factor", Truncate(mwu),
@@ -226,8 +226,8 @@ class AssimpSceneBuilder {
                          "more than " + std::to_string(kMaxNodes) + " nodes", "a tree");
       Eigen::Matrix4d local;
       const aiMatrix4x4& m = n->mTransformation;
-      local << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1,
-          m.d2, m.d3, m.d4;
+      local << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2,
+          m.d3, m.d4;
       const Eigen::Matrix4d world = f.parent * local;
       const std::string name = n->mName.C_Str();
       const std::string node_path = f.path.empty() ? name : f.path + "/" + name;
@@ -258,9 +258,8 @@ class AssimpSceneBuilder {
       part.subclass = IfcClassFromNodeName(part.element_id);
       part.element_class = FromIfcClass(part.subclass);
     }
-    part.material = mesh->mMaterialIndex < ai_.mNumMaterials
-                        ? static_cast<int>(mesh->mMaterialIndex)
-                        : -1;
+    part.material =
+        mesh->mMaterialIndex < ai_.mNumMaterials ? static_cast<int>(mesh->mMaterialIndex) : -1;
     const Eigen::Matrix3d r = world.topLeftCorner<3, 3>();
     const Eigen::Vector3d t = world.topRightCorner<3, 1>();
     part.positions.resize(mesh->mNumVertices);
@@ -282,10 +281,9 @@ class AssimpSceneBuilder {
       Eigen::Vector3i tri;
       for (int k = 0; k < 3; ++k) {
         if (face.mIndices[k] >= mesh->mNumVertices)
-          throw InputError(path_, "mesh '" + std::string(mesh->mName.C_Str()) +
-                                      "' face index out of range",
-                           std::to_string(face.mIndices[k]),
-                           "< " + std::to_string(mesh->mNumVertices));
+          throw InputError(
+              path_, "mesh '" + std::string(mesh->mName.C_Str()) + "' face index out of range",
+              std::to_string(face.mIndices[k]), "< " + std::to_string(mesh->mNumVertices));
         tri[k] = static_cast<int>(face.mIndices[k]);
       }
       if (flip) std::swap(tri[1], tri[2]);
@@ -337,8 +335,8 @@ class AssimpSceneBuilder {
     bool ok = false;
     if (const aiTexture* emb = ai_.GetEmbeddedTexture(ref.c_str())) {
       if (emb->mHeight == 0) {  // compressed (PNG/JPEG) bytes, mWidth of them
-        ok = DecodeImageRgba8(reinterpret_cast<const std::uint8_t*>(emb->pcData), emb->mWidth,
-                              &tex, &error);
+        ok = DecodeImageRgba8(reinterpret_cast<const std::uint8_t*>(emb->pcData), emb->mWidth, &tex,
+                              &error);
       } else {  // raw BGRA texels
         tex.width = static_cast<int>(emb->mWidth);
         tex.height = static_cast<int>(emb->mHeight);

@@ -1,4 +1,3 @@
-#include "common/polygon.h"
 #include "scenes/bsc_catalogue.h"
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/polygon.h"
 
 // Building service components (the paper's §3.4, Table 3). Every class is built from a few
 // convex prisms (boxes, polygonal cylinders, a triangular plate) in its local frame:
@@ -37,17 +37,17 @@ struct Rgb {
   std::uint8_t r, g, b;
 };
 
-constexpr Rgb kWhite{245, 245, 242};       // RAL 9016 traffic white (plastics, plates)
-constexpr Rgb kPureWhite{252, 252, 252};   // pictogram symbols
-constexpr Rgb kPanelGrey{203, 208, 204};   // RAL 7035 light grey (enclosures)
-constexpr Rgb kDarkGrey{70, 72, 75};       // brackets, door gaps
+constexpr Rgb kWhite{245, 245, 242};      // RAL 9016 traffic white (plastics, plates)
+constexpr Rgb kPureWhite{252, 252, 252};  // pictogram symbols
+constexpr Rgb kPanelGrey{203, 208, 204};  // RAL 7035 light grey (enclosures)
+constexpr Rgb kDarkGrey{70, 72, 75};      // brackets, door gaps
 constexpr Rgb kBlack{25, 25, 25};
-constexpr Rgb kHole{35, 35, 38};           // socket contact holes
-constexpr Rgb kCupGrey{214, 214, 210};     // socket cup
-constexpr Rgb kClipGrey{165, 165, 160};    // earthing clips
-constexpr Rgb kSignalRed{200, 30, 32};     // RAL 3001 (ISO 7010 fire signs, extinguishers)
-constexpr Rgb kSafetyGreen{0, 135, 80};    // RAL 6032 (escape route signs)
-constexpr Rgb kWarningYellow{250, 200, 0}; // RAL 1003 (ISO 7010 W012)
+constexpr Rgb kHole{35, 35, 38};            // socket contact holes
+constexpr Rgb kCupGrey{214, 214, 210};      // socket cup
+constexpr Rgb kClipGrey{165, 165, 160};     // earthing clips
+constexpr Rgb kSignalRed{200, 30, 32};      // RAL 3001 (ISO 7010 fire signs, extinguishers)
+constexpr Rgb kSafetyGreen{0, 135, 80};     // RAL 6032 (escape route signs)
+constexpr Rgb kWarningYellow{250, 200, 0};  // RAL 1003 (ISO 7010 W012)
 constexpr Rgb kTextGrey{55, 58, 66};
 
 double SrgbToLinear(double c) {
@@ -130,9 +130,8 @@ class Canvas {
     });
   }
   void Circle(double cx, double cy, double r, Rgb c) {
-    Fill(cx - r, cy - r, cx + r, cy + r, c, [=](double x, double y) {
-      return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r;
-    });
+    Fill(cx - r, cy - r, cx + r, cy + r, c,
+         [=](double x, double y) { return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r; });
   }
   void Ring(double cx, double cy, double r_in, double r_out, Rgb c) {
     Fill(cx - r_out, cy - r_out, cx + r_out, cy + r_out, c, [=](double x, double y) {
@@ -197,16 +196,16 @@ std::vector<P2> Place(const std::vector<P2>& unit, P2 c, double s) {
 // ---- pictogram elements (unit frame, y up) ----
 
 const std::vector<P2>& UnitBolt() {
-  static const std::vector<P2> k = {{-0.10, 1.00}, {0.45, 1.00}, {0.12, 0.18}, {0.50, 0.18},
+  static const std::vector<P2> k = {{-0.10, 1.00},  {0.45, 1.00},   {0.12, 0.18},  {0.50, 0.18},
                                     {-0.30, -1.00}, {-0.05, -0.08}, {-0.42, -0.08}};
   return k;
 }
 
 const std::vector<P2>& UnitFlame() {
-  static const std::vector<P2> k = {
-      {-0.55, -0.45}, {-0.62, -0.05}, {-0.45, 0.35}, {-0.30, 0.10}, {-0.18, 0.55},
-      {0.00, 1.00},   {0.12, 0.50},   {0.32, 0.75},  {0.38, 0.25},  {0.55, 0.45},
-      {0.62, 0.00},   {0.55, -0.45},  {0.30, -0.75}, {0.00, -0.82}, {-0.30, -0.75}};
+  static const std::vector<P2> k = {{-0.55, -0.45}, {-0.62, -0.05}, {-0.45, 0.35}, {-0.30, 0.10},
+                                    {-0.18, 0.55},  {0.00, 1.00},   {0.12, 0.50},  {0.32, 0.75},
+                                    {0.38, 0.25},   {0.55, 0.45},   {0.62, 0.00},  {0.55, -0.45},
+                                    {0.30, -0.75},  {0.00, -0.82},  {-0.30, -0.75}};
   return k;
 }
 
@@ -229,15 +228,16 @@ void WarningTriangle(Canvas& cv, P2 centre, double side) {
 void RunningFigure(Canvas& cv, P2 c, double s, Rgb col) {
   const double t = 0.22 * s;
   cv.Circle(c.x() + 0.18 * s, c.y() + 0.78 * s, 0.17 * s, col);
-  cv.Line(c + P2(0.10 * s, 0.52 * s), c + P2(-0.12 * s, 0.0), 1.25 * t, col);   // torso
-  cv.Polyline({c + P2(0.06 * s, 0.45 * s), c + P2(0.35 * s, 0.30 * s),
-               c + P2(0.55 * s, 0.45 * s)}, t, col);                             // front arm
-  cv.Polyline({c + P2(0.04 * s, 0.45 * s), c + P2(-0.25 * s, 0.38 * s),
-               c + P2(-0.45 * s, 0.18 * s)}, t, col);                            // back arm
-  cv.Polyline({c + P2(-0.12 * s, 0.0), c + P2(0.22 * s, -0.30 * s),
-               c + P2(0.30 * s, -0.85 * s)}, t, col);                            // front leg
-  cv.Polyline({c + P2(-0.12 * s, 0.0), c + P2(-0.35 * s, -0.38 * s),
-               c + P2(-0.70 * s, -0.55 * s)}, t, col);                           // back leg
+  cv.Line(c + P2(0.10 * s, 0.52 * s), c + P2(-0.12 * s, 0.0), 1.25 * t, col);  // torso
+  cv.Polyline({c + P2(0.06 * s, 0.45 * s), c + P2(0.35 * s, 0.30 * s), c + P2(0.55 * s, 0.45 * s)},
+              t, col);  // front arm
+  cv.Polyline(
+      {c + P2(0.04 * s, 0.45 * s), c + P2(-0.25 * s, 0.38 * s), c + P2(-0.45 * s, 0.18 * s)}, t,
+      col);  // back arm
+  cv.Polyline({c + P2(-0.12 * s, 0.0), c + P2(0.22 * s, -0.30 * s), c + P2(0.30 * s, -0.85 * s)}, t,
+              col);  // front leg
+  cv.Polyline({c + P2(-0.12 * s, 0.0), c + P2(-0.35 * s, -0.38 * s), c + P2(-0.70 * s, -0.55 * s)},
+              t, col);  // back leg
 }
 
 // Arrow pointing in direction sign(dir) along x, length 2s.
@@ -254,12 +254,14 @@ void ExtinguisherSilhouette(Canvas& cv, P2 c, double s, Rgb col) {
   const double bw = 0.55 * s;  // body width
   cv.Rect(c.x(), c.y() - 0.25 * s, bw, 1.30 * s, col);
   cv.Circle(c.x(), c.y() + 0.40 * s, bw / 2, col);
-  cv.Rect(c.x(), c.y() + 0.72 * s, 0.22 * s, 0.25 * s, col);                         // valve
-  cv.Line(c + P2(0.0, 0.90 * s), c + P2(0.45 * s, 0.98 * s), 0.12 * s, col);       // lever
-  cv.Polyline({c + P2(-0.08 * s, 0.80 * s), c + P2(-0.55 * s, 0.75 * s),
-               c + P2(-0.75 * s, 0.35 * s)}, 0.10 * s, col);                       // hose
-  cv.Polygon({c + P2(-0.82 * s, 0.38 * s), c + P2(-0.68 * s, 0.38 * s),
-              c + P2(-0.62 * s, 0.05 * s), c + P2(-0.88 * s, 0.05 * s)}, col);     // nozzle
+  cv.Rect(c.x(), c.y() + 0.72 * s, 0.22 * s, 0.25 * s, col);                  // valve
+  cv.Line(c + P2(0.0, 0.90 * s), c + P2(0.45 * s, 0.98 * s), 0.12 * s, col);  // lever
+  cv.Polyline(
+      {c + P2(-0.08 * s, 0.80 * s), c + P2(-0.55 * s, 0.75 * s), c + P2(-0.75 * s, 0.35 * s)},
+      0.10 * s, col);  // hose
+  cv.Polygon({c + P2(-0.82 * s, 0.38 * s), c + P2(-0.68 * s, 0.38 * s), c + P2(-0.62 * s, 0.05 * s),
+              c + P2(-0.88 * s, 0.05 * s)},
+             col);  // nozzle
 }
 
 // Text-like bars (door plates, labels): rows of dark bars of varying length.
@@ -296,8 +298,8 @@ void SchukoFace(Canvas& cv, double cx, double cy) {
 struct Solid {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3i> triangles;
-  int material = 0;       // index into the model's body materials (ModelBuilder)
-  bool textured = true;   // front-facing triangles carry the class texture
+  int material = 0;      // index into the model's body materials (ModelBuilder)
+  bool textured = true;  // front-facing triangles carry the class texture
 };
 
 // Extrudes a convex polygon (CCW seen from +z) from z0 to z1: a closed prism.
@@ -310,8 +312,8 @@ Solid Prism(const std::vector<P2>& poly, double z0, double z1, int material, boo
   for (const P2& p : poly) s.positions.emplace_back(p.x(), p.y(), z0);
   for (const P2& p : poly) s.positions.emplace_back(p.x(), p.y(), z1);
   for (int i = 1; i + 1 < n; ++i) {
-    s.triangles.emplace_back(0, i + 1, i);              // back cap, normal -z
-    s.triangles.emplace_back(n, n + i, n + i + 1);      // front cap, normal +z
+    s.triangles.emplace_back(0, i + 1, i);          // back cap, normal -z
+    s.triangles.emplace_back(n, n + i, n + i + 1);  // front cap, normal +z
   }
   for (int i = 0; i < n; ++i) {
     const int a = i, b = (i + 1) % n;
@@ -322,7 +324,9 @@ Solid Prism(const std::vector<P2>& poly, double z0, double z1, int material, boo
 }
 
 std::vector<P2> RectPoly(double cx, double cy, double w, double h) {
-  return {{cx - w / 2, cy - h / 2}, {cx + w / 2, cy - h / 2}, {cx + w / 2, cy + h / 2},
+  return {{cx - w / 2, cy - h / 2},
+          {cx + w / 2, cy - h / 2},
+          {cx + w / 2, cy + h / 2},
           {cx - w / 2, cy + h / 2}};
 }
 
@@ -439,7 +443,8 @@ ModelDef DefineGeometry(const BscSpec& s) {
   } else if (c == "fire_extinguisher") {
     // 6 kg extinguisher on a wall bracket; the cylinder stands off by the bracket depth.
     const double r = w / 2, bracket = d - w, body_top = h / 2 - 0.10;
-    m.bodies = {{"cylinder", kSignalRed, 0.3f}, {"valve", kBlack, 0.5f},
+    m.bodies = {{"cylinder", kSignalRed, 0.3f},
+                {"valve", kBlack, 0.5f},
                 {"bracket", kDarkGrey, 0.5f, 1.0f}};
     m.solids.push_back(CylinderY(0, bracket + r, r, -h / 2, body_top, 0));
     m.solids.push_back(CylinderY(0, bracket + r, 0.025, body_top, h / 2, 1, false));
@@ -501,10 +506,10 @@ Texture DrawTexture(const BscSpec& s) {
     Canvas cv(w, h, kPanelGrey);
     cv.RectOutline(0, 0, w - 0.02, h - 0.02, 0.003, kDarkGrey);  // door gap
     WarningTriangle(cv, P2(0, 0.20), 0.14);
-    cv.Rect(0, 0.02, 0.16, 0.05, kPureWhite);                    // circuit label
+    cv.Rect(0, 0.02, 0.16, 0.05, kPureWhite);  // circuit label
     TextBars(cv, -0.07, 0.035, 0.14, 0.006, 2, kTextGrey, 1);
-    cv.Rect(0.20, 0, 0.035, 0.11, kDarkGrey);                    // handle escutcheon
-    cv.Circle(0.20, 0.03, 0.006, kBlack);                        // lock cylinder
+    cv.Rect(0.20, 0, 0.035, 0.11, kDarkGrey);  // handle escutcheon
+    cv.Circle(0.20, 0.03, 0.006, kBlack);      // lock cylinder
     return cv.ToTexture(c);
   }
   if (c == "socket_x1" || c == "socket_x2" || c == "socket_x4" || c == "built_in_socket") {
@@ -517,18 +522,18 @@ Texture DrawTexture(const BscSpec& s) {
   }
   if (c == "switch") {
     Canvas cv(w, h, kWhite);
-    cv.RectOutline(0, 0, 0.057, 0.057, 0.0015, kCupGrey);    // gap around the rocker
+    cv.RectOutline(0, 0, 0.057, 0.057, 0.0015, kCupGrey);  // gap around the rocker
     cv.Rect(0, 0, 0.052, 0.052, kPureWhite);
-    cv.Rect(0, 0.018, 0.010, 0.002, kClipGrey);              // "on" mark
+    cv.Rect(0, 0.018, 0.010, 0.002, kClipGrey);  // "on" mark
     cv.Rect(0, -0.018, 0.010, 0.002, kClipGrey);
     return cv.ToTexture(c);
   }
   if (c == "fire_extinguisher") {
     Canvas cv(w, h, kSignalRed);
-    cv.Rect(0, h / 2 - 0.05, 0.06, 0.10, kBlack);           // valve head (seen from the front)
-    cv.Rect(-0.008, -0.02, 0.10, 0.20, kPureWhite);           // instruction label
+    cv.Rect(0, h / 2 - 0.05, 0.06, 0.10, kBlack);    // valve head (seen from the front)
+    cv.Rect(-0.008, -0.02, 0.10, 0.20, kPureWhite);  // instruction label
     TextBars(cv, -0.05, 0.065, 0.085, 0.006, 4, kTextGrey, 2);
-    cv.Rect(-0.03, -0.09, 0.025, 0.025, kSignalRed);          // fire-class pictograms
+    cv.Rect(-0.03, -0.09, 0.025, 0.025, kSignalRed);  // fire-class pictograms
     cv.Rect(0.0, -0.09, 0.025, 0.025, kSafetyGreen);
     cv.Polyline({P2(0.02, 0.17), P2(0.058, 0.12), P2(0.058, -0.16)}, 0.012, kBlack);  // hose
     return cv.ToTexture(c);
@@ -536,15 +541,15 @@ Texture DrawTexture(const BscSpec& s) {
   if (c == "radiator") {
     Canvas cv(w, h, Rgb{228, 228, 226});  // panel between fins, in the fins' shadow
     constexpr int kFins = 20;
-    for (int i = 0; i < kFins; ++i) cv.Rect(-w / 2 + (i + 0.5) * w / kFins, 0, 0.02, h - 0.04,
-                                            kWhite);
+    for (int i = 0; i < kFins; ++i)
+      cv.Rect(-w / 2 + (i + 0.5) * w / kFins, 0, 0.02, h - 0.04, kWhite);
     cv.Rect(0, h / 2 - 0.01, w, 0.02, kWhite);
     cv.Rect(0, -h / 2 + 0.01, w, 0.02, kWhite);
     return cv.ToTexture(c);
   }
   if (c == "fire_alarm_switch") {
     Canvas cv(w, h, kSignalRed);
-    cv.Rect(0, 0, 0.05, 0.05, kPureWhite);                    // frangible element
+    cv.Rect(0, 0, 0.05, 0.05, kPureWhite);  // frangible element
     cv.RectOutline(0, 0, 0.05, 0.05, 0.002, kBlack);
     // house with a flame (the EN 54-11 symbol)
     cv.Polygon({{-0.012, -0.014}, {0.012, -0.014}, {0.012, 0.004}, {0.0, 0.016}, {-0.012, 0.004}},
@@ -554,14 +559,14 @@ Texture DrawTexture(const BscSpec& s) {
   }
   if (c == "smoke_detector") {
     Canvas cv(w, h, kWhite);
-    cv.Ring(0, 0, 0.041, 0.049, Rgb{175, 175, 172});          // smoke inlet vents
-    for (int i = 0; i < 24; ++i) {                            // vent ribs
+    cv.Ring(0, 0, 0.041, 0.049, Rgb{175, 175, 172});  // smoke inlet vents
+    for (int i = 0; i < 24; ++i) {                    // vent ribs
       const double a = 2 * kPi * i / 24;
       cv.Line(P2(0.041 * std::cos(a), 0.041 * std::sin(a)),
               P2(0.049 * std::cos(a), 0.049 * std::sin(a)), 0.002, kWhite);
     }
     cv.Ring(0, 0, 0.030, 0.032, Rgb{215, 215, 212});
-    cv.Circle(0.022, 0.0, 0.0025, kSignalRed);                // status LED
+    cv.Circle(0.022, 0.0, 0.0025, kSignalRed);  // status LED
     return cv.ToTexture(c);
   }
   if (c == "exit_light") {
@@ -569,14 +574,14 @@ Texture DrawTexture(const BscSpec& s) {
     cv.Rect(0, 0, w - 0.02, h - 0.02, kSafetyGreen);
     Arrow(cv, P2(-0.10, 0), 0.045, -1.0, kPureWhite);
     RunningFigure(cv, P2(0.02, -0.005), 0.05, kPureWhite);
-    cv.RectOutline(0.11, 0, 0.07, 0.11, 0.008, kPureWhite);   // door
+    cv.RectOutline(0.11, 0, 0.07, 0.11, 0.008, kPureWhite);  // door
     return cv.ToTexture(c);
   }
   if (c == "emergency_light") {
     Canvas cv(w, h, kWhite);
     cv.RectOutline(0, 0, w - 0.03, h - 0.03, 0.002, kCupGrey);
-    cv.Rect(0, 0, w - 0.034, h - 0.034, kPureWhite);          // diffuser
-    cv.Rect(0, -0.03, w - 0.05, 0.012, kSafetyGreen);          // green stripe
+    cv.Rect(0, 0, w - 0.034, h - 0.034, kPureWhite);               // diffuser
+    cv.Rect(0, -0.03, w - 0.05, 0.012, kSafetyGreen);              // green stripe
     cv.Circle(w / 2 - 0.025, h / 2 - 0.008, 0.002, kSafetyGreen);  // charge LED
     return cv.ToTexture(c);
   }
@@ -592,7 +597,7 @@ Texture DrawTexture(const BscSpec& s) {
     cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
     cv.RectOutline(-0.02, -0.01, 0.09, 0.09, 0.01, kPureWhite);  // call point
     cv.Circle(-0.02, -0.01, 0.018, kPureWhite);
-    for (int i = -1; i <= 1; ++i) {                                // sounding waves
+    for (int i = -1; i <= 1; ++i) {  // sounding waves
       const double a = i * 0.45;
       cv.Line(P2(0.04 + 0.01 * std::cos(a), 0.05 + 0.01 * std::sin(a)),
               P2(0.04 + 0.04 * std::cos(a), 0.05 + 0.04 * std::sin(a)), 0.008, kPureWhite);
@@ -612,7 +617,7 @@ Texture DrawTexture(const BscSpec& s) {
     cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.003, kPureWhite);
     Arrow(cv, P2(-0.095, 0), 0.04, -1.0, kPureWhite);
     RunningFigure(cv, P2(0.01, -0.005), 0.05, kPureWhite);
-    cv.RectOutline(0.095, 0, 0.065, 0.11, 0.008, kPureWhite);   // door
+    cv.RectOutline(0.095, 0, 0.065, 0.11, 0.008, kPureWhite);  // door
     return cv.ToTexture(c);
   }
   if (c == "electric_sign") {
@@ -630,7 +635,7 @@ Texture DrawTexture(const BscSpec& s) {
   if (c == "door_sign") {
     Canvas cv(w, h, kWhite);
     cv.RectOutline(0, 0, w, h, 0.003, Rgb{190, 190, 188});
-    cv.Rect(-0.035, 0.025, 0.05, 0.022, kTextGrey);            // room number
+    cv.Rect(-0.035, 0.025, 0.05, 0.022, kTextGrey);  // room number
     TextBars(cv, -0.06, -0.005, 0.12, 0.007, 3, kTextGrey, 3);
     return cv.ToTexture(c);
   }
@@ -774,9 +779,11 @@ interfaces::ObjectModel MakeObjectModel(const std::string& class_name, double pi
       const double xmin = std::min({a.x(), b.x(), c.x()}), xmax = std::max({a.x(), b.x(), c.x()});
       const double ymin = std::min({a.y(), b.y(), c.y()}), ymax = std::max({a.y(), b.y(), c.y()});
       const int i0 = std::max(0, static_cast<int>(std::floor(xmin / pixel_size + nx / 2.0 - 0.5)));
-      const int i1 = std::min(nx - 1, static_cast<int>(std::ceil(xmax / pixel_size + nx / 2.0 - 0.5)));
+      const int i1 =
+          std::min(nx - 1, static_cast<int>(std::ceil(xmax / pixel_size + nx / 2.0 - 0.5)));
       const int j0 = std::max(0, static_cast<int>(std::floor(ny / 2.0 - ymax / pixel_size - 0.5)));
-      const int j1 = std::min(ny - 1, static_cast<int>(std::ceil(ny / 2.0 - ymin / pixel_size - 0.5)));
+      const int j1 =
+          std::min(ny - 1, static_cast<int>(std::ceil(ny / 2.0 - ymin / pixel_size - 0.5)));
       for (int j = j0; j <= j1; ++j) {
         const double y = (ny / 2.0 - j - 0.5) * pixel_size;
         for (int i = i0; i <= i1; ++i) {

@@ -13,21 +13,21 @@ enum class ElementClass {
   kFloor,
   kCeiling,
   kColumn,
-  kDoorFrame,       ///< door casing / jambs (part of the opening, not the leaf)
-  kDoorLeaf,        ///< the moving leaf; hinged, angle in the ground truth
+  kDoorFrame,  ///< door casing / jambs (part of the opening, not the leaf)
+  kDoorLeaf,   ///< the moving leaf; hinged, angle in the ground truth
   kWindowFrame,
-  kWindowGlass,     ///< transmits rays with the material's transmission probability
-  kServiceComponent,///< BSC: socket, switch, sign, extinguisher, smoke detector, ...
-  kFurniture,       ///< desks, cabinets, shelves, chairs
-  kClutter,         ///< other movable objects
+  kWindowGlass,       ///< transmits rays with the material's transmission probability
+  kServiceComponent,  ///< BSC: socket, switch, sign, extinguisher, smoke detector, ...
+  kFurniture,         ///< desks, cabinets, shelves, chairs
+  kClutter,           ///< other movable objects
   kBeam,
-  kSlab,            ///< IFC slabs that are not known to be a floor or ceiling (e.g. roof slabs)
+  kSlab,  ///< IFC slabs that are not known to be a floor or ceiling (e.g. roof slabs)
   kRoof,
   kStair,
   kRailing,
-  kSite,            ///< terrain
-  kSpace,           ///< IfcSpace volumes (only when imported on purpose)
-  kOther,           ///< known element of a class we do not model (e.g. IfcBuildingElementProxy)
+  kSite,   ///< terrain
+  kSpace,  ///< IfcSpace volumes (only when imported on purpose)
+  kOther,  ///< known element of a class we do not model (e.g. IfcBuildingElementProxy)
 };
 
 /// Stable lower-case names used in files: "wall", "door_leaf", "service_component", ...

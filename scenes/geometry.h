@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "common/polygon.h"
-
 #include "scenes/scene.h"
 
 namespace mopad::scenes {

@@ -4,6 +4,7 @@
 // TINYGLTF_IMPLEMENTATION); the header then pulls in neither nlohmann-json nor stb.
 #include <tiny_gltf.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -15,8 +16,6 @@
 #include <map>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "common/error.h"
 #include "common/frames.h"
@@ -300,10 +299,9 @@ class GltfSceneBuilder {
       for (int i = 0; i < 16; ++i) m(i % 4, i / 4) = n.matrix[i];  // column-major
       if (std::abs(m(3, 0)) > 1e-9 || std::abs(m(3, 1)) > 1e-9 || std::abs(m(3, 2)) > 1e-9 ||
           std::abs(m(3, 3) - 1.0) > 1e-9)
-        Fail(what + " matrix is not affine", "last row (" + std::to_string(m(3, 0)) + ", " +
-                                                 std::to_string(m(3, 1)) + ", " +
-                                                 std::to_string(m(3, 2)) + ", " +
-                                                 std::to_string(m(3, 3)) + ")",
+        Fail(what + " matrix is not affine",
+             "last row (" + std::to_string(m(3, 0)) + ", " + std::to_string(m(3, 1)) + ", " +
+                 std::to_string(m(3, 2)) + ", " + std::to_string(m(3, 3)) + ")",
              "(0, 0, 0, 1)");
     } else {
       if (!n.translation.empty() && n.translation.size() != 3)
@@ -320,8 +318,7 @@ class GltfSceneBuilder {
         Eigen::Quaterniond q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
         const double norm = q.norm();
         if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-3)
-          Fail(what + " rotation is not a unit quaternion", "norm " + std::to_string(norm),
-               "1");
+          Fail(what + " rotation is not a unit quaternion", "norm " + std::to_string(norm), "1");
         t.rotate(q.normalized());
       }
       if (!n.scale.empty()) t.scale(Eigen::Vector3d(n.scale[0], n.scale[1], n.scale[2]));
@@ -390,7 +387,8 @@ class GltfSceneBuilder {
     const tg::Accessor& a = AccessorAt(index, what);
     const std::string name = what + " accessor " + std::to_string(index);
     const int nc = NumComponents(a.type);
-    if (nc == 0) Fail(name + " has an unsupported type", std::to_string(a.type), "SCALAR or VEC2..4");
+    if (nc == 0)
+      Fail(name + " has an unsupported type", std::to_string(a.type), "SCALAR or VEC2..4");
     const int cs = ComponentSize(a.componentType);
     if (cs == 0)
       Fail(name + " has an invalid componentType", std::to_string(a.componentType),
@@ -410,14 +408,14 @@ class GltfSceneBuilder {
       if (a.byteOffset > v.length || elem > v.length - a.byteOffset ||
           (a.count - 1) > (v.length - a.byteOffset - elem) / stride)
         Fail(name + " runs past the end of bufferView " + std::to_string(a.bufferView),
-             "byteOffset " + std::to_string(a.byteOffset) + ", count " +
-                 std::to_string(a.count) + ", stride " + std::to_string(stride),
+             "byteOffset " + std::to_string(a.byteOffset) + ", count " + std::to_string(a.count) +
+                 ", stride " + std::to_string(stride),
              "within byteLength " + std::to_string(v.length));
       const std::uint8_t* base = v.data + a.byteOffset;
       for (std::size_t i = 0; i < a.count; ++i)
         for (int c = 0; c < nc; ++c)
-          out[i * nc + c] = ReadComponent(base + i * stride + c * cs, a.componentType,
-                                          a.normalized);
+          out[i * nc + c] =
+              ReadComponent(base + i * stride + c * cs, a.componentType, a.normalized);
     }
     if (a.sparse.isSparse) ApplySparse(a, name, nc, cs, &out);
     return out;
@@ -449,8 +447,7 @@ class GltfSceneBuilder {
     if (voff < 0 || static_cast<std::size_t>(voff) > vv.length ||
         count * elem > vv.length - static_cast<std::size_t>(voff))
       Fail(name + " sparse values run past their bufferView",
-           "byteOffset " + std::to_string(voff) + " + " + std::to_string(count * elem) +
-               " bytes",
+           "byteOffset " + std::to_string(voff) + " + " + std::to_string(count * elem) + " bytes",
            "within " + std::to_string(vv.length));
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint32_t idx = ReadUnsigned(iv.data + ioff + i * ics, ics);
@@ -548,10 +545,9 @@ class GltfSceneBuilder {
       m.base_color_texture = SceneTexture(pbr.baseColorTexture.index, what);
     if (auto it = gm.extensions.find(kTransmission);
         it != gm.extensions.end() && it->second.IsObject()) {
-      if (it->second.Has("transmissionFactor") &&
-          it->second.Get("transmissionFactor").IsNumber())
-        m.transmission = static_cast<float>(std::clamp(
-            it->second.Get("transmissionFactor").GetNumberAsDouble(), 0.0, 1.0));
+      if (it->second.Has("transmissionFactor") && it->second.Get("transmissionFactor").IsNumber())
+        m.transmission = static_cast<float>(
+            std::clamp(it->second.Get("transmissionFactor").GetNumberAsDouble(), 0.0, 1.0));
     } else if (gm.alphaMode == "BLEND") {
       // No transmission given: a blended, partly transparent surface (how IFC glass arrives
       // through assimp's exporter) lets the rest through.
@@ -573,8 +569,8 @@ class GltfSceneBuilder {
     const bool quantized = Contains(model_.extensionsUsed, kQuantization);
     for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
       const tg::Primitive& p = mesh.primitives[k];
-      const std::string what = "mesh " + std::to_string(mesh_index) + " primitive " +
-                               std::to_string(k);
+      const std::string what =
+          "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(k);
       const int mode = p.mode == -1 ? TINYGLTF_MODE_TRIANGLES : p.mode;
       if (mode < 0 || mode > TINYGLTF_MODE_TRIANGLE_FAN)
         Fail(what + " has an invalid mode", std::to_string(mode), "0..6");
@@ -637,8 +633,7 @@ class GltfSceneBuilder {
       if (mode == TINYGLTF_MODE_TRIANGLES) {
         for (std::size_t i = 0; i + 2 < ni; i += 3) tri(i, i + 1, i + 2);
       } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {  // glTF 3.7.2.1 strip ordering
-        for (std::size_t i = 0; i + 2 < ni; ++i)
-          tri(i, i + 1 + i % 2, i + 2 - i % 2);
+        for (std::size_t i = 0; i + 2 < ni; ++i) tri(i, i + 1 + i % 2, i + 2 - i % 2);
       } else {  // fan
         for (std::size_t i = 0; i + 2 < ni; ++i) tri(i + 1, i + 2, 0);
       }
@@ -652,16 +647,16 @@ class GltfSceneBuilder {
                          const std::string& what, std::vector<Eigen::Vector3d>* pos) const {
     if (p.targets.empty() || weights.empty()) return;  // default weights are 0
     if (weights.size() != p.targets.size())
-      Fail(what + " morph weights count differs from its targets",
-           std::to_string(weights.size()), std::to_string(p.targets.size()));
+      Fail(what + " morph weights count differs from its targets", std::to_string(weights.size()),
+           std::to_string(p.targets.size()));
     for (std::size_t t = 0; t < p.targets.size(); ++t) {
       auto it = p.targets[t].find("POSITION");
       if (weights[t] == 0.0 || it == p.targets[t].end()) continue;
       const std::string name = what + " target " + std::to_string(t) + " POSITION";
       const tg::Accessor& ta = AccessorAt(it->second, name);
       if (ta.type != TINYGLTF_TYPE_VEC3 || ta.count != pos->size())
-        Fail(name + " has the wrong format", "type " + std::to_string(ta.type) + ", count " +
-                                                  std::to_string(ta.count),
+        Fail(name + " has the wrong format",
+             "type " + std::to_string(ta.type) + ", count " + std::to_string(ta.count),
              "VEC3, count " + std::to_string(pos->size()));
       const std::vector<double> d = ReadAccessor(it->second, name);
       for (std::size_t i = 0; i < pos->size(); ++i)
@@ -676,8 +671,8 @@ class GltfSceneBuilder {
     int set = 0;
     UvTransform transform;
     if (p.material >= 0) {
-      const tg::TextureInfo& info = model_.materials[p.material].pbrMetallicRoughness
-                                        .baseColorTexture;
+      const tg::TextureInfo& info =
+          model_.materials[p.material].pbrMetallicRoughness.baseColorTexture;
       if (info.index >= 0) {
         set = info.texCoord;
         transform = ReadUvTransform(info, &set, "material " + std::to_string(p.material));
@@ -731,8 +726,8 @@ class GltfSceneBuilder {
       part.material = lp.material;
       part.positions.reserve(lp.positions.size());
       for (const Eigen::Vector3d& p : lp.positions)
-        part.positions.push_back((world.topLeftCorner<3, 3>() * p + world.topRightCorner<3, 1>())
-                                     .cast<float>());
+        part.positions.push_back(
+            (world.topLeftCorner<3, 3>() * p + world.topRightCorner<3, 1>()).cast<float>());
       part.uvs = lp.uvs;
       part.triangles = lp.triangles;
       if (flip)
@@ -827,8 +822,9 @@ Scene LoadGltf(const std::string& path, const LoadOptions& options) {
   }
   // tinygltf parses extensionsUsed/Required before the accessors, so they are known even when
   // it fails on a Draco file's accessors ("accessor[0] invalid bufferView").
-  const bool draco = Contains(model.extensionsRequired, kDraco) ||
-                     (Contains(model.extensionsUsed, kDraco) && (!ok || AnyPrimitiveUsesDraco(model)));
+  const bool draco =
+      Contains(model.extensionsRequired, kDraco) ||
+      (Contains(model.extensionsUsed, kDraco) && (!ok || AnyPrimitiveUsesDraco(model)));
   if (draco) {
     if (!options.allow_assimp_fallback)
       throw InputError(path,

@@ -15,11 +15,10 @@
 // assimp when LoadOptions::allow_assimp_fallback (losing node extras), else are rejected.
 // Every rejection: mopad::InputError, one line `path: error: what; got X, expected Y`.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "scenes/scene.h"
 #include "scenes/scene_loader.h"

@@ -21,8 +21,8 @@ void CheckNodeForest(const std::string& where, const std::vector<std::vector<int
   for (int p = 0; p < n; ++p) {
     for (int c : children[p]) {
       if (c < 0 || c >= n)
-        throw InputError(where, NodeName(p) + " has a child index out of range",
-                         std::to_string(c), "0.." + std::to_string(n - 1));
+        throw InputError(where, NodeName(p) + " has a child index out of range", std::to_string(c),
+                         "0.." + std::to_string(n - 1));
       if (c == p)
         throw InputError(where, NodeName(p) + " is its own child (node cycle)", "",
                          "an acyclic node hierarchy");
@@ -47,8 +47,7 @@ void CheckNodeForest(const std::string& where, const std::vector<std::vector<int
       v = parent[v];
     }
     if (v != -1 && state[v] == kOnPath)
-      throw InputError(where, "node cycle through " + NodeName(v), "",
-                       "an acyclic node hierarchy");
+      throw InputError(where, "node cycle through " + NodeName(v), "", "an acyclic node hierarchy");
     for (int p : path) state[p] = kDone;
   }
   for (int r : roots) {
@@ -56,8 +55,7 @@ void CheckNodeForest(const std::string& where, const std::vector<std::vector<int
       throw InputError(where, "scene root node index out of range", std::to_string(r),
                        "0.." + std::to_string(n - 1));
     if (parent[r] != -1)
-      throw InputError(where, "scene root " + NodeName(r) + " is a child of " +
-                                  NodeName(parent[r]),
+      throw InputError(where, "scene root " + NodeName(r) + " is a child of " + NodeName(parent[r]),
                        "", "scene nodes that are roots");
   }
   for (std::size_t i = 0; i < roots.size(); ++i)
@@ -87,8 +85,8 @@ SceneValidationStats ValidateScene(Scene* scene, bool drop_degenerate_triangles)
     if (tex.width <= 0 || tex.height <= 0 ||
         tex.rgba.size() != static_cast<std::size_t>(tex.width) * tex.height * 4)
       throw InputError(where, "texture " + std::to_string(t) + " has an inconsistent size",
-                       std::to_string(tex.rgba.size()) + " bytes for " +
-                           std::to_string(tex.width) + "x" + std::to_string(tex.height),
+                       std::to_string(tex.rgba.size()) + " bytes for " + std::to_string(tex.width) +
+                           "x" + std::to_string(tex.height),
                        "width*height*4 bytes");
   }
   const int num_textures = static_cast<int>(scene->textures.size());
@@ -104,8 +102,8 @@ SceneValidationStats ValidateScene(Scene* scene, bool drop_degenerate_triangles)
   for (MeshPart& part : scene->parts) {
     const std::string what = "mesh part '" + part.name + "'";
     if (part.material < -1 || part.material >= num_materials)
-      throw InputError(where, what + " material index out of range",
-                       std::to_string(part.material), "-1.." + std::to_string(num_materials - 1));
+      throw InputError(where, what + " material index out of range", std::to_string(part.material),
+                       "-1.." + std::to_string(num_materials - 1));
     for (std::size_t i = 0; i < part.positions.size(); ++i)
       if (!part.positions[i].allFinite())
         throw InputError(where, what + " vertex " + std::to_string(i) + " is not finite",
@@ -126,8 +124,7 @@ SceneValidationStats ValidateScene(Scene* scene, bool drop_degenerate_triangles)
       const Eigen::Vector3i tri = part.triangles[t];
       for (int k = 0; k < 3; ++k)
         if (tri[k] < 0 || tri[k] >= nv)
-          throw InputError(where, what + " triangle " + std::to_string(t) +
-                                      " index out of range",
+          throw InputError(where, what + " triangle " + std::to_string(t) + " index out of range",
                            std::to_string(tri[k]), "0.." + std::to_string(nv - 1));
       if (drop_degenerate_triangles &&
           IsDegenerateTriangle(part.positions[tri[0]], part.positions[tri[1]],

@@ -5,11 +5,10 @@
 // each such defect into one mopad::InputError line instead of a crash or a silently wrong scene.
 // No third-party types: the loaders convert to plain vectors first.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "scenes/scene.h"
 

@@ -42,9 +42,8 @@ void WriteObj(const Scene& scene, const std::string& path) {
   const Eigen::Matrix3f yup = YupFromZup().cast<float>();
   std::size_t base_v = 1, base_vt = 1;
   for (const auto& part : scene.parts) {
-    const std::string name =
-        std::string(ToString(part.element_class)) + ":" +
-        ObjName(part.element_id.empty() ? part.name : part.element_id);
+    const std::string name = std::string(ToString(part.element_class)) + ":" +
+                             ObjName(part.element_id.empty() ? part.name : part.element_id);
     obj << "o " << name << "\n";
     for (const auto& p : part.positions) {
       const Eigen::Vector3f q = yup * p;
@@ -60,15 +59,14 @@ void WriteObj(const Scene& scene, const std::string& path) {
       }
     }
     if (part.material >= 0 && part.material < static_cast<int>(scene.materials.size()))
-      obj << "usemtl m" << part.material << "_"
-          << ObjName(scene.materials[part.material].name) << "\n";
+      obj << "usemtl m" << part.material << "_" << ObjName(scene.materials[part.material].name)
+          << "\n";
     else
       obj << "usemtl mopad_default\n";
     for (const auto& t : part.triangles) {
       if (has_uv)
-        std::snprintf(buf, sizeof buf, "f %zu/%zu %zu/%zu %zu/%zu\n", base_v + t[0],
-                      base_vt + t[0], base_v + t[1], base_vt + t[1], base_v + t[2],
-                      base_vt + t[2]);
+        std::snprintf(buf, sizeof buf, "f %zu/%zu %zu/%zu %zu/%zu\n", base_v + t[0], base_vt + t[0],
+                      base_v + t[1], base_vt + t[1], base_v + t[2], base_vt + t[2]);
       else
         std::snprintf(buf, sizeof buf, "f %zu %zu %zu\n", base_v + t[0], base_v + t[1],
                       base_v + t[2]);

@@ -11,20 +11,20 @@ ScenePaths ResolveScene(const std::string& arg) {
   if (fs::is_directory(arg, ec)) {
     const fs::path glb = fs::path(arg) / "scene.glb";
     if (!fs::is_regular_file(glb, ec))
-      throw InputError(arg, "scene folder has no scene.glb", "", "a folder written by "
+      throw InputError(arg, "scene folder has no scene.glb", "",
+                       "a folder written by "
                        "`mopad scene generate`, or a scene file");
     out.geometry = glb.string();
     const fs::path truth = fs::path(arg) / "scene.truth.json";
     if (fs::is_regular_file(truth, ec)) out.truth = truth.string();
     return out;
   }
-  if (!fs::is_regular_file(arg, ec))
-    throw InputError(arg, "no such scene file or folder");
+  if (!fs::is_regular_file(arg, ec)) throw InputError(arg, "no such scene file or folder");
   out.geometry = arg;
   // A sidecar beside the file: X.glb -> X.truth.json, or scene.truth.json in the same folder.
   const fs::path p(arg);
-  for (const fs::path& cand : {fs::path(p).replace_extension(".truth.json"),
-                              p.parent_path() / "scene.truth.json"}) {
+  for (const fs::path& cand :
+       {fs::path(p).replace_extension(".truth.json"), p.parent_path() / "scene.truth.json"}) {
     if (fs::is_regular_file(cand, ec)) {
       out.truth = cand.string();
       break;

@@ -9,8 +9,8 @@
 namespace mopad::scenes {
 
 struct ScenePaths {
-  std::string geometry;             ///< file to load
-  std::optional<std::string> truth; ///< scene.truth.json if present
+  std::string geometry;              ///< file to load
+  std::optional<std::string> truth;  ///< scene.truth.json if present
 };
 
 /// Throws InputError if the path does not exist or a folder lacks scene.glb.

@@ -15,7 +15,8 @@ namespace {
 void ErrorCallback(void* user, RTCError code, const char* str) {
   auto* impl = static_cast<EmbreeWorld::Impl*>(user);
   std::lock_guard<std::mutex> lock(impl->error_mutex);
-  impl->errors += "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (str ? str : "") + "; ";
+  impl->errors +=
+      "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (str ? str : "") + "; ";
 }
 
 void ValidatePart(const scenes::Scene& scene, std::size_t index) {
@@ -45,12 +46,13 @@ void ValidatePart(const scenes::Scene& scene, std::size_t index) {
 
 RTCGeometry MakeTriangleGeometry(RTCDevice device, const scenes::MeshPart& p) {
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), p.positions.size()));
-  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                            3 * sizeof(unsigned), p.triangles.size()));
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p.positions.size()));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), p.triangles.size()));
   if (vb && ib) {
-    for (std::size_t i = 0; i < p.positions.size(); ++i) std::memcpy(vb + 3 * i, p.positions[i].data(), 12);
+    for (std::size_t i = 0; i < p.positions.size(); ++i)
+      std::memcpy(vb + 3 * i, p.positions[i].data(), 12);
     for (std::size_t i = 0; i < p.triangles.size(); ++i)
       for (int k = 0; k < 3; ++k) ib[3 * i + k] = static_cast<unsigned>(p.triangles[i][k]);
   }
@@ -72,7 +74,8 @@ EmbreeWorld::Impl::~Impl() {
 namespace {
 
 // One ray for rtcIntersect1. Debian's Embree is built with ray masks: mask 0 hits nothing.
-RTCRayHit MakeRayHit(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far) {
+RTCRayHit MakeRayHit(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near,
+                     float t_far) {
   RTCRayHit rh;
   rh.ray.org_x = o.x();
   rh.ray.org_y = o.y();
@@ -93,8 +96,8 @@ RTCRayHit MakeRayHit(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t
 
 }  // namespace
 
-void EmbreeWorld::Impl::RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far,
-                                     RayHit* out) const {
+void EmbreeWorld::Impl::RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+                                    float t_near, float t_far, RayHit* out) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh = MakeRayHit(o, d, t_near, t_far);
@@ -127,7 +130,8 @@ void EmbreeWorld::Impl::UpdateDoorTransform(DoorInstance& d) {
   rtcCommitGeometry(d.instance);
 }
 
-EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth, WorldOptions options)
+EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth,
+                         WorldOptions options)
     : impl_(std::make_unique<Impl>()) {
   Impl& w = *impl_;
   w.scene = std::move(scene);
@@ -140,7 +144,8 @@ EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth, 
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const std::string& id = parts[i].element_id;
     if (id.empty()) continue;
-    auto [it, inserted] = element_index.emplace(id, static_cast<std::int32_t>(w.element_ids.size()));
+    auto [it, inserted] =
+        element_index.emplace(id, static_cast<std::int32_t>(w.element_ids.size()));
     if (inserted) w.element_ids.push_back(id);
     w.part_element[i] = it->second;
   }
@@ -155,7 +160,8 @@ EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth, 
       const Eigen::Vector3f& c = p.positions[tri[2]];
       const Eigen::Vector3d n = (b - a).cast<double>().cross((c - a).cast<double>());
       const double len = n.norm();
-      w.normals.push_back(len > 0 ? Eigen::Vector3f((n / len).cast<float>()) : Eigen::Vector3f::UnitZ());
+      w.normals.push_back(len > 0 ? Eigen::Vector3f((n / len).cast<float>())
+                                  : Eigen::Vector3f::UnitZ());
     }
   }
 
@@ -183,7 +189,8 @@ EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth, 
       if (p.element_class != scenes::ElementClass::kDoorLeaf || p.triangles.empty()) continue;
       const scenes::Opening* o = truth->FindOpening(p.element_id);
       if (!o || o->type != scenes::OpeningType::kDoor) continue;
-      auto [it, inserted] = door_index.emplace(p.element_id, static_cast<std::int32_t>(w.doors.size()));
+      auto [it, inserted] =
+          door_index.emplace(p.element_id, static_cast<std::int32_t>(w.doors.size()));
       if (inserted) {
         DoorInstance d;
         d.id = o->id;
@@ -270,7 +277,8 @@ void EmbreeWorld::SetDoorAngle(const std::string& id, double angle_rad) {
     impl_->ThrowIfError("door update");
     return;
   }
-  throw InputError("", "unknown door id '" + id + "'", "", "a door leaf with a hinge in the ground truth");
+  throw InputError("", "unknown door id '" + id + "'", "",
+                   "a door leaf with a hinge in the ground truth");
 }
 
 double EmbreeWorld::DoorAngle(const std::string& id) const {
@@ -279,15 +287,16 @@ double EmbreeWorld::DoorAngle(const std::string& id) const {
   throw InputError("", "unknown door id '" + id + "'");
 }
 
-RayHit EmbreeWorld::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
-                              float t_far) const {
+RayHit EmbreeWorld::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                              float t_near, float t_far) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh = MakeRayHit(origin, direction, t_near, t_far);
   rtcIntersect1(impl_->top, &ctx, &rh);
   RayHit out;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-    impl_->Resolve(rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.ray.tfar, rh.hit.u, rh.hit.v, &out);
+    impl_->Resolve(rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.ray.tfar, rh.hit.u, rh.hit.v,
+                   &out);
   } else if (impl_->robust) {
     impl_->RetraceMiss(origin, direction, t_near, t_far, &out);
   }
@@ -295,8 +304,8 @@ RayHit EmbreeWorld::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector
 }
 
 void EmbreeWorld::IntersectMany(std::span<const Eigen::Vector3f> origins,
-                                std::span<const Eigen::Vector3f> directions, float t_near, float t_far,
-                                std::span<RayHit> hits) const {
+                                std::span<const Eigen::Vector3f> directions, float t_near,
+                                float t_far, std::span<RayHit> hits) const {
   if (origins.size() != directions.size() || origins.size() != hits.size()) {
     throw std::invalid_argument("EmbreeWorld::IntersectMany: span sizes differ");
   }
@@ -329,8 +338,8 @@ void EmbreeWorld::IntersectMany(std::span<const Eigen::Vector3f> origins,
       RayHit& out = hits[i0 + k];
       out = RayHit{};
       if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) {
-        impl_->Resolve(rh.hit.geomID[k], rh.hit.primID[k], rh.hit.instID[0][k], rh.ray.tfar[k], rh.hit.u[k],
-                       rh.hit.v[k], &out);
+        impl_->Resolve(rh.hit.geomID[k], rh.hit.primID[k], rh.hit.instID[0][k], rh.ray.tfar[k],
+                       rh.hit.u[k], rh.hit.v[k], &out);
       } else if (impl_->robust) {
         impl_->RetraceMiss(origins[i0 + k], directions[i0 + k], t_near, t_far, &out);
       }

@@ -34,12 +34,12 @@ namespace mopad::sim {
 /// Result of one ray query. A miss has part == -1 and t == +inf.
 struct RayHit {
   float t = std::numeric_limits<float>::infinity();  ///< m along the unit direction
-  std::int32_t part = -1;      ///< index into Scene::parts, -1 = miss
-  std::uint32_t triangle = 0;  ///< index into that part's triangles
-  float u = 0, v = 0;          ///< barycentrics of vertices 1 and 2 (Embree's convention)
+  std::int32_t part = -1;                            ///< index into Scene::parts, -1 = miss
+  std::uint32_t triangle = 0;                        ///< index into that part's triangles
+  float u = 0, v = 0;  ///< barycentrics of vertices 1 and 2 (Embree's convention)
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  ///< unit geometric normal, world frame,
                                                      ///< (v1-v0)x(v2-v0) orientation
-  std::int32_t door = -1;      ///< door index (see DoorIds) when a leaf was hit, else -1
+  std::int32_t door = -1;  ///< door index (see DoorIds) when a leaf was hit, else -1
   bool hit() const { return part >= 0; }
 };
 
@@ -87,8 +87,9 @@ class EmbreeWorld {
                    float t_near = 0.0f, float t_far = std::numeric_limits<float>::infinity()) const;
   /// Many rays, traced in 16-wide packets in the given order (keep neighbouring rays adjacent
   /// for speed). Sizes of all spans must match.
-  void IntersectMany(std::span<const Eigen::Vector3f> origins, std::span<const Eigen::Vector3f> directions,
-                     float t_near, float t_far, std::span<RayHit> hits) const;
+  void IntersectMany(std::span<const Eigen::Vector3f> origins,
+                     std::span<const Eigen::Vector3f> directions, float t_near, float t_far,
+                     std::span<RayHit> hits) const;
 
   /// Internal state (Embree handles); only sim/*.cpp can use it.
   struct Impl;

@@ -39,15 +39,17 @@ struct EmbreeWorld::Impl {
   std::vector<std::string> door_ids;
   std::vector<std::string> element_ids;
   std::vector<std::int32_t> part_element;
-  std::vector<Eigen::Vector3f> normals;     ///< unit triangle normals of all parts, flattened
-  std::vector<std::uint32_t> first_triangle;  ///< per part: index of its first triangle in `normals`
+  std::vector<Eigen::Vector3f> normals;  ///< unit triangle normals of all parts, flattened
+  std::vector<std::uint32_t>
+      first_triangle;  ///< per part: index of its first triangle in `normals`
 
   std::mutex error_mutex;
   std::string errors;  ///< recorded by Embree's error callback
 
   ~Impl();
   /// Re-traces a missed ray in the watertight scene; fills `out` on a hit.
-  void RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far, RayHit* out) const;
+  void RetraceMiss(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far,
+                   RayHit* out) const;
   void ThrowIfError(const char* stage);
   void UpdateDoorTransform(DoorInstance& d);
 
@@ -63,7 +65,8 @@ struct EmbreeWorld::Impl {
       const DoorInstance& door = doors[static_cast<std::size_t>(d)];
       out->door = d;
       out->part = door.child_geom_to_part[geom_id];
-      out->normal = door.rotation * normals[first_triangle[static_cast<std::size_t>(out->part)] + prim_id];
+      out->normal =
+          door.rotation * normals[first_triangle[static_cast<std::size_t>(out->part)] + prim_id];
     } else {
       out->door = -1;
       out->part = geom_to_part[geom_id];

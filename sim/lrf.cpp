@@ -12,14 +12,15 @@ namespace mopad::sim {
 void LrfParams::Validate() const {
   ValidateParams(*this, "lrf.");
   if (angle_max_deg <= angle_min_deg) {
-    throw InputError("", "parameter 'lrf.angle_max_deg' must exceed angle_min_deg", std::to_string(angle_max_deg),
-                     "> " + std::to_string(angle_min_deg));
+    throw InputError("", "parameter 'lrf.angle_max_deg' must exceed angle_min_deg",
+                     std::to_string(angle_max_deg), "> " + std::to_string(angle_min_deg));
   }
   if (range_max <= range_min) {
-    throw InputError("", "parameter 'lrf.range_max' must exceed range_min", std::to_string(range_max),
-                     "> " + std::to_string(range_min));
+    throw InputError("", "parameter 'lrf.range_max' must exceed range_min",
+                     std::to_string(range_max), "> " + std::to_string(range_min));
   }
-  if (footprint_rays == 2) throw InputError("", "parameter 'lrf.footprint_rays' must be 1 or >= 3", "2");
+  if (footprint_rays == 2)
+    throw InputError("", "parameter 'lrf.footprint_rays' must be 1 or >= 3", "2");
   if (mount_xyz.size() != 3 || mount_rpy_deg.size() != 3) {
     throw InputError("", "parameters 'lrf.mount_xyz' and 'lrf.mount_rpy_deg' need 3 values");
   }
@@ -65,7 +66,9 @@ LrfParams LrfProfile(const std::string& name) {
   throw InputError("", "unknown LRF profile", "'" + name + "'", known);
 }
 
-std::vector<std::string> LrfProfileNames() { return {"hokuyo_utm30lx", "sick_lms111", "sick_lms111_fine"}; }
+std::vector<std::string> LrfProfileNames() {
+  return {"hokuyo_utm30lx", "sick_lms111", "sick_lms111_fine"};
+}
 
 std::vector<LrfParams> PaperLrfRig(const std::string& profile) {
   LrfParams top = LrfProfile(profile), base = LrfProfile(profile);
@@ -76,11 +79,13 @@ std::vector<LrfParams> PaperLrfRig(const std::string& profile) {
   return {top, base};
 }
 
-LrfSimulator::LrfSimulator(const EmbreeWorld& world, LrfParams params) : world_(world), params_(std::move(params)) {
+LrfSimulator::LrfSimulator(const EmbreeWorld& world, LrfParams params)
+    : world_(world), params_(std::move(params)) {
   params_.Validate();
-  beams_ = static_cast<int>(std::floor((params_.angle_max_deg - params_.angle_min_deg) / params_.angle_increment_deg +
-                                       1e-6)) +
-           1;
+  beams_ =
+      static_cast<int>(std::floor(
+          (params_.angle_max_deg - params_.angle_min_deg) / params_.angle_increment_deg + 1e-6)) +
+      1;
   surfaces_ = std::make_shared<const SurfaceTable>(world_);
 }
 
@@ -123,7 +128,8 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
     const BeamModel::SubRay& sr = beam.sub(k);
     for (int i = 0; i < beams_; ++i) {
       const double a = DegToRad(p.angle_min_deg + i * p.angle_increment_deg);
-      const Eigen::Vector3f d(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f);
+      const Eigen::Vector3f d(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)),
+                              0.0f);
       const Eigen::Vector3f e_az(-d.y(), d.x(), 0.0f), e_el = Eigen::Vector3f::UnitZ();
       const Eigen::Vector3f off = sr.a * e_az + sr.b * e_el;
       const std::size_t idx = static_cast<std::size_t>(k) * beams_ + i;

@@ -30,31 +30,31 @@ namespace mopad::sim {
 class SurfaceTable;
 
 struct LrfParams {
-  std::string name = "hokuyo_utm30lx";  ///< profile name
-  std::string frame = "lrf";            ///< LrfScan::frame
-  double angle_min_deg = -135.0;        ///< deg, first beam, CCW from +x, [-180, 180]
-  double angle_max_deg = 135.0;         ///< deg, last beam at or below this, [-180, 180]
-  double angle_increment_deg = 0.25;    ///< deg, (0, 10]
-  double rate_hz = 40.0;                ///< Hz, sweeps per second (timestamps), (0, 1000]
-  double range_min = 0.1;               ///< m, [0, 100]
-  double range_max = 30.0;              ///< m, no-return reading, (0, 1000]
-  double sigma_near = 0.03;             ///< m, 1 sigma up to sigma_switch_range, [0, 1]
-  double sigma_far = 0.05;              ///< m, 1 sigma beyond, [0, 1]
-  double sigma_switch_range = 10.0;     ///< m, [0, 1000]
-  double bias_sigma = 0.0;              ///< m, per-sweep systematic error, 1 sigma, [0, 1]
+  std::string name = "hokuyo_utm30lx";    ///< profile name
+  std::string frame = "lrf";              ///< LrfScan::frame
+  double angle_min_deg = -135.0;          ///< deg, first beam, CCW from +x, [-180, 180]
+  double angle_max_deg = 135.0;           ///< deg, last beam at or below this, [-180, 180]
+  double angle_increment_deg = 0.25;      ///< deg, (0, 10]
+  double rate_hz = 40.0;                  ///< Hz, sweeps per second (timestamps), (0, 1000]
+  double range_min = 0.1;                 ///< m, [0, 100]
+  double range_max = 30.0;                ///< m, no-return reading, (0, 1000]
+  double sigma_near = 0.03;               ///< m, 1 sigma up to sigma_switch_range, [0, 1]
+  double sigma_far = 0.05;                ///< m, 1 sigma beyond, [0, 1]
+  double sigma_switch_range = 10.0;       ///< m, [0, 1000]
+  double bias_sigma = 0.0;                ///< m, per-sweep systematic error, 1 sigma, [0, 1]
   double incidence_noise_exponent = 0.0;  ///< sigma / cos(alpha)^k, [0, 4]
-  double beam_divergence_mrad = 0.0;    ///< mrad, full angle, [0, 100]
-  double beam_exit_diameter = 0.0;      ///< m, [0, 1]
-  int footprint_rays = 1;               ///< 1 or >= 3 sub-rays, [1, 64]
-  double echo_separation = 0.3;         ///< m, [0, 100]
+  double beam_divergence_mrad = 0.0;      ///< mrad, full angle, [0, 100]
+  double beam_exit_diameter = 0.0;        ///< m, [0, 1]
+  int footprint_rays = 1;                 ///< 1 or >= 3 sub-rays, [1, 64]
+  double echo_separation = 0.3;           ///< m, [0, 100]
   /// m, maximum range at reflectance_ref, normal incidence; darker targets scale with the radar
   /// law R_max ~ sqrt(rho) (UTM-30LX: 30 m on white Kent sheet, taken as rho = 0.9).
   double range_ref = 30.0;
-  double reflectance_ref = 0.9;         ///< [0.001, 1]
-  double min_reflectance = 0.01;        ///< dark/grazing dropout threshold, [0, 1]
+  double reflectance_ref = 0.9;   ///< [0.001, 1]
+  double min_reflectance = 0.01;  ///< dark/grazing dropout threshold, [0, 1]
   bool dropouts = true;
-  int max_transmissions = 4;            ///< glass layers a beam may pass, [0, 64]
-  std::vector<double> mount_xyz = {0.0, 0.0, 0.25};   ///< m, sensor in base_link (X_BL)
+  int max_transmissions = 4;                            ///< glass layers a beam may pass, [0, 64]
+  std::vector<double> mount_xyz = {0.0, 0.0, 0.25};     ///< m, sensor in base_link (X_BL)
   std::vector<double> mount_rpy_deg = {0.0, 0.0, 0.0};  ///< deg
 
   template <class V>
@@ -106,7 +106,8 @@ class LrfSimulator {
   const LrfParams& params() const { return params_; }
   int beams() const { return beams_; }
   /// One sweep from base pose X_WB (world). `seq` numbers the sweeps; `timestamp` in s.
-  interfaces::LrfScan Scan(const Pose3& X_WB, std::uint64_t seed, std::uint64_t seq, double timestamp) const;
+  interfaces::LrfScan Scan(const Pose3& X_WB, std::uint64_t seed, std::uint64_t seq,
+                           double timestamp) const;
 
  private:
   const EmbreeWorld& world_;

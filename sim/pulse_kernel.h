@@ -19,14 +19,14 @@ struct PulseLanes {
   static constexpr int kLanes = 16;
   // inputs (lanes with active = 0 are ignored)
   std::uint64_t pulse[kLanes];
-  float t[kLanes];          ///< m, true range
-  float cos_a[kLanes];      ///< incidence cosine, (0, 1]
+  float t[kLanes];                  ///< m, true range
+  float cos_a[kLanes];              ///< incidence cosine, (0, 1]
   std::int32_t rho_offset[kLanes];  ///< the surface's table in PulseKernelConstants::rho_tables
-  float facing_nz[kLanes];  ///< normal's z, turned towards the scanner
-  float albedo[3][kLanes];  ///< linear RGB
+  float facing_nz[kLanes];          ///< normal's z, turned towards the scanner
+  float albedo[3][kLanes];          ///< linear RGB
   std::int32_t active[kLanes];
   // outputs
-  float rho[kLanes];        ///< effective reflectance (LookupReflectance)
+  float rho[kLanes];  ///< effective reflectance (LookupReflectance)
   float range[kLanes];
   float intensity[kLanes];
   std::uint8_t rgb[3][kLanes];
@@ -43,20 +43,20 @@ struct PulseKernelConstants {
   float reflectance_ref = 0.2f;  ///< detection is sure when min(rho, this) >= t^2 sure_detect
   float intensity_attenuation = 0, intensity_noise = 0;
   float ambient = 1, top_light = 0, colour_noise = 0;
-  const float* zig_r = nullptr;  ///< Ziggurat::rf()
-  const float* zig_x = nullptr;  ///< Ziggurat::xf()
+  const float* zig_r = nullptr;        ///< Ziggurat::rf()
+  const float* zig_x = nullptr;        ///< Ziggurat::xf()
   const float* srgb_encode = nullptr;  ///< SrgbTables::encode_table()
   const float* rho_tables = nullptr;   ///< SurfaceTable::rho_tables()
 };
 
 /// Flat per-scan tables for resolving Embree hits inside the 16-wide path (ResolveStaticLanes).
 struct ResolveTables {
-  const std::int32_t* geom_to_part = nullptr;    ///< top-level geomID -> part
-  const float* normals = nullptr;                ///< unit triangle normals, xyz per triangle
-  const std::uint32_t* first_triangle = nullptr; ///< per part
-  const std::int32_t* part_simple = nullptr;     ///< per part: 1 = opaque and untextured
-  const std::int32_t* part_rho_offset = nullptr; ///< per part: SurfaceProps::rho_offset
-  const float* part_base = nullptr;              ///< per part: base_linear rgb (3 floats)
+  const std::int32_t* geom_to_part = nullptr;     ///< top-level geomID -> part
+  const float* normals = nullptr;                 ///< unit triangle normals, xyz per triangle
+  const std::uint32_t* first_triangle = nullptr;  ///< per part
+  const std::int32_t* part_simple = nullptr;      ///< per part: 1 = opaque and untextured
+  const std::int32_t* part_rho_offset = nullptr;  ///< per part: SurfaceProps::rho_offset
+  const float* part_base = nullptr;               ///< per part: base_linear rgb (3 floats)
   float range_min = 0.0f;
 };
 
@@ -76,8 +76,8 @@ struct HitLanes {
 /// t < range_min (bit set in *too_close) also cos_a, rho_offset, facing_nz, albedo and
 /// active = 1; part[j]. Returns the mask of lanes it handled; other lanes are untouched and go
 /// through the scalar resolution. Returns 0 (handles nothing) without AVX-512.
-std::uint32_t ResolveStaticLanes(const ResolveTables& t, const HitLanes& h, int n, PulseLanes& lanes,
-                                 std::int32_t* part, std::uint32_t* too_close);
+std::uint32_t ResolveStaticLanes(const ResolveTables& t, const HitLanes& h, int n,
+                                 PulseLanes& lanes, std::int32_t* part, std::uint32_t* too_close);
 
 /// Runs the kernel on the best variant for this CPU.
 void RunPulseKernel(const PulseKernelConstants& k, PulseLanes& lanes);

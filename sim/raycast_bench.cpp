@@ -1,7 +1,7 @@
 #include "sim/raycast_bench.h"
 
-#include <tbb/parallel_reduce.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include <cmath>
 
@@ -9,8 +9,8 @@
 
 namespace mopad::sim {
 
-std::uint64_t BareRaycast(const EmbreeWorld& world, const TlsScanner& scanner, const ScanRequest& request,
-                          std::vector<float>& distances) {
+std::uint64_t BareRaycast(const EmbreeWorld& world, const TlsScanner& scanner,
+                          const ScanRequest& request, std::vector<float>& distances) {
   const TlsParams& p = scanner.params();
   const std::uint32_t rows = scanner.rows(), cols = scanner.columns();
   distances.resize(static_cast<std::size_t>(rows) * cols);
@@ -29,7 +29,8 @@ std::uint64_t BareRaycast(const EmbreeWorld& world, const TlsScanner& scanner, c
   const Eigen::Matrix3f R = X_WS.linear().cast<float>();
   const Eigen::Vector3f o = X_WS.translation().cast<float>();
   const RTCScene top = world.impl().top;
-  const std::uint32_t per_block = std::max<std::uint32_t>(1, 8192 / std::max<std::uint32_t>(rows, 1));
+  const std::uint32_t per_block =
+      std::max<std::uint32_t>(1, 8192 / std::max<std::uint32_t>(rows, 1));
   const std::uint32_t blocks = (cols + per_block - 1) / per_block;
   return tbb::parallel_reduce(
       tbb::blocked_range<std::uint32_t>(0, blocks, 1), std::uint64_t{0},
@@ -45,7 +46,8 @@ std::uint64_t BareRaycast(const EmbreeWorld& world, const TlsScanner& scanner, c
               const int n = static_cast<int>(std::min<std::uint32_t>(16, rows - r0));
               for (int j = 0; j < 16; ++j) {
                 const std::uint32_t r = r0 + static_cast<std::uint32_t>(std::min(j, n - 1));
-                const Eigen::Vector3f d = R * Eigen::Vector3f(cel[r] * caz[c], cel[r] * saz[c], sel[r]);
+                const Eigen::Vector3f d =
+                    R * Eigen::Vector3f(cel[r] * caz[c], cel[r] * saz[c], sel[r]);
                 valid[j] = j < n ? -1 : 0;
                 rh.ray.org_x[j] = o.x();
                 rh.ray.org_y[j] = o.y();

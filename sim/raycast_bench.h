@@ -14,7 +14,7 @@ namespace mopad::sim {
 /// Traces one ray per pulse of `scanner`'s grid from the nominal scanner pose of `request`
 /// (X_WB * X_BS, no tilt, no jitter). `distances` (resized to rows * columns, column-major:
 /// column * rows + row) receives t or +inf. Returns the number of hits.
-std::uint64_t BareRaycast(const EmbreeWorld& world, const TlsScanner& scanner, const ScanRequest& request,
-                          std::vector<float>& distances);
+std::uint64_t BareRaycast(const EmbreeWorld& world, const TlsScanner& scanner,
+                          const ScanRequest& request, std::vector<float>& distances);
 
 }  // namespace mopad::sim

@@ -15,8 +15,7 @@ void RobotBodyParams::Validate() const {
   ValidateParams(*this, "robot_body.");
   if (body_height <= ground_clearance + 0.01) {
     throw InputError("", "parameter 'robot_body.body_height' must exceed ground_clearance + 0.01",
-                     std::to_string(body_height),
-                     "> " + std::to_string(ground_clearance + 0.01));
+                     std::to_string(body_height), "> " + std::to_string(ground_clearance + 0.01));
   }
 }
 
@@ -229,11 +228,10 @@ BodyStepResult RobotBody::Step(const interfaces::VelocityCommand& cmd, double dt
   }
   const RobotBodyParams& p = params_;
   // 1. Speed limits, including the per-wheel limit (scale both down to keep the curvature).
-  double v_cmd = std::isfinite(cmd.v) ? std::clamp(cmd.v, -p.max_linear_speed, p.max_linear_speed)
-                                      : 0.0;
-  double w_cmd = std::isfinite(cmd.w)
-                     ? std::clamp(cmd.w, -p.max_angular_speed, p.max_angular_speed)
-                     : 0.0;
+  double v_cmd =
+      std::isfinite(cmd.v) ? std::clamp(cmd.v, -p.max_linear_speed, p.max_linear_speed) : 0.0;
+  double w_cmd =
+      std::isfinite(cmd.w) ? std::clamp(cmd.w, -p.max_angular_speed, p.max_angular_speed) : 0.0;
   const double wheel = std::abs(v_cmd) + 0.5 * p.wheel_base * std::abs(w_cmd);
   if (wheel > p.max_linear_speed) {
     const double k = p.max_linear_speed / wheel;
@@ -241,8 +239,8 @@ BodyStepResult RobotBody::Step(const interfaces::VelocityCommand& cmd, double dt
     w_cmd *= k;
   }
   // 2. Acceleration limits.
-  const double v_new = v_ + std::clamp(v_cmd - v_, -p.max_linear_acceleration * dt,
-                                       p.max_linear_acceleration * dt);
+  const double v_new =
+      v_ + std::clamp(v_cmd - v_, -p.max_linear_acceleration * dt, p.max_linear_acceleration * dt);
   const double w_new = w_ + std::clamp(w_cmd - w_, -p.max_angular_acceleration * dt,
                                        p.max_angular_acceleration * dt);
   // Trapezoidal speed over the step; integrate at the mean speeds.

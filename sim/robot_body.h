@@ -55,9 +55,9 @@ struct WheelOdometryParams {
 };
 
 struct RobotBodyParams {
-  double footprint_length = 0.6;   ///< m, box extent along base_link x, [0.1, 3]
-  double footprint_width = 0.5;    ///< m, box extent along base_link y, [0.1, 3]
-  double footprint_offset_x = 0.0; ///< m, box centre ahead of the axle centre, [-1, 1]
+  double footprint_length = 0.6;    ///< m, box extent along base_link x, [0.1, 3]
+  double footprint_width = 0.5;     ///< m, box extent along base_link y, [0.1, 3]
+  double footprint_offset_x = 0.0;  ///< m, box centre ahead of the axle centre, [-1, 1]
   double ground_clearance = 0.03;  ///< m, bottom of the collision box above the floor, [0.005, 0.5]
   double body_height = 1.0;        ///< m, top of the collision box above the floor, (clearance, 3]
   double mass = 60.0;              ///< kg; kinematic model: used for contact impulses, [1, 1000]
@@ -125,10 +125,10 @@ struct ContactEvent {
 
 /// Result of one Step.
 struct BodyStepResult {
-  bool blocked = false;   ///< a sub-step was rejected (contact)
-  int substeps = 0;       ///< collision sub-steps taken
-  double v = 0.0;         ///< m/s, actual forward speed at the end of the step
-  double w = 0.0;         ///< rad/s, actual yaw rate at the end of the step
+  bool blocked = false;  ///< a sub-step was rejected (contact)
+  int substeps = 0;      ///< collision sub-steps taken
+  double v = 0.0;        ///< m/s, actual forward speed at the end of the step
+  double w = 0.0;        ///< rad/s, actual yaw rate at the end of the step
 };
 
 class RobotBody {
@@ -163,13 +163,13 @@ class RobotBody {
   /// The robot's proprioception: drifting wheel odometry (odom frame).
   const interfaces::Odometry& Odometry() const { return odometry_.Reading(); }
 
-  double Time() const { return time_; }               ///< s, simulation time
-  double LinearSpeed() const { return v_; }           ///< m/s, actual
-  double AngularSpeed() const { return w_; }          ///< rad/s, actual
+  double Time() const { return time_; }       ///< s, simulation time
+  double LinearSpeed() const { return v_; }   ///< m/s, actual
+  double AngularSpeed() const { return w_; }  ///< rad/s, actual
   /// Contact events: a stop by an obstacle counts once until the base has moved 5 cm or
   /// turned 0.1 rad away from where it was stopped.
   int ContactCount() const { return contact_count_; }
-  int BlockedSteps() const { return blocked_steps_; } ///< steps in which motion was stopped
+  int BlockedSteps() const { return blocked_steps_; }  ///< steps in which motion was stopped
   const std::vector<ContactEvent>& Contacts() const { return contacts_; }
   const RobotBodyParams& Params() const { return params_; }
 

@@ -67,39 +67,44 @@ BeamModel::BeamModel(const BeamConfig& c) : c_(c) {
   // min(rho, rho_ref) >= R^2 * sure_detect_ implies s >= exp(40 / gamma), i.e. P_detect = 1 to
   // 4e-18, without logarithms (see Finish).
   if (2.0 * c.reflectance_exponent <= 1.0) {
-    sure_detect_ = std::exp(40.0 / c.detection_sharpness) * c.reflectance_ref / (c.range_ref * c.range_ref);
+    sure_detect_ =
+        std::exp(40.0 / c.detection_sharpness) * c.reflectance_ref / (c.range_ref * c.range_ref);
   }
 }
 
-BeamModel::BeamModel(const TlsParams& p) : BeamModel([&] {
-    BeamConfig c;
-    c.rays = p.footprint_rays;
-    c.half_divergence = 0.5e-3 * p.beam_divergence_mrad;
-    c.exit_radius = 0.5 * p.beam_exit_diameter;
-    c.ring = p.footprint_ring;
-    c.echo_separation = p.echo_separation;
-    c.mode = p.echo_mode == "first" ? EchoMode::kFirst : (p.echo_mode == "last" ? EchoMode::kLast : EchoMode::kStrongest);
-    c.range_min = p.range_min;
-    c.range_ref = p.range_ref;
-    c.reflectance_ref = p.reflectance_ref;
-    c.reflectance_exponent = p.reflectance_exponent;
-    c.detection_sharpness = p.detection_sharpness;
-    c.min_reflectance = p.min_reflectance;
-    c.dropouts = p.dropouts;
-    c.precision = p.range_precision;
-    c.incidence_exponent = p.incidence_noise_exponent;
-    c.max_noise_incidence = p.max_noise_incidence_deg * 3.14159265358979323846 / 180.0;
-    c.intensity_attenuation = p.intensity_attenuation;
-    c.intensity_noise = p.intensity_noise;
-    c.ambient = p.ambient_light;
-    c.top_light = p.top_light;
-    c.colour_noise = p.colour_noise;
-    return c;
-  }()) {}
+BeamModel::BeamModel(const TlsParams& p)
+    : BeamModel([&] {
+        BeamConfig c;
+        c.rays = p.footprint_rays;
+        c.half_divergence = 0.5e-3 * p.beam_divergence_mrad;
+        c.exit_radius = 0.5 * p.beam_exit_diameter;
+        c.ring = p.footprint_ring;
+        c.echo_separation = p.echo_separation;
+        c.mode = p.echo_mode == "first"
+                     ? EchoMode::kFirst
+                     : (p.echo_mode == "last" ? EchoMode::kLast : EchoMode::kStrongest);
+        c.range_min = p.range_min;
+        c.range_ref = p.range_ref;
+        c.reflectance_ref = p.reflectance_ref;
+        c.reflectance_exponent = p.reflectance_exponent;
+        c.detection_sharpness = p.detection_sharpness;
+        c.min_reflectance = p.min_reflectance;
+        c.dropouts = p.dropouts;
+        c.precision = p.range_precision;
+        c.incidence_exponent = p.incidence_noise_exponent;
+        c.max_noise_incidence = p.max_noise_incidence_deg * 3.14159265358979323846 / 180.0;
+        c.intensity_attenuation = p.intensity_attenuation;
+        c.intensity_noise = p.intensity_noise;
+        c.ambient = p.ambient_light;
+        c.top_light = p.top_light;
+        c.colour_noise = p.colour_noise;
+        return c;
+      }()) {}
 
 double BeamModel::DetectionProbability(double R, double rho_c) const {
-  const double ln_s = 2.0 * (c_.reflectance_exponent * std::log(std::max(rho_c, 1e-9) / c_.reflectance_ref) -
-                             std::log(R / c_.range_ref));
+  const double ln_s =
+      2.0 * (c_.reflectance_exponent * std::log(std::max(rho_c, 1e-9) / c_.reflectance_ref) -
+             std::log(R / c_.range_ref));
   const double x = c_.detection_sharpness * ln_s;
   return x > 40.0 ? 1.0 : 1.0 / (1.0 + std::exp(-x));
 }

@@ -29,7 +29,8 @@ struct TlsParams;
 class PulseStream {
  public:
   static constexpr std::uint64_t kSlots = 64;
-  PulseStream(std::uint64_t key, std::uint64_t index) : key_(key), index_(index), counter_(index * kSlots) {}
+  PulseStream(std::uint64_t key, std::uint64_t index)
+      : key_(key), index_(index), counter_(index * kSlots) {}
   std::uint64_t NextU64() {
     if (used_ < kSlots) {
       ++used_;
@@ -114,8 +115,9 @@ struct SubHit {
 /// Lets a sub-ray pass up to `max_layers` transmitting surfaces (glass): at each, it continues
 /// with the material's transmission probability (one uniform per crossing from the stream
 /// (key, index)).
-inline void ContinueThroughGlass(const EmbreeWorld& world, const SurfaceTable& surfaces, int max_layers,
-                                 std::uint64_t key, std::uint64_t index, SubHit* s) {
+inline void ContinueThroughGlass(const EmbreeWorld& world, const SurfaceTable& surfaces,
+                                 int max_layers, std::uint64_t key, std::uint64_t index,
+                                 SubHit* s) {
   if (!s->hit.hit() || max_layers == 0) return;
   PulseStream rng(key, index);
   for (int layer = 0; layer < max_layers && s->hit.hit(); ++layer) {
@@ -129,10 +131,10 @@ inline void ContinueThroughGlass(const EmbreeWorld& world, const SurfaceTable& s
 
 struct EchoResult {
   bool returned = false;
-  float range = 0.0f;      ///< m, measured (with noise and bias)
-  float intensity = 0.0f;  ///< [0, 1]
-  const SubHit* dominant = nullptr;  ///< sub-ray that carried most energy of the reported echo
-  std::uint8_t flags = 0;  ///< TruthFlags
+  float range = 0.0f;                 ///< m, measured (with noise and bias)
+  float intensity = 0.0f;             ///< [0, 1]
+  const SubHit* dominant = nullptr;   ///< sub-ray that carried most energy of the reported echo
+  std::uint8_t flags = 0;             ///< TruthFlags
   float colour_noise[3] = {0, 0, 0};  ///< sRGB levels to add
 };
 
@@ -149,8 +151,8 @@ struct BeamConfig {
   double range_min = 0.0, range_ref = 100.0, reflectance_ref = 0.2, reflectance_exponent = 0.5;
   double detection_sharpness = 8.0, min_reflectance = 0.0;
   bool dropouts = true;
-  double precision = 0.0;           ///< m, 1 sigma at normal incidence (ranges < precision_switch)
-  double precision_far = -1.0;      ///< m, beyond precision_switch_range (< 0: same)
+  double precision = 0.0;       ///< m, 1 sigma at normal incidence (ranges < precision_switch)
+  double precision_far = -1.0;  ///< m, beyond precision_switch_range (< 0: same)
   double precision_switch_range = std::numeric_limits<double>::infinity();
   double incidence_exponent = 1.0;
   double max_noise_incidence = 1.4835;  ///< rad
@@ -209,7 +211,8 @@ class BeamModel {
       }
     }
     // Range noise: per-scan bias + N(0, sigma(R) / cos(alpha)^k), capped at max_noise_incidence.
-    double sigma = (c_.precision_far >= 0.0 && R > c_.precision_switch_range) ? c_.precision_far : c_.precision;
+    double sigma = (c_.precision_far >= 0.0 && R > c_.precision_switch_range) ? c_.precision_far
+                                                                              : c_.precision;
     if (sigma > 0.0) {
       if (c_.incidence_exponent > 0.0) {
         const float ca = std::max(cos_a, min_cos_noise_);
@@ -221,12 +224,16 @@ class BeamModel {
     // Intensity: reflectance with a residual range fall-off exp(-a R) (4th-order Taylor below
     // a R = 0.5, error < 3e-4) plus noise.
     const float x = static_cast<float>(c_.intensity_attenuation * R);
-    const float fade = x < 0.5f ? 1.0f - x * (1.0f - 0.5f * x * (1.0f - (1.0f / 3.0f) * x * (1.0f - 0.25f * x)))
-                                : std::exp(-x);
+    const float fade =
+        x < 0.5f ? 1.0f - x * (1.0f - 0.5f * x * (1.0f - (1.0f / 3.0f) * x * (1.0f - 0.25f * x)))
+                 : std::exp(-x);
     const std::uint64_t ib = d1 >> 24;
-    const int isum = static_cast<int>((ib & 15) + ((ib >> 4) & 15) + ((ib >> 8) & 15) + ((ib >> 12) & 15));
-    const float n_int = (static_cast<float>(isum) - 30.0f) * (1.0f / 9.2195445f);  // sigma of the sum: sqrt(85)
-    out->intensity = std::clamp(static_cast<float>(rho_c) * fade + intensity_noise_ * n_int, 0.0f, 1.0f);
+    const int isum =
+        static_cast<int>((ib & 15) + ((ib >> 4) & 15) + ((ib >> 8) & 15) + ((ib >> 12) & 15));
+    const float n_int =
+        (static_cast<float>(isum) - 30.0f) * (1.0f / 9.2195445f);  // sigma of the sum: sqrt(85)
+    out->intensity =
+        std::clamp(static_cast<float>(rho_c) * fade + intensity_noise_ * n_int, 0.0f, 1.0f);
     if (colour_noise_ > 0.0f) {
       std::uint64_t cb = d1 >> 40;
       for (float& cn : out->colour_noise) {
@@ -238,19 +245,22 @@ class BeamModel {
     out->returned = true;
   }
   /// sRGB colour (rounded) of a surface hit seen along `dir`, plus noise (sRGB levels).
-  std::array<std::uint8_t, 3> Colour(const EmbreeWorld& world, const SurfaceTable& surfaces, const RayHit& hit,
-                                     const Eigen::Vector3f& dir, const float noise[3]) const {
-    return ColourOf(surfaces.Albedo(world, hit), hit.normal.dot(dir) > 0.0f ? -hit.normal.z() : hit.normal.z(),
-                    noise);
+  std::array<std::uint8_t, 3> Colour(const EmbreeWorld& world, const SurfaceTable& surfaces,
+                                     const RayHit& hit, const Eigen::Vector3f& dir,
+                                     const float noise[3]) const {
+    return ColourOf(surfaces.Albedo(world, hit),
+                    hit.normal.dot(dir) > 0.0f ? -hit.normal.z() : hit.normal.z(), noise);
   }
   /// The same from the linear albedo and the z component of the normal turned to face the
   /// viewer. Illumination: ambient + light from above on up-facing surfaces.
-  std::array<std::uint8_t, 3> ColourOf(const Eigen::Vector3f& albedo, float facing_nz, const float noise[3]) const {
+  std::array<std::uint8_t, 3> ColourOf(const Eigen::Vector3f& albedo, float facing_nz,
+                                       const float noise[3]) const {
     const float light = ambient_ + top_light_ * std::max(0.0f, facing_nz);
     std::array<std::uint8_t, 3> out;
     for (int i = 0; i < 3; ++i) {
       const float v = srgb_->Encode(albedo[i] * light) + noise[i];
-      out[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f);
+      out[static_cast<std::size_t>(i)] =
+          static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f);
     }
     return out;
   }

@@ -18,10 +18,12 @@ ScanFileSink::~ScanFileSink() = default;
 void ScanFileSink::Process(ScanBlock& b) {
   for (auto& e : b.encoded) e.clear();
   b.encoded_count = {};
-  b.encoded_count[0] = io::TlsPlyStreamWriter::EncodePoints(b.points, wide_row_, wide_col_, b.encoded[0]);
+  b.encoded_count[0] =
+      io::TlsPlyStreamWriter::EncodePoints(b.points, wide_row_, wide_col_, b.encoded[0]);
   if (ptx_) io::TlsPtxStreamWriter::EncodeCells(b.points, b.encoded[1]);
   if (truth_) {
-    b.encoded_count[2] = TlsTruthPlyStreamWriter::Encode(b.points.data(), b.truth.data(), b.points.size(), b.encoded[2]);
+    b.encoded_count[2] = TlsTruthPlyStreamWriter::Encode(b.points.data(), b.truth.data(),
+                                                         b.points.size(), b.encoded[2]);
   }
 }
 

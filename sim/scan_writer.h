@@ -24,8 +24,8 @@ class ScanFileSink final : public ScanSink {
  public:
   /// Opens the files (InputError if they cannot be created). `header`/`truth_header` from
   /// TlsScanner::MakeHeader / MakeTruthHeader; `expected_points` preallocates (0 = no).
-  ScanFileSink(const ScanOutputPaths& paths, const interfaces::TlsScan& header, const TlsTruth& truth_header,
-               std::uint64_t expected_points);
+  ScanFileSink(const ScanOutputPaths& paths, const interfaces::TlsScan& header,
+               const TlsTruth& truth_header, std::uint64_t expected_points);
   ~ScanFileSink() override;
   void Process(ScanBlock& block) override;
   void Consume(ScanBlock& block) override;

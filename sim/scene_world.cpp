@@ -1,4 +1,3 @@
-#include "common/polygon.h"
 #include "sim/scene_world.h"
 
 #include <algorithm>
@@ -6,10 +5,11 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "scenes/generator.h"
 #include "scenes/scene_loader.h"
-#include "scenes/scene_spec.h"
 #include "scenes/scene_paths.h"
+#include "scenes/scene_spec.h"
 
 namespace mopad::sim {
 namespace {
@@ -24,7 +24,7 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 }  // namespace
 
 SceneWorld LoadSceneWorld(const std::string& scene_arg,
-                              const std::vector<std::string>& door_overrides) {
+                          const std::vector<std::string>& door_overrides) {
   SceneWorld out;
   out.source = std::filesystem::absolute(scene_arg).lexically_normal().string();
   out.door_overrides = door_overrides;
@@ -57,7 +57,7 @@ SceneWorld LoadSceneWorld(const std::string& scene_arg,
   const scenes::ScenePaths paths = scenes::ResolveScene(scene_arg);
   if (paths.truth) out.truth = scenes::ReadGroundTruth(*paths.truth);
   out.world = std::make_unique<EmbreeWorld>(scenes::LoadScene(paths.geometry),
-                                                 out.truth ? &*out.truth : nullptr);
+                                            out.truth ? &*out.truth : nullptr);
   return out;
 }
 

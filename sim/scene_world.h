@@ -25,7 +25,7 @@ struct SceneWorld {
 /// Loads `scene_arg`. `door_overrides` are "ID=DEG" strings, allowed with a spec only.
 /// Throws InputError on unknown doors, bad syntax or unloadable scenes.
 SceneWorld LoadSceneWorld(const std::string& scene_arg,
-                              const std::vector<std::string>& door_overrides = {});
+                          const std::vector<std::string>& door_overrides = {});
 
 /// Harness placement from the truth (never given to the robot as knowledge): the point of a
 /// 10 cm grid inside the room that is farthest from walls, furniture and columns (a "pole of

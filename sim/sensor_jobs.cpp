@@ -1,6 +1,7 @@
 #include "sim/sensor_jobs.h"
 
-// The sensor simulator on the command line: `mopad scan`, `mopad lrf`, `mopad bench raycast` (sim/sensor_jobs.h).
+// The sensor simulator on the command line: `mopad scan`, `mopad lrf`, `mopad bench raycast`
+// (sim/sensor_jobs.h).
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -10,26 +11,25 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
-#include "common/polygon.h"
 #include "common/error.h"
 #include "common/params.h"
+#include "common/polygon.h"
 #include "scenes/generator.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene_loader.h"
+#include "scenes/scene_paths.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
 #include "sim/lrf.h"
 #include "sim/raycast_bench.h"
 #include "sim/scan_writer.h"
+#include "sim/sensor_jobs.h"
 #include "sim/threads.h"
 #include "sim/tls_scanner.h"
-#include "sim/sensor_jobs.h"
-#include "scenes/scene_paths.h"
 
 namespace mopad::sim {
 namespace {
@@ -37,7 +37,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double Since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 /// Peak resident memory of this process so far (getrusage ru_maxrss), MiB.
 double PeakRssMiB() {
@@ -96,7 +98,9 @@ Pose3 ParsePose(const std::string& s) {
       throw InputError("--pose", "not a number", "'" + item + "'", "x,y,z,yaw_deg");
     }
   }
-  if (v.size() != 4) throw InputError("--pose", "wrong number of values", std::to_string(v.size()), "4: x,y,z,yaw_deg");
+  if (v.size() != 4)
+    throw InputError("--pose", "wrong number of values", std::to_string(v.size()),
+                     "4: x,y,z,yaw_deg");
   Pose2 p2{v[0], v[1], DegToRad(v[3])};
   return p2.To3d(v[2]);
 }
@@ -118,7 +122,8 @@ void ApplyDoors(EmbreeWorld& world, const std::vector<std::string>& doors) {
 /// A progress bar on stderr, only when stderr is a terminal and the work lasts over a second.
 class Progress {
  public:
-  explicit Progress(std::string label) : label_(std::move(label)), tty_(isatty(fileno(stderr))), t0_(Clock::now()) {}
+  explicit Progress(std::string label)
+      : label_(std::move(label)), tty_(isatty(fileno(stderr))), t0_(Clock::now()) {}
   void Update(double fraction) {
     if (!tty_) return;
     const double t = Since(t0_);
@@ -126,8 +131,9 @@ class Progress {
     last_ = t;
     shown_ = true;
     const int width = 40, filled = static_cast<int>(fraction * width);
-    std::fprintf(stderr, "\r%s [%s%s] %3d%% %.1fs", label_.c_str(), std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), static_cast<int>(100 * fraction), t);
+    std::fprintf(stderr, "\r%s [%s%s] %3d%% %.1fs", label_.c_str(),
+                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+                 static_cast<int>(100 * fraction), t);
     std::fflush(stderr);
   }
   void Done() {
@@ -142,9 +148,10 @@ class Progress {
   bool shown_ = false;
 };
 
-TlsParams TlsParamsFromOptions(const std::string& profile, const std::string& profile_file, double step_deg,
-                                    int footprint_rays) {
-  TlsParams p = profile_file.empty() ? TlsProfile(profile) : LoadParamsFile<TlsParams>(profile_file);
+TlsParams TlsParamsFromOptions(const std::string& profile, const std::string& profile_file,
+                               double step_deg, int footprint_rays) {
+  TlsParams p =
+      profile_file.empty() ? TlsProfile(profile) : LoadParamsFile<TlsParams>(profile_file);
   if (step_deg > 0) p.step_deg = step_deg;
   if (footprint_rays > 0) p.footprint_rays = footprint_rays;
   p.Validate();
@@ -155,14 +162,15 @@ TlsParams TlsParamsFromOptions(const std::string& profile, const std::string& pr
 
 // ---------------------------------------------------------------- mopad scan
 
-
 void RunScan(const ScanOptions& o) {
   const auto t0 = Clock::now();
-  if (fs::path(o.output).extension() != ".ply") throw InputError(o.output, "output must be a .ply file");
+  if (fs::path(o.output).extension() != ".ply")
+    throw InputError(o.output, "output must be a .ply file");
   if (!o.truth.empty() && fs::path(o.truth).extension() != ".ply") {
     throw InputError(o.truth, "truth sidecar must be a .ply file", "", "e.g. scan.truth.ply");
   }
-  const TlsParams params = TlsParamsFromOptions(o.profile, o.profile_file, o.step_deg, o.footprint_rays);
+  const TlsParams params =
+      TlsParamsFromOptions(o.profile, o.profile_file, o.step_deg, o.footprint_rays);
   ScanRequest req;
   req.seed = o.seed;
   req.scan_id = o.scan_id;
@@ -179,9 +187,12 @@ void RunScan(const ScanOptions& o) {
     t_build = Since(t1);
     const auto t2 = Clock::now();
     pulses = scanner.pulses();
-    ScanFileSink sink({o.output, o.ptx, o.truth}, scanner.MakeHeader(req), scanner.MakeTruthHeader(req), pulses);
+    ScanFileSink sink({o.output, o.ptx, o.truth}, scanner.MakeHeader(req),
+                      scanner.MakeTruthHeader(req), pulses);
     Progress progress("scan");
-    sink.on_progress = [&](std::uint64_t cols) { progress.Update(static_cast<double>(cols) / scanner.columns()); };
+    sink.on_progress = [&](std::uint64_t cols) {
+      progress.Update(static_cast<double>(cols) / scanner.columns());
+    };
     scanner.ScanStreamed(req, sink);
     sink.Close();
     progress.Done();
@@ -198,19 +209,24 @@ void RunScan(const ScanOptions& o) {
     node["doors"] = o.doors;
     node["tls"] = SaveParams(params);
     std::ofstream(cfg) << node << "\n";
-    std::printf("scene    %s: %zu triangles, %zu doors (load %.2f s, BVH %.2f s)\n", loaded.description.c_str(),
-                world.scene().TriangleCount(), world.DoorIds().size(), t_load, t_build);
-    std::printf("scan     %u rows x %u columns = %llu pulses, %d ray(s)/pulse, step %.4g deg\n", scanner.rows(),
-                scanner.columns(), static_cast<unsigned long long>(pulses), params.footprint_rays, params.step_deg);
+    std::printf("scene    %s: %zu triangles, %zu doors (load %.2f s, BVH %.2f s)\n",
+                loaded.description.c_str(), world.scene().TriangleCount(), world.DoorIds().size(),
+                t_load, t_build);
+    std::printf("scan     %u rows x %u columns = %llu pulses, %d ray(s)/pulse, step %.4g deg\n",
+                scanner.rows(), scanner.columns(), static_cast<unsigned long long>(pulses),
+                params.footprint_rays, params.step_deg);
   });
-  std::printf("wrote    %s: %llu points%s%s\n", o.output.c_str(), static_cast<unsigned long long>(points),
-              o.ptx.empty() ? "" : (", " + o.ptx).c_str(), o.truth.empty() ? "" : (", " + o.truth).c_str());
-  std::printf("time     scan+write %.2f s (%.1f M pulses/s), total %.2f s; peak memory %.0f MiB; threads %d\n", t_scan,
-              pulses / t_scan / 1e6, Since(t0), PeakRssMiB(), o.threads > 0 ? o.threads : AvailableThreads());
+  std::printf("wrote    %s: %llu points%s%s\n", o.output.c_str(),
+              static_cast<unsigned long long>(points), o.ptx.empty() ? "" : (", " + o.ptx).c_str(),
+              o.truth.empty() ? "" : (", " + o.truth).c_str());
+  std::printf(
+      "time     scan+write %.2f s (%.1f M pulses/s), total %.2f s; peak memory %.0f MiB; threads "
+      "%d\n",
+      t_scan, pulses / t_scan / 1e6, Since(t0), PeakRssMiB(),
+      o.threads > 0 ? o.threads : AvailableThreads());
 }
 
 // ---------------------------------------------------------------- mopad lrf
-
 
 void RunLrf(const LrfOptions& o) {
   const std::string ext = fs::path(o.output).extension().string();
@@ -243,7 +259,8 @@ void RunLrf(const LrfOptions& o) {
   ApplyDoors(world, o.doors);
   const Pose3 X_WB = ParsePose(o.pose);
   std::vector<interfaces::LrfScan> scans;
-  for (const auto& p : rig) scans.push_back(LrfSimulator(world, p).Scan(X_WB, o.seed, o.seq, o.time));
+  for (const auto& p : rig)
+    scans.push_back(LrfSimulator(world, p).Scan(X_WB, o.seed, o.seq, o.time));
   std::ofstream out(o.output);
   if (!out) throw InputError(o.output, "cannot open file for writing");
   if (ext == ".csv") {
@@ -252,8 +269,9 @@ void RunLrf(const LrfOptions& o) {
     for (const auto& s : scans)
       for (std::size_t i = 0; i < s.ranges.size(); ++i) {
         std::snprintf(line, sizeof(line), "%s,%llu,%.6f,%zu,%.7f,%.5f,%.4f,%.4f\n", s.frame.c_str(),
-                      static_cast<unsigned long long>(s.seq), s.timestamp, i, s.angle_min + i * s.angle_increment,
-                      s.ranges[i], s.intensities.empty() ? 0.0f : s.intensities[i], s.X_BL.translation().z());
+                      static_cast<unsigned long long>(s.seq), s.timestamp, i,
+                      s.angle_min + i * s.angle_increment, s.ranges[i],
+                      s.intensities.empty() ? 0.0f : s.intensities[i], s.X_BL.translation().z());
         out << line;
       }
   } else {
@@ -279,14 +297,13 @@ void RunLrf(const LrfOptions& o) {
   for (const auto& s : scans) {
     std::size_t returns = 0;
     for (float r : s.ranges) returns += r < s.range_max;
-    std::printf("%s: %zu beams, %zu returns, mount z %.2f m\n", s.frame.c_str(), s.ranges.size(), returns,
-                s.X_BL.translation().z());
+    std::printf("%s: %zu beams, %zu returns, mount z %.2f m\n", s.frame.c_str(), s.ranges.size(),
+                returns, s.X_BL.translation().z());
   }
   std::printf("wrote %s\n", o.output.c_str());
 }
 
 // ---------------------------------------------------------------- mopad bench raycast
-
 
 /// Default bench pose: the vertex centroid of the largest room whose centroid lies inside it (on
 /// its floor), or the centre of the scene's bounding box without a truth sidecar.
@@ -354,12 +371,17 @@ void RunBench(const BenchOptions& o) {
     req.seed = o.seed;
     req.X_WB = X_WB;
     const double pulses = static_cast<double>(s1.pulses());
-    std::printf("scene      %s\n           %zu triangles, %zu doors; load %.2f s, BVH build %.3f s\n",
-                loaded.description.c_str(), world.scene().TriangleCount(), world.DoorIds().size(), t_load, t_build);
-    std::printf("pose       scanner at (%.2f, %.2f, %.2f) m\n", (X_WB * s1.X_BS()).translation().x(),
-                (X_WB * s1.X_BS()).translation().y(), (X_WB * s1.X_BS()).translation().z());
-    std::printf("ray set    %u x %u = %.0f pulses (360 x 100 deg at %.4g deg), %d threads, best of %d runs\n",
-                s1.rows(), s1.columns(), pulses, o.step_deg, threads, std::max(1, o.repeat));
+    std::printf(
+        "scene      %s\n           %zu triangles, %zu doors; load %.2f s, BVH build %.3f s\n",
+        loaded.description.c_str(), world.scene().TriangleCount(), world.DoorIds().size(), t_load,
+        t_build);
+    std::printf("pose       scanner at (%.2f, %.2f, %.2f) m\n",
+                (X_WB * s1.X_BS()).translation().x(), (X_WB * s1.X_BS()).translation().y(),
+                (X_WB * s1.X_BS()).translation().z());
+    std::printf(
+        "ray set    %u x %u = %.0f pulses (360 x 100 deg at %.4g deg), %d threads, best of %d "
+        "runs\n",
+        s1.rows(), s1.columns(), pulses, o.step_deg, threads, std::max(1, o.repeat));
     // Each measurement is the best of --repeat runs (the machine may be shared).
     double ta = 1e300, tb = 1e300, tc = 1e300;
     std::uint64_t hits = 0;
@@ -381,16 +403,19 @@ void RunBench(const BenchOptions& o) {
       tc = std::min(tc, Since(t));
     }
     const double ra = pulses / ta, rb = pulses / tb, rc = pulses * o.footprint_rays / tc;
-    std::printf("(a) bare Embree rtcIntersect16 loop   %6.3f s  %7.1f M rays/s  %7.1f M points/s (hits)\n", ta, ra / 1e6,
-                hits / ta / 1e6);
-    std::printf("(b) full TLS model, 1 ray/pulse       %6.3f s  %7.1f M rays/s  %7.1f M points/s\n", tb, rb / 1e6,
-                cb.points / tb / 1e6);
-    std::printf("(c) full TLS model, %2d rays/pulse      %6.3f s  %7.1f M rays/s  %7.1f M points/s\n", o.footprint_rays,
-                tc, rc / 1e6, cc.points / tc / 1e6);
-    std::printf("ratios     (b)/(a) = %.2f (pulses/s)   (c)/(a) = %.2f (pulses/s), %.2f (rays/s)\n", ta / tb, ta / tc,
-                rc / ra);
-    std::printf("vs HELIOS++ reference (0.45 M pts/s 1-ray, 0.1 M pts/s 19-ray): (b) %.0fx, (c) %.0fx\n",
-                cb.points / tb / 0.45e6, cc.points / tc / 0.1e6);
+    std::printf(
+        "(a) bare Embree rtcIntersect16 loop   %6.3f s  %7.1f M rays/s  %7.1f M points/s (hits)\n",
+        ta, ra / 1e6, hits / ta / 1e6);
+    std::printf("(b) full TLS model, 1 ray/pulse       %6.3f s  %7.1f M rays/s  %7.1f M points/s\n",
+                tb, rb / 1e6, cb.points / tb / 1e6);
+    std::printf(
+        "(c) full TLS model, %2d rays/pulse      %6.3f s  %7.1f M rays/s  %7.1f M points/s\n",
+        o.footprint_rays, tc, rc / 1e6, cc.points / tc / 1e6);
+    std::printf("ratios     (b)/(a) = %.2f (pulses/s)   (c)/(a) = %.2f (pulses/s), %.2f (rays/s)\n",
+                ta / tb, ta / tc, rc / ra);
+    std::printf(
+        "vs HELIOS++ reference (0.45 M pts/s 1-ray, 0.1 M pts/s 19-ray): (b) %.0fx, (c) %.0fx\n",
+        cb.points / tb / 0.45e6, cc.points / tc / 0.1e6);
     std::printf("peak mem   %.0f MiB (getrusage ru_maxrss)\n", PeakRssMiB());
   });
 }

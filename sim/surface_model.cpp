@@ -16,7 +16,8 @@ double SrgbTables::DecodeExact(double s) {
 SrgbTables::SrgbTables() : encode_(kEncodeSize) {
   for (int i = 0; i < 256; ++i) decode_[i] = static_cast<float>(DecodeExact(i / 255.0));
   for (int i = 0; i < kEncodeSize; ++i)
-    encode_[i] = static_cast<float>(255.0 * EncodeExact(static_cast<double>(i) / (kEncodeSize - 1)));
+    encode_[i] =
+        static_cast<float>(255.0 * EncodeExact(static_cast<double>(i) / (kEncodeSize - 1)));
 }
 
 const SrgbTables& SrgbTables::Get() {
@@ -44,20 +45,24 @@ SurfaceTable::SurfaceTable(const EmbreeWorld& world) {
   const scenes::Material default_material;
   std::vector<SurfaceProps> by_material(scene.materials.size() + 1);
   for (std::size_t m = 0; m <= scene.materials.size(); ++m) {
-    const scenes::Material& mat = m < scene.materials.size() ? scene.materials[m] : default_material;
+    const scenes::Material& mat =
+        m < scene.materials.size() ? scene.materials[m] : default_material;
     SurfaceProps s;
     s.base_linear = mat.base_color.head<3>().cwiseMax(0.f).cwiseMin(1.f);
     Eigen::Vector3f albedo = s.base_linear;
-    if (mat.base_color_texture >= 0 && mat.base_color_texture < static_cast<int>(scene.textures.size())) {
+    if (mat.base_color_texture >= 0 &&
+        mat.base_color_texture < static_cast<int>(scene.textures.size())) {
       const scenes::Texture& t = scene.textures[static_cast<std::size_t>(mat.base_color_texture)];
-      if (t.width > 0 && t.height > 0 && t.rgba.size() >= static_cast<std::size_t>(t.width) * t.height * 4) {
+      if (t.width > 0 && t.height > 0 &&
+          t.rgba.size() >= static_cast<std::size_t>(t.width) * t.height * 4) {
         s.texture = &t;
         albedo = albedo.cwiseProduct(MeanLinear(t));
       }
     }
     // Laser reflectance: the material's own NIR value, else the visible luminance (Rec. 709).
     const float luminance = 0.2126f * albedo.x() + 0.7152f * albedo.y() + 0.0722f * albedo.z();
-    s.reflectance = std::clamp(mat.nir_reflectance >= 0.f ? mat.nir_reflectance : luminance, 0.f, 1.f);
+    s.reflectance =
+        std::clamp(mat.nir_reflectance >= 0.f ? mat.nir_reflectance : luminance, 0.f, 1.f);
     s.transmission = std::clamp(mat.transmission, 0.f, 1.f);
     // A transmitting surface (glass) scatters back only what it does not let through.
     s.reflectance *= 1.f - s.transmission;
@@ -89,7 +94,8 @@ SurfaceTable::SurfaceTable(const EmbreeWorld& world) {
   }
 }
 
-Eigen::Vector3f SurfaceTable::Textured(const EmbreeWorld& world, const RayHit& hit, const SurfaceProps& s) const {
+Eigen::Vector3f SurfaceTable::Textured(const EmbreeWorld& world, const RayHit& hit,
+                                       const SurfaceProps& s) const {
   const scenes::MeshPart& mp = world.scene().parts[static_cast<std::size_t>(hit.part)];
   if (mp.uvs.empty()) return s.base_linear;
   const Eigen::Vector3i& tri = mp.triangles[hit.triangle];

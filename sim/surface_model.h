@@ -40,7 +40,7 @@ class SrgbTables {
 struct SurfaceProps {
   Eigen::Vector3f base_linear{0.8f, 0.8f, 0.8f};  ///< base colour factor (linear)
   const scenes::Texture* texture = nullptr;
-  float reflectance = 0.6f;   ///< laser-wavelength diffuse reflectance rho
+  float reflectance = 0.6f;  ///< laser-wavelength diffuse reflectance rho
   float metallic = 0.0f;
   float specular_f0 = 0.04f;  ///< Fresnel reflectance at normal incidence
   float alpha = 1.0f;         ///< Beckmann slope parameter (glTF roughness^2)
@@ -103,7 +103,8 @@ class SurfaceTable {
   const float* rho_tables() const { return rho_tables_.data(); }
 
  private:
-  Eigen::Vector3f Textured(const EmbreeWorld& world, const RayHit& hit, const SurfaceProps& s) const;
+  Eigen::Vector3f Textured(const EmbreeWorld& world, const RayHit& hit,
+                           const SurfaceProps& s) const;
   std::vector<SurfaceProps> parts_;
   std::vector<float> rho_tables_;  ///< one table per material (+ the default), concatenated
 };

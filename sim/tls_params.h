@@ -64,18 +64,18 @@ struct TlsParams {
   double intensity_attenuation = 0.01;  ///< 1/m, residual range fall-off of intensity, [0, 10]
   double intensity_noise = 0.01;        ///< 1 sigma, absolute, [0, 1]
   double ambient_light = 0.6;           ///< illumination from all directions, [0, 4]
-  double top_light = 0.4;               ///< extra light on up-facing surfaces (ceiling lamps), [0, 4]
-  double colour_noise = 2.0;            ///< sRGB levels, 1 sigma per channel, [0, 255]
+  double top_light = 0.4;     ///< extra light on up-facing surfaces (ceiling lamps), [0, 4]
+  double colour_noise = 2.0;  ///< sRGB levels, 1 sigma per channel, [0, 255]
   /// m, camera centre in the scanner frame; non-zero: colour comes from what the camera sees
   /// (parallax at occlusion edges, one extra ray per point).
   std::vector<double> camera_offset = {0.0, 0.0, 0.0};
 
   // ---- axes and mount
-  double tilt_sigma_deg = 0.008;   ///< deg, per-scan levelling error, roll and pitch, [0, 10]
+  double tilt_sigma_deg = 0.008;  ///< deg, per-scan levelling error, roll and pitch, [0, 10]
   /// deg, per-pulse beam-direction jitter, 1 sigma, [0, 1]. Not in the data sheet (0.0005 deg
   /// is its angular *resolution*, which would move points < 0.1 mm at 10 m); off by default.
   double angle_noise_deg = 0.0;
-  std::vector<double> mount_xyz = {0.0, 0.0, 1.4};  ///< m, scanner centre in base_link (X_BS)
+  std::vector<double> mount_xyz = {0.0, 0.0, 1.4};      ///< m, scanner centre in base_link (X_BS)
   std::vector<double> mount_rpy_deg = {0.0, 0.0, 0.0};  ///< deg, X_BS rotation (roll, pitch, yaw)
 
   template <class V>

@@ -27,17 +27,21 @@ void TlsParams::Validate() const {
                      std::to_string(elevation_min_deg), "< " + std::to_string(elevation_max_deg));
   }
   if (range_accuracy < range_precision) {
-    throw InputError("", "parameter 'tls.range_accuracy' is the total error and must be >= range_precision",
-                     std::to_string(range_accuracy), ">= " + std::to_string(range_precision));
+    throw InputError(
+        "", "parameter 'tls.range_accuracy' is the total error and must be >= range_precision",
+        std::to_string(range_accuracy), ">= " + std::to_string(range_precision));
   }
   if (echo_mode != "first" && echo_mode != "strongest" && echo_mode != "last") {
-    throw InputError("", "parameter 'tls.echo_mode' unknown", "'" + echo_mode + "'", "first, strongest or last");
+    throw InputError("", "parameter 'tls.echo_mode' unknown", "'" + echo_mode + "'",
+                     "first, strongest or last");
   }
   if (footprint_rays == 2) {
     throw InputError("", "parameter 'tls.footprint_rays' must be 1 or >= 3", "2", "1 or 3..64");
   }
   if (camera_offset.size() != 3 || mount_xyz.size() != 3 || mount_rpy_deg.size() != 3) {
-    throw InputError("", "parameters 'tls.camera_offset', 'tls.mount_xyz' and 'tls.mount_rpy_deg' need 3 values");
+    throw InputError(
+        "",
+        "parameters 'tls.camera_offset', 'tls.mount_xyz' and 'tls.mount_rpy_deg' need 3 values");
   }
 }
 
@@ -87,16 +91,20 @@ inline void ResetLane(RTCRayHit16* rh, int j) {
 
 std::uint32_t CountRows(const TlsParams& p) {
   const double vstep = p.vertical_step_deg > 0 ? p.vertical_step_deg : p.step_deg;
-  return static_cast<std::uint32_t>(std::floor((p.elevation_max_deg - p.elevation_min_deg) / vstep + 1e-6)) + 1;
+  return static_cast<std::uint32_t>(
+             std::floor((p.elevation_max_deg - p.elevation_min_deg) / vstep + 1e-6)) +
+         1;
 }
 
 std::uint32_t CountColumns(const TlsParams& p) {
-  if (p.azimuth_span_deg >= 360.0 - 1e-9) return static_cast<std::uint32_t>(std::llround(360.0 / p.step_deg));
+  if (p.azimuth_span_deg >= 360.0 - 1e-9)
+    return static_cast<std::uint32_t>(std::llround(360.0 / p.step_deg));
   return static_cast<std::uint32_t>(std::floor(p.azimuth_span_deg / p.step_deg + 1e-6)) + 1;
 }
 
 Eigen::Matrix3d Rpy(double roll, double pitch, double yaw) {
-  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
       .toRotationMatrix();
 }
@@ -104,7 +112,8 @@ Eigen::Matrix3d Rpy(double roll, double pitch, double yaw) {
 Pose3 MountPose(const TlsParams& p) {
   Pose3 X = Pose3::Identity();
   X.translation() = Eigen::Vector3d(p.mount_xyz[0], p.mount_xyz[1], p.mount_xyz[2]);
-  X.linear() = Rpy(DegToRad(p.mount_rpy_deg[0]), DegToRad(p.mount_rpy_deg[1]), DegToRad(p.mount_rpy_deg[2]));
+  X.linear() =
+      Rpy(DegToRad(p.mount_rpy_deg[0]), DegToRad(p.mount_rpy_deg[1]), DegToRad(p.mount_rpy_deg[2]));
   return X;
 }
 
@@ -120,7 +129,8 @@ struct ScanDraws {
 ScanDraws DrawScan(const TlsParams& p, const ScanRequest& r) {
   CounterRng rng(DeriveKey(ScanKey(r), HashName("scan")));
   ScanDraws d;
-  const double sys = std::sqrt(std::max(0.0, p.range_accuracy * p.range_accuracy - p.range_precision * p.range_precision));
+  const double sys = std::sqrt(
+      std::max(0.0, p.range_accuracy * p.range_accuracy - p.range_precision * p.range_precision));
   d.bias = p.range_offset + sys * rng.Normal();
   d.roll = DegToRad(p.tilt_sigma_deg) * rng.Normal();
   d.pitch = DegToRad(p.tilt_sigma_deg) * rng.Normal();
@@ -155,12 +165,13 @@ struct ScanContext {
 };
 
 // The general per-pulse path: any number of sub-rays, glass, camera offset. Writes the cell.
-void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, std::uint32_t r, std::uint32_t c,
-               interfaces::TlsPoint& pt, TlsPointTruth& tr) {
+void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, std::uint32_t r,
+               std::uint32_t c, interfaces::TlsPoint& pt, TlsPointTruth& tr) {
   pt = interfaces::TlsPoint{};
   pt.row = r;
   pt.column = c;
-  pt.timestamp = ctx.start_time + static_cast<double>(static_cast<std::int64_t>(pulse)) * ctx.pulse_period;
+  pt.timestamp =
+      ctx.start_time + static_cast<double>(static_cast<std::int64_t>(pulse)) * ctx.pulse_period;
   tr = TlsPointTruth{};
   EchoResult echo;
   ctx.beam.Measure(*ctx.world_api, *ctx.surfaces, subs, ctx.noise_key, pulse, &echo);
@@ -191,7 +202,8 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
     const float dist = to.norm();
     const Eigen::Vector3f dir = to / dist;
     const RayHit occ = ctx.world_api->Intersect(ctx.p_WC, dir, 0.0f, dist * (1.0f - 1e-4f) - 1e-3f);
-    rgb = ctx.beam.Colour(*ctx.world_api, *ctx.surfaces, occ.hit() ? occ : dom.hit, dir, echo.colour_noise);
+    rgb = ctx.beam.Colour(*ctx.world_api, *ctx.surfaces, occ.hit() ? occ : dom.hit, dir,
+                          echo.colour_noise);
   } else {
     rgb = ctx.beam.Colour(*ctx.world_api, *ctx.surfaces, dom.hit, dom.dir, echo.colour_noise);
   }
@@ -202,14 +214,15 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
 
 // Completes a sub-ray from Embree's packet result (misses already re-traced watertight): resolve,
 // pass glass.
-void CompleteSubHit(const ScanContext& ctx, const RTCRayHit16& rh, int j, std::uint64_t pulse, int k, SubHit* s) {
+void CompleteSubHit(const ScanContext& ctx, const RTCRayHit16& rh, int j, std::uint64_t pulse,
+                    int k, SubHit* s) {
   s->transmitted = false;
   s->origin = Eigen::Vector3f(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
   s->dir = Eigen::Vector3f(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
   s->hit = RayHit{};
   if (rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID) {
-    ctx.world->Resolve(rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.ray.tfar[j], rh.hit.u[j],
-                       rh.hit.v[j], &s->hit);
+    ctx.world->Resolve(rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.ray.tfar[j],
+                       rh.hit.u[j], rh.hit.v[j], &s->hit);
   }
   if (s->hit.hit() && ctx.surfaces->part(s->hit.part).transmission > 0.0f) {
     ContinueThroughGlass(*ctx.world_api, *ctx.surfaces, ctx.max_transmissions, ctx.glass_key,
@@ -220,8 +233,8 @@ void CompleteSubHit(const ScanContext& ctx, const RTCRayHit16& rh, int j, std::u
 // Re-traces the lanes of a packet that missed in the watertight scene (one more packet query:
 // misses through windows and doors are coherent), so a ray aimed exactly at an edge shared by two
 // parts cannot slip out of a closed room.
-void RetraceMissesWatertight(const EmbreeWorld::Impl& w, const int* valid, RTCIntersectContext* rctx,
-                             RTCRayHit16* rh) {
+void RetraceMissesWatertight(const EmbreeWorld::Impl& w, const int* valid,
+                             RTCIntersectContext* rctx, RTCRayHit16* rh) {
   alignas(64) int miss[16];
   bool any = false;
   for (int j = 0; j < 16; ++j) {
@@ -236,14 +249,15 @@ void RetraceMissesWatertight(const EmbreeWorld::Impl& w, const int* valid, RTCIn
 }
 
 // A single-ray packet lane as a SubHit (after PassGlassInPackets).
-void SubHitFromPacket(const ScanContext& ctx, const RTCRayHit16& rh, int j, bool transmitted, SubHit* s) {
+void SubHitFromPacket(const ScanContext& ctx, const RTCRayHit16& rh, int j, bool transmitted,
+                      SubHit* s) {
   s->transmitted = transmitted;
   s->origin = Eigen::Vector3f(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
   s->dir = Eigen::Vector3f(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
   s->hit = RayHit{};
   if (rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID) {
-    ctx.world->Resolve(rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.ray.tfar[j], rh.hit.u[j],
-                       rh.hit.v[j], &s->hit);
+    ctx.world->Resolve(rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.ray.tfar[j],
+                       rh.hit.u[j], rh.hit.v[j], &s->hit);
   }
 }
 
@@ -262,14 +276,15 @@ void PassGlassInPackets(const ScanContext& ctx, const std::uint64_t* pulse, cons
       const unsigned geom = rh->hit.geomID[j];
       if (!valid[j] || geom == RTC_INVALID_GEOMETRY_ID) continue;
       const unsigned inst = rh->hit.instID[0][j];
-      const std::int32_t part = inst == RTC_INVALID_GEOMETRY_ID
-                                    ? w.geom_to_part[geom]
-                                    : w.doors[static_cast<std::size_t>(w.geom_to_door[inst])].child_geom_to_part[geom];
+      const std::int32_t part =
+          inst == RTC_INVALID_GEOMETRY_ID
+              ? w.geom_to_part[geom]
+              : w.doors[static_cast<std::size_t>(w.geom_to_door[inst])].child_geom_to_part[geom];
       const float tr = ctx.surfaces->part(part).transmission;
       if (tr <= 0.0f) continue;
-      const std::uint64_t bits =
-          Mix64(ctx.glass_key + ((pulse[j] * 64) * PulseStream::kSlots + static_cast<std::uint64_t>(layer)) *
-                                    0x9E3779B97F4A7C15ull);
+      const std::uint64_t bits = Mix64(ctx.glass_key + ((pulse[j] * 64) * PulseStream::kSlots +
+                                                        static_cast<std::uint64_t>(layer)) *
+                                                           0x9E3779B97F4A7C15ull);
       if (!(static_cast<double>(bits >> 11) * 0x1.0p-53 < tr)) continue;
       go[j] = -1;
       any = true;
@@ -346,62 +361,66 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
         if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
         PassGlassInPackets(ctx, pulse, valid, &rctx, &rh, transmitted);
       } else {
-      for (int j = 0; j < 16; ++j) {
-        const std::uint32_t r = r0 + static_cast<std::uint32_t>(std::min(j, n - 1));
-        const float sel = ctx.sin_el[r], cel = ctx.cos_el[r];
-        d_true[j] = cel * A + sel * B;
-        pulse[j] = static_cast<std::uint64_t>(c) * rows + r;
-        valid[j] = j < n ? -1 : 0;
-        if (need_basis) {
-          e_az[j] = C;
-          e_el[j] = -sel * A + cel * B;
-        }
-        if (ctx.jitter_sigma > 0.0f) {
-          // Per-pulse direction jitter: the true beam differs from the encoder angles. First
-          // order in sigma (~1e-5 rad): the direction stays unit to 1e-10. One draw: per axis an
-          // Irwin-Hall sum of four 8-bit uniforms (sigma 147.8 units).
-          PulseStream jr(ctx.jitter_key, pulse[j]);
-          const std::uint64_t bits = jr.NextU64();
-          const auto sum4 = [](std::uint64_t v) {
-            return static_cast<float>((v & 255) + ((v >> 8) & 255) + ((v >> 16) & 255) + ((v >> 24) & 255)) - 510.0f;
-          };
-          const float a = sum4(bits) * (1.0f / 147.80054f), b = sum4(bits >> 32) * (1.0f / 147.80054f);
-          d_true[j] += ctx.jitter_sigma * (a * cel * e_az[j] + b * e_el[j]);
-        }
-      }
-      for (int k = 0; k < K; ++k) {
-        const BeamModel::SubRay& sr = ctx.beam.sub(k);
         for (int j = 0; j < 16; ++j) {
-          Eigen::Vector3f o = ctx.p_WS, d = d_true[j];
-          if (K > 1) {
-            // off is orthogonal to the (unit) beam, so |d + h off|^2 = 1 + (h ring)^2 for every
-            // lane: one precomputed scale instead of a normalisation (jitter changes it by
-            // ~1e-9).
-            const Eigen::Vector3f off = sr.a * e_az[j] + sr.b * e_el[j];
-            o += ctx.beam.exit_radius() * off;
-            d = (d + ctx.beam.half_divergence() * off) * sr.inv_norm;
+          const std::uint32_t r = r0 + static_cast<std::uint32_t>(std::min(j, n - 1));
+          const float sel = ctx.sin_el[r], cel = ctx.cos_el[r];
+          d_true[j] = cel * A + sel * B;
+          pulse[j] = static_cast<std::uint64_t>(c) * rows + r;
+          valid[j] = j < n ? -1 : 0;
+          if (need_basis) {
+            e_az[j] = C;
+            e_el[j] = -sel * A + cel * B;
           }
-          rh.ray.org_x[j] = o.x();
-          rh.ray.org_y[j] = o.y();
-          rh.ray.org_z[j] = o.z();
-          rh.ray.dir_x[j] = d.x();
-          rh.ray.dir_y[j] = d.y();
-          rh.ray.dir_z[j] = d.z();
-          ResetLane(&rh, j);
+          if (ctx.jitter_sigma > 0.0f) {
+            // Per-pulse direction jitter: the true beam differs from the encoder angles. First
+            // order in sigma (~1e-5 rad): the direction stays unit to 1e-10. One draw: per axis an
+            // Irwin-Hall sum of four 8-bit uniforms (sigma 147.8 units).
+            PulseStream jr(ctx.jitter_key, pulse[j]);
+            const std::uint64_t bits = jr.NextU64();
+            const auto sum4 = [](std::uint64_t v) {
+              return static_cast<float>((v & 255) + ((v >> 8) & 255) + ((v >> 16) & 255) +
+                                        ((v >> 24) & 255)) -
+                     510.0f;
+            };
+            const float a = sum4(bits) * (1.0f / 147.80054f),
+                        b = sum4(bits >> 32) * (1.0f / 147.80054f);
+            d_true[j] += ctx.jitter_sigma * (a * cel * e_az[j] + b * e_el[j]);
+          }
         }
-        rtcIntersect16(valid, w.top, &rctx, &rh);
-        if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
-        if (K == 1) PassGlassInPackets(ctx, pulse, valid, &rctx, &rh, transmitted);
-        if (K > 1) {
-          for (int j = 0; j < n; ++j) CompleteSubHit(ctx, rh, j, pulse[j], k, &subs[static_cast<std::size_t>(j) * K + k]);
+        for (int k = 0; k < K; ++k) {
+          const BeamModel::SubRay& sr = ctx.beam.sub(k);
+          for (int j = 0; j < 16; ++j) {
+            Eigen::Vector3f o = ctx.p_WS, d = d_true[j];
+            if (K > 1) {
+              // off is orthogonal to the (unit) beam, so |d + h off|^2 = 1 + (h ring)^2 for every
+              // lane: one precomputed scale instead of a normalisation (jitter changes it by
+              // ~1e-9).
+              const Eigen::Vector3f off = sr.a * e_az[j] + sr.b * e_el[j];
+              o += ctx.beam.exit_radius() * off;
+              d = (d + ctx.beam.half_divergence() * off) * sr.inv_norm;
+            }
+            rh.ray.org_x[j] = o.x();
+            rh.ray.org_y[j] = o.y();
+            rh.ray.org_z[j] = o.z();
+            rh.ray.dir_x[j] = d.x();
+            rh.ray.dir_y[j] = d.y();
+            rh.ray.dir_z[j] = d.z();
+            ResetLane(&rh, j);
+          }
+          rtcIntersect16(valid, w.top, &rctx, &rh);
+          if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
+          if (K == 1) PassGlassInPackets(ctx, pulse, valid, &rctx, &rh, transmitted);
+          if (K > 1) {
+            for (int j = 0; j < n; ++j)
+              CompleteSubHit(ctx, rh, j, pulse[j], k, &subs[static_cast<std::size_t>(j) * K + k]);
+          }
         }
-      }
       }
       if (K > 1) {
         for (int j = 0; j < n; ++j) {
           const std::uint32_t r = r0 + static_cast<std::uint32_t>(j);
-          EmitPulse(ctx, &subs[static_cast<std::size_t>(j) * K], pulse[j], r, c, block.points[column_base + r],
-                    block.truth[column_base + r]);
+          EmitPulse(ctx, &subs[static_cast<std::size_t>(j) * K], pulse[j], r, c,
+                    block.points[column_base + r], block.truth[column_base + r]);
         }
         continue;
       }
@@ -413,7 +432,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
         for (int j = 0; j < n; ++j) {
           const std::uint32_t r = r0 + static_cast<std::uint32_t>(j);
           SubHitFromPacket(ctx, rh, j, transmitted[j], &subs[0]);
-          EmitPulse(ctx, &subs[0], pulse[j], r, c, block.points[column_base + r], block.truth[column_base + r]);
+          EmitPulse(ctx, &subs[0], pulse[j], r, c, block.points[column_base + r],
+                    block.truth[column_base + r]);
         }
         continue;
       }
@@ -472,7 +492,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           too_close[j] = true;
           continue;
         }
-        const float dot = nrm.x() * rh.ray.dir_x[j] + nrm.y() * rh.ray.dir_y[j] + nrm.z() * rh.ray.dir_z[j];
+        const float dot =
+            nrm.x() * rh.ray.dir_x[j] + nrm.y() * rh.ray.dir_y[j] + nrm.z() * rh.ray.dir_z[j];
         const float ca = std::clamp(std::abs(dot), 1e-4f, 1.0f);
         lanes.cos_a[j] = ca;
         lanes.rho_offset[j] = sp.rho_offset;
@@ -513,7 +534,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
             interfaces::TlsPoint pt;
             pt.row = r;
             pt.column = c;
-            pt.timestamp = start_time + static_cast<double>(static_cast<std::int64_t>(pulse[j])) * pulse_period;
+            pt.timestamp = start_time +
+                           static_cast<double>(static_cast<std::int64_t>(pulse[j])) * pulse_period;
             if (status != kDropped) {
               const float range = lanes.range[j];
               const float sel = sin_el[r], cel = cos_el[r];
@@ -535,7 +557,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           interfaces::TlsPoint pt;
           pt.row = r;
           pt.column = c;
-          pt.timestamp = ctx.start_time + static_cast<double>(static_cast<std::int64_t>(pulse[j])) * ctx.pulse_period;
+          pt.timestamp = ctx.start_time + static_cast<double>(static_cast<std::int64_t>(pulse[j])) *
+                                              ctx.pulse_period;
           pt_out = pt;
           tr_out = TlsPointTruth{};
           continue;
@@ -557,8 +580,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
             lanes.range[j] = echo.range;
             lanes.intensity[j] = echo.intensity;
             const auto rgb = ctx.beam.ColourOf(
-                Eigen::Vector3f(lanes.albedo[0][j], lanes.albedo[1][j], lanes.albedo[2][j]), lanes.facing_nz[j],
-                echo.colour_noise);
+                Eigen::Vector3f(lanes.albedo[0][j], lanes.albedo[1][j], lanes.albedo[2][j]),
+                lanes.facing_nz[j], echo.colour_noise);
             for (int ch = 0; ch < 3; ++ch) lanes.rgb[ch][j] = rgb[static_cast<std::size_t>(ch)];
           }
         }
@@ -572,7 +595,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
         interfaces::TlsPoint pt;
         pt.row = r;
         pt.column = c;
-        pt.timestamp = ctx.start_time + static_cast<double>(static_cast<std::int64_t>(pulse[j])) * ctx.pulse_period;
+        pt.timestamp = ctx.start_time +
+                       static_cast<double>(static_cast<std::int64_t>(pulse[j])) * ctx.pulse_period;
         if (transmitted[j]) tr.flags |= kTruthTransmitted;
         if (too_close[j]) {
           tr.flags |= kTruthTooClose;
@@ -643,12 +667,15 @@ ScanContext MakeContext(const EmbreeWorld& world, const SurfaceTable& surfaces, 
   ctx.beam.set_range_bias(draws.bias);
   // The pulse kernel implements the single-ray model for sigma = precision / cos(a)^k with
   // k in {0, 1}; other settings use the general path everywhere.
-  ctx.use_kernel = p.footprint_rays == 1 && (p.incidence_noise_exponent == 0.0 || p.incidence_noise_exponent == 1.0);
+  ctx.use_kernel = p.footprint_rays == 1 &&
+                   (p.incidence_noise_exponent == 0.0 || p.incidence_noise_exponent == 1.0);
   PulseKernelConstants& k = ctx.kernel;
   k.noise_key = ctx.noise_key;
   k.bias = static_cast<float>(draws.bias);
   k.precision = static_cast<float>(p.range_precision);
-  k.min_cos = p.incidence_noise_exponent == 0.0 ? 1.0f : static_cast<float>(std::cos(DegToRad(p.max_noise_incidence_deg)));
+  k.min_cos = p.incidence_noise_exponent == 0.0
+                  ? 1.0f
+                  : static_cast<float>(std::cos(DegToRad(p.max_noise_incidence_deg)));
   k.dropouts = p.dropouts;
   k.min_reflectance = static_cast<float>(p.min_reflectance);
   k.sure_detect = static_cast<float>(ctx.beam.sure_detect());
@@ -674,7 +701,8 @@ ScanContext MakeContext(const EmbreeWorld& world, const SurfaceTable& surfaces, 
     ctx.part_rho_offset[i] = sp.rho_offset;
     ctx.part_element[i] = sp.element;
     ctx.part_class[i] = sp.element_class;
-    for (int ch = 0; ch < 3; ++ch) ctx.part_base[3 * i + static_cast<std::size_t>(ch)] = sp.base_linear[ch];
+    for (int ch = 0; ch < 3; ++ch)
+      ctx.part_base[3 * i + static_cast<std::size_t>(ch)] = sp.base_linear[ch];
   }
   ResolveTables& rt = ctx.resolve;
   rt.geom_to_part = ctx.world->geom_to_part.data();
@@ -707,7 +735,8 @@ class BlockPool {
 
 }  // namespace
 
-TlsScanner::TlsScanner(const EmbreeWorld& world, TlsParams params) : world_(world), params_(std::move(params)) {
+TlsScanner::TlsScanner(const EmbreeWorld& world, TlsParams params)
+    : world_(world), params_(std::move(params)) {
   params_.Validate();
   rows_ = CountRows(params_);
   columns_ = CountColumns(params_);
@@ -724,7 +753,8 @@ interfaces::TlsScan TlsScanner::MakeHeader(const ScanRequest& req) const {
   s.azimuth_min = DegToRad(params_.azimuth_min_deg);
   s.azimuth_step = DegToRad(params_.step_deg);
   s.elevation_max = DegToRad(params_.elevation_max_deg);
-  s.elevation_step = DegToRad(params_.vertical_step_deg > 0 ? params_.vertical_step_deg : params_.step_deg);
+  s.elevation_step =
+      DegToRad(params_.vertical_step_deg > 0 ? params_.vertical_step_deg : params_.step_deg);
   s.X_BS = X_BS();
   s.X_MS_estimate = req.X_MS_estimate ? *req.X_MS_estimate : req.X_WB * X_BS();
   return s;
@@ -749,12 +779,15 @@ TlsTruth TlsScanner::MakeTruthHeader(const ScanRequest& req) const {
 void TlsScanner::ScanStreamed(const ScanRequest& request, ScanSink& sink) const {
   const SurfaceTable surfaces(world_);
   const ScanContext ctx = MakeContext(world_, surfaces, params_, rows_, columns_, request);
-  // Blocks of whole columns, ~8k pulses each (their buffers stay in L2): fixed by the grid, never by the thread count.
-  const std::uint32_t per_block = std::max<std::uint32_t>(1, 8192 / std::max<std::uint32_t>(rows_, 1));
+  // Blocks of whole columns, ~8k pulses each (their buffers stay in L2): fixed by the grid, never
+  // by the thread count.
+  const std::uint32_t per_block =
+      std::max<std::uint32_t>(1, 8192 / std::max<std::uint32_t>(rows_, 1));
   const std::uint32_t blocks = (columns_ + per_block - 1) / per_block;
   BlockPool pool;
   std::uint32_t next = 0;
-  const std::size_t tokens = static_cast<std::size_t>(2 * tbb::this_task_arena::max_concurrency() + 2);
+  const std::size_t tokens =
+      static_cast<std::size_t>(2 * tbb::this_task_arena::max_concurrency() + 2);
   tbb::parallel_pipeline(
       tokens,
       tbb::make_filter<void, ScanBlock*>(tbb::filter_mode::serial_in_order,
@@ -765,7 +798,8 @@ void TlsScanner::ScanStreamed(const ScanRequest& request, ScanSink& sink) const 
                                            }
                                            ScanBlock* b = pool.Acquire();
                                            b->column_begin = next * per_block;
-                                           b->column_end = std::min(columns_, b->column_begin + per_block);
+                                           b->column_end =
+                                               std::min(columns_, b->column_begin + per_block);
                                            ++next;
                                            return b;
                                          }) &

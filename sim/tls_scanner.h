@@ -41,9 +41,9 @@ namespace mopad::sim {
 
 /// One scan to take.
 struct ScanRequest {
-  std::uint64_t seed = 0;     ///< run seed
-  std::uint64_t scan_id = 0;  ///< scan number within the run (keys the noise)
-  double start_time = 0.0;    ///< s, simulation time of the first pulse
+  std::uint64_t seed = 0;          ///< run seed
+  std::uint64_t scan_id = 0;       ///< scan number within the run (keys the noise)
+  double start_time = 0.0;         ///< s, simulation time of the first pulse
   Pose3 X_WB = Pose3::Identity();  ///< true pose of base_link in the world
   /// Pose stamped into TlsScan::X_MS_estimate (the robot's belief). Unset: the nominal
   /// X_WB * X_BS (no tilt), as a perfectly localised robot would stamp it.

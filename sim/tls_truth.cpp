@@ -27,14 +27,15 @@ std::string PoseWords(const Pose3& X) {
 }
 
 std::vector<std::string> TruthComments(const TlsTruth& t) {
-  std::vector<std::string> c = {"mopad_tls_truth 1",
-                                "mopad_scan_id " + std::to_string(t.scan_id),
-                                "mopad_grid " + std::to_string(t.rows) + " " + std::to_string(t.columns),
-                                "mopad_X_WB" + PoseWords(t.X_WB),
-                                "mopad_X_WS" + PoseWords(t.X_WS),
-                                "mopad_range_bias " + Num(t.range_bias),
-                                "mopad_tilt " + Num(t.tilt_roll) + " " + Num(t.tilt_pitch),
-                                "mopad_flags 1=transmitted 2=mixed 4=dropped 8=too_close"};
+  std::vector<std::string> c = {
+      "mopad_tls_truth 1",
+      "mopad_scan_id " + std::to_string(t.scan_id),
+      "mopad_grid " + std::to_string(t.rows) + " " + std::to_string(t.columns),
+      "mopad_X_WB" + PoseWords(t.X_WB),
+      "mopad_X_WS" + PoseWords(t.X_WS),
+      "mopad_range_bias " + Num(t.range_bias),
+      "mopad_tilt " + Num(t.tilt_roll) + " " + Num(t.tilt_pitch),
+      "mopad_flags 1=transmitted 2=mixed 4=dropped 8=too_close"};
   for (int v = 0; v <= static_cast<int>(scenes::ElementClass::kOther); ++v) {
     c.push_back("mopad_class " + std::to_string(v) + " " +
                 std::string(scenes::ToString(static_cast<scenes::ElementClass>(v))));
@@ -51,10 +52,17 @@ std::vector<std::string> TruthComments(const TlsTruth& t) {
 const std::vector<std::pair<std::string, io::PlyType>>& TruthProperties() {
   using io::PlyType;
   static const std::vector<std::pair<std::string, PlyType>> props = {
-      {"x", PlyType::kFloat32},           {"y", PlyType::kFloat32},          {"z", PlyType::kFloat32},
-      {"scalar_label", PlyType::kUInt8},  {"scalar_element", PlyType::kInt32}, {"scalar_part", PlyType::kInt32},
-      {"scalar_door", PlyType::kInt16},   {"scalar_true_range", PlyType::kFloat32},
-      {"scalar_flags", PlyType::kUInt8},  {"scalar_row", PlyType::kUInt32},  {"scalar_column", PlyType::kUInt32}};
+      {"x", PlyType::kFloat32},
+      {"y", PlyType::kFloat32},
+      {"z", PlyType::kFloat32},
+      {"scalar_label", PlyType::kUInt8},
+      {"scalar_element", PlyType::kInt32},
+      {"scalar_part", PlyType::kInt32},
+      {"scalar_door", PlyType::kInt16},
+      {"scalar_true_range", PlyType::kFloat32},
+      {"scalar_flags", PlyType::kUInt8},
+      {"scalar_row", PlyType::kUInt32},
+      {"scalar_column", PlyType::kUInt32}};
   return props;
 }
 
@@ -66,8 +74,9 @@ TlsTruthPlyStreamWriter::TlsTruthPlyStreamWriter(const std::string& path, const 
                                                  std::uint64_t expected_points)
     : ply_(path, TruthComments(meta), TruthProperties(), expected_points) {}
 
-std::uint64_t TlsTruthPlyStreamWriter::Encode(const interfaces::TlsPoint* points, const TlsPointTruth* truth,
-                                              std::size_t n, std::string& out) {
+std::uint64_t TlsTruthPlyStreamWriter::Encode(const interfaces::TlsPoint* points,
+                                              const TlsPointTruth* truth, std::size_t n,
+                                              std::string& out) {
   const std::size_t start = out.size();
   out.resize(start + n * kRecord);
   char* p = out.data() + start;
@@ -94,8 +103,10 @@ std::uint64_t TlsTruthPlyStreamWriter::Encode(const interfaces::TlsPoint* points
   return count;
 }
 
-void WriteTlsTruthPly(const std::string& path, const interfaces::TlsScan& scan, const TlsTruth& truth) {
-  if (truth.points.size() != scan.points.size() || truth.rows != scan.rows || truth.columns != scan.columns) {
+void WriteTlsTruthPly(const std::string& path, const interfaces::TlsScan& scan,
+                      const TlsTruth& truth) {
+  if (truth.points.size() != scan.points.size() || truth.rows != scan.rows ||
+      truth.columns != scan.columns) {
     throw InputError(path, "truth grid does not match the scan");
   }
   TlsTruthPlyStreamWriter writer(path, truth);
@@ -108,7 +119,8 @@ void WriteTlsTruthPly(const std::string& path, const interfaces::TlsScan& scan, 
       col_truth[r] = truth.at(r, c);
     }
     bytes.clear();
-    const auto n = TlsTruthPlyStreamWriter::Encode(col_points.data(), col_truth.data(), scan.rows, bytes);
+    const auto n =
+        TlsTruthPlyStreamWriter::Encode(col_points.data(), col_truth.data(), scan.rows, bytes);
     writer.Append(bytes, n);
   }
   writer.Close();

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "common/frames.h"
-#include "io/scan_io.h"
 #include "interfaces/tls_scan.h"
+#include "io/scan_io.h"
 
 namespace mopad::sim {
 
@@ -22,11 +22,11 @@ enum TruthFlags : std::uint8_t {
 
 /// Truth of one pulse (16 bytes).
 struct TlsPointTruth {
-  float true_range = 0.0f;     ///< m, noise-free distance to the reported surface (dominant
-                               ///< sub-ray); 0 = nothing reported and nothing hit
-  std::int32_t element = -1;   ///< index into TlsTruth::element_ids, -1 = none / no hit
-  std::int32_t part = -1;      ///< index into Scene::parts, -1 = no hit
-  std::int16_t door = -1;      ///< index into EmbreeWorld::DoorIds(), -1 = not a door leaf
+  float true_range = 0.0f;         ///< m, noise-free distance to the reported surface (dominant
+                                   ///< sub-ray); 0 = nothing reported and nothing hit
+  std::int32_t element = -1;       ///< index into TlsTruth::element_ids, -1 = none / no hit
+  std::int32_t part = -1;          ///< index into Scene::parts, -1 = no hit
+  std::int16_t door = -1;          ///< index into EmbreeWorld::DoorIds(), -1 = not a door leaf
   std::uint8_t element_class = 0;  ///< scenes::ElementClass value (0 = unknown / no hit)
   std::uint8_t flags = 0;          ///< TruthFlags
 };
@@ -52,16 +52,18 @@ struct TlsTruth {
 /// (short), scalar_true_range (float), scalar_flags (uchar), scalar_row, scalar_column (uint).
 /// Header comments carry the element table (`mopad_element <index> <id>`), the class names
 /// (`mopad_class <value> <name>`) and the true poses. InputError on I/O failure.
-void WriteTlsTruthPly(const std::string& path, const interfaces::TlsScan& scan, const TlsTruth& truth);
+void WriteTlsTruthPly(const std::string& path, const interfaces::TlsScan& scan,
+                      const TlsTruth& truth);
 
 /// Streaming writer of the same file (used by `mopad scan`).
 class TlsTruthPlyStreamWriter {
  public:
-  TlsTruthPlyStreamWriter(const std::string& path, const TlsTruth& meta, std::uint64_t expected_points = 0);
+  TlsTruthPlyStreamWriter(const std::string& path, const TlsTruth& meta,
+                          std::uint64_t expected_points = 0);
   /// Encodes the truth of the valid points among `n` cells (pure; call from workers); returns
   /// the count.
-  static std::uint64_t Encode(const interfaces::TlsPoint* points, const TlsPointTruth* truth, std::size_t n,
-                              std::string& out);
+  static std::uint64_t Encode(const interfaces::TlsPoint* points, const TlsPointTruth* truth,
+                              std::size_t n, std::string& out);
   void Append(const std::string& bytes, std::uint64_t count) { ply_.Append(bytes, count); }
   void Close() { ply_.Close(); }
 

@@ -38,7 +38,10 @@ void RegisterEvalCommand(CLI::App& app) {
                   "Truth sidecar (scene.truth.json) overriding the scene's");
   cmd->add_option("--config", *config, "YAML overriding the evaluation parameters");
   cmd->add_option("-o,--output", *out, "Output folder (default: RUN_DIR/eval)");
-  cmd->callback([=] { std::fputs(evaluation::EvaluateRun(*run_dir, *truth_file, *config, *out).tables.c_str(), stdout); });
+  cmd->callback([=] {
+    std::fputs(evaluation::EvaluateRun(*run_dir, *truth_file, *config, *out).tables.c_str(),
+               stdout);
+  });
 }
 
 }  // namespace mopad::tools

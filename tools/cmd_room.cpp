@@ -9,10 +9,10 @@
 
 #include "common/error.h"
 #include "common/params.h"
-#include "mission/room_mission.h"
-#include "tools/commands.h"
-#include "sim/scene_world.h"
 #include "mission/room_job.h"
+#include "mission/room_mission.h"
+#include "sim/scene_world.h"
+#include "tools/commands.h"
 
 namespace mopad::tools {
 void RegisterRoomCommand(CLI::App& app) {
@@ -31,7 +31,8 @@ void RegisterRoomCommand(CLI::App& app) {
   cmd->add_option("--from", *from,
                   "Start pose x,y,yaw_deg (world; default: the free spot of the room farthest "
                   "from walls and furniture)");
-  auto* seed_opt = cmd->add_option("--seed", *seed, "Run seed (default: the config's drive.seed, else 1)");
+  auto* seed_opt =
+      cmd->add_option("--seed", *seed, "Run seed (default: the config's drive.seed, else 1)");
   cmd->add_option("--config", *config, "YAML overriding RoomMissionParams fields");
   cmd->add_flag("--no-eval", *no_eval, "Skip the evaluation against the truth");
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/room");
@@ -48,20 +49,20 @@ void RegisterRoomCommand(CLI::App& app) {
     std::printf("room %s: %zu scans; %s\n", room->c_str(), res.scans.size(),
                 res.stop_reason.c_str());
     for (const auto& s : res.scans)
-      std::printf("  scan %d: coverage %.3f (+%.3f), processing %.2f s (registration %.2f, "
-                  "model %.2f, nbs %.2f)%s\n",
-                  s.index, s.coverage.ratio, s.coverage.increment,
-                  s.t_registration + s.t_model + s.t_nbs, s.t_registration, s.t_model, s.t_nbs,
-                  s.registered ? "" : "  REGISTRATION FAILED");
+      std::printf(
+          "  scan %d: coverage %.3f (+%.3f), processing %.2f s (registration %.2f, "
+          "model %.2f, nbs %.2f)%s\n",
+          s.index, s.coverage.ratio, s.coverage.increment, s.t_registration + s.t_model + s.t_nbs,
+          s.t_registration, s.t_model, s.t_nbs, s.registered ? "" : "  REGISTRATION FAILED");
     if (res.registration_failed) std::printf("registration failed for at least one scan\n");
     if (job.evaluation) {
       const mission::RoomEvaluation& e = *job.evaluation;
-      std::printf("evaluation: coverage %.3f of observable (%.1f m2), %.3f of total (%.1f m2); "
-                  "registration error max %.4f m / %.4f deg; SM1 labels %.4f agree (%llu points)\n",
-                  e.coverage.room.ShareOfObservable(), e.observable_area,
-                  e.coverage.room.ShareOfTotal(), e.total_area, e.max_translation_error,
-                  e.max_rotation_error_deg, e.labels.Accuracy(),
-                  static_cast<unsigned long long>(e.labels.points));
+      std::printf(
+          "evaluation: coverage %.3f of observable (%.1f m2), %.3f of total (%.1f m2); "
+          "registration error max %.4f m / %.4f deg; SM1 labels %.4f agree (%llu points)\n",
+          e.coverage.room.ShareOfObservable(), e.observable_area, e.coverage.room.ShareOfTotal(),
+          e.total_area, e.max_translation_error, e.max_rotation_error_deg, e.labels.Accuracy(),
+          static_cast<unsigned long long>(e.labels.points));
     }
     std::printf("wrote %s/{sm1.ply,scans.json,model.json,scan_poses.tum,map.png,%s}\n",
                 out->c_str(), *no_eval ? "room.effective.yaml" : "evaluation.json");

@@ -17,9 +17,9 @@
 #include "scenes/random_floor.h"
 #include "scenes/scene_check.h"
 #include "scenes/scene_loader.h"
+#include "scenes/scene_paths.h"
 #include "scenes/scene_spec.h"
 #include "tools/commands.h"
-#include "scenes/scene_paths.h"
 #include "tools/scene_summary.h"
 
 namespace mopad::tools {

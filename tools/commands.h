@@ -4,7 +4,6 @@
 // Errors: throw mopad::InputError for bad input (exit 2); anything else is internal (exit 3).
 
 #include <CLI/CLI.hpp>
-
 #include <string>
 
 #include "common/frames.h"
@@ -29,6 +28,5 @@ template <class T>
 void OverrideIfGiven(const CLI::Option* option, const T& value, T& field) {
   if (option->count() > 0) field = value;
 }
-
 
 }  // namespace mopad::tools

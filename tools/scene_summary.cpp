@@ -1,8 +1,7 @@
 #include "tools/scene_summary.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -34,11 +33,20 @@ SceneSummary Summarise(const scenes::Scene& scene, const scenes::GroundTruth* tr
     s.rooms = truth->rooms.size();
     for (const auto& e : truth->elements) {
       switch (e.element_class) {
-        case scenes::ElementClass::kWall: ++s.walls; break;
-        case scenes::ElementClass::kFloor: ++s.floors; break;
-        case scenes::ElementClass::kCeiling: ++s.ceilings; break;
-        case scenes::ElementClass::kColumn: ++s.columns; break;
-        default: break;
+        case scenes::ElementClass::kWall:
+          ++s.walls;
+          break;
+        case scenes::ElementClass::kFloor:
+          ++s.floors;
+          break;
+        case scenes::ElementClass::kCeiling:
+          ++s.ceilings;
+          break;
+        case scenes::ElementClass::kColumn:
+          ++s.columns;
+          break;
+        default:
+          break;
       }
     }
     for (const auto& o : truth->openings) {
@@ -48,9 +56,15 @@ SceneSummary Summarise(const scenes::Scene& scene, const scenes::GroundTruth* tr
       }
       ++s.doors;
       switch (o.state) {
-        case scenes::DoorState::kOpen: ++s.doors_open; break;
-        case scenes::DoorState::kSemiOpen: ++s.doors_semi_open; break;
-        case scenes::DoorState::kClosed: ++s.doors_closed; break;
+        case scenes::DoorState::kOpen:
+          ++s.doors_open;
+          break;
+        case scenes::DoorState::kSemiOpen:
+          ++s.doors_semi_open;
+          break;
+        case scenes::DoorState::kClosed:
+          ++s.doors_closed;
+          break;
       }
     }
     for (const auto& b : truth->service_components) ++s.bsc_per_class[b.bsc_class];

@@ -13,7 +13,7 @@
 namespace mopad::tools {
 
 struct ClassCount {
-  std::size_t elements = 0;   ///< distinct element ids (parts without id count one each)
+  std::size_t elements = 0;  ///< distinct element ids (parts without id count one each)
   std::size_t triangles = 0;
 };
 

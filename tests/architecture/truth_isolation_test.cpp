@@ -22,8 +22,9 @@ const std::vector<std::string> kRobotTargets = {"mopad_io", "mopad_perception", 
 const std::vector<std::string> kRobotDirs = {"io", "perception", "modelling", "autonomy"};
 // Targets and third-party libraries that carry or read the truth, and the mission library
 // (the simulated robot and its truth log): the robot's brain reaches none of them.
-const std::set<std::string> kTruthTargets = {"mopad_scenes", "mopad_sim", "mopad_evaluation", "mopad_mission",
-                                             "tinygltf", "assimp::assimp", "embree"};
+const std::set<std::string> kTruthTargets = {"mopad_scenes",  "mopad_sim", "mopad_evaluation",
+                                             "mopad_mission", "tinygltf",  "assimp::assimp",
+                                             "embree"};
 
 Graph ReadGraph() {
   Graph g;
@@ -105,7 +106,8 @@ TEST(TruthIsolation, RobotSourcesDoNotIncludeTruth) {
       for (int n = 1; std::getline(in, line); ++n) {
         EXPECT_FALSE(std::regex_search(line, ForbiddenInclude()))
             << e.path().string() << ":" << n << ": " << line;
-        const bool cmake_comment = ext == ".txt" && line.find_first_not_of(" \t") != std::string::npos &&
+        const bool cmake_comment = ext == ".txt" &&
+                                   line.find_first_not_of(" \t") != std::string::npos &&
                                    line[line.find_first_not_of(" \t")] == '#';
         if (ext == ".txt" && !cmake_comment) {  // CMakeLists: no truth targets by name either
           EXPECT_EQ(line.find("mopad::scenes"), std::string::npos) << e.path() << ":" << n;

@@ -39,8 +39,8 @@ TEST(NavigationDocs, YamlExamplesLoadIntoTheParamsStructs) {
   ASSERT_FALSE(blocks.empty());
   for (const auto& text : blocks) {
     const YAML::Node root = LoadYamlString(text, path);
-    RejectUnknownKeys(root, {"occupancy_grid", "amcl", "global_planner", "local_controller"},
-                      path, "");
+    RejectUnknownKeys(root, {"occupancy_grid", "amcl", "global_planner", "local_controller"}, path,
+                      "");
     const auto grid = LoadParams<perception::OccupancyGridParams>(root["occupancy_grid"], path);
     const auto amcl = LoadParams<perception::AmclParams>(root["amcl"], path);
     const auto planner = LoadParams<GlobalPlannerParams>(root["global_planner"], path);

@@ -28,14 +28,16 @@ bool FootprintHits(const Pose2& p, const std::vector<Box2>& boxes) {
     return false;
   };
   for (double u = -1.0; u <= 1.0; u += 0.01 / hx) {
-    for (const Vec2& l : {Vec2(u * hx, hy), Vec2(u * hx, -hy), Vec2(hx, u * hy), Vec2(-hx, u * hy)}) {
+    for (const Vec2& l :
+         {Vec2(u * hx, hy), Vec2(u * hx, -hy), Vec2(hx, u * hy), Vec2(-hx, u * hy)}) {
       if (inside_box(Vec2(p.x + c * l.x() - s * l.y(), p.y + s * l.x() + c * l.y()))) return true;
     }
   }
   for (const auto& b : boxes) {
     for (const Vec2& q : {b.lo, b.hi, Vec2(b.lo.x(), b.hi.y()), Vec2(b.hi.x(), b.lo.y())}) {
       const Vec2 d = q - Vec2(p.x, p.y);
-      if (std::abs(c * d.x() + s * d.y()) < hx && std::abs(-s * d.x() + c * d.y()) < hy) return true;
+      if (std::abs(c * d.x() + s * d.y()) < hx && std::abs(-s * d.x() + c * d.y()) < hy)
+        return true;
     }
   }
   return false;
@@ -52,7 +54,7 @@ struct RunResult {
 };
 
 struct Scenario {
-  std::vector<Box2> world = testing::TwoRooms();  // the truth the LRF sees
+  std::vector<Box2> world = testing::TwoRooms();      // the truth the LRF sees
   std::vector<Box2> map_boxes = testing::TwoRooms();  // what the robot's map was built from
   Pose2 start{2.0, 3.8, 0.0};
   Pose2 goal{8.0, 2.0, kPi / 2};
@@ -107,7 +109,8 @@ RunResult Drive(Scenario sc) {
   for (int k = 0; k * dt < sc.max_time; ++k) {
     const double t = k * dt;
     if (sc.events) sc.events(t, pose, sc.world, stuck, loc);
-    const auto scan = testing::SimulateScan(sc.world, pose, 3, static_cast<std::uint64_t>(k), 0.005);
+    const auto scan =
+        testing::SimulateScan(sc.world, pose, 3, static_cast<std::uint64_t>(k), 0.005);
     r.last = ctl.Update(t, pose, loc, scan);
     r.seen.insert(r.last.status);
     if (r.last.status != prev) {
@@ -201,7 +204,8 @@ TEST(LocalController, RecoversAndReplansAroundAPermanentUnmappedObstacle) {
   Scenario sc;
   sc.world.push_back({{3.2, 2.0}, {3.5, 4.6}});  // a cabinet moved in after the map was made
   const RunResult r = Drive(sc);
-  std::printf("[ CONTROL  ] %s after %d replans, %.1f s\n", ToString(r.last.status), r.replans, r.time);
+  std::printf("[ CONTROL  ] %s after %d replans, %.1f s\n", ToString(r.last.status), r.replans,
+              r.time);
   EXPECT_EQ(r.last.status, NavStatus::kArrived) << r.last.message;
   EXPECT_TRUE(r.seen.count(NavStatus::kBlocked));
   EXPECT_TRUE(r.seen.count(NavStatus::kRecovering));
@@ -214,7 +218,8 @@ TEST(LocalController, EndsUnreachableWhenAnUnmappedLeafClosesTheOnlyDoor) {
   Scenario sc;
   sc.world.push_back({{4.97, 2.55}, {5.03, 3.45}});  // closed leaf, absent from the map
   const RunResult r = Drive(sc);
-  std::printf("[ CONTROL  ] %s at t=%.1f s: %s\n", ToString(r.last.status), r.time, r.last.message.c_str());
+  std::printf("[ CONTROL  ] %s at t=%.1f s: %s\n", ToString(r.last.status), r.time,
+              r.last.message.c_str());
   EXPECT_EQ(r.last.status, NavStatus::kUnreachable) << r.last.message;
   EXPECT_TRUE(r.last.finished);
   EXPECT_NE(r.last.message.find("not connected"), std::string::npos);
@@ -264,7 +269,8 @@ TEST(LocalController, ClosedLoopWithAmclReachesTheGoalMeasuredAgainstTheTruth) {
   const Pose2 start{2.0, 3.8, 0.0}, goal{8.0, 2.0, kPi / 2};
   GlobalPlanner planner(map, GlobalPlannerParams{}, 11);
   perception::Amcl amcl(map, perception::AmclParams{}, 11);
-  amcl.SetInitialPose({2.03, 3.78, 0.02}, Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+  amcl.SetInitialPose({2.03, 3.78, 0.02},
+                      Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
   LocalController ctl(LocalControllerParams{});
   Pose2 truth = start;
   interfaces::Odometry odom;
@@ -310,10 +316,11 @@ TEST(LocalController, ClosedLoopWithAmclReachesTheGoalMeasuredAgainstTheTruth) {
   }
   const double exy = std::hypot(truth.x - goal.x, truth.y - goal.y);
   const double eyaw = std::abs(WrapAngle(truth.yaw - goal.yaw));
-  std::printf("[ CONTROL  ] closed loop with AMCL: %s; true error %.1f mm, %.2f deg; localisation "
-              "RMS %.1f mm, max %.1f mm\n",
-              ToString(out.status), 1000 * exy, RadToDeg(eyaw), 1000 * std::sqrt(sum_sq / n),
-              1000 * max_loc_err);
+  std::printf(
+      "[ CONTROL  ] closed loop with AMCL: %s; true error %.1f mm, %.2f deg; localisation "
+      "RMS %.1f mm, max %.1f mm\n",
+      ToString(out.status), 1000 * exy, RadToDeg(eyaw), 1000 * std::sqrt(sum_sq / n),
+      1000 * max_loc_err);
   EXPECT_EQ(out.status, NavStatus::kArrived) << out.message;
   EXPECT_LT(exy, 0.10);
   EXPECT_LT(eyaw, DegToRad(5.0));
@@ -353,8 +360,8 @@ TEST(LocalController, BackingUpChecksTheMapBehindTheBase) {
 // out meets the bin before there is room to turn (office_5rooms, seed 6: a scan stop in the
 // mouth of a niche in R1, blocked for good after four recoveries).
 struct Niche {
-  std::vector<Box2> boxes = {{{0.0, 2.0}, {1.3, 2.4}},    // cabinet, south side
-                             {{0.0, 3.2}, {1.3, 3.6}},    // cabinet, north side
+  std::vector<Box2> boxes = {{{0.0, 2.0}, {1.3, 2.4}},     // cabinet, south side
+                             {{0.0, 3.2}, {1.3, 3.6}},     // cabinet, north side
                              {{1.95, 2.4}, {2.15, 2.7}}};  // bin behind the base, off its axis
   Pose2 base{1.0, 2.8, kPi};
   /// The boxes' outlines (2 cm spacing) in the base's frame.
@@ -396,11 +403,13 @@ TEST(LocalController, EscapeManoeuvreLeavesANicheWhereItCannotTurn) {
   Vec2 target = east_B;
   double total = 0.0;
   for (const ArcMove& a : escape) {
-    std::printf("[ ESCAPE   ] %.1f m %s, yaw rate %.2f rad/s\n", a.length, a.v < 0 ? "back" : "forward", a.w);
+    std::printf("[ ESCAPE   ] %.1f m %s, yaw rate %.2f rad/s\n", a.length,
+                a.v < 0 ? "back" : "forward", a.w);
     EXPECT_GE(ctl.FreeTravel(now, a.v, a.w, P.stop_distance, a.length), a.length - 1e-9);
     const double t = a.length / std::abs(a.v), th = a.w * t;
-    const Pose2 X = std::abs(th) < 1e-9 ? Pose2{a.v * t, 0.0, 0.0}
-                                        : Pose2{a.v / a.w * std::sin(th), a.v / a.w * (1.0 - std::cos(th)), th};
+    const Pose2 X = std::abs(th) < 1e-9
+                        ? Pose2{a.v * t, 0.0, 0.0}
+                        : Pose2{a.v / a.w * std::sin(th), a.v / a.w * (1.0 - std::cos(th)), th};
     auto in_x = [&](const Vec2& p) {
       const double c = std::cos(X.yaw), s = std::sin(X.yaw);
       const Vec2 d = p - Vec2(X.x, X.y);
@@ -414,13 +423,16 @@ TEST(LocalController, EscapeManoeuvreLeavesANicheWhereItCannotTurn) {
   EXPECT_LE(total, 2.0 * P.escape_arc_length);
   const double alpha = std::atan2(target.y(), target.x());
   if (std::abs(alpha) > DegToRad(P.rotate_in_place_deg)) {
-    EXPECT_GE(ctl.FreeTravel(now, 0.0, alpha > 0 ? 1.0 : -1.0, 0.03, std::abs(alpha)), std::abs(alpha) - 1e-9);
+    EXPECT_GE(ctl.FreeTravel(now, 0.0, alpha > 0 ? 1.0 : -1.0, 0.03, std::abs(alpha)),
+              std::abs(alpha) - 1e-9);
   }
 
   // Boxed in on every side (a 0.7 m x 0.6 m cell): no manoeuvre, said as empty.
   std::vector<Vec2> cell;
-  for (double u = -0.35; u <= 0.35; u += 0.02) cell.emplace_back(u, 0.3), cell.emplace_back(u, -0.3);
-  for (double u = -0.3; u <= 0.3; u += 0.02) cell.emplace_back(0.35, u), cell.emplace_back(-0.35, u);
+  for (double u = -0.35; u <= 0.35; u += 0.02)
+    cell.emplace_back(u, 0.3), cell.emplace_back(u, -0.3);
+  for (double u = -0.3; u <= 0.3; u += 0.02)
+    cell.emplace_back(0.35, u), cell.emplace_back(-0.35, u);
   EXPECT_TRUE(ctl.EscapeManoeuvre(cell, east_B).empty());
   // Switched off.
   LocalControllerParams off;
@@ -458,9 +470,9 @@ TEST(LocalController, EscapesANicheToArriveWhereBackingUpAloneEndsBlocked) {
 TEST(LocalController, FreeTravelOfTheFootprint) {
   LocalController ctl(LocalControllerParams{});
   const std::vector<Vec2> wall = {{1.0, -0.1}, {1.0, 0.0}, {1.0, 0.1}};
-  EXPECT_NEAR(ctl.FreeTravel(wall, 0.5, 0.0, 0.0, 2.0), 0.7, 0.021);   // front face at 0.3 m
+  EXPECT_NEAR(ctl.FreeTravel(wall, 0.5, 0.0, 0.0, 2.0), 0.7, 0.021);  // front face at 0.3 m
   EXPECT_NEAR(ctl.FreeTravel(wall, 0.5, 0.0, 0.1, 2.0), 0.6, 0.021);
-  EXPECT_NEAR(ctl.FreeTravel(wall, -0.5, 0.0, 0.0, 2.0), 2.0, 1e-9);   // behind: free
+  EXPECT_NEAR(ctl.FreeTravel(wall, -0.5, 0.0, 0.0, 2.0), 2.0, 1e-9);  // behind: free
   // A post beside the front-left: turning left sweeps the left side into it after ~0.22 rad
   // (0.3 cos a - 0.2 sin a = 0.25); turning right moves away from it.
   EXPECT_NEAR(ctl.FreeTravel({{0.2, 0.3}}, 0.0, 1.0, 0.0, 1.0), 0.22, 0.021);
@@ -505,10 +517,12 @@ TEST(LocalController, JambDistanceIsRobustToRangeNoise) {
     for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
       const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
       auto in_base = [&](double r) {
-        const Eigen::Vector3d q = scan.X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
+        const Eigen::Vector3d q =
+            scan.X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
         return Vec2(q.x(), q.y());
       };
-      if (std::isfinite(scan.ranges[k]) && scan.ranges[k] < scan.range_max) raw.push_back(in_base(scan.ranges[k]));
+      if (std::isfinite(scan.ranges[k]) && scan.ranges[k] < scan.range_max)
+        raw.push_back(in_base(scan.ranges[k]));
       if (std::isfinite(med[k])) filtered.push_back(in_base(med[k]));
     }
     double raw_left = 1e9;

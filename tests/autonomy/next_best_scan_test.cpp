@@ -79,9 +79,10 @@ TEST(NextBestScan, LRoomChoosesAPositionThatSeesTheHiddenLeg) {
   next.AddScan(s.scan, s.X_MS);
   EXPECT_TRUE(next.GetRoi().ContainsPlan(Vec2(8.5, 7.0)));
   EXPECT_GT(next.Coverage().sensed_area, model.Coverage().sensed_area + 30.0);
-  std::printf("[figures] L-room coverage: scan 1 %.3f (%.1f m2), scan 2 at (%.2f, %.2f) %.3f (%.1f m2)\n",
-              model.Coverage().ratio, model.Coverage().sensed_area, r.goal.x, r.goal.y, next.Coverage().ratio,
-              next.Coverage().sensed_area);
+  std::printf(
+      "[figures] L-room coverage: scan 1 %.3f (%.1f m2), scan 2 at (%.2f, %.2f) %.3f (%.1f m2)\n",
+      model.Coverage().ratio, model.Coverage().sensed_area, r.goal.x, r.goal.y,
+      next.Coverage().ratio, next.Coverage().sensed_area);
 }
 
 TEST(NextBestScan, PatchesAnEarlierScanShouldHaveSensedAreDiscounted) {
@@ -109,7 +110,8 @@ TEST(NextBestScan, PatchesAnEarlierScanShouldHaveSensedAreDiscounted) {
   EXPECT_LT(b.candidates[near].gain, 0.1 * b.candidates[b.chosen].gain);
   EXPECT_GT(b.goal.x, 7.0) << b.message;
   // No candidate gains more with the discount than without.
-  for (std::size_t i = 0; i < a.candidates.size(); ++i) EXPECT_LE(b.candidates[i].gain, a.candidates[i].gain + 1e-9);
+  for (std::size_t i = 0; i < a.candidates.size(); ++i)
+    EXPECT_LE(b.candidates[i].gain, a.candidates[i].gain + 1e-9);
 }
 
 TEST(NextBestScan, SameResultTwiceAndWithOneOrTwoThreads) {
@@ -162,7 +164,8 @@ TEST(NextBestScan, EmptyModelAndBadParams) {
   p = {};
   p.candidate_spacing = 0.0;
   EXPECT_THROW(NextBestScan(L().model, map, Pose2{}, 0.2, p), InputError);
-  const auto q = LoadParams<NextBestScanParams>(LoadYamlString("frontier_factor: 2\n", "n.yaml"), "n.yaml");
+  const auto q =
+      LoadParams<NextBestScanParams>(LoadYamlString("frontier_factor: 2\n", "n.yaml"), "n.yaml");
   EXPECT_EQ(q.frontier_factor, 2.0);
 }
 

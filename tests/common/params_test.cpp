@@ -134,7 +134,6 @@ TEST(Params, MissingFileAndBadYamlAreOneLineErrors) {
   }
 }
 
-
 // A field missing from Visit() keeps its default through a YAML round trip on both sides, so a
 // round trip cannot catch it; the coverage check does (positive controls first).
 struct ForgetfulParams {

@@ -463,7 +463,8 @@ TEST(ColumnMetrics, FarOrSmallColumnsAreFalsePositivesAndNegatives) {
   // Model: one at C2 but 0.4 x 0.2 of it (IoU exactly 0.5: not > 0.5), one far away.
   const ColumnObject half = MakeColumnObject(
       "column_1", ColumnFaces("column_1_face_", {{2.8, 0.8}, {3.2, 0.8}, {3.2, 1.0}, {2.8, 1.0}}));
-  const ColumnObject far = MakeColumnObject("column_2", ColumnFaces("column_2_face_", Square({6, 6}, 0.2)));
+  const ColumnObject far =
+      MakeColumnObject("column_2", ColumnFaces("column_2_face_", Square({6, 6}, 0.2)));
   const ColumnEvaluation e = EvaluateColumns({half, far}, {c1, c2});
   EXPECT_EQ(e.detection.tp, 0);
   EXPECT_EQ(e.detection.fp, 2);

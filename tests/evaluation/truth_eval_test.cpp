@@ -1,6 +1,8 @@
 // Truth-side figures of issue 5 on rooms built in code with known answers: structural surface
 // cells, reachable positions, observable area, coverage, registration error, SM1 label truth.
 
+#include "evaluation/truth_eval.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +16,6 @@
 #include "evaluation/coverage.h"
 #include "evaluation/observability.h"
 #include "evaluation/scan_eval.h"
-#include "evaluation/truth_eval.h"
 #include "evaluation/truth_surfaces.h"
 #include "io/scan_io.h"
 #include "scenes/generator.h"
@@ -46,9 +47,10 @@ scenes::GroundTruth BoxTruth(double W, double D, double H) {
   r.floor_z = 0;
   r.ceiling_z = H;
   t.rooms.push_back(r);
-  const std::pair<const char*, ElementClass> els[] = {{"floor", ElementClass::kFloor},   {"ceiling", ElementClass::kCeiling},
-                                                     {"wall_s", ElementClass::kWall},   {"wall_e", ElementClass::kWall},
-                                                     {"wall_n", ElementClass::kWall},   {"wall_w", ElementClass::kWall}};
+  const std::pair<const char*, ElementClass> els[] = {
+      {"floor", ElementClass::kFloor}, {"ceiling", ElementClass::kCeiling},
+      {"wall_s", ElementClass::kWall}, {"wall_e", ElementClass::kWall},
+      {"wall_n", ElementClass::kWall}, {"wall_w", ElementClass::kWall}};
   for (const auto& [id, cls] : els) {
     scenes::StructuralElement e;
     e.id = id;
@@ -67,7 +69,8 @@ scenes::Scene BoxScene(double W, double D, double H) {
 }
 
 /// A closed box of furniture [lo, hi] (faces outward).
-void AddFurnitureBox(scenes::Scene& s, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const std::string& id) {
+void AddFurnitureBox(scenes::Scene& s, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                     const std::string& id) {
   scenes::MeshPart p;
   p.name = p.element_id = id;
   p.element_class = ElementClass::kFurniture;
@@ -75,7 +78,8 @@ void AddFurnitureBox(scenes::Scene& s, const Eigen::Vector3d& lo, const Eigen::V
   s.parts.push_back(std::move(p));
 }
 
-double AreaOf(const StructuralSurfaces& s, const std::vector<std::uint8_t>& flags, ElementClass cls) {
+double AreaOf(const StructuralSurfaces& s, const std::vector<std::uint8_t>& flags,
+              ElementClass cls) {
   double a = 0;
   for (std::size_t k = 0; k < s.cells.size(); ++k)
     if (flags[k] && s.cells[k].element_class == cls) a += s.cells[k].area;
@@ -85,7 +89,8 @@ double AreaOf(const StructuralSurfaces& s, const std::vector<std::uint8_t>& flag
 // ---------------------------------------------------------------- structural surfaces
 
 TEST(TruthSurfaces, BoxRoomAreaIsAnalyticPerElement) {
-  const StructuralSurfaces s = SampleStructuralSurfaces(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R");
+  const StructuralSurfaces s =
+      SampleStructuralSurfaces(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R");
   const double total = 2 * kW * kD + 2 * (kW + kD) * kH;  // 90.4 m^2
   EXPECT_NEAR(s.TotalArea(), total, 0.01 * total);
   EXPECT_NEAR(s.TotalArea(), total, 1e-4);  // in fact exact up to float vertices
@@ -117,7 +122,9 @@ TEST(TruthSurfaces, OpeningIsCutOutAndCellsLieOnTheirSurface) {
     if (c.element != 3) continue;
     EXPECT_NEAR(c.centre.x(), 5.0, 1e-6);
     // Centres are on the wall, never inside the door hole.
-    EXPECT_FALSE(c.centre.y() > 1.03 + 1e-6 && c.centre.y() < 2.0 - 1e-6 && c.centre.z() < 2.1 - 1e-6) << k << " " << c.centre.transpose() << " a=" << c.area;
+    EXPECT_FALSE(c.centre.y() > 1.03 + 1e-6 && c.centre.y() < 2.0 - 1e-6 &&
+                 c.centre.z() < 2.1 - 1e-6)
+        << k << " " << c.centre.transpose() << " a=" << c.area;
     EXPECT_EQ(s.FindCell(c.centre + 0.01 * c.normal, 0.03), static_cast<std::int32_t>(k));
   }
   EXPECT_EQ(s.FindCell(Eigen::Vector3d(5.0, 1.5, 1.0), 0.03), -1);  // in the hole
@@ -175,7 +182,8 @@ TEST(Observability, UnseenFloorAndCeilingMatchTheElevationLimits) {
     for (double y = step / 2; y < D; y += step)
       for (double x = step / 2; x < W; x += step) {
         bool seen = false;
-        for (const auto& q : r.positions) seen = seen || (Eigen::Vector2d(x, y) - q).norm() >= min_h;
+        for (const auto& q : r.positions)
+          seen = seen || (Eigen::Vector2d(x, y) - q).norm() >= min_h;
         if (!seen) a += step * step;
       }
     return a;
@@ -206,9 +214,10 @@ TEST(Observability, CabinetAgainstAWallHidesItsFootprintOnWallAndFloor) {
   const auto [o0, s0] = observable(empty);
   const auto [o1, s1] = observable(with);
   EXPECT_NEAR(o1.total_area, o0.total_area, 1e-9);  // the truth surfaces do not change
-  const double wall_drop = AreaOf(s0, o0.observable, ElementClass::kWall) - AreaOf(s1, o1.observable, ElementClass::kWall);
-  const double floor_drop =
-      AreaOf(s0, o0.observable, ElementClass::kFloor) - AreaOf(s1, o1.observable, ElementClass::kFloor);
+  const double wall_drop = AreaOf(s0, o0.observable, ElementClass::kWall) -
+                           AreaOf(s1, o1.observable, ElementClass::kWall);
+  const double floor_drop = AreaOf(s0, o0.observable, ElementClass::kFloor) -
+                            AreaOf(s1, o1.observable, ElementClass::kFloor);
   // Wall behind it: 1.0 x 1.0; floor under it 1.0 x 0.5.
   std::printf("cabinet: wall drop %.4f m2, floor drop %.4f m2\n", wall_drop, floor_drop);
   EXPECT_NEAR(wall_drop, 1.0, 0.03);
@@ -270,7 +279,8 @@ TEST(Observability, AgreesWithABruteForceSingleRayCheck) {
         break;
       }
     }
-    EXPECT_EQ(o.observable[k], visible ? 1 : 0) << k << " centre " << c.centre.transpose() << " el " << s.elements[c.element].id;
+    EXPECT_EQ(o.observable[k], visible ? 1 : 0)
+        << k << " centre " << c.centre.transpose() << " el " << s.elements[c.element].id;
     seen += visible;
   }
   EXPECT_GT(seen, s.cells.size() / 2);
@@ -302,16 +312,19 @@ TEST(TruthEvalParams, YamlRoundTripAndUnknownKeys) {
   EXPECT_EQ(q.coverage.distance_tolerance, 0.02);
   EXPECT_EQ(q.labels.outside_margin, 0.05);
   EXPECT_EQ(YAML::Dump(SaveParams(q)), YAML::Dump(SaveParams(p)));
-  EXPECT_THROW(LoadParams<TruthEvalParams>(LoadYamlString("observability: {robot_radus: 0.3}", "x.yaml"), "x.yaml"),
+  EXPECT_THROW(LoadParams<TruthEvalParams>(
+                   LoadYamlString("observability: {robot_radus: 0.3}", "x.yaml"), "x.yaml"),
                InputError);
-  EXPECT_THROW(LoadParams<TruthEvalParams>(LoadYamlString("surfaces: {cell_size: 0}", "x.yaml"), "x.yaml"),
-               InputError);
+  EXPECT_THROW(
+      LoadParams<TruthEvalParams>(LoadYamlString("surfaces: {cell_size: 0}", "x.yaml"), "x.yaml"),
+      InputError);
 }
 
 // ---------------------------------------------------------------- coverage
 
 TEST(Coverage, PointsOnOneWallCoverExactlyThatWallsShare) {
-  const StructuralSurfaces s = SampleStructuralSurfaces(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R");
+  const StructuralSurfaces s =
+      SampleStructuralSurfaces(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R");
   // The map frame is the world moved by 10 m and turned by 30 deg.
   Pose3 X_WM = Pose3::Identity();
   X_WM.translation() = Eigen::Vector3d(10, -3, 0.5);
@@ -320,7 +333,8 @@ TEST(Coverage, PointsOnOneWallCoverExactlyThatWallsShare) {
   for (double x = 0.01; x < kW; x += 0.02)
     for (double z = 0.01; z < kH; z += 0.02) {
       p_M.push_back((X_WM.inverse() * Eigen::Vector3d(x, 0.0, z)).cast<float>());  // on wall_s
-      p_M.push_back((X_WM.inverse() * Eigen::Vector3d(0.5 + 0.8 * x, 0.5, 0.2 + 0.8 * z)).cast<float>());  // air
+      p_M.push_back((X_WM.inverse() * Eigen::Vector3d(0.5 + 0.8 * x, 0.5, 0.2 + 0.8 * z))
+                        .cast<float>());  // air
     }
   const CoverageReport rep = ComputeCoverage(s, {}, p_M, X_WM);
   const double wall = kW * kH, total = s.TotalArea();
@@ -348,14 +362,16 @@ TEST(Coverage, PointsOnOneWallCoverExactlyThatWallsShare) {
   // Through a PLY file, same answer.
   io::PointCloud cloud;
   cloud.points = p_M;
-  const std::string path = (std::filesystem::temp_directory_path() / "mopad_truth_eval_cov.ply").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "mopad_truth_eval_cov.ply").string();
   io::WritePly(path, cloud);
   EXPECT_EQ(CoverageToJson(ComputeCoverageFromPly(s, {}, path, X_WM)), CoverageToJson(rep));
   std::remove(path.c_str());
 }
 
 TEST(Coverage, PointsBeyondTheToleranceDoNotCount) {
-  const StructuralSurfaces s = SampleStructuralSurfaces(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R");
+  const StructuralSurfaces s =
+      SampleStructuralSurfaces(BoxScene(kW, kD, kH), BoxTruth(kW, kD, kH), "R");
   std::vector<Eigen::Vector3f> p = {Eigen::Vector3f(2.5f, 2.0f, 0.04f)};  // 4 cm above the floor
   EXPECT_EQ(ComputeCoverage(s, {}, p, Pose3::Identity()).room.sensed_area, 0.0);
   CoverageParams wide;
@@ -368,7 +384,8 @@ TEST(Coverage, PointsBeyondTheToleranceDoNotCount) {
 TEST(ScanEval, RegistrationErrorOfAKnownOffset) {
   Pose3 X_WS = Pose3::Identity();
   X_WS.translation() = Eigen::Vector3d(3, 2, 1.4);
-  X_WS.linear() = Eigen::AngleAxisd(1.0, Eigen::Vector3d(0.1, 0.2, 1).normalized()).toRotationMatrix();
+  X_WS.linear() =
+      Eigen::AngleAxisd(1.0, Eigen::Vector3d(0.1, 0.2, 1).normalized()).toRotationMatrix();
   Pose3 X_WM = Pose3::Identity();
   X_WM.translation() = Eigen::Vector3d(-1, 4, 0);
   X_WM.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -378,11 +395,13 @@ TEST(ScanEval, RegistrationErrorOfAKnownOffset) {
   EXPECT_TRUE(TrueScannerPoseInMap(X_WM, truth).isApprox(X_MS, 1e-12));
   Pose3 offset = Pose3::Identity();
   offset.translation() = Eigen::Vector3d(0.003, 0.004, 0);  // 5 mm
-  offset.linear() = Eigen::AngleAxisd(DegToRad(0.07), Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  offset.linear() =
+      Eigen::AngleAxisd(DegToRad(0.07), Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
   const PoseError e = ScanRegistrationError(X_MS * offset, X_WM, truth);
   EXPECT_NEAR(e.translation, 0.005, 1e-12);
   EXPECT_NEAR(e.rotation_deg, 0.07, 1e-9);
-  const PoseError big = RegistrationError(X_MS * Eigen::AngleAxisd(DegToRad(179.0), Eigen::Vector3d::UnitZ()), X_MS);
+  const PoseError big =
+      RegistrationError(X_MS * Eigen::AngleAxisd(DegToRad(179.0), Eigen::Vector3d::UnitZ()), X_MS);
   EXPECT_NEAR(big.rotation_deg, 179.0, 1e-9);
   EXPECT_NEAR(big.translation, 0.0, 1e-12);
 }
@@ -408,11 +427,23 @@ TEST(ScanEval, TruthLabelsOfHandMadeReturns) {
   const Case cases[] = {
       {{3.0, 0, 0}, 0, ElementClass::kWall, 0, Sm1Label::kInlier},           // own wall at x = 5
       {{1.0, 0, -0.6}, 1, ElementClass::kFurniture, 0, Sm1Label::kClutter},  // desk in the room
-      {{6.0, 0, 0}, 2, ElementClass::kWall, 0, Sm1Label::kOutlier},          // next room's wall, x = 8
-      {{3.1, 0, 0}, 3, ElementClass::kDoorLeaf, 0, Sm1Label::kOutlier},      // closed leaf 10 cm in the wall
-      {{2.99, 0, 0}, 3, ElementClass::kDoorFrame, 0, Sm1Label::kClutter},    // casing 1 cm proud of it
-      {{1.0, 0, -1.4}, 4, ElementClass::kFloor, sim::kTruthTransmitted, Sm1Label::kOutlier},  // via glass
-      {{0, 0, 0}, -1, ElementClass::kUnknown, 0, Sm1Label::kNone},           // no return
+      {{6.0, 0, 0}, 2, ElementClass::kWall, 0, Sm1Label::kOutlier},  // next room's wall, x = 8
+      {{3.1, 0, 0},
+       3,
+       ElementClass::kDoorLeaf,
+       0,
+       Sm1Label::kOutlier},  // closed leaf 10 cm in the wall
+      {{2.99, 0, 0},
+       3,
+       ElementClass::kDoorFrame,
+       0,
+       Sm1Label::kClutter},  // casing 1 cm proud of it
+      {{1.0, 0, -1.4},
+       4,
+       ElementClass::kFloor,
+       sim::kTruthTransmitted,
+       Sm1Label::kOutlier},                                         // via glass
+      {{0, 0, 0}, -1, ElementClass::kUnknown, 0, Sm1Label::kNone},  // no return
   };
   for (const Case& c : cases) {
     interfaces::TlsPoint p;
@@ -442,7 +473,8 @@ TEST(ScanEval, TruthLabelsOfHandMadeReturns) {
   EXPECT_EQ(acc.confusion[1][1], 2u);  // outlier -> outlier
   EXPECT_EQ(acc.confusion[1][2], 1u);  // outlier -> clutter
   EXPECT_EQ(acc.confusion[2][2], 1u);  // clutter -> clutter
-  EXPECT_NE(LabelAccuracyToJson(acc).find("\"accuracy\": 0.666667"), std::string::npos) << LabelAccuracyToJson(acc);
+  EXPECT_NE(LabelAccuracyToJson(acc).find("\"accuracy\": 0.666667"), std::string::npos)
+      << LabelAccuracyToJson(acc);
   const std::vector<std::uint8_t> bad = {1, 0, 2, 3, 3, 7, 0};
   EXPECT_THROW(CompareLabels(labels, bad), InputError);
   EXPECT_THROW(TruthLabels(scan, truth, gt, "nope"), InputError);
@@ -454,7 +486,8 @@ TEST(ScanEval, SimulatedScanOfABoxRoomWithAnOpeningIsLabelledFromItsTruth) {
   scenes::Scene scene;
   scene.source = "opening";
   AddRoomWithOpening(scene, 5.f, 4.f, 2.8f, 1.5f, 2.5f, 0.0f, 2.0f);
-  sim::testing::AddQuad(scene, V(7, 0, 0), V(7, 0, 2.8f), V(7, 4, 2.8f), V(7, 4, 0), ElementClass::kWall, "wall_far");
+  sim::testing::AddQuad(scene, V(7, 0, 0), V(7, 0, 2.8f), V(7, 4, 2.8f), V(7, 4, 0),
+                        ElementClass::kWall, "wall_far");
   AddFurnitureBox(scene, {1.0, 2.8, 0.0}, {2.0, 3.5, 0.75}, "desk_R_1");
   const scenes::GroundTruth gt = BoxTruth(5, 4, 2.8);
   const sim::EmbreeWorld world(scene, &gt);
@@ -497,7 +530,8 @@ TEST(ScanEval, SimulatedScanOfABoxRoomWithAnOpeningIsLabelledFromItsTruth) {
 double AnalyticStructuralArea(const scenes::GroundTruth& t, const std::string& room) {
   double a = 0;
   for (const scenes::StructuralElement& e : t.elements) {
-    if (!scenes::IsStructural(e.element_class) || std::find(e.rooms.begin(), e.rooms.end(), room) == e.rooms.end())
+    if (!scenes::IsStructural(e.element_class) ||
+        std::find(e.rooms.begin(), e.rooms.end(), room) == e.rooms.end())
       continue;
     for (const auto& poly : e.polygons) {
       Eigen::Vector3d n = Eigen::Vector3d::Zero();
@@ -512,25 +546,29 @@ double AnalyticStructuralArea(const scenes::GroundTruth& t, const std::string& r
 }
 
 TEST(TruthFigures, Office5RoomsObservableAreaPerRoom) {
-  const scenes::GeneratedScene g =
-      scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
+  const scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
   sim::WorldOptions wo;
-  wo.robust = std::getenv("MOPAD_FAST_WORLD") == nullptr;  // watertight: no ray slips through an edge
+  wo.robust =
+      std::getenv("MOPAD_FAST_WORLD") == nullptr;  // watertight: no ray slips through an edge
   const sim::EmbreeWorld world(g.scene, &g.truth, wo);
-  std::printf("room  cells    analytic_m2  total_m2  observable_m2  share   positions  rays       seconds\n");
+  std::printf(
+      "room  cells    analytic_m2  total_m2  observable_m2  share   positions  rays       "
+      "seconds\n");
   for (const scenes::Room& room : g.truth.rooms) {
     const auto t0 = std::chrono::steady_clock::now();
     const RoomTruth rt = ComputeRoomTruth(world, g.truth, room.id);
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const Observability& o = rt.observability;
     const double analytic = AnalyticStructuralArea(g.truth, room.id);
-    std::printf("%-4s  %-7zu  %11.2f  %8.2f  %13.2f  %5.3f   %-9zu  %-9llu  %.2f\n", room.id.c_str(),
-                rt.surfaces.cells.size(), analytic, o.total_area, o.observable_area, o.observable_area / o.total_area,
-                o.positions, static_cast<unsigned long long>(o.rays), sec);
+    std::printf("%-4s  %-7zu  %11.2f  %8.2f  %13.2f  %5.3f   %-9zu  %-9llu  %.2f\n",
+                room.id.c_str(), rt.surfaces.cells.size(), analytic, o.total_area,
+                o.observable_area, o.observable_area / o.total_area, o.positions,
+                static_cast<unsigned long long>(o.rays), sec);
     const CoverageReport by_class = SummariseCoverage(rt.surfaces, {}, o.observable);
     for (const CoverageFigures& f : by_class.per_class)
-      std::printf("      %-8s total %7.2f m2  observable %7.2f m2  (%5.3f)\n", f.name.c_str(), f.total_area,
-                  f.sensed_area, f.ShareOfTotal());
+      std::printf("      %-8s total %7.2f m2  observable %7.2f m2  (%5.3f)\n", f.name.c_str(),
+                  f.total_area, f.sensed_area, f.ShareOfTotal());
     EXPECT_NEAR(o.total_area, analytic, 0.01 * analytic) << room.id;
     EXPECT_GT(o.observable_area, 0.9 * o.total_area) << room.id;
     EXPECT_LE(o.observable_area, o.total_area) << room.id;
@@ -540,8 +578,8 @@ TEST(TruthFigures, Office5RoomsObservableAreaPerRoom) {
 TEST(TruthFigures, Office5RoomsScansSenseOnlyObservableCells) {
   // Three simulated scans (riegl_vz400 profile, noise on) from reachable positions of R1: the
   // cells they sense are observable by definition, up to partial occlusion of a cell.
-  const scenes::GeneratedScene g =
-      scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
+  const scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
   const sim::EmbreeWorld world(g.scene, &g.truth);
   const RoomTruth rt = ComputeRoomTruth(world, g.truth, "R1");
   const sim::TlsScanner scanner(world, sim::TlsParams{});
@@ -562,17 +600,21 @@ TEST(TruthFigures, Office5RoomsScansSenseOnlyObservableCells) {
       if (q.valid()) p_W.push_back((truth.X_WS * Eigen::Vector3d(q.x, q.y, q.z)).cast<float>());
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const CoverageReport rep = ComputeCoverage(rt.surfaces, rt.observability.observable, p_W, Pose3::Identity());
+  const CoverageReport rep =
+      ComputeCoverage(rt.surfaces, rt.observability.observable, p_W, Pose3::Identity());
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("R1, 3 scans (%.1f s), %zu points: coverage %.2f s; sensed %.2f m2, %.3f of observable, %.3f of total; "
-              "sensed but not observable %.3f m2\n",
-              scan_seconds, p_W.size(), sec, rep.room.sensed_area, rep.room.ShareOfObservable(),
-              rep.room.ShareOfTotal(), rep.room.sensed_area - rep.room.sensed_observable_area);
+  std::printf(
+      "R1, 3 scans (%.1f s), %zu points: coverage %.2f s; sensed %.2f m2, %.3f of observable, %.3f "
+      "of total; "
+      "sensed but not observable %.3f m2\n",
+      scan_seconds, p_W.size(), sec, rep.room.sensed_area, rep.room.ShareOfObservable(),
+      rep.room.ShareOfTotal(), rep.room.sensed_area - rep.room.sensed_observable_area);
   EXPECT_GT(rep.room.ShareOfObservable(), 0.5);
   // Points of door and window casings, shelf backs and BSCs lie within the tolerance of the
   // wall they hide (~1.5 % here); shares count only observable cells (coverage.h).
   EXPECT_LT(rep.room.sensed_area - rep.room.sensed_observable_area, 0.025 * rep.room.sensed_area);
-  EXPECT_NEAR(rep.room.ShareOfTotal(), rep.room.sensed_observable_area / rep.room.total_area, 1e-12);
+  EXPECT_NEAR(rep.room.ShareOfTotal(), rep.room.sensed_observable_area / rep.room.total_area,
+              1e-12);
 }
 #endif
 

@@ -1,13 +1,12 @@
 #include "interfaces/object_model_catalogue.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <unistd.h>
 
 #include "common/error.h"
 
@@ -21,9 +20,8 @@ class CatalogueDir : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("mopad_catalogue_test_" + std::string(info->name()) + "_" +
-            std::to_string(static_cast<long>(::getpid())));
+    dir_ = fs::temp_directory_path() / ("mopad_catalogue_test_" + std::string(info->name()) + "_" +
+                                        std::to_string(static_cast<long>(::getpid())));
     fs::remove_all(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }

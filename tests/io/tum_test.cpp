@@ -1,3 +1,5 @@
+#include "io/tum.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 
 #include "common/error.h"
 #include "io/text_file.h"
-#include "io/tum.h"
 
 namespace mopad::io {
 namespace {

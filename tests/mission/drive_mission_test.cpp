@@ -1,5 +1,7 @@
 // `mopad drive`'s closed loop on scenes/two_rooms_door.yaml: R1 [0,5]x[0,4] and R2
 // [5.2,10]x[0,4] joined by door D1 at (5.1, 2). The robot starts in R1 and must reach R2.
+#include "mission/drive_mission.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -8,7 +10,6 @@
 #include <optional>
 #include <string>
 
-#include "mission/drive_mission.h"
 #include "mission/robot_session.h"
 #include "mission/room_mission.h"
 #include "scenes/generator.h"
@@ -31,7 +32,9 @@ sim::EmbreeWorld MakeWorld(const std::string& name, std::optional<double> door_a
   return sim::EmbreeWorld(std::move(g.scene), &truth);
 }
 
-sim::EmbreeWorld MakeWorld(double door_angle_deg) { return MakeWorld("two_rooms_door", door_angle_deg); }
+sim::EmbreeWorld MakeWorld(double door_angle_deg) {
+  return MakeWorld("two_rooms_door", door_angle_deg);
+}
 
 DriveRequest Request() {
   DriveRequest r;
@@ -48,11 +51,12 @@ DriveParams Params(std::uint64_t seed = 5) {
 }
 
 void Print(const char* what, const DriveResult& r) {
-  std::printf("[%s] %s: %s\n  final error %.3f m / %.2f deg, localisation RMS %.4f m max %.4f m, "
-              "contacts %d, path %.2f m, %d TLS scans, sim %.1f s, wall %.2f s (%.1fx real time)\n",
-              what, ToString(r.status), r.message.c_str(), r.goal_error_xy, r.goal_error_yaw_deg,
-              r.loc_rms, r.loc_max, r.contacts, r.path_length, r.tls_scans, r.sim_time, r.wall_time,
-              r.RealTimeFactor());
+  std::printf(
+      "[%s] %s: %s\n  final error %.3f m / %.2f deg, localisation RMS %.4f m max %.4f m, "
+      "contacts %d, path %.2f m, %d TLS scans, sim %.1f s, wall %.2f s (%.1fx real time)\n",
+      what, ToString(r.status), r.message.c_str(), r.goal_error_xy, r.goal_error_yaw_deg, r.loc_rms,
+      r.loc_max, r.contacts, r.path_length, r.tls_scans, r.sim_time, r.wall_time,
+      r.RealTimeFactor());
 }
 
 TEST(DriveMission, ArrivesThroughOpenDoorAndIsDeterministic) {
@@ -120,7 +124,8 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   };
   const DriveResult a = RunDrive(world, with, req), b = RunDrive(world, without, req);
   for (const DriveResult* r : {&a, &b}) {
-    std::printf("[ DOOR     ] door_entry_scan_distance %.1f: %d scans, at map", r == &a ? 3.0 : 0.0, r->tls_scans);
+    std::printf("[ DOOR     ] door_entry_scan_distance %.1f: %d scans, at map", r == &a ? 3.0 : 0.0,
+                r->tls_scans);
     for (const Pose2& p : r->scan_poses) std::printf(" (%.2f, %.2f)", p.x, p.y);
     const Pose2& e = r->estimated.back().pose;
     const Pose2& t = r->truth.back().pose;
@@ -225,7 +230,8 @@ TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
   EXPECT_NEAR(s.EstimatedPose().x - before.x, 0.05, 1e-6);
   EXPECT_NEAR(s.Robot().LastScan().X_MS_estimate.translation().x(), X_MS.translation().x(), 1e-12);
 
-  ASSERT_EQ(s.NavigateTo(Pose2{1.5, 1.3, 0.0}, &msg), DriveStatus::kArrived) << msg;  // world (3.0, 3.3)
+  ASSERT_EQ(s.NavigateTo(Pose2{1.5, 1.3, 0.0}, &msg), DriveStatus::kArrived)
+      << msg;  // world (3.0, 3.3)
   EXPECT_GT(s.SimTime(), t1);
   const DriveResult r = s.Result();
   EXPECT_GE(r.tls_scans, 2);  // scan-and-go may add one on the way
@@ -271,9 +277,10 @@ TEST(RobotSession, RegistersLaterScansAgainstEarlierOnes) {
   const double sigma_gated = scan_error(true, 0.1, DriveParams{}.navigator.acceptance.gate_sigmas);
   const double trusted = scan_error(true, 0.1, DriveParams{}.navigator.acceptance.gate_sigmas,
                                     DriveParams{}.navigator.acceptance.trust_constrained);
-  std::printf("scan position error: unregistered %.4f m, registered %.4f m, gated %.4f m, "
-              "sigma-gated %.4f m, default (constrained: fixed bound only) %.4f m\n", off, on,
-              gated, sigma_gated, trusted);
+  std::printf(
+      "scan position error: unregistered %.4f m, registered %.4f m, gated %.4f m, "
+      "sigma-gated %.4f m, default (constrained: fixed bound only) %.4f m\n",
+      off, on, gated, sigma_gated, trusted);
   EXPECT_GT(off, 0.03);
   EXPECT_LT(on, 0.01);
   EXPECT_GT(gated, 0.03);
@@ -297,7 +304,6 @@ TEST(RobotSession, StallWatchdogEndsADriveThatMakesNoProgress) {
   EXPECT_NE(msg.find("no progress"), std::string::npos) << msg;
   EXPECT_LT(s.SimTime(), 10.0);
 }
-
 
 // Every field of the params a mission loads is in its Visit() list (common/params.h): a field
 // left out would silently keep its default whatever the config says, and the effective config

@@ -8,10 +8,10 @@
 
 #include <chrono>
 #include <cstdio>
-#include <string>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
 
 #include "common/error.h"
 #include "modelling/stopping.h"
@@ -37,7 +37,8 @@ double OutlineDistance(const std::vector<Vec2>& poly, const std::vector<Vec2>& t
     double worst = 0.0;
     for (const auto& p : a) {
       double d = 1e300;
-      for (std::size_t i = 0; i < b.size(); ++i) d = std::min(d, DistanceToSegment(p, b[i], b[(i + 1) % b.size()]));
+      for (std::size_t i = 0; i < b.size(); ++i)
+        d = std::min(d, DistanceToSegment(p, b[i], b[(i + 1) % b.size()]));
       worst = std::max(worst, d);
     }
     return worst;
@@ -93,7 +94,8 @@ TEST(RoomModel, PerimeterDoesNotLeakThroughADoorBesideTheScanner) {
     RoomModel model;
     model.AddScan(s.scan, s.X_MS);
     const std::vector<Vec2> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
-    EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.05) << "y " << y << ": " << model.FiguresJson();
+    EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.05)
+        << "y " << y << ": " << model.FiguresJson();
     double xmax = -1e300;
     for (const auto& v : model.Perimeter()) xmax = std::max(xmax, v.x());
     EXPECT_LT(xmax, 6.05) << "y " << y;
@@ -113,7 +115,8 @@ TEST(RoomModel, PointsThroughTheDoorAreOutliersAndTheDeskIsClutter) {
       ++beyond;
       beyond_outlier += l == PointLabel::kOutlier;
     }
-    if (p.x() > 2.45f && p.x() < 3.55f && p.y() > 3.15f && p.y() < 3.65f && p.z() > 0.1f && p.z() < 0.8f) {
+    if (p.x() > 2.45f && p.x() < 3.55f && p.y() > 3.15f && p.y() < 3.65f && p.z() > 0.1f &&
+        p.z() < 0.8f) {
       ++desk;
       desk_clutter += l == PointLabel::kClutter;
     }
@@ -198,15 +201,16 @@ TEST(RoomModel, RoiIsAValidBrepAndVoxelsAreLabelled) {
     const Eigen::Vector3i q = v.VoxelOf(p);
     return v.Label(v.Index(q.x(), q.y(), q.z()));
   };
-  EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.72)), VoxelLabel::kClutter);            // desk top
-  EXPECT_EQ(label_at(Vec3(3.0, 1.0, 1.2)), VoxelLabel::kEmpty);               // open air
-  EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.0)), VoxelLabel::kOccludedStructure);   // floor under the desk
-  EXPECT_EQ(label_at(Vec3(5.0, 0.0, 1.2)), VoxelLabel::kStructure);           // south wall
+  EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.72)), VoxelLabel::kClutter);           // desk top
+  EXPECT_EQ(label_at(Vec3(3.0, 1.0, 1.2)), VoxelLabel::kEmpty);              // open air
+  EXPECT_EQ(label_at(Vec3(3.0, 3.4, 0.0)), VoxelLabel::kOccludedStructure);  // floor under the desk
+  EXPECT_EQ(label_at(Vec3(5.0, 0.0, 1.2)), VoxelLabel::kStructure);          // south wall
   // The door in the east wall (x = 6, on a voxel boundary): its layer is the room-side one.
   EXPECT_EQ(label_at(Vec3(5.99, 1.95, 1.0)), VoxelLabel::kOpening);
   EXPECT_EQ(label_at(Vec3(6.01, 1.95, 1.0)), VoxelLabel::kEmpty);  // beams through the door
   const auto counts = v.LabelCounts();
-  for (int l = 0; l < kVoxelLabelCount; ++l) EXPECT_GT(counts[l], 0) << ToString(static_cast<VoxelLabel>(l));
+  for (int l = 0; l < kVoxelLabelCount; ++l)
+    EXPECT_GT(counts[l], 0) << ToString(static_cast<VoxelLabel>(l));
 }
 
 // Issue 6: structural voxels are the single layer containing a RoI face (the truth DSM3's rule);
@@ -346,7 +350,8 @@ TEST(RoomModel, StructuralVoxelsAreTheSingleLayerContainingEachFace) {
 TEST(RoomModel, ColumnIsDetectedAndItsSurfaceIsStructural) {
   scenes::Scene scene;
   sim::testing::AddRoomBox(scene, testing::V3(0, 0, 0), testing::V3(8, 5, 2.8f));
-  AddBox(scene, testing::V3(3.8f, 2.3f, 0.0f), testing::V3(4.2f, 2.7f, 2.8f), scenes::ElementClass::kColumn, "C1");
+  AddBox(scene, testing::V3(3.8f, 2.3f, 0.0f), testing::V3(4.2f, 2.7f, 2.8f),
+         scenes::ElementClass::kColumn, "C1");
   const sim::EmbreeWorld world(std::move(scene));
   RoomModel model;
   const SimScan a = TakeScan(world, TestTls(), 1.5, 1.5, 0);
@@ -402,7 +407,8 @@ TEST(RoomModel, Sm1PlyHasTheLabelledColouredCloud) {
   const SimScan a = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
   RoomModel model;
   model.AddScan(a.scan, a.X_MS);
-  const std::string path = (std::filesystem::temp_directory_path() / "mopad_sm1_fields.ply").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "mopad_sm1_fields.ply").string();
   model.WriteSm1(path);
   const io::PointCloud c = io::ReadPly(path);
   std::filesystem::remove(path);
@@ -436,7 +442,8 @@ TEST(RoomModel, BadInputAndParamsThrow) {
   EXPECT_EQ(q.ray_stride, 3);
   const RoomModelParams r = LoadParams<RoomModelParams>(SaveParams(q), "saved");
   EXPECT_EQ(r.ray_stride, 3);
-  EXPECT_THROW(LoadParams<RoomModelParams>(LoadYamlString("wall_tol: 1\n", "t.yaml"), "t.yaml"), InputError);
+  EXPECT_THROW(LoadParams<RoomModelParams>(LoadYamlString("wall_tol: 1\n", "t.yaml"), "t.yaml"),
+               InputError);
 }
 
 TEST(Stopping, EachCriterionStopsWithItsReason) {

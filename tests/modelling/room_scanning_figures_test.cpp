@@ -64,8 +64,8 @@ Vec2 StartSpot(const scenes::GroundTruth& truth, const scenes::Room& room) {
 // Runs the loop in `rooms` (all if empty); `force_scans` > 0 ignores the stopping rule and
 // takes that many scans (timing with a full accumulated cloud).
 void RunLoop(const std::vector<std::string>& rooms, int force_scans) {
-  const scenes::GeneratedScene g =
-      scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
+  const scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
   const sim::EmbreeWorld world(g.scene, &g.truth);
   const sim::TlsParams tls = testing::TestTls(0.2);
   for (const scenes::Room& room : g.truth.rooms) {
@@ -93,11 +93,12 @@ void RunLoop(const std::vector<std::string>& rooms, int force_scans) {
         nbs = autonomy::NextBestScan(model, map, Pose2{pos.x(), pos.y(), 0.0}, 0.2);
         t_nbs = Seconds(t1);
       }
-      std::printf("[figures] %s scan %d at (%.2f, %.2f): %zu pts, model %.2f s + NBS %.2f s = %.2f s; "
-                  "coverage %.3f (+%.3f) of %.1f m2; %s\n",
-                  room.id.c_str(), k, pos.x(), pos.y(), scans.back().scan.points.size(), t_model, t_nbs,
-                  t_model + t_nbs, model.Coverage().ratio, model.Coverage().increment, model.Coverage().total_area,
-                  stop.stop ? stop.message.c_str() : nbs.message.c_str());
+      std::printf(
+          "[figures] %s scan %d at (%.2f, %.2f): %zu pts, model %.2f s + NBS %.2f s = %.2f s; "
+          "coverage %.3f (+%.3f) of %.1f m2; %s\n",
+          room.id.c_str(), k, pos.x(), pos.y(), scans.back().scan.points.size(), t_model, t_nbs,
+          t_model + t_nbs, model.Coverage().ratio, model.Coverage().increment,
+          model.Coverage().total_area, stop.stop ? stop.message.c_str() : nbs.message.c_str());
       if (stop.stop) {
         stop_message = stop.message;
         break;
@@ -118,9 +119,10 @@ void RunLoop(const std::vector<std::string>& rooms, int force_scans) {
           if (m != truth[k]) {
             const auto& t = s.truth.at(r, c);
             const std::string cls =
-                t.part >= 0 ? std::string(scenes::ToString(g.scene.parts[t.part].element_class)) : "none";
-            ++wrong[cls + (t.flags & sim::kTruthTransmitted ? "(glass)" : "") + " " + std::to_string(truth[k]) +
-                    "->" + std::to_string(m)];
+                t.part >= 0 ? std::string(scenes::ToString(g.scene.parts[t.part].element_class))
+                            : "none";
+            ++wrong[cls + (t.flags & sim::kTruthTransmitted ? "(glass)" : "") + " " +
+                    std::to_string(truth[k]) + "->" + std::to_string(m)];
           }
           ++k;
         }
@@ -128,11 +130,12 @@ void RunLoop(const std::vector<std::string>& rooms, int force_scans) {
       total += truth.size();
     }
     for (const auto& [key, count] : wrong) {
-      if (count * 500 > static_cast<int>(total)) std::printf("[figures]   %s disagreement %s: %d\n", room.id.c_str(), key.c_str(), count);
+      if (count * 500 > static_cast<int>(total))
+        std::printf("[figures]   %s disagreement %s: %d\n", room.id.c_str(), key.c_str(), count);
     }
     const double acc = static_cast<double>(agree) / static_cast<double>(total);
-    std::printf("[figures] %s: %d scans, label agreement %.4f over %zu points, %zu columns\n", room.id.c_str(),
-                model.ScanCount(), acc, total, model.Columns().size());
+    std::printf("[figures] %s: %d scans, label agreement %.4f over %zu points, %zu columns\n",
+                room.id.c_str(), model.ScanCount(), acc, total, model.Columns().size());
     EXPECT_GE(acc, 0.98) << room.id;
   }
 }

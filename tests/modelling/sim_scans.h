@@ -23,8 +23,8 @@ using V3 = Eigen::Vector3f;
 using scenes::ElementClass;
 
 /// Closed axis-aligned box [lo, hi] with outward faces (furniture, a column, ...).
-inline void AddBox(scenes::Scene& s, const V3& lo, const V3& hi, ElementClass cls, const std::string& id,
-                   const std::string& room = "") {
+inline void AddBox(scenes::Scene& s, const V3& lo, const V3& hi, ElementClass cls,
+                   const std::string& id, const std::string& room = "") {
   const float x0 = lo.x(), y0 = lo.y(), z0 = lo.z(), x1 = hi.x(), y1 = hi.y(), z1 = hi.z();
   using sim::testing::AddQuad;
   const std::size_t first = s.parts.size();
@@ -48,18 +48,24 @@ inline scenes::Scene RoomWithDoorScene(float W = 6, float D = 4, float H = 2.7f,
   for (auto& p : s.parts) p.room = room_id;
   const std::size_t hall = s.parts.size();
   // 1 mm below the floor and above the ceiling: the room's own floor and ceiling win inside it.
-  sim::testing::AddRoomBox(s, V3(-0.2f, -3.0f, -0.001f), V3(W + 5.0f, D + 3.0f, H + 0.001f), -1, "hall_");
+  sim::testing::AddRoomBox(s, V3(-0.2f, -3.0f, -0.001f), V3(W + 5.0f, D + 3.0f, H + 0.001f), -1,
+                           "hall_");
   for (std::size_t i = hall; i < s.parts.size(); ++i) s.parts[i].room = "out";
   // The room's walls are 0.2 m thick: outer faces of the south, north and east walls.
   // (1 mm clear of the room's faces, so that those are what the scanner hits from inside.)
   const float e = 0.001f;
-  AddBox(s, V3(0.0f, -0.2f, 0.0f), V3(W + 0.2f, -e, H), ElementClass::kOther, "wall_s_outer", "out");
-  AddBox(s, V3(0.0f, D + e, 0.0f), V3(W + 0.2f, D + 0.2f, H), ElementClass::kOther, "wall_n_outer", "out");
+  AddBox(s, V3(0.0f, -0.2f, 0.0f), V3(W + 0.2f, -e, H), ElementClass::kOther, "wall_s_outer",
+         "out");
+  AddBox(s, V3(0.0f, D + e, 0.0f), V3(W + 0.2f, D + 0.2f, H), ElementClass::kOther, "wall_n_outer",
+         "out");
   AddBox(s, V3(W + e, 0.0f, door_h + e), V3(W + 0.2f, D, H), ElementClass::kOther, "lintel", "out");
-  AddBox(s, V3(W + e, 0.0f, 0.0f), V3(W + 0.2f, oy0 - e, door_h), ElementClass::kOther, "wall_e_a", "out");
-  AddBox(s, V3(W + e, oy1 + e, 0.0f), V3(W + 0.2f, D, door_h), ElementClass::kOther, "wall_e_b", "out");
+  AddBox(s, V3(W + e, 0.0f, 0.0f), V3(W + 0.2f, oy0 - e, door_h), ElementClass::kOther, "wall_e_a",
+         "out");
+  AddBox(s, V3(W + e, oy1 + e, 0.0f), V3(W + 0.2f, D, door_h), ElementClass::kOther, "wall_e_b",
+         "out");
   AddBox(s, V3(2.4f, 3.1f, 0.0f), V3(3.6f, 3.7f, 0.75f), ElementClass::kFurniture, "desk", "R");
-  AddBox(s, V3(W + 2.0f, 1.0f, 0.0f), V3(W + 3.0f, 3.0f, 1.8f), ElementClass::kFurniture, "cabinet", "out");
+  AddBox(s, V3(W + 2.0f, 1.0f, 0.0f), V3(W + 3.0f, 3.0f, 1.8f), ElementClass::kFurniture, "cabinet",
+         "out");
   return s;
 }
 
@@ -72,14 +78,15 @@ inline scenes::Scene LRoomScene(float H = 2.7f) {
   AddQuad(s, V3(0, 0, 0), V3(7, 0, 0), V3(7, 3, 0), V3(0, 3, 0), ElementClass::kFloor, "floor");
   AddQuad(s, V3(7, 0, 0), V3(10, 0, 0), V3(10, 10, 0), V3(7, 10, 0), ElementClass::kFloor, "floor");
   AddQuad(s, V3(0, 0, H), V3(0, 3, H), V3(7, 3, H), V3(7, 0, H), ElementClass::kCeiling, "ceiling");
-  AddQuad(s, V3(7, 0, H), V3(7, 10, H), V3(10, 10, H), V3(10, 0, H), ElementClass::kCeiling, "ceiling");
+  AddQuad(s, V3(7, 0, H), V3(7, 10, H), V3(10, 10, H), V3(10, 0, H), ElementClass::kCeiling,
+          "ceiling");
   // Walls around the outline (0,0) (10,0) (10,10) (7,10) (7,3) (0,3).
   const std::vector<Eigen::Vector2f> o = {{0, 0}, {10, 0}, {10, 10}, {7, 10}, {7, 3}, {0, 3}};
   for (std::size_t i = 0; i < o.size(); ++i) {
     const auto& a = o[i];
     const auto& b = o[(i + 1) % o.size()];
-    AddQuad(s, V3(a.x(), a.y(), 0), V3(b.x(), b.y(), 0), V3(b.x(), b.y(), H), V3(a.x(), a.y(), H), W,
-            "wall_" + std::to_string(i));
+    AddQuad(s, V3(a.x(), a.y(), 0), V3(b.x(), b.y(), 0), V3(b.x(), b.y(), H), V3(a.x(), a.y(), H),
+            W, "wall_" + std::to_string(i));
   }
   for (auto& p : s.parts) p.room = "L";
   return s;
@@ -98,8 +105,8 @@ struct SimScan {
   Pose3 X_MS = Pose3::Identity();  ///< true scanner pose (map = world in these tests)
 };
 
-inline SimScan TakeScan(const sim::EmbreeWorld& world, const sim::TlsParams& params, double x, double y,
-                        std::uint64_t scan_id, std::uint64_t seed = 5) {
+inline SimScan TakeScan(const sim::EmbreeWorld& world, const sim::TlsParams& params, double x,
+                        double y, std::uint64_t scan_id, std::uint64_t seed = 5) {
   sim::TlsScanner scanner(world, params);
   sim::ScanRequest req;
   req.seed = seed;
@@ -115,7 +122,8 @@ inline SimScan TakeScan(const sim::EmbreeWorld& world, const sim::TlsParams& par
 /// Truth label of every valid point of `s` for room `room` (plan polygon `polygon`), the
 /// evaluator's rule: structural surface of this room -> inlier; seen through glass or outside
 /// the room polygon -> outlier; anything else -> clutter. Values as modelling::PointLabel.
-inline std::vector<std::uint8_t> TruthLabels(const SimScan& s, const scenes::Scene& scene, const std::string& room,
+inline std::vector<std::uint8_t> TruthLabels(const SimScan& s, const scenes::Scene& scene,
+                                             const std::string& room,
                                              const std::vector<Eigen::Vector2d>& polygon) {
   std::vector<std::uint8_t> out;
   for (std::uint32_t c = 0; c < s.scan.columns; ++c) {

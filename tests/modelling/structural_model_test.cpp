@@ -1,5 +1,7 @@
 // SM3 (paper §3.2): planes by MLESAC, walls from the perimeter edges, coherent intersection.
 // Synthetic rooms with known geometry: the model must reproduce them to noise level.
+#include "modelling/structural_model.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,7 +10,6 @@
 #include "common/error.h"
 #include "common/rng.h"
 #include "modelling/model_io.h"
-#include "modelling/structural_model.h"
 
 namespace mopad::modelling {
 namespace {
@@ -69,8 +70,8 @@ struct LRoom {
       AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, h},
               static_cast<int>(4000 * (b - a).norm()));
     }
-    AddRect(pts, rng, {1, 1, 0.75}, {1.5, 0, 0}, {0, 0.8, 0}, 8000);       // desk top
-    for (int i = 0; i < 3000; ++i)                                           // scattered outliers
+    AddRect(pts, rng, {1, 1, 0.75}, {1.5, 0, 0}, {0, 0.8, 0}, 8000);  // desk top
+    for (int i = 0; i < 3000; ++i)                                    // scattered outliers
       pts.emplace_back(rng.Uniform(-1, 7), rng.Uniform(-1, 6), rng.Uniform(0, 2.8));
   }
 };
@@ -88,8 +89,8 @@ TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
   in.room = "A";
   in.points = &room.pts;
   // A perimeter as the robot finds it: a few cm off, with a spurious break in one wall.
-  in.perimeter = {{0.03, 0.02}, {3.0, 0.01}, {6.02, -0.01}, {5.98, 3.02}, {3.01, 2.97},
-                  {2.98, 5.03}, {-0.02, 4.98}};
+  in.perimeter = {{0.03, 0.02}, {3.0, 0.01},  {6.02, -0.01}, {5.98, 3.02},
+                  {3.01, 2.97}, {2.98, 5.03}, {-0.02, 4.98}};
   const StructuralModel m = BuildStructuralModel(in, {});
   ASSERT_EQ(m.patches.size(), 8u);  // 6 walls (the break merged), floor, ceiling
   int walls = 0;
@@ -101,7 +102,8 @@ TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
     for (const auto& v : p.polygon) {
       double best = 1e9;
       for (const auto& c : room.outline)
-        for (double z : {0.0, 2.8}) best = std::min(best, (v - Eigen::Vector3d(c.x(), c.y(), z)).norm());
+        for (double z : {0.0, 2.8})
+          best = std::min(best, (v - Eigen::Vector3d(c.x(), c.y(), z)).norm());
       EXPECT_LT(best, 0.005) << p.id;
     }
     // The polygon winds CCW seen from the room (its Newell normal agrees with n).
@@ -155,8 +157,8 @@ TEST(StructuralModel, ColumnFootprintChamferCollapsesIntoACorner) {
   CounterRng rng(5, "column-chamfer");
   const std::vector<Eigen::Vector2d> sq = AddBoxShell(pts, rng);
   AddSquareColumnFaces(pts, rng);
-  const StructuralModel m = BoxRoomWithColumn(
-      pts, sq, {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.699}, {2.699, 2.7}, {2.3, 2.7}});
+  const StructuralModel m =
+      BoxRoomWithColumn(pts, sq, {{2.3, 2.3}, {2.7, 2.3}, {2.7, 2.699}, {2.699, 2.7}, {2.3, 2.7}});
   int n = 0;
   for (const auto& p : m.patches) {
     if (p.patch_class != PatchClass::kColumn) continue;
@@ -170,8 +172,8 @@ TEST(StructuralModel, ColumnFootprintChamferCollapsesIntoACorner) {
 }
 
 // Issue 6: a round column (r 0.25 at (1.5, 3.5), cylinder points with 3 mm radial noise) whose
-// footprint is an irregular 11-gon (1 cm radial jitter), as the robot traces it, becomes a regular 16-gon prism of
-// the fitted circle's area; a square column beside it keeps its 4 plane fits.
+// footprint is an irregular 11-gon (1 cm radial jitter), as the robot traces it, becomes a regular
+// 16-gon prism of the fitted circle's area; a square column beside it keeps its 4 plane fits.
 TEST(StructuralModel, RoundColumnBecomesARegularPrismOfTheFittedCircle) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(7, "round-column");
@@ -224,7 +226,8 @@ TEST(StructuralModel, RoundColumnBecomesARegularPrismOfTheFittedCircle) {
     EXPECT_EQ(p->patch_class, PatchClass::kColumn);
     EXPECT_NEAR(p->plane.n.z(), 0.0, 1e-12);
     EXPECT_NEAR(-p->plane.Distance({fit.centre.x(), fit.centre.y(), 1.5}), R * std::cos(M_PI / 16),
-                1e-9) << p->id;  // normal points away from the column, into the room
+                1e-9)
+        << p->id;  // normal points away from the column, into the room
     const Eigen::Vector3d& a = p->polygon[0];
     EXPECT_NEAR(std::hypot(a.x() - fit.centre.x(), a.y() - fit.centre.y()), R, 1e-6);
     // Plan area of the prism as a fan of triangles from the centre (bottom edge of each face).
@@ -241,7 +244,8 @@ TEST(StructuralModel, MlesacIgnoresGrossOutliers) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(9, "mlesac");
   AddRect(pts, rng, {0, 0, 1}, {4, 0, 0}, {0, 4, 0}, 4000, 0.002);
-  for (int i = 0; i < 4000; ++i) pts.emplace_back(rng.Uniform(0, 4), rng.Uniform(0, 4), rng.Uniform(0, 3));
+  for (int i = 0; i < 4000; ++i)
+    pts.emplace_back(rng.Uniform(0, 4), rng.Uniform(0, 4), rng.Uniform(0, 3));
   const PlaneFit f = FitPlaneMlesac(pts, Sm3Params{}, "outliers");
   ASSERT_TRUE(f.fitted);
   EXPECT_GT(std::abs(f.plane.n.z()), 0.9999);

@@ -6,8 +6,8 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 
 #include "common/error.h"
@@ -106,8 +106,8 @@ Amcl RunConvergence(std::uint64_t seed, Err* final_error = nullptr) {
 TEST(Amcl, ConvergesFromASmallInitialErrorToCentimetres) {
   Err e;
   const Amcl amcl = RunConvergence(42, &e);
-  std::printf("[ AMCL     ] converged: error %.1f mm, %.2f deg; %s\n", 1000 * e.xy,
-              RadToDeg(e.yaw), amcl.Estimate().message.c_str());
+  std::printf("[ AMCL     ] converged: error %.1f mm, %.2f deg; %s\n", 1000 * e.xy, RadToDeg(e.yaw),
+              amcl.Estimate().message.c_str());
   EXPECT_LT(e.xy, 0.03);
   EXPECT_LT(e.yaw, DegToRad(1.0));
   EXPECT_EQ(amcl.Estimate().status, LocalisationStatus::kLocalised) << amcl.Estimate().message;
@@ -130,20 +130,31 @@ TEST(Amcl, TracksARobotThroughTheDoorWithDriftingOdometry) {
     sum_sq += e.xy * e.xy;
     max_xy = std::max(max_xy, e.xy);
     max_yaw = std::max(max_yaw, e.yaw);
-    if (getenv("AMCL_DEBUG")) std::printf("u %d truth %.2f %.2f %.2f err %.3f %.2f %s\n", n, drive.Truth().x, drive.Truth().y, drive.Truth().yaw, e.xy, RadToDeg(e.yaw), amcl.Estimate().message.c_str());
+    if (getenv("AMCL_DEBUG"))
+      std::printf("u %d truth %.2f %.2f %.2f err %.3f %.2f %s\n", n, drive.Truth().x,
+                  drive.Truth().y, drive.Truth().yaw, e.xy, RadToDeg(e.yaw),
+                  amcl.Estimate().message.c_str());
     const Pose2 raw = Compose(start, drive.Odom().X_OB);
     odom_max = std::max(odom_max, PoseError(raw, drive.Truth()).xy);
     ++n;
   };
   update();
-  for (auto [x, y] : {std::pair{4.0, 3.0}, {6.5, 3.0}, {6.5, 1.5}, {8.3, 2.5}, {8.5, 5.0},
-                      {8.3, 3.2}, {6.0, 3.1}, {3.0, 3.0}, {2.8, 2.0}}) {
+  for (auto [x, y] : {std::pair{4.0, 3.0},
+                      {6.5, 3.0},
+                      {6.5, 1.5},
+                      {8.3, 2.5},
+                      {8.5, 5.0},
+                      {8.3, 3.2},
+                      {6.0, 3.1},
+                      {3.0, 3.0},
+                      {2.8, 2.0}}) {
     drive.GoTo(x, y, update);
   }
   const double rms = std::sqrt(sum_sq / n);
-  std::printf("[ AMCL     ] tracking over %d updates: RMS %.1f mm, max %.1f mm, max yaw %.2f deg "
-              "(raw odometry drifted up to %.0f mm)\n",
-              n, 1000 * rms, 1000 * max_xy, RadToDeg(max_yaw), 1000 * odom_max);
+  std::printf(
+      "[ AMCL     ] tracking over %d updates: RMS %.1f mm, max %.1f mm, max yaw %.2f deg "
+      "(raw odometry drifted up to %.0f mm)\n",
+      n, 1000 * rms, 1000 * max_xy, RadToDeg(max_yaw), 1000 * odom_max);
   EXPECT_GT(n, 100);
   EXPECT_LT(rms, 0.03);
   EXPECT_LT(max_xy, 0.08);
@@ -153,7 +164,7 @@ TEST(Amcl, TracksARobotThroughTheDoorWithDriftingOdometry) {
 }
 
 struct KidnapCase {
-  Pose2 to;                                // where the robot is carried
+  Pose2 to;                                      // where the robot is carried
   std::vector<std::pair<double, double>> route;  // where it drives afterwards
 };
 
@@ -190,10 +201,11 @@ TEST_P(AmclKidnap, IsDetectedAndTheFilterRelocalisesGlobally) {
   for (auto [x, y] : kc.route) drive.GoTo(x, y, update);
   ASSERT_TRUE(lost) << amcl.Estimate().message;
   const Err e = PoseError(amcl.Estimate().PoseAt(drive.Odom().X_OB), drive.Truth());
-  std::printf("[ AMCL     ] kidnap to (%.1f, %.1f): detected after %d updates, re-localised after "
-              "%d more; at the end: error %.1f mm, %.2f deg\n",
-              kc.to.x, kc.to.y, updates_to_loss, updates_to_relocalise - updates_to_loss,
-              1000 * e.xy, RadToDeg(e.yaw));
+  std::printf(
+      "[ AMCL     ] kidnap to (%.1f, %.1f): detected after %d updates, re-localised after "
+      "%d more; at the end: error %.1f mm, %.2f deg\n",
+      kc.to.x, kc.to.y, updates_to_loss, updates_to_relocalise - updates_to_loss, 1000 * e.xy,
+      RadToDeg(e.yaw));
   EXPECT_LE(updates_to_loss, 6);
   EXPECT_GT(updates_to_relocalise, 0);
   EXPECT_EQ(amcl.Estimate().status, LocalisationStatus::kLocalised) << amcl.Estimate().message;
@@ -240,15 +252,18 @@ TEST(Amcl, BeamsOnUnmappedWallFacesDoNotPullTheEstimate) {
     auto update = [&] {
       amcl.Update(drive.Odom(), drive.Scan());
       if (drive.Truth().x > 5.3)
-        max_err[variant] = std::max(max_err[variant],
-                                    PoseError(amcl.Estimate().PoseAt(drive.Odom().X_OB), drive.Truth()).xy);
+        max_err[variant] =
+            std::max(max_err[variant],
+                     PoseError(amcl.Estimate().PoseAt(drive.Odom().X_OB), drive.Truth()).xy);
     };
     update();
     drive.GoTo(6.5, 3.0, update);
     drive.GoTo(6.8, 4.5, update);
   }
-  std::printf("[ AMCL     ] unmapped east room: max error %.1f mm plain, %.1f mm with neutral unknown endpoints\n",
-              1000 * max_err[0], 1000 * max_err[1]);
+  std::printf(
+      "[ AMCL     ] unmapped east room: max error %.1f mm plain, %.1f mm with neutral unknown "
+      "endpoints\n",
+      1000 * max_err[0], 1000 * max_err[1]);
   // Plain: the filter is dragged metres off (measured 4.7 m); neutral: odometry-bound drift
   // while most beams end in the unknown room (measured 0.11 m; the test odometry has 2 %).
   EXPECT_GT(max_err[0], 0.5);

@@ -43,11 +43,11 @@ TEST(OccupancyGrid, PointsOutsideTheHeightBandAreNotObstacles) {
   OccupancyGrid g(p, {0.0, 0.0}, 20, 20);
   std::vector<Eigen::Vector3d> pts;
   for (int k = 0; k < 10; ++k) {
-    pts.emplace_back(0.22, 0.22, 2.5);   // ceiling lamp, above the band
-    pts.emplace_back(0.52, 0.52, 1.0);   // in the band
-    pts.emplace_back(0.82, 0.82, 0.0);   // floor
+    pts.emplace_back(0.22, 0.22, 2.5);  // ceiling lamp, above the band
+    pts.emplace_back(0.52, 0.52, 1.0);  // in the band
+    pts.emplace_back(0.82, 0.82, 0.0);  // floor
   }
-  pts.emplace_back(0.72, 0.22, 1.0);     // a single stray point: below min_points_per_cell
+  pts.emplace_back(0.72, 0.22, 1.0);  // a single stray point: below min_points_per_cell
   g.InsertPoints(pts);
   EXPECT_EQ(g.StateAt({0.22, 0.22}), CellState::kUnknown);
   EXPECT_EQ(g.StateAt({0.52, 0.52}), CellState::kOccupied);
@@ -58,8 +58,10 @@ TEST(OccupancyGrid, PointsOutsideTheHeightBandAreNotObstacles) {
 TEST(OccupancyGrid, LrfScanClearsAlongBeamsAndMarksReturns) {
   OccupancyGridParams p;
   OccupancyGrid g(p, {-1.0, -1.0}, 140, 100);  // unknown, 7 m x 5 m
-  const std::vector<Box2> world = {{{-0.6, -0.6}, {5.6, -0.5}}, {{-0.6, 3.5}, {5.6, 3.6}},
-                                   {{-0.6, -0.6}, {-0.5, 3.6}}, {{5.5, -0.6}, {5.6, 3.6}}};
+  const std::vector<Box2> world = {{{-0.6, -0.6}, {5.6, -0.5}},
+                                   {{-0.6, 3.5}, {5.6, 3.6}},
+                                   {{-0.6, -0.6}, {-0.5, 3.6}},
+                                   {{5.5, -0.6}, {5.6, 3.6}}};
   for (int k = 0; k < 5; ++k) {
     g.InsertScan(testing::SimulateScan(world, {2.0, 1.5, 0.0}, 1, k, 0.0), {2.0, 1.5, 0.0});
     g.InsertScan(testing::SimulateScan(world, {2.0, 1.5, kPi}, 1, k, 0.0), {2.0, 1.5, kPi});
@@ -74,8 +76,10 @@ TEST(OccupancyGrid, LrfScanClearsAlongBeamsAndMarksReturns) {
 // A desk top seen by the 3D scan (band points at 0.74 m) stays an obstacle although the base
 // LRF's beams pass under it (the LRF world here has no desk); with the old rule they cleared it.
 TEST(OccupancyGrid, LrfBeamsDoNotClearObstaclesSeenIn3D) {
-  const std::vector<Box2> walls = {{{-0.6, -0.6}, {5.6, -0.5}}, {{-0.6, 3.5}, {5.6, 3.6}},
-                                   {{-0.6, -0.6}, {-0.5, 3.6}}, {{5.5, -0.6}, {5.6, 3.6}}};
+  const std::vector<Box2> walls = {{{-0.6, -0.6}, {5.6, -0.5}},
+                                   {{-0.6, 3.5}, {5.6, 3.6}},
+                                   {{-0.6, -0.6}, {-0.5, 3.6}},
+                                   {{5.5, -0.6}, {5.6, 3.6}}};
   std::vector<Eigen::Vector3d> desk_top;
   for (double x = 3.5; x <= 4.0; x += 0.02)
     for (double y = 1.2; y <= 1.8; y += 0.02) desk_top.emplace_back(x, y, 0.74);
@@ -116,7 +120,7 @@ TEST(OccupancyGrid, TlsRaysClearTheFloorTheyCrossLowButNeverABandCell) {
   EXPECT_EQ(only_points.StateAt({7.0, 0.5}), CellState::kUnknown);  // between floor rows
   EXPECT_EQ(g.StateAt({7.0, 0.5}), CellState::kFree);
   EXPECT_EQ(g.StateAt({9.0, -1.5}), CellState::kFree);
-  EXPECT_EQ(g.StateAt({9.93, 0.0}), CellState::kFree);     // up to the cell before the wall
+  EXPECT_EQ(g.StateAt({9.93, 0.0}), CellState::kFree);       // up to the cell before the wall
   EXPECT_EQ(g.StateAt({10.02, 0.0}), CellState::kOccupied);  // the wall
   EXPECT_EQ(g.StateAt({10.5, 0.0}), CellState::kUnknown);    // behind it
   EXPECT_EQ(g.StateAt({6.15, 1.15}), CellState::kOccupied);  // the low box stays
@@ -149,8 +153,10 @@ TEST(OccupancyGrid, BandPointsBeatFloorPointsOfAnotherScan) {
 
 // Driving sweeps are traced only up to max_range: a return beyond it clears up to it, no hit.
 TEST(OccupancyGrid, LrfScanWithARangeCapClearsOnlyUpToIt) {
-  const std::vector<Box2> world = {{{-0.6, -0.6}, {5.6, -0.5}}, {{-0.6, 3.5}, {5.6, 3.6}},
-                                   {{-0.6, -0.6}, {-0.5, 3.6}}, {{5.5, -0.6}, {5.6, 3.6}}};
+  const std::vector<Box2> world = {{{-0.6, -0.6}, {5.6, -0.5}},
+                                   {{-0.6, 3.5}, {5.6, 3.6}},
+                                   {{-0.6, -0.6}, {-0.5, 3.6}},
+                                   {{5.5, -0.6}, {5.6, 3.6}}};
   OccupancyGrid g(OccupancyGridParams{}, {-1.0, -1.0}, 140, 100);
   for (int k = 0; k < 5; ++k)
     g.InsertScan(testing::SimulateScan(world, {2.0, 1.5, 0.0}, 1, k, 0.0), {2.0, 1.5, 0.0}, 2.0);
@@ -261,10 +267,8 @@ TEST(MapIo, MalformedFilesFailWithFileAndLine) {
   const std::string ok_tail = "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
   expect_error("image: none.png\nresolution: 0.05\norigin: [0, 0, 0]\n" + ok_tail,
                "cannot read map image");
-  expect_error("image: m.png\nresolution: 0.05\norigin: [0, 0, 0.5]\n" + ok_tail,
-               "rotated maps");
-  expect_error("image: m.png\nresolution: 0.05\norigin: [0, 0, 0]\nnegat: 1\n" + ok_tail,
-               "negat");
+  expect_error("image: m.png\nresolution: 0.05\norigin: [0, 0, 0.5]\n" + ok_tail, "rotated maps");
+  expect_error("image: m.png\nresolution: 0.05\norigin: [0, 0, 0]\nnegat: 1\n" + ok_tail, "negat");
   expect_error("image: m.png\nresolution: fine\norigin: [0, 0, 0]\n" + ok_tail, ":2:");
   expect_error("image: m.png\norigin: [0, 0, 0]\n" + ok_tail, "resolution");
 }

@@ -7,10 +7,10 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -32,7 +32,10 @@ namespace {
 // ---- point-cloud operations ---------------------------------------------------------------------
 
 TEST(PointCloudOps, VoxelDownsampleAveragesEachCellInKeyOrder) {
-  const Points pts = {{0.31, 0.01, 0.01}, {0.05, 0.05, 0.05}, {0.02, 0.08, 0.02}, {0.39, 0.09, 0.09},
+  const Points pts = {{0.31, 0.01, 0.01},
+                      {0.05, 0.05, 0.05},
+                      {0.02, 0.08, 0.02},
+                      {0.39, 0.09, 0.09},
                       {std::nan(""), 0, 0}};
   const Points out = VoxelDownsample(pts, 0.1);
   ASSERT_EQ(out.size(), 2u);  // cells (0,0,0) and (3,0,0); the NaN point is skipped
@@ -49,8 +52,10 @@ TEST(PointCloudOps, VoxelDownsampleAveragesEachCellInKeyOrder) {
 TEST(PointCloudOps, MergedVoxelsEqualVoxelsOfTheUnion) {
   Points a, b;
   CounterRng rng(7, "test/merge");
-  for (int i = 0; i < 2000; ++i) a.emplace_back(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
-  for (int i = 0; i < 1500; ++i) b.emplace_back(rng.Uniform(0, 2), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+  for (int i = 0; i < 2000; ++i)
+    a.emplace_back(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+  for (int i = 0; i < 1500; ++i)
+    b.emplace_back(rng.Uniform(0, 2), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
   Points all = a;
   all.insert(all.end(), b.begin(), b.end());
   const auto merged = MergeVoxels(Voxelize(a, 0.25), Voxelize(b, 0.25));
@@ -66,7 +71,8 @@ TEST(PointCloudOps, MergedVoxelsEqualVoxelsOfTheUnion) {
 TEST(PointCloudOps, KdTreeNearestMatchesBruteForce) {
   Points pts;
   CounterRng rng(3, "test/kdtree");
-  for (int i = 0; i < 3000; ++i) pts.emplace_back(rng.Uniform(0, 5), rng.Uniform(0, 5), rng.Uniform(0, 5));
+  for (int i = 0; i < 3000; ++i)
+    pts.emplace_back(rng.Uniform(0, 5), rng.Uniform(0, 5), rng.Uniform(0, 5));
   const KdTree3 tree(pts);
   for (int q = 0; q < 200; ++q) {
     const Eigen::Vector3d p(rng.Uniform(-1, 6), rng.Uniform(-1, 6), rng.Uniform(-1, 6));
@@ -110,7 +116,8 @@ TEST(PointMap, IncrementalNormalsEqualAFullRecompute) {
     CounterRng rng(seed, "test/batch");
     for (int i = 0; i < n; ++i) {
       const double x = rng.Uniform(x0, x1), s = rng.Uniform(0, 3);
-      pts.emplace_back(rng.Bernoulli(0.5) ? Eigen::Vector3d(x, s, 0.0) : Eigen::Vector3d(x, 3.0, s));
+      pts.emplace_back(rng.Bernoulli(0.5) ? Eigen::Vector3d(x, s, 0.0)
+                                          : Eigen::Vector3d(x, 3.0, s));
     }
     return pts;
   };
@@ -119,13 +126,15 @@ TEST(PointMap, IncrementalNormalsEqualAFullRecompute) {
   const Points batches[3] = {batch(1, 0, 4, 40000), batch(2, 3, 7, 40000), batch(3, 20, 22, 20000)};
   for (int b = 0; b < 3; ++b) {
     map.Add(batches[b]);
-    const auto full = EstimateNormals(map.tree(), params.normal_neighbours, params.normal_radius, 5);
+    const auto full =
+        EstimateNormals(map.tree(), params.normal_neighbours, params.normal_radius, 5);
     ASSERT_EQ(full.size(), map.normals().size());
     for (std::size_t i = 0; i < full.size(); ++i) {
       ASSERT_EQ(full[i].valid, map.normals()[i].valid) << "batch " << b << " point " << i;
       ASSERT_EQ(full[i].n, map.normals()[i].n) << "batch " << b << " point " << i;
     }
-    std::printf("  batch %d: %zu of %zu normals recomputed\n", b, map.last_normals_recomputed(), map.size());
+    std::printf("  batch %d: %zu of %zu normals recomputed\n", b, map.last_normals_recomputed(),
+                map.size());
   }
   // The far batch touched only its own cells (and their neighbourhood), not the first two.
   EXPECT_LT(map.last_normals_recomputed(), map.size() / 3);
@@ -168,8 +177,8 @@ class Room {
 
  private:
   Room() {
-    scenes::GeneratedScene g =
-        scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/one_room.yaml"));
+    scenes::GeneratedScene g = scenes::Generate(
+        scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/one_room.yaml"));
     truth_ = std::move(g.truth);
     world_ = std::make_unique<sim::EmbreeWorld>(std::move(g.scene), &truth_);
     scanner_ = std::make_unique<sim::TlsScanner>(*world_, sim::TlsProfile("riegl_vz400"));
@@ -181,11 +190,12 @@ class Room {
 };
 
 // Base poses inside the 6 m x 4 m room (the desk stands at (4.5, 2.0)).
-const Pose2 kBase[5] = {{1.5, 1.2, 0.3}, {3.2, 2.9, -1.2}, {2.2, 3.0, 2.5}, {5.2, 0.9, 0.8}, {1.0, 3.1, -2.8}};
+const Pose2 kBase[5] = {
+    {1.5, 1.2, 0.3}, {3.2, 2.9, -1.2}, {2.2, 3.0, 2.5}, {5.2, 0.9, 0.8}, {1.0, 3.1, -2.8}};
 
 /// The scan's own odometry prior, off by (0.15, -0.12, 0.03) m and 3 deg of yaw.
-Eigen::Isometry3d PerturbedPrior(const interfaces::TlsScan& scan, double dx = 0.15, double dy = -0.12,
-                                 double dyaw_deg = 3.0) {
+Eigen::Isometry3d PerturbedPrior(const interfaces::TlsScan& scan, double dx = 0.15,
+                                 double dy = -0.12, double dyaw_deg = 3.0) {
   Eigen::Isometry3d prior = scan.X_MS_estimate;
   prior.linear() = Eigen::AngleAxisd(DegToRad(dyaw_deg), Eigen::Vector3d::UnitZ()) * prior.linear();
   prior.translation() += Eigen::Vector3d(dx, dy, 0.03);
@@ -209,8 +219,8 @@ TEST(Registration, SecondScanInOneRoomWithinFiveMillimetres) {
   ASSERT_GT(TranslationError(prior, s1.X_WS_true), 0.18);
   ASSERT_GT(RotationErrorDeg(prior, s1.X_WS_true), 2.9);
   const RegistrationResult r = RegisterScan(ScanPoints(s1.scan), map, prior, IcpParams{});
-  std::printf("  %s\n  error %.2f mm, %.4f deg\n", r.message.c_str(), 1e3 * TranslationError(r.X_MS, s1.X_WS_true),
-              RotationErrorDeg(r.X_MS, s1.X_WS_true));
+  std::printf("  %s\n  error %.2f mm, %.4f deg\n", r.message.c_str(),
+              1e3 * TranslationError(r.X_MS, s1.X_WS_true), RotationErrorDeg(r.X_MS, s1.X_WS_true));
   EXPECT_TRUE(r.ok) << r.message;
   EXPECT_TRUE(r.converged);
   // The last step is reported (the drive counts a creep below 10x the thresholds as converged).
@@ -232,8 +242,8 @@ TEST(Registration, ThirdScanAgainstTwoAccumulatedWithinFiveMillimetres) {
   const SimScan& s2 = Room::Get().Scan(2, kBase[2]);
   const Eigen::Isometry3d prior = PerturbedPrior(s2.scan, -0.14, 0.14, -3.0);
   const RegistrationResult r = RegisterScan(ScanPoints(s2.scan), map, prior, IcpParams{});
-  std::printf("  %s\n  error %.2f mm, %.4f deg\n", r.message.c_str(), 1e3 * TranslationError(r.X_MS, s2.X_WS_true),
-              RotationErrorDeg(r.X_MS, s2.X_WS_true));
+  std::printf("  %s\n  error %.2f mm, %.4f deg\n", r.message.c_str(),
+              1e3 * TranslationError(r.X_MS, s2.X_WS_true), RotationErrorDeg(r.X_MS, s2.X_WS_true));
   EXPECT_TRUE(r.ok) << r.message;
   EXPECT_LT(TranslationError(r.X_MS, s2.X_WS_true), 0.005);
   EXPECT_LT(RotationErrorDeg(r.X_MS, s2.X_WS_true), 0.05);
@@ -261,7 +271,8 @@ TEST(Registration, SixDofRecoversAMislevelledPriorThatFourDofKeeps) {
   const PointMap map = MapOf({0});
   const SimScan& s3 = Room::Get().Scan(3, kBase[3]);
   Eigen::Isometry3d prior = PerturbedPrior(s3.scan);
-  prior.linear() = prior.linear() * Eigen::AngleAxisd(DegToRad(0.5), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  prior.linear() = prior.linear() *
+                   Eigen::AngleAxisd(DegToRad(0.5), Eigen::Vector3d::UnitX()).toRotationMatrix();
   IcpParams p6;
   p6.dof = 6;
   const RegistrationResult r6 = RegisterScan(ScanPoints(s3.scan), map, prior, p6);
@@ -302,12 +313,14 @@ TEST(Registration, WildlyWrongPriorsAreReportedAsFailed) {
   // silently wrong; 90 deg cannot be recovered in a 6 m x 4 m room and must fail.
   const PointMap map = MapOf({0});
   const SimScan& s1 = Room::Get().Scan(1, kBase[1]);
-  for (const auto& [dx, dyaw] : {std::pair{1.0, 35.0}, std::pair{-1.0, 90.0}, std::pair{1.0, -90.0}}) {
+  for (const auto& [dx, dyaw] :
+       {std::pair{1.0, 35.0}, std::pair{-1.0, 90.0}, std::pair{1.0, -90.0}}) {
     const Eigen::Isometry3d prior = PerturbedPrior(s1.scan, dx, 0.6, dyaw);
     const RegistrationResult r = RegisterScan(ScanPoints(s1.scan), map, prior, IcpParams{});
-    const double et = TranslationError(r.X_MS, s1.X_WS_true), er = RotationErrorDeg(r.X_MS, s1.X_WS_true);
-    std::printf("  prior off %.1f m / %.0f deg -> ok %d, error %.3f m %.2f deg: %s\n", std::hypot(dx, 0.6), dyaw,
-                r.ok, et, er, r.message.c_str());
+    const double et = TranslationError(r.X_MS, s1.X_WS_true),
+                 er = RotationErrorDeg(r.X_MS, s1.X_WS_true);
+    std::printf("  prior off %.1f m / %.0f deg -> ok %d, error %.3f m %.2f deg: %s\n",
+                std::hypot(dx, 0.6), dyaw, r.ok, et, er, r.message.c_str());
     if (r.ok) {
       EXPECT_LT(et, 0.01) << r.message;
       EXPECT_LT(er, 0.1) << r.message;
@@ -347,7 +360,8 @@ TEST(Registration, FreeSpaceViolationOfAWallSeenFromAnOrigin) {
   map.Add(wall, Eigen::Vector3d::Zero());
   EXPECT_DOUBLE_EQ(map.FreeSpaceViolation({{3.0, 0.5, 0.2}, {4.0, -1.0, 1.0}}), 1.0);  // seen empty
   EXPECT_DOUBLE_EQ(map.FreeSpaceViolation({{5.0, 0.5, 0.2}, {7.0, 1.0, 0.0}}), 0.0);   // on, behind
-  EXPECT_DOUBLE_EQ(map.FreeSpaceViolation({{-3.0, 0.0, 0.0}, {4.9, 0.0, 0.0}}), 0.0);  // no return; margin
+  EXPECT_DOUBLE_EQ(map.FreeSpaceViolation({{-3.0, 0.0, 0.0}, {4.9, 0.0, 0.0}}),
+                   0.0);  // no return; margin
   EXPECT_DOUBLE_EQ(map.FreeSpaceViolation({{3.0, 0.0, 0.0}, {-3.0, 0.0, 0.0}}), 0.5);
   PointMap no_origin;
   no_origin.Add(wall);
@@ -381,7 +395,7 @@ TEST(Registration, LongCorridorIsFlaggedDegenerateAndKeepsThePriorAlongItsAxis) 
   EXPECT_TRUE(r.degenerate) << r.message;
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.message.find("degenerate"), std::string::npos) << r.message;
-  EXPECT_GT(std::abs(r.weakest_direction[3]), 0.99) << r.message;  // along x
+  EXPECT_GT(std::abs(r.weakest_direction[3]), 0.99) << r.message;        // along x
   EXPECT_NEAR(r.X_MS.translation().x(), prior.translation().x(), 0.01);  // frozen at the prior
   EXPECT_NEAR(r.X_MS.translation().y(), X_MS_true.translation().y(), 1e-3);
   EXPECT_NEAR(r.X_MS.translation().z(), X_MS_true.translation().z(), 1e-3);
@@ -438,7 +452,8 @@ TEST(Registration, BadParamsAndInputsThrowInputError) {
   bad.normal_neighbours = 1;
   EXPECT_THROW(PointMap{bad}, InputError);
   // An empty map is an outcome, not an exception.
-  const RegistrationResult r = RegisterScan(src, PointMap{}, Eigen::Isometry3d::Identity(), IcpParams{});
+  const RegistrationResult r =
+      RegisterScan(src, PointMap{}, Eigen::Isometry3d::Identity(), IcpParams{});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.message.find("empty map"), std::string::npos) << r.message;
 }
@@ -452,7 +467,8 @@ TEST(Registration, ParamsRoundTripThroughYamlAndRejectUnknownKeys) {
   EXPECT_EQ(q.dof, 4);
   EXPECT_EQ(q.max_correspondence, p.max_correspondence);
   EXPECT_EQ(q.robust_kernel, "huber");
-  EXPECT_THROW(LoadParams<IcpParams>(LoadYamlString("max_iteration: 3", "icp.yaml"), "icp.yaml"), InputError);
+  EXPECT_THROW(LoadParams<IcpParams>(LoadYamlString("max_iteration: 3", "icp.yaml"), "icp.yaml"),
+               InputError);
   EXPECT_THROW(LoadParams<IcpParams>(LoadYamlString("dof: 7", "icp.yaml"), "icp.yaml"), InputError);
 }
 
@@ -461,9 +477,11 @@ TEST(Registration, ParamsRoundTripThroughYamlAndRejectUnknownKeys) {
 // registered pose), including the source's range gate and voxel grid; and the map update.
 TEST(RegistrationFigures, WallTimeOfOneScanAgainstOneAndFourScans) {
   using Clock = std::chrono::steady_clock;
-  auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-  scenes::GeneratedScene g =
-      scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
+  auto seconds = [](Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/office_5rooms.yaml"));
   const scenes::GroundTruth truth = std::move(g.truth);
   const sim::EmbreeWorld world(std::move(g.scene), &truth);
   const sim::TlsScanner scanner(world, sim::TlsProfile("riegl_vz400"));
@@ -486,23 +504,29 @@ TEST(RegistrationFigures, WallTimeOfOneScanAgainstOneAndFourScans) {
     const Points src = ScanPoints(scans[k].scan);
     const auto t0 = Clock::now();
     const std::clock_t c0 = std::clock();
-    const RegistrationResult r = RegisterScan(src, map, PerturbedPrior(scans[k].scan, 0.1, 0.17, -3.0), IcpParams{});
-    const double t_reg = seconds(t0), cpu_reg = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+    const RegistrationResult r =
+        RegisterScan(src, map, PerturbedPrior(scans[k].scan, 0.1, 0.17, -3.0), IcpParams{});
+    const double t_reg = seconds(t0),
+                 cpu_reg = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     EXPECT_TRUE(r.ok) << r.message;
     EXPECT_LT(TranslationError(r.X_MS, scans[k].X_WS_true), 0.005);
     EXPECT_LT(RotationErrorDeg(r.X_MS, scans[k].X_WS_true), 0.05);
     const auto t1 = Clock::now();
     const std::clock_t c1 = std::clock();
     map.Add(Transform(src, r.X_MS), r.X_MS.translation());
-    const double t_add = seconds(t1), cpu_add = static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC;
+    const double t_add = seconds(t1),
+                 cpu_add = static_cast<double>(std::clock() - c1) / CLOCKS_PER_SEC;
     std::ifstream loadavg("/proc/loadavg");
     std::string load;
     std::getline(loadavg, load);
     std::printf("FIGURE machine load average: %s\n", load.c_str());
-    std::printf("FIGURE registration: scan %d (%zu points) vs %d accumulated scan(s): RegisterScan %.3f s "
-                "(CPU %.3f s), then PointMap::Add %.3f s (CPU %.3f s, map %zu points); error %.2f mm %.4f deg; %s\n",
-                k, src.size(), k, t_reg, cpu_reg, t_add, cpu_add, map.size(), 1e3 * TranslationError(r.X_MS, scans[k].X_WS_true),
-                RotationErrorDeg(r.X_MS, scans[k].X_WS_true), r.message.c_str());
+    std::printf(
+        "FIGURE registration: scan %d (%zu points) vs %d accumulated scan(s): RegisterScan %.3f s "
+        "(CPU %.3f s), then PointMap::Add %.3f s (CPU %.3f s, map %zu points); error %.2f mm %.4f "
+        "deg; %s\n",
+        k, src.size(), k, t_reg, cpu_reg, t_add, cpu_add, map.size(),
+        1e3 * TranslationError(r.X_MS, scans[k].X_WS_true),
+        RotationErrorDeg(r.X_MS, scans[k].X_WS_true), r.message.c_str());
   }
 }
 

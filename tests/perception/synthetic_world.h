@@ -27,16 +27,16 @@ struct Box2 {
 /// a 0.9 m door gap at y in [2.55, 3.45], with some furniture making it asymmetric.
 inline std::vector<Box2> TwoRooms(bool door_closed = false) {
   std::vector<Box2> b = {
-      {{-0.1, -0.1}, {10.1, 0.0}},   // south wall
-      {{-0.1, 6.0}, {10.1, 6.1}},    // north wall
-      {{-0.1, -0.1}, {0.0, 6.1}},    // west wall
-      {{10.0, -0.1}, {10.1, 6.1}},   // east wall
-      {{4.95, 0.0}, {5.05, 2.55}},   // partition, south of the door
-      {{4.95, 3.45}, {5.05, 6.0}},   // partition, north of the door
-      {{1.5, 0.6}, {2.5, 1.2}},      // table-like block, west room
-      {{0.0, 4.6}, {0.8, 6.0}},      // cupboard in the north-west corner
-      {{7.3, 4.0}, {7.7, 4.4}},      // pillar, east room
-      {{9.0, 4.8}, {10.0, 6.0}},     // cabinet in the north-east corner
+      {{-0.1, -0.1}, {10.1, 0.0}},  // south wall
+      {{-0.1, 6.0}, {10.1, 6.1}},   // north wall
+      {{-0.1, -0.1}, {0.0, 6.1}},   // west wall
+      {{10.0, -0.1}, {10.1, 6.1}},  // east wall
+      {{4.95, 0.0}, {5.05, 2.55}},  // partition, south of the door
+      {{4.95, 3.45}, {5.05, 6.0}},  // partition, north of the door
+      {{1.5, 0.6}, {2.5, 1.2}},     // table-like block, west room
+      {{0.0, 4.6}, {0.8, 6.0}},     // cupboard in the north-west corner
+      {{7.3, 4.0}, {7.7, 4.4}},     // pillar, east room
+      {{9.0, 4.8}, {10.0, 6.0}},    // cabinet in the north-east corner
   };
   if (door_closed) b.push_back({{4.97, 2.55}, {5.03, 3.45}});
   return b;
@@ -140,7 +140,8 @@ inline interfaces::LrfScan SimulateScan(const std::vector<Box2>& world, const Po
     double r = CastBoxes(world, o, Vec2(std::cos(a), std::sin(a)), s.range_max);
     if (r < s.range_max) {
       CounterRng rng(DeriveKey(DeriveKey(seed, seq), k));
-      r = std::clamp(r + sigma * rng.Normal(), static_cast<double>(s.range_min), s.range_max - 1e-3);
+      r = std::clamp(r + sigma * rng.Normal(), static_cast<double>(s.range_min),
+                     s.range_max - 1e-3);
     }
     s.ranges[k] = static_cast<float>(r);
   }

@@ -1,4 +1,6 @@
 // Formats through assimp: OBJ axes, error messages, IFC schema refusal and unit scaling.
+#include "scenes/assimp_loader.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -7,7 +9,6 @@
 #include <string>
 
 #include "common/error.h"
-#include "scenes/assimp_loader.h"
 #include "scenes/scene_loader.h"
 
 namespace mopad::scenes {
@@ -67,7 +68,8 @@ TEST(AssimpLoader, ObjIsTriangulatedAndTakenAsYupByDefault) {
 TEST(AssimpLoader, MissingFileIsOneLineError) {
   const std::string path = "/nonexistent/dir/house.obj";
   const std::string m = ExpectInputError([&] { LoadScene(path); }, path, "cannot open file");
-  EXPECT_EQ(m, path + ": error: cannot open file; got no such file, expected an existing scene file");
+  EXPECT_EQ(m,
+            path + ": error: cannot open file; got no such file, expected an existing scene file");
   ExpectInputError([&] { LoadWithAssimp(path); }, path, "cannot open file");
 }
 
@@ -89,8 +91,7 @@ const char kIfc4Header[] =
 
 TEST(AssimpLoader, Ifc4IsRefusedBeforeAssimpSeesIt) {
   const std::string path = WriteFile("model4.ifc", kIfc4Header);
-  const std::string m =
-      ExpectInputError([&] { LoadScene(path); }, path, "unsupported IFC schema");
+  const std::string m = ExpectInputError([&] { LoadScene(path); }, path, "unsupported IFC schema");
   EXPECT_NE(m.find("got IFC4, expected IFC2X3"), std::string::npos) << m;
   EXPECT_EQ(IfcSchemaOf(kIfc4Header), "IFC4");
   EXPECT_EQ(IfcSchemaOf("ISO-10303-21;\nHEADER;\nFILE_SCHEMA (('ifc4x3_add2'));\nENDSEC;"),
@@ -148,17 +149,16 @@ TEST(AssimpLoader, IfcUnitSniffing) {
   EXPECT_DOUBLE_EQ(IfcUnappliedLengthScale(TinyIfc(kMetre)), 1.0);
   EXPECT_DOUBLE_EQ(IfcUnappliedLengthScale(TinyIfc(kFoot)), 0.3048);
   // Millimetres: assimp applies SI prefixes itself, nothing left for us.
-  EXPECT_DOUBLE_EQ(IfcUnappliedLengthScale(
-                       "#7 = IFCSIUNIT(*, .LENGTHUNIT., .MILLI., .METRE.);\n"
-                       "#8 = IFCUNITASSIGNMENT((#7));\n"),
+  EXPECT_DOUBLE_EQ(IfcUnappliedLengthScale("#7 = IFCSIUNIT(*, .LENGTHUNIT., .MILLI., .METRE.);\n"
+                                           "#8 = IFCUNITASSIGNMENT((#7));\n"),
                    1.0);
   // Inch given as 25.4 mm: the measure's own unit prefix counts.
-  EXPECT_DOUBLE_EQ(IfcUnappliedLengthScale(
-                       "#140=IFCSIUNIT(*,.LENGTHUNIT.,.MILLI.,.METRE.);\n"
-                       "#14=IFCMEASUREWITHUNIT(IFCLENGTHMEASURE(25.4),#140);\n"
-                       "#15=IFCCONVERSIONBASEDUNIT(#1,.LENGTHUNIT.,'INCH',#14);\n"
-                       "#16=IFCUNITASSIGNMENT((#15));\n"),
-                   0.0254);
+  EXPECT_DOUBLE_EQ(
+      IfcUnappliedLengthScale("#140=IFCSIUNIT(*,.LENGTHUNIT.,.MILLI.,.METRE.);\n"
+                              "#14=IFCMEASUREWITHUNIT(IFCLENGTHMEASURE(25.4),#140);\n"
+                              "#15=IFCCONVERSIONBASEDUNIT(#1,.LENGTHUNIT.,'INCH',#14);\n"
+                              "#16=IFCUNITASSIGNMENT((#15));\n"),
+      0.0254);
   EXPECT_DOUBLE_EQ(IfcUnappliedLengthScale("#1=IFCPROJECT($);"), 1.0);
   EXPECT_THROW(IfcUnappliedLengthScale("#15=IFCCONVERSIONBASEDUNIT(#1,.LENGTHUNIT.,'FOOT',#99);\n"
                                        "#16=IFCUNITASSIGNMENT((#15));\n",

@@ -1,6 +1,7 @@
 #include "scenes/bsc_catalogue.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -12,20 +13,17 @@
 #include <tuple>
 #include <vector>
 
-#include <unistd.h>
-
 #include "common/error.h"
 
 namespace mopad::scenes {
 namespace {
 
 const std::vector<std::string> kPaperClasses = {
-    "electrical_panel",  "socket_x1",         "socket_x2",
-    "socket_x4",         "built_in_socket",   "switch",
-    "fire_extinguisher", "radiator",          "fire_alarm_switch",
-    "smoke_detector",    "exit_light",        "extinguisher_sign",
-    "fire_alarm_switch_sign", "fire_sign",    "exit_sign",
-    "electric_sign",     "emergency_light",   "door_sign"};
+    "electrical_panel",       "socket_x1",      "socket_x2",         "socket_x4",
+    "built_in_socket",        "switch",         "fire_extinguisher", "radiator",
+    "fire_alarm_switch",      "smoke_detector", "exit_light",        "extinguisher_sign",
+    "fire_alarm_switch_sign", "fire_sign",      "exit_sign",         "electric_sign",
+    "emergency_light",        "door_sign"};
 
 constexpr double kMm = 1e-3;
 
@@ -216,9 +214,9 @@ TEST(ObjectModel, DepthFollowsTheProtrudingGeometry) {
   for (float d : sign.depth_m) EXPECT_NEAR(d, 0.003, 1e-6);
   // Triangular plate: empty corners.
   const auto tri = MakeObjectModel("electric_sign", kPs);
-  EXPECT_EQ(tri.depth_m.front(), 0.0f);                         // top-left corner
-  EXPECT_EQ(tri.depth_m[tri.image_width - 1], 0.0f);            // top-right corner
-  EXPECT_NEAR(tri.depth_m.back(), 0.002, 1e-6);                 // bottom edge is full width
+  EXPECT_EQ(tri.depth_m.front(), 0.0f);               // top-left corner
+  EXPECT_EQ(tri.depth_m[tri.image_width - 1], 0.0f);  // top-right corner
+  EXPECT_NEAR(tri.depth_m.back(), 0.002, 1e-6);       // bottom edge is full width
   EXPECT_NEAR(tri.depth_m[5 * tri.image_width + tri.image_width / 2], 0.002, 1e-6);  // apex
   // Extinguisher: cylinder front at the centre, bracket-only side regions do not exist.
   const auto ext = MakeObjectModel("fire_extinguisher", kPs);

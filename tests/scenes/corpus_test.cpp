@@ -2,7 +2,6 @@
 // one InputError line starting with its path; nothing crashes, hangs or reads out of bounds
 // (run this binary under AddressSanitizer to check the last part).
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -10,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -73,9 +73,7 @@ Outcome LoadOne(const std::string& path) {
   return o;
 }
 
-std::string Relative(const std::string& path) {
-  return fs::relative(path, kExternal).string();
-}
+std::string Relative(const std::string& path) { return fs::relative(path, kExternal).string(); }
 
 TEST(Corpus, LoaderPackLoadsOrIsRejectedWithOneLine) {
   const fs::path root = kExternal / "gltf_loader_pack";
@@ -149,8 +147,8 @@ TEST(Corpus, ValidatorCorpusAgreesWithTheValidatorOnGeometryErrors) {
       }
     }
   }
-  std::printf("\nglTF-Validator corpus (%d files)\n", err_rejected + err_accepted + ok_accepted +
-                                                            ok_rejected);
+  std::printf("\nglTF-Validator corpus (%d files)\n",
+              err_rejected + err_accepted + ok_accepted + ok_rejected);
   std::printf("  %-28s %9s %9s\n", "validator verdict", "accepted", "rejected");
   std::printf("  %-28s %9d %9d\n", "numErrors > 0", err_accepted, err_rejected);
   std::printf("  %-28s %9d %9d\n", "numErrors = 0", ok_accepted, ok_rejected);

@@ -1,14 +1,16 @@
 // glTF loading through tinygltf: frames, hierarchies, semantics, materials, extensions, and the
 // fixtures of ../shared/testdata/external/gltf_loader_pack.
+#include "scenes/gltf_loader.h"
+
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <limits>
 #include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <tuple>
@@ -16,7 +18,6 @@
 
 #include "common/error.h"
 #include "common/frames.h"
-#include "scenes/gltf_loader.h"
 #include "scenes/mesh_validation.h"
 #include "scenes/scene_loader.h"
 
@@ -26,8 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const fs::path kPack = fs::path(MOPAD_SOURCE_DIR) / ".." / "shared" / "testdata" / "external" /
-                       "gltf_loader_pack";
+const fs::path kPack =
+    fs::path(MOPAD_SOURCE_DIR) / ".." / "shared" / "testdata" / "external" / "gltf_loader_pack";
 
 std::string Base64(const std::vector<std::uint8_t>& in) {
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -91,10 +92,11 @@ class GltfBuilder {
   json& Doc() { return doc_; }
 
   std::string Write(const std::string& name) {
-    doc_["buffers"] = json::array(
-        {{{"byteLength", bytes_.size()},
-          {"uri", "data:application/octet-stream;base64," + Base64(bytes_)}}});
-    const fs::path dir = fs::temp_directory_path() / ("mopad_gltf_test_" + std::to_string(getpid()));
+    doc_["buffers"] =
+        json::array({{{"byteLength", bytes_.size()},
+                      {"uri", "data:application/octet-stream;base64," + Base64(bytes_)}}});
+    const fs::path dir =
+        fs::temp_directory_path() / ("mopad_gltf_test_" + std::to_string(getpid()));
     fs::create_directories(dir);
     const std::string path = (dir / name).string();
     std::ofstream(path) << doc_.dump(1);
@@ -141,7 +143,8 @@ TEST(GltfLoader, YupToZupRotationIsPinnedOnAnAsymmetricTriangle) {
 
 TEST(GltfLoader, NodeTrsAndMatrixHierarchiesCompose) {
   GltfBuilder b;
-  const int mesh = b.Mesh({{"attributes", {{"POSITION", b.Positions({1, 0, 0, 1, 1, 0, 1, 0, 1})}}}});
+  const int mesh =
+      b.Mesh({{"attributes", {{"POSITION", b.Positions({1, 0, 0, 1, 1, 0, 1, 0, 1})}}}});
   // Parent: T(1,2,3) R_y(+90 deg) S(2); child: matrix translating by (0,0,1) (column-major).
   b.Node({{"name", "parent"},
           {"translation", {1, 2, 3}},
@@ -188,7 +191,9 @@ TEST(GltfLoader, MopadExtrasGiveClassIdSubclassRoomAndAreInherited) {
   b.Node({{"name", "socket"},
           {"extras",
            {{"mopad",
-             {{"id", "bsc_7"}, {"class", "service_component"}, {"subclass", "socket_x1"},
+             {{"id", "bsc_7"},
+              {"class", "service_component"},
+              {"subclass", "socket_x1"},
               {"room", "R1"}}}}},
           {"children", {1}},
           {"mesh", mesh}});
@@ -252,17 +257,15 @@ TEST(GltfLoader, StripsAndFansAreTriangulatedPointsAndLinesSkipped) {
   const Scene s = LoadScene(b.Write("modes.gltf"), keep);
   ASSERT_EQ(s.parts.size(), 2u);
   // Strip: (0,1,2), (1,3,2), (2,3,4) per glTF 3.7.2.1.
-  EXPECT_EQ(s.parts[0].triangles,
-            (std::vector<Eigen::Vector3i>{{0, 1, 2}, {1, 3, 2}, {2, 3, 4}}));
+  EXPECT_EQ(s.parts[0].triangles, (std::vector<Eigen::Vector3i>{{0, 1, 2}, {1, 3, 2}, {2, 3, 4}}));
   // Fan: (1,2,0), (2,3,0), (3,4,0).
-  EXPECT_EQ(s.parts[1].triangles,
-            (std::vector<Eigen::Vector3i>{{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}));
+  EXPECT_EQ(s.parts[1].triangles, (std::vector<Eigen::Vector3i>{{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}));
 }
 
 TEST(GltfLoader, MaterialsAndNormalisedIntegerUvs) {
   GltfBuilder b;
-  const int uv = b.Accessor(std::vector<std::uint16_t>{0, 0, 65535, 0, 0, 32768}, 5123, "VEC2",
-                            true);
+  const int uv =
+      b.Accessor(std::vector<std::uint16_t>{0, 0, 65535, 0, 0, 32768}, 5123, "VEC2", true);
   json prim = TrianglePrimitive(b);
   prim["attributes"]["TEXCOORD_0"] = uv;
   prim["material"] = 0;
@@ -270,14 +273,15 @@ TEST(GltfLoader, MaterialsAndNormalisedIntegerUvs) {
   b.Node({{"mesh", 0}});
   b.Doc()["scenes"] = {{{"nodes", {0}}}};
   b.Doc()["extensionsUsed"] = {"KHR_materials_transmission"};
-  b.Doc()["materials"] = {{{"name", "glass"},
-                           {"doubleSided", true},
-                           {"pbrMetallicRoughness",
-                            {{"baseColorFactor", {0.1, 0.2, 0.3, 0.4}},
-                             {"metallicFactor", 0.25},
-                             {"roughnessFactor", 0.75}}},
-                           {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}}}},
-                           {"extras", {{"nir_reflectance", 0.05}}}}};
+  b.Doc()["materials"] = {
+      {{"name", "glass"},
+       {"doubleSided", true},
+       {"pbrMetallicRoughness",
+        {{"baseColorFactor", {0.1, 0.2, 0.3, 0.4}},
+         {"metallicFactor", 0.25},
+         {"roughnessFactor", 0.75}}},
+       {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}}}},
+       {"extras", {{"nir_reflectance", 0.05}}}}};
   const Scene s = LoadScene(b.Write("material.gltf"));
   ASSERT_EQ(s.materials.size(), 1u);
   const Material& m = s.materials[0];
@@ -338,12 +342,12 @@ TEST(GltfLoader, AccessorPastItsBufferViewIsRejectedBeforeReading) {
 TEST(MeshValidation, NodeForestRejectsCyclesSharedChildrenAndBadRoots) {
   const std::vector<std::vector<int>> tree{{1, 2}, {3}, {}, {}};
   EXPECT_NO_THROW(CheckNodeForest("f", tree, {0}));
-  EXPECT_THROW(CheckNodeForest("f", {{0}}, {}), InputError);              // own child
-  EXPECT_THROW(CheckNodeForest("f", {{1}, {2}, {0}}, {}), InputError);    // 3-cycle, no root
-  EXPECT_THROW(CheckNodeForest("f", {{1}, {}, {1}}, {0, 2}), InputError); // two parents
-  EXPECT_THROW(CheckNodeForest("f", tree, {1}), InputError);              // root with a parent
-  EXPECT_THROW(CheckNodeForest("f", tree, {0, 0}), InputError);           // root twice
-  EXPECT_THROW(CheckNodeForest("f", {{5}}, {0}), InputError);             // child out of range
+  EXPECT_THROW(CheckNodeForest("f", {{0}}, {}), InputError);               // own child
+  EXPECT_THROW(CheckNodeForest("f", {{1}, {2}, {0}}, {}), InputError);     // 3-cycle, no root
+  EXPECT_THROW(CheckNodeForest("f", {{1}, {}, {1}}, {0, 2}), InputError);  // two parents
+  EXPECT_THROW(CheckNodeForest("f", tree, {1}), InputError);               // root with a parent
+  EXPECT_THROW(CheckNodeForest("f", tree, {0, 0}), InputError);            // root twice
+  EXPECT_THROW(CheckNodeForest("f", {{5}}, {0}), InputError);              // child out of range
   // A long chain is walked without recursion.
   std::vector<std::vector<int>> chain(200000);
   for (int i = 0; i + 1 < 200000; ++i) chain[i] = {i + 1};
@@ -396,8 +400,8 @@ class GltfFixtures : public ::testing::Test {
   }
 };
 
-using TriangleSoup = std::vector<std::tuple<float, float, float, float, float, float, float,
-                                            float, float>>;
+using TriangleSoup =
+    std::vector<std::tuple<float, float, float, float, float, float, float, float, float>>;
 TriangleSoup Soup(const Scene& s) {
   TriangleSoup out;
   for (const MeshPart& p : s.parts)
@@ -495,8 +499,8 @@ TEST_F(GltfFixtures, DeepMatrixHierarchyLoadsWithItsTriangleCount) {
   const Scene s = LoadScene(
       (kPack / "assimp_tests/2CylinderEngine-glTF-Binary/2CylinderEngine.glb").string(), keep);
   EXPECT_EQ(s.TriangleCount(), 121496u);  // sum of index counts / 3 over node instances
-  const Scene dropped = LoadScene(
-      (kPack / "assimp_tests/2CylinderEngine-glTF-Binary/2CylinderEngine.glb").string());
+  const Scene dropped =
+      LoadScene((kPack / "assimp_tests/2CylinderEngine-glTF-Binary/2CylinderEngine.glb").string());
   // 11,154 triangles repeat an index and 6 more have zero area; without them the count is
   // exactly that of the Draco-compressed copy of the asset (Draco's encoder drops them too).
   EXPECT_EQ(dropped.TriangleCount(), 110336u);
@@ -538,12 +542,12 @@ TEST_F(GltfFixtures, WhatTinygltfAcceptsLenientlyIsRejected) {
   ExpectRejected(kPack / "assimp_tests/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb",
                  "not finite");
   ExpectRejected(kPack / "assimp_tests/IndexOutOfRange/IndexOutOfRange.gltf", "out of range");
-  ExpectRejected(kPack / "assimp_tests/IndexOutOfRange/AllIndicesOutOfRange.gltf",
-                 "out of range");
+  ExpectRejected(kPack / "assimp_tests/IndexOutOfRange/AllIndicesOutOfRange.gltf", "out of range");
   ExpectRejected(kPack / "assimp_tests/RecursiveNodes/RecursiveNodes.gltf", "cycle");
   ExpectRejected(kPack / "magnum_tests/scene-invalid-cycle.gltf", "own child");
   ExpectRejected(kPack / "magnum_tests/scene-invalid-cycle-deep.gltf", "cycle");
-  ExpectRejected(kPack / "magnum_tests/scene-invalid-multiple-parents.gltf", "more than one parent");
+  ExpectRejected(kPack / "magnum_tests/scene-invalid-multiple-parents.gltf",
+                 "more than one parent");
   ExpectRejected(kPack / "assimp_tests/MissingBin/BoxTextured.gltf", "tinygltf");
   ExpectRejected(kPack / "does_not_exist.glb", "cannot open file");
 }

@@ -21,7 +21,8 @@ struct DoorFixture {
   scenes::GroundTruth truth;
   DoorFixture() {
     AddRoomBox(scene, V(-5, -5, 0), V(5, 5, 3));
-    AddQuad(scene, V(2, 0, 0), V(3, 0, 0), V(3, 0, 2), V(2, 0, 2), scenes::ElementClass::kDoorLeaf, "door_1");
+    AddQuad(scene, V(2, 0, 0), V(3, 0, 0), V(3, 0, 2), V(2, 0, 2), scenes::ElementClass::kDoorLeaf,
+            "door_1");
     scenes::Opening o;
     o.id = "door_1";
     o.type = scenes::OpeningType::kDoor;
@@ -50,7 +51,8 @@ TEST(EmbreeWorld, RayHitsTheNearestSurfaceWithItsPartAndNormal) {
 TEST(EmbreeWorld, PacketsAgreeWithSingleRays) {
   scenes::Scene s;
   AddRoomBox(s, V(-2, -3, -1), V(4, 5, 2));
-  AddQuad(s, V(1, -1, -1), V(1, 1, -1), V(1, 1, 1), V(1, -1, 1), scenes::ElementClass::kFurniture, "panel");
+  AddQuad(s, V(1, -1, -1), V(1, 1, -1), V(1, 1, 1), V(1, -1, 1), scenes::ElementClass::kFurniture,
+          "panel");
   EmbreeWorld world(std::move(s));
   std::vector<Eigen::Vector3f> o, d;
   for (int i = 0; i < 37; ++i) {  // not a multiple of 16: a partial packet

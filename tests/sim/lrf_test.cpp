@@ -43,7 +43,8 @@ TEST(Lrf, NoiseFreeRangesAreAnalyticInABoxRoom) {
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double a = scan.angle_min + i * scan.angle_increment;
     const Eigen::Vector3d d = X_WL.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0);
-    const double t = BoxExitDistance(X_WL.translation(), d, Eigen::Vector3d(-4, -3, 0), Eigen::Vector3d(5, 6, 3));
+    const double t = BoxExitDistance(X_WL.translation(), d, Eigen::Vector3d(-4, -3, 0),
+                                     Eigen::Vector3d(5, 6, 3));
     EXPECT_NEAR(scan.ranges[i], t, 1e-4) << i;
   }
 }
@@ -52,8 +53,8 @@ TEST(Lrf, OpenSpaceGivesMaxRangeReadings) {
   scenes::Scene s;
   AddMaterial(s, "white", 0.8f, 0.8f, 0.8f);
   // Only a wall 50 m away (beyond range_max) and a floor below the scan plane.
-  testing::AddQuad(s, V(50, -100, -5), V(50, 100, -5), V(50, 100, 5), V(50, -100, 5), scenes::ElementClass::kWall, "far",
-                   0);
+  testing::AddQuad(s, V(50, -100, -5), V(50, 100, -5), V(50, 100, 5), V(50, -100, 5),
+                   scenes::ElementClass::kWall, "far", 0);
   EmbreeWorld world(std::move(s));
   LrfSimulator lrf(world, LrfProfile("hokuyo_utm30lx"));
   const auto scan = lrf.Scan(Pose3::Identity(), 1, 0, 0.0);
@@ -81,8 +82,10 @@ TEST(Lrf, NoiseMatchesTheProfile) {
   }
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.03, 0.003);  // all ranges < 10 m: sigma_near
   // Same seed and seq: identical sweep; another seq: different noise.
-  EXPECT_EQ(noisy.Scan(Pose3::Identity(), 1, 3, 0).ranges, noisy.Scan(Pose3::Identity(), 1, 3, 0).ranges);
-  EXPECT_NE(noisy.Scan(Pose3::Identity(), 1, 3, 0).ranges, noisy.Scan(Pose3::Identity(), 1, 4, 0).ranges);
+  EXPECT_EQ(noisy.Scan(Pose3::Identity(), 1, 3, 0).ranges,
+            noisy.Scan(Pose3::Identity(), 1, 3, 0).ranges);
+  EXPECT_NE(noisy.Scan(Pose3::Identity(), 1, 3, 0).ranges,
+            noisy.Scan(Pose3::Identity(), 1, 4, 0).ranges);
 }
 
 TEST(Lrf, SickFootprintStillMeasuresAFlatWall) {

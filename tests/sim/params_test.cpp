@@ -1,10 +1,10 @@
+#include "common/params.h"
+
 #include <gtest/gtest.h>
 
-#include "sim/robot_body.h"
-
 #include "common/error.h"
-#include "common/params.h"
 #include "sim/lrf.h"
+#include "sim/robot_body.h"
 #include "sim/tls_params.h"
 
 namespace mopad::sim {
@@ -33,8 +33,10 @@ TEST(SimParams, TlsYamlRoundTrip) {
 
 // The YAML round trips above cannot see a field left out of Visit(); the coverage check can.
 TEST(SimParams, EveryFieldIsInTheFieldList) {
-  for (const auto& m : FieldsMissingFromVisit(TlsProfile("riegl_vz400"), "tls.")) ADD_FAILURE() << m;
-  for (const auto& m : FieldsMissingFromVisit(LrfProfile("sick_lms111"), "lrf.")) ADD_FAILURE() << m;
+  for (const auto& m : FieldsMissingFromVisit(TlsProfile("riegl_vz400"), "tls."))
+    ADD_FAILURE() << m;
+  for (const auto& m : FieldsMissingFromVisit(LrfProfile("sick_lms111"), "lrf."))
+    ADD_FAILURE() << m;
   for (const auto& m : FieldsMissingFromVisit(RobotBodyParams{}, "body.")) ADD_FAILURE() << m;
 }
 
@@ -48,10 +50,12 @@ TEST(SimParams, LrfYamlRoundTrip) {
 
 TEST(SimParams, ShippedProfileFilesEqualTheBuiltInProfiles) {
   for (const auto& name : TlsProfileNames()) {
-    EXPECT_EQ(Dump(LoadParamsFile<TlsParams>(kProfiles + name + ".yaml")), Dump(TlsProfile(name))) << name;
+    EXPECT_EQ(Dump(LoadParamsFile<TlsParams>(kProfiles + name + ".yaml")), Dump(TlsProfile(name)))
+        << name;
   }
   for (const auto& name : LrfProfileNames()) {
-    EXPECT_EQ(Dump(LoadParamsFile<LrfParams>(kProfiles + name + ".yaml")), Dump(LrfProfile(name))) << name;
+    EXPECT_EQ(Dump(LoadParamsFile<LrfParams>(kProfiles + name + ".yaml")), Dump(LrfProfile(name)))
+        << name;
   }
 }
 
@@ -60,9 +64,12 @@ TEST(SimParams, UnknownKeysAndBadValuesAreRejected) {
     LoadParams<TlsParams>(LoadYamlString("step_deg: 0.1\nstep_degs: 0.2\n", "p.yaml"), "p.yaml");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("p.yaml:2: error: unknown key 'step_degs'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("p.yaml:2: error: unknown key 'step_degs'"),
+              std::string::npos)
+        << e.what();
   }
-  EXPECT_THROW(LoadParams<TlsParams>(LoadYamlString("step_deg: 0.001\n", "p.yaml"), "p.yaml"), InputError);
+  EXPECT_THROW(LoadParams<TlsParams>(LoadYamlString("step_deg: 0.001\n", "p.yaml"), "p.yaml"),
+               InputError);
   TlsParams p;
   p.range_accuracy = 0.001;  // below precision: accuracy is the total error
   EXPECT_THROW(p.Validate(), InputError);

@@ -15,9 +15,11 @@ namespace mopad::sim {
 namespace {
 
 TEST(PulseKernel, Avx512AndBaselineBuildsGiveTheSameBits) {
-  if (!PulseKernelUsesAvx512()) GTEST_SKIP() << "no AVX-512 on this CPU: only the baseline build runs";
+  if (!PulseKernelUsesAvx512())
+    GTEST_SKIP() << "no AVX-512 on this CPU: only the baseline build runs";
   std::vector<float> tables(3 * (kRhoTableSize + 1));
-  for (std::size_t i = 0; i < tables.size(); ++i) tables[i] = static_cast<float>((i * 7919) % 1000) / 1000.0f;
+  for (std::size_t i = 0; i < tables.size(); ++i)
+    tables[i] = static_cast<float>((i * 7919) % 1000) / 1000.0f;
   PulseKernelConstants k;
   k.noise_key = 123;
   k.precision = 0.003f;

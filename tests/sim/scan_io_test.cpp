@@ -17,7 +17,8 @@ namespace mopad::io {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("mopad_scan_io_" + std::to_string(::getpid()) + "_" + name))
+  return (std::filesystem::temp_directory_path() /
+          ("mopad_scan_io_" + std::to_string(::getpid()) + "_" + name))
       .string();
 }
 
@@ -77,7 +78,8 @@ TEST(ScanIo, TlsScanPlyRoundTrip) {
   ExpectSameGrid(scan, back, true);
   // The header names every field as CloudCompare and Open3D expect.
   const PointCloud cloud = ReadPly(path);
-  for (const char* f : {"scalar_intensity", "scalar_range", "scalar_row", "scalar_column", "scalar_timestamp"})
+  for (const char* f :
+       {"scalar_intensity", "scalar_range", "scalar_row", "scalar_column", "scalar_timestamp"})
     EXPECT_NE(cloud.Field(f), nullptr) << f;
   EXPECT_EQ(cloud.colors.size(), cloud.points.size());
   std::remove(path.c_str());
@@ -130,7 +132,8 @@ TEST(ScanIo, ReadersRejectBadFiles) {
   }
   {
     std::ofstream f(path, std::ios::binary);
-    f << "ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nproperty float y\n"
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nproperty "
+         "float y\n"
          "property float z\nend_header\n";
     f.write("\0\0\0\0", 4);
   }
@@ -142,19 +145,24 @@ TEST(ScanIo, ReadersRejectBadFiles) {
 
 // Runs only where Debian's CloudCompare is installed: it must load the scan with every field.
 TEST(ScanIo, CloudCompareOpensTheScanWithAllFields) {
-  if (std::system("command -v CloudCompare > /dev/null 2>&1") != 0) GTEST_SKIP() << "CloudCompare not on PATH";
+  if (std::system("command -v CloudCompare > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "CloudCompare not on PATH";
   const TlsScan scan = SmallScan();
   const std::string ply = TempPath("cc.ply");
   WriteTlsScanPly(ply, scan);
   const std::string dir = std::filesystem::path(ply).parent_path().string();
-  const std::string cmd = "cd " + dir + " && QT_QPA_PLATFORM=offscreen timeout 120 CloudCompare -SILENT -NO_TIMESTAMP -O " +
-                          ply + " -C_EXPORT_FMT ASC -ADD_HEADER -SAVE_CLOUDS > /dev/null 2>&1";
+  const std::string cmd =
+      "cd " + dir +
+      " && QT_QPA_PLATFORM=offscreen timeout 120 CloudCompare -SILENT -NO_TIMESTAMP -O " + ply +
+      " -C_EXPORT_FMT ASC -ADD_HEADER -SAVE_CLOUDS > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   // CloudCompare writes <name>.asc (or <name>_<n>.asc) beside the input.
   std::string asc;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     const std::string n = e.path().filename().string();
-    if (n.rfind(std::filesystem::path(ply).stem().string(), 0) == 0 && e.path().extension() == ".asc") asc = e.path();
+    if (n.rfind(std::filesystem::path(ply).stem().string(), 0) == 0 &&
+        e.path().extension() == ".asc")
+      asc = e.path();
   }
   ASSERT_FALSE(asc.empty());
   std::ifstream in(asc);

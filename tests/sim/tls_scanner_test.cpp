@@ -50,7 +50,8 @@ std::string ReadBytes(const std::string& path) {
 }
 
 std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("mopad_sim_test_" + std::to_string(::getpid()) + "_" + name))
+  return (std::filesystem::temp_directory_path() /
+          ("mopad_sim_test_" + std::to_string(::getpid()) + "_" + name))
       .string();
 }
 
@@ -206,7 +207,8 @@ TEST(TlsScanner, NoiseGrowsWithIncidenceAsConfigured) {
   // A large floor seen from 1.5 m: incidence from 0 to ~80 deg.
   scenes::Scene s;
   AddMaterial(s, "white", 0.9f, 0.9f, 0.9f);
-  AddQuad(s, V(-30, -30, 0), V(30, -30, 0), V(30, 30, 0), V(-30, 30, 0), scenes::ElementClass::kFloor, "floor", 0);
+  AddQuad(s, V(-30, -30, 0), V(30, -30, 0), V(30, 30, 0), V(-30, 30, 0),
+          scenes::ElementClass::kFloor, "floor", 0);
   EmbreeWorld world(std::move(s));
   TlsParams p = AtOrigin(TlsParams{});
   p.elevation_max_deg = -10;
@@ -269,8 +271,10 @@ TEST(TlsScanner, RaysThroughAnOpenDoorLeaveTheRoom) {
       if (d.x() > 1e-9) {
         const double t = (8 - o.x()) / d.x();
         const Eigen::Vector3d q = o + t * d;
-        const bool strictly = q.y() > 2.5 + 1e-3 && q.y() < 3.5 - 1e-3 && q.z() > 1e-3 && q.z() < 2.1 - 1e-3;
-        const bool near_edge = !strictly && q.y() > 2.5 - 1e-3 && q.y() < 3.5 + 1e-3 && q.z() < 2.1 + 1e-3;
+        const bool strictly =
+            q.y() > 2.5 + 1e-3 && q.y() < 3.5 - 1e-3 && q.z() > 1e-3 && q.z() < 2.1 - 1e-3;
+        const bool near_edge =
+            !strictly && q.y() > 2.5 - 1e-3 && q.y() < 3.5 + 1e-3 && q.z() < 2.1 + 1e-3;
         if (near_edge) continue;
         in_gap = strictly;
       }
@@ -278,11 +282,16 @@ TEST(TlsScanner, RaysThroughAnOpenDoorLeaveTheRoom) {
       if (in_gap) {
         ++through;
         wrong += valid;
-        if (valid) ADD_FAILURE() << "return through the gap at " << r << "," << c << " range " << scan.at(r, c).range;
+        if (valid)
+          ADD_FAILURE() << "return through the gap at " << r << "," << c << " range "
+                        << scan.at(r, c).range;
         EXPECT_EQ(truth.at(r, c).part, -1);
       } else {
         wrong += !valid;
-        if (!valid) ADD_FAILURE() << "no return at " << r << "," << c << " flags " << int(truth.at(r, c).flags) << " part " << truth.at(r, c).part << " d " << d.transpose();
+        if (!valid)
+          ADD_FAILURE() << "no return at " << r << "," << c << " flags "
+                        << int(truth.at(r, c).flags) << " part " << truth.at(r, c).part << " d "
+                        << d.transpose();
       }
     }
   EXPECT_GT(through, 500u);
@@ -294,14 +303,15 @@ TEST(TlsScanner, RaysThroughAWindowLeaveAndComeBackAsOutliers) {
   const int white = AddMaterial(s, "white", 0.8f, 0.8f, 0.8f);
   const int glass = AddMaterial(s, "glass", 0.9f, 0.95f, 0.95f, 0.f, 0.05f, 1.0f);
   AddRoomWithOpening(s, 8, 6, 3, 2.0f, 4.0f, 1.0f, 2.2f, white);
-  AddQuad(s, V(8, 2, 1), V(8, 4, 1), V(8, 4, 2.2f), V(8, 2, 2.2f), scenes::ElementClass::kWindowGlass, "window_1",
-          glass);
+  AddQuad(s, V(8, 2, 1), V(8, 4, 1), V(8, 4, 2.2f), V(8, 2, 2.2f),
+          scenes::ElementClass::kWindowGlass, "window_1", glass);
   const std::size_t n_room_parts = s.parts.size();
   EmbreeWorld world(s);
   TlsParams p = AtOrigin(TlsParams{}.NoiseFree());
   p.step_deg = 0.2;
   const Eigen::Vector3d o(3, 3, 1.6);
-  auto count = [&](const EmbreeWorld& w, std::size_t* through, std::size_t* outliers, double* far_range) {
+  auto count = [&](const EmbreeWorld& w, std::size_t* through, std::size_t* outliers,
+                   double* far_range) {
     TlsTruth truth;
     const auto scan = TlsScanner(w, p).Scan(At(o.x(), o.y(), o.z()), &truth);
     *through = *outliers = 0;
@@ -322,8 +332,8 @@ TEST(TlsScanner, RaysThroughAWindowLeaveAndComeBackAsOutliers) {
   EXPECT_GT(through, 1000u);  // nothing outside: the rays are lost
   EXPECT_EQ(outliers, 0u);
   // A building across the street: the same rays now come back from 20 m away, flagged.
-  AddQuad(s, V(28, -20, -5), V(28, 20, -5), V(28, 20, 10), V(28, -20, 10), scenes::ElementClass::kWall, "facade",
-          white);
+  AddQuad(s, V(28, -20, -5), V(28, 20, -5), V(28, 20, 10), V(28, -20, 10),
+          scenes::ElementClass::kWall, "facade", white);
   ASSERT_EQ(s.parts.size(), n_room_parts + 1);
   EmbreeWorld world2(std::move(s));
   std::size_t through2, outliers2;
@@ -359,7 +369,8 @@ TEST(TlsScanner, ColoursOnATexturedQuadMatchTheTexture) {
   q.element_class = scenes::ElementClass::kWall;
   q.material = 0;
   q.positions = {V(4, -1, 2), V(4, 1, 2), V(4, 1, 0), V(4, -1, 0)};
-  q.uvs = {Eigen::Vector2f(0, 0), Eigen::Vector2f(1, 0), Eigen::Vector2f(1, 1), Eigen::Vector2f(0, 1)};
+  q.uvs = {Eigen::Vector2f(0, 0), Eigen::Vector2f(1, 0), Eigen::Vector2f(1, 1),
+           Eigen::Vector2f(0, 1)};
   q.triangles = {Eigen::Vector3i(0, 1, 2), Eigen::Vector3i(0, 2, 3)};
   s.parts.push_back(q);
   EmbreeWorld world(std::move(s));
@@ -378,8 +389,10 @@ TEST(TlsScanner, ColoursOnATexturedQuadMatchTheTexture) {
       const double u = (w.y() + 1) / 2, v = (2 - w.z()) / 2;
       const double fx = u * 4, fy = v * 4;
       // Only near a block's middle texel, where bilinear filtering stays inside the block.
-      if (std::abs(fx - std::floor(fx) - 0.5) > 0.15 || std::abs(fy - std::floor(fy) - 0.5) > 0.15) continue;
-      const int x = std::clamp(static_cast<int>(fx), 0, 3), y = std::clamp(static_cast<int>(fy), 0, 3);
+      if (std::abs(fx - std::floor(fx) - 0.5) > 0.15 || std::abs(fy - std::floor(fy) - 0.5) > 0.15)
+        continue;
+      const int x = std::clamp(static_cast<int>(fx), 0, 3),
+                y = std::clamp(static_cast<int>(fy), 0, 3);
       const std::uint8_t* t = &tex.rgba[4 * ((3 * y + 1) * 12 + 3 * x + 1)];
       EXPECT_NEAR(pt.r, t[0], 1) << x << "," << y;
       EXPECT_NEAR(pt.g, t[1], 1);
@@ -394,8 +407,8 @@ TEST(TlsScanner, MixedPixelsAppearOnlyAtDepthEdges) {
   const int white = AddMaterial(s, "white", 0.7f, 0.7f, 0.7f);
   AddRoomBox(s, V(-6, -6, -1.5f), V(6, 6, 1.5f), white);
   // A panel 0.3 m in front of the east wall (closer than echo_separation): depth edges.
-  AddQuad(s, V(5.7f, -1, -0.5f), V(5.7f, 1, -0.5f), V(5.7f, 1, 0.5f), V(5.7f, -1, 0.5f), scenes::ElementClass::kFurniture,
-          "panel", white);
+  AddQuad(s, V(5.7f, -1, -0.5f), V(5.7f, 1, -0.5f), V(5.7f, 1, 0.5f), V(5.7f, -1, 0.5f),
+          scenes::ElementClass::kFurniture, "panel", white);
   EmbreeWorld world(std::move(s));
   TlsParams p = AtOrigin(TlsParams{}.NoiseFree());
   p.step_deg = 0.1;
@@ -428,8 +441,8 @@ TEST(TlsScanner, MixedPixelsAppearOnlyAtDepthEdges) {
       const bool deviates = std::abs(a.range - b.range) > 0.002;
       const bool flagged = truth7.at(r, c).flags & kTruthMixed;
       if (deviates || flagged) {
-        EXPECT_TRUE(edge) << "mixed pixel away from any depth edge at " << r << "," << c << ": " << a.range
-                          << " vs " << b.range;
+        EXPECT_TRUE(edge) << "mixed pixel away from any depth edge at " << r << "," << c << ": "
+                          << a.range << " vs " << b.range;
         ++mixed;
       }
     }
@@ -464,17 +477,19 @@ TEST(TlsScanner, DarkAndSpecularSurfacesDropOut) {
   const int black = AddMaterial(s, "black", 0.01f, 0.01f, 0.01f, 0.f, 1.f, 0.f, 0.002f);
   const int mirror = AddMaterial(s, "chrome", 0.9f, 0.9f, 0.9f, 1.f, 0.05f);
   AddRoomBox(s, V(-6, -6, -1.5f), V(6, 6, 1.5f), white);
-  AddQuad(s, V(5.9f, -3, -1), V(5.9f, -1, -1), V(5.9f, -1, 1), V(5.9f, -3, 1), scenes::ElementClass::kFurniture, "black",
-          black);
-  AddQuad(s, V(5.9f, 1, -1), V(5.9f, 3, -1), V(5.9f, 3, 1), V(5.9f, 1, 1), scenes::ElementClass::kFurniture, "chrome",
-          mirror);
+  AddQuad(s, V(5.9f, -3, -1), V(5.9f, -1, -1), V(5.9f, -1, 1), V(5.9f, -3, 1),
+          scenes::ElementClass::kFurniture, "black", black);
+  AddQuad(s, V(5.9f, 1, -1), V(5.9f, 3, -1), V(5.9f, 3, 1), V(5.9f, 1, 1),
+          scenes::ElementClass::kFurniture, "chrome", mirror);
   EmbreeWorld world(std::move(s));
   TlsParams p = AtOrigin(TlsParams{});
   p.step_deg = 0.2;
   TlsTruth truth;
   const auto scan = TlsScanner(world, p).Scan(At(0, 0, 0), &truth);
   const auto& ids = truth.element_ids;
-  auto id_of = [&](const std::string& name) { return static_cast<int>(std::find(ids.begin(), ids.end(), name) - ids.begin()); };
+  auto id_of = [&](const std::string& name) {
+    return static_cast<int>(std::find(ids.begin(), ids.end(), name) - ids.begin());
+  };
   std::size_t hits[3] = {0, 0, 0}, returns[3] = {0, 0, 0};
   const int elems[3] = {id_of("wall_e"), id_of("black"), id_of("chrome")};
   for (std::size_t i = 0; i < scan.points.size(); ++i)
@@ -494,8 +509,10 @@ TEST(TlsScanner, OutputIsByteIdenticalWithOneAndTwoThreads) {
   const int white = AddMaterial(s, "white", 0.8f, 0.6f, 0.4f);
   const int glass = AddMaterial(s, "glass", 0.9f, 0.95f, 0.95f, 0.f, 0.05f, 0.7f);
   AddRoomWithOpening(s, 8, 6, 3, 2.0f, 4.0f, 1.0f, 2.2f, white);
-  AddQuad(s, V(8, 2, 1), V(8, 4, 1), V(8, 4, 2.2f), V(8, 2, 2.2f), scenes::ElementClass::kWindowGlass, "window_1", glass);
-  AddQuad(s, V(20, -20, -5), V(20, 20, -5), V(20, 20, 10), V(20, -20, 10), scenes::ElementClass::kWall, "facade", white);
+  AddQuad(s, V(8, 2, 1), V(8, 4, 1), V(8, 4, 2.2f), V(8, 2, 2.2f),
+          scenes::ElementClass::kWindowGlass, "window_1", glass);
+  AddQuad(s, V(20, -20, -5), V(20, 20, -5), V(20, 20, 10), V(20, -20, 10),
+          scenes::ElementClass::kWall, "facade", white);
   EmbreeWorld world(std::move(s));
   // The vectorised single-ray path and the general path (footprint, camera parallax).
   TlsParams single;
@@ -509,23 +526,28 @@ TEST(TlsScanner, OutputIsByteIdenticalWithOneAndTwoThreads) {
   for (const TlsParams& params : {single, p}) {
     TlsScanner scanner(world, params);
     auto run = [&](int threads, const std::string& tag) {
-      const ScanOutputPaths paths{TempPath(tag + ".ply"), TempPath(tag + ".ptx"), TempPath(tag + ".truth.ply")};
+      const ScanOutputPaths paths{TempPath(tag + ".ply"), TempPath(tag + ".ptx"),
+                                  TempPath(tag + ".truth.ply")};
       RunWithThreads(threads, [&] {
-        ScanFileSink sink(paths, scanner.MakeHeader(req), scanner.MakeTruthHeader(req), scanner.pulses());
+        ScanFileSink sink(paths, scanner.MakeHeader(req), scanner.MakeTruthHeader(req),
+                          scanner.pulses());
         scanner.ScanStreamed(req, sink);
         sink.Close();
       });
-      std::array<std::string, 3> files = {ReadBytes(paths.ply), ReadBytes(paths.ptx), ReadBytes(paths.truth)};
+      std::array<std::string, 3> files = {ReadBytes(paths.ply), ReadBytes(paths.ptx),
+                                          ReadBytes(paths.truth)};
       for (const auto& f : {paths.ply, paths.ptx, paths.truth}) std::remove(f.c_str());
       return files;
     };
     const auto one = run(1, "t1"), two = run(2, "t2");
     EXPECT_GT(one[0].size(), 1000000u);
-    for (int i = 0; i < 3; ++i) EXPECT_TRUE(one[i] == two[i]) << "file " << i << " differs between 1 and 2 threads";
+    for (int i = 0; i < 3; ++i)
+      EXPECT_TRUE(one[i] == two[i]) << "file " << i << " differs between 1 and 2 threads";
     // And the streamed files equal the in-memory scan written afterwards.
     TlsTruth truth;
     const auto scan = scanner.Scan(req, &truth);
-    const std::string ply = TempPath("mem.ply"), ptx = TempPath("mem.ptx"), tply = TempPath("mem.truth.ply");
+    const std::string ply = TempPath("mem.ply"), ptx = TempPath("mem.ptx"),
+                      tply = TempPath("mem.truth.ply");
     io::WriteTlsScanPly(ply, scan);
     io::WriteTlsScanPtx(ptx, scan);
     WriteTlsTruthPly(tply, scan, truth);
@@ -542,13 +564,15 @@ TEST(TlsScanner, OutputIsByteIdenticalWithOneAndTwoThreads) {
   other.seed = 99;
   const auto scan_other = scanner.Scan(other);
   std::size_t differ = 0;
-  for (std::size_t i = 0; i < scan.points.size(); ++i) differ += scan.points[i].range != scan_other.points[i].range;
+  for (std::size_t i = 0; i < scan.points.size(); ++i)
+    differ += scan.points[i].range != scan_other.points[i].range;
   EXPECT_GT(differ, scan.points.size() / 2);
 }
 
 TEST(TlsScanner, ScanCarriesNoTruth) {
   // The robot's scan type has exactly the fields a real scanner reports.
-  static_assert(sizeof(interfaces::TlsPoint) == 40, "TlsPoint changed: keep truth out of it (sim/tls_truth.h)");
+  static_assert(sizeof(interfaces::TlsPoint) == 40,
+                "TlsPoint changed: keep truth out of it (sim/tls_truth.h)");
   static_assert(!std::is_same_v<interfaces::TlsScan, TlsTruth>);
   EmbreeWorld world(BoxScene(V(-3, -3, -1.5f), V(3, 3, 1.5f)));
   TlsParams p = AtOrigin(TlsParams{});
@@ -558,7 +582,8 @@ TEST(TlsScanner, ScanCarriesNoTruth) {
   io::WriteTlsScanPly(path, scan);
   const std::string bytes = ReadBytes(path);
   const std::string header = bytes.substr(0, bytes.find("end_header"));
-  for (const char* bad : {"label", "element", "part", "class", "door", "true", "flags", "X_WS", "bias"}) {
+  for (const char* bad :
+       {"label", "element", "part", "class", "door", "true", "flags", "X_WS", "bias"}) {
     // "element vertex" is the PLY keyword; anything else naming truth is a leak.
     std::string h = header;
     for (std::size_t pos; (pos = h.find("element vertex")) != std::string::npos;) h.erase(pos, 14);

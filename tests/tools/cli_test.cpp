@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -100,12 +100,19 @@ TEST(Cli, DefaultSceneHasThePapersCounts) {
   EXPECT_EQ(t.at("windows"), 10);
   const auto& b = t.at("service_components");
   EXPECT_EQ(b.at("total"), 116);
-  const std::map<std::string, int> table3 = {
-      {"electrical_panel", 4}, {"socket_x1", 20},       {"socket_x2", 6},
-      {"socket_x4", 11},       {"built_in_socket", 6},  {"switch", 16},
-      {"fire_extinguisher", 9}, {"radiator", 6},        {"fire_alarm_switch", 8},
-      {"smoke_detector", 10},  {"exit_light", 3},       {"extinguisher_sign", 9},
-      {"fire_alarm_switch_sign", 8}};
+  const std::map<std::string, int> table3 = {{"electrical_panel", 4},
+                                             {"socket_x1", 20},
+                                             {"socket_x2", 6},
+                                             {"socket_x4", 11},
+                                             {"built_in_socket", 6},
+                                             {"switch", 16},
+                                             {"fire_extinguisher", 9},
+                                             {"radiator", 6},
+                                             {"fire_alarm_switch", 8},
+                                             {"smoke_detector", 10},
+                                             {"exit_light", 3},
+                                             {"extinguisher_sign", 9},
+                                             {"fire_alarm_switch_sign", 8}};
   for (const auto& [cls, n] : table3) EXPECT_EQ(b.at("per_class").value(cls, -1), n) << cls;
   // Doors: at least one open, the rest a mix of closed and semi-open.
   EXPECT_GE(t.at("doors").at("open"), 1);
@@ -133,10 +140,10 @@ TEST(Cli, ValidateCatchesTruthThatDisagreesWithGeometry) {
   std::ifstream in(d + "/scene.truth.json");
   auto truth = nlohmann::json::parse(in);
   in.close();
-  truth["service_components"][0]["centre"][0] = truth["service_components"][0]["centre"][0]
-                                                    .get<double>() + 0.5;
-  truth["service_components"][0]["centre"][1] = truth["service_components"][0]["centre"][1]
-                                                    .get<double>() + 0.5;
+  truth["service_components"][0]["centre"][0] =
+      truth["service_components"][0]["centre"][0].get<double>() + 0.5;
+  truth["service_components"][0]["centre"][1] =
+      truth["service_components"][0]["centre"][1].get<double>() + 0.5;
   std::ofstream(d + "/scene.truth.json") << truth.dump();
   const Result r = Mopad("scene validate " + d);
   EXPECT_EQ(r.code, 1) << r.out;
@@ -174,10 +181,10 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
   EXPECT_GE(room.at("scans").get<int>(), 1);
   EXPECT_GT(room.at("evaluation").at("coverage_of_total").get<double>(), 0.5);
   EXPECT_GT(room.at("evaluation").at("sm1_labels").at("accuracy").get<double>(), 0.9);
-  for (const char* f : {"report.html", "report.md", "scene/scene.glb", "scene/scene.truth.json",
-                        "rooms/R1/run.json", "rooms/R1/evaluation.json", "rooms/R1/models.glb",
-                        "rooms/R1/sm2.json", "rooms/R1/dsm3.ply", "eval/evaluation.json",
-                        "eval/evaluation.md"})
+  for (const char* f :
+       {"report.html", "report.md", "scene/scene.glb", "scene/scene.truth.json",
+        "rooms/R1/run.json", "rooms/R1/evaluation.json", "rooms/R1/models.glb", "rooms/R1/sm2.json",
+        "rooms/R1/dsm3.ply", "eval/evaluation.json", "eval/evaluation.md"})
     EXPECT_TRUE(fs::exists(d + "/a/" + f)) << f;
   // The models are scored against the truth in the same job (mopad eval's figures).
   const auto& ms = j.at("models_evaluation").at("summary");
@@ -190,7 +197,8 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
     auto ja = nlohmann::json::parse(ea), jb = nlohmann::json::parse(eb);
     ja.erase("run_dir"), jb.erase("run_dir");  // the two output folders differ
     for (auto* x : {&ja, &jb})
-      for (auto& r : (*x)["rooms"]) r.erase("run_dir"), r["mission"].erase("seconds");  // wall clock
+      for (auto& r : (*x)["rooms"])
+        r.erase("run_dir"), r["mission"].erase("seconds");  // wall clock
     EXPECT_EQ(ja.dump(), jb.dump()) << "eval/evaluation.json differs between two runs";
   }
   for (const char* f : {"/rooms/R1/sm1.ply", "/rooms/R1/sm3.json", "/rooms/R1/trajectory_true.tum",
@@ -220,7 +228,8 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
 TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
   int status = 0;
   const auto out = KhronosValidate(OfficeDir() + "/scene.glb", &status);
-  if (!out) GTEST_SKIP() << "node or npm gltf-validator not installed (scripts/test.sh installs it)";
+  if (!out)
+    GTEST_SKIP() << "node or npm gltf-validator not installed (scripts/test.sh installs it)";
   std::printf("%s", out->c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << *out;
   EXPECT_NE(out->find("errors=0 "), std::string::npos) << *out;
@@ -228,8 +237,10 @@ TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
 
 TEST(Cli, SameSpecGivesIdenticalBytes) {
   const std::string d = TempDir("twice");
-  ASSERT_EQ(Mopad("scene generate " + Src("scenes/two_rooms_door.yaml") + " -o " + d + "/a").code, 0);
-  ASSERT_EQ(Mopad("scene generate " + Src("scenes/two_rooms_door.yaml") + " -o " + d + "/b").code, 0);
+  ASSERT_EQ(Mopad("scene generate " + Src("scenes/two_rooms_door.yaml") + " -o " + d + "/a").code,
+            0);
+  ASSERT_EQ(Mopad("scene generate " + Src("scenes/two_rooms_door.yaml") + " -o " + d + "/b").code,
+            0);
   for (const char* f : {"scene.glb", "scene.truth.json"}) {
     std::ifstream a(d + "/a/" + f, std::ios::binary), b(d + "/b/" + f, std::ios::binary);
     const std::string sa((std::istreambuf_iterator<char>(a)), {});
@@ -286,13 +297,15 @@ TEST(Cli, AFlagOverridesTheConfigFileWhichOverridesTheDefault) {
   const std::string dir = TempDir("precedence");
   const std::string cfg = dir + "/drive.yaml";
   std::ofstream(cfg) << "seed: 7\nmax_time: 3.5\n";
-  const std::string base = "drive " + Src("scenes/two_rooms_door.yaml") + " --from 1.5,2,0 --to 8,2,0 ";
+  const std::string base =
+      "drive " + Src("scenes/two_rooms_door.yaml") + " --from 1.5,2,0 --to 8,2,0 ";
   const Result file = Mopad(base + "--config " + cfg + " -o " + dir + "/file");
   ASSERT_EQ(file.code, 0) << file.out;
   const std::string eff_file = ReadFile(dir + "/file/drive.effective.yaml");
   EXPECT_NE(eff_file.find("seed: 7\n"), std::string::npos) << eff_file;
   EXPECT_NE(eff_file.find("max_time: 3.5\n"), std::string::npos) << eff_file;
-  const Result flag = Mopad(base + "--config " + cfg + " --seed 9 --max-time 4.5 -o " + dir + "/flag");
+  const Result flag =
+      Mopad(base + "--config " + cfg + " --seed 9 --max-time 4.5 -o " + dir + "/flag");
   ASSERT_EQ(flag.code, 0) << flag.out;
   const std::string eff_flag = ReadFile(dir + "/flag/drive.effective.yaml");
   EXPECT_NE(eff_flag.find("seed: 9\n"), std::string::npos) << eff_flag;
