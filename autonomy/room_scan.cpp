@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "perception/point_cloud_ops.h"
 
 namespace mopad::autonomy {
@@ -49,6 +50,77 @@ perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
   return p;
 }
 
+namespace {
+
+// Registration (paper step (3)): the first scan defines the map; later ones are refined against
+// the accumulated cloud S(t-1) from the odometry/AMCL prior and used when the acceptance policy
+// says so (the navigator's pose then takes the registered one). A scan that is not used stays
+// out of S(t) (it would smear it by the prior's error). Returns whether the scan is used.
+bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
+                      const interfaces::TlsScan& scan, bool first, perception::PointMap& target,
+                      RoomScanLog& log) {
+  const perception::Points source_S = perception::ScanPoints(scan);
+  if (!first) {
+    log.registration = perception::RegisterScan(source_S, target, log.X_MS_prior, params.icp);
+    log.registered = perception::AcceptRegistration(log.registration, log.X_MS_prior, params.icp,
+                                                    params.acceptance, 0.0)
+                         .use;
+    if (log.registered) {
+      log.X_MS = log.registration.X_MS;
+      navigator.CorrectLastScanPose(log.X_MS);
+    }
+  }
+  if (log.registered) target.Add(perception::Transform(source_S, log.X_MS), log.X_MS.translation());
+  return log.registered;
+}
+
+// The next best scan's candidates in the order they are tried: the chosen one, then the others
+// with a gain by gain; none within `exclusion` of a position whose scan failed (the model did
+// not change, so the same spot would win again).
+std::vector<int> CandidateOrder(const NbsResult& nbs, const std::vector<Vec2>& failed_scans,
+                                double exclusion) {
+  auto spent = [&](int i) {
+    for (const Vec2& f : failed_scans)
+      if ((nbs.candidates[i].position - f).norm() < exclusion) return true;
+    return false;
+  };
+  std::vector<int> order;
+  if (!nbs.found) return order;
+  if (!spent(nbs.chosen)) order.push_back(nbs.chosen);
+  std::vector<int> rest;
+  for (int i = 0; i < static_cast<int>(nbs.candidates.size()); ++i)
+    if (i != nbs.chosen && nbs.candidates[i].gain > 0 && !spent(i)) rest.push_back(i);
+  std::stable_sort(rest.begin(), rest.end(),
+                   [&](int a, int b) { return nbs.candidates[a].gain > nbs.candidates[b].gain; });
+  order.insert(order.end(), rest.begin(), rest.end());
+  return order;
+}
+
+// The drive to the next best scan (step (2)): the candidates in `order`, at most nav_attempts,
+// until one is reached. Returns whether the robot arrived.
+bool DriveToNextBestScan(Navigator& navigator, const RoomScanParams& params, const NbsResult& nbs,
+                         const std::vector<int>& order, RoomScanLog& log) {
+  for (int attempt = 0; attempt < params.nav_attempts && attempt < static_cast<int>(order.size());
+       ++attempt) {
+    const NbsCandidate& c = nbs.candidates[order[attempt]];
+    const Pose2 goal{c.position.x(), c.position.y(),
+                     order[attempt] == nbs.chosen ? nbs.goal.yaw : navigator.EstimatedPose().yaw};
+    log.has_next = true;
+    log.next_goal = goal;
+    log.expected_gain = c.gain;
+    const auto t0 = Clock::now();
+    const DriveStatus st = navigator.NavigateTo(goal);
+    log.t_drive += Since(t0);
+    log.nav_status = ToString(st);
+    log.nav_message = navigator.Log().message;
+    if (st == DriveStatus::kArrived) return true;
+    if (st == DriveStatus::kLocalisationLost) return false;
+  }
+  return false;
+}
+
+}  // namespace
+
 RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
                            modelling::RoomModel& model, const ScanHook& on_scan) {
   ValidateParams(params, "room.");
@@ -69,29 +141,10 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
     log.X_MS_prior = scan.X_MS_estimate;
     log.X_MS = scan.X_MS_estimate;
 
-    // Registration (paper step (3)): the first scan defines the map; later ones are refined
-    // against the accumulated cloud S(t-1) from the odometry/AMCL prior.
     t0 = Clock::now();
-    const perception::Points source_S = perception::ScanPoints(scan);
-    if (k > 0) {
-      log.registration = perception::RegisterScan(source_S, target, log.X_MS_prior, params.icp);
-      log.registered = perception::AcceptRegistration(log.registration, log.X_MS_prior, params.icp,
-                                                      params.acceptance, 0.0)
-                           .use;
-      if (log.registration.ok) {
-        log.X_MS = log.registration.X_MS;
-        session.CorrectLastScanPose(log.X_MS);
-      } else {
-        res.registration_failed = true;
-        const Pose2 here = session.EstimatedPose();
-        failed_scans.emplace_back(here.x, here.y);
-      }
-    }
-    // A scan that could not be registered stays out of S(t) and of the model (it would smear
-    // both by the prior's error); the mission goes on from the next best scan.
-    if (log.registered) {
-      target.Add(perception::Transform(source_S, log.X_MS), log.X_MS.translation());
-      log.t_registration = Since(t0);
+    const bool used = RegisterRoomScan(session, params, scan, k == 0, target, log);
+    log.t_registration = Since(t0);
+    if (used) {
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);
@@ -100,27 +153,23 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       log.t_model = Since(t0);
       if (on_scan) on_scan(log.session_scan, scan);
     } else {
-      log.t_registration = Since(t0);
+      res.registration_failed = true;
+      const Pose2 here = session.EstimatedPose();
+      failed_scans.emplace_back(here.x, here.y);
     }
     // The stopping rule (step (6)).
     log.coverage = model.Coverage();
     const modelling::StopDecision stop = modelling::CheckStopping(log.coverage, params.stopping);
     log.stop_message = stop.message;
-    if (stop.stop) {
-      res.stop_reason = stop.message;
-      res.scans.push_back(std::move(log));
-      break;
-    }
-    if (k + 1 == params.max_scans) {
-      res.stop_reason = "stop: scan cap of " + std::to_string(params.max_scans) + " reached (" +
-                        stop.message + ")";
+    if (stop.stop || k + 1 == params.max_scans) {
+      res.stop_reason = stop.stop ? stop.message
+                                  : "stop: scan cap of " + std::to_string(params.max_scans) +
+                                        " reached (" + stop.message + ")";
       res.scans.push_back(std::move(log));
       break;
     }
 
-    // Next best scan (step (1)) and the drive there (step (2)). When the robot cannot reach the
-    // chosen candidate, the next best ones (by expected gain) are tried.
-    bool moved = false;
+    // Next best scan (step (1)) and the drive there (step (2)).
     t0 = Clock::now();
     const NbsResult nbs = NextBestScan(model, session.Map(), session.EstimatedPose(),
                                        params.scan_step_deg, params.nbs);
@@ -131,48 +180,14 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
     // the structural area is not worth the drive.
     const double min_gain = params.stopping.epsilon2 * log.coverage.total_area;
     if (nbs.found && nbs.expected_gain < min_gain) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "stop: best expected gain %.2f m2 < epsilon2 x estimated total (%.2f m2)",
-                    nbs.expected_gain, min_gain);
-      res.stop_reason = buf;
+      res.stop_reason =
+          FormatNumbers("stop: best expected gain %.2f m2 < epsilon2 x estimated total (%.2f m2)",
+                        nbs.expected_gain, min_gain);
       res.scans.push_back(std::move(log));
       break;
     }
-    auto spent = [&](int i) {
-      for (const Vec2& f : failed_scans)
-        if ((nbs.candidates[i].position - f).norm() < params.failed_scan_exclusion) return true;
-      return false;
-    };
-    std::vector<int> order;
-    if (nbs.found) {
-      if (!spent(nbs.chosen)) order.push_back(nbs.chosen);
-      std::vector<int> rest;
-      for (int i = 0; i < static_cast<int>(nbs.candidates.size()); ++i)
-        if (i != nbs.chosen && nbs.candidates[i].gain > 0 && !spent(i)) rest.push_back(i);
-      std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) {
-        return nbs.candidates[a].gain > nbs.candidates[b].gain;
-      });
-      order.insert(order.end(), rest.begin(), rest.end());
-    }
-    for (int attempt = 0;
-         attempt < params.nav_attempts && attempt < static_cast<int>(order.size()) && !moved;
-         ++attempt) {
-      const NbsCandidate& c = nbs.candidates[order[attempt]];
-      const Pose2 goal{c.position.x(), c.position.y(),
-                       order[attempt] == nbs.chosen ? nbs.goal.yaw : session.EstimatedPose().yaw};
-      log.has_next = true;
-      log.next_goal = goal;
-      log.expected_gain = c.gain;
-      t0 = Clock::now();
-      const DriveStatus st = session.NavigateTo(goal);
-      const std::string& msg = session.Log().message;
-      log.t_drive += Since(t0);
-      log.nav_status = ToString(st);
-      log.nav_message = msg;
-      if (st == DriveStatus::kArrived) moved = true;
-      if (st == DriveStatus::kLocalisationLost) break;
-    }
+    const std::vector<int> order = CandidateOrder(nbs, failed_scans, params.failed_scan_exclusion);
+    const bool moved = DriveToNextBestScan(session, params, nbs, order, log);
     res.scans.push_back(std::move(log));
     if (!moved) {
       const RoomScanLog& last = res.scans.back();
