@@ -107,30 +107,16 @@ double BoundaryDistance(const modelling::Roi& roi, const Vec2& p) {
   return d;
 }
 
-}  // namespace
-
-NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
-                       const Pose2& current_M, double scan_step_deg, const NextBestScanParams& P) {
-  P.Validate();
-  if (!(scan_step_deg > 0.0 && scan_step_deg <= 10.0))
-    throw InputError("", "next best scan: scan step must be in (0, 10] deg",
-                     std::to_string(scan_step_deg), "(0, 10]");
-  NbsResult out;
-  out.goal = current_M;
-  const modelling::Roi& roi = model.GetRoi();
-  if (roi.empty() || model.Voxels().empty()) {
-    out.message = "no next best scan: the room model is empty";
-    return out;
-  }
-  // a. Safe and reachable candidates.
-  const perception::DistanceField df(map, P.unknown_is_obstacle);
+// a. The grid cells a candidate may stand on (clearance of the robot radius in the map and
+// from the RoI's walls and columns, inside the RoI) that are connected to the current pose (or
+// the nearest such cell within 1 m): 1 = reachable.
+std::vector<std::uint8_t> ReachableCells(const modelling::Roi& roi,
+                                         const perception::OccupancyGrid& map,
+                                         const perception::DistanceField& df,
+                                         const Pose2& current_M, const Vec2& lo, const Vec2& hi,
+                                         const NextBestScanParams& P) {
   const int W = map.Width(), H = map.Height();
   std::vector<std::uint8_t> passable(static_cast<std::size_t>(W) * H, 0), reach(passable.size(), 0);
-  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
-  for (const auto& v : roi.perimeter) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
   tbb::parallel_for(0, H, [&](int j) {
     for (int i = 0; i < W; ++i) {
       const perception::Cell c{i, j};
@@ -158,26 +144,33 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
       }
     }
   }
-  if (seed >= 0) {
-    std::deque<int> queue{seed};
-    reach[seed] = 1;
-    while (!queue.empty()) {
-      const int idx = queue.front();
-      queue.pop_front();
-      const int i = idx % W, j = idx / W;
-      for (int dj = -1; dj <= 1; ++dj) {
-        for (int di = -1; di <= 1; ++di) {
-          const int ni = i + di, nj = j + dj;
-          if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= W || nj >= H) continue;
-          const int n = nj * W + ni;
-          if (passable[n] && !reach[n]) {
-            reach[n] = 1;
-            queue.push_back(n);
-          }
+  if (seed < 0) return reach;
+  std::deque<int> queue{seed};
+  reach[seed] = 1;
+  while (!queue.empty()) {
+    const int idx = queue.front();
+    queue.pop_front();
+    const int i = idx % W, j = idx / W;
+    for (int dj = -1; dj <= 1; ++dj) {
+      for (int di = -1; di <= 1; ++di) {
+        const int ni = i + di, nj = j + dj;
+        if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= W || nj >= H) continue;
+        const int n = nj * W + ni;
+        if (passable[n] && !reach[n]) {
+          reach[n] = 1;
+          queue.push_back(n);
         }
       }
     }
   }
+  return reach;
+}
+
+// a. The candidate grid (candidate_spacing) inside the RoI: safe (clearance of robot_radius +
+// safety_margin) and reachable ones into out.candidates, the others counted.
+void AddCandidates(const modelling::Roi& roi, const perception::OccupancyGrid& map,
+                   const perception::DistanceField& df, const std::vector<std::uint8_t>& reach,
+                   const Vec2& lo, const Vec2& hi, const NextBestScanParams& P, NbsResult& out) {
   const double s = P.candidate_spacing;
   for (double y = std::ceil(lo.y() / s) * s; y <= hi.y(); y += s) {
     for (double x = std::ceil(lo.x() / s) * s; x <= hi.x(); x += s) {
@@ -198,6 +191,76 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
       out.candidates.push_back(cand);
     }
   }
+}
+
+// c/d. Certainty of every face and of the RoI for every candidate (its gain).
+void EvaluateCandidates(const std::vector<Target>& targets, const Visibility& visible, double zs,
+                        std::size_t faces, std::vector<NbsCandidate>& candidates) {
+  tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t ci) {
+    NbsCandidate& cand = candidates[ci];
+    const Vec3 sc(cand.position.x(), cand.position.y(), zs);
+    std::vector<double>& fg = cand.face_certainty;
+    fg.assign(faces, 0.0);
+    for (const Target& t : targets) {
+      if (t.weight <= 0.0) continue;
+      const double chance = visible(sc, t);
+      if (chance <= 0.0) continue;
+      // A frontier patch reveals what lies behind it in proportion to how squarely it is seen
+      // (not how densely: what lies behind is seen from elsewhere).
+      const Vec3 d = t.p - sc;
+      fg[t.face] += t.frontier ? t.weight * d.dot(t.n) / d.norm() : t.weight * chance;
+      ++cand.visible_patches;
+    }
+    double g = 0.0;
+    for (double v : fg) g += v;  // fixed order
+    cand.gain = g;
+  });
+}
+
+// e. The candidate with the largest gain; ties: nearest to the current pose, then grid order.
+// -1 when none has a gain.
+int ChooseCandidate(const std::vector<NbsCandidate>& candidates, const Vec2& cur) {
+  int chosen = -1;
+  for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
+    if (candidates[ci].gain <= 0.0) continue;
+    if (chosen < 0) {
+      chosen = static_cast<int>(ci);
+      continue;
+    }
+    const NbsCandidate& a = candidates[ci];
+    const NbsCandidate& b = candidates[chosen];
+    if (a.gain > b.gain ||
+        (a.gain == b.gain && (a.position - cur).norm() < (b.position - cur).norm())) {
+      chosen = static_cast<int>(ci);
+    }
+  }
+  return chosen;
+}
+
+}  // namespace
+
+NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
+                       const Pose2& current_M, double scan_step_deg, const NextBestScanParams& P) {
+  P.Validate();
+  if (!(scan_step_deg > 0.0 && scan_step_deg <= 10.0))
+    throw InputError("", "next best scan: scan step must be in (0, 10] deg",
+                     std::to_string(scan_step_deg), "(0, 10]");
+  NbsResult out;
+  out.goal = current_M;
+  const modelling::Roi& roi = model.GetRoi();
+  if (roi.empty() || model.Voxels().empty()) {
+    out.message = "no next best scan: the room model is empty";
+    return out;
+  }
+  // a. Safe and reachable candidates.
+  const perception::DistanceField df(map, P.unknown_is_obstacle);
+  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& v : roi.perimeter) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const std::vector<std::uint8_t> reach = ReachableCells(roi, map, df, current_M, lo, hi, P);
+  AddCandidates(roi, map, df, reach, lo, hi, P, out);
   // b. Targets with their membership probabilities.
   std::vector<Target> targets = MakeTargets(model, P);
   const modelling::VoxelSpace& vox = model.Voxels();
@@ -221,42 +284,10 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
       }
     });
   }
-  // c/d. Certainty of every face and of the RoI per candidate.
+  // c/d/e.
+  EvaluateCandidates(targets, visible, zs, roi.faces.size(), out.candidates);
   const std::size_t nc = out.candidates.size();
-  tbb::parallel_for(std::size_t{0}, nc, [&](std::size_t ci) {
-    NbsCandidate& cand = out.candidates[ci];
-    const Vec3 sc(cand.position.x(), cand.position.y(), zs);
-    std::vector<double>& fg = cand.face_certainty;
-    fg.assign(roi.faces.size(), 0.0);
-    for (const Target& t : targets) {
-      if (t.weight <= 0.0) continue;
-      const double chance = visible(sc, t);
-      if (chance <= 0.0) continue;
-      // A frontier patch reveals what lies behind it in proportion to how squarely it is seen
-      // (not how densely: what lies behind is seen from elsewhere).
-      const Vec3 d = t.p - sc;
-      fg[t.face] += t.frontier ? t.weight * d.dot(t.n) / d.norm() : t.weight * chance;
-      ++cand.visible_patches;
-    }
-    double g = 0.0;
-    for (double v : fg) g += v;  // fixed order
-    cand.gain = g;
-  });
-  // e. The maximum; ties: nearest to the current pose, then grid order.
-  const Vec2 cur(current_M.x, current_M.y);
-  for (std::size_t ci = 0; ci < nc; ++ci) {
-    if (out.candidates[ci].gain <= 0.0) continue;
-    if (out.chosen < 0) {
-      out.chosen = static_cast<int>(ci);
-      continue;
-    }
-    const NbsCandidate& a = out.candidates[ci];
-    const NbsCandidate& b = out.candidates[out.chosen];
-    if (a.gain > b.gain ||
-        (a.gain == b.gain && (a.position - cur).norm() < (b.position - cur).norm())) {
-      out.chosen = static_cast<int>(ci);
-    }
-  }
+  out.chosen = ChooseCandidate(out.candidates, Vec2(current_M.x, current_M.y));
   char buf[320];
   if (out.chosen < 0) {
     std::snprintf(
