@@ -501,6 +501,131 @@ void RoomModel::BuildPerimeter() {
   roi_.perimeter = poly;
 }
 
+namespace {
+
+struct EdgeFit {
+  Vec2 p = Vec2::Zero();   // a point of the wall line (map plan)
+  Vec2 t = Vec2::UnitX();  // its unit direction
+  bool fitted = false;     // false: the edge keeps its traced line
+};
+
+// One perimeter edge a -> b moved onto its wall (RoomModel::RefitPerimeter): `band` are the
+// plan points between the floor and ceiling bands, `high` flags those above door heads.
+EdgeFit FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
+                    const std::vector<std::uint8_t>& high, const RoomModelParams& P) {
+  const double bandw = P.refit_band, tol = P.wall_tolerance;
+  const double len = (b - a).norm();
+  const Vec2 t = (b - a) / std::max(len, 1e-12), nrm(t.y(), -t.x());
+  EdgeFit fit{a, t, false};
+  const double guard = len > 3 * kRefitGuard ? kRefitGuard : 0.0;
+  const int nb = static_cast<int>(std::ceil(2 * bandw / 0.005)) + 1;
+  std::vector<int> hist(nb, 0), hist_high(nb, 0);
+  int n_high = 0;
+  std::vector<Vec2> near;
+  std::vector<std::uint8_t> near_high;
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    const Vec2 ap = band[k] - a;
+    const double u = ap.dot(t), s = ap.dot(nrm);
+    if (u < guard || u > len - guard || std::abs(s) > bandw) continue;
+    near.push_back(band[k]);
+    near_high.push_back(high[k]);
+    const int bin = static_cast<int>((s + bandw) / 0.005);
+    ++hist[bin];
+    if (high[k]) ++hist_high[bin], ++n_high;
+  }
+  if (static_cast<int>(near.size()) < P.refit_min_points) return fit;
+  // The wall is the outermost strong peak: a closed door leaf or a cabinet flush against the
+  // wall can be nearly as dense as the wall itself but lies in front of it, and where it
+  // covers most of the wall below its head it outnumbers the wall (office_5rooms, the hall's
+  // 2 m west end wall behind closed door D13: 4633 against 1918 points). Above door heads
+  // (kRefitHighBand) only the wall remains: its peak there is the anchor when it has enough
+  // points.
+  if (n_high >= P.refit_min_points) hist.swap(hist_high);
+  std::vector<double> sm(nb, 0.0);
+  double hmax = 0.0;
+  for (int k = 0; k < nb; ++k) {
+    sm[k] = hist[k] + (k > 0 ? 0.5 * hist[k - 1] : 0) + (k + 1 < nb ? 0.5 * hist[k + 1] : 0);
+    hmax = std::max(hmax, sm[k]);
+  }
+  int hb = 0;
+  for (int k = 0; k < nb; ++k) {
+    const bool peak = (k == 0 || sm[k] >= sm[k - 1]) && (k + 1 == nb || sm[k] >= sm[k + 1]);
+    if (peak && sm[k] >= 0.5 * hmax) hb = k;
+  }
+  const double s0 = (hb + 0.5) * 0.005 - bandw;
+  // Points within tol of the offset line; support must span part of the edge.
+  Vec2 mean = Vec2::Zero();
+  std::vector<Vec2> sel, sel_high;
+  std::vector<std::uint8_t> bins(static_cast<std::size_t>(len / 0.1) + 1, 0);
+  std::vector<std::uint8_t> bins_high(bins.size(), 0);
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const Vec2& p = near[k];
+    const double s = (p - a).dot(nrm);
+    if (std::abs(s - s0) <= tol) {
+      sel.push_back(p);
+      mean += p;
+      const std::size_t b =
+          std::min(bins.size() - 1, static_cast<std::size_t>((p - a).dot(t) / 0.1));
+      bins[b] = 1;
+      if (near_high[k]) sel_high.push_back(p), bins_high[b] = 1;
+    }
+  }
+  const int covered = std::accumulate(bins.begin(), bins.end(), 0);
+  if (static_cast<int>(sel.size()) < P.refit_min_points ||
+      covered < std::max<int>(2, static_cast<int>(0.2 * bins.size()))) {
+    return fit;
+  }
+  // The line itself from the points above door heads where they cover most of the edge:
+  // below, window reveals and furniture flush against the wall tilt it (R1's 14 m south
+  // wall, two windows and desks along it: 1.55 cm over its length, 1.8 % of its points then
+  // past the tolerance).
+  const int covered_high = std::accumulate(bins_high.begin(), bins_high.end(), 0);
+  if (static_cast<int>(sel_high.size()) >= P.refit_min_points &&
+      covered_high >= static_cast<int>(0.5 * covered)) {
+    sel.swap(sel_high);
+    mean = Vec2::Zero();
+    for (const auto& p : sel) mean += p;
+  }
+  mean /= static_cast<double>(sel.size());
+  auto pca_dir = [&](const std::vector<Vec2>& pts, const Vec2& c) {
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    Vec2 dir = es.eigenvectors().col(1);
+    if (dir.dot(t) < 0) dir = -dir;
+    return dir.dot(t) < std::cos(DegToRad(10.0)) ? t : dir;  // else keep the direction, only shift
+  };
+  Vec2 dir = pca_dir(sel, mean);
+  // Tighten about the wall peak: clutter flush against part of a wall (a closed door leaf or
+  // casing 2 cm proud over half of a 2 m end wall, a whiteboard row) lies inside the band and
+  // pulls a least-squares line towards it, up to onto it where it has more points than the
+  // wall (office_5rooms: R1 seed 1 tilted 0.08 deg over 14 m; the hall's west end wall 2.6 cm
+  // into the room on its closed door, its wall points then outliers). Refit from the line at
+  // the outermost strong peak s0 on the points within 0.6 and then 0.4 of the band about the
+  // current line, while at least a fifth of the band's points remain.
+  {
+    Vec2 lp = a + s0 * nrm + 0.5 * len * t, ld = t;
+    bool refit = false;
+    for (double f : {0.6, 0.4}) {
+      std::vector<Vec2> tight;
+      Vec2 m2 = Vec2::Zero();
+      const Vec2 nn(ld.y(), -ld.x());
+      for (const auto& p : sel)
+        if (std::abs((p - lp).dot(nn)) <= f * tol) tight.push_back(p), m2 += p;
+      if (static_cast<int>(tight.size()) <
+          std::max(P.refit_min_points, static_cast<int>(0.2 * sel.size())))
+        break;
+      lp = m2 / static_cast<double>(tight.size());
+      ld = pca_dir(tight, lp);
+      refit = true;
+    }
+    if (refit) mean = lp, dir = ld;
+  }
+  return {mean, dir, true};
+}
+
+}  // namespace
+
 void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
   // Each edge is moved onto its wall: the densest offset of the wall points near it (walls are
   // the farthest dense surface; clutter in front only thins the histogram), then a total
@@ -522,122 +647,15 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
   }
   std::vector<Vec2> line_p(n), line_t(n);
   std::vector<bool> fitted(n, false);
-  const double bandw = params_.refit_band, tol = params_.wall_tolerance;
+  std::vector<EdgeFit> fits(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    const Vec2 a = poly[i], b = poly[(i + 1) % n];
-    const double len = (b - a).norm();
-    const Vec2 t = (b - a) / std::max(len, 1e-12), nrm(t.y(), -t.x());
-    line_p[i] = a;
-    line_t[i] = t;
-    const double guard = len > 3 * kRefitGuard ? kRefitGuard : 0.0;
-    const int nb = static_cast<int>(std::ceil(2 * bandw / 0.005)) + 1;
-    std::vector<int> hist(nb, 0), hist_high(nb, 0);
-    int n_high = 0;
-    std::vector<Vec2> near;
-    std::vector<std::uint8_t> near_high;
-    for (std::size_t k = 0; k < band.size(); ++k) {
-      const Vec2 ap = band[k] - a;
-      const double u = ap.dot(t), s = ap.dot(nrm);
-      if (u < guard || u > len - guard || std::abs(s) > bandw) continue;
-      near.push_back(band[k]);
-      near_high.push_back(high[k]);
-      const int bin = static_cast<int>((s + bandw) / 0.005);
-      ++hist[bin];
-      if (high[k]) ++hist_high[bin], ++n_high;
-    }
-    if (static_cast<int>(near.size()) < params_.refit_min_points) return;
-    // The wall is the outermost strong peak: a closed door leaf or a cabinet flush against the
-    // wall can be nearly as dense as the wall itself but lies in front of it, and where it
-    // covers most of the wall below its head it outnumbers the wall (office_5rooms, the hall's
-    // 2 m west end wall behind closed door D13: 4633 against 1918 points). Above door heads
-    // (kRefitHighBand) only the wall remains: its peak there is the anchor when it has enough
-    // points.
-    if (n_high >= params_.refit_min_points) hist.swap(hist_high);
-    std::vector<double> sm(nb, 0.0);
-    double hmax = 0.0;
-    for (int k = 0; k < nb; ++k) {
-      sm[k] = hist[k] + (k > 0 ? 0.5 * hist[k - 1] : 0) + (k + 1 < nb ? 0.5 * hist[k + 1] : 0);
-      hmax = std::max(hmax, sm[k]);
-    }
-    int hb = 0;
-    for (int k = 0; k < nb; ++k) {
-      const bool peak = (k == 0 || sm[k] >= sm[k - 1]) && (k + 1 == nb || sm[k] >= sm[k + 1]);
-      if (peak && sm[k] >= 0.5 * hmax) hb = k;
-    }
-    const double s0 = (hb + 0.5) * 0.005 - bandw;
-    // Points within tol of the offset line; support must span part of the edge.
-    Vec2 mean = Vec2::Zero();
-    std::vector<Vec2> sel, sel_high;
-    std::vector<std::uint8_t> bins(static_cast<std::size_t>(len / 0.1) + 1, 0);
-    std::vector<std::uint8_t> bins_high(bins.size(), 0);
-    for (std::size_t k = 0; k < near.size(); ++k) {
-      const Vec2& p = near[k];
-      const double s = (p - a).dot(nrm);
-      if (std::abs(s - s0) <= tol) {
-        sel.push_back(p);
-        mean += p;
-        const std::size_t b =
-            std::min(bins.size() - 1, static_cast<std::size_t>((p - a).dot(t) / 0.1));
-        bins[b] = 1;
-        if (near_high[k]) sel_high.push_back(p), bins_high[b] = 1;
-      }
-    }
-    const int covered = std::accumulate(bins.begin(), bins.end(), 0);
-    if (static_cast<int>(sel.size()) < params_.refit_min_points ||
-        covered < std::max<int>(2, static_cast<int>(0.2 * bins.size()))) {
-      return;
-    }
-    // The line itself from the points above door heads where they cover most of the edge:
-    // below, window reveals and furniture flush against the wall tilt it (R1's 14 m south
-    // wall, two windows and desks along it: 1.55 cm over its length, 1.8 % of its points then
-    // past the tolerance).
-    const int covered_high = std::accumulate(bins_high.begin(), bins_high.end(), 0);
-    if (static_cast<int>(sel_high.size()) >= params_.refit_min_points &&
-        covered_high >= static_cast<int>(0.5 * covered)) {
-      sel.swap(sel_high);
-      mean = Vec2::Zero();
-      for (const auto& p : sel) mean += p;
-    }
-    mean /= static_cast<double>(sel.size());
-    auto pca_dir = [&](const std::vector<Vec2>& pts, const Vec2& c) {
-      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-      for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-      Vec2 dir = es.eigenvectors().col(1);
-      if (dir.dot(t) < 0) dir = -dir;
-      return dir.dot(t) < std::cos(DegToRad(10.0)) ? t
-                                                   : dir;  // else keep the direction, only shift
-    };
-    Vec2 dir = pca_dir(sel, mean);
-    // Tighten about the wall peak: clutter flush against part of a wall (a closed door leaf or
-    // casing 2 cm proud over half of a 2 m end wall, a whiteboard row) lies inside the band and
-    // pulls a least-squares line towards it, up to onto it where it has more points than the
-    // wall (office_5rooms: R1 seed 1 tilted 0.08 deg over 14 m; the hall's west end wall 2.6 cm
-    // into the room on its closed door, its wall points then outliers). Refit from the line at
-    // the outermost strong peak s0 on the points within 0.6 and then 0.4 of the band about the
-    // current line, while at least a fifth of the band's points remain.
-    {
-      Vec2 lp = a + s0 * nrm + 0.5 * len * t, ld = t;
-      bool refit = false;
-      for (double f : {0.6, 0.4}) {
-        std::vector<Vec2> tight;
-        Vec2 m2 = Vec2::Zero();
-        const Vec2 nn(ld.y(), -ld.x());
-        for (const auto& p : sel)
-          if (std::abs((p - lp).dot(nn)) <= f * tol) tight.push_back(p), m2 += p;
-        if (static_cast<int>(tight.size()) <
-            std::max(params_.refit_min_points, static_cast<int>(0.2 * sel.size())))
-          break;
-        lp = m2 / static_cast<double>(tight.size());
-        ld = pca_dir(tight, lp);
-        refit = true;
-      }
-      if (refit) mean = lp, dir = ld;
-    }
-    line_p[i] = mean;
-    line_t[i] = dir;
-    fitted[i] = true;
+    fits[i] = FitWallEdge(poly[i], poly[(i + 1) % n], band, high, params_);
   });
+  for (std::size_t i = 0; i < n; ++i) {
+    line_p[i] = fits[i].p;
+    line_t[i] = fits[i].t;
+    fitted[i] = fits[i].fitted;
+  }
   // A short edge left unfitted between two fitted walls is the tracer cutting their corner
   // (a re-entrant corner seen obliquely: office_5rooms R1's L corner got a 13 cm chamfer, a
   // false 'wall' in SM3): the two walls meet in one corner instead.
