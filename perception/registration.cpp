@@ -319,17 +319,10 @@ const IcpParams& PointMap::params() const { return impl_->params; }
 // ---- ICP
 // -----------------------------------------------------------------------------------------
 
-RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
-                                const Eigen::Isometry3d& prior_X_MS, const IcpParams& params) {
-  params.Validate();
-  if (!prior_X_MS.matrix().allFinite()) {
-    throw InputError("", "registration prior is not finite", "", "a finite pose");
-  }
-  const Kernel kernel = ParseKernel(params.robust_kernel);
-  RegistrationResult res;
-  res.X_MS = prior_X_MS;
+namespace {
 
-  // Source: range gate, then voxel centroids in the scanner frame.
+// The source for ICP: range gate, then voxel centroids in the scanner frame.
+Points GatedSource(const Points& source_S, const IcpParams& params) {
   Points gated;
   gated.reserve(source_S.size());
   const double rmin2 = params.min_range * params.min_range,
@@ -338,79 +331,44 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
     const double r2 = p.squaredNorm();
     if (std::isfinite(r2) && r2 >= rmin2 && r2 <= rmax2) gated.push_back(p);
   }
-  const Points src = VoxelDownsample(gated, params.source_voxel_size);
-  res.source_points = src.size();
-  res.target_points = target.size();
-  if (src.empty() || target.empty()) {
-    res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") +
-                  " (" + std::to_string(src.size()) + " source / " + std::to_string(target.size()) +
-                  " map points)";
-    return res;
-  }
-  Eigen::Vector3d src_centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : src) src_centroid += p;
-  src_centroid /= static_cast<double>(src.size());
+  return VoxelDownsample(gated, params.source_voxel_size);
+}
 
-  Eigen::Isometry3d T = prior_X_MS;
-  const double min_dt = params.min_delta_translation;
-  const double min_dr = DegToRad(params.min_delta_rotation_deg);
-  double last_dt = 0.0, last_dr = 0.0;
-  bool stage_converged = false;
-  std::string failure;
-  for (std::size_t stage = 0; stage < params.max_correspondence.size() && failure.empty();
-       ++stage) {
-    const double dist = params.max_correspondence[stage];
-    const double scale = params.kernel_scale_ratio * dist;
-    stage_converged = false;
-    for (int it = 0; it < params.max_iterations; ++it) {
-      const Eigen::Vector3d c = T * src_centroid;
-      const Accum a =
-          Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
-      if (a.planar < 12 || a.weight <= 0.0) {
-        failure = "only " + std::to_string(a.planar) + " correspondences within " +
-                  FormatNumbers("%.3g", dist) + " m";
-        break;
-      }
-      const Reduced red = Reduce(a, params.dof);
-      // Solve in the eigenbasis; directions with too little information keep the prior
-      // (solution remapping, Zhang et al. 2016).
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
-      const Eigen::VectorXd ev = es.eigenvalues();
-      const Eigen::VectorXd proj = es.eigenvectors().transpose() * red.g;
-      Eigen::VectorXd y = Eigen::VectorXd::Zero(red.H.rows());
-      const double floor_ev = std::max(params.degeneracy_threshold, 1e-9);
-      for (int k = 0; k < ev.size(); ++k) {
-        if (ev[k] >= floor_ev) y -= es.eigenvectors().col(k) * (proj[k] / ev[k]);
-      }
-      Vec6 x = Vec6::Zero();
-      for (int k = 0; k < static_cast<int>(red.idx.size()); ++k) {
-        x[red.idx[k]] = red.idx[k] < 3 ? y[k] / red.lever : y[k];
-      }
-      const Eigen::Vector3d w = x.head<3>(), dt = x.tail<3>();
-      const double angle = w.norm();
-      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-      if (angle > 0.0) R = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-      // Step about the current source centroid c: p -> R (p - c) + c + dt.
-      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-      step.linear() = R;
-      step.translation() = c - R * c + dt;
-      T = step * T;
-      T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
-      ++res.iterations;
-      last_dt = dt.norm();
-      last_dr = angle;
-      if (last_dt < min_dt && last_dr < min_dr) {
-        stage_converged = true;
-        break;
-      }
-    }
+// One Gauss-Newton step from the accumulated system `a`, solved in the eigenbasis; directions
+// with too little information keep the prior (solution remapping, Zhang et al. 2016). The step
+// turns about the current source centroid c: p -> R (p - c) + c + dt.
+Eigen::Isometry3d GaussNewtonStep(const Accum& a, const Eigen::Vector3d& c, const IcpParams& params,
+                                  double* step_translation, double* step_angle) {
+  const Reduced red = Reduce(a, params.dof);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
+  const Eigen::VectorXd ev = es.eigenvalues();
+  const Eigen::VectorXd proj = es.eigenvectors().transpose() * red.g;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(red.H.rows());
+  const double floor_ev = std::max(params.degeneracy_threshold, 1e-9);
+  for (int k = 0; k < ev.size(); ++k) {
+    if (ev[k] >= floor_ev) y -= es.eigenvectors().col(k) * (proj[k] / ev[k]);
   }
-  res.X_MS = T;
-  res.converged = failure.empty() && stage_converged;
-  res.last_step = last_dt;
-  res.last_step_deg = RadToDeg(last_dr);
+  Vec6 x = Vec6::Zero();
+  for (int k = 0; k < static_cast<int>(red.idx.size()); ++k) {
+    x[red.idx[k]] = red.idx[k] < 3 ? y[k] / red.lever : y[k];
+  }
+  const Eigen::Vector3d w = x.head<3>(), dt = x.tail<3>();
+  const double angle = w.norm();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  if (angle > 0.0) R = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  step.linear() = R;
+  step.translation() = c - R * c + dt;
+  *step_translation = dt.norm();
+  *step_angle = angle;
+  return step;
+}
 
-  // Health at the result, with the last stage's distance and no kernel.
+// Health at the result (res.X_MS), with the last stage's distance and no kernel: fitness,
+// rmse, free-space violation, the information's eigenvalues and degeneracy.
+void AssessRegistration(const Points& src, const Eigen::Vector3d& src_centroid,
+                        const PointMap& target, const IcpParams& params, RegistrationResult& res) {
+  const Eigen::Isometry3d& T = res.X_MS;
   const double last_dist = params.max_correspondence.back();
   const Accum fin = Correspond(src, T, T * src_centroid, target, last_dist, Kernel::kNone, 1.0,
                                params.max_normal_curvature);
@@ -440,7 +398,11 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
     res.information.assign(params.dof, 0.0);
     res.degenerate = true;
   }
+}
 
+// res.ok and the one-line message: every reason it is not ok, then the figures.
+void ExplainRegistration(const std::string& failure, double last_dt, double last_dr,
+                         const IcpParams& params, RegistrationResult& res) {
   std::vector<std::string> why;
   if (!failure.empty())
     why.push_back(failure);
@@ -487,6 +449,68 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
     for (const auto& w : why) reasons += (reasons.empty() ? "" : "; ") + w;
     res.message = "registration failed: " + reasons + " (" + figures + ")";
   }
+}
+
+}  // namespace
+
+RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
+                                const Eigen::Isometry3d& prior_X_MS, const IcpParams& params) {
+  params.Validate();
+  if (!prior_X_MS.matrix().allFinite()) {
+    throw InputError("", "registration prior is not finite", "", "a finite pose");
+  }
+  const Kernel kernel = ParseKernel(params.robust_kernel);
+  RegistrationResult res;
+  res.X_MS = prior_X_MS;
+  const Points src = GatedSource(source_S, params);
+  res.source_points = src.size();
+  res.target_points = target.size();
+  if (src.empty() || target.empty()) {
+    res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") +
+                  " (" + std::to_string(src.size()) + " source / " + std::to_string(target.size()) +
+                  " map points)";
+    return res;
+  }
+  Eigen::Vector3d src_centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : src) src_centroid += p;
+  src_centroid /= static_cast<double>(src.size());
+
+  // Coarse-to-fine stages of point-to-plane Gauss-Newton.
+  Eigen::Isometry3d T = prior_X_MS;
+  const double min_dt = params.min_delta_translation;
+  const double min_dr = DegToRad(params.min_delta_rotation_deg);
+  double last_dt = 0.0, last_dr = 0.0;
+  bool stage_converged = false;
+  std::string failure;
+  for (std::size_t stage = 0; stage < params.max_correspondence.size() && failure.empty();
+       ++stage) {
+    const double dist = params.max_correspondence[stage];
+    const double scale = params.kernel_scale_ratio * dist;
+    stage_converged = false;
+    for (int it = 0; it < params.max_iterations; ++it) {
+      const Eigen::Vector3d c = T * src_centroid;
+      const Accum a =
+          Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
+      if (a.planar < 12 || a.weight <= 0.0) {
+        failure = "only " + std::to_string(a.planar) + " correspondences within " +
+                  FormatNumbers("%.3g", dist) + " m";
+        break;
+      }
+      T = GaussNewtonStep(a, c, params, &last_dt, &last_dr) * T;
+      T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+      ++res.iterations;
+      if (last_dt < min_dt && last_dr < min_dr) {
+        stage_converged = true;
+        break;
+      }
+    }
+  }
+  res.X_MS = T;
+  res.converged = failure.empty() && stage_converged;
+  res.last_step = last_dt;
+  res.last_step_deg = RadToDeg(last_dr);
+  AssessRegistration(src, src_centroid, target, params, res);
+  ExplainRegistration(failure, last_dt, last_dr, params, res);
   return res;
 }
 
