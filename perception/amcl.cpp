@@ -200,82 +200,60 @@ void Amcl::StartGlobalLocalisation() {
   estimate_.particles = n;
 }
 
-AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces::LrfScan& scan,
-                              bool force) {
-  AmclUpdateResult result;
-  if (particles_.empty()) return result;
+void Amcl::MotionUpdate(const Pose2& last, const Pose2& cur, std::uint64_t u) {
+  const AmclParams& p = params_;
+  const double dx = cur.x - last.x, dy = cur.y - last.y;
+  const double trans = std::hypot(dx, dy);
+  const double dyaw = WrapAngle(cur.yaw - last.yaw);
+  if (!(trans > 0.0 || dyaw != 0.0)) return;
+  const double rot1 = trans < 0.01 ? 0.0 : WrapAngle(std::atan2(dy, dx) - last.yaw);
+  const double rot2 = WrapAngle(dyaw - rot1);
+  // Driving backwards makes rot1 ~ pi; the noise must not scale with that (ROS amcl).
+  const double r1n = std::min(std::abs(rot1), std::abs(WrapAngle(rot1 - kPi)));
+  const double r2n = std::min(std::abs(rot2), std::abs(WrapAngle(rot2 - kPi)));
+  const double s_rot1 = std::sqrt(p.odom_alpha1 * r1n * r1n + p.odom_alpha2 * trans * trans);
+  const double s_trans =
+      std::sqrt(p.odom_alpha3 * trans * trans + p.odom_alpha4 * (r1n * r1n + r2n * r2n));
+  const double s_rot2 = std::sqrt(p.odom_alpha1 * r2n * r2n + p.odom_alpha2 * trans * trans);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, particles_.size()), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k != range.end(); ++k) {
+      CounterRng rng(Key(seed_, "amcl/motion", u, k));
+      const double r1 = rot1 - s_rot1 * rng.Normal();
+      const double t = trans - s_trans * rng.Normal();
+      const double r2 = rot2 - s_rot2 * rng.Normal();
+      Particle& q = particles_[k];
+      q.x += t * std::cos(q.yaw + r1);
+      q.y += t * std::sin(q.yaw + r1);
+      q.yaw = WrapAngle(q.yaw + r1 + r2);
+    }
+  });
+}
+
+// Evenly spaced valid returns, projected to base_link.
+std::vector<Vec2> Amcl::SelectBeams(const interfaces::LrfScan& scan) const {
+  std::vector<Vec2> beams;
+  std::vector<std::size_t> valid;
+  for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
+    const double r = scan.ranges[k];
+    if (std::isfinite(r) && r >= scan.range_min && r < scan.range_max) valid.push_back(k);
+  }
+  const std::size_t want =
+      std::min<std::size_t>(valid.size(), static_cast<std::size_t>(params_.max_beams));
+  const Pose3& X_BL = scan.X_BL;
+  for (std::size_t b = 0; b < want; ++b) {
+    const std::size_t k = valid[b * valid.size() / want];
+    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
+    const double r = scan.ranges[k];
+    const Eigen::Vector3d q = X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
+    beams.emplace_back(q.x(), q.y());
+  }
+  return beams;
+}
+
+double Amcl::MeasurementUpdate(const std::vector<Vec2>& beams, const interfaces::LrfScan& scan) {
   Impl& m = *impl_;
   const AmclParams& p = params_;
-  const Pose2 cur = odom.X_OB;
-  if (!m.have_last_odom) {
-    m.last_odom = cur;
-    m.have_last_odom = true;
-  }
-  // Odometry increment in the odom frame (Probabilistic Robotics Table 5.6).
-  const double dx = cur.x - m.last_odom.x, dy = cur.y - m.last_odom.y;
-  const double trans = std::hypot(dx, dy);
-  const double dyaw = WrapAngle(cur.yaw - m.last_odom.yaw);
-  const bool moved = trans >= p.update_min_d || std::abs(dyaw) >= DegToRad(p.update_min_a_deg);
-  if (!moved && !force && !m.force_next) return result;
-  m.force_next = false;
-  result.updated = true;
-  const std::uint64_t u = ++m.update_index;
-  std::size_t n = particles_.size();
-
-  // 1. Motion update.
-  if (trans > 0.0 || dyaw != 0.0) {
-    const double rot1 = trans < 0.01 ? 0.0 : WrapAngle(std::atan2(dy, dx) - m.last_odom.yaw);
-    const double rot2 = WrapAngle(dyaw - rot1);
-    // Driving backwards makes rot1 ~ pi; the noise must not scale with that (ROS amcl).
-    const double r1n = std::min(std::abs(rot1), std::abs(WrapAngle(rot1 - kPi)));
-    const double r2n = std::min(std::abs(rot2), std::abs(WrapAngle(rot2 - kPi)));
-    const double s_rot1 = std::sqrt(p.odom_alpha1 * r1n * r1n + p.odom_alpha2 * trans * trans);
-    const double s_trans =
-        std::sqrt(p.odom_alpha3 * trans * trans + p.odom_alpha4 * (r1n * r1n + r2n * r2n));
-    const double s_rot2 = std::sqrt(p.odom_alpha1 * r2n * r2n + p.odom_alpha2 * trans * trans);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& range) {
-      for (std::size_t k = range.begin(); k != range.end(); ++k) {
-        CounterRng rng(Key(seed_, "amcl/motion", u, k));
-        const double r1 = rot1 - s_rot1 * rng.Normal();
-        const double t = trans - s_trans * rng.Normal();
-        const double r2 = rot2 - s_rot2 * rng.Normal();
-        Particle& q = particles_[k];
-        q.x += t * std::cos(q.yaw + r1);
-        q.y += t * std::sin(q.yaw + r1);
-        q.yaw = WrapAngle(q.yaw + r1 + r2);
-      }
-    });
-  }
-  m.last_odom = cur;
-
-  // 2. Beams: evenly spaced valid returns, projected to base_link.
-  std::vector<Vec2> beams;
-  {
-    std::vector<std::size_t> valid;
-    for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
-      const double r = scan.ranges[k];
-      if (std::isfinite(r) && r >= scan.range_min && r < scan.range_max) valid.push_back(k);
-    }
-    const std::size_t want =
-        std::min<std::size_t>(valid.size(), static_cast<std::size_t>(p.max_beams));
-    const Pose3& X_BL = scan.X_BL;
-    for (std::size_t b = 0; b < want; ++b) {
-      const std::size_t k = valid[b * valid.size() / want];
-      const double a = scan.angle_min + scan.angle_increment * static_cast<double>(k);
-      const double r = scan.ranges[k];
-      const Eigen::Vector3d q = X_BL * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0.0);
-      beams.emplace_back(q.x(), q.y());
-    }
-  }
-
-  // Global localisation pending: seed the particles from a correlative search of this scan.
-  if (m.pending_search && !beams.empty()) {
-    SeedFromGlobalSearch(beams, scan.range_max > 0.0 ? scan.range_max : p.likelihood_max_dist, u);
-    m.pending_search = false;
-  }
-  n = particles_.size();
-
-  // 3. Measurement update: likelihood field (Table 6.3), log domain.
+  const std::size_t n = particles_.size();
   const double sigma = m.relocalising ? p.global_sigma_hit : p.sigma_hit;
   const double range_max = scan.range_max > 0.0 ? scan.range_max : p.likelihood_max_dist;
   const double rand_term = p.z_rand / range_max;
@@ -334,17 +312,20 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   }
   double sum_sq = 0.0;
   for (const auto& q : particles_) sum_sq += q.weight * q.weight;
-  const double n_eff = 1.0 / sum_sq;
+  return 1.0 / sum_sq;
+}
 
-  // 4. Estimate: weighted mean of the cluster around the heaviest KLD bin; covariance of the
-  // whole set about it (so a multi-modal set reads as uncertain).
-  const double bxy = p.bin_size_xy, byaw = DegToRad(p.bin_size_yaw_deg);
-  auto bin_key = [&](const Particle& q) {
-    const auto bx = static_cast<std::int64_t>(std::floor(q.x / bxy)) + (1 << 20);
-    const auto by = static_cast<std::int64_t>(std::floor(q.y / bxy)) + (1 << 20);
-    const auto bt = static_cast<std::int64_t>(std::floor((q.yaw + kPi) / byaw));
-    return (bx << 42) | (by << 20) | bt;
-  };
+std::int64_t Amcl::BinKey(const Particle& q) const {
+  const double bxy = params_.bin_size_xy, byaw = DegToRad(params_.bin_size_yaw_deg);
+  const auto bx = static_cast<std::int64_t>(std::floor(q.x / bxy)) + (1 << 20);
+  const auto by = static_cast<std::int64_t>(std::floor(q.y / bxy)) + (1 << 20);
+  const auto bt = static_cast<std::int64_t>(std::floor((q.yaw + kPi) / byaw));
+  return (bx << 42) | (by << 20) | bt;
+}
+
+Pose2 Amcl::ClusterEstimate(Eigen::Matrix3d* cov) const {
+  const AmclParams& p = params_;
+  const std::size_t n = particles_.size();
   auto weighted_mean = [&](auto&& include) {
     double sx = 0, sy = 0, sc = 0, ss = 0, sw = 0;
     for (const auto& q : particles_) {
@@ -362,7 +343,7 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   PoseMean mode;
   {
     std::vector<std::pair<std::int64_t, std::size_t>> keyed(n);
-    for (std::size_t k = 0; k < n; ++k) keyed[k] = {bin_key(particles_[k]), k};
+    for (std::size_t k = 0; k < n; ++k) keyed[k] = {BinKey(particles_[k]), k};
     std::sort(keyed.begin(), keyed.end());
     double best_w = -1.0;
     std::int64_t best_key = 0;
@@ -376,83 +357,134 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
       }
       a = b;
     }
-    mode = weighted_mean([&](const Particle& q) { return bin_key(q) == best_key; });
+    mode = weighted_mean([&](const Particle& q) { return BinKey(q) == best_key; });
   }
   const double cr = p.cluster_radius, ca = DegToRad(p.cluster_angle_deg);
   const PoseMean mean = weighted_mean([&](const Particle& q) {
     return std::hypot(q.x - mode.x, q.y - mode.y) <= cr &&
            std::abs(WrapAngle(q.yaw - mode.yaw)) <= ca;
   });
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  *cov = Eigen::Matrix3d::Zero();
   for (const auto& q : particles_) {
     const Eigen::Vector3d d(q.x - mean.x, q.y - mean.y, WrapAngle(q.yaw - mean.yaw));
-    cov += q.weight * d * d.transpose();
+    *cov += q.weight * d * d.transpose();
   }
-  const Pose2 X_MB{mean.x, mean.y, WrapAngle(mean.yaw)};
-  // Inliers among the beams that end in mapped space: a beam ending where the map is unknown
-  // (a room seen only through its door) is no evidence either way.
-  int inliers = 0, mapped_beams = 0;
-  {
-    const double c = std::cos(X_MB.yaw), s = std::sin(X_MB.yaw);
-    for (const Vec2& b : beams) {
-      const Vec2 e(X_MB.x + c * b.x() - s * b.y(), X_MB.y + s * b.x() + c * b.y());
-      const bool near_obstacle =
-          m.likelihood.ObstacleDistance(e, p.likelihood_max_dist) < p.inlier_distance;
-      const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
-      const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
-      const bool in_map = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
-                          m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
-      if (!in_map && !near_obstacle) continue;
-      ++mapped_beams;
-      if (near_obstacle) ++inliers;
+  return Pose2{mean.x, mean.y, WrapAngle(mean.yaw)};
+}
+
+// A beam ending where the map is unknown (a room seen only through its door) is no evidence
+// either way.
+void Amcl::CountInliers(const std::vector<Vec2>& beams, const Pose2& X_MB, int* inliers,
+                        int* mapped_beams) const {
+  const Impl& m = *impl_;
+  const double c = std::cos(X_MB.yaw), s = std::sin(X_MB.yaw);
+  for (const Vec2& b : beams) {
+    const Vec2 e(X_MB.x + c * b.x() - s * b.y(), X_MB.y + s * b.x() + c * b.y());
+    const bool near_obstacle =
+        m.likelihood.ObstacleDistance(e, params_.likelihood_max_dist) < params_.inlier_distance;
+    const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
+    const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
+    const bool in_map = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
+                        m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
+    if (!in_map && !near_obstacle) continue;
+    ++*mapped_beams;
+    if (near_obstacle) ++*inliers;
+  }
+}
+
+// KLD-adapted size (Fox 2003) and Augmented MCL injection of `p_inject` random particles.
+void Amcl::Resample(std::uint64_t u, double p_inject) {
+  const Impl& m = *impl_;
+  const AmclParams& p = params_;
+  CounterRng rng(Key(seed_, "amcl/resample", u, 0));
+  // KLD: k = bins a large resampled set would occupy.
+  const auto comb =
+      LowVariance(particles_, static_cast<std::size_t>(p.max_particles), rng.Uniform());
+  std::vector<std::int64_t> bins;
+  bins.reserve(comb.size());
+  for (std::size_t idx : comb) bins.push_back(BinKey(particles_[idx]));
+  std::sort(bins.begin(), bins.end());
+  const auto k_bins = static_cast<double>(std::unique(bins.begin(), bins.end()) - bins.begin());
+  double n_kld = p.min_particles;
+  if (k_bins > 1) {
+    const double a = 2.0 / (9.0 * (k_bins - 1.0));
+    const double t = 1.0 - a + std::sqrt(a) * p.kld_z;
+    n_kld = (k_bins - 1.0) / (2.0 * p.kld_err) * t * t * t;
+  }
+  const auto target =
+      static_cast<std::size_t>(std::clamp(std::ceil(n_kld), static_cast<double>(p.min_particles),
+                                          static_cast<double>(p.max_particles)));
+  const auto pick = LowVariance(particles_, target, rng.Uniform());
+  std::vector<Particle> next(target);
+  const bool can_inject = p_inject > 0.0 && !m.free_centres.empty();
+  for (std::size_t k = 0; k < target; ++k) {
+    next[k] = particles_[pick[k]];
+    next[k].weight = 1.0 / static_cast<double>(target);
+    if (can_inject) {
+      CounterRng irng(Key(seed_, "amcl/inject", u, k));
+      if (irng.Uniform() < p_inject) {
+        const Vec2& c = m.free_centres[irng.Below(m.free_centres.size())];
+        next[k].x = c.x() + irng.Uniform(-0.5, 0.5) * m.resolution;
+        next[k].y = c.y() + irng.Uniform(-0.5, 0.5) * m.resolution;
+        next[k].yaw = irng.Uniform(-kPi, kPi);
+      }
     }
   }
+  particles_.swap(next);
+}
+
+AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces::LrfScan& scan,
+                              bool force) {
+  AmclUpdateResult result;
+  if (particles_.empty()) return result;
+  Impl& m = *impl_;
+  const AmclParams& p = params_;
+  const Pose2 cur = odom.X_OB;
+  if (!m.have_last_odom) {
+    m.last_odom = cur;
+    m.have_last_odom = true;
+  }
+  // Odometry increment in the odom frame (Probabilistic Robotics Table 5.6).
+  const double trans = std::hypot(cur.x - m.last_odom.x, cur.y - m.last_odom.y);
+  const double dyaw = WrapAngle(cur.yaw - m.last_odom.yaw);
+  const bool moved = trans >= p.update_min_d || std::abs(dyaw) >= DegToRad(p.update_min_a_deg);
+  if (!moved && !force && !m.force_next) return result;
+  m.force_next = false;
+  result.updated = true;
+  const std::uint64_t u = ++m.update_index;
+
+  // 1. Motion update. 2. Beams. (Global localisation pending: seed the particles from a
+  // correlative search of this scan.) 3. Measurement update.
+  MotionUpdate(m.last_odom, cur, u);
+  m.last_odom = cur;
+  const std::vector<Vec2> beams = SelectBeams(scan);
+  if (m.pending_search && !beams.empty()) {
+    SeedFromGlobalSearch(beams, scan.range_max > 0.0 ? scan.range_max : p.likelihood_max_dist, u);
+    m.pending_search = false;
+  }
+  const std::size_t n = particles_.size();
+  const double nb = static_cast<double>(beams.size());
+  const double n_eff = MeasurementUpdate(beams, scan);
+
+  // 4. Estimate: weighted mean of the cluster around the heaviest KLD bin; covariance of the
+  // whole set about it (so a multi-modal set reads as uncertain). Inliers among the beams that
+  // end in mapped space.
+  Eigen::Matrix3d cov;
+  const Pose2 X_MB = ClusterEstimate(&cov);
+  int inliers = 0, mapped_beams = 0;
+  CountInliers(beams, X_MB, &inliers, &mapped_beams);
   const double inlier_ratio = mapped_beams == 0 ? 0.0 : static_cast<double>(inliers) / mapped_beams;
   // Too few beams in mapped space: the update says nothing about loss.
   const bool inconclusive = mapped_beams < p.min_mapped_beam_fraction * nb;
 
-  // 5. Resampling with KLD-adapted size and Augmented MCL injection.
+  // 5. Resampling.
   const double p_inject =
       (m.w_slow > 0.0 && p.recovery_alpha_slow > 0.0 && p.recovery_alpha_fast > 0.0)
           ? std::max(0.0, 1.0 - m.w_fast / m.w_slow)
           : 0.0;
   if (n_eff < p.resample_neff_ratio * static_cast<double>(n) || m.relocalising || p_inject > 0.05) {
     result.resampled = true;
-    CounterRng rng(Key(seed_, "amcl/resample", u, 0));
-    // KLD (Fox 2003): k = bins a large resampled set would occupy.
-    const auto comb =
-        LowVariance(particles_, static_cast<std::size_t>(p.max_particles), rng.Uniform());
-    std::vector<std::int64_t> bins;
-    bins.reserve(comb.size());
-    for (std::size_t idx : comb) bins.push_back(bin_key(particles_[idx]));
-    std::sort(bins.begin(), bins.end());
-    const auto k_bins = static_cast<double>(std::unique(bins.begin(), bins.end()) - bins.begin());
-    double n_kld = p.min_particles;
-    if (k_bins > 1) {
-      const double a = 2.0 / (9.0 * (k_bins - 1.0));
-      const double t = 1.0 - a + std::sqrt(a) * p.kld_z;
-      n_kld = (k_bins - 1.0) / (2.0 * p.kld_err) * t * t * t;
-    }
-    const auto target =
-        static_cast<std::size_t>(std::clamp(std::ceil(n_kld), static_cast<double>(p.min_particles),
-                                            static_cast<double>(p.max_particles)));
-    const auto pick = LowVariance(particles_, target, rng.Uniform());
-    std::vector<Particle> next(target);
-    const bool can_inject = p_inject > 0.0 && !m.free_centres.empty();
-    for (std::size_t k = 0; k < target; ++k) {
-      next[k] = particles_[pick[k]];
-      next[k].weight = 1.0 / static_cast<double>(target);
-      if (can_inject) {
-        CounterRng irng(Key(seed_, "amcl/inject", u, k));
-        if (irng.Uniform() < p_inject) {
-          const Vec2& c = m.free_centres[irng.Below(m.free_centres.size())];
-          next[k].x = c.x() + irng.Uniform(-0.5, 0.5) * m.resolution;
-          next[k].y = c.y() + irng.Uniform(-0.5, 0.5) * m.resolution;
-          next[k].yaw = irng.Uniform(-kPi, kPi);
-        }
-      }
-    }
-    particles_.swap(next);
+    Resample(u, p_inject);
   }
 
   // 6. Health and status.

@@ -214,6 +214,19 @@ class Amcl {
   struct Impl;
   void SeedFromGlobalSearch(const std::vector<Vec2>& beams_B, double range_max,
                             std::uint64_t update);
+  // The steps of Update (Probabilistic Robotics: Table 5.6 motion, Table 6.3 likelihood field,
+  // Table 8.4 KLD resampling; Augmented MCL for injection).
+  void MotionUpdate(const Pose2& last, const Pose2& cur, std::uint64_t update);
+  std::vector<Vec2> SelectBeams(const interfaces::LrfScan& scan) const;
+  /// Weights from the likelihood field; returns N_eff. Updates w_slow / w_fast.
+  double MeasurementUpdate(const std::vector<Vec2>& beams_B, const interfaces::LrfScan& scan);
+  std::int64_t BinKey(const Particle& q) const;
+  /// Weighted mean of the cluster around the heaviest KLD bin; `cov` of the whole set about it.
+  Pose2 ClusterEstimate(Eigen::Matrix3d* cov) const;
+  /// Beams (base_link) at X_MB ending near an obstacle, among those ending in mapped space.
+  void CountInliers(const std::vector<Vec2>& beams_B, const Pose2& X_MB, int* inliers,
+                    int* mapped_beams) const;
+  void Resample(std::uint64_t update, double p_inject);
   std::unique_ptr<Impl> impl_;
   AmclParams params_;
   std::uint64_t seed_;
