@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <queue>
+
+#include "perception/grid_search.h"
 
 namespace mopad::autonomy {
 
@@ -39,44 +40,24 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
     *why = start ? "the goal is inside obstacles" : "no passable cell near the robot";
     return {};
   }
-  const std::size_t n = static_cast<std::size_t>(grid.Width()) * grid.Height();
-  std::vector<double> dist(n, 1e18);
-  std::vector<std::size_t> parent(n, n);
-  using Item = std::pair<double, std::size_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  const std::size_t si = grid.Index(*start), ti = grid.Index(*target);
-  dist[si] = 0.0;
-  queue.emplace(0.0, si);
-  while (!queue.empty()) {
-    const auto [d, idx] = queue.top();
-    queue.pop();
-    if (d > dist[idx]) continue;
-    if (idx == ti) break;
-    const perception::Cell c{static_cast<int>(idx % grid.Width()),
-                             static_cast<int>(idx / grid.Width())};
-    for (int dj = -1; dj <= 1; ++dj)
-      for (int di = -1; di <= 1; ++di) {
-        if (di == 0 && dj == 0) continue;
-        const perception::Cell nb{c.i + di, c.j + dj};
-        if (!passable(nb)) continue;
-        // Unknown (or too narrow when unknown is an obstacle) costs unknown_cost per metre:
-        // the route keeps to what the scans saw (e.g. the wedge of a room seen through its
-        // door) rather than cutting a corner through a shadow it cannot scan from.
-        const bool known_ok = grid.State(nb) == perception::CellState::kFree &&
-                              known.ClearanceOfCell(nb) >= pass_clearance;
-        const double nd = d + res * ((di != 0 && dj != 0) ? std::sqrt(2.0) : 1.0) *
-                                  (known_ok ? 1.0 : p.unknown_cost);
-        const std::size_t ni = grid.Index(nb);
-        if (nd < dist[ni] - 1e-12) dist[ni] = nd, parent[ni] = idx, queue.emplace(nd, ni);
-      }
-  }
-  if (dist[ti] >= 1e17) {
+  // Unknown (or too narrow when unknown is an obstacle) costs unknown_cost per metre: the
+  // route keeps to what the scans saw (e.g. the wedge of a room seen through its door) rather
+  // than cutting a corner through a shadow it cannot scan from.
+  auto step_cost = [&](std::size_t, std::size_t to, const perception::GridStep& st) {
+    const perception::Cell nb{static_cast<int>(to % grid.Width()),
+                              static_cast<int>(to / grid.Width())};
+    if (!passable(nb)) return -1.0;
+    const bool known_ok = grid.State(nb) == perception::CellState::kFree &&
+                          known.ClearanceOfCell(nb) >= pass_clearance;
+    return res * (st.Diagonal() ? std::sqrt(2.0) : 1.0) * (known_ok ? 1.0 : p.unknown_cost);
+  };
+  const std::vector<std::size_t> path = perception::GridShortestPath(
+      grid.Width(), grid.Height(), grid.Index(*start), grid.Index(*target),
+      perception::kNeighboursRowMajor, step_cost, 1e-12);
+  if (path.empty()) {
     *why = "no route to the goal even through unexplored space";
     return {};
   }
-  std::vector<std::size_t> path;
-  for (std::size_t k = ti; k != n; k = parent[k]) path.push_back(k);
-  std::reverse(path.begin(), path.end());
   auto centre = [&](std::size_t k) {
     return grid.CentreOf({static_cast<int>(k % grid.Width()), static_cast<int>(k / grid.Width())});
   };

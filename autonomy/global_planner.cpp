@@ -22,6 +22,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "common/rng.h"
+#include "perception/grid_search.h"
 
 namespace mopad::autonomy {
 
@@ -356,35 +357,16 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       const std::vector<float>& cost_;
     };
     if (P.grid_seed) {
-      // Dijkstra over the component, edge cost = length x mean cell cost, settled in
-      // (cost, index) order: exact for the grid and deterministic.
-      const std::size_t n = valid.size();
-      std::vector<double> dist(n, std::numeric_limits<double>::infinity());
-      std::vector<std::size_t> parent(n, n);
-      using Item = std::pair<double, std::size_t>;
-      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-      const std::size_t si = idx(sc), gi = idx(gc);
-      dist[si] = 0.0;
-      open.emplace(0.0, si);
-      while (!open.empty()) {
-        const auto [d, k] = open.top();
-        open.pop();
-        if (d > dist[k]) continue;
-        if (k == gi) break;
-        const Cell c{static_cast<int>(k % w), static_cast<int>(k / w)};
-        for (int e = 0; e < 8; ++e) {
-          const Cell nb{c.i + di[e], c.j + dj[e]};
-          if (!map.Contains(nb) || !comp[idx(nb)]) continue;
-          const std::size_t nk = idx(nb);
-          const double nd =
-              d + res * (e < 4 ? 1.0 : std::sqrt(2.0)) * 0.5 * (cell_cost[k] + cell_cost[nk]);
-          if (nd < dist[nk]) dist[nk] = nd, parent[nk] = k, open.emplace(nd, nk);
-        }
-      }
-      if (std::isfinite(dist[gi])) {
-        std::vector<std::size_t> chain;
-        for (std::size_t k = gi; k != n; k = parent[k]) chain.push_back(k);
-        std::reverse(chain.begin(), chain.end());
+      // Cheapest route over the component, edge cost = length x mean cell cost (exact for the
+      // grid and deterministic).
+      const std::vector<std::size_t> chain = perception::GridShortestPath(
+          w, h, idx(sc), idx(gc), perception::kNeighboursAxesFirst,
+          [&](std::size_t from, std::size_t to, const perception::GridStep& st) {
+            if (!comp[to]) return -1.0;
+            return res * (st.Diagonal() ? std::sqrt(2.0) : 1.0) * 0.5 *
+                   (cell_cost[from] + cell_cost[to]);
+          });
+      if (!chain.empty()) {
         vertices.push_back(s);
         // Every 4th cell is enough for the shortcuts (they only remove vertices).
         for (std::size_t k = 1; k + 1 < chain.size(); k += 4)
