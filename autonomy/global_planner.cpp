@@ -183,6 +183,178 @@ void GlobalPlanner::AddObstacles(const std::vector<Vec2>& points_M) {
 
 double GlobalPlanner::Clearance(const Vec2& p) const { return impl_->field.Clearance(p); }
 
+namespace {
+
+// Arc length at each vertex of a polyline.
+std::vector<double> Cumulative(const std::vector<Vec2>& v) {
+  std::vector<double> s(v.size(), 0.0);
+  for (std::size_t k = 1; k < v.size(); ++k) s[k] = s[k - 1] + (v[k] - v[k - 1]).norm();
+  return s;
+}
+
+// The point at arc length sq of polyline v (cs = Cumulative(v)), clamped to it.
+Vec2 PointAt(const std::vector<Vec2>& v, const std::vector<double>& cs, double sq) {
+  std::size_t k = 1;
+  while (k + 1 < v.size() && cs[k] < sq) ++k;
+  const double seg = cs[k] - cs[k - 1];
+  const double f = seg > 0 ? std::clamp((sq - cs[k - 1]) / seg, 0.0, 1.0) : 0.0;
+  return Vec2(v[k - 1] + f * (v[k] - v[k - 1]));
+}
+
+}  // namespace
+
+// 4a. Doorways along the path `vertices`: runs of low clearance no longer than a door,
+// measured across at their narrowest point between the jambs on the map.
+std::vector<Passage> GlobalPlanner::FindPassages(const std::vector<Vec2>& vertices) const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  const double res = map.Resolution();
+  // Jambs are mapped obstacles: unknown cells (the edge of what the robot has seen) are not.
+  auto is_obstacle = [&](const Cell& c) {
+    return map.Contains(c) && map.State(c) == perception::CellState::kOccupied;
+  };
+  std::vector<Passage> passages;
+  const std::vector<double> cs = Cumulative(vertices);
+  const double total = cs.back();
+  const double step_s = 0.5 * res;
+  std::vector<std::pair<double, double>> runs;  // (s_begin, s_end) of low clearance
+  double run_begin = -1.0;
+  for (double sq = 0.0; sq <= total + 1e-9; sq += step_s) {
+    const bool low = m.field.Clearance(PointAt(vertices, cs, sq)) < P.passage_clearance;
+    if (low && run_begin < 0.0) run_begin = sq;
+    if (!low && run_begin >= 0.0) {
+      runs.emplace_back(run_begin, sq);
+      run_begin = -1.0;
+    }
+  }
+  // A doorway at the very end of the path (a goal just inside or behind a door) is a passage
+  // too: close the run at the goal (the jamb test below still rejects a goal by one wall).
+  if (run_begin >= 0.0) runs.emplace_back(run_begin, total);
+  for (const auto& [b, e] : runs) {
+    if (e - b > P.max_passage_length) continue;  // corridor
+    double s_c = b, best = std::numeric_limits<double>::infinity();
+    for (double sq = b; sq <= e; sq += step_s) {
+      const double c = m.field.Clearance(PointAt(vertices, cs, sq));
+      if (c < best) {
+        best = c;
+        s_c = sq;
+      }
+    }
+    const Vec2 c = PointAt(vertices, cs, s_c);
+    Vec2 d = PointAt(vertices, cs, s_c + 0.2) - PointAt(vertices, cs, s_c - 0.2);
+    if (d.norm() < 1e-9) continue;
+    d.normalize();
+    // Nearest obstacle cells left and right of the path (the jambs).
+    // The narrowest point of a slanted approach can lie before the doorway: look far enough
+    // for both jambs.
+    const double reach = std::max(best + 3.0 * res, P.passage_clearance + 0.3);
+    const Cell cc = map.CellOf(c);
+    const int rc = static_cast<int>(std::ceil(reach / res)) + 1;
+    // The jambs: the closest pair of obstacle cells on opposite sides of the path (the
+    // narrowest cross-section). Not simply the nearest cell on each side: an open leaf
+    // standing beside the doorway is nearer to a slanted approach than its own jamb.
+    std::vector<Vec2> left, right;
+    for (int dj2 = -rc; dj2 <= rc; ++dj2) {
+      for (int di2 = -rc; di2 <= rc; ++di2) {
+        const Cell q{cc.i + di2, cc.j + dj2};
+        if (!is_obstacle(q)) continue;
+        const Vec2 qc = map.CentreOf(q);
+        const Vec2 off = qc - c;
+        if (off.norm() > reach) continue;
+        const double side = d.x() * off.y() - d.y() * off.x();
+        if (side > 0)
+          left.push_back(qc);
+        else if (side < 0)
+          right.push_back(qc);
+      }
+    }
+    double dl = std::numeric_limits<double>::infinity(), dr = dl, gap = dl;
+    Vec2 jl = Vec2::Zero(), jr = Vec2::Zero();
+    for (const Vec2& l : left)
+      for (const Vec2& rr : right) {
+        const double g = (l - rr).squaredNorm();
+        if (g < gap) gap = g, jl = l, jr = rr, dl = (l - c).norm(), dr = (rr - c).norm();
+      }
+    if (!std::isfinite(dl) || !std::isfinite(dr)) continue;
+    const Vec2 u = jl - jr;
+    if (u.norm() > 2.0 * (P.passage_clearance + res)) continue;  // not a narrow gap
+    Vec2 a(u.y(), -u.x());
+    a.normalize();
+    if (a.dot(d) < 0) a = -a;
+    if (a.dot(d) < 0.5) continue;  // not a doorway across the path
+    // A run from the start (a narrow start area) is a doorway only when its narrowest point
+    // lies ahead and the start is before it (a replan 0.3 m in front of a door, which must
+    // still cross it aligned); a start inside the doorway is not.
+    if (b <= 0.0) {
+      const double along0 = (vertices.front() - 0.5 * (jl + jr)).dot(a);
+      if (s_c < 0.2 || along0 > -0.15) continue;
+    }
+    // A run that reaches the end of the path is a passage only if the goal lies in or beyond
+    // the doorway, between its jambs (a goal beside a door does not cross it).
+    if (e >= total - 1e-9) {
+      const Vec2 off = vertices.back() - 0.5 * (jl + jr);
+      const double along = off.dot(a), lateral = std::abs(a.x() * off.y() - a.y() * off.x());
+      if (along < -P.passage_straight || lateral > 0.5 * (u.norm() - res)) continue;
+    }
+    Passage pass;
+    pass.centre = 0.5 * (jl + jr);
+    pass.axis_yaw = std::atan2(a.y(), a.x());
+    pass.width = u.norm() - res;
+    pass.s = s_c;
+    passages.push_back(pass);
+  }
+  return passages;
+}
+
+// 4b. The path rerouted straight through each passage along its axis, last first (earlier arc
+// lengths stay valid), where the straight crossing keeps robot_radius.
+void GlobalPlanner::RouteThroughPassages(const std::vector<Passage>& passages,
+                                         std::vector<Vec2>& vertices) const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  for (auto it = passages.rbegin(); it != passages.rend(); ++it) {
+    const std::vector<double> cv = Cumulative(vertices);
+    const double L = P.passage_straight;
+    const double s_in = it->s - L, s_out = it->s + L;
+    if (s_in <= 0.0 || L <= 0.0) continue;
+    const Vec2 a(std::cos(it->axis_yaw), std::sin(it->axis_yaw));
+    const Vec2 p_in = it->centre - L * a, p_out = it->centre + L * a;
+    const Vec2 q_in = PointAt(vertices, cv, s_in);
+    const double need = P.robot_radius;
+    std::vector<Vec2> next;
+    for (std::size_t k = 0; k < vertices.size() && cv[k] < s_in; ++k) next.push_back(vertices[k]);
+    if (s_out >= cv.back()) {
+      // A doorway at the end of the path: approach along its axis, then straight to the goal.
+      const Vec2 goal_p = vertices.back();
+      if ((goal_p - it->centre).dot(a) > 0.0) {
+        if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
+            m.SegmentClearance(p_in, it->centre) < need ||
+            m.SegmentClearance(it->centre, goal_p) < need)
+          continue;
+        next.insert(next.end(), {q_in, p_in, it->centre, goal_p});
+      } else {  // the goal is in the doorway, before its centre
+        if (m.SegmentClearance(q_in, p_in) < need || m.SegmentClearance(p_in, goal_p) < need)
+          continue;
+        next.insert(next.end(), {q_in, p_in, goal_p});
+      }
+    } else {
+      const Vec2 q_out = PointAt(vertices, cv, s_out);
+      if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
+          m.SegmentClearance(p_in, p_out) < need || m.SegmentClearance(p_out, q_out) < need)
+        continue;
+      next.insert(next.end(), {q_in, p_in, it->centre, p_out, q_out});
+      for (std::size_t k = 0; k < vertices.size(); ++k)
+        if (cv[k] > s_out) next.push_back(vertices[k]);
+    }
+    // Drop zero-length steps.
+    std::vector<Vec2> clean{next.front()};
+    for (std::size_t k = 1; k < next.size(); ++k)
+      if ((next[k] - clean.back()).norm() > 1e-6) clean.push_back(next[k]);
+    vertices.swap(clean);
+  }
+}
+
 GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   const std::uint64_t query = query_++;
   const GlobalPlannerParams& P = params_;
@@ -454,155 +626,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   if (!(vertices.back() - g0).isZero(0.0)) vertices.push_back(g0);
 
   // 4. Doorways: measure the jambs on the map and cross straight through their midpoint.
-  auto cumulative = [](const std::vector<Vec2>& v) {
-    std::vector<double> s(v.size(), 0.0);
-    for (std::size_t k = 1; k < v.size(); ++k) s[k] = s[k - 1] + (v[k] - v[k - 1]).norm();
-    return s;
-  };
-  auto point_at = [](const std::vector<Vec2>& v, const std::vector<double>& cs, double sq) {
-    std::size_t k = 1;
-    while (k + 1 < v.size() && cs[k] < sq) ++k;
-    const double seg = cs[k] - cs[k - 1];
-    const double f = seg > 0 ? std::clamp((sq - cs[k - 1]) / seg, 0.0, 1.0) : 0.0;
-    return Vec2(v[k - 1] + f * (v[k] - v[k - 1]));
-  };
-  // Jambs are mapped obstacles: unknown cells (the edge of what the robot has seen) are not.
-  auto is_obstacle = [&](const Cell& c) {
-    return map.Contains(c) && map.State(c) == perception::CellState::kOccupied;
-  };
-  std::vector<Passage> passages;
-  {
-    const std::vector<double> cs = cumulative(vertices);
-    const double total = cs.back();
-    const double step_s = 0.5 * res;
-    std::vector<std::pair<double, double>> runs;  // (s_begin, s_end) of low clearance
-    double run_begin = -1.0;
-    for (double sq = 0.0; sq <= total + 1e-9; sq += step_s) {
-      const bool low = m.field.Clearance(point_at(vertices, cs, sq)) < P.passage_clearance;
-      if (low && run_begin < 0.0) run_begin = sq;
-      if (!low && run_begin >= 0.0) {
-        runs.emplace_back(run_begin, sq);
-        run_begin = -1.0;
-      }
-    }
-    // A doorway at the very end of the path (a goal just inside or behind a door) is a passage
-    // too: close the run at the goal (the jamb test below still rejects a goal by one wall).
-    if (run_begin >= 0.0) runs.emplace_back(run_begin, total);
-    for (const auto& [b, e] : runs) {
-      if (e - b > P.max_passage_length) continue;  // corridor
-      double s_c = b, best = std::numeric_limits<double>::infinity();
-      for (double sq = b; sq <= e; sq += step_s) {
-        const double c = m.field.Clearance(point_at(vertices, cs, sq));
-        if (c < best) {
-          best = c;
-          s_c = sq;
-        }
-      }
-      const Vec2 c = point_at(vertices, cs, s_c);
-      Vec2 d = point_at(vertices, cs, s_c + 0.2) - point_at(vertices, cs, s_c - 0.2);
-      if (d.norm() < 1e-9) continue;
-      d.normalize();
-      // Nearest obstacle cells left and right of the path (the jambs).
-      // The narrowest point of a slanted approach can lie before the doorway: look far enough
-      // for both jambs.
-      const double reach = std::max(best + 3.0 * res, P.passage_clearance + 0.3);
-      const Cell cc = map.CellOf(c);
-      const int rc = static_cast<int>(std::ceil(reach / res)) + 1;
-      // The jambs: the closest pair of obstacle cells on opposite sides of the path (the
-      // narrowest cross-section). Not simply the nearest cell on each side: an open leaf
-      // standing beside the doorway is nearer to a slanted approach than its own jamb.
-      std::vector<Vec2> left, right;
-      for (int dj2 = -rc; dj2 <= rc; ++dj2) {
-        for (int di2 = -rc; di2 <= rc; ++di2) {
-          const Cell q{cc.i + di2, cc.j + dj2};
-          if (!is_obstacle(q)) continue;
-          const Vec2 qc = map.CentreOf(q);
-          const Vec2 off = qc - c;
-          if (off.norm() > reach) continue;
-          const double side = d.x() * off.y() - d.y() * off.x();
-          if (side > 0)
-            left.push_back(qc);
-          else if (side < 0)
-            right.push_back(qc);
-        }
-      }
-      double dl = std::numeric_limits<double>::infinity(), dr = dl, gap = dl;
-      Vec2 jl = Vec2::Zero(), jr = Vec2::Zero();
-      for (const Vec2& l : left)
-        for (const Vec2& rr : right) {
-          const double g = (l - rr).squaredNorm();
-          if (g < gap) gap = g, jl = l, jr = rr, dl = (l - c).norm(), dr = (rr - c).norm();
-        }
-      if (!std::isfinite(dl) || !std::isfinite(dr)) continue;
-      const Vec2 u = jl - jr;
-      if (u.norm() > 2.0 * (P.passage_clearance + res)) continue;  // not a narrow gap
-      Vec2 a(u.y(), -u.x());
-      a.normalize();
-      if (a.dot(d) < 0) a = -a;
-      if (a.dot(d) < 0.5) continue;  // not a doorway across the path
-      // A run from the start (a narrow start area) is a doorway only when its narrowest point
-      // lies ahead and the start is before it (a replan 0.3 m in front of a door, which must
-      // still cross it aligned); a start inside the doorway is not.
-      if (b <= 0.0) {
-        const double along0 = (vertices.front() - 0.5 * (jl + jr)).dot(a);
-        if (s_c < 0.2 || along0 > -0.15) continue;
-      }
-      // A run that reaches the end of the path is a passage only if the goal lies in or beyond
-      // the doorway, between its jambs (a goal beside a door does not cross it).
-      if (e >= total - 1e-9) {
-        const Vec2 off = vertices.back() - 0.5 * (jl + jr);
-        const double along = off.dot(a), lateral = std::abs(a.x() * off.y() - a.y() * off.x());
-        if (along < -P.passage_straight || lateral > 0.5 * (u.norm() - res)) continue;
-      }
-      Passage pass;
-      pass.centre = 0.5 * (jl + jr);
-      pass.axis_yaw = std::atan2(a.y(), a.x());
-      pass.width = u.norm() - res;
-      pass.s = s_c;
-      passages.push_back(pass);
-    }
-    // Reroute straight through each passage, last first (earlier arc lengths stay valid).
-    for (auto it = passages.rbegin(); it != passages.rend(); ++it) {
-      const std::vector<double> cv = cumulative(vertices);
-      const double L = P.passage_straight;
-      const double s_in = it->s - L, s_out = it->s + L;
-      if (s_in <= 0.0 || L <= 0.0) continue;
-      const Vec2 a(std::cos(it->axis_yaw), std::sin(it->axis_yaw));
-      const Vec2 p_in = it->centre - L * a, p_out = it->centre + L * a;
-      const Vec2 q_in = point_at(vertices, cv, s_in);
-      const double need = P.robot_radius;
-      std::vector<Vec2> next;
-      for (std::size_t k = 0; k < vertices.size() && cv[k] < s_in; ++k) next.push_back(vertices[k]);
-      if (s_out >= cv.back()) {
-        // A doorway at the end of the path: approach along its axis, then straight to the goal.
-        const Vec2 goal_p = vertices.back();
-        if ((goal_p - it->centre).dot(a) > 0.0) {
-          if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
-              m.SegmentClearance(p_in, it->centre) < need ||
-              m.SegmentClearance(it->centre, goal_p) < need)
-            continue;
-          next.insert(next.end(), {q_in, p_in, it->centre, goal_p});
-        } else {  // the goal is in the doorway, before its centre
-          if (m.SegmentClearance(q_in, p_in) < need || m.SegmentClearance(p_in, goal_p) < need)
-            continue;
-          next.insert(next.end(), {q_in, p_in, goal_p});
-        }
-      } else {
-        const Vec2 q_out = point_at(vertices, cv, s_out);
-        if (!m.Valid(it->centre, need) || m.SegmentClearance(q_in, p_in) < need ||
-            m.SegmentClearance(p_in, p_out) < need || m.SegmentClearance(p_out, q_out) < need)
-          continue;
-        next.insert(next.end(), {q_in, p_in, it->centre, p_out, q_out});
-        for (std::size_t k = 0; k < vertices.size(); ++k)
-          if (cv[k] > s_out) next.push_back(vertices[k]);
-      }
-      // Drop zero-length steps.
-      std::vector<Vec2> clean{next.front()};
-      for (std::size_t k = 1; k < next.size(); ++k)
-        if ((next[k] - clean.back()).norm() > 1e-6) clean.push_back(next[k]);
-      vertices.swap(clean);
-    }
-  }
+  std::vector<Passage> passages = FindPassages(vertices);
+  RouteThroughPassages(passages, vertices);
 
   // 5. Resample with yaw along the path.
   const double step = P.waypoint_spacing;

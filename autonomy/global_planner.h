@@ -157,6 +157,9 @@ class GlobalPlanner {
 
  private:
   struct Impl;
+  std::vector<Passage> FindPassages(const std::vector<Vec2>& vertices) const;
+  void RouteThroughPassages(const std::vector<Passage>& passages,
+                            std::vector<Vec2>& vertices) const;
   std::unique_ptr<Impl> impl_;
   GlobalPlannerParams params_;
   std::uint64_t seed_;
