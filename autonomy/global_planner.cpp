@@ -355,281 +355,73 @@ void GlobalPlanner::RouteThroughPassages(const std::vector<Passage>& passages,
   }
 }
 
-GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
-  const std::uint64_t query = query_++;
+namespace {
+
+// The RRT* objective: the path integral of the cell cost (1 + clearance_weight x shortfall of
+// clearance below preferred_clearance), per metre.
+class ClearanceObjective : public ob::StateCostIntegralObjective {
+ public:
+  ClearanceObjective(const ob::SpaceInformationPtr& si, const OccupancyGrid& map,
+                     const std::vector<float>& cost)
+      : ob::StateCostIntegralObjective(si, true), map_(map), cost_(cost) {}
+  ob::Cost stateCost(const ob::State* s) const override { return ob::Cost(Cost(ToVec(s))); }
+  // Trapezoidal integral of the state cost along the segment, sampled every 10 cm on plain
+  // vectors (OMPL's generic interpolation allocates a state per sample: far slower).
+  ob::Cost motionCost(const ob::State* s1, const ob::State* s2) const override {
+    const Vec2 a = ToVec(s1), b = ToVec(s2);
+    const double len = (b - a).norm();
+    const int n = std::max(1, static_cast<int>(std::ceil(len / 0.1)));
+    double sum = 0.5 * (Cost(a) + Cost(b));
+    for (int k = 1; k < n; ++k) sum += Cost(Vec2(a + (b - a) * (double(k) / n)));
+    return ob::Cost(sum * len / n);
+  }
+
+ private:
+  double Cost(const Vec2& p) const {
+    const Cell c = map_.CellOf(p);
+    if (!map_.Contains(c)) return 1e3;
+    return cost_[map_.Index(c)];
+  }
+  const OccupancyGrid& map_;
+  const std::vector<float>& cost_;
+};
+
+}  // namespace
+
+// 3a. The farthest vertex j reachable from i by a straight segment that keeps min(robot_radius
+// + shortcut_margin, the clearance of the replaced sub-path); deterministic.
+void GlobalPlanner::ShortcutPath(std::vector<Vec2>& vertices) const {
   const GlobalPlannerParams& P = params_;
   const Impl& m = *impl_;
-  const OccupancyGrid& map = m.map;
-  const double res = map.Resolution();
-  GlobalPlan plan;
-  const Vec2 s0(start.x, start.y), g0(goal.x, goal.y);
+  std::vector<Vec2> out{vertices.front()};
+  std::size_t i = 0;
+  std::vector<double> seg(vertices.size() - 1);
+  for (std::size_t k = 0; k + 1 < vertices.size(); ++k)
+    seg[k] = m.SegmentClearance(vertices[k], vertices[k + 1]);
+  while (i + 1 < vertices.size()) {
+    // The farthest j whose straight segment keeps min(robot_radius + margin, clearance
+    // of the replaced sub-path); i + 1 always qualifies.
+    std::size_t best = i + 1;
+    double sub = seg[i];
+    for (std::size_t j = i + 2; j < vertices.size(); ++j) {
+      sub = std::min(sub, seg[j - 1]);
+      const double need = std::min(P.robot_radius + P.shortcut_margin, sub);
+      if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need) best = j;
+    }
+    out.push_back(vertices[best]);
+    i = best;
+  }
+  vertices.swap(out);
+}
 
-  // 1. Start and goal.
-  const double start_clear = m.field.Clearance(s0);
-  if (!map.Contains(map.CellOf(s0)) || !m.field.IsFree(s0, P.min_start_clearance) ||
-      start_clear < P.min_start_clearance) {
-    plan.status = PlanStatus::kStartInvalid;
-    plan.message = FormatNumbers(
-                       "start (%.2f, %.2f) is off the map, not known free, or too close to an "
-                       "obstacle (clearance %.2f m)",
-                       s0.x(), s0.y(), start_clear) +
-                   FormatNumbers(", needs >= %.2f m", P.min_start_clearance);
-    return plan;
-  }
-  const double goal_clear = m.field.Clearance(g0);
-  if (!m.Valid(g0, P.robot_radius)) {
-    plan.status = PlanStatus::kGoalInvalid;
-    plan.message = FormatNumbers(
-                       "goal (%.2f, %.2f) is off the map, not known free, or too close to an "
-                       "obstacle (clearance %.2f m)",
-                       g0.x(), g0.y(), goal_clear) +
-                   FormatNumbers(", needs >= %.2f m (robot radius)", P.robot_radius);
-    return plan;
-  }
-  const int w = map.Width(), h = map.Height();
-  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
-  std::vector<std::uint8_t> valid(static_cast<std::size_t>(w) * h, 0);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i)
-      valid[idx({i, j})] = m.field.ClearanceOfCell({i, j}) >= P.robot_radius &&
-                           m.field.IsFree(map.CentreOf({i, j}), P.robot_radius);
-  const int di[8] = {1, -1, 0, 0, 1, 1, -1, -1}, dj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  // A start inside the clearance margin is led out along cells with min_start_clearance.
-  Vec2 s = s0;
-  Cell sc = map.CellOf(s0);
-  if (!valid[idx(sc)] || !m.Valid(s0, P.robot_radius)) {
-    std::vector<int> seen(valid.size(), 0);
-    std::deque<Cell> q{sc};
-    seen[idx(sc)] = 1;
-    bool found = false;
-    while (!q.empty() && !found) {
-      const Cell c = q.front();
-      q.pop_front();
-      for (int k = 0; k < 8; ++k) {
-        const Cell n{c.i + di[k], c.j + dj[k]};
-        if (!map.Contains(n) || seen[idx(n)]) continue;
-        seen[idx(n)] = 1;
-        if ((map.CentreOf(n) - s0).norm() > 1.0) continue;
-        if (valid[idx(n)]) {
-          sc = n;
-          found = true;
-          break;
-        }
-        if (m.field.IsFree(map.CentreOf(n), P.min_start_clearance)) q.push_back(n);
-      }
-    }
-    if (!found) {
-      plan.status = PlanStatus::kStartInvalid;
-      plan.message = FormatNumbers(
-          "start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
-          "robot radius",
-          s0.x(), s0.y(), start_clear);
-      return plan;
-    }
-    s = map.CentreOf(sc);
-  }
-  // Flood fill of the start's component (8-connected).
-  std::vector<std::uint8_t> comp(valid.size(), 0);
-  std::vector<Vec2> cells;
-  {
-    std::deque<Cell> q{sc};
-    comp[idx(sc)] = 1;
-    while (!q.empty()) {
-      const Cell c = q.front();
-      q.pop_front();
-      for (int k = 0; k < 8; ++k) {
-        const Cell n{c.i + di[k], c.j + dj[k]};
-        if (!map.Contains(n) || comp[idx(n)] || !valid[idx(n)]) continue;
-        comp[idx(n)] = 1;
-        q.push_back(n);
-      }
-    }
-  }
-  const Cell gc = map.CellOf(g0);
-  if (!comp[idx(gc)]) {
-    plan.status = PlanStatus::kUnreachable;
-    plan.message = FormatNumbers(
-        "goal (%.2f, %.2f) is not connected to the start in free space with "
-        "%.2f m clearance (closed door or blocked passage?)",
-        g0.x(), g0.y(), P.robot_radius);
-    return plan;
-  }
-  auto data = std::make_shared<SamplerData>();
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      if (!comp[idx({i, j})]) continue;
-      cells.push_back(map.CentreOf({i, j}));
-      // Medial axis: a local maximum of clearance along x or along y.
-      const double c = m.field.ClearanceOfCell({i, j});
-      const bool ridge_x =
-          c >= m.field.ClearanceOfCell({i - 1, j}) && c >= m.field.ClearanceOfCell({i + 1, j});
-      const bool ridge_y =
-          c >= m.field.ClearanceOfCell({i, j - 1}) && c >= m.field.ClearanceOfCell({i, j + 1});
-      if (ridge_x || ridge_y) data->medial.push_back(cells.back());
-    }
-  }
-  data->cells = cells;
-  data->goal = g0;
-  data->resolution = res;
-  data->goal_bias = P.goal_bias;
-  data->medial_bias = P.medial_axis_bias;
-
-  // 2. OMPL RRT* in R^2 over the map's extent.
-  std::vector<Vec2> vertices;
-  if ((g0 - s).norm() < P.goal_tolerance ||
-      m.SegmentClearance(s, g0) >= P.robot_radius + P.shortcut_margin) {
-    vertices = {s, g0};  // trivially straight
-  } else {
-    auto space = std::make_shared<ob::RealVectorStateSpace>(2);
-    ob::RealVectorBounds bounds(2);
-    bounds.setLow(0, map.Origin().x());
-    bounds.setLow(1, map.Origin().y());
-    bounds.setHigh(0, map.Origin().x() + w * res);
-    bounds.setHigh(1, map.Origin().y() + h * res);
-    space->setBounds(bounds);
-    space->setStateSamplerAllocator(
-        [data](const ob::StateSpace* sp) { return std::make_shared<ComponentSampler>(sp, data); });
-    auto si = std::make_shared<ob::SpaceInformation>(space);
-    const double radius = P.robot_radius;
-    si->setStateValidityChecker(
-        [&m, radius](const ob::State* st) { return m.Valid(ToVec(st), radius); });
-    si->setStateValidityCheckingResolution(0.5 * res / space->getMaximumExtent());
-    si->setup();
-    // Cost per metre of every cell, precomputed: the objective samples it millions of times.
-    std::vector<float> cell_cost(valid.size());
-    for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i)
-        cell_cost[idx({i, j})] = static_cast<float>(
-            1.0 + P.clearance_weight *
-                      std::max(0.0, 1.0 - m.field.ClearanceOfCell({i, j}) / P.preferred_clearance));
-    class ClearanceObjective : public ob::StateCostIntegralObjective {
-     public:
-      ClearanceObjective(const ob::SpaceInformationPtr& si, const OccupancyGrid& map,
-                         const std::vector<float>& cost)
-          : ob::StateCostIntegralObjective(si, true), map_(map), cost_(cost) {}
-      ob::Cost stateCost(const ob::State* s) const override { return ob::Cost(Cost(ToVec(s))); }
-      // Trapezoidal integral of the state cost along the segment, sampled every 10 cm on plain
-      // vectors (OMPL's generic interpolation allocates a state per sample: far slower).
-      ob::Cost motionCost(const ob::State* s1, const ob::State* s2) const override {
-        const Vec2 a = ToVec(s1), b = ToVec(s2);
-        const double len = (b - a).norm();
-        const int n = std::max(1, static_cast<int>(std::ceil(len / 0.1)));
-        double sum = 0.5 * (Cost(a) + Cost(b));
-        for (int k = 1; k < n; ++k) sum += Cost(Vec2(a + (b - a) * (double(k) / n)));
-        return ob::Cost(sum * len / n);
-      }
-
-     private:
-      double Cost(const Vec2& p) const {
-        const Cell c = map_.CellOf(p);
-        if (!map_.Contains(c)) return 1e3;
-        return cost_[map_.Index(c)];
-      }
-      const OccupancyGrid& map_;
-      const std::vector<float>& cost_;
-    };
-    if (P.grid_seed) {
-      // Cheapest route over the component, edge cost = length x mean cell cost (exact for the
-      // grid and deterministic).
-      const std::vector<std::size_t> chain = perception::GridShortestPath(
-          w, h, idx(sc), idx(gc), perception::kNeighboursAxesFirst,
-          [&](std::size_t from, std::size_t to, const perception::GridStep& st) {
-            if (!comp[to]) return -1.0;
-            return res * (st.Diagonal() ? std::sqrt(2.0) : 1.0) * 0.5 *
-                   (cell_cost[from] + cell_cost[to]);
-          });
-      if (!chain.empty()) {
-        vertices.push_back(s);
-        // Every 4th cell is enough for the shortcuts (they only remove vertices).
-        for (std::size_t k = 1; k + 1 < chain.size(); k += 4)
-          vertices.push_back(
-              map.CentreOf({static_cast<int>(chain[k] % w), static_cast<int>(chain[k] / w)}));
-        vertices.push_back(g0);
-      }
-    }
-    for (int attempt = 0; attempt < P.max_attempts && vertices.empty() && !P.grid_seed; ++attempt) {
-      data->key = DeriveKey(DeriveKey(DeriveKey(Mix64(seed_), HashName("planner/samples")), query),
-                            static_cast<std::uint64_t>(attempt));
-      data->draws = 0;
-      auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-      ob::ScopedState<ob::RealVectorStateSpace> st(space), gl(space);
-      st->values[0] = s.x();
-      st->values[1] = s.y();
-      gl->values[0] = g0.x();
-      gl->values[1] = g0.y();
-      pdef->setStartAndGoalStates(st, gl, P.goal_tolerance);
-      pdef->setOptimizationObjective(std::make_shared<ClearanceObjective>(si, map, cell_cost));
-      auto rrt = std::make_shared<og::RRTstar>(si);
-      rrt->setRange(P.range);
-      rrt->setGoalBias(0.0);  // the sampler does goal biasing from our keyed stream
-      rrt->setProblemDefinition(pdef);
-      rrt->setup();
-      ob::IterationTerminationCondition itc(static_cast<unsigned>(P.max_iterations));
-      rrt->solve(itc);
-      plan.iterations += static_cast<int>(rrt->numIterations());
-      if (pdef->hasExactSolution()) {
-        const auto& path = static_cast<const og::PathGeometric&>(*pdef->getSolutionPath());
-        for (std::size_t k = 0; k < path.getStateCount(); ++k)
-          vertices.push_back(ToVec(path.getState(k)));
-      }
-    }
-    if (vertices.empty()) {
-      plan.status = PlanStatus::kNoPathInBudget;
-      plan.message = "goal is connected to the start but RRT* found no path in " +
-                     std::to_string(plan.iterations) + " iterations (raise max_iterations)";
-      return plan;
-    }
-    // 3a. Deterministic shortcutting that keeps local clearance.
-    {
-      std::vector<Vec2> out{vertices.front()};
-      std::size_t i = 0;
-      std::vector<double> seg(vertices.size() - 1);
-      for (std::size_t k = 0; k + 1 < vertices.size(); ++k)
-        seg[k] = m.SegmentClearance(vertices[k], vertices[k + 1]);
-      while (i + 1 < vertices.size()) {
-        // The farthest j whose straight segment keeps min(robot_radius + margin, clearance
-        // of the replaced sub-path); i + 1 always qualifies.
-        std::size_t best = i + 1;
-        double sub = seg[i];
-        for (std::size_t j = i + 2; j < vertices.size(); ++j) {
-          sub = std::min(sub, seg[j - 1]);
-          const double need = std::min(P.robot_radius + P.shortcut_margin, sub);
-          if (need >= P.robot_radius && m.SegmentClearance(vertices[i], vertices[j]) >= need)
-            best = j;
-        }
-        out.push_back(vertices[best]);
-        i = best;
-      }
-      vertices.swap(out);
-    }
-    // 3b. B-spline smoothing (OMPL; only valid changes are kept).
-    if (P.smoothing_steps > 0 && vertices.size() > 2) {
-      og::PathGeometric path(si);
-      for (const auto& v : vertices) {
-        ob::ScopedState<ob::RealVectorStateSpace> x(space);
-        x->values[0] = v.x();
-        x->values[1] = v.y();
-        path.append(x.get());
-      }
-      og::PathSimplifier simplifier(si);
-      simplifier.smoothBSpline(path, static_cast<unsigned>(P.smoothing_steps));
-      std::vector<Vec2> smooth;
-      bool ok = true;
-      for (std::size_t k = 0; k < path.getStateCount(); ++k)
-        smooth.push_back(ToVec(path.getState(k)));
-      for (std::size_t k = 0; k + 1 < smooth.size() && ok; ++k)
-        ok = m.SegmentClearance(smooth[k], smooth[k + 1]) >= P.robot_radius;
-      if (ok && smooth.size() >= 2) vertices.swap(smooth);
-    }
-  }
-  if (!(vertices.front() - s0).isZero(0.0)) vertices.insert(vertices.begin(), s0);
-  if (!(vertices.back() - g0).isZero(0.0)) vertices.push_back(g0);
-
-  // 4. Doorways: measure the jambs on the map and cross straight through their midpoint.
-  std::vector<Passage> passages = FindPassages(vertices);
-  RouteThroughPassages(passages, vertices);
-
-  // 5. Resample with yaw along the path.
+// 5. The plan's path: `vertices` resampled every waypoint_spacing with the yaw of each
+// segment, passages placed at their nearest path point, length, the smallest clearance (the
+// lead-out from a start inside the margin exempt), status and message.
+void GlobalPlanner::FinishPlan(const std::vector<Vec2>& vertices, std::vector<Passage> passages,
+                               const Pose2& goal, double goal_clear, const Vec2& s0, const Vec2& s,
+                               GlobalPlan& plan) const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
   const double step = P.waypoint_spacing;
   double s_acc = 0.0;
   for (std::size_t k = 0; k + 1 < vertices.size(); ++k) {
@@ -670,6 +462,290 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       FormatNumbers("path %.2f m, min clearance %.2f m, ", plan.length, plan.min_clearance) +
       std::to_string(plan.passages.size()) + " passages, " + std::to_string(plan.iterations) +
       " RRT* iterations";
+}
+
+namespace {
+constexpr int kDi[8] = {1, -1, 0, 0, 1, 1, -1, -1}, kDj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+}  // namespace
+
+// The nearest valid cell within 1 m of a start inside the clearance margin, reached through
+// cells with min_start_clearance (breadth first, kDi/kDj order); nullopt when there is none.
+std::optional<Cell> GlobalPlanner::LeadOutCell(const Vec2& s0, Cell sc,
+                                               const std::vector<std::uint8_t>& valid) const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  const int w = map.Width();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<int> seen(valid.size(), 0);
+  std::deque<Cell> q{sc};
+  seen[idx(sc)] = 1;
+  bool found = false;
+  while (!q.empty() && !found) {
+    const Cell c = q.front();
+    q.pop_front();
+    for (int k = 0; k < 8; ++k) {
+      const Cell n{c.i + kDi[k], c.j + kDj[k]};
+      if (!map.Contains(n) || seen[idx(n)]) continue;
+      seen[idx(n)] = 1;
+      if ((map.CentreOf(n) - s0).norm() > 1.0) continue;
+      if (valid[idx(n)]) {
+        sc = n;
+        found = true;
+        break;
+      }
+      if (m.field.IsFree(map.CentreOf(n), P.min_start_clearance)) q.push_back(n);
+    }
+  }
+  if (!found) return std::nullopt;
+  return sc;
+}
+
+// The 8-connected component of valid cells that holds `sc` (1 = in it).
+std::vector<std::uint8_t> GlobalPlanner::Component(Cell sc,
+                                                   const std::vector<std::uint8_t>& valid) const {
+  const OccupancyGrid& map = impl_->map;
+  const int w = map.Width();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<std::uint8_t> comp(valid.size(), 0);
+  std::deque<Cell> q{sc};
+  comp[idx(sc)] = 1;
+  while (!q.empty()) {
+    const Cell c = q.front();
+    q.pop_front();
+    for (int k = 0; k < 8; ++k) {
+      const Cell n{c.i + kDi[k], c.j + kDj[k]};
+      if (!map.Contains(n) || comp[idx(n)] || !valid[idx(n)]) continue;
+      comp[idx(n)] = 1;
+      q.push_back(n);
+    }
+  }
+  return comp;
+}
+
+// Cost per metre of every cell (index j * width + i), precomputed: the objective samples it
+// millions of times. 1 + clearance_weight x the shortfall of clearance below
+// preferred_clearance.
+std::vector<float> GlobalPlanner::CellCosts() const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const int w = m.map.Width(), h = m.map.Height();
+  std::vector<float> cell_cost(static_cast<std::size_t>(w) * h);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      cell_cost[static_cast<std::size_t>(j) * w + i] = static_cast<float>(
+          1.0 + P.clearance_weight *
+                    std::max(0.0, 1.0 - m.field.ClearanceOfCell({i, j}) / P.preferred_clearance));
+  return cell_cost;
+}
+
+// 2-3. A path from s to g0 through the start's component `comp`: the grid seed path or OMPL
+// RRT* (keyed by `query`), shortcut and B-spline smoothed where valid. False (plan's status and
+// message set) when RRT* finds none within its budget.
+bool GlobalPlanner::SearchPath(const Vec2& s, const Vec2& g0, Cell sc, Cell gc,
+                               const std::vector<std::uint8_t>& comp, std::uint64_t query,
+                               std::vector<Vec2>& vertices, GlobalPlan& plan) const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  const double res = map.Resolution();
+  const int w = map.Width(), h = map.Height();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<Vec2> cells;
+  auto data = std::make_shared<SamplerData>();
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      if (!comp[idx({i, j})]) continue;
+      cells.push_back(map.CentreOf({i, j}));
+      // Medial axis: a local maximum of clearance along x or along y.
+      const double c = m.field.ClearanceOfCell({i, j});
+      const bool ridge_x =
+          c >= m.field.ClearanceOfCell({i - 1, j}) && c >= m.field.ClearanceOfCell({i + 1, j});
+      const bool ridge_y =
+          c >= m.field.ClearanceOfCell({i, j - 1}) && c >= m.field.ClearanceOfCell({i, j + 1});
+      if (ridge_x || ridge_y) data->medial.push_back(cells.back());
+    }
+  }
+  data->cells = cells;
+  data->goal = g0;
+  data->resolution = res;
+  data->goal_bias = P.goal_bias;
+  data->medial_bias = P.medial_axis_bias;
+
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  ob::RealVectorBounds bounds(2);
+  bounds.setLow(0, map.Origin().x());
+  bounds.setLow(1, map.Origin().y());
+  bounds.setHigh(0, map.Origin().x() + w * res);
+  bounds.setHigh(1, map.Origin().y() + h * res);
+  space->setBounds(bounds);
+  space->setStateSamplerAllocator(
+      [data](const ob::StateSpace* sp) { return std::make_shared<ComponentSampler>(sp, data); });
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  const double radius = P.robot_radius;
+  si->setStateValidityChecker(
+      [&m, radius](const ob::State* st) { return m.Valid(ToVec(st), radius); });
+  si->setStateValidityCheckingResolution(0.5 * res / space->getMaximumExtent());
+  si->setup();
+  const std::vector<float> cell_cost = CellCosts();
+  if (P.grid_seed) {
+    // Cheapest route over the component, edge cost = length x mean cell cost (exact for the
+    // grid and deterministic).
+    const std::vector<std::size_t> chain = perception::GridShortestPath(
+        w, h, idx(sc), idx(gc), perception::kNeighboursAxesFirst,
+        [&](std::size_t from, std::size_t to, const perception::GridStep& st) {
+          if (!comp[to]) return -1.0;
+          return res * (st.Diagonal() ? std::sqrt(2.0) : 1.0) * 0.5 *
+                 (cell_cost[from] + cell_cost[to]);
+        });
+    if (!chain.empty()) {
+      vertices.push_back(s);
+      // Every 4th cell is enough for the shortcuts (they only remove vertices).
+      for (std::size_t k = 1; k + 1 < chain.size(); k += 4)
+        vertices.push_back(
+            map.CentreOf({static_cast<int>(chain[k] % w), static_cast<int>(chain[k] / w)}));
+      vertices.push_back(g0);
+    }
+  }
+  for (int attempt = 0; attempt < P.max_attempts && vertices.empty() && !P.grid_seed; ++attempt) {
+    data->key = DeriveKey(DeriveKey(DeriveKey(Mix64(seed_), HashName("planner/samples")), query),
+                          static_cast<std::uint64_t>(attempt));
+    data->draws = 0;
+    auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+    ob::ScopedState<ob::RealVectorStateSpace> st(space), gl(space);
+    st->values[0] = s.x();
+    st->values[1] = s.y();
+    gl->values[0] = g0.x();
+    gl->values[1] = g0.y();
+    pdef->setStartAndGoalStates(st, gl, P.goal_tolerance);
+    pdef->setOptimizationObjective(std::make_shared<ClearanceObjective>(si, map, cell_cost));
+    auto rrt = std::make_shared<og::RRTstar>(si);
+    rrt->setRange(P.range);
+    rrt->setGoalBias(0.0);  // the sampler does goal biasing from our keyed stream
+    rrt->setProblemDefinition(pdef);
+    rrt->setup();
+    ob::IterationTerminationCondition itc(static_cast<unsigned>(P.max_iterations));
+    rrt->solve(itc);
+    plan.iterations += static_cast<int>(rrt->numIterations());
+    if (pdef->hasExactSolution()) {
+      const auto& path = static_cast<const og::PathGeometric&>(*pdef->getSolutionPath());
+      for (std::size_t k = 0; k < path.getStateCount(); ++k)
+        vertices.push_back(ToVec(path.getState(k)));
+    }
+  }
+  if (vertices.empty()) {
+    plan.status = PlanStatus::kNoPathInBudget;
+    plan.message = "goal is connected to the start but RRT* found no path in " +
+                   std::to_string(plan.iterations) + " iterations (raise max_iterations)";
+    return false;
+  }
+  // 3a. Deterministic shortcutting that keeps local clearance.
+  ShortcutPath(vertices);
+  // 3b. B-spline smoothing (OMPL; only valid changes are kept).
+  if (P.smoothing_steps > 0 && vertices.size() > 2) {
+    og::PathGeometric path(si);
+    for (const auto& v : vertices) {
+      ob::ScopedState<ob::RealVectorStateSpace> x(space);
+      x->values[0] = v.x();
+      x->values[1] = v.y();
+      path.append(x.get());
+    }
+    og::PathSimplifier simplifier(si);
+    simplifier.smoothBSpline(path, static_cast<unsigned>(P.smoothing_steps));
+    std::vector<Vec2> smooth;
+    bool ok = true;
+    for (std::size_t k = 0; k < path.getStateCount(); ++k)
+      smooth.push_back(ToVec(path.getState(k)));
+    for (std::size_t k = 0; k + 1 < smooth.size() && ok; ++k)
+      ok = m.SegmentClearance(smooth[k], smooth[k + 1]) >= P.robot_radius;
+    if (ok && smooth.size() >= 2) vertices.swap(smooth);
+  }
+  return true;
+}
+
+GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
+  const std::uint64_t query = query_++;
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  GlobalPlan plan;
+  const Vec2 s0(start.x, start.y), g0(goal.x, goal.y);
+
+  // 1. Start and goal.
+  const double start_clear = m.field.Clearance(s0);
+  if (!map.Contains(map.CellOf(s0)) || !m.field.IsFree(s0, P.min_start_clearance) ||
+      start_clear < P.min_start_clearance) {
+    plan.status = PlanStatus::kStartInvalid;
+    plan.message = FormatNumbers(
+                       "start (%.2f, %.2f) is off the map, not known free, or too close to an "
+                       "obstacle (clearance %.2f m)",
+                       s0.x(), s0.y(), start_clear) +
+                   FormatNumbers(", needs >= %.2f m", P.min_start_clearance);
+    return plan;
+  }
+  const double goal_clear = m.field.Clearance(g0);
+  if (!m.Valid(g0, P.robot_radius)) {
+    plan.status = PlanStatus::kGoalInvalid;
+    plan.message = FormatNumbers(
+                       "goal (%.2f, %.2f) is off the map, not known free, or too close to an "
+                       "obstacle (clearance %.2f m)",
+                       g0.x(), g0.y(), goal_clear) +
+                   FormatNumbers(", needs >= %.2f m (robot radius)", P.robot_radius);
+    return plan;
+  }
+  const int w = map.Width(), h = map.Height();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<std::uint8_t> valid(static_cast<std::size_t>(w) * h, 0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      valid[idx({i, j})] = m.field.ClearanceOfCell({i, j}) >= P.robot_radius &&
+                           m.field.IsFree(map.CentreOf({i, j}), P.robot_radius);
+  // A start inside the clearance margin is led out along cells with min_start_clearance.
+  Vec2 s = s0;
+  Cell sc = map.CellOf(s0);
+  if (!valid[idx(sc)] || !m.Valid(s0, P.robot_radius)) {
+    const std::optional<Cell> out = LeadOutCell(s0, sc, valid);
+    const bool found = out.has_value();
+    if (!found) {
+      plan.status = PlanStatus::kStartInvalid;
+      plan.message = FormatNumbers(
+          "start (%.2f, %.2f) has clearance %.2f m and no cell within 1 m has the "
+          "robot radius",
+          s0.x(), s0.y(), start_clear);
+      return plan;
+    }
+    sc = *out;
+    s = map.CentreOf(sc);
+  }
+  // Flood fill of the start's component (8-connected).
+  const std::vector<std::uint8_t> comp = Component(sc, valid);
+  const Cell gc = map.CellOf(g0);
+  if (!comp[idx(gc)]) {
+    plan.status = PlanStatus::kUnreachable;
+    plan.message = FormatNumbers(
+        "goal (%.2f, %.2f) is not connected to the start in free space with "
+        "%.2f m clearance (closed door or blocked passage?)",
+        g0.x(), g0.y(), P.robot_radius);
+    return plan;
+  }
+  // 2. OMPL RRT* in R^2 over the map's extent (or the grid seed path), then 3. shortcuts and
+  // smoothing.
+  std::vector<Vec2> vertices;
+  if ((g0 - s).norm() < P.goal_tolerance ||
+      m.SegmentClearance(s, g0) >= P.robot_radius + P.shortcut_margin) {
+    vertices = {s, g0};  // trivially straight
+  } else if (!SearchPath(s, g0, sc, gc, comp, query, vertices, plan)) {
+    return plan;
+  }
+  if (!(vertices.front() - s0).isZero(0.0)) vertices.insert(vertices.begin(), s0);
+  if (!(vertices.back() - g0).isZero(0.0)) vertices.push_back(g0);
+
+  // 4. Doorways: measure the jambs on the map and cross straight through their midpoint.
+  std::vector<Passage> passages = FindPassages(vertices);
+  RouteThroughPassages(passages, vertices);
+
+  // 5. Resample with yaw along the path; passages, length and clearance.
+  FinishPlan(vertices, std::move(passages), goal, goal_clear, s0, s, plan);
   return plan;
 }
 

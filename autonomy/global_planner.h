@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -160,6 +161,18 @@ class GlobalPlanner {
   std::vector<Passage> FindPassages(const std::vector<Vec2>& vertices) const;
   void RouteThroughPassages(const std::vector<Passage>& passages,
                             std::vector<Vec2>& vertices) const;
+  void ShortcutPath(std::vector<Vec2>& vertices) const;
+  std::vector<float> CellCosts() const;
+  bool SearchPath(const Vec2& s, const Vec2& g0, perception::Cell sc, perception::Cell gc,
+                  const std::vector<std::uint8_t>& comp, std::uint64_t query,
+                  std::vector<Vec2>& vertices, GlobalPlan& plan) const;
+  std::optional<perception::Cell> LeadOutCell(const Vec2& s0, perception::Cell sc,
+                                              const std::vector<std::uint8_t>& valid) const;
+  std::vector<std::uint8_t> Component(perception::Cell sc,
+                                      const std::vector<std::uint8_t>& valid) const;
+  void FinishPlan(const std::vector<Vec2>& vertices, std::vector<Passage> passages,
+                  const Pose2& goal, double goal_clear, const Vec2& s0, const Vec2& s,
+                  GlobalPlan& plan) const;
   std::unique_ptr<Impl> impl_;
   GlobalPlannerParams params_;
   std::uint64_t seed_;
