@@ -441,20 +441,21 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
 
 // ---- Steps 1-4 for one wall ----
 
-std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
-                                                const OrthoPoints& points, const OpeningParams& p,
-                                                double floor_v) {
-  p.Validate();
-  std::vector<DetectedOpening> out;
-  const int cols = img.Cols(), rows = img.Rows();
-  if (cols < 3 || rows < 3) return out;
-  const double px = img.Pixel();
-  const WallArea area = SegmentWallArea(img, p);
+namespace {
 
-  // J_C, J_D and the evidence mask as images.
-  // Pixels without points take the wall's colour and depth: a hole's outline is a line of the
-  // evidence mask, and the scan-line gaps of sparse data or the speckle of glass returns must
-  // not make lines in J_C and J_D (a 5x5 median removes what speckle is left).
+// Step 2-3 inputs for one wall: J_C, J_D and the evidence mask as edge images (Canny after a
+// median), and the integral images of the masks the rectangle tests sum over.
+// Pixels without points take the wall's colour and depth: a hole's outline is a line of the
+// evidence mask, and the scan-line gaps of sparse data or the speckle of glass returns must
+// not make lines in J_C and J_D (a 5x5 median removes what speckle is left).
+struct WallEdges {
+  cv::Mat edge01;  // 1 where any of the three images has an edge
+  Masks m;
+};
+
+WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const OpeningParams& p) {
+  const int cols = img.Cols(), rows = img.Rows();
+  const double px = img.Pixel();
   const cv::Vec3b wall_bgr(static_cast<std::uint8_t>(std::lround(area.wall_rgb[0])),
                            static_cast<std::uint8_t>(std::lround(area.wall_rgb[1])),
                            static_cast<std::uint8_t>(std::lround(area.wall_rgb[2])));
@@ -506,22 +507,14 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
                 Integral(wall),  Integral(edge_v),  Integral(edge_h),    Integral(hid_v),
                 Integral(hid_h), Integral(flush),   Integral(hidden)};
 
-  // Lines along columns (vertical) and rows (horizontal), on the edge map with a 1-pixel slack.
-  const int gap = static_cast<int>(std::lround(p.line_gap / px));
-  const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
-  auto e_at = [&](int r, int c) {
-    return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0;
-  };
-  const std::vector<Line> vert = FindLines(
-      cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); }, gap,
-      min_len, p.max_lines);
-  const std::vector<Line> horz = FindLines(
-      rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
-      min_len, p.max_lines);
+  return {edge01, m};
+}
 
-  // Rectangles.
-  const int floor_row =
-      std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
+// Step 3: rectangles from pairs of vertical lines and one (door, down to the floor) or two
+// (window, with a sill) horizontal lines, within the typical sizes, scored (Score).
+std::vector<Candidate> RectangleCandidates(const std::vector<Line>& vert,
+                                           const std::vector<Line>& horz, const Masks& m,
+                                           const OpeningParams& p, double px, int floor_row) {
   std::vector<Candidate> cands;
   const int ring_px = std::max(1, static_cast<int>(std::lround(p.ring / px)));
   // Horizontal lines across at least half the width strictly inside (consistency, step 3).
@@ -579,7 +572,13 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
         }
       }
     }
-  // Best first (ties: position), non-maximum suppression by overlap.
+  return cands;
+}
+
+// Best first (ties: position), non-maximum suppression by overlap; then the hole, not the
+// casing, for each kept rectangle.
+std::vector<Candidate> KeepHoles(const std::vector<Candidate>& cands, const Masks& m,
+                                 const OpeningParams& p, double px) {
   std::vector<std::size_t> order(cands.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(),
@@ -635,6 +634,16 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   std::sort(kept.begin(), kept.end(), [](const Candidate& x, const Candidate& y) {
     return std::tie(x.cl, x.rt) < std::tie(y.cl, y.rt);
   });
+  return kept;
+}
+
+// Step 4 and the file's fields: each kept rectangle as an opening in the wall's frame, doors
+// with their leaf (angle, state, clear width), widened to the leaf where it is wider.
+std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
+                                        const std::vector<Line>& vert, const Orthoimage& img,
+                                        const std::string& host, const OrthoPoints& points,
+                                        const OpeningParams& p, double floor_v) {
+  std::vector<DetectedOpening> out;
   const PatchFrame& f = img.Frame();
   for (const Candidate& k : kept) {
     DetectedOpening o;
@@ -694,6 +703,39 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
     out.push_back(o);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
+                                                const OrthoPoints& points, const OpeningParams& p,
+                                                double floor_v) {
+  p.Validate();
+  const int cols = img.Cols(), rows = img.Rows();
+  if (cols < 3 || rows < 3) return {};
+  const double px = img.Pixel();
+  const WallArea area = SegmentWallArea(img, p);
+  const WallEdges we = BuildWallEdges(img, area, p);
+  const cv::Mat& edge01 = we.edge01;
+  // Lines along columns (vertical) and rows (horizontal), on the edge map with a 1-pixel slack.
+  const int gap = static_cast<int>(std::lround(p.line_gap / px));
+  const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
+  auto e_at = [&](int r, int c) {
+    return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0;
+  };
+  const std::vector<Line> vert = FindLines(
+      cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); }, gap,
+      min_len, p.max_lines);
+  const std::vector<Line> horz = FindLines(
+      rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
+      min_len, p.max_lines);
+
+  // Rectangles, the kept holes, the openings.
+  const int floor_row =
+      std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
+  const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
+  std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
+  return ToOpenings(kept, vert, img, host, points, p, floor_v);
 }
 
 Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
