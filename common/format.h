@@ -1,6 +1,8 @@
 #pragma once
 // printf-style formatting into a std::string: the one helper for messages and figures.
 
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -17,6 +19,21 @@ inline std::string FormatNumbers(const char* format, double a = 0, double b = 0,
   std::snprintf(out.data(), out.size(), format, a, b, c, d);
   out.resize(static_cast<std::size_t>(n));
   return out;
+}
+
+/// The shortest text that reads back as the same double (std::to_chars): file formats.
+inline std::string FormatShortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+/// Fixed-point with `digits` decimals ("%.*f"); "-" for NaN and infinities (tables).
+inline std::string FormatFixed(double v, int digits) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
 }
 
 }  // namespace mopad

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/format.h"
+
 namespace mopad::evaluation {
 namespace {
 
@@ -15,13 +17,6 @@ json NumVec(const std::vector<double>& v) {
   json a = json::array();
   for (double x : v) a.push_back(Num(x));
   return a;
-}
-
-std::string Fmt(double x, int digits) {
-  if (!std::isfinite(x)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, x);
-  return buf;
 }
 
 json ToJson(const PrecisionRecall& s) {
@@ -150,8 +145,9 @@ std::string MarkdownPatchTable(const PatchEvaluation& e) {
        "| d_h max (cm) | Φ mean (°) | Φ max (°) |\n"
     << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto stat = [](const ErrorStats& st, double scale, int digits) {
-    return st.n > 0 ? Fmt(st.mean * scale, digits) + " | " + Fmt(st.max * scale, digits)
-                    : std::string("- | -");
+    return st.n > 0
+               ? FormatFixed(st.mean * scale, digits) + " | " + FormatFixed(st.max * scale, digits)
+               : std::string("- | -");
   };
   int n = 0, tp = 0, fp = 0, fn = 0;
   for (SurfaceClass c : AllSurfaceClasses()) {
@@ -163,29 +159,31 @@ std::string MarkdownPatchTable(const PatchEvaluation& e) {
     fp += d.fp;
     fn += d.fn;
     s << "| " << SurfaceClassName(c) << " | " << d.n_truth << " | " << d.tp << " | " << d.fp
-      << " | " << d.fn << " | " << Fmt(100.0 * d.Recall(), 1) << " | " << stat(a.d_v, 100.0, 2)
-      << " | " << stat(a.d_h, 100.0, 2) << " | " << stat(a.phi_deg, 1.0, 3) << " |\n";
+      << " | " << d.fn << " | " << FormatFixed(100.0 * d.Recall(), 1) << " | "
+      << stat(a.d_v, 100.0, 2) << " | " << stat(a.d_h, 100.0, 2) << " | " << stat(a.phi_deg, 1.0, 3)
+      << " |\n";
   }
   s << "| overall | " << n << " | " << tp << " | " << fp << " | " << fn << " | "
-    << Fmt(n > 0 ? 100.0 * tp / n : NAN, 1) << " | " << stat(e.d_v, 100.0, 2) << " | "
+    << FormatFixed(n > 0 ? 100.0 * tp / n : NAN, 1) << " | " << stat(e.d_v, 100.0, 2) << " | "
     << stat(e.d_h, 100.0, 2) << " | " << stat(e.phi_deg, 1.0, 3) << " |\n";
   return s.str();
 }
 
 std::string MarkdownIsprsTable(const IsprsResult& r, double buffer) {
   const int k = r.BufferIndex(buffer);
-  const std::string b = r.buffers.empty() ? "?" : Fmt(r.buffers[k] * 100.0, 0);
+  const std::string b = r.buffers.empty() ? "?" : FormatFixed(r.buffers[k] * 100.0, 0);
   std::ostringstream s;
   s << "| class | reference area (m²) | source area (m²) | completeness @" << b
-    << " cm | correctness @" << b << " cm | accuracy (cm, r = " << Fmt(r.cutoff * 100.0, 0)
+    << " cm | correctness @" << b << " cm | accuracy (cm, r = " << FormatFixed(r.cutoff * 100.0, 0)
     << " cm) |\n|---|---:|---:|---:|---:|---:|\n";
   for (int ci = 0; ci <= kNumSurfaceClasses; ++ci) {
     const IsprsCurve& c = ci < kNumSurfaceClasses ? r.per_class[ci] : r.all;
     if (c.reference_area <= 0.0 && c.source_area <= 0.0) continue;
-    s << "| " << RowName(ci) << " | " << Fmt(c.reference_area, 2) << " | " << Fmt(c.source_area, 2)
-      << " | " << Fmt(r.buffers.empty() ? NAN : c.completeness[k], 4) << " | "
-      << Fmt(r.buffers.empty() ? NAN : c.correctness[k], 4) << " | " << Fmt(c.accuracy * 100.0, 2)
-      << " |\n";
+    s << "| " << RowName(ci) << " | " << FormatFixed(c.reference_area, 2) << " | "
+      << FormatFixed(c.source_area, 2) << " | "
+      << FormatFixed(r.buffers.empty() ? NAN : c.completeness[k], 4) << " | "
+      << FormatFixed(r.buffers.empty() ? NAN : c.correctness[k], 4) << " | "
+      << FormatFixed(c.accuracy * 100.0, 2) << " |\n";
   }
   return s.str();
 }
@@ -196,13 +194,14 @@ std::string MarkdownFloorplanTable(const FloorplanResult& r) {
     << "|---|---:|---:|---:|---:|---:|---:|\n";
   auto row = [&](const std::string& name, const PrecisionRecall& p) {
     s << "| " << name << " | " << p.tp << " | " << p.n_predicted << " | " << p.n_truth << " | "
-      << Fmt(p.precision, 3) << " | " << Fmt(p.recall, 3) << " | " << Fmt(p.f1, 3) << " |\n";
+      << FormatFixed(p.precision, 3) << " | " << FormatFixed(p.recall, 3) << " | "
+      << FormatFixed(p.f1, 3) << " |\n";
   };
   row("rooms (IoU > 0.5)", r.rooms);
   for (const CornerScore& c : r.corners)
-    row("corners @" + Fmt(c.threshold * 100.0, 0) + " cm", c.score);
+    row("corners @" + FormatFixed(c.threshold * 100.0, 0) + " cm", c.score);
   row("angles (≤ 5°)", r.angles);
-  s << "\nMean room IoU over truth rooms: " << Fmt(r.mean_truth_iou, 4) << "\n";
+  s << "\nMean room IoU over truth rooms: " << FormatFixed(r.mean_truth_iou, 4) << "\n";
   return s.str();
 }
 
@@ -217,11 +216,11 @@ std::string MarkdownConfusionTable(const ConfusionMatrix& m) {
   for (size_t t = 0; t < k; ++t) {
     s << "| " << m.labels[t] << " |";
     for (size_t p = 0; p < k; ++p) s << " " << m.counts[t * k + p] << " |";
-    s << " " << Fmt(m.iou[t], 4) << " | " << Fmt(m.precision[t], 4) << " | " << Fmt(m.recall[t], 4)
-      << " |\n";
+    s << " " << FormatFixed(m.iou[t], 4) << " | " << FormatFixed(m.precision[t], 4) << " | "
+      << FormatFixed(m.recall[t], 4) << " |\n";
   }
-  s << "\nAccuracy: " << Fmt(m.accuracy, 4) << " over " << m.total
-    << " elements; mean IoU: " << Fmt(m.mean_iou, 4) << "\n";
+  s << "\nAccuracy: " << FormatFixed(m.accuracy, 4) << " over " << m.total
+    << " elements; mean IoU: " << FormatFixed(m.mean_iou, 4) << "\n";
   return s.str();
 }
 
@@ -253,16 +252,16 @@ std::string IsprsSvgPlot(const IsprsResult& r, const std::string& title) {
   // Axes, grid and ticks.
   for (int i = 0; i <= 5; ++i) {
     const double v = i / 5.0;
-    s << "<line x1=\"" << L << "\" y1=\"" << Fmt(Y(v), 1) << "\" x2=\"" << L + pw << "\" y2=\""
-      << Fmt(Y(v), 1) << "\" stroke=\"#ddd\"/>\n"
-      << "<text x=\"" << L - 6 << "\" y=\"" << Fmt(Y(v) + 4, 1) << "\" text-anchor=\"end\">"
-      << Fmt(v, 1) << "</text>\n";
+    s << "<line x1=\"" << L << "\" y1=\"" << FormatFixed(Y(v), 1) << "\" x2=\"" << L + pw
+      << "\" y2=\"" << FormatFixed(Y(v), 1) << "\" stroke=\"#ddd\"/>\n"
+      << "<text x=\"" << L - 6 << "\" y=\"" << FormatFixed(Y(v) + 4, 1) << "\" text-anchor=\"end\">"
+      << FormatFixed(v, 1) << "</text>\n";
   }
   const int xticks = 5;
   for (int i = 0; i <= xticks; ++i) {
     const double b = xmax * i / xticks;
-    s << "<text x=\"" << Fmt(X(b), 1) << "\" y=\"" << T + ph + 16 << "\" text-anchor=\"middle\">"
-      << Fmt(b, 0) << "</text>\n";
+    s << "<text x=\"" << FormatFixed(X(b), 1) << "\" y=\"" << T + ph + 16
+      << "\" text-anchor=\"middle\">" << FormatFixed(b, 0) << "</text>\n";
   }
   s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << pw << "\" height=\"" << ph
     << "\" fill=\"none\" stroke=\"#333\"/>\n"
@@ -280,7 +279,7 @@ std::string IsprsSvgPlot(const IsprsResult& r, const std::string& title) {
       std::string pts;
       for (size_t k = 0; k < r.buffers.size(); ++k) {
         if (!std::isfinite(v[k])) continue;
-        pts += Fmt(X(r.buffers[k] * 100.0), 1) + "," + Fmt(Y(v[k]), 1) + " ";
+        pts += FormatFixed(X(r.buffers[k] * 100.0), 1) + "," + FormatFixed(Y(v[k]), 1) + " ";
       }
       if (pts.empty()) continue;
       pts.pop_back();

@@ -31,6 +31,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "common/params.h"
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
@@ -80,13 +81,6 @@ struct EvalParams {
 
 ojson Ord(const nlohmann::json& j) { return ojson::parse(j.dump()); }
 ojson Num(double x) { return std::isfinite(x) ? ojson(x) : ojson(nullptr); }
-
-std::string Fmt(double v, int digits, double scale = 1.0) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v * scale);
-  return buf;
-}
 
 // The run directories: RUN_DIR itself, or RUN_DIR/rooms/* in name order.
 std::vector<std::string> FindRuns(const std::string& run_dir) {
@@ -207,11 +201,12 @@ std::string ColumnsMarkdown(const ColumnEvaluation& c) {
   md << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& p : c.pairs) {
     const auto& a = p.faces.accuracy[static_cast<int>(SurfaceClass::kColumn)];
-    md << "| " << p.model_id << " | " << p.truth_id << " | " << Fmt(p.plan_iou, 3) << " | "
-       << Fmt(p.centre_error, 2, 100) << " | " << Fmt(p.diameter_error, 2, 100) << " | "
-       << Fmt(p.area_error, 1, 1e4) << " | " << Fmt(p.height_error, 2, 100) << " | "
-       << (p.faces_compared ? Fmt(a.d_h.mean, 2, 100) : std::string("round")) << " | "
-       << (p.faces_compared ? Fmt(a.phi_deg.mean, 4) : std::string("round")) << " |\n";
+    md << "| " << p.model_id << " | " << p.truth_id << " | " << FormatFixed(p.plan_iou, 3) << " | "
+       << FormatFixed(p.centre_error * 100, 2) << " | " << FormatFixed(p.diameter_error * 100, 2)
+       << " | " << FormatFixed(p.area_error * 1e4, 1) << " | "
+       << FormatFixed(p.height_error * 100, 2) << " | "
+       << (p.faces_compared ? FormatFixed(a.d_h.mean * 100, 2) : std::string("round")) << " | "
+       << (p.faces_compared ? FormatFixed(a.phi_deg.mean, 4) : std::string("round")) << " |\n";
   }
   for (const auto& id : c.unmatched_model_ids) md << "| " << id << " (FP) | - | | | | | | | |\n";
   for (const auto& id : c.unmatched_truth_ids) md << "| - | " << id << " (FN) | | | | | | | |\n";
@@ -506,8 +501,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   md << "| room | walls TP/N (FP) | floors | ceilings | columns | d_v mean (cm) | d_h mean (cm) "
         "| "
         "Phi mean (deg) | compl@"
-     << Fmt(params.report_buffer, 0, 100) << "cm | corr@" << Fmt(params.report_buffer, 0, 100)
-     << "cm | DSM3 structure IoU |\n";
+     << FormatFixed(params.report_buffer * 100, 0) << "cm | corr@"
+     << FormatFixed(params.report_buffer * 100, 0) << "cm | DSM3 structure IoU |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto det_cell = [](const ClassDetection& d) {
     return std::to_string(d.tp) + "/" + std::to_string(d.n_truth) + " (" + std::to_string(d.fp) +
@@ -517,16 +512,19 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     const int b = r.isprs.BufferIndex(params.report_buffer);
     md << "| " << r.run.room;
     for (int c = 0; c < kNumSurfaceClasses; ++c) md << " | " << det_cell(r.patches.detection[c]);
-    md << " | " << Fmt(r.patches.d_v.mean, 2, 100) << " | " << Fmt(r.patches.d_h.mean, 2, 100)
-       << " | " << Fmt(r.patches.phi_deg.mean, 4) << " | " << Fmt(r.isprs.all.completeness[b], 4)
-       << " | " << Fmt(r.isprs.all.correctness[b], 4) << " | "
-       << (r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4) : std::string("-")) << " |\n";
+    md << " | " << FormatFixed(r.patches.d_v.mean * 100, 2) << " | "
+       << FormatFixed(r.patches.d_h.mean * 100, 2) << " | "
+       << FormatFixed(r.patches.phi_deg.mean, 4) << " | "
+       << FormatFixed(r.isprs.all.completeness[b], 4) << " | "
+       << FormatFixed(r.isprs.all.correctness[b], 4) << " | "
+       << (r.has_dsm3 ? FormatFixed(r.dsm3.iou[structure], 4) : std::string("-")) << " |\n";
   }
   md << "| **all**";
   for (int c = 0; c < kNumSurfaceClasses; ++c) md << " | " << det_cell(pooled.detection[c]);
-  md << " | " << Fmt(pooled.d_v.mean, 2, 100) << " | " << Fmt(pooled.d_h.mean, 2, 100) << " | "
-     << Fmt(pooled.phi_deg.mean, 4) << " | " << Fmt(compl_b, 4) << " | " << Fmt(corr_b, 4) << " | "
-     << (any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
+  md << " | " << FormatFixed(pooled.d_v.mean * 100, 2) << " | "
+     << FormatFixed(pooled.d_h.mean * 100, 2) << " | " << FormatFixed(pooled.phi_deg.mean, 4)
+     << " | " << FormatFixed(compl_b, 4) << " | " << FormatFixed(corr_b, 4) << " | "
+     << (any_dsm3 ? FormatFixed(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
   md << "## Floorplan (all rooms)\n\n" << MarkdownFloorplanTable(plan) << "\n";
   if (any_dsm3) md << "## DSM3 (all rooms)\n\n" << MarkdownConfusionTable(pooled_dsm3) << "\n";
   for (const auto& r : results) {
@@ -546,11 +544,12 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     if (r.openings) md << "### SM4 openings\n\n" << MarkdownOpeningsTable(*r.openings) << "\n";
     if (r.mission)
       md << "### Mission figures\n\ncoverage of observable "
-         << Fmt(MissionNumber(r.mission, "coverage_of_observable"), 4)
+         << FormatFixed(MissionNumber(r.mission, "coverage_of_observable"), 4)
          << ", registration error max "
-         << Fmt(MissionNumber(r.mission, "registration_error_max", "translation_m"), 2, 100)
-         << " cm, SM1 label accuracy " << Fmt(MissionNumber(r.mission, "sm1_labels", "accuracy"), 4)
-         << "\n\n";
+         << FormatFixed(MissionNumber(r.mission, "registration_error_max", "translation_m") * 100,
+                        2)
+         << " cm, SM1 label accuracy "
+         << FormatFixed(MissionNumber(r.mission, "sm1_labels", "accuracy"), 4) << "\n\n";
   }
   std::ofstream(dir / "evaluation.md") << md.str();
 
@@ -567,34 +566,37 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     Append(report, "%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s %7s\n", r.run.room.c_str(),
            cell(r.patches.detection[0]).c_str(), cell(r.patches.detection[1]).c_str(),
            cell(r.patches.detection[2]).c_str(), cell(r.columns.detection).c_str(),
-           Fmt(r.patches.d_v.mean, 2, 100).c_str(), Fmt(r.patches.d_h.mean, 2, 100).c_str(),
-           Fmt(r.patches.phi_deg.mean, 4).c_str(), Fmt(r.isprs.all.completeness[b], 4).c_str(),
-           Fmt(r.isprs.all.correctness[b], 4).c_str(),
-           r.has_dsm3 ? Fmt(r.dsm3.iou[structure], 4).c_str() : "-",
-           Fmt(MissionNumber(r.mission, "coverage_of_observable"), 3).c_str());
+           FormatFixed(r.patches.d_v.mean * 100, 2).c_str(),
+           FormatFixed(r.patches.d_h.mean * 100, 2).c_str(),
+           FormatFixed(r.patches.phi_deg.mean, 4).c_str(),
+           FormatFixed(r.isprs.all.completeness[b], 4).c_str(),
+           FormatFixed(r.isprs.all.correctness[b], 4).c_str(),
+           r.has_dsm3 ? FormatFixed(r.dsm3.iou[structure], 4).c_str() : "-",
+           FormatFixed(MissionNumber(r.mission, "coverage_of_observable"), 3).c_str());
   }
   Append(report, "%-6s %-12s %-8s %-8s %-8s %8s %8s %9s %7s %7s %7s\n", "all",
          cell(pooled.detection[0]).c_str(), cell(pooled.detection[1]).c_str(),
          cell(pooled.detection[2]).c_str(), cell(pooled.detection[3]).c_str(),
-         Fmt(pooled.d_v.mean, 2, 100).c_str(), Fmt(pooled.d_h.mean, 2, 100).c_str(),
-         Fmt(pooled.phi_deg.mean, 4).c_str(), Fmt(compl_b, 4).c_str(), Fmt(corr_b, 4).c_str(),
-         any_dsm3 ? Fmt(pooled_dsm3.iou[structure], 4).c_str() : "-");
+         FormatFixed(pooled.d_v.mean * 100, 2).c_str(),
+         FormatFixed(pooled.d_h.mean * 100, 2).c_str(), FormatFixed(pooled.phi_deg.mean, 4).c_str(),
+         FormatFixed(compl_b, 4).c_str(), FormatFixed(corr_b, 4).c_str(),
+         any_dsm3 ? FormatFixed(pooled_dsm3.iou[structure], 4).c_str() : "-");
   if (pooled_columns.detection.n_truth + pooled_columns.detection.n_model > 0)
     Append(report,
            "columns (objects): %d/%d TP, %d FP; plan IoU mean %s, centre error mean %s cm, "
            "diameter error mean %s cm, height error mean %s cm; square-column faces d_h %s cm, "
            "Phi %s deg\n",
            pooled_columns.detection.tp, pooled_columns.detection.n_truth,
-           pooled_columns.detection.fp, Fmt(pooled_columns.plan_iou.mean, 3).c_str(),
-           Fmt(pooled_columns.centre_error.mean, 2, 100).c_str(),
-           Fmt(pooled_columns.diameter_error.mean, 2, 100).c_str(),
-           Fmt(pooled_columns.height_error.mean, 2, 100).c_str(),
-           Fmt(pooled_columns.face_accuracy.d_h.mean, 2, 100).c_str(),
-           Fmt(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
+           pooled_columns.detection.fp, FormatFixed(pooled_columns.plan_iou.mean, 3).c_str(),
+           FormatFixed(pooled_columns.centre_error.mean * 100, 2).c_str(),
+           FormatFixed(pooled_columns.diameter_error.mean * 100, 2).c_str(),
+           FormatFixed(pooled_columns.height_error.mean * 100, 2).c_str(),
+           FormatFixed(pooled_columns.face_accuracy.d_h.mean * 100, 2).c_str(),
+           FormatFixed(pooled_columns.face_accuracy.phi_deg.mean, 4).c_str());
   Append(report, "floorplan: mean room IoU %s, corner recall@10cm %s; ISPRS at %s cm buffer\n",
-         Fmt(plan.mean_truth_iou, 4).c_str(),
-         plan.corners.size() > 1 ? Fmt(plan.corners[1].score.recall, 3).c_str() : "-",
-         Fmt(params.report_buffer, 0, 100).c_str());
+         FormatFixed(plan.mean_truth_iou, 4).c_str(),
+         plan.corners.size() > 1 ? FormatFixed(plan.corners[1].score.recall, 3).c_str() : "-",
+         FormatFixed(params.report_buffer * 100, 0).c_str());
   Append(report, "wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
          dir.string().c_str());
   return {report, summary};

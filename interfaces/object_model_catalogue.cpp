@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "common/params.h"
 
 // On-disk layout (version 1):
@@ -69,13 +70,6 @@ bool IsSafeName(const std::string& s) {
   return s != "." && s != ".." && s.find("..") == std::string::npos;
 }
 
-std::string Num(double v) {
-  std::ostringstream os;
-  os.imbue(std::locale::classic());
-  os << std::setprecision(17) << v;
-  return os.str();
-}
-
 void WriteFileBytes(const fs::path& path, const std::string& header, const char* data,
                     std::size_t size) {
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
@@ -93,10 +87,11 @@ void CheckModelForWrite(const ObjectModel& m, const std::string& dir) {
   for (auto [name, v] :
        {std::pair{"width", m.width}, {"height", m.height}, {"pixel_size", m.pixel_size}}) {
     if (!std::isfinite(v) || v <= 0.0)
-      throw InputError(where, std::string(name) + " must be positive", Num(v), "> 0");
+      throw InputError(where, std::string(name) + " must be positive", FormatNumbers("%.17g", v),
+                       "> 0");
   }
   if (!std::isfinite(m.depth) || m.depth < 0.0)
-    throw InputError(where, "depth must be non-negative", Num(m.depth), ">= 0");
+    throw InputError(where, "depth must be non-negative", FormatNumbers("%.17g", m.depth), ">= 0");
   if (m.image_width <= 0 || m.image_height <= 0 || m.image_width > kMaxImageSide ||
       m.image_height > kMaxImageSide)
     throw InputError(where, "image size out of range",
@@ -219,7 +214,7 @@ std::vector<float> ReadPfm(const fs::path& path, int w, int h, const std::string
   const long fh = hr.Integer("image height");
   const double scale = hr.Real("scale (negative: little-endian)");
   if (!std::isfinite(scale) || scale == 0.0)
-    throw InputError(p, "bad PFM scale", Num(scale), "a non-zero number");
+    throw InputError(p, "bad PFM scale", FormatNumbers("%.17g", scale), "a non-zero number");
   CheckSize(p, fw, fh, w, h);
   const std::size_t off = hr.EndOfHeader();
   const std::size_t n = static_cast<std::size_t>(w) * h;
@@ -268,8 +263,8 @@ double GetPositive(const YAML::Node& map, const char* key, const std::string& fi
                    bool allow_zero) {
   const double v = Get<double>(map, key, file, "a number");
   if (!std::isfinite(v) || v < 0.0 || (!allow_zero && v == 0.0))
-    throw InputError(YamlWhere(file, map[key]), "'" + std::string(key) + "' out of range", Num(v),
-                     allow_zero ? ">= 0" : "> 0");
+    throw InputError(YamlWhere(file, map[key]), "'" + std::string(key) + "' out of range",
+                     FormatNumbers("%.17g", v), allow_zero ? ">= 0" : "> 0");
   return v;
 }
 
@@ -308,10 +303,10 @@ void WriteCatalogue(const ObjectModelCatalogue& catalogue, const std::string& di
     const std::string depth_file = m.class_name + "_depth.pfm";
     y << "  - class_name: " << m.class_name << "\n"
       << "    mounting: " << MountingName(m.mounting) << "\n"
-      << "    width: " << Num(m.width) << "\n"
-      << "    height: " << Num(m.height) << "\n"
-      << "    depth: " << Num(m.depth) << "\n"
-      << "    pixel_size: " << Num(m.pixel_size) << "\n"
+      << "    width: " << FormatNumbers("%.17g", m.width) << "\n"
+      << "    height: " << FormatNumbers("%.17g", m.height) << "\n"
+      << "    depth: " << FormatNumbers("%.17g", m.depth) << "\n"
+      << "    pixel_size: " << FormatNumbers("%.17g", m.pixel_size) << "\n"
       << "    image_width: " << m.image_width << "\n"
       << "    image_height: " << m.image_height << "\n"
       << "    colour_file: " << colour_file << "\n"

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace mopad::io {
 
@@ -167,18 +168,12 @@ double GetValue(const char* src, PlyType t) {
   return 0;
 }
 
-std::string FormatDouble(double v) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
-}
-
 std::string PoseWords(const Eigen::Isometry3d& X) {
   std::string s;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) {
       s += ' ';
-      s += FormatDouble(X.matrix()(r, c));
+      s += FormatShortest(X.matrix()(r, c));
     }
   return s;
 }
@@ -204,10 +199,10 @@ void WriteOrThrow(std::FILE* f, const void* data, std::size_t n, const std::stri
 std::vector<std::string> TlsComments(const TlsScan& s) {
   return {"mopad_tls_scan 1",
           "mopad_scan_id " + std::to_string(s.scan_id),
-          "mopad_start_time " + FormatDouble(s.start_time),
+          "mopad_start_time " + FormatShortest(s.start_time),
           "mopad_grid " + std::to_string(s.rows) + " " + std::to_string(s.columns) + " " +
-              FormatDouble(s.azimuth_min) + " " + FormatDouble(s.azimuth_step) + " " +
-              FormatDouble(s.elevation_max) + " " + FormatDouble(s.elevation_step),
+              FormatShortest(s.azimuth_min) + " " + FormatShortest(s.azimuth_step) + " " +
+              FormatShortest(s.elevation_max) + " " + FormatShortest(s.elevation_step),
           "mopad_X_BS" + PoseWords(s.X_BS),
           "mopad_X_MS_estimate" + PoseWords(s.X_MS_estimate)};
 }
@@ -630,7 +625,7 @@ std::string PtxHeader(const TlsScan& s) {
   const Eigen::Vector3d t = s.X_MS_estimate.translation();
   std::string h = std::to_string(s.columns) + "\n" + std::to_string(s.rows) + "\n";
   auto line3 = [](const Eigen::Vector3d& v) {
-    return FormatDouble(v.x()) + " " + FormatDouble(v.y()) + " " + FormatDouble(v.z());
+    return FormatShortest(v.x()) + " " + FormatShortest(v.y()) + " " + FormatShortest(v.z());
   };
   h += line3(t) + "\n";
   for (int c = 0; c < 3; ++c) h += line3(R.col(c)) + "\n";  // scanner axes in the map frame

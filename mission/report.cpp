@@ -37,12 +37,6 @@ std::string Escape(const std::string& s) {
   return o;
 }
 
-std::string Fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
-
 const char* DoorColour(scenes::DoorState s) {
   switch (s) {
     case scenes::DoorState::kOpen:
@@ -59,7 +53,8 @@ const char* DoorColour(scenes::DoorState s) {
 struct PlanView {
   double min_x, max_y, scale;
   std::string P(double x, double y) const {
-    return Fmt((x - min_x) * scale + 20) + "," + Fmt((max_y - y) * scale + 20);
+    return FormatFixed((x - min_x) * scale + 20, 1) + "," +
+           FormatFixed((max_y - y) * scale + 20, 1);
   }
   double X(double x) const { return (x - min_x) * scale + 20; }
   double Y(double y) const { return (max_y - y) * scale + 20; }
@@ -115,9 +110,9 @@ std::string PlanSvg(const ReportInput& in) {
   const PlanView v{box.min().x(), box.max().y(), scale};
   const double h_px = box.sizes().y() * scale + 40;
   std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << Fmt(width_px + 40) << "' height='"
-    << Fmt(h_px) << "' viewBox='0 0 " << Fmt(width_px + 40) << " " << Fmt(h_px)
-    << "' font-family='sans-serif' font-size='12'>\n";
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << FormatFixed(width_px + 40, 1)
+    << "' height='" << FormatFixed(h_px, 1) << "' viewBox='0 0 " << FormatFixed(width_px + 40, 1)
+    << " " << FormatFixed(h_px, 1) << "' font-family='sans-serif' font-size='12'>\n";
   if (in.truth) {
     for (const auto& r : in.truth->rooms) {
       s << "<polygon fill='#f3f1ea' stroke='#333' stroke-width='2' points='";
@@ -128,16 +123,19 @@ std::string PlanSvg(const ReportInput& in) {
       if (e.element_class != scenes::ElementClass::kColumn) continue;
       for (const auto& poly : e.polygons) {
         if (poly.size() < 2) continue;
-        s << "<line stroke='#555' stroke-width='3' x1='" << Fmt(v.X(poly[0].x())) << "' y1='"
-          << Fmt(v.Y(poly[0].y())) << "' x2='" << Fmt(v.X(poly[1].x())) << "' y2='"
-          << Fmt(v.Y(poly[1].y())) << "'/>\n";
+        s << "<line stroke='#555' stroke-width='3' x1='" << FormatFixed(v.X(poly[0].x()), 1)
+          << "' y1='" << FormatFixed(v.Y(poly[0].y()), 1) << "' x2='"
+          << FormatFixed(v.X(poly[1].x()), 1) << "' y2='" << FormatFixed(v.Y(poly[1].y()), 1)
+          << "'/>\n";
       }
     }
     for (const auto& f : in.truth->furniture) {
       s << "<g transform='translate(" << v.P(f.centre.x(), f.centre.y()) << ") rotate("
-        << Fmt(-f.yaw * 180.0 / 3.14159265358979) << ")'><rect fill='#bbb' fill-opacity='0.6' x='"
-        << Fmt(-f.size.x() * scale / 2) << "' y='" << Fmt(-f.size.y() * scale / 2) << "' width='"
-        << Fmt(f.size.x() * scale) << "' height='" << Fmt(f.size.y() * scale) << "'/></g>\n";
+        << FormatFixed(-f.yaw * 180.0 / 3.14159265358979, 1)
+        << ")'><rect fill='#bbb' fill-opacity='0.6' x='" << FormatFixed(-f.size.x() * scale / 2, 1)
+        << "' y='" << FormatFixed(-f.size.y() * scale / 2, 1) << "' width='"
+        << FormatFixed(f.size.x() * scale, 1) << "' height='" << FormatFixed(f.size.y() * scale, 1)
+        << "'/></g>\n";
     }
     for (const auto& o : in.truth->openings) {
       if (o.corners.size() < 2) continue;
@@ -152,38 +150,40 @@ std::string PlanSvg(const ReportInput& in) {
           }
       const bool door = o.type == scenes::OpeningType::kDoor;
       s << "<line stroke='" << (door ? DoorColour(o.state) : "#1e88e5") << "' stroke-width='"
-        << (door ? 6 : 4) << "' x1='" << Fmt(v.X(o.corners[a].x())) << "' y1='"
-        << Fmt(v.Y(o.corners[a].y())) << "' x2='" << Fmt(v.X(o.corners[b].x())) << "' y2='"
-        << Fmt(v.Y(o.corners[b].y())) << "'><title>" << Escape(o.id) << " ("
+        << (door ? 6 : 4) << "' x1='" << FormatFixed(v.X(o.corners[a].x()), 1) << "' y1='"
+        << FormatFixed(v.Y(o.corners[a].y()), 1) << "' x2='"
+        << FormatFixed(v.X(o.corners[b].x()), 1) << "' y2='"
+        << FormatFixed(v.Y(o.corners[b].y()), 1) << "'><title>" << Escape(o.id) << " ("
         << (door ? std::string(scenes::ToString(o.state)) : std::string("window"))
         << ")</title></line>\n";
     }
     for (const auto& b : in.truth->service_components) {
-      s << "<circle r='3' fill='#8e24aa' cx='" << Fmt(v.X(b.centre.x())) << "' cy='"
-        << Fmt(v.Y(b.centre.y())) << "'><title>" << Escape(b.id + " " + b.bsc_class)
+      s << "<circle r='3' fill='#8e24aa' cx='" << FormatFixed(v.X(b.centre.x()), 1) << "' cy='"
+        << FormatFixed(v.Y(b.centre.y()), 1) << "'><title>" << Escape(b.id + " " + b.bsc_class)
         << "</title></circle>\n";
     }
   }
   for (const auto& sc : in.scans) {
     s << "<g fill='#1565c0' fill-opacity='0.35'>";
     for (const auto& p : sc.plan_points)
-      s << "<rect width='1' height='1' x='" << Fmt(v.X(p.x())) << "' y='" << Fmt(v.Y(p.y()))
-        << "'/>";
+      s << "<rect width='1' height='1' x='" << FormatFixed(v.X(p.x()), 1) << "' y='"
+        << FormatFixed(v.Y(p.y()), 1) << "'/>";
     s << "</g>\n";
   }
   for (const auto& sc : in.scans) {
     const double x = v.X(sc.position.x()), y = v.Y(sc.position.y());
-    s << "<g stroke='#000' stroke-width='2'><line x1='" << Fmt(x - 6) << "' y1='" << Fmt(y - 6)
-      << "' x2='" << Fmt(x + 6) << "' y2='" << Fmt(y + 6) << "'/><line x1='" << Fmt(x - 6)
-      << "' y1='" << Fmt(y + 6) << "' x2='" << Fmt(x + 6) << "' y2='" << Fmt(y - 6)
-      << "'/></g><text x='" << Fmt(x + 8) << "' y='" << Fmt(y - 8) << "'>" << Escape(sc.name)
-      << "</text>\n";
+    s << "<g stroke='#000' stroke-width='2'><line x1='" << FormatFixed(x - 6, 1) << "' y1='"
+      << FormatFixed(y - 6, 1) << "' x2='" << FormatFixed(x + 6, 1) << "' y2='"
+      << FormatFixed(y + 6, 1) << "'/><line x1='" << FormatFixed(x - 6, 1) << "' y1='"
+      << FormatFixed(y + 6, 1) << "' x2='" << FormatFixed(x + 6, 1) << "' y2='"
+      << FormatFixed(y - 6, 1) << "'/></g><text x='" << FormatFixed(x + 8, 1) << "' y='"
+      << FormatFixed(y - 8, 1) << "'>" << Escape(sc.name) << "</text>\n";
   }
   if (in.truth)
     for (const auto& r : in.truth->rooms) {
       const Eigen::Vector2d c = LabelPoint(r.polygon);
-      s << "<text font-weight='bold' x='" << Fmt(v.X(c.x())) << "' y='" << Fmt(v.Y(c.y())) << "'>"
-        << Escape(r.id) << "</text>\n";
+      s << "<text font-weight='bold' x='" << FormatFixed(v.X(c.x()), 1) << "' y='"
+        << FormatFixed(v.Y(c.y()), 1) << "'>" << Escape(r.id) << "</text>\n";
     }
   s << "</svg>\n";
   return s.str();

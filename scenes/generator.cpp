@@ -9,6 +9,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "common/frames.h"
 #include "common/rng.h"
 #include "scenes/bsc_catalogue.h"
@@ -34,12 +35,6 @@ constexpr int kPlacementAttempts = 400;  // random tries per BSC / furniture ite
 
 Vector3d Lift(const Vector2d& p, double z) { return {p.x(), p.y(), z}; }
 Vector3d Flat(const Vector2d& p) { return {p.x(), p.y(), 0.0}; }
-
-std::string Fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.3f", v);
-  return buf;
-}
 
 /// Part of one face that faces another room across the wall: u in [s0, s1] on this face maps
 /// to u' = c - u on face `other`.
@@ -421,7 +416,7 @@ class Generator {
       if (!fits(faces_[fi], pos.offset))
         throw InputError(where, what + " is not on " + target + " with room for its frame",
                          "wall " + std::to_string(pos.wall) + " of room '" + r.id + "' at offset " +
-                             Fmt(pos.offset) + " m",
+                             FormatFixed(pos.offset, 3) + " m",
                          "a position on " + target);
       return {fi, pos.offset};
     }
@@ -440,10 +435,11 @@ class Generator {
       }
     }
     if (best < 0)
-      throw InputError(where, what + " is not on " + target + " of room '" + r.id + "'",
-                       "at [" + Fmt(pos.at.x()) + ", " + Fmt(pos.at.y()) + "]",
-                       "a point within " + Fmt(0.5 + t_) + " m of " + target +
-                           " with room for the opening and its frame");
+      throw InputError(
+          where, what + " is not on " + target + " of room '" + r.id + "'",
+          "at [" + FormatFixed(pos.at.x(), 3) + ", " + FormatFixed(pos.at.y(), 3) + "]",
+          "a point within " + FormatFixed(0.5 + t_, 3) + " m of " + target +
+              " with room for the opening and its frame");
     return {best, best_u};
   }
 
@@ -493,7 +489,8 @@ class Generator {
           const double h0 = hinge_high ? hole.u1 : hole.u0;
           const double ext0 = hinge_high ? h0 : h0 - sweep, ext1 = hinge_high ? h0 + sweep : h0;
           if (ext0 < 0.0 || ext1 > f.length)
-            throw InputError(ds.where, "door '" + ds.id + "' opened to " + Fmt(ds.angle_deg) +
+            throw InputError(ds.where, "door '" + ds.id + "' opened to " +
+                                           FormatFixed(ds.angle_deg, 3) +
                                            " deg hits the end of wall '" + f.id + "'");
           f.keep_out.push_back({ext0, ext1, 0.0, f.height()});
         }
@@ -790,13 +787,15 @@ class Generator {
       std::string fm_name = "door_frame";
       if (ds.has_frame_colour) {
         fm.colour = ds.frame_colour;
-        fm_name += "_" + Fmt(fm.colour[0]) + "_" + Fmt(fm.colour[1]) + "_" + Fmt(fm.colour[2]);
+        fm_name += "_" + FormatFixed(fm.colour[0], 3) + "_" + FormatFixed(fm.colour[1], 3) + "_" +
+                   FormatFixed(fm.colour[2], 3);
       }
       MaterialSpec lm = spec_.materials.door_leaf;
       std::string lm_name = "door_leaf";
       if (ds.has_leaf_colour) {
         lm.colour = ds.leaf_colour;
-        lm_name += "_" + Fmt(lm.colour[0]) + "_" + Fmt(lm.colour[1]) + "_" + Fmt(lm.colour[2]);
+        lm_name += "_" + FormatFixed(lm.colour[0], 3) + "_" + FormatFixed(lm.colour[1], 3) + "_" +
+                   FormatFixed(lm.colour[2], 3);
       }
       // Frame: lining through the wall and a protruding casing on both faces.
       MeshPart frame = NewPart(ds.id + "/frame", ds.id, ElementClass::kDoorFrame, "door", ra.id,
@@ -886,7 +885,7 @@ class Generator {
       std::string gname = "glass";
       if (ws.transmission >= 0.0 && ws.transmission != gm.transmission) {
         gm.transmission = ws.transmission;
-        gname += "_" + Fmt(gm.transmission);
+        gname += "_" + FormatFixed(gm.transmission, 3);
       }
       MeshPart glass = NewPart(ws.id + "/glass", ws.id, ElementClass::kWindowGlass, "window", r.id,
                                Mat(gname, gm));

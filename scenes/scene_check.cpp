@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/format.h"
 #include "common/frames.h"
 #include "scenes/geometry.h"
 
@@ -19,13 +20,6 @@ using Eigen::Vector3d;
 
 constexpr double kSurfaceTol = 1e-3;    // m, "on its host within 1 mm"
 constexpr double kPlacementTol = 5e-3;  // m, BSC geometry centre/size vs its truth entry
-
-std::string F(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
 
 constexpr double kOverlapArea = 1e-4;  // m^2, interiors of touching rooms (version 2)
 
@@ -216,7 +210,8 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
                                    std::abs(footprint.sizes().x() - b.size.x()) > kPlacementTol ||
                                    std::abs(footprint.sizes().y() - b.size.y()) > kPlacementTol))
         err("bsc '" + b.id + "' geometry does not match its truth centre/size on wall '" + h->id +
-            "'; got centre offset " + F((footprint.center() - c_uv).norm() * 1000.0) + " mm");
+            "'; got centre offset " +
+            FormatNumbers("%.4g", (footprint.center() - c_uv).norm() * 1000.0) + " mm");
       for (const Opening& o : t.openings) {
         if (o.host_walls.empty()) continue;
         bool hosted = false;
@@ -245,8 +240,8 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
         for (const auto& v : p->positions) xy_box.extend(Vector2d(v.x(), v.y()));
       if (!xy_box.isEmpty() && (xy_box.center() - b.centre.head<2>()).norm() > kPlacementTol)
         err("bsc '" + b.id + "' geometry does not match its truth centre on ceiling '" + h->id +
-            "'; got centre offset " + F((xy_box.center() - b.centre.head<2>()).norm() * 1000.0) +
-            " mm");
+            "'; got centre offset " +
+            FormatNumbers("%.4g", (xy_box.center() - b.centre.head<2>()).norm() * 1000.0) + " mm");
       if (std::abs(b.centre.z() - zc) > kSurfaceTol)
         err("bsc '" + b.id + "' truth centre is not on ceiling '" + h->id + "'");
     } else {
@@ -254,7 +249,8 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
       continue;
     }
     if (std::abs(dmin) > kSurfaceTol)
-      err("bsc '" + b.id + "' back is " + F(dmin * 1000.0) + " mm from its host '" + h->id + "'");
+      err("bsc '" + b.id + "' back is " + FormatNumbers("%.4g", dmin * 1000.0) +
+          " mm from its host '" + h->id + "'");
     if (outside) err("bsc '" + b.id + "' extends outside its host '" + h->id + "'");
   }
 
@@ -302,7 +298,8 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     for (const Room& r : t.rooms)
       if (!seen.count(r.id))
         err("room '" + r.id + "' is not reachable from '" + t.rooms[0].id +
-            "' through open doors of clear width >= " + F(kMinClearDoorWidth) + " m");
+            "' through open doors of clear width >= " + FormatNumbers("%.4g", kMinClearDoorWidth) +
+            " m");
   }
 
   // 6. Door leaves at their angle; states consistent.
@@ -310,7 +307,8 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     if (o.type != OpeningType::kDoor) continue;
     if (o.state != DoorStateFromAngle(o.opening_angle))
       err("door '" + o.id + "' state '" + std::string(ToString(o.state)) +
-          "' does not match its angle " + F(RadToDeg(o.opening_angle)) + " deg");
+          "' does not match its angle " + FormatNumbers("%.4g", RadToDeg(o.opening_angle)) +
+          " deg");
     const StructuralElement* w = o.host_walls.empty() ? nullptr : t.FindElement(o.host_walls[0]);
     if (!w) continue;
     Vector3d sum = Vector3d::Zero();
@@ -337,8 +335,9 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     const double measured = std::atan2(rel.dot(nn), rel.dot(d));
     const double expected = o.opening_angle - std::atan2(o.leaf_thickness, o.u1 - o.u0);
     if (std::abs(WrapAngle(measured - expected)) > DegToRad(0.5))
-      err("door '" + o.id + "' leaf is at " + F(RadToDeg(measured)) + " deg, expected " +
-          F(RadToDeg(expected)) + " deg for lambda " + F(RadToDeg(o.opening_angle)));
+      err("door '" + o.id + "' leaf is at " + FormatNumbers("%.4g", RadToDeg(measured)) +
+          " deg, expected " + FormatNumbers("%.4g", RadToDeg(expected)) + " deg for lambda " +
+          FormatNumbers("%.4g", RadToDeg(o.opening_angle)));
   }
   return rep;
 }

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "common/params.h"
 #include "scenes/bsc_catalogue.h"
 #include "scenes/geometry.h"
@@ -19,12 +20,6 @@ std::string Describe(const YAML::Node& n) {
   if (n.IsScalar()) return "'" + n.Scalar() + "'";
   if (n.IsSequence()) return "a sequence";
   return "a map";
-}
-
-std::string Fmt(double v) {
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
 }
 
 /// Reads the keys of one YAML map, remembering which keys exist so Finish() can reject typos.
@@ -65,8 +60,8 @@ class MapReader {
   bool Num(const char* key, double* out, double lo, double hi) {
     if (!Scalar(key, out, "a number")) return false;
     if (!std::isfinite(*out) || *out < lo || *out > hi)
-      throw InputError(Where(key), "'" + Name(key) + "' out of range", Fmt(*out),
-                       "[" + Fmt(lo) + ", " + Fmt(hi) + "]");
+      throw InputError(Where(key), "'" + Name(key) + "' out of range", FormatShortest(*out),
+                       "[" + FormatShortest(lo) + ", " + FormatShortest(hi) + "]");
     return true;
   }
   bool Int(const char* key, int* out, int lo, int hi) {
@@ -107,7 +102,8 @@ class MapReader {
     const auto v = Numbers(n, Name(key), 3, "[r, g, b] in [0, 1]");
     for (double c : v)
       if (c < 0.0 || c > 1.0)
-        throw InputError(YamlWhere(file_, n), "'" + Name(key) + "' out of range", Fmt(c), "[0, 1]");
+        throw InputError(YamlWhere(file_, n), "'" + Name(key) + "' out of range", FormatShortest(c),
+                         "[0, 1]");
     *out = {v[0], v[1], v[2]};
     return true;
   }
@@ -346,8 +342,8 @@ void ValidateSceneSpec(const SceneSpec& s) {
   const std::string& src = s.source;
   if (s.name.empty()) throw InputError(src, "scene 'name' is empty");
   if (s.ceiling_height > s.storey_height)
-    throw InputError(src, "ceiling_height above storey_height", Fmt(s.ceiling_height),
-                     "<= " + Fmt(s.storey_height));
+    throw InputError(src, "ceiling_height above storey_height", FormatShortest(s.ceiling_height),
+                     "<= " + FormatShortest(s.storey_height));
   if (s.rooms.empty()) throw InputError(src, "scene has no rooms", "0", ">= 1");
   std::set<std::string> ids;
   auto unique = [&](const std::string& where, const std::string& id) {
@@ -373,7 +369,7 @@ void ValidateSceneSpec(const SceneSpec& s) {
                        "counter-clockwise");
     if (r.ceiling_height != 0.0 && (r.ceiling_height < 2.0 || r.ceiling_height > s.storey_height))
       throw InputError(r.where, "room '" + r.id + "' ceiling_height out of range",
-                       Fmt(r.ceiling_height), "[2, storey_height]");
+                       FormatShortest(r.ceiling_height), "[2, storey_height]");
   }
   for (std::size_t i = 0; i < s.rooms.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
@@ -384,7 +380,7 @@ void ValidateSceneSpec(const SceneSpec& s) {
       if (d < s.wall_thickness - 1e-6)
         throw InputError(
             a.where, "room '" + a.id + "' is closer to room '" + b.id + "' than the wall thickness",
-            Fmt(d) + " m", ">= " + Fmt(s.wall_thickness) + " m");
+            FormatShortest(d) + " m", ">= " + FormatShortest(s.wall_thickness) + " m");
     }
   }
   for (const auto& d : s.doors) {
@@ -398,9 +394,10 @@ void ValidateSceneSpec(const SceneSpec& s) {
       ch = std::min(ch, ceiling(b));
     }
     if (d.height + d.frame_width > ch - 0.01)
-      throw InputError(d.where, "door '" + d.id + "' too high for its rooms",
-                       Fmt(d.height) + " m + frame " + Fmt(d.frame_width) + " m",
-                       "<= " + Fmt(ch - 0.01) + " m");
+      throw InputError(
+          d.where, "door '" + d.id + "' too high for its rooms",
+          FormatShortest(d.height) + " m + frame " + FormatShortest(d.frame_width) + " m",
+          "<= " + FormatShortest(ch - 0.01) + " m");
     if (!d.swing_into.empty() && d.swing_into != d.room_a &&
         (d.swing_into != d.room_b || d.room_b == "outside"))
       throw InputError(d.where, "door '" + d.id + "' swing_into must be one of its rooms",
@@ -414,10 +411,11 @@ void ValidateSceneSpec(const SceneSpec& s) {
     const RoomSpec& r = room_of(w.where, w.room);
     if (w.sill_height < w.frame_width + 0.01)
       throw InputError(w.where, "window '" + w.id + "' sill too low for its frame",
-                       Fmt(w.sill_height), ">= frame_width + 0.01");
+                       FormatShortest(w.sill_height), ">= frame_width + 0.01");
     if (w.sill_height + w.height + w.frame_width > ceiling(r) - 0.01)
       throw InputError(w.where, "window '" + w.id + "' reaches the ceiling",
-                       Fmt(w.sill_height + w.height) + " m", "<= ceiling - frame_width - 0.01");
+                       FormatShortest(w.sill_height + w.height) + " m",
+                       "<= ceiling - frame_width - 0.01");
     if (w.position.wall >= static_cast<int>(r.polygon.size()))
       throw InputError(w.where, "window '" + w.id + "' wall index out of range",
                        std::to_string(w.position.wall), "< " + std::to_string(r.polygon.size()));
@@ -482,11 +480,11 @@ SceneSpec ParseSceneSpec(const std::string& yaml_text, const std::string& name) 
 namespace {
 
 void EmitNum(YAML::Emitter& e, const char* key, double v) {
-  e << YAML::Key << key << YAML::Value << Fmt(v);
+  e << YAML::Key << key << YAML::Value << FormatShortest(v);
 }
 void EmitVec(YAML::Emitter& e, const char* key, const std::vector<double>& v) {
   e << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (double x : v) e << Fmt(x);
+  for (double x : v) e << FormatShortest(x);
   e << YAML::EndSeq;
 }
 void EmitMaterial(YAML::Emitter& e, const char* key, const MaterialSpec& m) {
@@ -539,7 +537,8 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::BeginMap << YAML::Key << "id" << YAML::Value << r.id;
     e << YAML::Key << "polygon" << YAML::Value << YAML::Flow << YAML::BeginSeq;
     for (const auto& p : r.polygon)
-      e << YAML::Flow << YAML::BeginSeq << Fmt(p.x()) << Fmt(p.y()) << YAML::EndSeq;
+      e << YAML::Flow << YAML::BeginSeq << FormatShortest(p.x()) << FormatShortest(p.y())
+        << YAML::EndSeq;
     e << YAML::EndSeq;
     EmitNum(e, "ceiling_height", r.ceiling_height > 0.0 ? r.ceiling_height : s.ceiling_height);
     e << YAML::EndMap;

@@ -4,24 +4,19 @@
 #include <cstring>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "scenes/element_class.h"
 
 namespace mopad::sim {
 
 namespace {
 
-std::string Num(double v) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
-}
-
 std::string PoseWords(const Pose3& X) {
   std::string s;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) {
       s += ' ';
-      s += Num(X.matrix()(r, c));
+      s += FormatShortest(X.matrix()(r, c));
     }
   return s;
 }
@@ -33,8 +28,8 @@ std::vector<std::string> TruthComments(const TlsTruth& t) {
       "mopad_grid " + std::to_string(t.rows) + " " + std::to_string(t.columns),
       "mopad_X_WB" + PoseWords(t.X_WB),
       "mopad_X_WS" + PoseWords(t.X_WS),
-      "mopad_range_bias " + Num(t.range_bias),
-      "mopad_tilt " + Num(t.tilt_roll) + " " + Num(t.tilt_pitch),
+      "mopad_range_bias " + FormatShortest(t.range_bias),
+      "mopad_tilt " + FormatShortest(t.tilt_roll) + " " + FormatShortest(t.tilt_pitch),
       "mopad_flags 1=transmitted 2=mixed 4=dropped 8=too_close"};
   for (int v = 0; v <= static_cast<int>(scenes::ElementClass::kOther); ++v) {
     c.push_back("mopad_class " + std::to_string(v) + " " +
