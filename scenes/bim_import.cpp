@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "common/frames.h"
 #include "scenes/assimp_loader.h"
 #include "scenes/bsc_catalogue.h"
@@ -37,11 +38,7 @@ constexpr std::size_t kGuidLength = 22;     // IFC GlobalId, base64 of 128 bits
 
 std::string Fmt(double v, int precision = 3) {
   if (std::abs(v) < 0.5 * std::pow(10.0, -precision)) v = 0.0;  // no "-0.000"
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(precision);
-  s << v;
-  return s.str();
+  return FormatFixed(v, precision);
 }
 
 std::string Lower(std::string s) {

@@ -33,9 +33,6 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point a) {
   return std::chrono::duration<double>(Clock::now() - a).count();
 }
-std::string Fixed(double v, int digits) {
-  return FormatNumbers(("%." + std::to_string(digits) + "f").c_str(), v);
-}
 
 }  // namespace
 
@@ -152,14 +149,14 @@ void RegisterRunCommand(CLI::App& app) {
           id.c_str(), m.scans.size(), robot_cov, e.coverage.room.ShareOfObservable(),
           e.coverage.room.ShareOfTotal(), 1000 * e.max_translation_error, e.max_rotation_error_deg,
           e.labels.Accuracy(), t_room);
-      rooms_table.rows.push_back({id, std::to_string(m.scans.size()), Fixed(robot_cov, 3),
-                                  m.stop_reason, Fixed(max_proc, 2), Fixed(job.path_length, 2),
-                                  std::to_string(job.points)});
-      eval_table.rows.push_back(
-          {id, Fixed(e.coverage.room.ShareOfObservable(), 3),
-           Fixed(e.coverage.room.ShareOfTotal(), 3),
-           Fixed(1000 * e.max_translation_error, 1) + " / " + Fixed(e.max_rotation_error_deg, 3),
-           Fixed(e.labels.Accuracy(), 4)});
+      rooms_table.rows.push_back({id, std::to_string(m.scans.size()), FormatFixed(robot_cov, 3),
+                                  m.stop_reason, FormatFixed(max_proc, 2),
+                                  FormatFixed(job.path_length, 2), std::to_string(job.points)});
+      eval_table.rows.push_back({id, FormatFixed(e.coverage.room.ShareOfObservable(), 3),
+                                 FormatFixed(e.coverage.room.ShareOfTotal(), 3),
+                                 FormatFixed(1000 * e.max_translation_error, 1) + " / " +
+                                     FormatFixed(e.max_rotation_error_deg, 3),
+                                 FormatFixed(e.labels.Accuracy(), 4)});
       for (std::size_t k = 0; k < job.scan_positions_W.size(); ++k) {
         mission::ReportScan rs;
         rs.name = id + "/" + std::to_string(k);
@@ -215,7 +212,7 @@ void RegisterRunCommand(CLI::App& app) {
                       " from positions it chooses itself (next best scan, paper §3.1), starting "
                       "at a harness-chosen free spot per room. Seed " +
                       std::to_string(params.drive.seed) + ", TLS step " +
-                      Fixed(params.scan_step_deg, 3) + " deg.";
+                      FormatFixed(params.scan_step_deg, 3) + " deg.";
     report.tables.push_back(
         {"Scene",
          {"item", "count"},
@@ -234,9 +231,9 @@ void RegisterRunCommand(CLI::App& app) {
     report.tables.push_back(std::move(model_table));
     report.tables.push_back({"Timing",
                              {"step", "seconds"},
-                             {{"generate scene", Fixed(t_generate, 2)},
-                              {"evaluate models", Fixed(t_eval, 2)},
-                              {"total", Fixed(Seconds(t_start), 2)}}});
+                             {{"generate scene", FormatFixed(t_generate, 2)},
+                              {"evaluate models", FormatFixed(t_eval, 2)},
+                              {"total", FormatFixed(Seconds(t_start), 2)}}});
     mission::WriteHtmlReport(report, (dir / "report.html").string());
     mission::WriteMarkdownReport(report, (dir / "report.md").string());
     std::printf(
