@@ -1,5 +1,6 @@
 #pragma once
-// Plane polygons: the one point-in-polygon test of the tree (robot and world side alike).
+// Plane polygons, robot and world side alike: the one point-in-polygon test and the one
+// triangulation of the tree.
 
 #include <Eigen/Core>
 #include <vector>
@@ -20,5 +21,10 @@ inline bool PointInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Ve
   }
   return inside;
 }
+
+/// Triangles (vertex indices) of the simple counter-clockwise polygon `poly` by ear clipping
+/// (Meisters 1975; O(n^2), for small polygons); collinear vertices give no triangle.
+/// std::invalid_argument when the polygon is not simple.
+std::vector<Eigen::Vector3i> TriangulatePolygon(const std::vector<Eigen::Vector2d>& poly);
 
 }  // namespace mopad

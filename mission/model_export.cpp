@@ -5,9 +5,6 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
-#include "scenes/geometry.h"
-#include "scenes/gltf_writer.h"
-#include "scenes/scene.h"
 
 namespace mopad::mission {
 
@@ -34,69 +31,6 @@ void WriteRunJson(const std::string& dir, const sim::SceneWorld& mw, const std::
   std::ofstream f(path);
   if (!f) throw InputError(path, "cannot write the file");
   f << j.dump(2) << "\n";
-}
-
-void WriteModelsGlb(const modelling::StructuralModel& sm3, const std::string& room,
-                    const std::string& path) {
-  scenes::Scene scene;
-  scene.source = "robot model of room " +
-                 room;  // the glTF scene name: not the output path (same run, same bytes)
-  struct ClassStyle {
-    modelling::PatchClass cls;
-    scenes::ElementClass element;
-    const char* name;
-    Eigen::Vector4f colour;
-  };
-  const ClassStyle styles[] = {{modelling::PatchClass::kWall,
-                                scenes::ElementClass::kWall,
-                                "wall",
-                                {0.85f, 0.80f, 0.70f, 1.f}},
-                               {modelling::PatchClass::kFloor,
-                                scenes::ElementClass::kFloor,
-                                "floor",
-                                {0.45f, 0.50f, 0.55f, 1.f}},
-                               {modelling::PatchClass::kCeiling,
-                                scenes::ElementClass::kCeiling,
-                                "ceiling",
-                                {0.95f, 0.95f, 0.95f, 1.f}},
-                               {modelling::PatchClass::kColumn,
-                                scenes::ElementClass::kColumn,
-                                "column",
-                                {0.70f, 0.35f, 0.30f, 1.f}}};
-  for (const auto& s : styles) {
-    scenes::Material m;
-    m.name = s.name;
-    m.base_color = s.colour;
-    scene.materials.push_back(m);
-  }
-  for (const auto& p : sm3.patches) {
-    if (p.polygon.size() < 3) continue;
-    int style = 0;
-    for (int k = 0; k < 4; ++k)
-      if (styles[k].cls == p.patch_class) style = k;
-    // Triangulate in the patch's plane (u, v with u x v = n: CCW stays CCW).
-    const Eigen::Vector3d n = p.plane.n.normalized();
-    const Eigen::Vector3d u = (std::abs(n.z()) < 0.9 ? Eigen::Vector3d::UnitZ().cross(n)
-                                                     : Eigen::Vector3d::UnitX().cross(n))
-                                  .normalized();
-    const Eigen::Vector3d v = n.cross(u);
-    scenes::Polygon2 poly;
-    for (const auto& q : p.polygon) poly.emplace_back(q.dot(u), q.dot(v));
-    if (scenes::SignedArea(poly) < 0) continue;  // not CCW seen from the room: skip, never flip
-    scenes::MeshPart part;
-    part.name = room + "/" + p.id;
-    part.element_id = room + "/" + p.id;
-    part.element_class = styles[style].element;
-    part.room = room;
-    part.material = style;
-    for (const auto& q : p.polygon) part.positions.push_back(q.cast<float>());
-    part.triangles = scenes::TriangulatePolygon(poly);
-    if (part.triangles.empty()) continue;
-    scene.parts.push_back(std::move(part));
-  }
-  if (scene.parts.empty())
-    throw InputError(path, "no patch of the structural model could be triangulated");
-  scenes::WriteGlb(scene, path);
 }
 
 }  // namespace mopad::mission

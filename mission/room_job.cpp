@@ -123,7 +123,7 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   WriteRoomOutputs(job.mission, params, session, model, sm3, dsm3, dir);
   modelling::WriteSm4Files(dir, sm4, images);
   WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
-  WriteModelsGlb(sm3, room, (std::filesystem::path(dir) / "models.glb").string());
+  modelling::WriteModelsGlb(sm3, &sm4, room, (std::filesystem::path(dir) / "models.glb").string());
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
   const Pose3 X_WM = session.X_MW().To3d().inverse();
   const auto& pts = model.Points();

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/polygon.h"
+#include "io/glb_writer.h"
 #include "io/scan_io.h"
 #include "io/text_file.h"
 
@@ -244,6 +246,83 @@ void WriteDsm3Ply(const VoxelSpace& vs, const std::string& path) {
       }
   cloud.fields = {std::move(label), std::move(fi), std::move(fj), std::move(fk)};
   io::WritePly(path, cloud);
+}
+
+void WriteModelsGlb(const StructuralModel& sm3, const Sm4Model* sm4, const std::string& room,
+                    const std::string& path) {
+  io::GlbScene scene;
+  scene.name = "robot model of room " + room;  // not the output path: same run, same bytes
+  struct ClassStyle {
+    PatchClass cls;
+    const char* name;
+    std::array<float, 4> colour;
+  };
+  const ClassStyle styles[] = {{PatchClass::kWall, "wall", {0.85f, 0.80f, 0.70f, 1.f}},
+                               {PatchClass::kFloor, "floor", {0.45f, 0.50f, 0.55f, 1.f}},
+                               {PatchClass::kCeiling, "ceiling", {0.95f, 0.95f, 0.95f, 1.f}},
+                               {PatchClass::kColumn, "column", {0.70f, 0.35f, 0.30f, 1.f}}};
+  for (const auto& st : styles) scene.materials.push_back({st.name, st.colour});
+  const int door_material = static_cast<int>(scene.materials.size());
+  scene.materials.push_back({"door", {0.55f, 0.35f, 0.20f, 1.f}});
+  scene.materials.push_back({"window", {0.55f, 0.75f, 0.95f, 0.6f}});
+  for (const auto& p : sm3.patches) {
+    if (p.polygon.size() < 3) continue;
+    int style = 0;
+    for (int k = 0; k < 4; ++k)
+      if (styles[k].cls == p.patch_class) style = k;
+    // Triangulate in the patch's plane (u, v with u x v = n: CCW stays CCW).
+    const Eigen::Vector3d n = p.plane.n.normalized();
+    const Eigen::Vector3d u = (std::abs(n.z()) < 0.9 ? Eigen::Vector3d::UnitZ().cross(n)
+                                                     : Eigen::Vector3d::UnitX().cross(n))
+                                  .normalized();
+    const Eigen::Vector3d v = n.cross(u);
+    std::vector<Eigen::Vector2d> poly;
+    for (const auto& q : p.polygon) poly.emplace_back(q.dot(u), q.dot(v));
+    double area2 = 0.0;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const auto& a = poly[k];
+      const auto& b = poly[(k + 1) % poly.size()];
+      area2 += a.x() * b.y() - b.x() * a.y();
+    }
+    if (area2 < 0) continue;  // not CCW seen from the room: skip, never flip
+    std::vector<Eigen::Vector3i> tris;
+    try {
+      tris = TriangulatePolygon(poly);
+    } catch (const std::invalid_argument&) {
+      continue;  // not simple
+    }
+    if (tris.empty()) continue;
+    io::GlbMesh mesh;
+    mesh.name = room + "/" + p.id;
+    mesh.material = style;
+    for (const auto& q : p.polygon) mesh.positions.push_back(q.cast<float>());
+    for (const auto& t : tris)
+      mesh.triangles.push_back({static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]),
+                                static_cast<std::uint32_t>(t[2])});
+    mesh.extras = {{"mopad", {{"id", mesh.name}, {"class", styles[style].name}, {"room", room}}}};
+    scene.meshes.push_back(std::move(mesh));
+  }
+  if (sm4) {
+    for (const auto& o : sm4->openings) {
+      io::GlbMesh mesh;
+      mesh.name = room + "/" + o.id;
+      mesh.material = door_material + (o.type == OpeningType::kDoor ? 0 : 1);
+      for (const auto& c : o.corners) mesh.positions.push_back(c.cast<float>());
+      mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+      nlohmann::ordered_json m{
+          {"id", mesh.name}, {"class", ToString(o.type)}, {"room", room}, {"host", o.host}};
+      if (o.type == OpeningType::kDoor) {
+        m["state"] = ToString(o.state);
+        m["opening_angle_deg"] = std::isfinite(o.opening_angle_deg)
+                                     ? nlohmann::ordered_json(o.opening_angle_deg)
+                                     : nlohmann::ordered_json(nullptr);
+      }
+      mesh.extras = {{"mopad", m}};
+      scene.meshes.push_back(std::move(mesh));
+    }
+  }
+  if (scene.meshes.empty()) throw InputError(path, "no model element could be triangulated");
+  io::WriteGlb(scene, path);
 }
 
 }  // namespace mopad::modelling

@@ -34,6 +34,13 @@ Sm4Model ReadSm4(const std::string& path);
 /// `_depth.png` (WriteOrthoimagePngs). `dir` must exist; InputError on I/O failure.
 void WriteSm4Files(const std::string& dir, const Sm4Model& model,
                    const std::vector<std::pair<std::string, Orthoimage>>& images);
+/// models.glb (io::WriteGlb): one node per SM3 patch (walls, floor, ceiling, column faces) and,
+/// with `sm4`, per opening (a quad on its hole), each with extras {"mopad": {"id", "class",
+/// "room"}} and, for openings, "state" and "opening_angle_deg"; materials per class. Patches
+/// whose polygon is not counter-clockwise seen from the room are left out. InputError when
+/// nothing could be triangulated or the file cannot be written.
+void WriteModelsGlb(const StructuralModel& sm3, const Sm4Model* sm4, const std::string& room,
+                    const std::string& path);
 /// Every voxel inside the RoI (flag kInside or on a face) with its DSM3 label and indices.
 void WriteDsm3Ply(const VoxelSpace& voxels, const std::string& path);
 

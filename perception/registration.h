@@ -65,8 +65,8 @@ struct IcpParams {
   /// closer to a map scan's origin than that scan's nearest return in the same direction bin
   /// (by more than the margin) lies where that scan saw empty space; only bins whose returns
   /// span at most the margin in range count (grazing surfaces and depth edges do not). ok
-  /// needs the share of such points at most max_free_space_violation. Measured (office_5rooms,
-  /// 12 correct registrations): <= 0.0027; poses 90 or 180 deg off: 0.012 to 0.13.
+  /// needs the share of such points at most max_free_space_violation. Right registrations
+  /// stay well below the default; poses 90 or 180 deg off exceed it (docs/room-scanning.md).
   double free_space_bin_deg = 0.5;          ///< deg, direction bins of each map scan, [0.05, 10]
   double free_space_margin = 0.1;           ///< m, plus 2 % of the range, [0, 10]
   double max_free_space_violation = 0.006;  ///< share of source points, [0, 1]

@@ -38,10 +38,7 @@ bool PolygonInside(const Polygon2& inner, const Polygon2& outer);
 /// True if two convex polygons overlap (separating-axis test; touching counts as overlap).
 bool ConvexOverlap(const Polygon2& a, const Polygon2& b);
 
-/// Ear-clipping triangulation of a simple CCW polygon (collinear vertices allowed). Returns
-/// CCW triangles as vertex indices. Throws std::invalid_argument if it cannot finish (only for
-/// non-simple input).
-std::vector<Eigen::Vector3i> TriangulatePolygon(const Polygon2& poly);
+using mopad::TriangulatePolygon;
 
 /// Axis-aligned rectangle in a face's (u, v) coordinates, metres.
 struct Rect2 {
