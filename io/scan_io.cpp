@@ -168,16 +168,6 @@ double GetValue(const char* src, PlyType t) {
   return 0;
 }
 
-std::string PoseWords(const Eigen::Isometry3d& X) {
-  std::string s;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) {
-      s += ' ';
-      s += FormatShortest(X.matrix()(r, c));
-    }
-  return s;
-}
-
 std::string PadCount(std::uint64_t n) {
   std::string s = std::to_string(n);
   s.resize(kCountWidth, ' ');
@@ -304,6 +294,16 @@ bool ParsePoseWords(std::istringstream& ls, Eigen::Isometry3d* X) {
 }
 
 }  // namespace
+
+std::string PoseWords(const Eigen::Isometry3d& X) {
+  std::string s;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) {
+      s += ' ';
+      s += FormatShortest(X.matrix()(r, c));
+    }
+  return s;
+}
 
 const ScalarField* PointCloud::Field(const std::string& name) const {
   for (const auto& f : fields)

@@ -74,6 +74,10 @@ struct PointCloud {
   const ScalarField* Field(const std::string& name) const;
 };
 
+/// A 3x4 pose as the twelve numbers of its rows (shortest round-trip text, each preceded by a
+/// space): the `comment mopad_X_*` header lines of PLY files.
+std::string PoseWords(const Eigen::Isometry3d& X);
+
 /// Writes binary little-endian PLY. Throws InputError if field sizes disagree or the file cannot
 /// be written.
 void WritePly(const std::string& path, const PointCloud& cloud);

@@ -599,8 +599,8 @@ EdgeFit FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
   // Tighten about the wall peak: clutter flush against part of a wall (a closed door leaf or
   // casing 2 cm proud over half of a 2 m end wall, a whiteboard row) lies inside the band and
   // pulls a least-squares line towards it, up to onto it where it has more points than the
-  // wall (office_5rooms: R1 seed 1 tilted 0.08 deg over 14 m; the hall's west end wall 2.6 cm
-  // into the room on its closed door, its wall points then outliers). Refit from the line at
+  // wall (a long wall tilts; an end wall behind a closed door moves onto the door, its wall
+  // points then outliers; docs/room-scanning.md has the cases). Refit from the line at
   // the outermost strong peak s0 on the points within 0.6 and then 0.4 of the band about the
   // current line, while at least a fifth of the band's points remain.
   {

@@ -11,23 +11,13 @@ namespace mopad::sim {
 
 namespace {
 
-std::string PoseWords(const Pose3& X) {
-  std::string s;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) {
-      s += ' ';
-      s += FormatShortest(X.matrix()(r, c));
-    }
-  return s;
-}
-
 std::vector<std::string> TruthComments(const TlsTruth& t) {
   std::vector<std::string> c = {
       "mopad_tls_truth 1",
       "mopad_scan_id " + std::to_string(t.scan_id),
       "mopad_grid " + std::to_string(t.rows) + " " + std::to_string(t.columns),
-      "mopad_X_WB" + PoseWords(t.X_WB),
-      "mopad_X_WS" + PoseWords(t.X_WS),
+      "mopad_X_WB" + io::PoseWords(t.X_WB),
+      "mopad_X_WS" + io::PoseWords(t.X_WS),
       "mopad_range_bias " + FormatShortest(t.range_bias),
       "mopad_tilt " + FormatShortest(t.tilt_roll) + " " + FormatShortest(t.tilt_pitch),
       "mopad_flags 1=transmitted 2=mixed 4=dropped 8=too_close"};
