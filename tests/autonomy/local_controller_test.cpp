@@ -357,8 +357,8 @@ TEST(LocalController, BackingUpChecksTheMapBehindTheBase) {
 // A niche 0.8 m wide between two cabinets against the west room's wall, the base in its
 // mouth facing in (west), and a bin behind it outside: the goal lies east, through the door.
 // The base cannot turn where it stands (its half diagonal is 0.39 m), and backing straight
-// out meets the bin before there is room to turn (office_5rooms, seed 6: a scan stop in the
-// mouth of a niche in R1, blocked for good after four recoveries).
+// out meets the bin before there is room to turn: without an escape manoeuvre a base that stops
+// in such a mouth stays blocked through every recovery.
 struct Niche {
   std::vector<Box2> boxes = {{{0.0, 2.0}, {1.3, 2.4}},     // cabinet, south side
                              {{0.0, 3.2}, {1.3, 3.6}},     // cabinet, north side

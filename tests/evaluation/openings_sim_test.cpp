@@ -219,8 +219,8 @@ std::vector<Vec2> GridPositions(const scenes::GroundTruth& t, const scenes::Room
   return out;
 }
 
-// Issue 15's random-floor acceptance, as figures: every room of `mopad scene random --seed 1..10`
-// (5 rooms), scanned from GridPositions. Pooled Precision/Recall of areas and door states.
+// Random floors as figures: every room of the first ten random floors (5 rooms each), scanned
+// from GridPositions. Pooled Precision/Recall of areas and door states.
 TEST(OpeningsSimFigures, RandomFloorsSeedsOneToTen) {
   double tp = 0, fp = 0, fn = 0;
   int doors = 0, states = 0, missed = 0, false_openings = 0, rooms = 0, truth = 0, skipped = 0;

@@ -96,13 +96,11 @@ TEST(DriveMission, ClosedDoorEndsExplainedWithPartialTrajectory) {
   EXPECT_GT(fs::file_size(dir / "trajectory_true.tum"), 100u);  // partial trajectory saved
 }
 
-// MoPAD's two scans at a doorframe, on office_5rooms (seed 2 of the route in
-// scripts/drive-acceptance.sh): the start scan in R3 is 6 m from door D3, so the robot scans in
-// front of the door (map x 4-6.3; the door's wall spans 6.4-6.6) before it crosses, and then
-// just beyond it in the hall. Without the scan in front (door_entry_scan_distance 0), the scan
-// beyond the door registered against the start scan alone, 0.3 deg and 2.7 cm off along the
-// hall, and the hall's map carried that error (localisation RMS 7.7 cm over the route; here,
-// 5.6 cm off at the end against 1.2 cm with it).
+// MoPAD's two scans at a doorframe, on office_5rooms: the start scan in R3 is 6 m from door
+// D3, so the robot scans in front of the door (map x 4-6.3; the door's wall spans 6.4-6.6)
+// before it crosses, and then just beyond it in the hall. Without the scan in front
+// (door_entry_scan_distance 0), the scan beyond the door registers against the distant start
+// scan alone and the hall's map carries its error (docs/navigation.md has the figures).
 TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   const sim::EmbreeWorld world = MakeWorld("office_5rooms", std::nullopt);
   DriveRequest req;

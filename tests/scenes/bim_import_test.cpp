@@ -444,7 +444,7 @@ TEST_F(BimImportTest, ElementWithoutGeometryIsReportedInOneLine) {
   for (const auto& l : imp.report)
     lines += l.rfind("IFCDOOR 'Door-2'", 0) == 0 && l.find("no geometry") != std::string::npos;
   EXPECT_EQ(lines, 1);
-  ExpectFixtureTruth(imp, 0.0, 90.0);  // the rest is imported as before
+  ExpectFixtureTruth(imp, 0.0, 90.0);  // the rest is the plain fixture's truth
 }
 
 TEST_F(BimImportTest, SpacesWithoutAWallBetweenThemGetAnOpenPassage) {
