@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "perception/grid_search.h"
@@ -91,6 +92,76 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
   if (out.empty())
     *why = "no progress: the route leaves the known space where the robot has already scanned";
   return out;
+}
+
+namespace {
+
+// The cell nearest to `p` within `radius` that `ok` accepts (ties: lower index).
+template <class Ok>
+std::optional<perception::Cell> NearestCell(const perception::OccupancyGrid& grid, const Vec2& p,
+                                            double radius, Ok&& ok) {
+  const perception::Cell c0 = grid.CellOf(p);
+  const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
+  std::optional<perception::Cell> best;
+  double best_d = radius * radius + 1e-12;
+  for (int dj = -r; dj <= r; ++dj)
+    for (int di = -r; di <= r; ++di) {
+      const perception::Cell c{c0.i + di, c0.j + dj};
+      if (!grid.Contains(c) || !ok(c)) continue;
+      const double d = (grid.CentreOf(c) - p).squaredNorm();
+      if (d < best_d) best_d = d, best = c;
+    }
+  return best;
+}
+
+}  // namespace
+
+std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Vec2& from,
+                                 const std::vector<Vec2>& goals, double clearance,
+                                 bool through_unknown) {
+  const perception::DistanceField field(grid, /*unknown_is_obstacle=*/!through_unknown);
+  auto passable = [&](const perception::Cell& c) {
+    const perception::CellState st = grid.State(c);
+    return (st == perception::CellState::kFree ||
+            (through_unknown && st == perception::CellState::kUnknown)) &&
+           field.ClearanceOfCell(c) >= clearance;
+  };
+  std::vector<double> out(goals.size(), std::numeric_limits<double>::infinity());
+  const auto start = NearestCell(grid, from, 0.5, passable);
+  if (!start) return out;
+  const double res = grid.Resolution();
+  auto step_cost = [&](std::size_t, std::size_t to, const perception::GridStep& st) {
+    const perception::Cell nb{static_cast<int>(to % grid.Width()),
+                              static_cast<int>(to / grid.Width())};
+    return passable(nb) ? res * (st.Diagonal() ? std::sqrt(2.0) : 1.0) : -1.0;
+  };
+  for (std::size_t g = 0; g < goals.size(); ++g) {
+    const auto target = NearestCell(grid, goals[g], 0.5, passable);
+    if (!target) continue;
+    const std::vector<std::size_t> path = perception::GridShortestPath(
+        grid.Width(), grid.Height(), grid.Index(*start), grid.Index(*target),
+        perception::kNeighboursRowMajor, step_cost, 1e-12);
+    if (path.empty()) continue;
+    double len = 0.0;
+    for (std::size_t k = 1; k < path.size(); ++k) {
+      const long a = static_cast<long>(path[k - 1]), b = static_cast<long>(path[k]);
+      len += res * ((a % grid.Width() != b % grid.Width() && a / grid.Width() != b / grid.Width())
+                        ? std::sqrt(2.0)
+                        : 1.0);
+    }
+    out[g] = len;
+  }
+  return out;
+}
+
+std::optional<Vec2> NearestClearPoint(const perception::OccupancyGrid& grid, const Vec2& p,
+                                      double radius, double clearance) {
+  const perception::DistanceField known(grid, /*unknown_is_obstacle=*/true);
+  const auto c = NearestCell(grid, p, radius, [&](const perception::Cell& c) {
+    return grid.State(c) == perception::CellState::kFree && known.ClearanceOfCell(c) >= clearance;
+  });
+  if (!c) return std::nullopt;
+  return grid.CentreOf(*c);
 }
 
 // Fraction of the grid cells within `radius` of `p` that are known (free or occupied).

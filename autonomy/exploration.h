@@ -2,6 +2,7 @@
 // Where to scan next when a goal lies outside the known free space (frontier exploration along
 // the route to the goal; Yamauchi 1997), and how well the map knows a neighbourhood.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,20 @@ struct ExplorationParams {
 std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from,
                                      const Vec2& goal, const ExplorationParams& params,
                                      const std::vector<Pose2>& scan_poses, std::string* why);
+
+/// Lengths (m) of the shortest 8-connected routes from `from` to each of `goals` through known
+/// free cells with clearance >= `clearance` (unknown counts as obstacle), or with
+/// `through_unknown` through any cell not occupied, with clearance from occupied cells only;
+/// route ends snap to the nearest such cell within 0.5 m. +infinity where there is no route.
+/// Deterministic.
+std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Vec2& from,
+                                 const std::vector<Vec2>& goals, double clearance,
+                                 bool through_unknown = false);
+
+/// The known free point nearest to `p` within `radius` whose clearance (unknown counts as
+/// obstacle) is at least `clearance`; nullopt when there is none. Ties: the lower cell index.
+std::optional<Vec2> NearestClearPoint(const perception::OccupancyGrid& grid, const Vec2& p,
+                                      double radius, double clearance);
 
 /// Fraction of the grid cells within `radius` of `p` that are known (free or occupied).
 double KnownFraction(const perception::OccupancyGrid& grid, const Vec2& p, double radius);

@@ -720,6 +720,21 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   // Flood fill of the start's component (8-connected).
   const std::vector<std::uint8_t> comp = Component(sc, valid);
   const Cell gc = map.CellOf(g0);
+  if (!comp[idx(gc)] && P.narrow_radius < P.robot_radius &&
+      P.narrow_radius >= P.min_start_clearance) {
+    // Once more with the narrow radius (params_ restored on every path out).
+    const GlobalPlannerParams saved = params_;
+    params_.robot_radius = P.narrow_radius;
+    GlobalPlan narrow = Plan(start, goal);
+    params_ = saved;
+    if (narrow.ok()) {
+      narrow.message += FormatNumbers(
+          " (through a passage narrower than %.2f m: planned with a "
+          "%.2f m radius)",
+          2 * saved.robot_radius, saved.narrow_radius);
+      return narrow;
+    }
+  }
   if (!comp[idx(gc)]) {
     plan.status = PlanStatus::kUnreachable;
     plan.message = FormatNumbers(

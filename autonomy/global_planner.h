@@ -48,7 +48,11 @@
 namespace mopad::autonomy {
 
 struct GlobalPlannerParams {
-  double robot_radius = 0.30;         ///< m, clearance every path point needs, (0, 5]
+  double robot_radius = 0.30;  ///< m, clearance every path point needs, (0, 5]
+  /// m: a goal the start's component at robot_radius does not reach is planned again at this
+  /// radius (a door whose mapped jambs leave less than 2 robot_radius: the base, narrower than
+  /// the disc, still passes aligned with it). >= robot_radius = off. [min_start_clearance, 5]
+  double narrow_radius = 0.30;
   double min_start_clearance = 0.15;  ///< m, a start with less is invalid, [0, robot_radius]
   double preferred_clearance = 0.7;   ///< m, clearance beyond which there is no penalty, (0, 10]
   double clearance_weight = 3.0;      ///< cost weight of missing clearance, [0, 100]
@@ -73,6 +77,7 @@ struct GlobalPlannerParams {
   template <class V>
   void Visit(V& v) {
     v("robot_radius", robot_radius, Bounds{1e-3, 5.0});
+    v("narrow_radius", narrow_radius, Bounds{1e-3, 5.0});
     v("min_start_clearance", min_start_clearance, Bounds{0.0, 5.0});
     v("preferred_clearance", preferred_clearance, Bounds{1e-3, 10.0});
     v("clearance_weight", clearance_weight, Bounds{0.0, 100.0});

@@ -103,6 +103,10 @@ GlobalPlannerParams NavigatorParams::DefaultPlanner() {
   // kept in the map from the 3D scans) and still passes a 0.9 m door as mapped: its jamb cells
   // take up to a cell on each side, leaving a clearance of about 0.35-0.37 m.
   p.robot_radius = 0.33;
+  // A door whose mapped jambs (or an opened leaf beside them) leave 0.58-0.66 m is still
+  // passable by the 0.5 m wide base aligned with it: its half-width plus the controller's
+  // safety margin plus 1 cm.
+  p.narrow_radius = 0.29;
   return p;
 }
 

@@ -1,5 +1,6 @@
 #include "autonomy/room_scan.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -52,25 +53,25 @@ perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
 
 namespace {
 
-// Registration (paper step (3)): the first scan defines the map; later ones are refined against
-// the accumulated cloud S(t-1) from the odometry/AMCL prior and used when the acceptance policy
-// says so (the navigator's pose then takes the registered one). A scan that is not used stays
-// out of S(t) (it would smear it by the prior's error). Returns whether the scan is used.
+// Registration (paper step (3)): the first scan defines the room's frame, unless a floor
+// target holds earlier rooms (then it is registered against them as a door scan, and used with
+// its prior when refused); later ones are refined against the accumulated cloud S(t-1) from the
+// odometry/AMCL prior and used when the acceptance policy says so (the navigator's pose then
+// takes the registered one). A later scan that is not used stays out of S(t) (it would smear it
+// by the prior's error). Returns whether the scan is used.
 bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
                       const interfaces::TlsScan& scan, bool first, perception::PointMap& target,
                       RoomScanLog& log) {
-  const perception::Points source_S = perception::ScanPoints(scan);
-  if (!first) {
-    log.registration = perception::RegisterScan(source_S, target, log.X_MS_prior, params.icp);
-    log.registered = perception::AcceptRegistration(log.registration, log.X_MS_prior, params.icp,
-                                                    params.acceptance, 0.0)
-                         .use;
-    if (log.registered) {
-      log.X_MS = log.registration.X_MS;
-      navigator.CorrectLastScanPose(log.X_MS);
-    }
+  if (!target.empty()) {
+    const bool used =
+        RegisterLastScan(navigator, target, first ? params.entry_icp : params.icp,
+                         first ? params.entry_acceptance : params.acceptance, log.registration);
+    log.registered = used || first;
+    if (used) log.X_MS = log.registration.X_MS;
   }
-  if (log.registered) target.Add(perception::Transform(source_S, log.X_MS), log.X_MS.translation());
+  if (log.registered)
+    target.Add(perception::Transform(perception::ScanPoints(scan), log.X_MS),
+               log.X_MS.translation());
   return log.registered;
 }
 
@@ -121,13 +122,31 @@ bool DriveToNextBestScan(Navigator& navigator, const RoomScanParams& params, con
 
 }  // namespace
 
+bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
+                      const perception::IcpParams& icp,
+                      const perception::RegistrationAcceptanceParams& acceptance,
+                      perception::RegistrationResult& r) {
+  const interfaces::TlsScan& scan = navigator.LastScan();
+  const Pose3 prior = scan.X_MS_estimate;
+  r = perception::RegisterScan(perception::ScanPoints(scan), target, prior, icp);
+  const Eigen::Matrix2d cov = navigator.Localisation().covariance.topLeftCorner<2, 2>();
+  const double sigma = std::sqrt(
+      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff()));
+  const bool use = perception::AcceptRegistration(r, prior, icp, acceptance, sigma).use;
+  if (use) navigator.CorrectLastScanPose(r.X_MS);
+  return use;
+}
+
 RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
-                           modelling::RoomModel& model, const ScanHook& on_scan) {
+                           modelling::RoomModel& model, const ScanHook& on_scan,
+                           perception::PointMap* floor_target) {
   ValidateParams(params, "room.");
   params.icp.Validate();
+  params.entry_icp.Validate();
   const auto wall0 = Clock::now();
   RoomScanResult res;
-  perception::PointMap target(params.icp);
+  perception::PointMap own_target(params.icp);
+  perception::PointMap& target = floor_target ? *floor_target : own_target;
   std::vector<Vec2> failed_scans;  // base positions whose scan could not be registered
 
   for (int k = 0; k < params.max_scans; ++k) {
@@ -200,6 +219,23 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
   res.sim_time = session.Time();
   res.wall_time = Since(wall0);
   return res;
+}
+
+RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
+                           const RoomScanParams& params, const std::string& room,
+                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images) {
+  RoomModels out;
+  out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
+  modelling::OrthoPoints ortho = std::move(no_return);
+  ortho.points = &model.Points();
+  ortho.colours = &model.Colours();
+  ortho.scan_index = &model.ScanIndices();
+  ortho.scan_origins.clear();
+  for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
+  const auto t0 = Clock::now();
+  out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images);
+  out.sm4_seconds = Since(t0);
+  return out;
 }
 
 }  // namespace mopad::autonomy

@@ -36,6 +36,11 @@ struct RoomScanParams {
   double failed_scan_exclusion = 1.0;
   perception::IcpParams icp = DefaultIcp();
   perception::RegistrationAcceptanceParams acceptance = DefaultAcceptance();
+  /// A room's first scan in a floor mission (taken just beyond the door it came through) is
+  /// registered against the earlier rooms' scans with these: it sees them only through the
+  /// door, so a door scan's ICP and a bounded correction of the localiser's prior.
+  perception::IcpParams entry_icp = NavigatorParams::DefaultIcp();
+  perception::RegistrationAcceptanceParams entry_acceptance;
   modelling::RoomModelParams model;
   modelling::StoppingParams stopping;
   NextBestScanParams nbs = DefaultNbs();
@@ -54,6 +59,8 @@ struct RoomScanParams {
     v("failed_scan_exclusion", failed_scan_exclusion, Bounds{0.0, 10.0});
     v("icp", icp);
     v("registration_acceptance", acceptance);
+    v("entry_icp", entry_icp);
+    v("entry_registration_acceptance", entry_acceptance);
     v("room_model", model);
     v("stopping", stopping);
     v("nbs", nbs);
@@ -96,8 +103,33 @@ struct RoomScanResult {
 
 /// Scans the room the robot stands in. `model` receives the final RoomModel. `on_scan`
 /// (optional) sees every scan the model accepted, with the navigator's scan index.
+/// `floor_target` (optional): the registration target of a floor mission, every scan of the
+/// earlier rooms; then the room's first scan is registered against it too (entry_icp), and each
+/// scan the room uses joins it. Without it the room's first scan defines the room's frame.
 using ScanHook = std::function<void(int index, const interfaces::TlsScan& scan)>;
 RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params,
-                           modelling::RoomModel& model, const ScanHook& on_scan = {});
+                           modelling::RoomModel& model, const ScanHook& on_scan = {},
+                           perception::PointMap* floor_target = nullptr);
+
+/// Registers the scan just taken (`navigator.LastScan()`) against `target` from its estimate
+/// with `icp` through `acceptance` (the localiser's position std as the prior's sigma); a used
+/// result corrects the navigator's pose. Returns whether the registered pose was used; `r`
+/// receives the registration.
+bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
+                      const perception::IcpParams& icp,
+                      const perception::RegistrationAcceptanceParams& acceptance,
+                      perception::RegistrationResult& r);
+
+/// SM3 and SM4 of a scanned room (paper §3.2-3.3): the structural model, then the openings in
+/// its walls from their colour + depth orthoimages (the accepted scans' points and `no_return`
+/// rays). `images` receives each wall's orthoimage when given.
+struct RoomModels {
+  modelling::StructuralModel sm3;
+  modelling::Sm4Model sm4;
+  double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
+};
+RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
+                           const RoomScanParams& params, const std::string& room,
+                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images);
 
 }  // namespace mopad::autonomy

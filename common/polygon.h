@@ -1,8 +1,9 @@
 #pragma once
-// Plane polygons, robot and world side alike: the one point-in-polygon test and the one
-// triangulation of the tree.
+// Plane polygons, robot and world side alike: the one point-in-polygon test, the one
+// point-to-segment distance and the one triangulation of the tree.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 namespace mopad {
@@ -20,6 +21,14 @@ inline bool PointInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Ve
       inside = !inside;
   }
   return inside;
+}
+
+/// Distance (m) from `p` to the segment [a, b] (a point when a == b).
+inline double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                                const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+  return (a + t * ab - p).norm();
 }
 
 /// Triangles (vertex indices) of the simple counter-clockwise polygon `poly` by ear clipping

@@ -106,17 +106,12 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   Sm1TruthCollector labels(session, *mw.truth, room);
   job.mission =
       RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
-  const modelling::StructuralModel sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
-  // SM4 (paper §3.3): openings in the walls from their colour + depth orthoimages.
-  modelling::OrthoPoints ortho = std::move(job.mission.no_return);
-  ortho.points = &model.Points();
-  ortho.colours = &model.Colours();
-  ortho.scan_index = &model.ScanIndices();
-  for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;
-  const auto t_sm4 = std::chrono::steady_clock::now();
-  const modelling::Sm4Model sm4 = modelling::DetectOpenings(sm3, ortho, params.sm4, &images);
-  job.sm4_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sm4).count();
+  const autonomy::RoomModels models =
+      autonomy::BuildRoomModels(model, std::move(job.mission.no_return), params, room, &images);
+  const modelling::StructuralModel& sm3 = models.sm3;
+  const modelling::Sm4Model& sm4 = models.sm4;
+  job.sm4_seconds = models.sm4_seconds;
   job.openings = sm4.openings.size();
   modelling::VoxelSpace dsm3 = model.Voxels();
   modelling::MarkOpeningVoxels(sm4.openings, dsm3);

@@ -41,7 +41,7 @@ DriveParams RoomMissionParams::DefaultDrive() {
 void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& params,
                       const RobotSession& session, const modelling::RoomModel& model,
                       const modelling::StructuralModel& sm3, const modelling::VoxelSpace& dsm3,
-                      const std::string& dir) {
+                      const std::string& dir, const RoomOutputExtras& extras) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
@@ -56,6 +56,7 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   }
   {
     std::ofstream f(d / "scan_poses.tum");
+    for (const auto& [t, X] : extras.door_scans) f << io::TumLine(t, X);
     for (const auto& s : result.scans) f << io::TumLine(s.sim_time, s.X_MS);
   }
   const DriveResult drive = session.Result();
@@ -72,8 +73,14 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
     j["wall_time_s"] = result.wall_time;
     std::ofstream(d / "summary.json") << j.dump(2) << "\n";
   }
-  std::ofstream(d / "trajectory_estimated.tum") << ToTum(drive.estimated);
-  std::ofstream(d / "trajectory_true.tum") << ToTum(drive.truth);
+  auto window = [&](const std::vector<TrajectorySample>& all) {
+    std::vector<TrajectorySample> out;
+    for (const auto& x : all)
+      if (x.t >= extras.t_begin && x.t <= extras.t_end) out.push_back(x);
+    return out;
+  };
+  std::ofstream(d / "trajectory_estimated.tum") << ToTum(window(drive.estimated));
+  std::ofstream(d / "trajectory_true.tum") << ToTum(window(drive.truth));
   perception::WriteMap(session.Map(), (d / "map.yaml").string());
   {
     std::ofstream f(d / "room.effective.yaml");
@@ -87,7 +94,7 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
     j["sim_time"] = s.sim_time;
     j["X_MS_prior"] = PoseJson(s.X_MS_prior);
     j["X_MS"] = PoseJson(s.X_MS);
-    if (s.index > 0) {
+    if (s.index > 0 || !s.registration.message.empty()) {
       const auto& r = s.registration;
       j["registration"] = {
           {"ok", r.ok},          {"converged", r.converged},   {"fitness", r.fitness},

@@ -75,11 +75,12 @@ struct Accum {
 
 Accum Correspond(const Points& src, const Eigen::Isometry3d& T, const Eigen::Vector3d& c,
                  const PointMap& map, double max_dist, Kernel kernel, double kernel_scale,
-                 double max_curvature) {
+                 double max_curvature, bool same_side) {
   const std::size_t blocks = (src.size() + kBlock - 1) / kBlock;
   std::vector<Accum> partial(blocks);
   const Points& q = map.points();
   const std::vector<Normal>& normals = map.normals();
+  const std::vector<Eigen::Vector3f>& views = map.views();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const auto& range) {
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
       Accum& acc = partial[b];
@@ -88,8 +89,12 @@ Accum Correspond(const Points& src, const Eigen::Isometry3d& T, const Eigen::Vec
         const Eigen::Vector3d p = T * src[i];
         const std::int64_t j = map.tree().Nearest(p, max_dist);
         if (j < 0) continue;
-        ++acc.matched;
         const Normal& nm = normals[static_cast<std::size_t>(j)];
+        if (same_side && nm.valid) {
+          const Eigen::Vector3d view = views[static_cast<std::size_t>(j)].cast<double>();
+          if (nm.n.dot(view) * nm.n.dot(T.translation() - p) < 0.0) continue;
+        }
+        ++acc.matched;
         if (!nm.valid || nm.curvature > max_curvature) continue;
         ++acc.planar;
         const double r = nm.n.dot(p - q[static_cast<std::size_t>(j)]);
@@ -181,6 +186,7 @@ struct PointMap::Impl {
   std::vector<VoxelCell> cells;
   std::unique_ptr<KdTree3> tree;
   std::vector<Normal> normals;
+  std::vector<Eigen::Vector3f> views;  // per merged cell, as PointMap::views()
   std::vector<RangeImage> images;
   std::size_t last_recomputed = 0;
   Points empty_points;
@@ -194,10 +200,29 @@ PointMap::~PointMap() = default;
 PointMap::PointMap(PointMap&&) noexcept = default;
 PointMap& PointMap::operator=(PointMap&&) noexcept = default;
 
-void PointMap::Add(const Points& points_M) {
+void PointMap::Add(const Points& points_M) { AddCells(points_M, nullptr); }
+
+void PointMap::AddCells(const Points& points_M, const Eigen::Vector3d* origin_M) {
   const IcpParams& p = impl_->params;
   const std::vector<VoxelCell> fresh = Voxelize(points_M, p.voxel_size);
   if (fresh.empty()) return;
+  // Per fresh cell: the unit vectors from its points towards the scan origin, summed in point
+  // order.
+  std::vector<Eigen::Vector3f> fresh_views(fresh.size(), Eigen::Vector3f::Zero());
+  if (origin_M) {
+    for (const auto& q : points_M) {
+      if (!q.allFinite()) continue;
+      const std::int64_t key = VoxelKey(q, p.voxel_size);
+      const auto it =
+          std::lower_bound(fresh.begin(), fresh.end(), key,
+                           [](const VoxelCell& cell, std::int64_t k) { return cell.key < k; });
+      const Eigen::Vector3d d = *origin_M - q;
+      if (d.norm() > 1e-9)
+        fresh_views[static_cast<std::size_t>(it - fresh.begin())] += d.normalized().cast<float>();
+    }
+  }
+  std::vector<Eigen::Vector3f> merged_views;
+  merged_views.reserve(impl_->views.size() + fresh.size());
   // Merge the key-sorted cell lists, remembering which cells changed (old and new centroids).
   const std::vector<VoxelCell>& old = impl_->cells;
   std::vector<VoxelCell> merged;
@@ -208,6 +233,7 @@ void PointMap::Add(const Points& points_M) {
   std::size_t i = 0, j = 0;
   while (i < old.size() || j < fresh.size()) {
     if (j == fresh.size() || (i < old.size() && old[i].key < fresh[j].key)) {
+      merged_views.push_back(impl_->views[i]);
       merged.push_back(old[i]);
       from_old.push_back(static_cast<std::int64_t>(i++));
       changed.push_back(0);
@@ -219,9 +245,11 @@ void PointMap::Add(const Points& points_M) {
       c.sum += fresh[j].sum;
       c.count += fresh[j].count;
       merged.push_back(c);
+      merged_views.push_back(impl_->views[i] + fresh_views[j]);
       from_old.push_back(static_cast<std::int64_t>(i++));
     } else {
       merged.push_back(fresh[j]);
+      merged_views.push_back(fresh_views[j]);
       from_old.push_back(-1);
     }
     moved.push_back(merged.back().Centroid());
@@ -256,6 +284,7 @@ void PointMap::Add(const Points& points_M) {
   impl_->cells = std::move(merged);
   impl_->tree = std::move(tree);
   impl_->normals = std::move(normals);
+  impl_->views = std::move(merged_views);
   impl_->last_recomputed = which.size();
 }
 
@@ -264,7 +293,7 @@ std::size_t PointMap::last_normals_recomputed() const { return impl_->last_recom
 void PointMap::Add(const Points& points_M, const Eigen::Vector3d& origin_M) {
   if (!origin_M.allFinite())
     throw InputError("", "scan origin is not finite", "", "a finite point");
-  Add(points_M);
+  AddCells(points_M, &origin_M);
   RangeImage img;
   img.origin = origin_M;
   img.bin = DegToRad(impl_->params.free_space_bin_deg);
@@ -313,6 +342,7 @@ const Points& PointMap::points() const {
   return impl_->tree ? impl_->tree->points() : impl_->empty_points;
 }
 const std::vector<Normal>& PointMap::normals() const { return impl_->normals; }
+const std::vector<Eigen::Vector3f>& PointMap::views() const { return impl_->views; }
 const KdTree3& PointMap::tree() const { return *impl_->tree; }
 const IcpParams& PointMap::params() const { return impl_->params; }
 
@@ -371,7 +401,7 @@ void AssessRegistration(const Points& src, const Eigen::Vector3d& src_centroid,
   const Eigen::Isometry3d& T = res.X_MS;
   const double last_dist = params.max_correspondence.back();
   const Accum fin = Correspond(src, T, T * src_centroid, target, last_dist, Kernel::kNone, 1.0,
-                               params.max_normal_curvature);
+                               params.max_normal_curvature, params.same_side);
   res.fitness = static_cast<double>(fin.matched) / static_cast<double>(src.size());
   res.rmse = fin.planar > 0 ? std::sqrt(fin.r2 / static_cast<double>(fin.planar)) : 0.0;
   // Free space: only points without a map point within the last stage's distance can float
@@ -489,8 +519,8 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
     stage_converged = false;
     for (int it = 0; it < params.max_iterations; ++it) {
       const Eigen::Vector3d c = T * src_centroid;
-      const Accum a =
-          Correspond(src, T, c, target, dist, kernel, scale, params.max_normal_curvature);
+      const Accum a = Correspond(src, T, c, target, dist, kernel, scale,
+                                 params.max_normal_curvature, params.same_side);
       if (a.planar < 12 || a.weight <= 0.0) {
         failure = "only " + std::to_string(a.planar) + " correspondences within " +
                   FormatNumbers("%.3g", dist) + " m";

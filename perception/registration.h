@@ -72,6 +72,10 @@ struct IcpParams {
   double max_free_space_violation = 0.006;  ///< share of source points, [0, 1]
   double min_range = 0.0;     ///< m, source points closer to the scanner are dropped, [0, 1000]
   double max_range = 1000.0;  ///< m, source points farther are dropped, (0, 1e6]
+  /// A source point matches a map point only when both were seen from the same side of the map
+  /// point's plane (map points from scans added with their origin): the two faces of a thin
+  /// wall, seen from the rooms on either side, are two surfaces, not one.
+  bool same_side = false;
 
   template <class V>
   void Visit(V& v) {
@@ -95,6 +99,7 @@ struct IcpParams {
     v("max_free_space_violation", max_free_space_violation, Bounds{0.0, 1.0});
     v("min_range", min_range, Bounds{0.0, 1000.0});
     v("max_range", max_range, Bounds{1e-3, 1e6});
+    v("same_side", same_side);
   }
   /// Bounds plus cross-field rules (dof 4 or 6, known kernel, non-empty schedule,
   /// min_range < max_range); throws InputError naming the field.
@@ -202,6 +207,9 @@ class PointMap {
   std::size_t size() const;
   const Points& points() const;  ///< voxel centroids, in voxel-key order
   const std::vector<Normal>& normals() const;
+  /// Per point: the sum of unit vectors towards the origins of the scans that saw its cell
+  /// (zero for points added without an origin).
+  const std::vector<Eigen::Vector3f>& views() const;
   const KdTree3& tree() const;  ///< precondition: !empty()
   const IcpParams& params() const;
   /// Normals recomputed by the last Add (cells within normal_radius of a changed cell; the
@@ -209,6 +217,7 @@ class PointMap {
   std::size_t last_normals_recomputed() const;
 
  private:
+  void AddCells(const Points& points_M, const Eigen::Vector3d* origin_M);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

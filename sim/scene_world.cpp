@@ -12,17 +12,6 @@
 #include "scenes/scene_spec.h"
 
 namespace mopad::sim {
-namespace {
-
-double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                         const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
-}  // namespace
-
 SceneWorld LoadSceneWorld(const std::string& scene_arg,
                           const std::vector<std::string>& door_overrides) {
   SceneWorld out;

@@ -1,0 +1,293 @@
+#include "autonomy/floor_scan.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "autonomy/exploration.h"
+#include "common/error.h"
+#include "common/format.h"
+#include "common/polygon.h"
+#include "perception/point_cloud_ops.h"
+
+namespace mopad::autonomy {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double YawOf(const Vec2& d) { return std::atan2(d.y(), d.x()); }
+
+class FloorMission {
+ public:
+  FloorMission(Navigator& nav, const RoomScanParams& rp, const FloorScanParams& p,
+               const FloorScanHooks& hooks)
+      : nav_(nav), rp_(rp), p_(p), hooks_(hooks), target_(rp.icp) {}
+
+  FloorScanResult Run() {
+    const auto t0 = Clock::now();
+    res_.tree.AddRoot("room_1");
+    VisitRoom(0, DoorScan{});
+    int current = 0;
+    while (true) {
+      DropExploredChildren(current);
+      const std::vector<int> kids = res_.tree.UnvisitedChildren(current);
+      if (kids.empty()) {
+        if (current == 0) {
+          res_.end_reason = "done: no door of a visited room leads to unexplored space";
+          break;
+        }
+        ReturnToParent(current);
+        current = res_.tree.Node(current).parent;
+        continue;
+      }
+      if (res_.tree.VisitedCount() >= p_.max_rooms) {
+        for (const TraversalNode& n : res_.tree.Nodes())
+          if (n.state == NodeState::kUnvisited)
+            res_.tree.MarkSeenNotEntered(n.id, "room cap reached");
+        res_.end_reason = "stop: room cap of " + std::to_string(p_.max_rooms) + " reached";
+        break;
+      }
+      const int kid = NearestChild(kids);
+      DoorScan before;
+      if (!EnterThroughDoor(kid, before)) continue;
+      VisitRoom(kid, before);
+      current = kid;
+    }
+    res_.scans = nav_.ScanCount();
+    res_.sim_time = nav_.Time();
+    res_.wall_time = Since(t0);
+    return std::move(res_);
+  }
+
+ private:
+  void Progress(const std::string& line) const {
+    if (hooks_.progress) hooks_.progress(line);
+  }
+
+  // The room loop where the robot stands, the room's models, its doors into the tree.
+  void VisitRoom(int node, DoorScan before) {
+    if (node != 0)
+      res_.tree.MarkVisited(node, "room_" + std::to_string(res_.tree.VisitedCount() + 1));
+    RoomVisit v;
+    v.node = node;
+    v.room = res_.tree.Node(node).room;
+    if (before.index >= 0) {
+      // The door scan counts for the room it looked into.
+      for (DoorScan& d : res_.door_scans)
+        if (d.index == before.index) d.room = v.room;
+      before.room = v.room;
+      v.door_scan_before = before;
+      res_.tree.Node(node).door_scan_before = before.index;
+    }
+    if (hooks_.room_started) hooks_.room_started(v.room);
+    modelling::RoomModel model(rp_.model);
+    const ScanHook on_scan = [&](int index, const interfaces::TlsScan& scan) {
+      if (res_.tree.Node(node).door_scan_after < 0 && node != 0)
+        res_.tree.Node(node).door_scan_after = index;
+      if (hooks_.scan) hooks_.scan(v.room, index, scan);
+      Progress(v.room + ": scan " + std::to_string(model.ScanCount()) + ", coverage " +
+               FormatFixed(model.Coverage().ratio, 3));
+    };
+    try {
+      v.scan = RunRoomScan(nav_, rp_, model, on_scan, &target_);
+      v.models = BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images);
+    } catch (const std::exception& e) {
+      v.error = e.what();
+    }
+    v.model = &model;
+    if (hooks_.room_done) hooks_.room_done(v);
+    FloorRoom r;
+    r.node = node;
+    r.room = v.room;
+    r.scans = static_cast<int>(v.scan.scans.size());
+    r.stop_reason = v.error.empty() ? v.scan.stop_reason : "failed: " + v.error;
+    if (!v.scan.scans.empty()) r.coverage = v.scan.scans.back().coverage.ratio;
+    if (model.ScanCount() > 0) r.perimeter = model.Perimeter();
+    r.sm3 = std::move(v.models.sm3);
+    r.sm4 = std::move(v.models.sm4);
+    r.error = v.error;
+    res_.tree.Node(node).reason = r.stop_reason;
+    res_.rooms.push_back(std::move(r));
+    if (res_.rooms.back().error.empty()) AddChildren(node, res_.rooms.back());
+  }
+
+  // The visited room whose perimeter holds `p`, or "".
+  std::string VisitedRoomAt(const Vec2& p) const {
+    for (const FloorRoom& r : res_.rooms)
+      if (r.perimeter.size() >= 3 && PointInPolygon(p, r.perimeter)) return r.room;
+    return "";
+  }
+
+  Vec2 Beyond(const DoorRecord& d) const { return d.centre - p_.beyond_probe * d.inward; }
+
+  // Each door of the room's SM4 that leads to space no visited room covers, and that no node
+  // holds yet (the same door found from its other side), becomes a child.
+  void AddChildren(int node, const FloorRoom& room) {
+    for (const modelling::DetectedOpening& o : room.sm4.openings) {
+      if (o.type != modelling::OpeningType::kDoor) continue;
+      const DoorRecord d = DoorOf(o, room.room);
+      if (!VisitedRoomAt(Beyond(d)).empty() || KnownDoor(d)) continue;
+      const bool sm4_passable =
+          o.state != modelling::DoorState::kClosed && o.clear_width_m >= p_.min_clear_width;
+      // The map's own evidence: a route through known free space from in front of the door to
+      // beyond it, as wide as the robot needs (the scans saw through the door).
+      const bool map_passable = MapPassage(d);
+      if (sm4_passable || map_passable) {
+        res_.tree.AddChild(node, d, NodeState::kUnvisited,
+                           sm4_passable
+                               ? ""
+                               : "SM4 says " + d.state +
+                                     FormatNumbers(", clear width %.2f m; the map shows a passage",
+                                                   o.clear_width_m));
+      } else if (o.state == modelling::DoorState::kClosed) {
+        res_.tree.AddChild(
+            node, d, NodeState::kSeenNotEntered,
+            FormatNumbers("door closed (opening angle %.0f deg)",
+                          std::isfinite(o.opening_angle_deg) ? o.opening_angle_deg : 0.0));
+      } else {
+        res_.tree.AddChild(node, d, NodeState::kSeenNotEntered,
+                           FormatNumbers("door too narrow: clear width %.2f m < %.2f m",
+                                         o.clear_width_m, p_.min_clear_width));
+      }
+    }
+  }
+
+  // A route with half the minimum clear width of clearance from occupied cells (the jambs, an
+  // opened leaf), from in front of the door to beyond it, no longer than a detour around the
+  // leaf: the gap the scans saw is as wide as the robot needs. Space beyond the door that no
+  // scan saw yet does not block it (the robot scans there before it drives on).
+  bool MapPassage(const DoorRecord& d) const {
+    const Vec2 from = Approach(d), to = d.centre - p_.door_exit * d.inward;
+    const double len = RouteLengths(nav_.Map(), from, {to}, 0.5 * p_.min_clear_width,
+                                    /*through_unknown=*/true)
+                           .front();
+    return len < 2.0 * (p_.door_approach + p_.door_exit);
+  }
+
+  // A node's door within half a door width of `d` (the same door seen from the other room).
+  bool KnownDoor(const DoorRecord& d) const {
+    for (const TraversalNode& n : res_.tree.Nodes())
+      if (n.has_entry_door && (n.entry_door.centre - d.centre).norm() < 0.5 * d.width) return true;
+    return false;
+  }
+
+  // Children whose far side a room visited since covers were explored through another door.
+  void DropExploredChildren(int node) {
+    for (int c : res_.tree.UnvisitedChildren(node)) {
+      const std::string room = VisitedRoomAt(Beyond(res_.tree.Node(c).entry_door));
+      if (!room.empty())
+        res_.tree.MarkSeenNotEntered(c, "leads to " + room + ", entered through another door");
+    }
+  }
+
+  Vec2 Approach(const DoorRecord& d) const { return d.centre + p_.door_approach * d.inward; }
+
+  // The unvisited child whose door the robot reaches by the shortest route in its map (ties
+  // and unreachable ones: in the order they were added).
+  int NearestChild(const std::vector<int>& kids) const {
+    std::vector<Vec2> goals;
+    for (int k : kids) goals.push_back(Approach(res_.tree.Node(k).entry_door));
+    const Pose2 here = nav_.EstimatedPose();
+    const std::vector<double> len =
+        RouteLengths(nav_.Map(), Vec2(here.x, here.y), goals, p_.door_pose_clearance);
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < kids.size(); ++i)
+      if (len[i] < len[best]) best = i;
+    return kids[best];
+  }
+
+  // Drives to `nominal` (or the nearest point with clearance), facing `yaw`. Empty on arrival,
+  // else the reason.
+  std::string DriveNear(const Vec2& nominal, double yaw, const char* what) {
+    const auto goal =
+        NearestClearPoint(nav_.Map(), nominal, p_.door_pose_search, p_.door_pose_clearance);
+    if (!goal)
+      return FormatNumbers("no free spot with %.2f m clearance within %.2f m of the ",
+                           p_.door_pose_clearance, p_.door_pose_search) +
+             what;
+    const DriveStatus st = nav_.NavigateTo(Pose2{goal->x(), goal->y(), yaw});
+    if (st == DriveStatus::kArrived) return "";
+    return std::string("drive to the ") + what + ": " + ToString(st) + " (" + nav_.Log().message +
+           ")";
+  }
+
+  // MoPAD's door passage: a scan in front of the door frame, then the base just beyond it,
+  // where the room loop takes its first scan. False (node unreachable, explained) on failure.
+  bool EnterThroughDoor(int kid, DoorScan& before) {
+    const DoorRecord d = res_.tree.Node(kid).entry_door;
+    const double yaw = YawOf(-d.inward);
+    Progress("to the door " + d.opening + " of " + d.room +
+             FormatNumbers(" (%.1f, %.1f)", d.centre.x(), d.centre.y()));
+    std::string why = DriveNear(Approach(d), yaw, "door's front");
+    if (!why.empty()) {
+      res_.tree.MarkUnreachable(kid, why);
+      return false;
+    }
+    const interfaces::TlsScan& scan = nav_.TakeScan(rp_.scan_step_deg);
+    // In the room it leaves: registered as that room's scans are, and then part of the target
+    // the next room's first scan is registered against.
+    perception::RegistrationResult reg;
+    if (RegisterLastScan(nav_, target_, rp_.icp, rp_.acceptance, reg))
+      target_.Add(perception::Transform(perception::ScanPoints(scan), reg.X_MS),
+                  reg.X_MS.translation());
+    before = DoorScan{nav_.ScanCount() - 1, nav_.Time(), scan.X_MS_estimate, d.room};
+    res_.door_scans.push_back(before);
+    why = DriveNear(d.centre - p_.door_exit * d.inward, yaw, "space beyond the door");
+    if (!why.empty()) {
+      const Pose2 at = nav_.EstimatedPose();
+      const double depth = (Vec2(at.x, at.y) - d.centre).dot(-d.inward);
+      if (depth < 0.5 * p_.door_exit) {
+        res_.tree.MarkUnreachable(kid, why);
+        return false;
+      }
+    }
+    return true;
+  }
+
+  void ReturnToParent(int node) {
+    const TraversalNode& n = res_.tree.Node(node);
+    const DoorRecord& d = n.entry_door;
+    Progress(n.room + " done; back through " + d.opening + " to " + d.room);
+    const std::string why = DriveNear(Approach(d), YawOf(d.inward), "parent's side of the door");
+    if (!why.empty()) res_.events.push_back(n.room + ": return to " + d.room + ": " + why);
+  }
+
+  Navigator& nav_;
+  const RoomScanParams& rp_;
+  const FloorScanParams& p_;
+  const FloorScanHooks& hooks_;
+  FloorScanResult res_;
+  perception::PointMap target_;  // every registered scan of the mission (the floor's S(t-1))
+};
+
+}  // namespace
+
+DoorRecord DoorOf(const modelling::DetectedOpening& o, const std::string& room) {
+  DoorRecord d;
+  d.room = room;
+  d.opening = o.id;
+  d.state = modelling::ToString(o.state);
+  d.opening_angle_deg = std::isfinite(o.opening_angle_deg) ? o.opening_angle_deg : 0.0;
+  d.clear_width_m = o.clear_width_m;
+  d.corners = o.corners;
+  const Vec3 c0 = o.corners[0], c1 = o.corners[1], c3 = o.corners[3];
+  d.centre = 0.5 * (c0 + c1).head<2>();
+  d.width = (c1 - c0).head<2>().norm();
+  const Vec2 n = (c1 - c0).cross(c3 - c0).head<2>();
+  d.inward = n.norm() > 0 ? Vec2(n.normalized()) : Vec2::UnitX();
+  return d;
+}
+
+FloorScanResult RunFloorScan(Navigator& navigator, const RoomScanParams& room_params,
+                             const FloorScanParams& params, const FloorScanHooks& hooks) {
+  ValidateParams(params, "floor.");
+  return FloorMission(navigator, room_params, params, hooks).Run();
+}
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,126 @@
+#pragma once
+// The robot's floor mission (paper §2, Figures 3-5): one robot explores a building floor room
+// by room from where it stands, building the Dynamic Traversal Tree (autonomy/traversal_tree.h)
+// as it goes:
+//
+//   room loop (autonomy/room_scan.h) in the start room -> SM3, SM4 -> its doors into space no
+//   visited room covers become children (passable) or leaves (closed, too narrow)
+//   loop: nearest unvisited child of the current node (route length in the robot's map)
+//         -> drive in front of its door, scan (door scan 1) -> drive just beyond the door frame
+//         -> room loop there (its first scan is door scan 2) -> SM3, SM4 -> children
+//         none left: drive back through the entry door to the parent; at the root: done.
+//
+// One navigator throughout (one map frame, no teleports). Every scan the mission uses is
+// registered against all earlier ones (the floor's S(t-1)): the door scan in front of the frame
+// as a scan of the room it stands in, the room's first scan beyond it as a door scan
+// (RoomScanParams::entry_icp), so each room is tied to the rooms before it through the doors. A
+// room whose modelling fails is recorded with its reason and the mission goes on.
+//
+// Robot side only: it drives an autonomy::Navigator and sees nothing of the world.
+// Deterministic: same platform behaviour + params -> same decisions and outputs.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "autonomy/navigator.h"
+#include "autonomy/room_scan.h"
+#include "autonomy/traversal_tree.h"
+#include "common/params.h"
+
+namespace mopad::autonomy {
+
+struct FloorScanParams {
+  /// m, base centre in front of a door's wall plane for the scan before the frame, [0.3, 5]
+  double door_approach = 1.0;
+  /// m, base centre beyond the door's wall plane (the wall's thickness included) for the scan
+  /// after the frame: the new room's first scan, [0.3, 5]
+  double door_exit = 1.3;
+  /// m, door scan poses move at most this far from their nominal place to find clearance, [0, 3]
+  double door_pose_search = 0.6;
+  /// m, clearance of door scan poses to known obstacles (unknown counts as obstacle), [0, 3]
+  double door_pose_clearance = 0.45;
+  /// m, doors narrower than this (SM4 clear width) are not entered: the robot's diameter plus
+  /// the local controller's margins, [0, 5]
+  double min_clear_width = 0.72;
+  /// m, a door leads to explored space when the point this far beyond its wall plane lies in
+  /// a visited room's perimeter, [0.1, 5]
+  double beyond_probe = 0.6;
+  int max_rooms = 64;  ///< rooms visited at most (the mission ends there, explained), [1, 10000]
+
+  template <class V>
+  void Visit(V& v) {
+    v("door_approach", door_approach, Bounds{0.3, 5.0});
+    v("door_exit", door_exit, Bounds{0.3, 5.0});
+    v("door_pose_search", door_pose_search, Bounds{0.0, 3.0});
+    v("door_pose_clearance", door_pose_clearance, Bounds{0.0, 3.0});
+    v("min_clear_width", min_clear_width, Bounds{0.0, 5.0});
+    v("beyond_probe", beyond_probe, Bounds{0.1, 5.0});
+    v("max_rooms", max_rooms, Bounds{1, 10000});
+  }
+};
+
+/// One TLS scan of the mission that is not a room-loop scan of the room model.
+struct DoorScan {
+  int index = -1;         ///< the navigator's scan index
+  double sim_time = 0.0;  ///< s
+  Pose3 X_MS = Pose3::Identity();
+  /// The room whose scans it is listed with: the room it led into, or the room that found the
+  /// door when the robot could not pass it.
+  std::string room;
+};
+
+/// A room as the floor mission saw it, handed to RoomDone before the room model is dropped.
+struct RoomVisit {
+  int node = -1;
+  std::string room;           ///< the robot's name: "room_<visit order + 1>"
+  DoorScan door_scan_before;  ///< index -1 for the start room
+  RoomScanResult scan;        ///< the room loop's log (its first scan is door scan 2)
+  const modelling::RoomModel* model = nullptr;
+  RoomModels models;                                                  ///< SM3, SM4
+  std::vector<std::pair<std::string, modelling::Orthoimage>> images;  ///< wall orthoimages
+  std::string error;  ///< non-empty: modelling failed; the room has no models
+};
+
+/// What the mission's owner hears (all optional).
+struct FloorScanHooks {
+  /// Before the room loop of a room starts (the robot stands where its first scan is taken).
+  std::function<void(const std::string& room)> room_started;
+  /// Every scan the room model accepted (as autonomy::ScanHook).
+  std::function<void(const std::string& room, int index, const interfaces::TlsScan& scan)> scan;
+  /// A room finished (models built, or the error).
+  std::function<void(const RoomVisit& visit)> room_done;
+  /// One line of what the robot is doing, for a person.
+  std::function<void(const std::string& line)> progress;
+};
+
+/// A visited room, as kept after its visit.
+struct FloorRoom {
+  int node = -1;
+  std::string room;
+  int scans = 0;  ///< room-loop scans taken (door scan 2 included)
+  std::string stop_reason;
+  double coverage = 0.0;        ///< the robot's own estimate after the last scan
+  std::vector<Vec2> perimeter;  ///< map frame plan polygon (empty when modelling failed)
+  modelling::StructuralModel sm3;
+  modelling::Sm4Model sm4;
+  std::string error;
+};
+
+struct FloorScanResult {
+  TraversalTree tree;
+  std::vector<FloorRoom> rooms;  ///< in visit order
+  std::vector<DoorScan> door_scans;
+  std::vector<std::string> events;  ///< drives that failed outside a room loop, one line each
+  std::string end_reason;           ///< why the mission ended
+  int scans = 0;                    ///< TLS scans of the whole mission
+  double sim_time = 0.0, wall_time = 0.0;
+};
+
+FloorScanResult RunFloorScan(Navigator& navigator, const RoomScanParams& room_params,
+                             const FloorScanParams& params, const FloorScanHooks& hooks = {});
+
+/// The door of `o` (a door of SM4) as the floor mission uses it.
+DoorRecord DoorOf(const modelling::DetectedOpening& o, const std::string& room);
+
+}  // namespace mopad::autonomy

@@ -1,0 +1,230 @@
+#include "mission/floor_job.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <set>
+
+#include "common/error.h"
+#include "common/polygon.h"
+#include "io/text_file.h"
+#include "mission/model_export.h"
+#include "modelling/model_io.h"
+#include "modelling/openings.h"
+
+namespace mopad::mission {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The truth room whose outline holds the world point `p`, else the one with the nearest edge.
+std::string TruthRoomAt(const scenes::GroundTruth& truth, const Eigen::Vector2d& p) {
+  std::string best;
+  double best_d = 1e300;
+  for (const scenes::Room& r : truth.rooms) {
+    if (PointInPolygon(p, r.polygon)) return r.id;
+    for (std::size_t i = 0; i < r.polygon.size(); ++i) {
+      const double d = DistanceToSegment(p, r.polygon[i], r.polygon[(i + 1) % r.polygon.size()]);
+      if (d < best_d) best_d = d, best = r.id;
+    }
+  }
+  return best;
+}
+
+nlohmann::ordered_json DoorJson(const autonomy::DoorRecord& d) {
+  nlohmann::ordered_json c = nlohmann::json::array();
+  for (const Vec3& v : d.corners) c.push_back({v.x(), v.y(), v.z()});
+  return {{"room", d.room},
+          {"opening", d.opening},
+          {"state", d.state},
+          {"opening_angle_deg", d.opening_angle_deg},
+          {"clear_width_m", d.clear_width_m},
+          {"centre", {d.centre.x(), d.centre.y()}},
+          {"corners", c}};
+}
+
+nlohmann::ordered_json DttJson(const autonomy::FloorScanResult& m,
+                               const std::vector<FloorRoomJob>& rooms) {
+  nlohmann::ordered_json nodes = nlohmann::json::array();
+  for (const autonomy::TraversalNode& n : m.tree.Nodes()) {
+    nlohmann::ordered_json j;
+    j["id"] = n.id;
+    j["room"] = n.room;
+    for (const FloorRoomJob& r : rooms)
+      if (!n.room.empty() && r.robot_room == n.room) j["scene_room"] = r.room;
+    j["parent"] = n.parent;
+    j["state"] = autonomy::ToString(n.state);
+    j["reason"] = n.reason;
+    j["visit_order"] = n.visit_order;
+    j["entry_door"] = n.has_entry_door ? DoorJson(n.entry_door) : nlohmann::ordered_json();
+    j["children"] = n.children;
+    j["door_scans"] = {{"before", n.door_scan_before}, {"after", n.door_scan_after}};
+    nodes.push_back(std::move(j));
+  }
+  nlohmann::ordered_json scans = nlohmann::json::array();
+  for (const autonomy::DoorScan& d : m.door_scans)
+    scans.push_back({{"index", d.index}, {"sim_time", d.sim_time}, {"room", d.room}});
+  nlohmann::ordered_json j;
+  j["format"] = "mopad-dtt";
+  j["version"] = 1;
+  j["frame"] = "map";
+  j["nodes"] = std::move(nodes);
+  j["door_scans"] = std::move(scans);
+  j["events"] = m.events;
+  j["end_reason"] = m.end_reason;
+  j["scans"] = m.scans;
+  return j;
+}
+
+// The world side of one mission: the truth labels of the current room's scans, and each
+// visited room's files and evaluation.
+class FloorWorld {
+ public:
+  FloorWorld(const sim::SceneWorld& mw, const FloorMissionParams& params, RobotSession& session,
+             const std::string& dir, bool evaluate)
+      : mw_(mw), params_(params), session_(session), dir_(dir), evaluate_(evaluate) {}
+
+  autonomy::FloorScanHooks Hooks(const std::function<void(const std::string&)>& progress) {
+    autonomy::FloorScanHooks h;
+    h.room_started = [this](const std::string& robot_room) { Started(robot_room); };
+    h.scan = [this](const std::string&, int index, const interfaces::TlsScan& scan) {
+      if (labels_) hook_(index, scan);
+    };
+    h.room_done = [this](const autonomy::RoomVisit& v) { Done(v); };
+    h.progress = progress;
+    return h;
+  }
+  std::vector<FloorRoomJob>& Rooms() { return rooms_; }
+
+ private:
+  void Started(const std::string& robot_room) {
+    t_room_ = Clock::now();
+    t_begin_ = session_.SimTime();
+    const Pose2 at = session_.TruePoseInWorld();
+    room_ = TruthRoomAt(*mw_.truth, Eigen::Vector2d(at.x, at.y));
+    robot_room_ = robot_room;
+    labels_ = std::make_unique<Sm1TruthCollector>(session_, *mw_.truth, room_);
+    hook_ = labels_->Hook();
+  }
+
+  void Done(const autonomy::RoomVisit& v) {
+    FloorRoomJob r;
+    r.robot_room = v.room;
+    r.room = room_;
+    r.scans = static_cast<int>(v.scan.scans.size());
+    r.door_scans = v.door_scan_before.index >= 0 ? 1 : 0;
+    if (!v.scan.scans.empty()) r.robot_coverage = v.scan.scans.back().coverage.ratio;
+    r.status = v.error.empty() ? "scanned" : "failed";
+    r.reason = v.error.empty() ? v.scan.stop_reason : v.error;
+    if (v.error.empty()) Write(v, r);
+    r.seconds = Since(t_room_);
+    rooms_.push_back(std::move(r));
+    labels_.reset();
+  }
+
+  void Write(const autonomy::RoomVisit& v, FloorRoomJob& r) {
+    std::string name = room_;
+    while (used_.count(name)) name += "_" + v.room;  // the same scene room entered twice
+    used_.insert(name);
+    r.dir = "rooms/" + name;
+    const std::string dir = (fs::path(dir_) / r.dir).string();
+    const modelling::RoomModel& model = *v.model;
+    modelling::VoxelSpace dsm3 = model.Voxels();
+    modelling::MarkOpeningVoxels(v.models.sm4.openings, dsm3);
+    RoomOutputExtras extras;
+    if (v.door_scan_before.index >= 0)
+      extras.door_scans.emplace_back(v.door_scan_before.sim_time, v.door_scan_before.X_MS);
+    extras.t_begin = t_begin_;
+    extras.t_end = session_.SimTime();
+    WriteRoomOutputs(v.scan, params_, session_, model, v.models.sm3, dsm3, dir, extras);
+    modelling::WriteSm4Files(dir, v.models.sm4, v.images);
+    const Pose3 X_WM = session_.X_MW().To3d().inverse();
+    WriteRunJson(dir, mw_, room_, params_.drive.seed, X_WM);
+    modelling::WriteModelsGlb(v.models.sm3, &v.models.sm4, room_,
+                              (fs::path(dir) / "models.glb").string());
+    r.openings = v.models.sm4.openings.size();
+    const auto& truths = session_.ScanTruths();
+    for (const auto& s : v.scan.scans)
+      r.scan_positions_W.push_back(
+          truths.at(static_cast<std::size_t>(s.session_scan)).X_WS.translation());
+    const auto& pts = model.Points();
+    const double z_lo = model.FloorZ() + 1.2, z_hi = model.FloorZ() + 1.6;
+    for (std::size_t i = 0; i < pts.size(); i += 13) {
+      if (pts[i].z() < z_lo || pts[i].z() > z_hi) continue;
+      const Eigen::Vector3d w = X_WM * pts[i].cast<double>();
+      r.plan_points_W.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
+    }
+    if (evaluate_) {
+      r.evaluation =
+          EvaluateRoom(*mw_.world, *mw_.truth, room_, session_, v.scan, model, labels_->Labels());
+      io::WriteTextFile((fs::path(dir) / "evaluation.json").string(),
+                        ToJson(*r.evaluation).dump(2) + "\n");
+    }
+  }
+
+  const sim::SceneWorld& mw_;
+  const FloorMissionParams& params_;
+  RobotSession& session_;
+  std::string dir_;
+  bool evaluate_;
+  std::unique_ptr<Sm1TruthCollector> labels_;
+  autonomy::ScanHook hook_;
+  std::string room_, robot_room_;
+  std::set<std::string> used_;
+  Clock::time_point t_room_;
+  double t_begin_ = 0.0;
+  std::vector<FloorRoomJob> rooms_;
+};
+
+}  // namespace
+
+FloorMissionParams::FloorMissionParams() {
+  // The floor's registration target holds both faces of the walls between rooms: a scan's
+  // points match only surfaces seen from their own side.
+  icp.same_side = true;
+  entry_icp.same_side = true;
+}
+
+FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
+                     const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
+                     const std::function<void(const std::string&)>& progress) {
+  if (!mw.truth || mw.truth->rooms.empty())
+    throw InputError(
+        "run: error: the scene has no truth rooms; expected a generated or "
+        "imported scene (scene.truth.json)");
+  FloorJob job;
+  if (start_W) {
+    job.start_W = *start_W;
+  } else {
+    const Eigen::Vector2d xy = sim::FreeSpotInRoom(*mw.truth, mw.truth->rooms.front());
+    job.start_W = Pose2{xy.x(), xy.y(), 0.0};
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
+  RobotSession session(*mw.world, params.drive, job.start_W);
+  FloorWorld world(mw, params, session, dir, evaluate);
+  job.mission =
+      autonomy::RunFloorScan(session.Robot(), params, params.floor, world.Hooks(progress));
+  job.rooms = std::move(world.Rooms());
+  job.drive = session.Result();
+  for (std::size_t k = 1; k < job.drive.truth.size(); ++k) {
+    const Pose2& a = job.drive.truth[k - 1].pose;
+    const Pose2& b = job.drive.truth[k].pose;
+    job.max_true_step = std::max(job.max_true_step, std::hypot(b.x - a.x, b.y - a.y));
+  }
+  const fs::path d(dir);
+  io::WriteTextFile((d / "trajectory_estimated.tum").string(), ToTum(job.drive.estimated));
+  io::WriteTextFile((d / "trajectory_true.tum").string(), ToTum(job.drive.truth));
+  job.dtt = DttJson(job.mission, job.rooms);
+  io::WriteTextFile((d / "dtt.json").string(), job.dtt.dump(2) + "\n");
+  return job;
+}
+
+}  // namespace mopad::mission

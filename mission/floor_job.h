@@ -1,0 +1,70 @@
+#pragma once
+// The main job's floor mission (`mopad run`): one simulated robot placed once at the start pose
+// runs the robot's floor loop (autonomy/floor_scan.h) over the whole floor; the world side names
+// each robot room after the truth room it stands in, keeps the truth for the evaluator and
+// writes the run folder:
+//   DIR/trajectory_true.tum, DIR/trajectory_estimated.tum  the whole mission (map frame)
+//   DIR/dtt.json                                           the Dynamic Traversal Tree
+//   DIR/rooms/<ID>/                                        per room, as `mopad room` writes
+//                                                          them, all in the one map frame
+// Deterministic: same world + params + seed + start -> same files (timings aside).
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "autonomy/floor_scan.h"
+#include "mission/room_job.h"
+#include "mission/room_mission.h"
+#include "sim/scene_world.h"
+
+namespace mopad::mission {
+
+/// The room loop's params, the simulated robot's (`drive`) and the floor loop's (`floor`).
+struct FloorMissionParams : RoomMissionParams {
+  autonomy::FloorScanParams floor;
+
+  FloorMissionParams();
+
+  template <class V>
+  void Visit(V& v) {
+    RoomMissionParams::Visit(v);
+    v("floor", floor);
+  }
+};
+
+/// One visited room of the mission, world side.
+struct FloorRoomJob {
+  std::string robot_room;  ///< the robot's name ("room_3")
+  std::string room;        ///< the truth room it scanned (where its first scan stood)
+  std::string dir;         ///< "rooms/<room>" relative to the run folder; empty: not written
+  std::string status;      ///< "scanned" or "failed"
+  std::string reason;      ///< the room loop's stop reason, or why it failed
+  int scans = 0;           ///< room-loop scans
+  int door_scans = 0;      ///< door scans listed with the room (in front of its entry door)
+  double robot_coverage = 0.0;
+  std::size_t openings = 0;
+  std::optional<RoomEvaluation> evaluation;
+  std::vector<Eigen::Vector3d> scan_positions_W;  ///< true scanner centres (world), for plots
+  std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height
+  double seconds = 0.0;                           ///< wall time of the room (reporting only)
+};
+
+struct FloorJob {
+  Pose2 start_W;
+  autonomy::FloorScanResult mission;
+  std::vector<FloorRoomJob> rooms;  ///< in visit order
+  DriveResult drive;                ///< the whole mission's driving figures (truth included)
+  double max_true_step = 0.0;       ///< m, largest distance between consecutive true poses
+  nlohmann::ordered_json dtt;       ///< what dtt.json holds
+};
+
+/// Runs the floor mission from `start_W` (default: the harness's free spot of the truth's first
+/// room) and writes the run folder `dir`; with `evaluate`, each room is scored as `mopad room`
+/// does (DIR/rooms/<ID>/evaluation.json). `progress` hears one line per robot event.
+FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
+                     const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
+                     const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace mopad::mission

@@ -1,0 +1,242 @@
+#include "mission/main_job.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.h"
+#include "common/format.h"
+#include "common/params.h"
+#include "evaluation/run_evaluation.h"
+#include "io/text_file.h"
+#include "mission/room_job.h"
+
+namespace mopad::mission {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point a) {
+  return std::chrono::duration<double>(Clock::now() - a).count();
+}
+
+// What the job collected, whichever mode ran.
+struct JobTables {
+  ReportTable rooms{"Rooms (robot side)", {}, {}};
+  ReportTable eval{"Evaluation against the truth",
+                   {"room", "coverage of observable", "coverage of total",
+                    "registration error max (mm / deg)", "SM1 labels agree"},
+                   {}};
+  nlohmann::ordered_json rooms_json = nlohmann::json::array();
+  nlohmann::ordered_json mission_json;  ///< floor mode only
+  int rooms_failed = 0;
+  std::string subtitle;
+};
+
+void AddEvaluation(const std::string& room, const RoomEvaluation& e, JobTables& t,
+                   const MainJobOptions& o) {
+  if (o.print)
+    o.print(FormatNumbers("  evaluation: %.3f of observable, %.3f of total, ",
+                          e.coverage.room.ShareOfObservable(), e.coverage.room.ShareOfTotal()) +
+            FormatNumbers("registration max %.1f mm / %.3f deg, labels %.4f",
+                          1000 * e.max_translation_error, e.max_rotation_error_deg,
+                          e.labels.Accuracy()));
+  t.eval.rows.push_back({room, FormatFixed(e.coverage.room.ShareOfObservable(), 3),
+                         FormatFixed(e.coverage.room.ShareOfTotal(), 3),
+                         FormatFixed(1000 * e.max_translation_error, 1) + " / " +
+                             FormatFixed(e.max_rotation_error_deg, 3),
+                         FormatFixed(e.labels.Accuracy(), 4)});
+}
+
+void AddScans(const std::string& room, const std::vector<Eigen::Vector3d>& positions,
+              const std::vector<Eigen::Vector2f>& plan_points, ReportInput& report) {
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    ReportScan rs;
+    rs.name = room + "/" + std::to_string(k);
+    rs.position = positions[k];
+    if (k == 0) rs.plan_points = plan_points;
+    report.scans.push_back(std::move(rs));
+  }
+}
+
+void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
+                const MainJobOptions& o, JobTables& t, ReportInput& report) {
+  t.rooms.header = {"room", "scans", "robot coverage", "stop reason", "path (m)", "SM1 points"};
+  for (const std::string& id : o.rooms) {
+    const auto t0 = Clock::now();
+    const std::string room_dir = (fs::path(o.dir) / "rooms" / id).string();
+    std::optional<RoomJob> job;
+    try {
+      job = RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
+    } catch (const std::exception& ex) {
+      if (o.print) o.print("room " + id + ": failed: " + ex.what());
+      t.rooms.rows.push_back({id, "-", "-", std::string("failed: ") + ex.what(), "-", "-"});
+      t.rooms_json.push_back(
+          {{"room", id}, {"status", "failed"}, {"reason", ex.what()}, {"seconds", Seconds(t0)}});
+      ++t.rooms_failed;
+      continue;
+    }
+    const auto& m = job->mission;
+    const double cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.ratio;
+    if (o.print)
+      o.print("room " + id + ": " + std::to_string(m.scans.size()) + " scans, robot coverage " +
+              FormatFixed(cov, 3) + " (" + FormatFixed(Seconds(t0), 1) + " s)");
+    t.rooms.rows.push_back({id, std::to_string(m.scans.size()), FormatFixed(cov, 3), m.stop_reason,
+                            FormatFixed(job->path_length, 2), std::to_string(job->points)});
+    AddEvaluation(id, *job->evaluation, t, o);
+    AddScans(id, job->scan_positions_W, job->plan_points_W, report);
+    nlohmann::ordered_json rj;
+    rj["room"] = id;
+    rj["status"] = "scanned";
+    rj["dir"] = "rooms/" + id;
+    rj["scans"] = m.scans.size();
+    rj["stop_reason"] = m.stop_reason;
+    rj["registration_failed"] = m.registration_failed;
+    rj["robot_coverage"] = cov;
+    rj["evaluation"] = ToJson(*job->evaluation);
+    rj["seconds"] = Seconds(t0);
+    t.rooms_json.push_back(std::move(rj));
+  }
+  t.subtitle =
+      "A fresh robot placed at a harness-chosen free spot of each listed room scans it "
+      "from positions it chooses itself (next best scan, paper §3.1).";
+}
+
+nlohmann::ordered_json MissionJson(const FloorJob& job) {
+  const auto& m = job.mission;
+  const DriveResult& d = job.drive;
+  int visited = 0;
+  for (const auto& n : m.tree.Nodes()) visited += n.state == autonomy::NodeState::kVisited;
+  nlohmann::ordered_json j;
+  j["start_W"] = {job.start_W.x, job.start_W.y, job.start_W.yaw};
+  j["rooms_visited"] = visited;
+  j["rooms_known"] = m.tree.Nodes().size();
+  j["scans"] = m.scans;
+  j["door_scans"] = m.door_scans.size();
+  j["end_reason"] = m.end_reason;
+  j["events"] = m.events;
+  j["path_length_m"] = d.path_length;
+  j["contacts"] = d.contacts;
+  j["localisation_rms_m"] = d.loc_rms;
+  j["localisation_max_m"] = d.loc_max;
+  j["max_true_step_m"] = job.max_true_step;
+  j["sim_time_s"] = m.sim_time;
+  j["wall_time_s"] = m.wall_time;
+  j["files"] = {{"dtt", "dtt.json"},
+                {"trajectory_true", "trajectory_true.tum"},
+                {"trajectory_estimated", "trajectory_estimated.tum"}};
+  return j;
+}
+
+void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const MainJobOptions& o,
+              JobTables& t, ReportInput& report) {
+  t.rooms.header = {"robot room",     "scene room",  "scans (+ door)",
+                    "robot coverage", "stop reason", "openings"};
+  const FloorJob job = RunFloorJob(mw, params, o.start_W, o.dir, true, o.progress);
+  for (const FloorRoomJob& r : job.rooms) {
+    if (o.print)
+      o.print(r.robot_room + " (" + r.room + "): " + r.status + ", " + std::to_string(r.scans) +
+              " scans + " + std::to_string(r.door_scans) + " door scan, robot coverage " +
+              FormatFixed(r.robot_coverage, 3) + "; " + r.reason);
+    t.rooms.rows.push_back(
+        {r.robot_room, r.room, std::to_string(r.scans) + " + " + std::to_string(r.door_scans),
+         FormatFixed(r.robot_coverage, 3), r.reason, std::to_string(r.openings)});
+    nlohmann::ordered_json rj;
+    rj["room"] = r.room;
+    rj["robot_room"] = r.robot_room;
+    rj["status"] = r.status;
+    if (!r.dir.empty()) rj["dir"] = r.dir;
+    rj["scans"] = r.scans;
+    rj["door_scans"] = r.door_scans;
+    rj[r.status == "failed" ? "reason" : "stop_reason"] = r.reason;
+    rj["robot_coverage"] = r.robot_coverage;
+    if (r.evaluation) {
+      AddEvaluation(r.room, *r.evaluation, t, o);
+      rj["evaluation"] = ToJson(*r.evaluation);
+    }
+    rj["seconds"] = r.seconds;
+    t.rooms_json.push_back(std::move(rj));
+    if (r.status == "failed") ++t.rooms_failed;
+    AddScans(r.room, r.scan_positions_W, r.plan_points_W, report);
+  }
+  t.mission_json = MissionJson(job);
+  const auto& m = t.mission_json;
+  if (o.print)
+    o.print(FormatNumbers("mission: %.0f rooms visited of %.0f known, %.0f scans (%.0f door "
+                          "scans), ",
+                          m["rooms_visited"].get<double>(), m["rooms_known"].get<double>(),
+                          m["scans"].get<double>(), m["door_scans"].get<double>()) +
+            FormatNumbers("path %.1f m, contacts %.0f, localisation RMS %.1f cm max %.1f cm, ",
+                          job.drive.path_length, job.drive.contacts, 100 * job.drive.loc_rms,
+                          100 * job.drive.loc_max) +
+            FormatNumbers("largest true step %.3f m; ", job.max_true_step) +
+            job.mission.end_reason);
+  t.subtitle =
+      "One robot explores the floor from its start pose room by room through the doors "
+      "it finds (Dynamic Traversal Tree, paper §2), scanning each room from positions "
+      "it chooses itself (next best scan, §3.1).";
+}
+
+}  // namespace
+
+void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
+                const MainJobOptions& o) {
+  const auto t_start = Clock::now();
+  const fs::path dir(o.dir);
+  ReportInput report;
+  report.title = "OpenMoPAD run: " + o.scene_name;
+  report.truth = &*mw.truth;
+  JobTables t;
+  if (o.rooms.empty())
+    RunFloor(mw, params, o, t, report);
+  else
+    RunPerRoom(mw, params, o, t, report);
+  const double t_mission = Seconds(t_start);
+
+  // The models against the truth (`mopad eval` over every room): eval/.
+  auto t0 = Clock::now();
+  if (o.print) o.print("models against the truth (mopad eval):");
+  const evaluation::RunEvaluation run_eval =
+      evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string());
+  if (o.print) o.print(run_eval.tables);
+  const double t_eval = Seconds(t0);
+
+  nlohmann::ordered_json j;
+  j["job"] = "run";
+  j["mode"] = o.rooms.empty() ? "floor" : "rooms";
+  j["scene"] = o.scene_json;
+  j["seed"] = params.drive.seed;
+  j["tls_step_deg"] = params.scan_step_deg;
+  if (o.rooms.empty()) j["mission"] = t.mission_json;
+  j["rooms"] = t.rooms_json;
+  j["rooms_failed"] = t.rooms_failed;
+  j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", run_eval.summary}};
+  j["seconds"] = {{"generate", o.t_generate},
+                  {"mission", t_mission},
+                  {"eval", t_eval},
+                  {"total", Seconds(t_start) + o.t_generate}};
+  io::WriteTextFile((dir / "summary.json").string(), j.dump(2) + "\n");
+  io::WriteTextFile((dir / "room.effective.yaml").string(), YAML::Dump(SaveParams(params)) + "\n");
+
+  report.subtitle = t.subtitle + " Seed " + std::to_string(params.drive.seed) + ", TLS step " +
+                    FormatFixed(params.scan_step_deg, 3) + " deg.";
+  report.tables.push_back(o.scene_table);
+  report.tables.push_back(std::move(t.rooms));
+  report.tables.push_back(std::move(t.eval));
+  report.tables.push_back(ModelScoresTable(run_eval.summary));
+  report.tables.push_back({"Timing",
+                           {"step", "seconds"},
+                           {{"generate scene", FormatFixed(o.t_generate, 2)},
+                            {"mission", FormatFixed(t_mission, 2)},
+                            {"evaluate models", FormatFixed(t_eval, 2)},
+                            {"total", FormatFixed(Seconds(t_start) + o.t_generate, 2)}}});
+  WriteHtmlReport(report, (dir / "report.html").string());
+  WriteMarkdownReport(report, (dir / "report.md").string());
+}
+
+}  // namespace mopad::mission
