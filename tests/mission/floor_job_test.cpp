@@ -1,0 +1,86 @@
+// The floor mission (mission/floor_job.h) on scenes/two_rooms_door.yaml: R1 [0,5]x[0,4] and R2
+// [5.2,10]x[0,4] joined by door D1 at (5.1, 2). One robot starts in R1; through the open door
+// it must visit R2 by driving (no teleport), through the closed one it must not, and say why.
+#include "mission/floor_job.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "sim/scene_world.h"
+
+namespace mopad::mission {
+namespace {
+
+namespace fs = std::filesystem;
+
+FloorMissionParams Params() {
+  FloorMissionParams p;
+  p.scan_step_deg = 0.4;  // coarser than the main job: the test's time
+  p.drive.seed = 3;
+  return p;
+}
+
+std::string Spec() { return std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml"; }
+
+TEST(FloorJob, VisitsTheSecondRoomThroughTheOpenDoorByDriving) {
+  const sim::SceneWorld mw = sim::LoadSceneWorld(Spec());
+  const std::string dir = (fs::temp_directory_path() / "mopad_floor_open").string();
+  fs::remove_all(dir);
+  const FloorJob job = RunFloorJob(mw, Params(), Pose2{1.5, 2.0, 0.0}, dir, false);
+  ASSERT_EQ(job.rooms.size(), 2u) << job.mission.end_reason;
+  EXPECT_EQ(job.rooms[0].room, "R1");
+  EXPECT_EQ(job.rooms[1].room, "R2");
+  EXPECT_EQ(job.rooms[1].door_scans, 1);
+  for (const FloorRoomJob& r : job.rooms) EXPECT_EQ(r.status, "scanned") << r.reason;
+  // One continuous true trajectory: a control step moves the base by millimetres.
+  EXPECT_LT(job.max_true_step, 0.1);
+  EXPECT_EQ(job.drive.contacts, 0);
+  const auto& nodes = job.mission.tree.Nodes();
+  int visited = 0;
+  for (const auto& n : nodes) visited += n.state == autonomy::NodeState::kVisited;
+  EXPECT_EQ(visited, 2);
+  const auto& child = nodes[static_cast<std::size_t>(nodes[0].children.front())];
+  EXPECT_TRUE(child.has_entry_door);
+  EXPECT_GE(child.door_scan_before, 0);
+  EXPECT_EQ(child.door_scan_after, child.door_scan_before + 1);
+  // D1 at world (5.1, 2): the map frame is the start pose (1.5, 2, 0).
+  EXPECT_LT((child.entry_door.centre - Vec2(3.6, 0.0)).norm(), 0.15);
+  // The files: the tree, the mission's trajectories, each room's folder in the one map frame.
+  const nlohmann::json dtt = nlohmann::json::parse(std::ifstream(fs::path(dir) / "dtt.json"));
+  EXPECT_EQ(dtt["format"], "mopad-dtt");
+  EXPECT_EQ(dtt["nodes"].size(), nodes.size());
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "trajectory_true.tum"));
+  for (const char* room : {"R1", "R2"}) {
+    const nlohmann::json run =
+        nlohmann::json::parse(std::ifstream(fs::path(dir) / "rooms" / room / "run.json"));
+    EXPECT_EQ(run["X_WM"], nlohmann::json::parse(std::ifstream(
+                               fs::path(dir) / "rooms" / "R1" / "run.json"))["X_WM"]);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(FloorJob, AClosedDoorIsSeenNotEnteredAndTheMissionFinishes) {
+  const sim::SceneWorld mw = sim::LoadSceneWorld(Spec(), {"D1=0"});
+  const std::string dir = (fs::temp_directory_path() / "mopad_floor_closed").string();
+  fs::remove_all(dir);
+  const FloorJob job = RunFloorJob(mw, Params(), Pose2{1.5, 2.0, 0.0}, dir, false);
+  ASSERT_EQ(job.rooms.size(), 1u);
+  EXPECT_EQ(job.rooms[0].room, "R1");
+  EXPECT_EQ(job.mission.end_reason.rfind("done", 0), 0u) << job.mission.end_reason;
+  bool closed_leaf = false;
+  for (const auto& n : job.mission.tree.Nodes())
+    if (n.state == autonomy::NodeState::kSeenNotEntered &&
+        n.reason.find("closed") != std::string::npos &&
+        (n.entry_door.centre - Vec2(3.6, 0.0)).norm() < 0.15)
+      closed_leaf = true;
+  EXPECT_TRUE(closed_leaf) << "no closed door recorded as seen, not entered";
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mopad::mission
