@@ -100,7 +100,8 @@ void LasWriter::Append(std::span<const LasPoint> points) {
     rec[at + 14] = 0x11;  // return 1 of 1
     rec[at + 15] = 0;     // flags, channel, scan direction, edge of flight line
     rec[at + 16] = static_cast<char>(q.classification);
-    // 17: user data, 18: scan angle stay 0.
+    rec[at + 17] = static_cast<char>(q.user_data);
+    // 18: scan angle stays 0.
     Put<std::uint16_t>(rec, at + 20, q.point_source_id);
     Put<double>(rec, at + 22, q.gps_time);
     for (int c = 0; c < 3; ++c) Put<std::uint16_t>(rec, at + 30 + 2 * c, q.rgb[c]);

@@ -1,9 +1,10 @@
 #pragma once
 // ASPRS LAS 1.4 (R15) writer, point data record format 7, uncompressed, no VLRs: a 375-byte
 // public header block, then 36-byte records (x, y, z as int32 counts of the scale around the
-// offset, intensity, return 1 of 1, classification, scan angle 0, point source id, GPS time,
-// 16-bit red, green, blue). Global encoding: WKT bit set (required for formats 6-10; no CRS is
-// written, the frame is local), GPS time as "GPS week time" (our times are simulation seconds).
+// offset, intensity, return 1 of 1, classification, user data, scan angle 0, point source id,
+// GPS time, 16-bit red, green, blue). Global encoding: WKT bit set (required for formats 6-10;
+// no CRS is written, the frame is local), GPS time as "GPS week time" (our times are simulation
+// seconds).
 // Streaming: the expected bounds given up front choose the scale and offset; Close() writes the
 // true bounds of the written points and the point counts (legacy counts 0, as LAS 1.4 asks for
 // formats above 5).
@@ -27,6 +28,7 @@ struct LasPoint {
   std::array<std::uint16_t, 3> rgb{0, 0, 0};    ///< 16-bit red, green, blue
   double gps_time = 0.0;                        ///< s
   std::uint8_t classification = 0;              ///< ASPRS 0-63 standard, 64-255 user defined
+  std::uint8_t user_data = 0;                   ///< free for the producer
   std::uint16_t point_source_id = 0;
 };
 

@@ -42,6 +42,7 @@ std::vector<LasPoint> ThreePoints() {
     ps[i].gps_time = 12.5 + i;
     ps[i].classification = static_cast<std::uint8_t>(64 + i);
     ps[i].point_source_id = static_cast<std::uint16_t>(i);
+    ps[i].user_data = static_cast<std::uint8_t>(7 * i);
   }
   return ps;
 }
@@ -89,6 +90,7 @@ TEST(LasWriter, HeaderFieldsAndRecordsReadBack) {
     EXPECT_EQ(Get<std::uint16_t>(b, at + 12), ps[i].intensity);
     EXPECT_EQ(static_cast<std::uint8_t>(b[at + 14]), 0x11);  // return 1 of 1
     EXPECT_EQ(static_cast<std::uint8_t>(b[at + 16]), ps[i].classification);
+    EXPECT_EQ(static_cast<std::uint8_t>(b[at + 17]), ps[i].user_data);
     EXPECT_EQ(Get<std::uint16_t>(b, at + 20), ps[i].point_source_id);
     EXPECT_EQ(Get<double>(b, at + 22), ps[i].gps_time);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(Get<std::uint16_t>(b, at + 30 + 2 * c), ps[i].rgb[c]);
