@@ -302,6 +302,42 @@ TEST(ExportsErrors, BadFoldersAndFilesAreOneLineInputErrors) {
   }
 }
 
+TEST(ExportsFrames, ASecondRoomWithItsOwnMapIsPlacedByTheRunPoses) {
+  const std::string dir = MakeRun("exp_two_rooms", /*with_sm1=*/false);
+  const fs::path r2 = fs::path(dir) / "rooms" / "R2";
+  fs::create_directories(r2);
+  modelling::StructuralModel room2 = Room();
+  room2.room = "R2";
+  WriteText(r2 / "sm3.json", modelling::Sm3Json(room2));
+  // R2's map sits 10 m further along x in the world than R1's.
+  WriteText(r2 / "run.json", R"({"X_WM": [[1,0,0,13.15],[0,1,0,5.25],[0,0,1,0],[0,0,0,1]]})");
+  const RunFolder run = ReadRunFolder(dir);
+  ASSERT_EQ(run.rooms.size(), 2u);
+  EXPECT_TRUE(run.placed_by_run_json);
+  const BuildingModel m = BuildBuildingModel(run);
+  ASSERT_EQ(m.spaces.size(), 2u);
+  double x_min = 1e9;
+  for (const auto& p : m.spaces[1].footprint) x_min = std::min(x_min, p.x());
+  EXPECT_NEAR(x_min, 10.0, 1e-9);  // R2's floor starts at x = 0 in its own map
+  EXPECT_NE(m.frame_note.find("run.json X_WM"), std::string::npos) << m.frame_note;
+}
+
+TEST(ExportsFrames, AFloorModelReplacesTheRoomsElementsButNotTheirSpaces) {
+  const std::string dir = MakeRun("exp_floor", /*with_sm1=*/false);
+  fs::create_directories(fs::path(dir) / "floor");
+  modelling::StructuralModel floor = Room();
+  floor.room = "floor";
+  floor.patches.resize(3);  // wall_1..wall_3 only
+  WriteText(fs::path(dir) / "floor" / "sm3.json", modelling::Sm3Json(floor));
+  WriteExports(dir, {ExportKind::kIfc});
+  const std::string ifc = ReadBytes(dir + "/export/model.ifc");
+  EXPECT_EQ(CountEntities(ifc, "IFCWALL"), 3);
+  EXPECT_EQ(CountEntities(ifc, "IFCDOOR"), 0);    // no floor/sm4.json
+  EXPECT_EQ(CountEntities(ifc, "IFCSPACE"), 1);   // from rooms/R1
+  EXPECT_EQ(CountEntities(ifc, "IFCOUTLET"), 1);  // components stay with the rooms
+  EXPECT_NE(ifc.find("'floor/wall_1'"), std::string::npos);
+}
+
 // Runs `node tools/validators/<script> FILE MODULES`; nullopt when node or `package` is absent.
 std::optional<std::string> Node(const std::string& script, const std::string& file,
                                 const std::string& package, int* status) {
