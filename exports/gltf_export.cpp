@@ -7,7 +7,6 @@
 #include "common/error.h"
 #include "common/polygon.h"
 #include "common/rng.h"
-#include "io/glb_writer.h"
 
 namespace mopad::exports {
 namespace {
@@ -141,7 +140,7 @@ bool AddGeometry(const Element& e, io::GlbMesh& mesh) {
 
 }  // namespace
 
-int WriteSemanticGlb(const BuildingModel& model, const std::string& path) {
+io::GlbScene SemanticScene(const BuildingModel& model) {
   io::GlbScene scene;
   scene.name = model.name + " (semantic)";
   std::map<std::string, int> material_of;
@@ -172,6 +171,11 @@ int WriteSemanticGlb(const BuildingModel& model, const std::string& path) {
     mesh.extras = {{"mopad", std::move(m)}};
     scene.meshes.push_back(std::move(mesh));
   }
+  return scene;
+}
+
+int WriteSemanticGlb(const BuildingModel& model, const std::string& path) {
+  const io::GlbScene scene = SemanticScene(model);
   if (scene.meshes.empty()) throw InputError(path, "no model element could be triangulated");
   io::WriteGlb(scene, path);
   return static_cast<int>(scene.meshes.size());

@@ -11,8 +11,13 @@
 #include <string>
 
 #include "exports/building_model.h"
+#include "io/glb_writer.h"
 
 namespace mopad::exports {
+
+/// The scene WriteSemanticGlb writes: one mesh per element that could be triangulated (its
+/// name the element id, its extras the semantics), materials per class present.
+io::GlbScene SemanticScene(const BuildingModel& model);
 
 /// Writes `model` to `path`; returns the number of element nodes. InputError when no element
 /// could be triangulated or the file cannot be written.
