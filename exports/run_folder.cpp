@@ -174,6 +174,7 @@ RunFolder ReadRunFolder(const std::string& dir) {
     }
     run.rooms.push_back(std::move(s));
   }
+  run.X_WE = X_WM_first;
   if (fs::exists(root / "floor" / "sm3.json"))
     run.floor = ReadModelSet(root / "floor", "floor", key);
   run.content_key = std::to_string(key);

@@ -63,7 +63,10 @@ struct RunFolder {
   std::vector<ModelSet> rooms;      ///< sorted by id
   std::optional<ModelSet> floor;    ///< DIR/floor/sm3.json present: the elements come from here
   bool placed_by_run_json = false;  ///< some room was placed with X_WM (see the file comment)
-  std::string content_key;          ///< hash of every model file's bytes: seeds the IFC GlobalIds
+  /// The export frame in the world: the first room's run.json X_WM (absent without one). Only
+  /// for drawing the truth beside the model (the report); the exports never use it.
+  std::optional<Eigen::Isometry3d> X_WE;
+  std::string content_key;  ///< hash of every model file's bytes: seeds the IFC GlobalIds
 };
 
 /// Reads the run folder `dir` (see the file comment).

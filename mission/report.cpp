@@ -209,7 +209,7 @@ void WriteHtmlReport(const ReportInput& in, const std::string& path) {
       << svg;
   }
   // The 3D view of the model files beside the report (a run folder), when there are any.
-  h << ModelViewerHtml(std::filesystem::path(path).parent_path().string());
+  h << ModelViewerHtml(std::filesystem::path(path).parent_path().string(), in.truth);
   for (const auto& t : in.tables) {
     h << "<h2>" << Escape(t.title) << "</h2>\n<table><tr>";
     for (const auto& c : t.header) h << "<th>" << Escape(c) << "</th>";

@@ -43,14 +43,15 @@ const char* kViewerScript = R"JS(
     g.fillRect(0, 0, W, H);
     const cy = Math.cos(yaw), sy = Math.sin(yaw), cp = Math.cos(pitch), sp = Math.sin(pitch);
     const s = zoom * Math.min(W, H) / (2.1 * radius);
+    const P = (p) => {
+      const x = p[0] - c[0], y = p[1] - c[1], z = p[2] - c[2];
+      const x1 = cy * x - sy * y, y1 = sy * x + cy * y;
+      return [W / 2 + s * x1, H / 2 - s * (sp * y1 + cp * z), cp * y1 - sp * z];
+    };
     const list = [];
     for (const t of tris) {
       if (hidden.has(M.materials[t.m].name)) continue;
-      const q = t.v.map((p) => {
-        const x = p[0] - c[0], y = p[1] - c[1], z = p[2] - c[2];
-        const x1 = cy * x - sy * y, y1 = sy * x + cy * y;
-        return [W / 2 + s * x1, H / 2 - s * (sp * y1 + cp * z), cp * y1 - sp * z];
-      });
+      const q = t.v.map(P);
       // Light from the viewer: |n . d| with d the view direction in the model frame.
       const d = [sy * cp, cy * cp, -sp];
       const shade = 0.45 + 0.55 * Math.abs(t.n[0] * d[0] + t.n[1] * d[1] + t.n[2] * d[2]);
@@ -68,7 +69,19 @@ const char* kViewerScript = R"JS(
       g.fill();
       g.stroke();
     }
+    if (!showTruth) return;
+    g.strokeStyle = '#000000';
+    for (const loop of M.truth) {
+      g.beginPath();
+      for (let k = 0; k < loop.length; k += 3) {
+        const q = P([loop[k], loop[k + 1], loop[k + 2]]);
+        if (k === 0) g.moveTo(q[0], q[1]); else g.lineTo(q[0], q[1]);
+      }
+      g.closePath();
+      g.stroke();
+    }
   }
+  let showTruth = false;
   let drag = null;
   cv.addEventListener('mousedown', (e) => { drag = [e.clientX, e.clientY]; });
   window.addEventListener('mouseup', () => { drag = null; });
@@ -100,6 +113,14 @@ const char* kViewerScript = R"JS(
     label.append(box, swatch, mat.name + '  ');
     legend.append(label);
   });
+  if (M.truth.length > 0) {
+    const label = document.createElement('label');
+    const box = document.createElement('input');
+    box.type = 'checkbox';
+    box.addEventListener('change', () => { showTruth = box.checked; draw(); });
+    label.append(box, ' truth (black outlines)');
+    legend.append(label);
+  }
   draw();
 })();
 )JS";
@@ -120,13 +141,42 @@ bool HasModel(const std::filesystem::path& dir) {
   return false;
 }
 
+// The truth's outlines in the export frame E: structural faces (no ceilings: they would hide
+// the rooms' outlines from above), openings, components' visible faces.
+Json TruthLoops(const scenes::GroundTruth& truth, const Eigen::Isometry3d& X_EW) {
+  Json loops = Json::array();
+  auto add = [&](const std::vector<Eigen::Vector3d>& loop) {
+    Json flat = Json::array();
+    for (const auto& p_W : loop) {
+      const Eigen::Vector3d p_E = X_EW * p_W;
+      for (int a = 0; a < 3; ++a) flat.push_back(Mm(p_E[a]));
+    }
+    loops.push_back(std::move(flat));
+  };
+  for (const auto& e : truth.elements)
+    if (e.element_class != scenes::ElementClass::kCeiling)
+      for (const auto& poly : e.polygons) add(poly);
+  for (const auto& o : truth.openings) add(o.corners);
+  for (const auto& c : truth.service_components) {
+    const Eigen::Vector3d n = c.normal.normalized();
+    const Eigen::Vector3d x0 = Eigen::Vector3d::UnitZ().cross(n);
+    const Eigen::Vector3d x = x0.norm() > 1e-6 ? x0.normalized() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d y = n.cross(x), hx = 0.5 * c.size.x() * x, hy = 0.5 * c.size.y() * y;
+    add({c.centre - hx - hy, c.centre + hx - hy, c.centre + hx + hy, c.centre - hx + hy});
+  }
+  return loops;
+}
+
 }  // namespace
 
-std::string ModelViewerHtml(const std::string& run_dir) {
+std::string ModelViewerHtml(const std::string& run_dir, const scenes::GroundTruth* truth) {
   if (!HasModel(run_dir.empty() ? "." : run_dir)) return "";
   io::GlbScene scene;
+  Json truth_loops = Json::array();
   try {
-    scene = exports::SemanticScene(exports::BuildBuildingModel(exports::ReadRunFolder(run_dir)));
+    const exports::RunFolder run = exports::ReadRunFolder(run_dir);
+    scene = exports::SemanticScene(exports::BuildBuildingModel(run));
+    if (truth && run.X_WE) truth_loops = TruthLoops(*truth, run.X_WE->inverse());
   } catch (const InputError& e) {
     return "<h2>3D model</h2>\n<p>No 3D view: " + std::string(e.what()) + "</p>\n";
   }
@@ -145,6 +195,7 @@ std::string ModelViewerHtml(const std::string& run_dir) {
       for (std::uint32_t i : tri) t.push_back(i);
     data["meshes"].push_back({{"id", mesh.name}, {"m", mesh.material}, {"p", p}, {"t", t}});
   }
+  data["truth"] = std::move(truth_loops);
   std::string text = data.dump();
   // Inside a <script> element "</" must not appear; JSON allows "<\/".
   for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))

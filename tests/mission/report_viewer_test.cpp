@@ -74,6 +74,25 @@ TEST(ReportViewer, TheFragmentCarriesEveryElementOfTheRunsModel) {
   EXPECT_NE(ModelViewerHtml(bad).find("No 3D view"), std::string::npos);
 }
 
+TEST(ReportViewer, TheTruthIsDrawnInTheExportFrameOfTheFirstRoom) {
+  const std::string dir = BoxRun("viewer_truth");
+  // The room's map frame sits at x = 10 m in the world.
+  std::ofstream(fs::path(dir) / "rooms" / "R1" / "run.json")
+      << R"({"X_WM": [[1,0,0,10],[0,1,0,0],[0,0,1,0],[0,0,0,1]]})";
+  scenes::GroundTruth truth;
+  scenes::StructuralElement wall;
+  wall.id = "wall_1A";
+  wall.polygons = {{{10, 0, 0}, {14, 0, 0}, {14, 0, 2.5}, {10, 0, 2.5}}};
+  scenes::StructuralElement ceiling = wall;
+  ceiling.element_class = scenes::ElementClass::kCeiling;
+  truth.elements = {wall, ceiling};
+  const auto data = ViewerData(ModelViewerHtml(dir, &truth));
+  ASSERT_EQ(data["truth"].size(), 1u);  // ceilings are left out
+  EXPECT_EQ(data["truth"][0][0], 0.0);  // world x = 10 is x = 0 in the room's map
+  EXPECT_EQ(data["truth"][0][3], 4.0);
+  EXPECT_EQ(ViewerData(ModelViewerHtml(dir))["truth"].size(), 0u);  // no truth given
+}
+
 TEST(ReportViewer, HeadlessChromiumDrawsANonBlankCanvasWithoutScriptErrors) {
   if (std::system("command -v chromium >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "Debian chromium is not installed (apt-get install chromium)";
