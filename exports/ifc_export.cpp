@@ -199,7 +199,9 @@ int IfcBuilder::Opening(const Element& e, int host_product) {
   const double t = door ? params_.leaf_thickness : params_.pane_thickness;
   const double inset = 0.5 * (params_.wall_thickness - t);  // the leaf in mid-wall
   const int body = Body(e.polygon, {e.polygon.front() + z * inset, x, z}, t);
-  const std::string size = "$," + StepReal(e.height) + "," + StepReal(e.width) + ",";
+  // OverallHeight, OverallWidth at 0.1 mm (the model files' resolution).
+  const auto mm01 = [](double v) { return StepReal(std::round(v * 1e4) / 1e4); };
+  const std::string size = "$," + mm01(e.height) + "," + mm01(e.width) + ",";
   const int filler = door ? Product("IfcDoor", e, body, size + ".DOOR.,.NOTDEFINED.,$")
                           : Product("IfcWindow", e, body, size + ".WINDOW.,.NOTDEFINED.,$");
   (door ? counts_.doors : counts_.windows) += 1;
