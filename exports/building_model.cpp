@@ -118,13 +118,17 @@ void AddPatches(const ModelSet& set, std::vector<Element>& out) {
   }
 }
 
+// The element built from SM3 patch `id` among elements [first, end): a patch's own element, or
+// the column a column face belongs to. -1 when none.
 int FindHost(const std::vector<Element>& elements, std::size_t first, const std::string& id) {
-  for (std::size_t i = first; i < elements.size(); ++i)
-    if (elements[i].properties.value("patch", "") == id ||
-        (elements[i].kind == ElementKind::kColumn && elements[i].properties["faces"].is_array() &&
-         std::find(elements[i].properties["faces"].begin(), elements[i].properties["faces"].end(),
-                   id) != elements[i].properties["faces"].end()))
+  for (std::size_t i = first; i < elements.size(); ++i) {
+    const Json& props = elements[i].properties;
+    if (props.value("patch", "") == id) return static_cast<int>(i);
+    const auto faces = props.find("faces");
+    if (faces != props.end() && faces->is_array() &&
+        std::find(faces->begin(), faces->end(), id) != faces->end())
       return static_cast<int>(i);
+  }
   return -1;
 }
 
