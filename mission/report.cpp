@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "common/error.h"
 #include "common/format.h"
 #include "common/polygon.h"
+#include "mission/report_viewer.h"
 
 namespace mopad::mission {
 namespace {
@@ -206,6 +208,8 @@ void WriteHtmlReport(const ReportInput& in, const std::string& path) {
       << " scan position</span></p>\n"
       << svg;
   }
+  // The 3D view of the model files beside the report (a run folder), when there are any.
+  h << ModelViewerHtml(std::filesystem::path(path).parent_path().string(), in.truth);
   for (const auto& t : in.tables) {
     h << "<h2>" << Escape(t.title) << "</h2>\n<table><tr>";
     for (const auto& c : t.header) h << "<th>" << Escape(c) << "</th>";

@@ -134,7 +134,96 @@ double NumberField(const Json& j, const char* key, const std::string& where,
   return v.get<double>();
 }
 
+Json ParseJsonText(const std::string& text, const std::string& where) {
+  try {
+    return Json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where, "not valid JSON", e.what());
+  }
+}
+
+void CheckFormat(const Json& j, const char* format, const std::string& where) {
+  if (StringField(j, "format", where, "") != format)
+    throw InputError(where, "format: wrong file kind", j["format"].dump(),
+                     std::string("\"") + format + "\"");
+  const double version = NumberField(j, "version", where, "");
+  if (version != kModelFormatVersion)
+    throw InputError(where, "version: unsupported", j["version"].dump(),
+                     std::to_string(kModelFormatVersion));
+}
+
+Vec3 PointField(const Json& p, const std::string& where, const std::string& ctx) {
+  if (!p.is_array() || p.size() != 3)
+    throw InputError(where, ctx + ": wrong shape", p.dump(), "[x, y, z]");
+  Vec3 v;
+  for (int a = 0; a < 3; ++a) {
+    if (!p[a].is_number() || !std::isfinite(p[a].get<double>()))
+      throw InputError(where, ctx + ": not a finite number", p[a].dump());
+    v[a] = p[a].get<double>();
+  }
+  return v;
+}
+
+PatchClass ParsePatchClass(const std::string& c, const std::string& where, const std::string& ctx) {
+  for (PatchClass k :
+       {PatchClass::kWall, PatchClass::kFloor, PatchClass::kCeiling, PatchClass::kColumn})
+    if (c == ToString(k)) return k;
+  throw InputError(where, ctx + "class: unknown", c, "wall|floor|ceiling|column");
+}
+
 }  // namespace
+
+StructuralModel ParseSm3(const std::string& text, const std::string& where) {
+  const Json j = ParseJsonText(text, where);
+  CheckFormat(j, "mopad-sm3", where);
+  StructuralModel m;
+  m.room = StringField(j, "room", where, "");
+  m.floor_z = NumberField(j, "floor_z", where, "");
+  m.ceiling_z = NumberField(j, "ceiling_z", where, "");
+  const Json& ps = Field(j, "patches", where, "");
+  if (!ps.is_array()) throw InputError(where, "patches: wrong type", "", "an array");
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    const std::string ctx = "patches[" + std::to_string(i) + "].";
+    const Json& jp = ps[i];
+    StructuralPatch p;
+    p.id = StringField(jp, "id", where, ctx);
+    p.patch_class = ParsePatchClass(StringField(jp, "class", where, ctx), where, ctx);
+    const Json& plane = Field(jp, "plane", where, ctx);
+    p.plane.n = PointField(Field(plane, "n", where, ctx + "plane."), where, ctx + "plane.n");
+    p.plane.d = NumberField(plane, "d", where, ctx + "plane.");
+    const Json& poly = Field(jp, "polygon", where, ctx);
+    if (!poly.is_array() || poly.size() < 3)
+      throw InputError(where, ctx + "polygon: wrong shape", poly.dump(), "3 or more [x, y, z]");
+    for (std::size_t k = 0; k < poly.size(); ++k)
+      p.polygon.push_back(PointField(poly[k], where, ctx + "polygon"));
+    p.support = static_cast<int>(NumberField(jp, "support", where, ctx));
+    p.rms = NumberField(jp, "rms", where, ctx);
+    const Json& fitted = Field(jp, "fitted", where, ctx);
+    if (!fitted.is_boolean())
+      throw InputError(where, ctx + "fitted: wrong type", fitted.dump(), "true or false");
+    p.fitted = fitted.get<bool>();
+    m.patches.push_back(std::move(p));
+  }
+  const Json& adj = Field(j, "adjacency", where, "");
+  if (!adj.is_array()) throw InputError(where, "adjacency: wrong type", "", "an array");
+  const int n = static_cast<int>(m.patches.size());
+  for (const Json& pair : adj) {
+    if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number_integer() ||
+        !pair[1].is_number_integer() || pair[0].get<int>() < 0 || pair[0].get<int>() >= n ||
+        pair[1].get<int>() < 0 || pair[1].get<int>() >= n)
+      throw InputError(where, "adjacency: not a pair of patch indices", pair.dump(),
+                       "[i, j] in [0, " + std::to_string(n) + ")");
+    m.adjacency.emplace_back(pair[0].get<int>(), pair[1].get<int>());
+  }
+  return m;
+}
+
+StructuralModel ReadSm3(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path, "cannot read the file");
+  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  return ParseSm3(text, path);
+}
 
 Sm4Model ParseSm4(const std::string& text, const std::string& where) {
   Json j;

@@ -1,7 +1,8 @@
 #pragma once
 // Writers of the robot's model files (docs/models.md, format version 1): SM2 (the final RoI
 // B-rep), SM3 and SM4 as JSON, DSM3 as a PLY of labelled voxel centres. Map frame, metres.
-// SM4 is also read back (ReadSm4), for the evaluator and round trips.
+// SM3 and SM4 are also read back (ReadSm3, ReadSm4), for the exports, the evaluator and round
+// trips.
 // InputError on I/O failure. Deterministic text (fixed float formatting, stable order).
 
 #include <string>
@@ -24,6 +25,12 @@ std::string Sm3Json(const StructuralModel& model);
 /// "corners" (4 xyz, CCW seen from the room, the hole), "confidence", and for doors "state",
 /// "opening_angle_deg" (null when unknown), "clear_width_m"}]} (docs/models.md).
 std::string Sm4Json(const Sm4Model& model);
+/// Parses sm3.json text; `where` names it in errors. InputError for a wrong format or version,
+/// a missing or mistyped field, an unknown class, a polygon of fewer than 3 finite points, an
+/// adjacency pair out of range.
+StructuralModel ParseSm3(const std::string& text, const std::string& where);
+/// Reads sm3.json (InputError if missing or malformed, see ParseSm3).
+StructuralModel ReadSm3(const std::string& path);
 /// Parses sm4.json text; `where` names it in errors. InputError for a wrong format or version,
 /// a missing or mistyped field, an unknown type or state, corners that are not 4 finite points.
 /// The (u, v) rectangle of each opening is left 0 (the file holds map-frame corners only).

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages OpenMoPAD needs, skipping those already present (idempotent).
 #   scripts/install-deps.sh          build + run dependencies
-#   scripts/install-deps.sh --test   also what the test suite uses (GoogleTest; Node.js for the
-#                                    Khronos glTF validator, installed from npm into build/_npm)
+#   scripts/install-deps.sh --test   also what the test suite uses (GoogleTest; Node.js and the
+#                                    npm test oracles of tests/oracles/package.json — the Khronos
+#                                    glTF validator, web-ifc, copc — installed into build/_npm;
+#                                    Debian's chromium for the report's 3D-view test)
 # Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
 set -euo pipefail
 
@@ -37,4 +39,28 @@ if (( ${#missing[@]} )); then
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 else
   echo "install-deps: all Debian packages present"
+fi
+
+# Headless Chromium for the report's 3D-view test (best effort: its test skips when absent).
+if (( with_tests )) && ! command -v chromium >/dev/null 2>&1; then
+  SUDO=""
+  [[ $(id -u) -ne 0 ]] && command -v sudo >/dev/null && SUDO=sudo
+  if $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+      chromium >/dev/null 2>&1; then
+    echo "install-deps: chromium installed"
+  else
+    echo "install-deps: warning: could not install chromium; the report's 3D-view test will skip"
+  fi
+fi
+
+# The npm test oracles (independent readers of the exports); their tests skip when absent.
+if (( with_tests )) && command -v npm >/dev/null 2>&1; then
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  mkdir -p "$root/build/_npm"
+  cp "$root/tests/oracles/package.json" "$root/build/_npm/package.json"
+  if npm install --silent --no-audit --no-fund --prefix "$root/build/_npm" >/dev/null 2>&1; then
+    echo "install-deps: npm test oracles in build/_npm"
+  else
+    echo "install-deps: warning: could not install the npm test oracles; their tests will skip"
+  fi
 fi

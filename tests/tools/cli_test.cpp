@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -223,6 +224,32 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << *out;
     EXPECT_NE(out->find("errors=0 "), std::string::npos) << *out;
   }
+  // The deliverables (docs/exports.md) of two runs of the same seed: the same bytes.
+  for (const char* run : {"/a", "/b"}) {
+    const Result e = Mopad("export all " + d + run);
+    ASSERT_EQ(e.code, 0) << e.out;
+  }
+  auto bytes = [](const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), {});
+  };
+  for (const char* f : {"model.ifc", "model.glb", "sm1.las"}) {
+    const std::string fa = bytes(d + "/a/export/" + f);
+    EXPECT_FALSE(fa.empty()) << f;
+    EXPECT_TRUE(fa == bytes(d + "/b/export/" + f)) << f << " differs between two runs";
+  }
+}
+
+TEST(Cli, ExportHelpNamesItsFilesAndAFolderWithoutModelsIsOneLineExitTwo) {
+  const Result help = Mopad("export --help");
+  EXPECT_EQ(help.code, 0);
+  for (const char* f : {"model.ifc", "model.glb", "sm1.las", "export.json"})
+    EXPECT_NE(help.out.find(f), std::string::npos) << f << "\n" << help.out;
+  const std::string d = TempDir("export_empty");
+  const Result r = Mopad("export all " + d);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: no model to export"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
 TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {

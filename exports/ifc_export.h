@@ -1,0 +1,46 @@
+#pragma once
+// IFC4 (ISO 16739-1:2018) text of a BuildingModel (docs/exports.md): IfcProject -> IfcSite ->
+// IfcBuilding -> IfcBuildingStorey (IfcRelAggregates), one IfcSpace per room aggregated by the
+// storey; walls (IfcWall), floors (IfcSlab .FLOOR.), ceilings (IfcCovering .CEILING.), columns
+// (IfcColumn), doors and windows (IfcDoor / IfcWindow filling an IfcOpeningElement that voids
+// the host wall) contained in the storey; service components (ComponentIfcClass) contained in
+// their room's space. Every product has a swept-solid body (IfcExtrudedAreaSolid of an
+// IfcArbitraryClosedProfileDef): a wall its SM3 polygon extruded away from the room by the wall
+// thickness, a slab its floor polygon extruded down, a covering its ceiling polygon extruded up,
+// a column its plan hull from bottom to top, an opening its hole through the wall, a door or
+// window a leaf or pane in the hole, a component its box (size, or a default when unknown).
+// Property sets MoPAD_Element (every product: id, room, class), MoPAD_Opening (state, opening
+// angle, clear width, confidence, host) and MoPAD_Component (class, alpha, found_by, host).
+// SI units (metre, square metre, cubic metre, radian); no owner history (optional in IFC4).
+// GlobalIds: io::IfcGlobalId(content key + element id): the same run gives the same bytes.
+
+#include <string>
+
+#include "exports/building_model.h"
+
+namespace mopad::exports {
+
+/// Thicknesses the model files do not carry (the robot sees one face of each wall).
+struct IfcExportParams {
+  double wall_thickness = 0.10;          ///< m, walls extruded away from the room, (0, 2]
+  double slab_thickness = 0.20;          ///< m, floors extruded down, (0, 2]
+  double covering_thickness = 0.02;      ///< m, ceilings extruded up, (0, 1]
+  double leaf_thickness = 0.04;          ///< m, door leaves (modelled closed in the hole), (0, 0.5]
+  double pane_thickness = 0.02;          ///< m, window panes, (0, 0.5]
+  double opening_margin = 0.05;          ///< m, an opening's void reaches this far past both faces
+  double default_component_size = 0.10;  ///< m, width and height when sm5 gives none
+  double default_component_depth = 0.02;  ///< m, depth when sm5 gives none
+};
+
+/// Per-class counts of what IfcText wrote (the oracle tests compare them with a reader's).
+struct IfcCounts {
+  int spaces = 0, walls = 0, slabs = 0, coverings = 0, columns = 0, openings = 0, doors = 0,
+      windows = 0;
+  std::vector<std::pair<std::string, int>> components;  ///< IFC entity -> count, sorted
+};
+
+/// The whole .ifc file. `counts`, when not null, receives the per-class counts.
+std::string IfcText(const BuildingModel& model, const IfcExportParams& params = {},
+                    IfcCounts* counts = nullptr);
+
+}  // namespace mopad::exports
