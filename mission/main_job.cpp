@@ -12,6 +12,7 @@
 #include "common/format.h"
 #include "common/params.h"
 #include "evaluation/run_evaluation.h"
+#include "exports/exports.h"
 #include "io/text_file.h"
 #include "mission/room_job.h"
 
@@ -206,6 +207,12 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (o.print) o.print(run_eval.tables);
   const double t_eval = Seconds(t0);
 
+  // The deliverables (docs/exports.md): export/model.ifc, model.glb, sm1.las.
+  t0 = Clock::now();
+  const exports::ExportResult exported = exports::WriteAllExports(dir.string());
+  if (o.print) o.print(exported.summary);
+  const double t_export = Seconds(t0);
+
   nlohmann::ordered_json j;
   j["job"] = "run";
   j["mode"] = o.rooms.empty() ? "floor" : "rooms";
@@ -219,6 +226,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   j["seconds"] = {{"generate", o.t_generate},
                   {"mission", t_mission},
                   {"eval", t_eval},
+                  {"export", t_export},
                   {"total", Seconds(t_start) + o.t_generate}};
   io::WriteTextFile((dir / "summary.json").string(), j.dump(2) + "\n");
   io::WriteTextFile((dir / "room.effective.yaml").string(), YAML::Dump(SaveParams(params)) + "\n");
@@ -234,6 +242,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                            {{"generate scene", FormatFixed(o.t_generate, 2)},
                             {"mission", FormatFixed(t_mission, 2)},
                             {"evaluate models", FormatFixed(t_eval, 2)},
+                            {"exports", FormatFixed(t_export, 2)},
                             {"total", FormatFixed(Seconds(t_start) + o.t_generate, 2)}}});
   WriteHtmlReport(report, (dir / "report.html").string());
   WriteMarkdownReport(report, (dir / "report.md").string());
