@@ -150,6 +150,9 @@ class FloorWorld {
                               (fs::path(dir) / "models.glb").string());
     r.openings = v.models.sm4.openings.size();
     const auto& truths = session_.ScanTruths();
+    if (v.door_scan_before.index >= 0)
+      r.door_scan_positions_W.push_back(
+          truths.at(static_cast<std::size_t>(v.door_scan_before.index)).X_WS.translation());
     for (const auto& s : v.scan.scans)
       r.scan_positions_W.push_back(
           truths.at(static_cast<std::size_t>(s.session_scan)).X_WS.translation());
@@ -214,6 +217,7 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
       autonomy::RunFloorScan(session.Robot(), params, params.floor, world.Hooks(progress));
   job.rooms = std::move(world.Rooms());
   job.drive = session.Result();
+  job.X_WM = session.X_MW().To3d().inverse();
   for (std::size_t k = 1; k < job.drive.truth.size(); ++k) {
     const Pose2& a = job.drive.truth[k - 1].pose;
     const Pose2& b = job.drive.truth[k].pose;

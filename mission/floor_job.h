@@ -46,9 +46,10 @@ struct FloorRoomJob {
   double robot_coverage = 0.0;
   std::size_t openings = 0;
   std::optional<RoomEvaluation> evaluation;
-  std::vector<Eigen::Vector3d> scan_positions_W;  ///< true scanner centres (world), for plots
-  std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height
-  double seconds = 0.0;                           ///< wall time of the room (reporting only)
+  std::vector<Eigen::Vector3d> scan_positions_W;       ///< true scanner centres (world), for plots
+  std::vector<Eigen::Vector3d> door_scan_positions_W;  ///< the room's door scan 1 (world)
+  std::vector<Eigen::Vector2f> plan_points_W;          ///< subsample of SM1 near scanner height
+  double seconds = 0.0;                                ///< wall time of the room (reporting only)
 };
 
 struct FloorJob {
@@ -57,6 +58,7 @@ struct FloorJob {
   std::vector<FloorRoomJob> rooms;  ///< in visit order
   DriveResult drive;                ///< the whole mission's driving figures (truth included)
   double max_true_step = 0.0;       ///< m, largest distance between consecutive true poses
+  Pose3 X_WM = Pose3::Identity();   ///< the map frame in the world (truth side)
   nlohmann::ordered_json dtt;       ///< what dtt.json holds
 };
 

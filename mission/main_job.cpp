@@ -35,6 +35,7 @@ struct JobTables {
                    {}};
   nlohmann::ordered_json rooms_json = nlohmann::json::array();
   nlohmann::ordered_json mission_json;  ///< floor mode only
+  ReportTable tree;                     ///< floor mode only
   int rooms_failed = 0;
   std::string subtitle;
 };
@@ -134,6 +135,32 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
   return j;
 }
 
+// The true path (every 0.5 s) and the tree's edges on the plan (world frame).
+void AddMissionDrawing(const FloorJob& job, ReportInput& report) {
+  for (std::size_t k = 0; k < job.drive.truth.size(); k += 25) {
+    const Pose2& p = job.drive.truth[k].pose;
+    report.path.push_back((job.X_WM * Vec3(p.x, p.y, 0.0)).head<2>());
+  }
+  auto first_scan_W = [&](const std::string& robot_room) -> std::optional<Eigen::Vector2d> {
+    for (const FloorRoomJob& r : job.rooms)
+      if (r.robot_room == robot_room && !r.scan_positions_W.empty())
+        return r.scan_positions_W.front().head<2>();
+    return std::nullopt;
+  };
+  for (const auto& n : job.mission.tree.Nodes()) {
+    if (n.parent < 0 || !n.has_entry_door) continue;
+    const auto from = first_scan_W(job.mission.tree.Node(n.parent).room);
+    if (!from) continue;
+    const Eigen::Vector2d via =
+        (job.X_WM * Vec3(n.entry_door.centre.x(), n.entry_door.centre.y(), 0.0)).head<2>();
+    const auto to = first_scan_W(n.room);
+    report.tree_edges.push_back({*from, via, to ? *to : via,
+                                 n.entry_door.room + " " + n.entry_door.opening + ": " +
+                                     autonomy::ToString(n.state) +
+                                     (n.reason.empty() ? "" : " (" + n.reason + ")")});
+  }
+}
+
 void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const MainJobOptions& o,
               JobTables& t, ReportInput& report) {
   t.rooms.header = {"robot room",     "scene room",  "scans (+ door)",
@@ -164,8 +191,30 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
     t.rooms_json.push_back(std::move(rj));
     if (r.status == "failed") ++t.rooms_failed;
     AddScans(r.room, r.scan_positions_W, r.plan_points_W, report);
+    for (const Eigen::Vector3d& p : r.door_scan_positions_W) {
+      ReportScan rs;
+      rs.name = r.room + "/door";
+      rs.position = p;
+      rs.door = true;
+      report.scans.push_back(std::move(rs));
+    }
   }
+  AddMissionDrawing(job, report);
   t.mission_json = MissionJson(job);
+  t.tree.title = "Dynamic Traversal Tree (dtt.json)";
+  t.tree.header = {"node", "room", "scene room", "parent", "state", "entry door", "reason"};
+  for (const auto& n : job.mission.tree.Nodes()) {
+    std::string scene_room;
+    for (const FloorRoomJob& r : job.rooms)
+      if (!n.room.empty() && r.robot_room == n.room) scene_room = r.room;
+    t.tree.rows.push_back({std::to_string(n.id), n.room, scene_room, std::to_string(n.parent),
+                           autonomy::ToString(n.state),
+                           n.has_entry_door ? n.entry_door.room + "/" + n.entry_door.opening +
+                                                  " (" + n.entry_door.state + ", " +
+                                                  FormatFixed(n.entry_door.clear_width_m, 2) + " m)"
+                                            : "-",
+                           n.state == autonomy::NodeState::kVisited ? "" : n.reason});
+  }
   const auto& m = t.mission_json;
   if (o.print)
     o.print(FormatNumbers("mission: %.0f rooms visited of %.0f known, %.0f scans (%.0f door "
@@ -235,6 +284,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                     FormatFixed(params.scan_step_deg, 3) + " deg.";
   report.tables.push_back(o.scene_table);
   report.tables.push_back(std::move(t.rooms));
+  if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));
   report.tables.push_back(std::move(t.eval));
   report.tables.push_back(ModelScoresTable(run_eval.summary));
   report.tables.push_back({"Timing",

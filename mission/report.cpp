@@ -172,14 +172,27 @@ std::string PlanSvg(const ReportInput& in) {
         << FormatFixed(v.Y(p.y()), 1) << "'/>";
     s << "</g>\n";
   }
+  if (in.path.size() >= 2) {
+    s << "<polyline fill='none' stroke='#e65100' stroke-width='1.5' stroke-opacity='0.8' "
+         "points='";
+    for (const auto& p : in.path) s << v.P(p.x(), p.y()) << " ";
+    s << "'><title>the robot's true path</title></polyline>\n";
+  }
+  for (const auto& e : in.tree_edges) {
+    s << "<polyline fill='none' stroke='#2e7d32' stroke-width='3' stroke-dasharray='8 4' "
+         "points='"
+      << v.P(e.from.x(), e.from.y()) << " " << v.P(e.via.x(), e.via.y()) << " "
+      << v.P(e.to.x(), e.to.y()) << "'><title>" << Escape(e.label) << "</title></polyline>\n";
+  }
   for (const auto& sc : in.scans) {
     const double x = v.X(sc.position.x()), y = v.Y(sc.position.y());
-    s << "<g stroke='#000' stroke-width='2'><line x1='" << FormatFixed(x - 6, 1) << "' y1='"
-      << FormatFixed(y - 6, 1) << "' x2='" << FormatFixed(x + 6, 1) << "' y2='"
-      << FormatFixed(y + 6, 1) << "'/><line x1='" << FormatFixed(x - 6, 1) << "' y1='"
-      << FormatFixed(y + 6, 1) << "' x2='" << FormatFixed(x + 6, 1) << "' y2='"
-      << FormatFixed(y - 6, 1) << "'/></g><text x='" << FormatFixed(x + 8, 1) << "' y='"
-      << FormatFixed(y - 8, 1) << "'>" << Escape(sc.name) << "</text>\n";
+    s << "<g stroke='" << (sc.door ? "#2e7d32" : "#000") << "' stroke-width='2'><line x1='"
+      << FormatFixed(x - 6, 1) << "' y1='" << FormatFixed(y - 6, 1) << "' x2='"
+      << FormatFixed(x + 6, 1) << "' y2='" << FormatFixed(y + 6, 1) << "'/><line x1='"
+      << FormatFixed(x - 6, 1) << "' y1='" << FormatFixed(y + 6, 1) << "' x2='"
+      << FormatFixed(x + 6, 1) << "' y2='" << FormatFixed(y - 6, 1) << "'/></g><text x='"
+      << FormatFixed(x + 8, 1) << "' y='" << FormatFixed(y - 8, 1) << "'>" << Escape(sc.name)
+      << "</text>\n";
   }
   if (in.truth)
     for (const auto& r : in.truth->rooms) {

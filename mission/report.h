@@ -15,6 +15,7 @@ namespace mopad::mission {
 
 struct ReportScan {
   std::string name;
+  bool door = false;                                   ///< a door scan (drawn in its own colour)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world, m
   std::vector<Eigen::Vector2f> plan_points;            ///< world x, y of a subsample, m
 };
@@ -31,6 +32,13 @@ struct ReportInput {
   const scenes::GroundTruth* truth = nullptr;  ///< plan drawn from it when set
   std::vector<ReportTable> tables;
   std::vector<ReportScan> scans;
+  std::vector<Eigen::Vector2d> path;  ///< world x, y of the robot's true path, m
+  /// Dynamic Traversal Tree edges (world, m): parent room's first scan -> door -> child's.
+  struct TreeEdge {
+    Eigen::Vector2d from, via, to;
+    std::string label;
+  };
+  std::vector<TreeEdge> tree_edges;
 };
 
 /// Plan-view SVG (also embedded in the HTML). Empty string if there is nothing to draw.
