@@ -51,6 +51,17 @@ perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
   return p;
 }
 
+perception::RegistrationAcceptanceParams RoomScanParams::DefaultEntryAcceptance() {
+  perception::RegistrationAcceptanceParams p;
+  // Just beyond a door the localiser has little of the new room in its map: its yaw can be
+  // several degrees off (2.5 deg measured on a random floor). The ICP's own checks (fitness,
+  // residual, free space, conditioning) reject wrong minima; the bounds only stop a jump to
+  // another door frame.
+  p.max_correction = 0.3;
+  p.max_correction_deg = 5.0;
+  return p;
+}
+
 namespace {
 
 // Registration (paper step (3)): the first scan defines the room's frame, unless a floor

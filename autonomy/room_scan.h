@@ -40,7 +40,7 @@ struct RoomScanParams {
   /// registered against the earlier rooms' scans with these: it sees them only through the
   /// door, so a door scan's ICP and a bounded correction of the localiser's prior.
   perception::IcpParams entry_icp = NavigatorParams::DefaultIcp();
-  perception::RegistrationAcceptanceParams entry_acceptance;
+  perception::RegistrationAcceptanceParams entry_acceptance = DefaultEntryAcceptance();
   modelling::RoomModelParams model;
   modelling::StoppingParams stopping;
   NextBestScanParams nbs = DefaultNbs();
@@ -50,6 +50,7 @@ struct RoomScanParams {
   static NextBestScanParams DefaultNbs();
   static perception::IcpParams DefaultIcp();
   static perception::RegistrationAcceptanceParams DefaultAcceptance();
+  static perception::RegistrationAcceptanceParams DefaultEntryAcceptance();
 
   template <class V>
   void Visit(V& v) {
