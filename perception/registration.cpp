@@ -90,6 +90,8 @@ Accum Correspond(const Points& src, const Eigen::Isometry3d& T, const Eigen::Vec
         const std::int64_t j = map.tree().Nearest(p, max_dist);
         if (j < 0) continue;
         const Normal& nm = normals[static_cast<std::size_t>(j)];
+        // A map point seen from the other side of its plane is another surface (the other face
+        // of a wall): no correspondence.
         if (same_side && nm.valid) {
           const Eigen::Vector3d view = views[static_cast<std::size_t>(j)].cast<double>();
           if (nm.n.dot(view) * nm.n.dot(T.translation() - p) < 0.0) continue;

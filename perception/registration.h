@@ -72,9 +72,9 @@ struct IcpParams {
   double max_free_space_violation = 0.006;  ///< share of source points, [0, 1]
   double min_range = 0.0;     ///< m, source points closer to the scanner are dropped, [0, 1000]
   double max_range = 1000.0;  ///< m, source points farther are dropped, (0, 1e6]
-  /// A source point matches a map point only when both were seen from the same side of the map
-  /// point's plane (map points from scans added with their origin): the two faces of a thin
-  /// wall, seen from the rooms on either side, are two surfaces, not one.
+  /// A source point's nearest map point counts only when both were seen from the same side of
+  /// the map point's plane (map points from scans added with their origin): the two faces of a
+  /// thin wall, seen from the rooms on either side, are two surfaces, not one.
   bool same_side = false;
 
   template <class V>

@@ -58,8 +58,8 @@ TEST(FloorJob, VisitsTheSecondRoomThroughTheOpenDoorByDriving) {
   for (const char* room : {"R1", "R2"}) {
     const nlohmann::json run =
         nlohmann::json::parse(std::ifstream(fs::path(dir) / "rooms" / room / "run.json"));
-    EXPECT_EQ(run["X_WM"], nlohmann::json::parse(std::ifstream(
-                               fs::path(dir) / "rooms" / "R1" / "run.json"))["X_WM"]);
+    EXPECT_EQ(run["X_WM"], nlohmann::json::parse(
+                               std::ifstream(fs::path(dir) / "rooms" / "R1" / "run.json"))["X_WM"]);
   }
   fs::remove_all(dir);
 }

@@ -369,6 +369,32 @@ TEST(Registration, FreeSpaceViolationOfAWallSeenFromAnOrigin) {
   EXPECT_THROW(map.Add(wall, Eigen::Vector3d(std::nan(""), 0, 0)), InputError);
 }
 
+TEST(PointMap, ViewsRecordTheSideEachCellWasSeenFrom) {
+  // The two faces of a 0.2 m wall (x = 5 and x = 5.2), each scanned from its own room: every
+  // cell's view sum points back to the room that saw it (IcpParams::same_side matches a scan's
+  // points only with cells seen from their side); points added without an origin have none.
+  Points face_a, face_b;
+  for (double y = -1; y <= 1; y += 0.02)
+    for (double z = -1; z <= 1; z += 0.02) {
+      face_a.emplace_back(5.0, y, z);
+      face_b.emplace_back(5.2, y, z);
+    }
+  PointMap map;
+  map.Add(face_a, Eigen::Vector3d(2.0, 0.0, 0.0));
+  map.Add(face_b, Eigen::Vector3d(8.0, 0.0, 0.0));
+  ASSERT_EQ(map.views().size(), map.size());
+  int toward_a = 0, toward_b = 0;
+  for (std::size_t k = 0; k < map.size(); ++k) {
+    const Eigen::Vector3f v = map.views()[k].normalized();
+    if (map.points()[k].x() < 5.1) toward_a += v.x() < -0.5f;
+    if (map.points()[k].x() > 5.1) toward_b += v.x() > 0.5f;
+  }
+  EXPECT_EQ(toward_a + toward_b, static_cast<int>(map.size()));
+  PointMap no_origin;
+  no_origin.Add(face_a);
+  for (const auto& v : no_origin.views()) EXPECT_EQ(v.norm(), 0.0f);
+}
+
 TEST(Registration, LongCorridorIsFlaggedDegenerateAndKeepsThePriorAlongItsAxis) {
   // A synthetic 40 m x 2 m x 3 m corridor (walls, floor, ceiling; no ends): x is unobservable.
   Points corridor;
