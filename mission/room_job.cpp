@@ -7,8 +7,10 @@
 
 #include "common/error.h"
 #include "mission/model_export.h"
+#include "mission/robot_catalogue.h"
 #include "modelling/model_io.h"
 #include "modelling/openings.h"
+#include "modelling/sm5_io.h"
 
 namespace mopad::mission {
 
@@ -122,6 +124,14 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   modelling::MarkOpeningVoxels(sm4.openings, dsm3);
   WriteRoomOutputs(job.mission, params, session, model, sm3, dsm3, dir);
   modelling::WriteSm4Files(dir, sm4, images);
+  // SM5 (paper §3.4): service components on the walls and ceiling, from the catalogue's models.
+  const modelling::ComponentRecogniser& recogniser = RobotComponentRecogniser();  // trained once
+  const auto t_sm5 = std::chrono::steady_clock::now();
+  const modelling::Sm5Model sm5 =
+      modelling::DetectComponents(sm3, sm4, ortho, recogniser, modelling::ComponentParams{});
+  job.sm5_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sm5).count();
+  job.components = sm5.components.size();
+  modelling::WriteSm5File(dir, sm5);
   WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
   modelling::WriteModelsGlb(sm3, &sm4, room, (std::filesystem::path(dir) / "models.glb").string());
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());

@@ -173,6 +173,9 @@ void RegisterRunCommand(CLI::App& app) {
       rj["registration_failed"] = m.registration_failed;
       rj["robot_coverage"] = robot_cov;
       rj["max_processing_s"] = max_proc;
+      rj["sm4_seconds"] = job.sm4_seconds;
+      rj["sm5_seconds"] = job.sm5_seconds;
+      rj["components"] = job.components;
       rj["evaluation"] = ToJson(e);
       rj["seconds"] = t_room;
       rooms_json.push_back(std::move(rj));

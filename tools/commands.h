@@ -16,6 +16,7 @@ void RegisterRunCommand(CLI::App& app);     // run: the main job
 void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
 void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one room -> SM1
 void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
+void RegisterCatalogueCommand(CLI::App& app);  // catalogue train: SM5's recogniser weights
 
 /// Parses "x,y,yaw_deg" (a CLI pose option, degrees at the human edge); InputError naming
 /// `opt` otherwise.

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterDriveCommand(app);
   mopad::tools::RegisterRoomCommand(app);
   mopad::tools::RegisterEvalCommand(app);
+  mopad::tools::RegisterCatalogueCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
