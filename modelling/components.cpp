@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -285,6 +288,34 @@ cv::Mat MaybeFlip(cv::Mat m, bool ceiling) {
 
 namespace {
 
+// Measured protrusion of a box: the 95th percentile of the high-pass depth over its known
+// pixels (m); NaN when less than 30 % of the box is known.
+double BoxProtrusion(const SeImages& se, const PathDetection& d) {
+  const cv::Rect box =
+      cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
+               static_cast<int>(std::ceil(d.col1 - d.col0)),
+               static_cast<int>(std::ceil(d.row1 - d.row0))) &
+      cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
+  std::vector<float> h;
+  for (int r = box.y; r < box.y + box.height; ++r)
+    for (int c = box.x; c < box.x + box.width; ++c)
+      if (se.valid.at<uchar>(r, c)) h.push_back(se.highpass.at<float>(r, c));
+  if (h.empty() || h.size() < 0.3 * std::max(1, box.area()))
+    return std::numeric_limits<double>::quiet_NaN();
+  const auto q = h.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(h.size() - 1));
+  std::nth_element(h.begin(), q, h.end());
+  return *q;
+}
+
+// The measured protrusion inside a box agrees with the class (ComponentParams::
+// depth_consistency); true when too little of the box is known to tell.
+bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
+                 const ComponentParams& p) {
+  const double top = BoxProtrusion(se, d), flush = 2.0 * p.protrusion_min;
+  if (!std::isfinite(top)) return true;
+  return m.depth >= flush ? top >= p.depth_consistency * m.depth : top < flush;
+}
+
 // Step 2 on one SE.
 std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceiling,
                                      const interfaces::ObjectModelCatalogue& cat,
@@ -313,6 +344,12 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
       if (pk.score < p.depth_ncc_min) continue;
       PathDetection d = BoxAt(k, m, pixel, pk);
       d.ncc = pk.score;
+      // NCC ignores the amplitude: a 12 mm switch and a 40 mm socket correlate alike. The
+      // score weighs the NCC by how well the measured protrusion matches the class's depth.
+      const double top = BoxProtrusion(se, d);
+      const double agree =
+          std::isfinite(top) && top > 0.0 ? std::min(top, m.depth) / std::max(top, m.depth) : 0.5;
+      d.score = pk.score * agree;
       out.push_back(d);
     }
   }
@@ -332,26 +369,6 @@ std::vector<std::uint8_t> ColourBox(const cv::Mat& rgb_padded, int pad, const Pa
   cv::Mat crop = MaybeFlip(rgb_padded(box).clone(), ceiling);
   *w = crop.cols, *h = crop.rows;
   return std::vector<std::uint8_t>(crop.data, crop.data + crop.total() * 3);
-}
-
-// The measured protrusion inside a box agrees with the class (ComponentParams::
-// depth_consistency); true when too little of the box is known to tell.
-bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
-                 const ComponentParams& p) {
-  const cv::Rect box =
-      cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
-               static_cast<int>(std::ceil(d.col1 - d.col0)),
-               static_cast<int>(std::ceil(d.row1 - d.row0))) &
-      cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
-  std::vector<float> h;
-  for (int r = box.y; r < box.y + box.height; ++r)
-    for (int c = box.x; c < box.x + box.width; ++c)
-      if (se.valid.at<uchar>(r, c)) h.push_back(se.highpass.at<float>(r, c));
-  if (h.size() < 0.3 * std::max(1, box.area())) return true;
-  const auto q = h.begin() + static_cast<std::ptrdiff_t>(0.95 * (h.size() - 1));
-  std::nth_element(h.begin(), q, h.end());
-  const double top = *q, flush = 2.0 * p.protrusion_min;
-  return m.depth >= flush ? top >= p.depth_consistency * m.depth : top < flush;
 }
 
 // Step 3 on one SE.
@@ -385,10 +402,13 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       int w = 0, h = 0;
       const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, d, ceiling, &w, &h);
       const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
+      // The box is a component (its best class beats "none") and class k is among the
+      // perceptron's likely ones; look-alike classes (same size and colours, e.g. signs with
+      // different pictograms) are then told apart by the NCC of their colour models (step 5).
       const float sk = s[static_cast<std::size_t>(k)];
-
-      if (sk < p.colour_score_min || sk <= s.back()) continue;
-      d.score = sk;
+      const float best = *std::max_element(s.begin(), s.end() - 1);
+      if (best <= s.back() || sk < p.colour_score_min * best) continue;
+      d.score = best;
       d.ncc = pk.score;
       out.push_back(d);
     }
@@ -466,7 +486,8 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
     };
     for (std::size_t a = 0; a < rows.size(); ++a) {
       const PathDetection& d = colour[static_cast<std::size_t>(rows[a])];
-      if (!row_used[a] && d.score >= p.single_colour_score && !overlaps_pair(d, true))
+      if (!row_used[a] && d.score >= p.single_colour_score && d.ncc >= p.single_colour_ncc &&
+          !overlaps_pair(d, true))
         out.push_back({k, rows[a], -1, 0.5});
     }
     for (std::size_t b = 0; b < cols.size(); ++b) {

@@ -16,22 +16,27 @@
 //     `protrusion_min` form candidate regions (connected components); each region of a size
 //     a catalogue class can have is matched by normalised cross-correlation
 //     (cv::TM_CCOEFF_NORMED) against that class's depth model, padded with `template_pad` of
-//     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak).
+//     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak),
+//     scored by the NCC times the agreement of the box's measured protrusion with the class's
+//     depth (NCC alone cannot tell a 12 mm switch from a 40 mm socket).
 //  3. Colour path: pixels whose Lab distance to the local wall colour (same background
 //     estimate as 2, from the colour of the surface layer) exceeds `colour_delta_e`, merged by
 //     a dilation of `colour_merge`, are candidate boxes; a class whose size can hold a box is
 //     located by NCC of its colour model (padded with the local wall colour) and verified by
 //     the perceptron (ComponentRecogniser) on the box of the class size there: a colour
-//     detection when the NCC peak is >= colour_ncc_min, the perceptron's score of the class
-//     is >= colour_score_min and above its "none" score, and the box's measured protrusion
-//     agrees with the class (depth_consistency).
+//     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
+//     beats its "none" score, the class scores at least colour_score_min of that best, and the
+//     box's measured protrusion agrees with the class (depth_consistency). Its score is the
+//     best class score (how sure the box is a component); look-alike classes (same size and
+//     colours, e.g. signs with different pictograms) are told apart by the NCC in step 5.
 //  4. Consensus per class (equation (1)): the Recognition Coherence Matrix R(O) has one row
 //     per colour detection and one column per depth detection of class O, each entry
 //     alpha = |B_C intersect B_D| / |B_CD| (B_CD the box enclosing both; 0 when apart). The
 //     iterated maximum picks the largest entry >= min_pair_alpha, makes it an instance
 //     (found_by colour+depth) and removes its row and column, until none is left. A row or
 //     column left over is a single-path instance with alpha = 0.5 when its own path is
-//     confident (depth NCC >= single_depth_ncc, perceptron score >= single_colour_score) and
+//     confident (depth score >= single_depth_ncc; colour score >= single_colour_score and
+//     NCC >= single_colour_ncc) and
 //     does not overlap a paired instance of the class. This replaces the paper's "expected
 //     number of instances" (unknown to the robot): the stopping rule is the coherence floor
 //     for pairs and the confidence floor for single-path instances.
@@ -82,16 +87,20 @@ struct ComponentParams {
   double colour_merge = 0.012;  ///< m, dilation merging colour blobs, [0, 0.2]
   /// Least share of a class's width (height) a colour blob spans to be tried as it, [0, 1]
   double colour_min_extent = 0.2;
-  double colour_score_min = 0.5;  ///< least perceptron score of a colour detection, [0, 1]
-  double colour_ncc_min = 0.3;    ///< least colour NCC peak of a colour detection, [-1, 1]
+  /// Least perceptron score of a colour detection's class, as a share of the box's best class
+  /// score, [0, 1]
+  double colour_score_min = 0.2;
+  double colour_ncc_min = 0.3;  ///< least colour NCC peak of a colour detection, [-1, 1]
   /// A colour detection's class must agree with the box's measured protrusion (95th
   /// percentile of the high-pass depth, where known): a protruding class (depth >=
   /// 2 protrusion_min) needs at least this share of its depth, a flush one less than
   /// 2 protrusion_min, [0, 1]
   double depth_consistency = 0.3;
-  double min_pair_alpha = 0.05;      ///< least alpha of a colour+depth pair, [0, 1]
-  double single_depth_ncc = 0.75;    ///< least depth NCC of a depth-only instance, [-1, 1]
-  double single_colour_score = 0.8;  ///< least score of a colour-only instance, [0, 1]
+  double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]
+  /// Least depth score (NCC x protrusion agreement) of a depth-only instance, [-1, 1]
+  double single_depth_ncc = 0.6;
+  double single_colour_score = 0.3;  ///< least score of a colour-only instance, [0, 1]
+  double single_colour_ncc = 0.6;    ///< least colour NCC of a colour-only instance, [-1, 1]
   double max_class_overlap = 0.3;    ///< overlap (of the smaller box) across classes, [0, 1]
   int max_image_pixels = 8'000'000;  ///< SEs with larger images are skipped, [1, 1e9]
 
@@ -121,6 +130,7 @@ struct ComponentParams {
     v("min_pair_alpha", min_pair_alpha, Bounds{0.0, 1.0});
     v("single_depth_ncc", single_depth_ncc, Bounds{-1.0, 1.0});
     v("single_colour_score", single_colour_score, Bounds{0.0, 1.0});
+    v("single_colour_ncc", single_colour_ncc, Bounds{-1.0, 1.0});
     v("max_class_overlap", max_class_overlap, Bounds{0.0, 1.0});
     v("max_image_pixels", max_image_pixels, Bounds{1, 1e9});
   }
@@ -135,7 +145,7 @@ struct ComponentParams {
 /// "none") are plain wall, stains (blobs of any colour) and picture crops (random coloured
 /// rectangles) at the classes' sizes.
 struct ComponentTrainingParams {
-  int samples_per_class = 150;  ///< augmented samples of each class and of "none" x3, [1, 1e5]
+  int samples_per_class = 100;  ///< augmented samples of each class and of "none" x3, [1, 1e5]
   int hidden = 32;              ///< neurons of the hidden layer, [2, 1000]
   int iterations = 300;         ///< RPROP iterations, [1, 1e6]
   double pixel_min = 0.004;     ///< m, [0.001, 0.1]
@@ -169,12 +179,12 @@ struct ComponentTrainingParams {
 };
 
 /// The colour path's classifier (the paper's perceptron, OpenCV ml::ANN_MLP: one hidden layer,
-/// symmetric sigmoid, RPROP) and the catalogue it was trained on. Features: the paper's S, a, b
-/// pattern, by default with the same for L (ComponentTrainingParams::lightness), and the box
-/// size. Classes that look alike (LookAlikeGroups, e.g. a flush and a surface socket) share an
-/// output; the geometry tells them apart. Input: a colour box (RGB, top row first) and its size in
-/// metres; output: a score in [0, 1] per catalogue class (Classes() order) and for "none" (last).
-/// Const methods are thread-safe.
+/// symmetric sigmoid, on-line back-propagation) and the catalogue it was trained on. Features: the
+/// paper's S, a, b pattern, by default with the same for L (ComponentTrainingParams::lightness),
+/// and the box size. Classes that look alike (LookAlikeGroups, e.g. a flush and a surface socket)
+/// share an output; the geometry tells them apart. Input: a colour box (RGB, top row first) and its
+/// size in metres; output: a score in [0, 1] per catalogue class (Classes() order) and for "none"
+/// (last). Const methods are thread-safe.
 class ComponentRecogniser {
  public:
   ComponentRecogniser();
@@ -201,8 +211,11 @@ class ComponentRecogniser {
   /// width_m x height_m metres: Classes().size() + 1 values, the last "none".
   std::vector<float> Score(const std::vector<std::uint8_t>& rgb, int width, int height,
                            double width_m, double height_m) const;
-  /// Share of held-out augmented samples (a second stream) classified right, [0, 1].
+  /// Share of held-out augmented samples (a second stream) classified right (the right
+  /// look-alike group), [0, 1].
   double Accuracy(int samples_per_class, std::uint64_t seed) const;
+  /// The same per class (Classes() order, then "none").
+  std::vector<double> ClassAccuracy(int samples_per_class, std::uint64_t seed) const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -238,8 +251,10 @@ struct Sm5Model {
 struct PathDetection {
   int class_index = 0;
   double col0 = 0, row0 = 0, col1 = 0, row1 = 0;  ///< pixel box [col0, col1) x [row0, row1)
-  double score = 0.0;  ///< depth: NCC peak; colour: perceptron score of the class, [0, 1]
-  double ncc = 0.0;    ///< NCC peak of the path's model template, [-1, 1]
+  /// depth: NCC peak x (measured / model protrusion, the smaller over the larger); colour: the
+  /// box's best perceptron score; [0, 1]
+  double score = 0.0;
+  double ncc = 0.0;  ///< NCC peak of the path's model template, [-1, 1]
 };
 
 /// Equation (1): area of the boxes' intersection over the area of the box enclosing both; 0

@@ -51,6 +51,10 @@ void RegisterCatalogueCommand(CLI::App& app) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     rec.Save(*out);
     const double acc = rec.Accuracy(50, p.seed + 1000);
+    const std::vector<double> per_class = rec.ClassAccuracy(50, p.seed + 1000);
+    for (std::size_t k = 0; k < per_class.size(); ++k)
+      std::printf("  %-24s %.3f\n",
+                  k < cat.models.size() ? cat.models[k].class_name.c_str() : "none", per_class[k]);
     std::printf(
         "trained on %zu classes (%s pattern, %d samples per class) in %.2f s; held-out "
         "accuracy %.4f (look-alike classes count as one); wrote %s\n",

@@ -247,7 +247,7 @@ TEST(Consensus, PairsByIteratedMaximumAndKeepsConfidentSinglesAtHalf) {
                                           {0, 50, 0, 60, 10, 0.9, 0.8}};
   const std::vector<PathDetection> depth{{0, 51, 0, 61, 10, 0.9, 0.9},
                                          {0, 0, 1, 10, 11, 0.9, 0.9},
-                                         {0, 100, 0, 110, 10, 0.6, 0.6},
+                                         {0, 100, 0, 110, 10, 0.4, 0.6},
                                          {0, 200, 0, 210, 10, 0.9, 0.9}};
   const auto inst = Consensus(colour, depth, p);
   ASSERT_EQ(inst.size(), 3u);
