@@ -208,15 +208,16 @@ nlohmann::json ToJson(const ComponentEvaluation& e) {
 
 std::string MarkdownComponentsTable(const ComponentEvaluation& e) {
   std::ostringstream md;
-  md << "| class | N | TP % | FN % | FP % | TP alpha > 0.9 % | TP alpha = 0.5 % |\n";
-  md << "|---|---|---|---|---|---|---|\n";
+  md << "| class | N | TP % | FN % | FP % | TP alpha > 0.9 % | TP alpha = 0.5 % | TP / FN / FP |\n";
+  md << "|---|---|---|---|---|---|---|---|\n";
   auto line = [&](const ComponentClassRow& r, bool bold) {
     const double tp = r.tp > 0 ? r.tp : 1;
     md << "| " << (bold ? "**" + r.class_name + "**" : r.class_name) << " | " << r.n << " | "
        << FormatFixed(100 * r.Share(r.tp), 1) << " | " << FormatFixed(100 * r.Share(r.fn), 1)
        << " | " << FormatFixed(100 * r.Share(r.fp), 1) << " | "
        << FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_high / tp : 0.0, 1) << " | "
-       << FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_half / tp : 0.0, 1) << " |\n";
+       << FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_half / tp : 0.0, 1) << " | " << r.tp << " / "
+       << r.fn << " / " << r.fp << " |\n";
   };
   for (const auto& r : e.classes) line(r, false);
   line(e.total, true);
