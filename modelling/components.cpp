@@ -496,20 +496,22 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
         out.push_back({k, -1, cols[b], 0.5});
     }
   }
-  // Step 5: across classes, the larger alpha (then the larger score) keeps an overlap.
+  // Step 5: across classes, the larger rank keeps an overlap. Rank = max(alpha, 0.5) x the
+  // evidence for the class: the depth score where depth found it (NCC x protrusion agreement:
+  // the colour of small white components hardly tells them apart), else the colour NCC (the
+  // perceptron's score says "a component", the model template says which). A pair ranks at
+  // least as a single path: two boxes that disagree still both saw the object.
   auto box = [&](const ConsensusInstance& c) -> const PathDetection& {
     return c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
                         : colour[static_cast<std::size_t>(c.colour)];
   };
-  auto score = [&](const ConsensusInstance& c) {
-    const auto* d = c.depth >= 0 ? &depth[static_cast<std::size_t>(c.depth)] : nullptr;
-    const auto* k = c.colour >= 0 ? &colour[static_cast<std::size_t>(c.colour)] : nullptr;
-    return (d ? d->score * d->ncc : 0.0) + (k ? k->score * k->ncc : 0.0);
+  auto rank = [&](const ConsensusInstance& c) {
+    const double evidence = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)].score
+                                         : colour[static_cast<std::size_t>(c.colour)].ncc;
+    return std::max(c.alpha, 0.5) * evidence;
   };
-  std::stable_sort(out.begin(), out.end(), [&](const auto& a, const auto& b) {
-    if (a.alpha != b.alpha) return a.alpha > b.alpha;
-    return score(a) > score(b);
-  });
+  std::stable_sort(out.begin(), out.end(),
+                   [&](const auto& a, const auto& b) { return rank(a) > rank(b); });
   std::vector<ConsensusInstance> kept;
   for (const auto& c : out) {
     bool clash = false;

@@ -41,8 +41,8 @@
 //     number of instances" (unknown to the robot): the stopping rule is the coherence floor
 //     for pairs and the confidence floor for single-path instances.
 //  5. Instances of different classes overlapping by more than `max_class_overlap` (of the
-//     smaller box) keep the one with the larger alpha, then the larger sum of the paths'
-//     score x NCC.
+//     smaller box) keep the one of larger rank: max(alpha, 0.5) x its evidence (the depth
+//     score when depth found it, else the colour NCC).
 // Centre: the depth peak's box when depth found the instance, else the colour peak's box, on
 // the SE plane (depth 0); map frame.
 //
@@ -98,7 +98,7 @@ struct ComponentParams {
   double depth_consistency = 0.3;
   double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]
   /// Least depth score (NCC x protrusion agreement) of a depth-only instance, [-1, 1]
-  double single_depth_ncc = 0.6;
+  double single_depth_ncc = 0.5;
   double single_colour_score = 0.3;  ///< least score of a colour-only instance, [0, 1]
   double single_colour_ncc = 0.6;    ///< least colour NCC of a colour-only instance, [-1, 1]
   double max_class_overlap = 0.3;    ///< overlap (of the smaller box) across classes, [0, 1]
