@@ -26,8 +26,8 @@ double YawOf(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 class FloorMission {
  public:
   FloorMission(Navigator& nav, const RoomScanParams& rp, const FloorScanParams& p,
-               const FloorScanHooks& hooks)
-      : nav_(nav), rp_(rp), p_(p), hooks_(hooks), target_(rp.icp) {}
+               const FloorScanHooks& hooks, const modelling::ComponentRecogniser* recogniser)
+      : nav_(nav), rp_(rp), p_(p), hooks_(hooks), recogniser_(recogniser), target_(rp.icp) {}
 
   FloorScanResult Run() {
     const auto t0 = Clock::now();
@@ -96,7 +96,8 @@ class FloorMission {
     };
     try {
       v.scan = RunRoomScan(nav_, rp_, model, on_scan, &target_);
-      v.models = BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images);
+      v.models = BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images,
+                                 recogniser_);
     } catch (const std::exception& e) {
       v.error = e.what();
     }
@@ -262,6 +263,7 @@ class FloorMission {
   const RoomScanParams& rp_;
   const FloorScanParams& p_;
   const FloorScanHooks& hooks_;
+  const modelling::ComponentRecogniser* recogniser_;
   FloorScanResult res_;
   perception::PointMap target_;  // every registered scan of the mission (the floor's S(t-1))
 };
@@ -285,9 +287,10 @@ DoorRecord DoorOf(const modelling::DetectedOpening& o, const std::string& room) 
 }
 
 FloorScanResult RunFloorScan(Navigator& navigator, const RoomScanParams& room_params,
-                             const FloorScanParams& params, const FloorScanHooks& hooks) {
+                             const FloorScanParams& params, const FloorScanHooks& hooks,
+                             const modelling::ComponentRecogniser* recogniser) {
   ValidateParams(params, "floor.");
-  return FloorMission(navigator, room_params, params, hooks).Run();
+  return FloorMission(navigator, room_params, params, hooks, recogniser).Run();
 }
 
 }  // namespace mopad::autonomy

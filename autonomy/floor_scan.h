@@ -117,8 +117,10 @@ struct FloorScanResult {
   double sim_time = 0.0, wall_time = 0.0;
 };
 
+/// `recogniser` (optional): SM5's, trained from the robot's catalogue of object models.
 FloorScanResult RunFloorScan(Navigator& navigator, const RoomScanParams& room_params,
-                             const FloorScanParams& params, const FloorScanHooks& hooks = {});
+                             const FloorScanParams& params, const FloorScanHooks& hooks = {},
+                             const modelling::ComponentRecogniser* recogniser = nullptr);
 
 /// The door of `o` (a door of SM4) as the floor mission uses it.
 DoorRecord DoorOf(const modelling::DetectedOpening& o, const std::string& room);

@@ -234,7 +234,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
 
 RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
                            const RoomScanParams& params, const std::string& room,
-                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images) {
+                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images,
+                           const modelling::ComponentRecogniser* recogniser) {
   RoomModels out;
   out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
   modelling::OrthoPoints ortho = std::move(no_return);
@@ -246,6 +247,12 @@ RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPo
   const auto t0 = Clock::now();
   out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images);
   out.sm4_seconds = Since(t0);
+  out.sm5.room = room;
+  if (recogniser) {
+    const auto t1 = Clock::now();
+    out.sm5 = modelling::DetectComponents(out.sm3, out.sm4, ortho, *recogniser, params.sm5);
+    out.sm5_seconds = Since(t1);
+  }
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "autonomy/next_best_scan.h"
 #include "common/frames.h"
 #include "common/params.h"
+#include "modelling/components.h"
 #include "modelling/openings.h"
 #include "modelling/orthoimage.h"
 #include "modelling/room_model.h"
@@ -46,6 +47,7 @@ struct RoomScanParams {
   NextBestScanParams nbs = DefaultNbs();
   modelling::Sm3Params sm3;
   modelling::OpeningParams sm4;
+  modelling::ComponentParams sm5;
 
   static NextBestScanParams DefaultNbs();
   static perception::IcpParams DefaultIcp();
@@ -67,6 +69,7 @@ struct RoomScanParams {
     v("nbs", nbs);
     v("sm3", sm3);
     v("sm4", sm4);
+    v("sm5", sm5);
   }
 };
 
@@ -121,16 +124,21 @@ bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::RegistrationAcceptanceParams& acceptance,
                       perception::RegistrationResult& r);
 
-/// SM3 and SM4 of a scanned room (paper §3.2-3.3): the structural model, then the openings in
+/// SM3, SM4 and SM5 of a scanned room (paper §3.2-3.4): the structural model, the openings in
 /// its walls from their colour + depth orthoimages (the accepted scans' points and `no_return`
-/// rays). `images` receives each wall's orthoimage when given.
+/// rays), then, with a `recogniser` (trained from the robot's catalogue of object models), the
+/// service components on its walls and ceiling. `images` receives each wall's orthoimage when
+/// given.
 struct RoomModels {
   modelling::StructuralModel sm3;
   modelling::Sm4Model sm4;
+  modelling::Sm5Model sm5;   ///< empty without a recogniser
   double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
+  double sm5_seconds = 0.0;  ///< s of wall time of SM5 (reporting only)
 };
 RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
                            const RoomScanParams& params, const std::string& room,
-                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images);
+                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images,
+                           const modelling::ComponentRecogniser* recogniser = nullptr);
 
 }  // namespace mopad::autonomy

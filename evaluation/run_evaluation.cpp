@@ -33,6 +33,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "common/params.h"
+#include "evaluation/metrics_components.h"
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_openings.h"
@@ -42,6 +43,7 @@
 #include "evaluation/report_tables.h"
 #include "evaluation/truth_models.h"
 #include "modelling/model_io.h"
+#include "modelling/sm5_io.h"
 #include "scenes/ground_truth.h"
 #include "sim/scene_world.h"
 
@@ -66,6 +68,7 @@ struct EvalParams {
   FloorplanParams floorplan;
   TruthDsm3Params dsm3;
   OpeningMatchParams openings;
+  ComponentMatchParams components;
   double report_buffer = 0.05;  ///< m, ISPRS buffer of the summary and tables, [0, 1]
   template <class V>
   void Visit(V& v) {
@@ -75,6 +78,7 @@ struct EvalParams {
     v("floorplan", floorplan);
     v("dsm3", dsm3);
     v("openings", openings);
+    v("components", components);
     v("report_buffer", report_buffer, Bounds{0.0, 1.0});
   }
 };
@@ -123,6 +127,7 @@ struct RoomResult {
   std::size_t scanners = 0;
   std::optional<ojson> mission;
   std::optional<OpeningEvaluation> openings;  // SM4, when the run wrote sm4.json
+  std::optional<ComponentEvaluation> components;  // SM5, when the run wrote sm5.json
 };
 
 ojson CountsJson(const std::vector<std::uint8_t>& labels) {
@@ -351,6 +356,11 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, run.room),
                                     params.openings);
     }
+    const fs::path sm5 = fs::path(run.dir) / "sm5.json";
+    if (fs::exists(sm5))
+      r.components =
+          EvaluateComponents(ModelComponents(modelling::ReadSm5(sm5.string()), run.X_WM),
+                             TruthComponents(*truth, run.room), params.components);
     results.push_back(std::move(r));
   }
 
@@ -463,6 +473,18 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       opening_parts.empty() ? std::nullopt
                             : std::optional<OpeningEvaluation>(PoolOpenings(opening_parts));
   summary["openings"] = pooled_openings ? Ord(ToJson(*pooled_openings)) : ojson(nullptr);
+  std::vector<ComponentEvaluation> component_parts;
+  for (const auto& r : results)
+    if (r.components) component_parts.push_back(*r.components);
+  std::optional<ComponentEvaluation> pooled_components;
+  if (!component_parts.empty()) pooled_components = PoolComponents(component_parts);
+  if (pooled_components) {  // the pairs stay per room
+    ojson c = Ord(ToJson(*pooled_components));
+    c.erase("pairs");
+    summary["components"] = c;
+  } else {
+    summary["components"] = nullptr;
+  }
   j["summary"] = summary;
   ojson rooms = ojson::array();
   for (const auto& r : results) {
@@ -484,6 +506,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     }
     x["mission"] = r.mission ? *r.mission : ojson(nullptr);
     x["openings"] = r.openings ? Ord(ToJson(*r.openings)) : ojson(nullptr);
+    x["components"] = r.components ? Ord(ToJson(*r.components)) : ojson(nullptr);
     rooms.push_back(x);
   }
   j["rooms"] = rooms;
@@ -527,6 +550,9 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
      << (any_dsm3 ? FormatFixed(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
   md << "## Floorplan (all rooms)\n\n" << MarkdownFloorplanTable(plan) << "\n";
   if (any_dsm3) md << "## DSM3 (all rooms)\n\n" << MarkdownConfusionTable(pooled_dsm3) << "\n";
+  if (pooled_components)
+    md << "## SM5 service components (all rooms)\n\n"
+       << MarkdownComponentsTable(*pooled_components) << "\n";
   for (const auto& r : results) {
     md << "## Room " << r.run.room << "\n\n### SM3 structural elements\n\n"
        << MarkdownPatchTable(r.patches) << "\n";
@@ -542,6 +568,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
                         r.dsm3_truth);
     if (r.has_dsm3) md << "### DSM3 voxels\n\n" << MarkdownConfusionTable(r.dsm3) << "\n";
     if (r.openings) md << "### SM4 openings\n\n" << MarkdownOpeningsTable(*r.openings) << "\n";
+    if (r.components)
+      md << "### SM5 service components\n\n" << MarkdownComponentsTable(*r.components) << "\n";
     if (r.mission)
       md << "### Mission figures\n\ncoverage of observable "
          << FormatFixed(MissionNumber(r.mission, "coverage_of_observable"), 4)

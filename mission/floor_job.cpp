@@ -10,8 +10,10 @@
 #include "common/polygon.h"
 #include "io/text_file.h"
 #include "mission/model_export.h"
+#include "mission/robot_catalogue.h"
 #include "modelling/model_io.h"
 #include "modelling/openings.h"
+#include "modelling/sm5_io.h"
 
 namespace mopad::mission {
 namespace {
@@ -144,11 +146,15 @@ class FloorWorld {
     extras.t_end = session_.SimTime();
     WriteRoomOutputs(v.scan, params_, session_, model, v.models.sm3, dsm3, dir, extras);
     modelling::WriteSm4Files(dir, v.models.sm4, v.images);
+    modelling::WriteSm5File(dir, v.models.sm5);
     const Pose3 X_WM = session_.X_MW().To3d().inverse();
     WriteRunJson(dir, mw_, room_, params_.drive.seed, X_WM);
     modelling::WriteModelsGlb(v.models.sm3, &v.models.sm4, room_,
                               (fs::path(dir) / "models.glb").string());
     r.openings = v.models.sm4.openings.size();
+    r.components = v.models.sm5.components.size();
+    r.sm4_seconds = v.models.sm4_seconds;
+    r.sm5_seconds = v.models.sm5_seconds;
     const auto& truths = session_.ScanTruths();
     if (v.door_scan_before.index >= 0)
       r.door_scan_positions_W.push_back(
@@ -213,8 +219,8 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
   RobotSession session(*mw.world, params.drive, job.start_W);
   FloorWorld world(mw, params, session, dir, evaluate);
-  job.mission =
-      autonomy::RunFloorScan(session.Robot(), params, params.floor, world.Hooks(progress));
+  job.mission = autonomy::RunFloorScan(session.Robot(), params, params.floor,
+                                       world.Hooks(progress), &RobotComponentRecogniser());
   job.rooms = std::move(world.Rooms());
   job.drive = session.Result();
   job.X_WM = session.X_MW().To3d().inverse();

@@ -44,7 +44,9 @@ struct FloorRoomJob {
   int scans = 0;           ///< room-loop scans
   int door_scans = 0;      ///< door scans listed with the room (in front of its entry door)
   double robot_coverage = 0.0;
-  std::size_t openings = 0;
+  std::size_t openings = 0;    ///< SM4: doors and windows found
+  std::size_t components = 0;  ///< SM5: service components found
+  double sm4_seconds = 0.0, sm5_seconds = 0.0;  ///< wall time (reporting only)
   std::optional<RoomEvaluation> evaluation;
   std::vector<Eigen::Vector3d> scan_positions_W;       ///< true scanner centres (world), for plots
   std::vector<Eigen::Vector3d> door_scan_positions_W;  ///< the room's door scan 1 (world)

@@ -100,6 +100,9 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     rj["stop_reason"] = m.stop_reason;
     rj["registration_failed"] = m.registration_failed;
     rj["robot_coverage"] = cov;
+    rj["sm4_seconds"] = job->sm4_seconds;
+    rj["sm5_seconds"] = job->sm5_seconds;
+    rj["components"] = job->components;
     rj["evaluation"] = ToJson(*job->evaluation);
     rj["seconds"] = Seconds(t0);
     t.rooms_json.push_back(std::move(rj));
@@ -183,6 +186,10 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
     rj["door_scans"] = r.door_scans;
     rj[r.status == "failed" ? "reason" : "stop_reason"] = r.reason;
     rj["robot_coverage"] = r.robot_coverage;
+    rj["openings"] = r.openings;
+    rj["components"] = r.components;
+    rj["sm4_seconds"] = r.sm4_seconds;
+    rj["sm5_seconds"] = r.sm5_seconds;
     if (r.evaluation) {
       AddEvaluation(r.room, *r.evaluation, t, o);
       rj["evaluation"] = ToJson(*r.evaluation);

@@ -7,8 +7,10 @@
 
 #include "common/error.h"
 #include "mission/model_export.h"
+#include "mission/robot_catalogue.h"
 #include "modelling/model_io.h"
 #include "modelling/openings.h"
+#include "modelling/sm5_io.h"
 
 namespace mopad::mission {
 
@@ -107,8 +109,10 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   job.mission =
       RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;
+  // SM5 (paper §3.4) with the recogniser trained from the robot's catalogue (once a process).
   const autonomy::RoomModels models =
-      autonomy::BuildRoomModels(model, std::move(job.mission.no_return), params, room, &images);
+      autonomy::BuildRoomModels(model, std::move(job.mission.no_return), params, room, &images,
+                                &RobotComponentRecogniser());
   const modelling::StructuralModel& sm3 = models.sm3;
   const modelling::Sm4Model& sm4 = models.sm4;
   job.sm4_seconds = models.sm4_seconds;
@@ -117,6 +121,9 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   modelling::MarkOpeningVoxels(sm4.openings, dsm3);
   WriteRoomOutputs(job.mission, params, session, model, sm3, dsm3, dir);
   modelling::WriteSm4Files(dir, sm4, images);
+  job.sm5_seconds = models.sm5_seconds;
+  job.components = models.sm5.components.size();
+  modelling::WriteSm5File(dir, models.sm5);
   WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
   modelling::WriteModelsGlb(sm3, &sm4, room, (std::filesystem::path(dir) / "models.glb").string());
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());

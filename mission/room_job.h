@@ -70,6 +70,8 @@ struct RoomJob {
   double path_length = 0.0;  ///< m, true distance driven in the room
   std::size_t openings = 0;  ///< SM4: doors and windows found
   double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
+  std::size_t components = 0;  ///< SM5: service components found
+  double sm5_seconds = 0.0;    ///< s of wall time of SM5 (reporting only)
 };
 RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
                    const RoomMissionParams& params, const std::optional<Pose2>& start_W,

@@ -1,0 +1,601 @@
+#include "modelling/components.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <utility>
+
+#include "common/error.h"
+#include "modelling/component_features.h"
+
+namespace mopad::modelling {
+namespace {
+
+// The SE images of steps 1-3, all rows x cols of the orthoimage.
+struct SeImages {
+  cv::Mat valid;     // CV_8U, 255 = known and outside the openings
+  cv::Mat depth;     // CV_32F, m, filled J^_D
+  cv::Mat rgb;       // CV_8UC3, filled J^_C (RGB)
+  cv::Mat lab;       // CV_32FC3, J^_C in CIE Lab
+  cv::Mat highpass;  // CV_32F, m, depth minus its wall background (0 where not valid)
+  cv::Mat wall_rgb;  // CV_8UC3, local wall colour
+  cv::Mat delta_e;   // CV_32F, Lab distance to the local wall colour (0 where not valid)
+};
+
+float Median(std::vector<float>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Step 1: normalised convolution of the imaged pixels, openings removed.
+// Typical sample spacing (m): points per pixel over the seen area (seen pixels closed by a
+// 9 x 9 dilation), spacing = pixel / sqrt(density).
+double SampleSpacing(const Orthoimage& im) {
+  cv::Mat seen(im.Rows(), im.Cols(), CV_8U, cv::Scalar(0));
+  double n = 0.0;
+  for (int r = 0; r < im.Rows(); ++r)
+    for (int k = 0; k < im.Cols(); ++k) {
+      const std::uint32_t c = im.Count(im.Index(k, r));
+      n += c;
+      if (c > 0) seen.at<uchar>(r, k) = 255;
+    }
+  cv::dilate(seen, seen, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
+  const double area = cv::countNonZero(seen);
+  return n > 0 ? im.Pixel() / std::sqrt(n / area) : im.Pixel();
+}
+
+void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
+            const ComponentParams& p, SeImages& se) {
+  const int rows = im.Rows(), cols = im.Cols();
+  const double spacing = SampleSpacing(im);
+  cv::Mat w(rows, cols, CV_32F, cv::Scalar(0)), d(rows, cols, CV_32F, cv::Scalar(0));
+  cv::Mat c(rows, cols, CV_32FC3, cv::Scalar(0, 0, 0));
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < cols; ++k) {
+      const std::size_t i = im.Index(k, r);
+      if (im.Count(i) == 0) continue;
+      w.at<float>(r, k) = 1.0f;
+      d.at<float>(r, k) = im.Depth(i);
+      const auto rgb = im.Rgb(i);
+      c.at<cv::Vec3f>(r, k) = cv::Vec3f(rgb[0], rgb[1], rgb[2]);
+    }
+  const double s = std::max(p.fill_sigma, p.fill_spacing_share * spacing) / im.Pixel();
+  cv::Mat seen = w.clone();
+  cv::GaussianBlur(w, w, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(d, d, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(c, c, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
+  // Weight threshold relative to the typical weight where points are: holes between scan
+  // lines fill, shadows and unseen areas wider than about a sample spacing stay unknown.
+  std::vector<float> ws;
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < cols; ++k)
+      if (seen.at<float>(r, k) > 0.0f) ws.push_back(w.at<float>(r, k));
+  if (ws.empty()) ws.push_back(1.0f);
+  const float w_min = static_cast<float>(p.fill_min_weight) * Median(ws);
+  // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
+  cv::Mat closed;
+  seen.convertTo(closed, CV_8U, 255.0);
+  const int kd = std::max(3, 2 * static_cast<int>(std::ceil(0.75 * spacing / im.Pixel())) + 1);
+  cv::morphologyEx(closed, closed, cv::MORPH_CLOSE,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kd, kd)));
+  se.valid = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
+  se.depth = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
+  se.rgb = cv::Mat(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0));
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < cols; ++k) {
+      const float wk = w.at<float>(r, k);
+      if (wk < w_min || !closed.at<uchar>(r, k)) continue;
+      se.valid.at<uchar>(r, k) = 255;
+      // A pixel holding points keeps their mean; an empty one takes the filter's estimate.
+      const bool own = seen.at<float>(r, k) > 0.0f;
+      const std::size_t i = im.Index(k, r);
+      se.depth.at<float>(r, k) = own ? im.Depth(i) : d.at<float>(r, k) / wk;
+      const auto rgb = im.Rgb(i);
+      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : c.at<cv::Vec3f>(r, k) / wk;
+      se.rgb.at<cv::Vec3b>(r, k) =
+          cv::Vec3b(cv::saturate_cast<uchar>(ck[0]), cv::saturate_cast<uchar>(ck[1]),
+                    cv::saturate_cast<uchar>(ck[2]));
+    }
+  for (const DetectedOpening& o : openings) {
+    const auto a = im.PixelOf(o.u0 - p.opening_margin, o.v1 + p.opening_margin);
+    const auto b = im.PixelOf(o.u1 + p.opening_margin, o.v0 - p.opening_margin);
+    const int c0 = std::clamp(a[0], 0, cols), c1 = std::clamp(b[0] + 1, 0, cols);
+    const int r0 = std::clamp(a[1], 0, rows), r1 = std::clamp(b[1] + 1, 0, rows);
+    if (c1 > c0 && r1 > r0) se.valid(cv::Rect(c0, r0, c1 - c0, r1 - r0)).setTo(0);
+  }
+}
+
+// Steps 2-3: the low-frequency wall surface (depth and colour medians of the surface layer per
+// background cell, bilinear), the depth high-pass and the colour distance.
+void Background(const ComponentParams& p, double pixel, SeImages& se) {
+  const int rows = se.depth.rows, cols = se.depth.cols;
+  const int cell = std::max(1, static_cast<int>(std::lround(p.background_cell / pixel)));
+  const int gr = (rows + cell - 1) / cell, gc = (cols + cell - 1) / cell;
+  cv::Mat bd(gr, gc, CV_32F), bc(gr, gc, CV_32FC3);
+  cv::Mat known(gr, gc, CV_8U, cv::Scalar(0));
+  std::vector<float> all_d;
+  std::array<std::vector<float>, 3> all_c;
+  for (int i = 0; i < gr; ++i)
+    for (int j = 0; j < gc; ++j) {
+      std::vector<float> dv;
+      std::array<std::vector<float>, 3> cv3;
+      for (int r = i * cell; r < std::min(rows, (i + 1) * cell); ++r)
+        for (int k = j * cell; k < std::min(cols, (j + 1) * cell); ++k) {
+          const float dk = se.depth.at<float>(r, k);
+          if (!se.valid.at<uchar>(r, k) || std::abs(dk) > p.surface_band) continue;
+          dv.push_back(dk);
+          for (int ch = 0; ch < 3; ++ch) cv3[ch].push_back(se.rgb.at<cv::Vec3b>(r, k)[ch]);
+        }
+      if (dv.size() < 8) continue;
+      all_d.insert(all_d.end(), dv.begin(), dv.end());
+      known.at<uchar>(i, j) = 1;
+      bd.at<float>(i, j) = Median(dv);
+      for (int ch = 0; ch < 3; ++ch) {
+        all_c[ch].insert(all_c[ch].end(), cv3[ch].begin(), cv3[ch].end());
+        bc.at<cv::Vec3f>(i, j)[ch] = Median(cv3[ch]);
+      }
+    }
+  float gd = 0.0f;
+  cv::Vec3f gcol(200, 200, 200);
+  if (!all_d.empty()) {
+    gd = Median(all_d);
+    for (int ch = 0; ch < 3; ++ch) gcol[ch] = Median(all_c[ch]);
+  }
+  for (int i = 0; i < gr; ++i)
+    for (int j = 0; j < gc; ++j)
+      if (!known.at<uchar>(i, j)) bd.at<float>(i, j) = gd, bc.at<cv::Vec3f>(i, j) = gcol;
+  cv::Mat bd_full, bc_full;
+  cv::resize(bd, bd_full, cv::Size(cols, rows), 0, 0, cv::INTER_LINEAR);
+  cv::resize(bc, bc_full, cv::Size(cols, rows), 0, 0, cv::INTER_LINEAR);
+  bc_full.convertTo(se.wall_rgb, CV_8UC3);
+  se.wall_rgb.copyTo(se.rgb, ~se.valid);  // unknown pixels read as the wall (no contrast)
+  cv::Mat rgb_f, wall_f, wall_lab;
+  se.rgb.convertTo(rgb_f, CV_32FC3, 1.0 / 255.0);
+  cv::cvtColor(rgb_f, se.lab, cv::COLOR_RGB2Lab);
+  se.wall_rgb.convertTo(wall_f, CV_32FC3, 1.0 / 255.0);
+  cv::cvtColor(wall_f, wall_lab, cv::COLOR_RGB2Lab);
+  se.highpass = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
+  se.delta_e = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < cols; ++k) {
+      if (!se.valid.at<uchar>(r, k)) continue;
+      se.highpass.at<float>(r, k) = se.depth.at<float>(r, k) - bd_full.at<float>(r, k);
+      se.delta_e.at<float>(r, k) =
+          static_cast<float>(cv::norm(se.lab.at<cv::Vec3f>(r, k) - wall_lab.at<cv::Vec3f>(r, k)));
+    }
+}
+
+// Candidate boxes: connected components of `mask` (CV_8U), as [c0, r0, c1, r1) pixel boxes.
+std::vector<cv::Rect> Regions(const cv::Mat& mask, int grow) {
+  cv::Mat m = mask;
+  if (grow > 0)
+    cv::dilate(mask, m,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(m, labels, stats, centroids, 8, CV_32S);
+  std::vector<cv::Rect> out;
+  for (int i = 1; i < n; ++i) {
+    cv::Rect r(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
+               stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
+    r.x += grow, r.y += grow, r.width -= 2 * grow, r.height -= 2 * grow;
+    if (r.width > 0 && r.height > 0) out.push_back(r);
+  }
+  return out;
+}
+
+bool MountsOn(const interfaces::ObjectModel& m, bool ceiling) {
+  return ceiling ? m.mounting == interfaces::Mounting::kCeiling
+                 : m.mounting == interfaces::Mounting::kWall;
+}
+
+// The class's box can be the candidate: extent within tolerance (colour blobs may be smaller:
+// a part of the model differs from the wall).
+bool SizeFits(const cv::Rect& r, double pixel, const interfaces::ObjectModel& m,
+              const ComponentParams& p, double min_share) {
+  const double w = r.width * pixel, h = r.height * pixel;
+  auto fits = [&](double x, double size) {
+    return x <= size * (1.0 + p.size_tolerance) + p.size_slack &&
+           x >= std::max(0.0, min_share * size - p.size_slack);
+  };
+  return fits(w, m.width) && fits(h, m.height);
+}
+
+// NCC of `templ` over the window around `r` in `image` (both padded by `pad` pixels of
+// `image_padded`): best score and the template's centre in unpadded pixel coordinates.
+struct Peak {
+  double score = -2.0;
+  double col = 0.0, row = 0.0;
+};
+Peak MatchAround(const cv::Mat& image_padded, int pad, const cv::Mat& templ, const cv::Rect& r,
+                 int margin) {
+  const int wx = std::max(0, (templ.cols - r.width) / 2) + margin;
+  const int wy = std::max(0, (templ.rows - r.height) / 2) + margin;
+  cv::Rect win(r.x + pad - wx, r.y + pad - wy, r.width + 2 * wx, r.height + 2 * wy);
+  win &= cv::Rect(0, 0, image_padded.cols, image_padded.rows);
+  Peak peak;
+  if (win.width < templ.cols || win.height < templ.rows) return peak;
+  cv::Mat res;
+  cv::matchTemplate(image_padded(win), templ, res, cv::TM_CCOEFF_NORMED);
+  double best = 0.0;
+  cv::Point at;
+  cv::minMaxLoc(res, nullptr, &best, nullptr, &at);
+  if (!std::isfinite(best)) return peak;
+  peak.score = best;
+  // Sub-pixel peak: a parabola through the maximum and its two neighbours, per axis.
+  auto vertex = [](float l, float c, float r) {
+    const double den = l - 2.0 * c + r;
+    return den < -1e-9 ? std::clamp(0.5 * (l - r) / den, -0.5, 0.5) : 0.0;
+  };
+  double dx = 0.0, dy = 0.0;
+  if (at.x > 0 && at.x + 1 < res.cols)
+    dx = vertex(res.at<float>(at.y, at.x - 1), res.at<float>(at.y, at.x),
+                res.at<float>(at.y, at.x + 1));
+  if (at.y > 0 && at.y + 1 < res.rows)
+    dy = vertex(res.at<float>(at.y - 1, at.x), res.at<float>(at.y, at.x),
+                res.at<float>(at.y + 1, at.x));
+  peak.col = win.x + at.x + dx + 0.5 * templ.cols - pad;
+  peak.row = win.y + at.y + dy + 0.5 * templ.rows - pad;
+  return peak;
+}
+
+PathDetection BoxAt(int k, const interfaces::ObjectModel& m, double pixel, const Peak& pk) {
+  PathDetection d;
+  d.class_index = k;
+  d.col0 = pk.col - 0.5 * m.width / pixel;
+  d.col1 = pk.col + 0.5 * m.width / pixel;
+  d.row0 = pk.row - 0.5 * m.height / pixel;
+  d.row1 = pk.row + 0.5 * m.height / pixel;
+  d.score = pk.score;
+  return d;
+}
+
+double OverlapOfSmaller(const PathDetection& a, const PathDetection& b) {
+  const double w = std::min(a.col1, b.col1) - std::max(a.col0, b.col0);
+  const double h = std::min(a.row1, b.row1) - std::max(a.row0, b.row0);
+  if (w <= 0 || h <= 0) return 0.0;
+  const double aa = (a.col1 - a.col0) * (a.row1 - a.row0);
+  const double ab = (b.col1 - b.col0) * (b.row1 - b.row0);
+  return w * h / std::max(1e-12, std::min(aa, ab));
+}
+
+// Keeps the best of same-class detections that overlap by more than half (several candidate
+// regions of one object reach the same peak).
+void Dedupe(std::vector<PathDetection>& d) {
+  std::stable_sort(d.begin(), d.end(), [](const PathDetection& a, const PathDetection& b) {
+    return a.score > b.score;
+  });
+  std::vector<PathDetection> kept;
+  for (const PathDetection& x : d) {
+    bool dup = false;
+    for (const PathDetection& y : kept)
+      dup = dup || (x.class_index == y.class_index && OverlapOfSmaller(x, y) > 0.5);
+    if (!dup) kept.push_back(x);
+  }
+  d = std::move(kept);
+}
+
+cv::Mat MaybeFlip(cv::Mat m, bool ceiling) {
+  if (ceiling) cv::flip(m, m, 0);
+  return m;
+}
+
+}  // namespace
+
+namespace {
+
+// Measured protrusion of a box: the 95th percentile of the high-pass depth over its known
+// pixels (m); NaN when less than 30 % of the box is known.
+double BoxProtrusion(const SeImages& se, const PathDetection& d) {
+  const cv::Rect box =
+      cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
+               static_cast<int>(std::ceil(d.col1 - d.col0)),
+               static_cast<int>(std::ceil(d.row1 - d.row0))) &
+      cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
+  std::vector<float> h;
+  for (int r = box.y; r < box.y + box.height; ++r)
+    for (int c = box.x; c < box.x + box.width; ++c)
+      if (se.valid.at<uchar>(r, c)) h.push_back(se.highpass.at<float>(r, c));
+  if (h.empty() || h.size() < 0.3 * std::max(1, box.area()))
+    return std::numeric_limits<double>::quiet_NaN();
+  const auto q = h.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(h.size() - 1));
+  std::nth_element(h.begin(), q, h.end());
+  return *q;
+}
+
+// The measured protrusion inside a box agrees with the class (ComponentParams::
+// depth_consistency); true when too little of the box is known to tell.
+bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
+                 const ComponentParams& p) {
+  const double top = BoxProtrusion(se, d), flush = 2.0 * p.protrusion_min;
+  if (!std::isfinite(top)) return true;
+  return m.depth >= flush ? top >= p.depth_consistency * m.depth : top < flush;
+}
+
+// Step 2 on one SE.
+std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceiling,
+                                     const interfaces::ObjectModelCatalogue& cat,
+                                     const ComponentParams& p) {
+  cv::Mat mask = (se.highpass > p.protrusion_min) & se.valid;
+  cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+  const std::vector<cv::Rect> regions = Regions(mask, 0);
+  const int pad = static_cast<int>(std::ceil((1.2 + p.template_pad * 2 + p.search_margin) / pixel));
+  cv::Mat padded;
+  cv::copyMakeBorder(se.highpass, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
+  std::map<int, cv::Mat> templates;
+  std::vector<PathDetection> out;
+  const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
+  for (const cv::Rect& r : regions) {
+    if (r.area() * pixel * pixel < p.min_region_area) continue;
+    for (int k = 0; k < static_cast<int>(cat.models.size()); ++k) {
+      const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
+      if (!MountsOn(m, ceiling) || m.depth < 1.5 * p.protrusion_min) continue;
+      if (!SizeFits(r, pixel, m, p, 1.0 - p.size_tolerance)) continue;
+      auto it = templates.find(k);
+      if (it == templates.end())
+        it = templates.emplace(k, MaybeFlip(ModelDepthOnWall(m, p.template_pad, pixel), ceiling))
+                 .first;
+      const Peak pk = MatchAround(padded, pad, it->second, r, margin);
+      if (pk.score < p.depth_ncc_min) continue;
+      PathDetection d = BoxAt(k, m, pixel, pk);
+      d.ncc = pk.score;
+      // NCC ignores the amplitude: a 12 mm switch and a 40 mm socket correlate alike. The
+      // score weighs the NCC by how well the measured protrusion matches the class's depth.
+      const double top = BoxProtrusion(se, d);
+      const double agree =
+          std::isfinite(top) && top > 0.0 ? std::min(top, m.depth) / std::max(top, m.depth) : 0.5;
+      d.score = pk.score * agree;
+      out.push_back(d);
+    }
+  }
+  Dedupe(out);
+  return out;
+}
+
+// The colour box of class m centred at (col, row): RGB bytes in the model's orientation.
+std::vector<std::uint8_t> ColourBox(const cv::Mat& rgb_padded, int pad, const PathDetection& d,
+                                    bool ceiling, int* w, int* h) {
+  *w = std::max(2, static_cast<int>(std::lround(d.col1 - d.col0)));
+  *h = std::max(2, static_cast<int>(std::lround(d.row1 - d.row0)));
+  const int c0 = static_cast<int>(std::lround(0.5 * (d.col0 + d.col1) - 0.5 * *w)) + pad;
+  const int r0 = static_cast<int>(std::lround(0.5 * (d.row0 + d.row1) - 0.5 * *h)) + pad;
+  cv::Rect box(c0, r0, *w, *h);
+  box &= cv::Rect(0, 0, rgb_padded.cols, rgb_padded.rows);
+  cv::Mat crop = MaybeFlip(rgb_padded(box).clone(), ceiling);
+  *w = crop.cols, *h = crop.rows;
+  return std::vector<std::uint8_t>(crop.data, crop.data + crop.total() * 3);
+}
+
+// Step 3 on one SE.
+std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool ceiling,
+                                      const ComponentRecogniser& rec, const ComponentParams& p) {
+  const interfaces::ObjectModelCatalogue& cat = rec.Catalogue();
+  cv::Mat mask = (se.delta_e > p.colour_delta_e) & se.valid;
+  const int grow = static_cast<int>(std::lround(p.colour_merge / pixel));
+  const std::vector<cv::Rect> blobs = Regions(mask, grow);
+  const int pad = static_cast<int>(std::ceil((1.2 + p.template_pad * 2 + p.search_margin) / pixel));
+  cv::Mat lab_padded, rgb_padded;
+  cv::copyMakeBorder(se.lab, lab_padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
+  cv::copyMakeBorder(se.rgb, rgb_padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
+  const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
+  std::vector<PathDetection> out;
+  for (const cv::Rect& r : blobs) {
+    if (r.area() * pixel * pixel < 0.25 * p.min_region_area) continue;
+    const cv::Point mid(r.x + r.width / 2, r.y + r.height / 2);
+    const cv::Vec3b wall = se.wall_rgb.at<cv::Vec3b>(mid);
+    for (int k = 0; k < static_cast<int>(cat.models.size()); ++k) {
+      const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
+      if (!MountsOn(m, ceiling) || !SizeFits(r, pixel, m, p, p.colour_min_extent)) continue;
+      cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, p.template_pad, pixel), ceiling), t_f,
+              t_lab;
+      t_rgb.convertTo(t_f, CV_32FC3, 1.0 / 255.0);
+      cv::cvtColor(t_f, t_lab, cv::COLOR_RGB2Lab);
+      const Peak pk = MatchAround(lab_padded, pad, t_lab, r, margin);
+      if (pk.score < p.colour_ncc_min) continue;
+      PathDetection d = BoxAt(k, m, pixel, pk);
+      if (!DepthAgrees(se, d, m, p)) continue;
+      int w = 0, h = 0;
+      const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, d, ceiling, &w, &h);
+      const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
+      // The box is a component (its best class beats "none") and class k is among the
+      // perceptron's likely ones; look-alike classes (same size and colours, e.g. signs with
+      // different pictograms) are then told apart by the NCC of their colour models (step 5).
+      const float sk = s[static_cast<std::size_t>(k)];
+      const float best = *std::max_element(s.begin(), s.end() - 1);
+      if (best <= s.back() || sk < p.colour_score_min * best) continue;
+      d.score = best;
+      d.ncc = pk.score;
+      out.push_back(d);
+    }
+  }
+  Dedupe(out);
+  return out;
+}
+
+}  // namespace
+
+void ComponentParams::Validate() const { ValidateParams(*this, "components."); }
+
+const char* ToString(FoundBy f) {
+  switch (f) {
+    case FoundBy::kColourAndDepth:
+      return "colour+depth";
+    case FoundBy::kColour:
+      return "colour";
+    case FoundBy::kDepth:
+      return "depth";
+  }
+  return "?";
+}
+
+double CoherenceAlpha(const PathDetection& c, const PathDetection& d) {
+  const double w = std::min(c.col1, d.col1) - std::max(c.col0, d.col0);
+  const double h = std::min(c.row1, d.row1) - std::max(c.row0, d.row0);
+  if (w <= 0 || h <= 0) return 0.0;
+  const double ew = std::max(c.col1, d.col1) - std::min(c.col0, d.col0);
+  const double eh = std::max(c.row1, d.row1) - std::min(c.row0, d.row0);
+  return std::clamp(w * h / (ew * eh), 0.0, 1.0);
+}
+
+std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colour,
+                                         const std::vector<PathDetection>& depth,
+                                         const ComponentParams& p) {
+  std::vector<ConsensusInstance> out;
+  std::vector<int> classes;
+  for (const auto& d : colour) classes.push_back(d.class_index);
+  for (const auto& d : depth) classes.push_back(d.class_index);
+  std::sort(classes.begin(), classes.end());
+  classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
+  for (int k : classes) {
+    // R(O): rows = colour detections of k, columns = depth detections of k.
+    std::vector<int> rows, cols;
+    for (int i = 0; i < static_cast<int>(colour.size()); ++i)
+      if (colour[static_cast<std::size_t>(i)].class_index == k) rows.push_back(i);
+    for (int j = 0; j < static_cast<int>(depth.size()); ++j)
+      if (depth[static_cast<std::size_t>(j)].class_index == k) cols.push_back(j);
+    std::vector<std::vector<double>> R(rows.size(), std::vector<double>(cols.size(), 0.0));
+    for (std::size_t a = 0; a < rows.size(); ++a)
+      for (std::size_t b = 0; b < cols.size(); ++b)
+        R[a][b] = CoherenceAlpha(colour[static_cast<std::size_t>(rows[a])],
+                                 depth[static_cast<std::size_t>(cols[b])]);
+    std::vector<bool> row_used(rows.size(), false), col_used(cols.size(), false);
+    std::vector<ConsensusInstance> pairs;
+    while (true) {  // iterated maximum over the remaining entries
+      double best = -1.0;
+      std::size_t ba = 0, bb = 0;
+      for (std::size_t a = 0; a < rows.size(); ++a)
+        for (std::size_t b = 0; b < cols.size(); ++b)
+          if (!row_used[a] && !col_used[b] && R[a][b] > best) best = R[a][b], ba = a, bb = b;
+      if (best < std::max(p.min_pair_alpha, 1e-9)) break;
+      row_used[ba] = col_used[bb] = true;
+      pairs.push_back({k, rows[ba], cols[bb], best});
+    }
+    out.insert(out.end(), pairs.begin(), pairs.end());
+    auto overlaps_pair = [&](const PathDetection& d, bool is_colour) {
+      for (const auto& q : pairs) {
+        const PathDetection& o = is_colour ? colour[static_cast<std::size_t>(q.colour)]
+                                           : depth[static_cast<std::size_t>(q.depth)];
+        if (OverlapOfSmaller(d, o) > 0.0) return true;
+      }
+      return false;
+    };
+    for (std::size_t a = 0; a < rows.size(); ++a) {
+      const PathDetection& d = colour[static_cast<std::size_t>(rows[a])];
+      if (!row_used[a] && d.score >= p.single_colour_score && d.ncc >= p.single_colour_ncc &&
+          !overlaps_pair(d, true))
+        out.push_back({k, rows[a], -1, 0.5});
+    }
+    for (std::size_t b = 0; b < cols.size(); ++b) {
+      const PathDetection& d = depth[static_cast<std::size_t>(cols[b])];
+      if (!col_used[b] && d.score >= p.single_depth_ncc && !overlaps_pair(d, false))
+        out.push_back({k, -1, cols[b], 0.5});
+    }
+  }
+  // Step 5: across classes, the larger rank keeps an overlap. Rank = max(alpha, 0.5) x the
+  // evidence for the class: the depth score where depth found it (NCC x protrusion agreement:
+  // the colour of small white components hardly tells them apart), else the colour NCC (the
+  // perceptron's score says "a component", the model template says which). A pair ranks at
+  // least as a single path: two boxes that disagree still both saw the object.
+  auto box = [&](const ConsensusInstance& c) -> const PathDetection& {
+    return c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
+                        : colour[static_cast<std::size_t>(c.colour)];
+  };
+  auto rank = [&](const ConsensusInstance& c) {
+    const double evidence = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)].score
+                                         : colour[static_cast<std::size_t>(c.colour)].ncc;
+    return std::max(c.alpha, 0.5) * evidence;
+  };
+  std::stable_sort(out.begin(), out.end(),
+                   [&](const auto& a, const auto& b) { return rank(a) > rank(b); });
+  std::vector<ConsensusInstance> kept;
+  for (const auto& c : out) {
+    bool clash = false;
+    for (const auto& q : kept)
+      clash = clash || OverlapOfSmaller(box(c), box(q)) > p.max_class_overlap;
+    if (!clash) kept.push_back(c);
+  }
+  return kept;
+}
+
+std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const std::string& host,
+                                                  bool ceiling,
+                                                  const std::vector<DetectedOpening>& openings,
+                                                  const ComponentRecogniser& recogniser,
+                                                  const ComponentParams& params) {
+  params.Validate();
+  if (!recogniser.Trained())
+    throw InputError("", "component recogniser is not trained", "untrained", "a trained one");
+  std::vector<DetectedComponent> out;
+  if (image.Cols() < 4 || image.Rows() < 4) return out;
+  SeImages se;
+  std::vector<DetectedOpening> mine;
+  for (const auto& o : openings)
+    if (o.host == host) mine.push_back(o);
+  FillSe(image, mine, params, se);
+  Background(params, image.Pixel(), se);
+  const auto& cat = recogniser.Catalogue();
+  const std::vector<PathDetection> depth = DepthPath(se, image.Pixel(), ceiling, cat, params);
+  const std::vector<PathDetection> colour =
+      ColourPath(se, image.Pixel(), ceiling, recogniser, params);
+  for (const ConsensusInstance& c : Consensus(colour, depth, params)) {
+    const PathDetection& b = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
+                                          : colour[static_cast<std::size_t>(c.colour)];
+    const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(c.class_index)];
+    DetectedComponent d;
+    d.class_name = m.class_name;
+    d.host = host;
+    d.u = image.ColU(0.5 * (b.col0 + b.col1));
+    d.v = image.RowV(0.5 * (b.row0 + b.row1));
+    d.centre = image.Frame().ToMap(d.u, d.v, 0.0);
+    d.normal = image.Frame().n;
+    d.size = Vec3(m.width, m.height, m.depth);
+    d.alpha = c.alpha;
+    d.found_by = c.colour >= 0 && c.depth >= 0 ? FoundBy::kColourAndDepth
+                 : c.depth >= 0                ? FoundBy::kDepth
+                                               : FoundBy::kColour;
+    d.depth_score = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)].score : 0.0;
+    d.colour_score = c.colour >= 0 ? colour[static_cast<std::size_t>(c.colour)].score : 0.0;
+    out.push_back(d);
+  }
+  std::sort(out.begin(), out.end(),
+            [](const auto& a, const auto& b) { return a.u != b.u ? a.u < b.u : a.v < b.v; });
+  return out;
+}
+
+Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
+                          const OrthoPoints& points, const ComponentRecogniser& recogniser,
+                          const ComponentParams& params) {
+  params.Validate();
+  if (!recogniser.Trained())
+    throw InputError("", "component recogniser is not trained", "untrained", "a trained one");
+  Sm5Model out;
+  out.room = sm3.room;
+  OrthoPoints pts;  // points and colours only: the ray counts are not used here
+  pts.points = points.points;
+  pts.colours = points.colours;
+  OrthoimageParams op;
+  op.band = params.band;
+  op.finest_pixel = op.coarsest_pixel = params.pixel;
+  op.max_pixels = params.max_image_pixels;
+  for (const StructuralPatch& patch : sm3.patches) {
+    if (patch.patch_class == PatchClass::kFloor) continue;
+    const PatchFrame frame = PatchFrame::Of(patch);
+    if ((frame.width / params.pixel) * (frame.height / params.pixel) > params.max_image_pixels)
+      continue;
+    const Orthoimage image = BuildOrthoimage(pts, frame, op, params.pixel);
+    const bool ceiling = patch.patch_class == PatchClass::kCeiling;
+    for (DetectedComponent& d :
+         DetectSeComponents(image, patch.id, ceiling, sm4.openings, recogniser, params))
+      out.components.push_back(std::move(d));
+  }
+  for (std::size_t i = 0; i < out.components.size(); ++i)
+    out.components[i].id = "bsc_" + std::to_string(i + 1);
+  return out;
+}
+
+}  // namespace mopad::modelling

@@ -1,0 +1,290 @@
+#pragma once
+// SM5 (paper §3.4, Figure 10, equation (1); method of its ref. [63]): small building service
+// components (sockets, switches, signs, extinguishers, radiators, smoke detectors, ...) on the
+// walls and ceiling of a room, recognised from the structural elements' (SE) orthoimages with
+// the object models the robot carries (interfaces::ObjectModelCatalogue), never placements.
+//
+// Per SE (SM3 wall, column face or ceiling patch):
+//  1. SE orthoimage J^_CD (modelling/orthoimage.h) of the points within `band` of the plane at
+//     `pixel` metres, holes between samples filled by normalised convolution (Gaussian sigma
+//     from the SE's sample spacing; shadows and unseen areas stay unknown, fill_min_weight),
+//     the pixels inside the SE's SM4 openings (grown by `opening_margin`) removed. It splits into
+//     the depth image J^_D (protrusion, m) and the colour image J^_C (CIE Lab).
+//  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
+//     surface (the median depth of the surface layer, |depth| < surface_band, in cells of
+//     `background_cell`, bilinearly interpolated); pixels protruding more than
+//     `protrusion_min` form candidate regions (connected components); each region of a size
+//     a catalogue class can have is matched by normalised cross-correlation
+//     (cv::TM_CCOEFF_NORMED) against that class's depth model, padded with `template_pad` of
+//     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak),
+//     scored by the NCC times the agreement of the box's measured protrusion with the class's
+//     depth (NCC alone cannot tell a 12 mm switch from a 40 mm socket).
+//  3. Colour path: pixels whose Lab distance to the local wall colour (same background
+//     estimate as 2, from the colour of the surface layer) exceeds `colour_delta_e`, merged by
+//     a dilation of `colour_merge`, are candidate boxes; a class whose size can hold a box is
+//     located by NCC of its colour model (padded with the local wall colour) and verified by
+//     the perceptron (ComponentRecogniser) on the box of the class size there: a colour
+//     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
+//     beats its "none" score, the class scores at least colour_score_min of that best, and the
+//     box's measured protrusion agrees with the class (depth_consistency). Its score is the
+//     best class score (how sure the box is a component); look-alike classes (same size and
+//     colours, e.g. signs with different pictograms) are told apart by the NCC in step 5.
+//  4. Consensus per class (equation (1)): the Recognition Coherence Matrix R(O) has one row
+//     per colour detection and one column per depth detection of class O, each entry
+//     alpha = |B_C intersect B_D| / |B_CD| (B_CD the box enclosing both; 0 when apart). The
+//     iterated maximum picks the largest entry >= min_pair_alpha, makes it an instance
+//     (found_by colour+depth) and removes its row and column, until none is left. A row or
+//     column left over is a single-path instance with alpha = 0.5 when its own path is
+//     confident (depth score >= single_depth_ncc; colour score >= single_colour_score and
+//     NCC >= single_colour_ncc) and
+//     does not overlap a paired instance of the class. This replaces the paper's "expected
+//     number of instances" (unknown to the robot): the stopping rule is the coherence floor
+//     for pairs and the confidence floor for single-path instances.
+//  5. Instances of different classes overlapping by more than `max_class_overlap` (of the
+//     smaller box) keep the one of larger rank: max(alpha, 0.5) x its evidence (the depth
+//     score when depth found it, else the colour NCC).
+// Centre: the depth peak's box when depth found the instance, else the colour peak's box, on
+// the SE plane (depth 0); map frame.
+//
+// Robot side only (no truth). Deterministic: ordered loops, single-threaded OpenCV calls on
+// fixed inputs; the perceptron is trained from a CounterRng stream (ComponentTrainingParams).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/frames.h"
+#include "common/params.h"
+#include "interfaces/object_model_catalogue.h"
+#include "modelling/openings.h"
+#include "modelling/orthoimage.h"
+#include "modelling/structural_model.h"
+
+namespace mopad::modelling {
+
+struct ComponentParams {
+  double pixel = 0.005;       ///< m, SE orthoimage pixel, [0.001, 0.05]
+  double band = 0.20;         ///< m, points within +-band of the SE plane, [0.01, 1]
+  double fill_sigma = 0.004;  ///< m, least Gaussian sigma of the hole filling, [0.001, 0.1]
+  /// Sigma of the filling as a share of the SE's typical sample spacing (the larger of the
+  /// two sigmas is used), [0, 5]
+  double fill_spacing_share = 0.6;
+  /// A filled pixel is known when its filter weight is at least this share of the median
+  /// weight of the pixels holding points, [0.001, 1]
+  double fill_min_weight = 0.3;
+  double opening_margin = 0.05;   ///< m, SM4 openings grown by this before removal, [0, 0.5]
+  double surface_band = 0.015;    ///< m, |depth| of the SE surface layer, [0.001, 0.1]
+  double background_cell = 0.4;   ///< m, cell of the low-frequency background, [0.05, 5]
+  double protrusion_min = 0.006;  ///< m, high-pass depth of a protruding pixel, [0.001, 0.2]
+  double min_region_area = 4e-4;  ///< m^2, smallest candidate region or box, [0, 1]
+  /// Relative tolerance between a candidate's extent and a class's size, [0, 2]
+  double size_tolerance = 0.3;
+  double size_slack = 0.02;     ///< m, absolute slack added to the size test, [0, 0.5]
+  double template_pad = 0.03;   ///< m, wall margin around every model template, [0, 0.5]
+  double search_margin = 0.04;  ///< m, NCC search beyond a candidate's box, [0, 0.5]
+  double depth_ncc_min = 0.55;  ///< least depth NCC peak of a detection, [-1, 1]
+  double colour_delta_e = 8.0;  ///< Lab distance from the wall colour, [1, 200]
+  double colour_merge = 0.012;  ///< m, dilation merging colour blobs, [0, 0.2]
+  /// Least share of a class's width (height) a colour blob spans to be tried as it, [0, 1]
+  double colour_min_extent = 0.2;
+  /// Least perceptron score of a colour detection's class, as a share of the box's best class
+  /// score, [0, 1]
+  double colour_score_min = 0.2;
+  double colour_ncc_min = 0.3;  ///< least colour NCC peak of a colour detection, [-1, 1]
+  /// A colour detection's class must agree with the box's measured protrusion (95th
+  /// percentile of the high-pass depth, where known): a protruding class (depth >=
+  /// 2 protrusion_min) needs at least this share of its depth, a flush one less than
+  /// 2 protrusion_min, [0, 1]
+  double depth_consistency = 0.3;
+  double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]
+  /// Least depth score (NCC x protrusion agreement) of a depth-only instance, [-1, 1]
+  double single_depth_ncc = 0.5;
+  double single_colour_score = 0.3;  ///< least score of a colour-only instance, [0, 1]
+  double single_colour_ncc = 0.6;    ///< least colour NCC of a colour-only instance, [-1, 1]
+  double max_class_overlap = 0.3;    ///< overlap (of the smaller box) across classes, [0, 1]
+  int max_image_pixels = 8'000'000;  ///< SEs with larger images are skipped, [1, 1e9]
+
+  template <class V>
+  void Visit(V& v) {
+    v("pixel", pixel, Bounds{0.001, 0.05});
+    v("band", band, Bounds{0.01, 1.0});
+    v("fill_sigma", fill_sigma, Bounds{0.001, 0.1});
+    v("fill_spacing_share", fill_spacing_share, Bounds{0.0, 5.0});
+    v("fill_min_weight", fill_min_weight, Bounds{0.001, 1.0});
+    v("opening_margin", opening_margin, Bounds{0.0, 0.5});
+    v("surface_band", surface_band, Bounds{0.001, 0.1});
+    v("background_cell", background_cell, Bounds{0.05, 5.0});
+    v("protrusion_min", protrusion_min, Bounds{0.001, 0.2});
+    v("min_region_area", min_region_area, Bounds{0.0, 1.0});
+    v("size_tolerance", size_tolerance, Bounds{0.0, 2.0});
+    v("size_slack", size_slack, Bounds{0.0, 0.5});
+    v("template_pad", template_pad, Bounds{0.0, 0.5});
+    v("search_margin", search_margin, Bounds{0.0, 0.5});
+    v("depth_ncc_min", depth_ncc_min, Bounds{-1.0, 1.0});
+    v("colour_delta_e", colour_delta_e, Bounds{1.0, 200.0});
+    v("colour_merge", colour_merge, Bounds{0.0, 0.2});
+    v("colour_min_extent", colour_min_extent, Bounds{0.0, 1.0});
+    v("colour_score_min", colour_score_min, Bounds{0.0, 1.0});
+    v("colour_ncc_min", colour_ncc_min, Bounds{-1.0, 1.0});
+    v("depth_consistency", depth_consistency, Bounds{0.0, 1.0});
+    v("min_pair_alpha", min_pair_alpha, Bounds{0.0, 1.0});
+    v("single_depth_ncc", single_depth_ncc, Bounds{-1.0, 1.0});
+    v("single_colour_score", single_colour_score, Bounds{0.0, 1.0});
+    v("single_colour_ncc", single_colour_ncc, Bounds{-1.0, 1.0});
+    v("max_class_overlap", max_class_overlap, Bounds{0.0, 1.0});
+    v("max_image_pixels", max_image_pixels, Bounds{1, 1e9});
+  }
+  void Validate() const;  ///< InputError naming the field
+};
+
+/// How the perceptron of the colour path learns from the catalogue alone: every class image
+/// resampled at pixel sizes in [pixel_min, pixel_max] (scan densities and incidence: the two
+/// axes scaled independently by up to `stretch`), blurred (Gaussian sigma up to blur_max
+/// pixels, as from several scan positions), shifted by up to a pixel, with colour gain and
+/// offset changes (up to colour_gain, colour_offset) and per-pixel noise; negatives (label
+/// "none") are plain wall, stains (blobs of any colour) and picture crops (random coloured
+/// rectangles) at the classes' sizes.
+struct ComponentTrainingParams {
+  int samples_per_class = 100;  ///< augmented samples of each class and of "none" x3, [1, 1e5]
+  int hidden = 32;              ///< neurons of the hidden layer, [2, 1000]
+  int iterations = 300;         ///< RPROP iterations, [1, 1e6]
+  double pixel_min = 0.004;     ///< m, [0.001, 0.1]
+  double pixel_max = 0.012;     ///< m, [pixel_min, 0.1]
+  double stretch = 0.15;        ///< relative, [0, 0.9]
+  double blur_max = 1.2;        ///< pixels, [0, 10]
+  double colour_gain = 0.2;     ///< relative, [0, 1]
+  double colour_offset = 12.0;  ///< 0-255 units, [0, 128]
+  double noise = 6.0;           ///< 0-255 units, 1 sigma, [0, 64]
+  std::uint64_t seed = 1;       ///< augmentation stream and network initialisation
+  /// Adds the L (lightness) channel of Lab, reduced like S, a and b, to the paper's 12-value
+  /// pattern (16 values + the box size); false keeps the paper's S, a, b only
+  bool lightness = true;
+
+  template <class V>
+  void Visit(V& v) {
+    v("samples_per_class", samples_per_class, Bounds{1, 100000});
+    v("lightness", lightness);
+    v("hidden", hidden, Bounds{2, 1000});
+    v("iterations", iterations, Bounds{1, 1000000});
+    v("pixel_min", pixel_min, Bounds{0.001, 0.1});
+    v("pixel_max", pixel_max, Bounds{0.001, 0.1});
+    v("stretch", stretch, Bounds{0.0, 0.9});
+    v("blur_max", blur_max, Bounds{0.0, 10.0});
+    v("colour_gain", colour_gain, Bounds{0.0, 1.0});
+    v("colour_offset", colour_offset, Bounds{0.0, 128.0});
+    v("noise", noise, Bounds{0.0, 64.0});
+    v("seed", seed);
+  }
+  void Validate() const;  ///< InputError naming the field
+};
+
+/// The colour path's classifier (the paper's perceptron, OpenCV ml::ANN_MLP: one hidden layer,
+/// symmetric sigmoid, on-line back-propagation) and the catalogue it was trained on. Features: the
+/// paper's S, a, b pattern, by default with the same for L (ComponentTrainingParams::lightness),
+/// and the box size. Classes that look alike (LookAlikeGroups, e.g. a flush and a surface socket)
+/// share an output; the geometry tells them apart. Input: a colour box (RGB, top row first) and its
+/// size in metres; output: a score in [0, 1] per catalogue class (Classes() order) and for "none"
+/// (last). Const methods are thread-safe.
+class ComponentRecogniser {
+ public:
+  ComponentRecogniser();
+  ~ComponentRecogniser();
+  ComponentRecogniser(const ComponentRecogniser&) = delete;
+  ComponentRecogniser& operator=(const ComponentRecogniser&) = delete;
+  ComponentRecogniser(ComponentRecogniser&&) noexcept;
+  ComponentRecogniser& operator=(ComponentRecogniser&&) noexcept;
+
+  /// Trains on the catalogue's images (see ComponentTrainingParams). InputError for an empty
+  /// catalogue, a model without images or bad params.
+  static ComponentRecogniser Train(const interfaces::ObjectModelCatalogue& catalogue,
+                                   const ComponentTrainingParams& params = {});
+  /// Writes the network (OpenCV FileStorage YAML) with the class list; InputError on failure.
+  void Save(const std::string& path) const;
+  /// Reads what Save wrote; InputError when the file is malformed or its classes differ from
+  /// the catalogue's.
+  static ComponentRecogniser Load(const interfaces::ObjectModelCatalogue& catalogue,
+                                  const std::string& path);
+
+  bool Trained() const;
+  const interfaces::ObjectModelCatalogue& Catalogue() const;
+  /// Scores of a box of `width` x `height` pixels (RGB bytes, top row first) spanning
+  /// width_m x height_m metres: Classes().size() + 1 values, the last "none".
+  std::vector<float> Score(const std::vector<std::uint8_t>& rgb, int width, int height,
+                           double width_m, double height_m) const;
+  /// Share of held-out augmented samples (a second stream) classified right (the right
+  /// look-alike group), [0, 1].
+  double Accuracy(int samples_per_class, std::uint64_t seed) const;
+  /// The same per class (Classes() order, then "none").
+  std::vector<double> ClassAccuracy(int samples_per_class, std::uint64_t seed) const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+enum class FoundBy : std::uint8_t { kColourAndDepth = 0, kColour = 1, kDepth = 2 };
+const char* ToString(FoundBy f);  ///< "colour+depth", "colour", "depth"
+
+/// One recognised component (SM5).
+struct DetectedComponent {
+  std::string id;               ///< "bsc_1", ... (per room, in SE order then u, v)
+  std::string class_name;       ///< catalogue class
+  std::string host;             ///< SM3 patch id
+  Vec3 centre = Vec3::Zero();   ///< map frame, on the host plane
+  Vec3 normal = Vec3::UnitX();  ///< unit, the host's normal into the room
+  Vec3 size = Vec3::Zero();     ///< m, the class's width, height, depth
+  double alpha = 0.0;           ///< recognition coherence level, [0, 1]
+  FoundBy found_by = FoundBy::kColourAndDepth;
+  double u = 0.0, v = 0.0;    ///< m, centre in the host's PatchFrame
+  double depth_score = 0.0;   ///< depth NCC peak (0 without a depth detection)
+  double colour_score = 0.0;  ///< perceptron score (0 without a colour detection)
+};
+
+struct Sm5Model {
+  std::string room;
+  std::vector<DetectedComponent> components;
+};
+
+/// One path's detection of one class on one SE: a box in image pixels and its score.
+struct PathDetection {
+  int class_index = 0;
+  double col0 = 0, row0 = 0, col1 = 0, row1 = 0;  ///< pixel box [col0, col1) x [row0, row1)
+  /// depth: NCC peak x (measured / model protrusion, the smaller over the larger); colour: the
+  /// box's best perceptron score; [0, 1]
+  double score = 0.0;
+  double ncc = 0.0;  ///< NCC peak of the path's model template, [-1, 1]
+};
+
+/// Equation (1): area of the boxes' intersection over the area of the box enclosing both; 0
+/// when they do not overlap.
+double CoherenceAlpha(const PathDetection& colour, const PathDetection& depth);
+
+/// Steps 4-5 on the detections of one SE: instances with alpha, path and the box (index into
+/// the inputs: -1 when that path did not find it).
+struct ConsensusInstance {
+  int class_index = 0;
+  int colour = -1, depth = -1;
+  double alpha = 0.5;
+};
+std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colour,
+                                         const std::vector<PathDetection>& depth,
+                                         const ComponentParams& params);
+
+/// The components of one SE from its orthoimage (built at params.pixel, see BuildOrthoimage),
+/// the SE's openings (their u, v rectangles) and whether it is a ceiling (the model's height
+/// axis runs along world y there). Ids are left empty.
+std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const std::string& host,
+                                                  bool ceiling,
+                                                  const std::vector<DetectedOpening>& openings,
+                                                  const ComponentRecogniser& recogniser,
+                                                  const ComponentParams& params);
+
+/// SM5 of one room: every wall, column face and ceiling patch of `sm3` imaged and searched,
+/// SM4's openings removed. InputError for bad params, point arrays or an untrained recogniser.
+Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
+                          const OrthoPoints& points, const ComponentRecogniser& recogniser,
+                          const ComponentParams& params);
+
+}  // namespace mopad::modelling

@@ -1,0 +1,395 @@
+// SM5 (modelling/components.h): building service components on synthetic walls scanned at
+// the main job's density. A small catalogue is drawn in code (sockets, a switch, a radiator, a
+// sign, a panel) and the recogniser is trained from it alone; walls are height fields of wall
+// plaster plus placed models and distractors, scanned from two positions by an analytic ray
+// caster (0.2 deg step, +-2 mm range noise, a 1 mm registration offset between the scans).
+
+#include "modelling/components.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "common/rng.h"
+#include "modelling/component_features.h"
+#include "modelling/sm5_io.h"
+
+namespace mopad::modelling {
+namespace {
+
+using Rgb = std::array<std::uint8_t, 3>;
+constexpr double kPx = 0.002;  // catalogue model pixel, m
+constexpr Rgb kWall{219, 217, 204};
+constexpr Rgb kWhite{245, 245, 242};
+
+// A model drawn by `paint(x, y, rgb, depth)` over its face, x right and y up in metres from the
+// face centre; pixels the paint leaves unset are misses (black, depth 0).
+interfaces::ObjectModel Draw(const std::string& name, interfaces::Mounting mount, double w,
+                             double h, double depth,
+                             const std::function<void(double, double, Rgb&, float&)>& paint) {
+  interfaces::ObjectModel m;
+  m.class_name = name;
+  m.mounting = mount;
+  m.width = w, m.height = h, m.depth = depth, m.pixel_size = kPx;
+  m.image_width = static_cast<int>(std::lround(w / kPx));
+  m.image_height = static_cast<int>(std::lround(h / kPx));
+  m.colour_rgb.assign(static_cast<std::size_t>(m.image_width) * m.image_height * 3, 0);
+  m.depth_m.assign(static_cast<std::size_t>(m.image_width) * m.image_height, 0.0f);
+  for (int j = 0; j < m.image_height; ++j)
+    for (int i = 0; i < m.image_width; ++i) {
+      const double x = (i + 0.5) * kPx - 0.5 * w, y = 0.5 * h - (j + 0.5) * kPx;
+      Rgb c{0, 0, 0};
+      float d = 0.0f;
+      paint(x, y, c, d);
+      const std::size_t k = static_cast<std::size_t>(j) * m.image_width + i;
+      for (int ch = 0; ch < 3; ++ch) m.colour_rgb[3 * k + ch] = c[ch];
+      m.depth_m[k] = d;
+    }
+  return m;
+}
+
+void SocketFace(double x, double y, Rgb& c, float& d, float depth) {
+  c = kWhite, d = depth;
+  const double r = std::hypot(x, y);
+  if (r < 0.022) c = {214, 214, 210}, d = depth - 0.012f;
+  if (std::hypot(std::abs(x) - 0.01, y) < 0.0035) c = {35, 35, 38};
+}
+
+interfaces::ObjectModelCatalogue TestCatalogue() {
+  using interfaces::Mounting;
+  interfaces::ObjectModelCatalogue cat;
+  cat.models.push_back(
+      Draw("socket_x1", Mounting::kWall, 0.08, 0.08, 0.04,
+           [](double x, double y, Rgb& c, float& d) { SocketFace(x, y, c, d, 0.04f); }));
+  cat.models.push_back(Draw("built_in_socket", Mounting::kWall, 0.08, 0.08, 0.003,
+                            [](double x, double y, Rgb& c, float& d) {
+                              SocketFace(x, y, c, d, 0.003f);
+                              d = 0.003f;
+                            }));
+  cat.models.push_back(
+      Draw("switch", Mounting::kWall, 0.08, 0.08, 0.012, [](double x, double y, Rgb& c, float& d) {
+        c = kWhite, d = 0.012f;
+        if (std::abs(x) < 0.025 && std::abs(y) < 0.025) c = {200, 200, 195};
+      }));
+  cat.models.push_back(
+      Draw("radiator", Mounting::kWall, 1.0, 0.6, 0.10, [](double x, double, Rgb& c, float& d) {
+        const bool fin = std::fmod(x + 0.5, 0.05) < 0.035;
+        c = fin ? kWhite : Rgb{236, 236, 233};
+        d = fin ? 0.10f : 0.07f;
+      }));
+  cat.models.push_back(
+      Draw("fire_sign", Mounting::kWall, 0.2, 0.2, 0.003, [](double x, double y, Rgb& c, float& d) {
+        c = {200, 30, 32}, d = 0.003f;
+        if (std::hypot(x, y + 0.02) < 0.05 || (std::abs(x) < 0.015 && y > 0)) c = {252, 252, 252};
+      }));
+  cat.models.push_back(Draw("electrical_panel", Mounting::kWall, 0.5, 0.7, 0.12,
+                            [](double x, double y, Rgb& c, float& d) {
+                              c = {203, 208, 204}, d = 0.12f;
+                              if (std::abs(x - 0.2) < 0.01 && std::abs(y) < 0.06)
+                                c = {25, 25, 25}, d = 0.14f;
+                            }));
+  return cat;
+}
+
+const ComponentRecogniser& Recogniser() {
+  static const ComponentRecogniser r = [] {
+    ComponentTrainingParams p;
+    p.samples_per_class = 120;
+    p.iterations = 200;
+    return ComponentRecogniser::Train(TestCatalogue(), p);
+  }();
+  return r;
+}
+
+// Something on the wall: a model (or distractor) face centred at (u, v) in the wall's frame.
+struct Placed {
+  interfaces::ObjectModel model;
+  double u = 0.0, v = 0.0;
+};
+
+// A 4 m x 2.7 m wall in the plane y = 0 facing +y, as a patch and its frame.
+struct TestWall {
+  StructuralModel sm3;
+  PatchFrame frame;
+  Rgb colour = kWall;
+  std::vector<Placed> placed;
+};
+
+TestWall MakeWall() {
+  TestWall w;
+  StructuralPatch p;
+  p.id = "wall_1";
+  p.patch_class = PatchClass::kWall;
+  p.plane.n = Eigen::Vector3d::UnitY();
+  p.plane.d = 0.0;
+  p.polygon = {{4, 0, 0}, {0, 0, 0}, {0, 0, 2.7}, {4, 0, 2.7}};
+  w.sm3.room = "T";
+  w.sm3.patches.push_back(p);
+  w.frame = PatchFrame::Of(p);
+  return w;
+}
+
+// Height field lookup: depth and colour of the wall at (u, v).
+void Surface(const TestWall& w, double u, double v, double* depth, Rgb* rgb) {
+  *depth = 0.0, *rgb = w.colour;
+  for (const Placed& p : w.placed) {
+    const auto& m = p.model;
+    const int i = static_cast<int>(std::floor((u - p.u + 0.5 * m.width) / m.pixel_size));
+    const int j = static_cast<int>(std::floor((p.v + 0.5 * m.height - v) / m.pixel_size));
+    if (i < 0 || j < 0 || i >= m.image_width || j >= m.image_height) continue;
+    const std::size_t k = static_cast<std::size_t>(j) * m.image_width + i;
+    const Rgb c{m.colour_rgb[3 * k], m.colour_rgb[3 * k + 1], m.colour_rgb[3 * k + 2]};
+    if (c == Rgb{0, 0, 0} && m.depth_m[k] == 0.0f) continue;
+    *depth = m.depth_m[k], *rgb = c;
+  }
+}
+
+// One scan of the wall from (su, sv, sn) in the wall's frame at `step` rad, with a registration
+// offset `shift` (m, in u and v) of the resulting points.
+void Scan(const TestWall& w, const Vec3& s, double step, double shift, std::uint64_t seed,
+          std::vector<Eigen::Vector3f>& pts, std::vector<Rgb>& cols) {
+  CounterRng rng(seed, "component_test_scan");
+  const double a0 = std::atan2(0.0 - s.x(), s.z()), a1 = std::atan2(w.frame.width - s.x(), s.z());
+  for (double a = a0; a <= a1; a += step) {
+    const double e0 = std::atan2(0.0 - s.y(), std::hypot(s.z(), std::tan(a) * s.z()));
+    const double e1 = std::atan2(w.frame.height - s.y(), std::hypot(s.z(), std::tan(a) * s.z()));
+    for (double e = e0; e <= e1; e += step) {
+      const Vec3 dir(std::sin(a) * std::cos(e), std::sin(e), -std::cos(a) * std::cos(e));
+      // First crossing of the height field, marching down from 0.15 m in 0.5 mm steps (side
+      // faces and shadows as a real surface gives them).
+      double t = -s.z() / dir.z(), depth = 0.0;
+      Rgb c;
+      for (double n = 0.15; n >= 0.0; n -= 0.0005) {
+        const double tn = (n - s.z()) / dir.z();
+        const Vec3 p = s + tn * dir;
+        Surface(w, p.x(), p.y(), &depth, &c);
+        if (depth >= n) {
+          t = tn;
+          break;
+        }
+      }
+      t += rng.Uniform(-0.002, 0.002);
+      const Vec3 p = s + t * dir;
+      const Vec3 m = w.frame.ToMap(p.x() + shift, p.y() + shift, p.z());
+      pts.emplace_back(m.cast<float>());
+      Rgb noisy;
+      for (int ch = 0; ch < 3; ++ch)
+        noisy[ch] = static_cast<std::uint8_t>(std::clamp(c[ch] + rng.Uniform(-4, 4), 0.0, 255.0));
+      cols.push_back(noisy);
+    }
+  }
+}
+
+Sm5Model Detect(const TestWall& w, ComponentParams params = {}) {
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<Rgb> cols;
+  const double step = 0.2 * 3.14159265358979 / 180.0;
+  Scan(w, Vec3(1.4, 1.2, 2.5), step, 0.0, 1, pts, cols);
+  Scan(w, Vec3(2.8, 1.3, 3.0), step, 0.001, 2, pts, cols);
+  OrthoPoints op;
+  op.points = &pts;
+  op.colours = &cols;
+  return DetectComponents(w.sm3, Sm4Model{}, op, Recogniser(), params);
+}
+
+const interfaces::ObjectModel& ModelOf(const std::string& name) {
+  static const interfaces::ObjectModelCatalogue cat = TestCatalogue();
+  return *cat.Find(name);
+}
+
+TEST(ComponentRecogniser, LearnsTheCatalogueFromAugmentedImagesAlone) {
+  EXPECT_GT(Recogniser().Accuracy(30, 7), 0.8);
+}
+
+TEST(ComponentRecogniser, TrainingIsDeterministicAndSurvivesSaveAndLoad) {
+  ComponentTrainingParams p;
+  p.samples_per_class = 20;
+  p.iterations = 30;
+  const auto a = ComponentRecogniser::Train(TestCatalogue(), p);
+  const auto b = ComponentRecogniser::Train(TestCatalogue(), p);
+  const std::string path = ::testing::TempDir() + "/sm5_recogniser.yml";
+  a.Save(path);
+  const auto c = ComponentRecogniser::Load(TestCatalogue(), path);
+  const std::vector<std::uint8_t> box(16 * 16 * 3, 200);
+  EXPECT_EQ(a.Score(box, 16, 16, 0.08, 0.08), b.Score(box, 16, 16, 0.08, 0.08));
+  const auto sa = a.Score(box, 16, 16, 0.08, 0.08), sc = c.Score(box, 16, 16, 0.08, 0.08);
+  for (std::size_t i = 0; i < sa.size(); ++i) EXPECT_NEAR(sa[i], sc[i], 1e-5);
+}
+
+TEST(ComponentRecogniser, RefusesAnEmptyCatalogueAndAForeignFile) {
+  EXPECT_THROW(ComponentRecogniser::Train({}), InputError);
+  interfaces::ObjectModelCatalogue other = TestCatalogue();
+  other.models.pop_back();
+  const std::string path = ::testing::TempDir() + "/sm5_recogniser_foreign.yml";
+  Recogniser().Save(path);
+  EXPECT_THROW(ComponentRecogniser::Load(other, path), InputError);
+}
+
+TEST(CoherenceAlpha, IsOverlapOverEnclosingBoxAndZeroApart) {
+  const PathDetection a{0, 0, 0, 10, 10, 1}, b{0, 5, 0, 15, 10, 1}, c{0, 20, 20, 30, 30, 1};
+  EXPECT_DOUBLE_EQ(CoherenceAlpha(a, a), 1.0);
+  EXPECT_DOUBLE_EQ(CoherenceAlpha(a, b), 50.0 / 150.0);
+  EXPECT_DOUBLE_EQ(CoherenceAlpha(a, c), 0.0);
+}
+
+TEST(Consensus, PairsByIteratedMaximumAndKeepsConfidentSinglesAtHalf) {
+  ComponentParams p;
+  // Two colour and two depth detections of class 0; the pairs are (0, 1) and (1, 0); a third,
+  // weak depth detection elsewhere is dropped, a strong one kept at alpha 0.5.
+  const std::vector<PathDetection> colour{{0, 0, 0, 10, 10, 0.9, 0.8},
+                                          {0, 50, 0, 60, 10, 0.9, 0.8}};
+  const std::vector<PathDetection> depth{{0, 51, 0, 61, 10, 0.9, 0.9},
+                                         {0, 0, 1, 10, 11, 0.9, 0.9},
+                                         {0, 100, 0, 110, 10, 0.4, 0.6},
+                                         {0, 200, 0, 210, 10, 0.9, 0.9}};
+  const auto inst = Consensus(colour, depth, p);
+  ASSERT_EQ(inst.size(), 3u);
+  EXPECT_EQ(inst[0].colour, 0);
+  EXPECT_EQ(inst[0].depth, 1);
+  EXPECT_NEAR(inst[0].alpha, 90.0 / 110.0, 1e-12);
+  EXPECT_EQ(inst[1].colour, 1);
+  EXPECT_EQ(inst[1].depth, 0);
+  EXPECT_EQ(inst[2].colour, -1);
+  EXPECT_EQ(inst[2].depth, 3);
+  EXPECT_DOUBLE_EQ(inst[2].alpha, 0.5);
+}
+
+TEST(Components, RenderedSocketAtScanDensityFromTwoPositionsIsFoundWithin2mm) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("socket_x1"), 1.731, 0.304});
+  const Sm5Model m = Detect(w);
+  ASSERT_EQ(m.components.size(), 1u);
+  const auto& c = m.components[0];
+  EXPECT_EQ(c.class_name, "socket_x1");
+  EXPECT_EQ(c.host, "wall_1");
+  EXPECT_LT(std::abs(c.u - 1.731), 0.002);
+  EXPECT_LT(std::abs(c.v - 0.304), 0.002);
+  EXPECT_EQ(c.found_by, FoundBy::kColourAndDepth);
+  EXPECT_GT(c.alpha, 0.5);
+  EXPECT_NEAR(c.centre.y(), 0.0, 1e-9);  // on the host plane
+}
+
+TEST(Components, FlushSocketIsFoundByColourAloneAtHalf) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("built_in_socket"), 2.2, 0.35});
+  const Sm5Model m = Detect(w);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "built_in_socket");
+  EXPECT_EQ(m.components[0].found_by, FoundBy::kColour);
+  EXPECT_DOUBLE_EQ(m.components[0].alpha, 0.5);
+}
+
+TEST(Components, RadiatorOfTheWallColourIsFoundByDepthAlone) {
+  TestWall w = MakeWall();
+  w.colour = kWhite;
+  w.placed.push_back({ModelOf("radiator"), 2.0, 0.45});
+  const Sm5Model m = Detect(w);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "radiator");
+  EXPECT_EQ(m.components[0].found_by, FoundBy::kDepth);
+  EXPECT_DOUBLE_EQ(m.components[0].alpha, 0.5);
+  EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.02);
+}
+
+TEST(Components, TwoInstancesOfAClassOnOneWallAreBothFound) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("fire_sign"), 1.0, 1.9});
+  w.placed.push_back({ModelOf("fire_sign"), 3.0, 1.9});
+  const Sm5Model m = Detect(w);
+  ASSERT_EQ(m.components.size(), 2u);
+  for (const auto& c : m.components) EXPECT_EQ(c.class_name, "fire_sign");
+  EXPECT_LT(std::abs(m.components[0].u - 1.0), 0.01);
+  EXPECT_LT(std::abs(m.components[1].u - 3.0), 0.01);
+}
+
+TEST(Components, DoorHandleStainAndPictureAreNotComponents) {
+  using interfaces::Mounting;
+  TestWall w = MakeWall();
+  w.placed.push_back({Draw("handle", Mounting::kWall, 0.14, 0.06, 0.06,
+                           [](double x, double y, Rgb& c, float& d) {
+                             if (std::abs(y) < 0.01 || std::hypot(x + 0.05, y) < 0.025)
+                               c = {150, 150, 155}, d = std::abs(y) < 0.01 ? 0.06f : 0.01f;
+                           }),
+                      0.8, 1.05});
+  w.placed.push_back({Draw("stain", Mounting::kWall, 0.08, 0.08, 0.0,
+                           [](double x, double y, Rgb& c, float& d) {
+                             if (std::hypot(x / 0.04, y / 0.03) < 1.0) c = {140, 110, 70}, d = 0.0f;
+                           }),
+                      2.0, 1.2});
+  w.placed.push_back({Draw("picture", Mounting::kWall, 0.5, 0.4, 0.02,
+                           [](double x, double y, Rgb& c, float& d) {
+                             d = 0.02f;
+                             c = (std::abs(x) > 0.23 || std::abs(y) > 0.18) ? Rgb{60, 40, 20}
+                                 : y > 0.05                                 ? Rgb{90, 150, 220}
+                                 : x > 0.0                                  ? Rgb{40, 130, 50}
+                                                                            : Rgb{230, 200, 60};
+                           }),
+                      3.1, 1.6});
+  const Sm5Model m = Detect(w);
+  for (const auto& c : m.components)
+    ADD_FAILURE() << c.class_name << " at u " << c.u << " v " << c.v << " by "
+                  << ToString(c.found_by);
+}
+
+TEST(Components, OpeningsAreRemovedFromTheSe) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("socket_x1"), 1.0, 0.3});
+  Sm4Model sm4;
+  DetectedOpening door;
+  door.host = "wall_1";
+  door.u0 = 0.8, door.u1 = 1.2, door.v0 = 0.0, door.v1 = 2.0;
+  sm4.openings.push_back(door);
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<Rgb> cols;
+  Scan(w, Vec3(1.4, 1.2, 2.5), 0.2 * 3.14159265358979 / 180.0, 0.0, 1, pts, cols);
+  OrthoPoints op;
+  op.points = &pts;
+  op.colours = &cols;
+  EXPECT_TRUE(DetectComponents(w.sm3, sm4, op, Recogniser(), {}).components.empty());
+}
+
+TEST(Sm5Io, RoundTripsAndRefusesBadInput) {
+  Sm5Model m;
+  m.room = "R1";
+  DetectedComponent c;
+  c.id = "bsc_1", c.class_name = "switch", c.host = "wall_3";
+  c.centre = Vec3(1.25, 2.5, 1.05), c.normal = Vec3(0, -1, 0), c.size = Vec3(0.08, 0.08, 0.012);
+  c.alpha = 0.95, c.found_by = FoundBy::kColour;
+  m.components.push_back(c);
+  const std::string text = Sm5Json(m);
+  const Sm5Model back = ParseSm5(text, "t");
+  ASSERT_EQ(back.components.size(), 1u);
+  EXPECT_EQ(back.room, "R1");
+  EXPECT_EQ(back.components[0].class_name, "switch");
+  EXPECT_EQ(back.components[0].host, "wall_3");
+  EXPECT_EQ(back.components[0].found_by, FoundBy::kColour);
+  EXPECT_NEAR((back.components[0].centre - c.centre).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(back.components[0].alpha, 0.95, 1e-9);
+  EXPECT_EQ(Sm5Json(back), text);
+  EXPECT_THROW(ParseSm5("{}", "t"), InputError);
+  std::string bad = text;
+  bad.replace(bad.find("\"colour\""), 8, "\"smell\"");
+  EXPECT_THROW(ParseSm5(bad, "t"), InputError);
+  EXPECT_THROW(ReadSm5("/nonexistent/sm5.json"), InputError);
+}
+
+TEST(ComponentParams, ValidateNamesTheField) {
+  ComponentParams p;
+  p.pixel = 0.0;
+  try {
+    p.Validate();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pixel"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace mopad::modelling
