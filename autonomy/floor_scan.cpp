@@ -53,6 +53,11 @@ class FloorMission {
         res_.end_reason = "stop: room cap of " + std::to_string(p_.max_rooms) + " reached";
         break;
       }
+      if (hooks_.stop_requested && hooks_.stop_requested()) {
+        res_.end_reason = "stop: requested by the operator after " +
+                          std::to_string(res_.tree.VisitedCount()) + " rooms";
+        break;
+      }
       const int kid = NearestChild(kids);
       DoorScan before;
       if (!EnterThroughDoor(kid, before)) continue;
@@ -96,8 +101,8 @@ class FloorMission {
     };
     try {
       v.scan = RunRoomScan(nav_, rp_, model, on_scan, &target_);
-      v.models = BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images,
-                                 recogniser_);
+      v.models =
+          BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images, recogniser_);
     } catch (const std::exception& e) {
       v.error = e.what();
     }

@@ -92,6 +92,8 @@ struct FloorScanHooks {
   std::function<void(const RoomVisit& visit)> room_done;
   /// One line of what the robot is doing, for a person.
   std::function<void(const std::string& line)> progress;
+  /// Asked before each room: true ends the mission there, explained (an operator's stop).
+  std::function<bool()> stop_requested;
 };
 
 /// A visited room, as kept after its visit.

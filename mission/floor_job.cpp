@@ -202,7 +202,8 @@ FloorMissionParams::FloorMissionParams() {
 
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                      const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
-                     const std::function<void(const std::string&)>& progress) {
+                     const std::function<void(const std::string&)>& progress,
+                     const std::function<bool()>& stop_requested) {
   if (!mw.truth || mw.truth->rooms.empty())
     throw InputError(
         "run: error: the scene has no truth rooms; expected a generated or "
@@ -219,8 +220,10 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
   RobotSession session(*mw.world, params.drive, job.start_W);
   FloorWorld world(mw, params, session, dir, evaluate);
-  job.mission = autonomy::RunFloorScan(session.Robot(), params, params.floor,
-                                       world.Hooks(progress), &RobotComponentRecogniser());
+  autonomy::FloorScanHooks hooks = world.Hooks(progress);
+  hooks.stop_requested = stop_requested;
+  job.mission = autonomy::RunFloorScan(session.Robot(), params, params.floor, hooks,
+                                       &RobotComponentRecogniser());
   job.rooms = std::move(world.Rooms());
   job.drive = session.Result();
   job.X_WM = session.X_MW().To3d().inverse();

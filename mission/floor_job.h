@@ -44,8 +44,8 @@ struct FloorRoomJob {
   int scans = 0;           ///< room-loop scans
   int door_scans = 0;      ///< door scans listed with the room (in front of its entry door)
   double robot_coverage = 0.0;
-  std::size_t openings = 0;    ///< SM4: doors and windows found
-  std::size_t components = 0;  ///< SM5: service components found
+  std::size_t openings = 0;                     ///< SM4: doors and windows found
+  std::size_t components = 0;                   ///< SM5: service components found
   double sm4_seconds = 0.0, sm5_seconds = 0.0;  ///< wall time (reporting only)
   std::optional<RoomEvaluation> evaluation;
   std::vector<Eigen::Vector3d> scan_positions_W;       ///< true scanner centres (world), for plots
@@ -66,9 +66,11 @@ struct FloorJob {
 
 /// Runs the floor mission from `start_W` (default: the harness's free spot of the truth's first
 /// room) and writes the run folder `dir`; with `evaluate`, each room is scored as `mopad room`
-/// does (DIR/rooms/<ID>/evaluation.json). `progress` hears one line per robot event.
+/// does (DIR/rooms/<ID>/evaluation.json). `progress` hears one line per robot event;
+/// `stop_requested`, asked before each room, ends the mission there (the rooms done are kept).
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                      const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
-                     const std::function<void(const std::string&)>& progress = {});
+                     const std::function<void(const std::string&)>& progress = {},
+                     const std::function<bool()>& stop_requested = {});
 
 }  // namespace mopad::mission

@@ -168,7 +168,8 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
               JobTables& t, ReportInput& report) {
   t.rooms.header = {"robot room",     "scene room",  "scans (+ door)",
                     "robot coverage", "stop reason", "openings"};
-  const FloorJob job = RunFloorJob(mw, params, o.start_W, o.dir, true, o.progress);
+  const FloorJob job =
+      RunFloorJob(mw, params, o.start_W, o.dir, true, o.progress, o.stop_requested);
   for (const FloorRoomJob& r : job.rooms) {
     if (o.print)
       o.print(r.robot_room + " (" + r.room + "): " + r.status + ", " + std::to_string(r.scans) +

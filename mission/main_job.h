@@ -29,6 +29,9 @@ struct MainJobOptions {
   std::function<void(const std::string&)> progress;
   /// Hears the job's result lines (rooms, evaluation tables); the CLI prints them.
   std::function<void(const std::string&)> print;
+  /// Asked before each room of the floor mission: true ends it there; the rooms done are
+  /// evaluated, exported and reported as usual.
+  std::function<bool()> stop_requested;
 };
 
 /// Runs the job and writes the run folder. Robot failures are recorded per room (status and

@@ -110,9 +110,8 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
       RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;
   // SM5 (paper §3.4) with the recogniser trained from the robot's catalogue (once a process).
-  const autonomy::RoomModels models =
-      autonomy::BuildRoomModels(model, std::move(job.mission.no_return), params, room, &images,
-                                &RobotComponentRecogniser());
+  const autonomy::RoomModels models = autonomy::BuildRoomModels(
+      model, std::move(job.mission.no_return), params, room, &images, &RobotComponentRecogniser());
   const modelling::StructuralModel& sm3 = models.sm3;
   const modelling::Sm4Model& sm4 = models.sm4;
   job.sm4_seconds = models.sm4_seconds;

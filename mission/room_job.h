@@ -67,9 +67,9 @@ struct RoomJob {
   std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height (world)
   modelling::LabelCounts labels;
   std::size_t points = 0;
-  double path_length = 0.0;  ///< m, true distance driven in the room
-  std::size_t openings = 0;  ///< SM4: doors and windows found
-  double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
+  double path_length = 0.0;    ///< m, true distance driven in the room
+  std::size_t openings = 0;    ///< SM4: doors and windows found
+  double sm4_seconds = 0.0;    ///< s of wall time of SM4 (reporting only)
   std::size_t components = 0;  ///< SM5: service components found
   double sm5_seconds = 0.0;    ///< s of wall time of SM5 (reporting only)
 };

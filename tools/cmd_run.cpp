@@ -3,7 +3,9 @@
 // room), `mopad eval` over all rooms, summary.json and the report.
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -53,6 +55,14 @@ mission::ReportTable SceneTable(const SceneSummary& s) {
            {"service components", std::to_string(s.bsc_total)},
            {"furniture", std::to_string(s.furniture)},
            {"triangles", std::to_string(s.triangles)}}};
+}
+
+// SIGINT / SIGTERM: the floor mission stops before its next room and the job still writes its
+// evaluation, exports and report; a second signal ends the process at once.
+std::atomic<bool> g_stop{false};
+extern "C" void OnStopSignal(int sig) {
+  g_stop = true;
+  std::signal(sig, SIG_DFL);
 }
 
 // Progress for a person: on a terminal one live line rewritten in place, else plain lines.
@@ -157,6 +167,9 @@ void RegisterRunCommand(CLI::App& app) {
       std::printf(tty ? "\r\033[K%s\n" : "%s\n", line.c_str());
       std::fflush(stdout);
     };
+    std::signal(SIGINT, OnStopSignal);
+    std::signal(SIGTERM, OnStopSignal);
+    o.stop_requested = [] { return g_stop.load(); };
     mission::RunMainJob(mw, params, o);
     std::printf("done in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
                 Seconds(t_start), dir.string().c_str());
