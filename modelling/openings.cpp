@@ -317,8 +317,13 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
       }
       return false;
     };
+    // Hypotheses scored by the truncated quadratic (MSAC, Torr & Zisserman 2000), not by the
+    // inlier count: both faces of a thick leaf may be seen, and a line crossing diagonally from
+    // one face to the other collects as many points within the band as a face does, but
+    // farther from the line.
     CounterRng rng(p.seed, "sm4_leaf", index);
-    int best = 0;
+    double best = 0.0;
+    const double inv_band2 = 1.0 / (p.leaf_inlier * p.leaf_inlier);
     Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
     const std::size_t n = sample.size();
     for (int it = 0; it < p.leaf_iterations; ++it) {
@@ -329,12 +334,14 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
       const Vec2 dir = dv.normalized();
       if (!near_jamb(sample[i], dir)) continue;
       const Vec2 nrm(-dir.y(), dir.x());
-      int c = 0;
-      for (const auto& q : sample)
-        if (std::abs(nrm.dot(q - sample[i])) <= p.leaf_inlier) ++c;
+      double c = 0.0;
+      for (const auto& q : sample) {
+        const double r = nrm.dot(q - sample[i]);
+        c += std::max(0.0, 1.0 - r * r * inv_band2);
+      }
       if (c > best) best = c, best_a = sample[i], best_dir = dir;
     }
-    if (best == 0) return out;
+    if (best <= 0.0) return out;
     // Least squares on the inliers of all points, twice.
     a = best_a, dir = best_dir;
     for (int round = 0; round < 2; ++round) {
@@ -369,10 +376,6 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
   const double t0 = ts[best_begin], t1 = ts[best_end - 1];
   out.inliers = static_cast<int>(best_end - best_begin);
   out.extent = t1 - t0;
-  if (out.inliers < p.leaf_min_points || out.extent < p.leaf_min_extent * w) {
-    out.inliers = 0;
-    return out;
-  }
   // Hinge end: the end nearer a jamb (plan distance to the jamb segments).
   const Vec2 e0 = a + t0 * dir, e1 = a + t1 * dir;
   auto jamb_dist = [&](const Vec2& e, double* uj_out) {
@@ -386,6 +389,14 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
   };
   double uj0 = u0, uj1 = u0;
   const double d0 = jamb_dist(e0, &uj0), d1 = jamb_dist(e1, &uj1);
+  // A run that starts at a jamb is a leaf even when the rest of it is hidden (seen through
+  // the hole at a slant); a run that does not must span more of the width.
+  const double min_extent =
+      (std::min(d0, d1) <= p.leaf_jamb_reach ? p.leaf_min_extent_hinged : p.leaf_min_extent) * w;
+  if (out.inliers < p.leaf_min_points || out.extent < min_extent) {
+    out.inliers = 0;
+    return out;
+  }
   const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
   const double uj = d0 <= d1 ? uj0 : uj1;
   out.hinge_u = (d0 <= d1 ? e0 : e1).x();
@@ -399,12 +410,69 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
   return out;
 }
 
+// Removes the reveals of the jambs u0 and u1 from plan points (u, depth): behind the wall's
+// face (depth < -flush_depth) the reveal is the plan line u = u_r, u_r the densest 5 mm bin of
+// the points within reveal_search of the jamb (on its half of the opening) and less than 5 cm
+// behind the surface layer (only the wall's slab is there: a leaf hinges outside its casing,
+// and walls are at least 10 cm thick), followed from the face into the wall while its
+// points continue (gaps < leaf_run_gap). A leaf at 90 deg beside it is a leaf's thickness away.
+// Returns each reveal's u_r where one is found, else NaN.
+std::array<double, 2> RemoveReveals(std::vector<Vec2>& pts, double u0, double u1,
+                                    const OpeningParams& p) {
+  std::array<double, 2> jambs{std::numeric_limits<double>::quiet_NaN(),
+                              std::numeric_limits<double>::quiet_NaN()};
+  constexpr double kBin = 0.005, kSlabProbe = 0.05;
+  std::vector<std::uint8_t> drop(pts.size(), 0);
+  const double mid = 0.5 * (u0 + u1);
+  for (double uj : {u0, u1}) {
+    // The search window: reveal_search either side of the jamb, not past the middle.
+    const double lo = uj < mid ? uj - p.reveal_search : std::max(mid, uj - p.reveal_search);
+    const double hi = uj < mid ? std::min(mid, uj + p.reveal_search) : uj + p.reveal_search;
+    const int nb = static_cast<int>(std::ceil((hi - lo) / kBin)) + 1;
+    std::vector<int> hist(nb, 0);
+    for (const Vec2& q : pts)
+      if (q.y() < -p.flush_depth && q.y() >= -p.flush_depth - kSlabProbe && q.x() >= lo &&
+          q.x() <= hi)
+        ++hist[static_cast<int>((q.x() - lo) / kBin)];
+    int best = -1;
+    for (int b = 0; b < nb; ++b)
+      if (hist[b] > 0 && (best < 0 || hist[b] > hist[best])) best = b;
+    if (best < 0 || hist[best] < 10) continue;
+    const double u_bin = lo + (best + 0.5) * kBin;
+    double sum = 0.0;
+    int n = 0;
+    for (const Vec2& q : pts)
+      if (q.y() < -p.flush_depth && q.y() >= -p.flush_depth - kSlabProbe &&
+          std::abs(q.x() - u_bin) <= p.reveal_band)
+        sum += q.x(), ++n;
+    const double u_r = sum / std::max(1, n);
+    jambs[uj < mid ? 0 : 1] = u_r;
+    // Follow the line from the face into the wall.
+    std::vector<std::pair<double, std::size_t>> line;  // (-depth, index)
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (pts[i].y() < -p.flush_depth && std::abs(pts[i].x() - u_r) <= p.reveal_band)
+        line.push_back({-pts[i].y(), i});
+    std::sort(line.begin(), line.end());
+    double last = p.flush_depth;
+    for (const auto& [dd, i] : line) {
+      if (dd - last > p.leaf_run_gap) break;
+      drop[i] = 1, last = dd;
+    }
+  }
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (!drop[i]) pts[k++] = pts[i];
+  pts.resize(k);
+  return jambs;
+}
+
 }  // namespace
 
 LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
                     double v1, const OpeningParams& p, std::uint64_t index) {
   LeafFit out;
-  const double w = u1 - u0, h = v1 - v0;
+  double w = u1 - u0;
+  const double h = v1 - v0;
   if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
   std::vector<Vec2> pts;  // (u, depth)
   for (const auto& pf : *in.points) {
@@ -418,14 +486,26 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
     if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
     pts.push_back({uv.x(), d});
   }
+  // The leaf hinges at a jamb: the reveals where seen (an opened leaf may hide a jamb's edge
+  // in the images), else the rectangle's sides.
+  const std::array<double, 2> reveals = RemoveReveals(pts, u0, u1, p);
+  out.reveal_u = reveals;
+  const double j0 = std::isnan(reveals[0]) ? u0 : reveals[0];
+  const double j1 = std::isnan(reveals[1]) ? u1 : reveals[1];
+  if (j1 - j0 > 0.5 * w) u0 = j0, u1 = j1, w = u1 - u0;
   // The leaf first from the points off the wall's surface layer: a casing beside a door whose
   // rectangle came out too wide, or the floor-level reveal, would tilt a line through the leaf;
   // only a leaf flush with the wall (closed, on this side) needs the layer.
   std::vector<Vec2> deep;
   for (const Vec2& q : pts)
     if (std::abs(q.y()) > p.flush_depth) deep.push_back(q);
-  const LeafFit first = FitLeafPoints(deep, u0, u1, w, p, index);
-  if (first.inliers == 0) return FitLeafPoints(pts, u0, u1, w, p, index);
+  LeafFit first = FitLeafPoints(deep, u0, u1, w, p, index);
+  first.reveal_u = reveals;
+  if (first.inliers == 0) {
+    LeafFit flush = FitLeafPoints(pts, u0, u1, w, p, index);
+    flush.reveal_u = reveals;
+    return flush;
+  }
   // Its run, hinge and width from all the points along that line (the part near the hinge is
   // on the surface layer).
   // Only on the leaf's side of the wall: the reveal behind a leaf opened into the room (or in
@@ -435,7 +515,8 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   for (const Vec2& q : pts)
     if (side * q.y() >= -p.flush_depth) same_side.push_back(q);
   const std::pair<Vec2, Vec2> line{first.line_point, first.line_dir};
-  const LeafFit along = FitLeafPoints(same_side, u0, u1, w, p, index, &line);
+  LeafFit along = FitLeafPoints(same_side, u0, u1, w, p, index, &line);
+  along.reveal_u = reveals;
   return along.inliers > 0 ? along : first;
 }
 
@@ -661,6 +742,12 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
       const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p,
                                        static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
       o.leaf_points = leaf.inliers;
+      // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
+      // the wall's colour may have moved a side's line in the images).
+      if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
+      if (!std::isnan(leaf.reveal_u[1])) o.u1 = leaf.reveal_u[1];
+      o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
+                   f.ToMap(o.u0, o.v1)};
       // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
       // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
       // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.

@@ -33,7 +33,10 @@
 //     boundary is no frame): the hole, not the casing.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
-//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers;
+//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers.
+//     Each jamb's reveal (the hole's side, a plan line perpendicular to the wall from its face
+//     into the wall) is left out first: a leaf opened near 90 deg lies a leaf's thickness
+//     beside it and a line through both would lean towards the wall by several degrees;
 //     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
 //     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
 //     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
@@ -99,10 +102,16 @@ struct OpeningParams {
   double leaf_hinge_front = 0.05;   ///< m, farthest hinge in front of the wall face, [0, 0.5]
   double leaf_jamb_reach = 0.1;     ///< m, a leaf's line passes this close to a jamb, [0, 1]
   double leaf_run_gap = 0.10;       ///< m, gap that ends the leaf's run of points, [0.01, 1]
+  /// m, a jamb's reveal (the hole's side through the wall) is sought this far from the
+  /// rectangle's side (an opened leaf may hide the jamb's edge in the images), [0, 0.5]
+  double reveal_search = 0.25;
+  double reveal_band = 0.012;  ///< m, half width of a reveal's plan line, [0.001, 0.1]
   /// Share of a door seen through that makes it open when no leaf is found, [0, 1]
   double open_through_share = 0.3;
   int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
   double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
+  /// The same share when the run starts within leaf_jamb_reach of a jamb (its hinge), [0, 1]
+  double leaf_min_extent_hinged = 0.15;
   int leaf_min_points = 40;      ///< inliers a leaf needs, [3, 1e7]
   int leaf_iterations = 400;     ///< RANSAC hypotheses, [1, 1e6]
   int leaf_max_points = 4000;    ///< points sampled for the fit (even stride), [10, 1e8]
@@ -160,9 +169,12 @@ struct OpeningParams {
     v("leaf_hinge_front", leaf_hinge_front, Bounds{0.0, 0.5});
     v("leaf_jamb_reach", leaf_jamb_reach, Bounds{0.0, 1.0});
     v("leaf_run_gap", leaf_run_gap, Bounds{0.01, 1.0});
+    v("reveal_search", reveal_search, Bounds{0.0, 0.5});
+    v("reveal_band", reveal_band, Bounds{0.001, 0.1});
     v("open_through_share", open_through_share, Bounds{0.0, 1.0});
     v("median_kernel", median_kernel, Bounds{1, 15});
     v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
+    v("leaf_min_extent_hinged", leaf_min_extent_hinged, Bounds{0.0, 1.0});
     v("leaf_min_points", leaf_min_points, Bounds{3, 10000000});
     v("leaf_iterations", leaf_iterations, Bounds{1, 1000000});
     v("leaf_max_points", leaf_max_points, Bounds{10, 100000000});
@@ -253,6 +265,10 @@ struct LeafFit {
   double extent = 0.0;   ///< m, span of the inliers along the fitted line
   double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
   Vec2 line_point = Vec2::Zero(), line_dir = Vec2::UnitX();  ///< the fitted line in (u, depth)
+  /// m, u of each jamb's reveal (the hole's side through the wall) where one was seen, NaN where
+  /// not; set whether or not a leaf was found
+  std::array<double, 2> reveal_u{std::numeric_limits<double>::quiet_NaN(),
+                                 std::numeric_limits<double>::quiet_NaN()};
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);

@@ -276,6 +276,24 @@ TEST(Openings, WideOpenDoorIsOpen) {
   EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
 }
 
+// A leaf opened to 90 deg lies beside the jamb's reveal (the hole's side through the wall):
+// the reveal is not the leaf, on either side of the wall.
+class NinetyDegreeDoor : public ::testing::TestWithParam<bool> {};
+
+TEST_P(NinetyDegreeDoor, AngleWithinThreeDegreesAndStateOpen) {
+  HoleSpec h;
+  h.lambda_deg = 90.0;
+  h.swing_into_room = GetParam();
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  SCOPED_TRACE(Describe(f.sm4));
+  ExpectHole(o, h, 0.05);
+  EXPECT_NEAR(o.opening_angle_deg, 90.0, 3.0);
+  EXPECT_EQ(o.state, DoorState::kOpen);
+}
+INSTANTIATE_TEST_SUITE_P(SwingIntoRoom, NinetyDegreeDoor, ::testing::Bool());
+
 TEST(Openings, WindowWithGlassIsFoundFromTheRaysThatPassedIt) {
   HoleSpec h;
   h.x0 = 1.5, h.x1 = 2.7, h.z0 = 0.9, h.z1 = 2.1;
