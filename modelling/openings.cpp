@@ -282,10 +282,11 @@ double Overlap(const Candidate& a, const Candidate& b) {
 
 namespace {
 
-// One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w.
+// One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w; `far_face`
+// is the depth of the wall's far face where its reveals gave it (< 0), else NaN.
 // With `fixed` (a point and a unit direction), the line is taken as given: no RANSAC, no
 // least squares; the run, hinge and lambda follow from `pts` along it.
-LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double w,
+LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double w, double far_face,
                       const OpeningParams& p, std::uint64_t index,
                       const std::pair<Vec2, Vec2>* fixed = nullptr) {
   LeafFit out;
@@ -376,13 +377,20 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
   const double t0 = ts[best_begin], t1 = ts[best_end - 1];
   out.inliers = static_cast<int>(best_end - best_begin);
   out.extent = t1 - t0;
-  // Hinge end: the end nearer a jamb (plan distance to the jamb segments).
+  // Hinge end: the end nearer a jamb's hinge line. A hinge stands at a jamb on one of the
+  // wall's faces: at depth 0 or at the far face where the reveals gave it, else anywhere on
+  // the jamb segment [-max_wall_thickness, leaf_hinge_front].
   const Vec2 e0 = a + t0 * dir, e1 = a + t1 * dir;
   auto jamb_dist = [&](const Vec2& e, double* uj_out) {
     double best_d = 1e300;
     for (double uj : {u0, u1}) {
-      const double dd = std::clamp(e.y(), -p.max_wall_thickness, p.leaf_hinge_front);
-      const double dist = (e - Vec2(uj, dd)).norm();
+      double dist;
+      if (std::isnan(far_face)) {
+        const double dd = std::clamp(e.y(), -p.max_wall_thickness, p.leaf_hinge_front);
+        dist = (e - Vec2(uj, dd)).norm();
+      } else {
+        dist = std::min((e - Vec2(uj, 0.0)).norm(), (e - Vec2(uj, far_face)).norm());
+      }
       if (dist < best_d) best_d = dist, *uj_out = uj;
     }
     return best_d;
@@ -400,13 +408,15 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
   const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
   const double uj = d0 <= d1 ? uj0 : uj1;
   out.hinge_u = (d0 <= d1 ? e0 : e1).x();
-  const Vec2 hf = free_end - hinge;
-  double lambda = std::atan2(std::abs(hf.y()), std::abs(hf.x())) * kRadToDeg;
-  // Swung past the hinge jamb (free end outside the opening on the hinge's side): > 90 deg.
+  // lambda: the angle between the wall's direction from the hinge jamb into the opening and
+  // the leaf's direction from its hinge to its free end, in [0, 180] deg (over 90 deg when it
+  // has swung past the hinge jamb). From the line's direction, not from the ends' positions:
+  // only part of the leaf may be seen.
   const bool left = std::abs(uj - u0) <= std::abs(uj - u1);
-  if ((left && free_end.x() < hinge.x() - 0.02) || (!left && free_end.x() > hinge.x() + 0.02))
-    lambda = 180.0 - lambda;
-  out.lambda_deg = lambda;
+  Vec2 leaf_dir = dir;
+  if (leaf_dir.dot(free_end - hinge) < 0.0) leaf_dir = -leaf_dir;
+  const double along_wall = left ? leaf_dir.x() : -leaf_dir.x();
+  out.lambda_deg = std::atan2(std::abs(leaf_dir.y()), along_wall) * kRadToDeg;
   return out;
 }
 
@@ -416,11 +426,15 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
 // behind the surface layer (only the wall's slab is there: a leaf hinges outside its casing,
 // and walls are at least 10 cm thick), followed from the face into the wall while its
 // points continue (gaps < leaf_run_gap). A leaf at 90 deg beside it is a leaf's thickness away.
-// Returns each reveal's u_r where one is found, else NaN.
-std::array<double, 2> RemoveReveals(std::vector<Vec2>& pts, double u0, double u1,
-                                    const OpeningParams& p) {
-  std::array<double, 2> jambs{std::numeric_limits<double>::quiet_NaN(),
-                              std::numeric_limits<double>::quiet_NaN()};
+// Returns each reveal's u_r where one is found, else NaN, and the wall's far face: the depth
+// the deeper reveal reaches (NaN when none is found).
+struct Reveals {
+  std::array<double, 2> u{std::numeric_limits<double>::quiet_NaN(),
+                          std::numeric_limits<double>::quiet_NaN()};
+  double far_face = std::numeric_limits<double>::quiet_NaN();
+};
+Reveals RemoveReveals(std::vector<Vec2>& pts, double u0, double u1, const OpeningParams& p) {
+  Reveals jambs;
   constexpr double kBin = 0.005, kSlabProbe = 0.05;
   std::vector<std::uint8_t> drop(pts.size(), 0);
   const double mid = 0.5 * (u0 + u1);
@@ -446,7 +460,7 @@ std::array<double, 2> RemoveReveals(std::vector<Vec2>& pts, double u0, double u1
           std::abs(q.x() - u_bin) <= p.reveal_band)
         sum += q.x(), ++n;
     const double u_r = sum / std::max(1, n);
-    jambs[uj < mid ? 0 : 1] = u_r;
+    jambs.u[uj < mid ? 0 : 1] = u_r;
     // Follow the line from the face into the wall.
     std::vector<std::pair<double, std::size_t>> line;  // (-depth, index)
     for (std::size_t i = 0; i < pts.size(); ++i)
@@ -458,6 +472,7 @@ std::array<double, 2> RemoveReveals(std::vector<Vec2>& pts, double u0, double u1
       if (dd - last > p.leaf_run_gap) break;
       drop[i] = 1, last = dd;
     }
+    if (!(jambs.far_face <= -last)) jambs.far_face = -last;
   }
   std::size_t k = 0;
   for (std::size_t i = 0; i < pts.size(); ++i)
@@ -488,7 +503,8 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   }
   // The leaf hinges at a jamb: the reveals where seen (an opened leaf may hide a jamb's edge
   // in the images), else the rectangle's sides.
-  const std::array<double, 2> reveals = RemoveReveals(pts, u0, u1, p);
+  const Reveals rv = RemoveReveals(pts, u0, u1, p);
+  const std::array<double, 2> reveals = rv.u;
   out.reveal_u = reveals;
   const double j0 = std::isnan(reveals[0]) ? u0 : reveals[0];
   const double j1 = std::isnan(reveals[1]) ? u1 : reveals[1];
@@ -499,10 +515,10 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   std::vector<Vec2> deep;
   for (const Vec2& q : pts)
     if (std::abs(q.y()) > p.flush_depth) deep.push_back(q);
-  LeafFit first = FitLeafPoints(deep, u0, u1, w, p, index);
+  LeafFit first = FitLeafPoints(deep, u0, u1, w, rv.far_face, p, index);
   first.reveal_u = reveals;
   if (first.inliers == 0) {
-    LeafFit flush = FitLeafPoints(pts, u0, u1, w, p, index);
+    LeafFit flush = FitLeafPoints(pts, u0, u1, w, rv.far_face, p, index);
     flush.reveal_u = reveals;
     return flush;
   }
@@ -515,7 +531,7 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   for (const Vec2& q : pts)
     if (side * q.y() >= -p.flush_depth) same_side.push_back(q);
   const std::pair<Vec2, Vec2> line{first.line_point, first.line_dir};
-  LeafFit along = FitLeafPoints(same_side, u0, u1, w, p, index, &line);
+  LeafFit along = FitLeafPoints(same_side, u0, u1, w, rv.far_face, p, index, &line);
   along.reveal_u = reveals;
   return along.inliers > 0 ? along : first;
 }
@@ -773,9 +789,10 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
         o.opening_angle_deg = leaf.lambda_deg;
         o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);
       } else {
-        // No leaf seen: open if the robot saw through it, else closed (its leaf is the wall's
-        // colour and flush, or hidden).
-        o.state = k.through >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
+        // No leaf seen: open if the robot saw through most of what it saw of it, else closed
+        // (its leaf is the wall's colour and flush, or hidden).
+        const double through_of_known = k.known > 0.0 ? k.through / k.known : 0.0;
+        o.state = through_of_known >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
       }
       if (o.state == DoorState::kClosed) {
         o.clear_width_m = 0.0;

@@ -42,8 +42,10 @@
 //     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
 //     deg, semi_open 5 <= lambda < 90, closed lambda < 5 (paper §3.3), with open from 90 -
 //     open_tolerance_deg (measurement). No leaf found: open (angle unknown) if open_through_share
-//     of it is seen through, else closed. Clear width = width - (width cos lambda + leaf_thickness
-//     sin lambda), 0 when closed.
+//     of its seen (known) interior is seen through, else closed: a closed leaf shows as a surface
+//     across the hole wherever the hole is seen, while the parts of an open doorway that are not
+//     seen through are mostly unseen (rays at a slant end on the far reveal). Clear width = width
+//     - (width cos lambda + leaf_thickness sin lambda), 0 when closed.
 //
 // Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k)).
 
@@ -106,7 +108,8 @@ struct OpeningParams {
   /// rectangle's side (an opened leaf may hide the jamb's edge in the images), [0, 0.5]
   double reveal_search = 0.25;
   double reveal_band = 0.012;  ///< m, half width of a reveal's plan line, [0.001, 0.1]
-  /// Share of a door seen through that makes it open when no leaf is found, [0, 1]
+  /// Share of a door's seen interior seen through that makes it open when no leaf is found,
+  /// [0, 1]
   double open_through_share = 0.3;
   int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
   double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]

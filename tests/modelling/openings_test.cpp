@@ -288,11 +288,25 @@ TEST_P(NinetyDegreeDoor, AngleWithinThreeDegreesAndStateOpen) {
   ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
   const auto& o = f.on_wall1.at(0);
   SCOPED_TRACE(Describe(f.sm4));
-  ExpectHole(o, h, 0.05);
+  // The sides: the hinge jamb stands behind the opened leaf (its reveal gives it).
+  EXPECT_NEAR(o.u0, 5.0 - h.x1, 0.02);
+  EXPECT_NEAR(o.u1, 5.0 - h.x0, 0.02);
   EXPECT_NEAR(o.opening_angle_deg, 90.0, 3.0);
   EXPECT_EQ(o.state, DoorState::kOpen);
 }
 INSTANTIATE_TEST_SUITE_P(SwingIntoRoom, NinetyDegreeDoor, ::testing::Bool());
+
+// Seen through the hole only part of the leaf shows; past 90 deg is told by the line's
+// direction from the hinge, which stands on the wall's far face (the reveals' depth).
+TEST(Openings, DoorSwungPastNinetyBehindTheWallReadsOverNinety) {
+  HoleSpec h;
+  h.swing_into_room = false;
+  h.lambda_deg = 100.0;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  EXPECT_NEAR(f.on_wall1.at(0).opening_angle_deg, 100.0, 3.0) << Describe(f.sm4);
+  EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
+}
 
 TEST(Openings, WindowWithGlassIsFoundFromTheRaysThatPassedIt) {
   HoleSpec h;
