@@ -89,12 +89,15 @@ WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
   if (k > 0)
     for (int c = 0; c < 3; ++c) out.wall_rgb[c] = sum[c] / k;
   out.classes.assign(n, OrthoClass::kOccluded);
+  out.through_no_return.assign(n, 0);
   std::size_t wall = 0;
   const double tol2 = p.colour_tolerance * p.colour_tolerance;
   for (std::size_t i = 0; i < n; ++i) {
     if (img.Count(i) == 0) {
       out.classes[i] =
           img.Passed(i) > img.Blocked(i) ? OrthoClass::kThrough : OrthoClass::kOccluded;
+      out.through_no_return[i] =
+          out.classes[i] == OrthoClass::kThrough && img.PassedNoReturn(i) == img.Passed(i);
       continue;
     }
     const double d = img.Depth(i);
@@ -113,6 +116,21 @@ WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
     }
   }
   out.wall_share = n > 0 ? static_cast<double>(wall) / n : 0.0;
+  // A seen-through pixel is weak (no-return only) unless a ray that returned from beyond the
+  // plane passed within through_window of it: a doorway's sparse dropouts sit among returns
+  // from the room behind, a dark occluder's do not.
+  const int cols = img.Cols(), rows = img.Rows();
+  cv::Mat strong(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = img.Index(c, r);
+      if (img.Passed(i) > img.PassedNoReturn(i)) strong.at<std::uint8_t>(r, c) = 1;
+    }
+  const int win = 2 * static_cast<int>(std::lround(0.5 * p.through_window / img.Pixel())) + 1;
+  cv::dilate(strong, strong, cv::Mat::ones(win, win, CV_8U));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (strong.at<std::uint8_t>(r, c)) out.through_no_return[img.Index(c, r)] = 0;
   return out;
 }
 
@@ -567,8 +585,11 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
       depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
           std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
     }
-  const cv::Mat ev_door = ClassMask(
+  cv::Mat ev_door = ClassMask(
       area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (area.through_no_return[img.Index(c, r)]) ev_door.at<std::uint8_t>(r, c) = 0;
   const cv::Mat ev_window =
       ClassMask(area, cols, rows, {OrthoClass::kRecessed, OrthoClass::kThrough});
   const cv::Mat known = ClassMask(
@@ -584,7 +605,7 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
   cv::medianBlur(depth, depth, p.median_kernel);
   cv::Canny(colour, e_c, p.canny_low, p.canny_high);
   cv::Canny(depth, e_d, p.canny_low, p.canny_high);
-  cv::Mat ev255 = ev_door * 255;
+  cv::Mat ev255 = (ev_door | ev_window) * 255;  // outlines of any hole
   cv::medianBlur(ev255, ev255, p.median_kernel);
   cv::Canny(ev255, e_e, p.canny_low, p.canny_high);
   cv::bitwise_or(e_c, e_d, edges);

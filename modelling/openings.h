@@ -64,10 +64,13 @@
 namespace mopad::modelling {
 
 struct OpeningParams {
-  OrthoimageParams orthoimage;       ///< J_CD of every wall
-  double flush_depth = 0.05;         ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
-  double recess_depth = 0.025;       ///< m, depth below which a pixel is recessed, [0.005, 0.5]
-  double colour_tolerance = 45.0;    ///< RGB distance (0-255 units) from the wall colour, [1, 255]
+  OrthoimageParams orthoimage;     ///< J_CD of every wall
+  double flush_depth = 0.05;       ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
+  double recess_depth = 0.025;     ///< m, depth below which a pixel is recessed, [0.005, 0.5]
+  double colour_tolerance = 45.0;  ///< RGB distance (0-255 units) from the wall colour, [1, 255]
+  /// m, a seen-through pixel counts for a door when a ray that returned from beyond the plane
+  /// passed within this square around it (rays without a return alone: windows only), [0, 2]
+  double through_window = 0.15;
   double depth_step = 0.01;          ///< m per grey level of the depth edge image, [0.001, 0.1]
   double canny_low = 30.0;           ///< Canny hysteresis thresholds (grey levels), [1, 1000]
   double canny_high = 60.0;          ///< [1, 1000]
@@ -137,6 +140,7 @@ struct OpeningParams {
     v("flush_depth", flush_depth, Bounds{0.005, 0.2});
     v("recess_depth", recess_depth, Bounds{0.005, 0.5});
     v("colour_tolerance", colour_tolerance, Bounds{1.0, 255.0});
+    v("through_window", through_window, Bounds{0.0, 2.0});
     v("depth_step", depth_step, Bounds{0.001, 0.1});
     v("canny_low", canny_low, Bounds{1.0, 1000.0});
     v("canny_high", canny_high, Bounds{1.0, 1000.0});
@@ -242,6 +246,11 @@ enum class OrthoClass : std::uint8_t {
 struct WallArea {
   std::array<double, 3> wall_rgb{0, 0, 0};
   std::vector<OrthoClass> classes;
+  /// 1 where a kThrough pixel's passed rays all returned nothing and no ray returned from
+  /// beyond the plane within through_window of it: evidence of a window (glass, the outside)
+  /// but not of a door, since a dark occluder in front of the wall (a black cabinet) returns
+  /// nothing either; a door's far side is a room whose points come back.
+  std::vector<std::uint8_t> through_no_return;
   double wall_share = 0.0;  ///< share of the image's pixels that are wall
 };
 WallArea SegmentWallArea(const Orthoimage& image, const OpeningParams& params);
