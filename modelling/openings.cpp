@@ -300,6 +300,73 @@ double Overlap(const Candidate& a, const Candidate& b) {
 
 namespace {
 
+// The leaf's plan line (step 4): seeded RANSAC over lines through a jamb, then least squares on
+// the inliers of all points, twice. Sets the line (a, dir) and its inliers; false if none.
+bool FitLeafLine(const std::vector<Vec2>& pts, double u0, double u1, const OpeningParams& p,
+                 std::uint64_t index, Vec2& a, Vec2& dir, std::vector<Vec2>& inl) {
+  std::vector<Vec2> sample;
+  const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
+  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+  // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
+  // leaf_hinge_front] (hinged on this face or on the far one).
+  auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
+    for (double uj : {u0, u1}) {
+      if (std::abs(dir.x()) > 1e-6) {
+        const double t = (uj - a.x()) / dir.x();
+        const double d = a.y() + t * dir.y();
+        if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
+      }
+      const Vec2 nrm(-dir.y(), dir.x());
+      for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
+        if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
+    }
+    return false;
+  };
+  // Hypotheses scored by the truncated quadratic (MSAC, Torr & Zisserman 2000), not by the
+  // inlier count: both faces of a thick leaf may be seen, and a line crossing diagonally from
+  // one face to the other collects as many points within the band as a face does, but
+  // farther from the line.
+  CounterRng rng(p.seed, "sm4_leaf", index);
+  double best = 0.0;
+  const double inv_band2 = 1.0 / (p.leaf_inlier * p.leaf_inlier);
+  Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
+  const std::size_t n = sample.size();
+  for (int it = 0; it < p.leaf_iterations; ++it) {
+    const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
+    const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
+    const Vec2 dv = sample[j] - sample[i];
+    if (dv.norm() < 0.05) continue;
+    const Vec2 dir = dv.normalized();
+    if (!near_jamb(sample[i], dir)) continue;
+    const Vec2 nrm(-dir.y(), dir.x());
+    double c = 0.0;
+    for (const auto& q : sample) {
+      const double r = nrm.dot(q - sample[i]);
+      c += std::max(0.0, 1.0 - r * r * inv_band2);
+    }
+    if (c > best) best = c, best_a = sample[i], best_dir = dir;
+  }
+  if (best <= 0.0) return false;
+  // Least squares on the inliers of all points, twice.
+  a = best_a, dir = best_dir;
+  for (int round = 0; round < 2; ++round) {
+    const Vec2 nrm(-dir.y(), dir.x());
+    inl.clear();
+    for (const auto& q : pts)
+      if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
+    if (inl.size() < 3) return false;
+    Vec2 mean = Vec2::Zero();
+    for (const auto& q : inl) mean += q;
+    mean /= static_cast<double>(inl.size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    a = mean;
+    dir = es.eigenvectors().col(1).normalized();
+  }
+  return true;
+}
+
 // One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w; `far_face`
 // is the depth of the wall's far face where its reveals gave it (< 0), else NaN.
 // With `fixed` (a point and a unit direction), the line is taken as given: no RANSAC, no
@@ -317,68 +384,9 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
     for (const auto& q : pts)
       if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
     if (inl.size() < 3) return out;
-  } else {
-    std::vector<Vec2> sample;
-    const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
-    for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
-    // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
-    // leaf_hinge_front] (hinged on this face or on the far one).
-    auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
-      for (double uj : {u0, u1}) {
-        if (std::abs(dir.x()) > 1e-6) {
-          const double t = (uj - a.x()) / dir.x();
-          const double d = a.y() + t * dir.y();
-          if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
-        }
-        const Vec2 nrm(-dir.y(), dir.x());
-        for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
-          if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
-      }
-      return false;
-    };
-    // Hypotheses scored by the truncated quadratic (MSAC, Torr & Zisserman 2000), not by the
-    // inlier count: both faces of a thick leaf may be seen, and a line crossing diagonally from
-    // one face to the other collects as many points within the band as a face does, but
-    // farther from the line.
-    CounterRng rng(p.seed, "sm4_leaf", index);
-    double best = 0.0;
-    const double inv_band2 = 1.0 / (p.leaf_inlier * p.leaf_inlier);
-    Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
-    const std::size_t n = sample.size();
-    for (int it = 0; it < p.leaf_iterations; ++it) {
-      const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
-      const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
-      const Vec2 dv = sample[j] - sample[i];
-      if (dv.norm() < 0.05) continue;
-      const Vec2 dir = dv.normalized();
-      if (!near_jamb(sample[i], dir)) continue;
-      const Vec2 nrm(-dir.y(), dir.x());
-      double c = 0.0;
-      for (const auto& q : sample) {
-        const double r = nrm.dot(q - sample[i]);
-        c += std::max(0.0, 1.0 - r * r * inv_band2);
-      }
-      if (c > best) best = c, best_a = sample[i], best_dir = dir;
-    }
-    if (best <= 0.0) return out;
-    // Least squares on the inliers of all points, twice.
-    a = best_a, dir = best_dir;
-    for (int round = 0; round < 2; ++round) {
-      const Vec2 nrm(-dir.y(), dir.x());
-      inl.clear();
-      for (const auto& q : pts)
-        if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
-      if (inl.size() < 3) return out;
-      Vec2 mean = Vec2::Zero();
-      for (const auto& q : inl) mean += q;
-      mean /= static_cast<double>(inl.size());
-      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-      for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-      a = mean;
-      dir = es.eigenvectors().col(1).normalized();
-    }
-  }  // fixed
+  } else if (!FitLeafLine(pts, u0, u1, p, index, a, dir, inl)) {
+    return out;
+  }
   out.line_point = a, out.line_dir = dir;
   // The leaf is the most populated run of inliers along the line without a gap over 10 cm
   // (other surfaces on the same line, e.g. a reveal or far furniture, are not the leaf).
