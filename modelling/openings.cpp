@@ -544,7 +544,10 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   LeafFit first = FitLeafPoints(deep, u0, u1, w, rv.far_face, p, index);
   first.reveal_u = reveals;
   if (first.inliers == 0) {
+    // The surface layer serves a leaf lying in it (closed); a steeper line through it mixes
+    // the casing and the reveal's face end with what little is seen of an opened leaf.
     LeafFit flush = FitLeafPoints(pts, u0, u1, w, rv.far_face, p, index);
+    if (flush.inliers > 0 && !(flush.lambda_deg < p.closed_below_deg)) flush = LeafFit{};
     flush.reveal_u = reveals;
     return flush;
   }
