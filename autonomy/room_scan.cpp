@@ -246,6 +246,19 @@ RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPo
   for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
   const auto t0 = Clock::now();
   out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images);
+  // A closed door's leaf and casing are not its wall: when SM4 found one, SM3 is fitted again
+  // without their points, and SM4 again on that SM3.
+  bool closed_door = false;
+  for (const auto& o : out.sm4.openings)
+    closed_door = closed_door || (o.type == modelling::OpeningType::kDoor &&
+                                  o.state == modelling::DoorState::kClosed);
+  if (closed_door) {
+    const std::vector<std::uint8_t> mask =
+        modelling::ClosedDoorPointMask(model.Points(), out.sm3.patches, out.sm4.openings);
+    out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room, &mask);
+    if (images) images->clear();
+    out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images);
+  }
   out.sm4_seconds = Since(t0);
   out.sm5.room = room;
   if (recogniser) {

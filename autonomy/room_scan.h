@@ -126,7 +126,7 @@ bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
 
 /// SM3, SM4 and SM5 of a scanned room (paper §3.2-3.4): the structural model, the openings in
 /// its walls from their colour + depth orthoimages (the accepted scans' points and `no_return`
-/// rays), then, with a `recogniser` (trained from the robot's catalogue of object models), the
+/// rays; with a closed door found, SM3 and SM4 once more without its leaf and casing), then, with a `recogniser` (trained from the robot's catalogue of object models), the
 /// service components on its walls and ceiling. `images` receives each wall's orthoimage when
 /// given.
 struct RoomModels {

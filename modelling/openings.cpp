@@ -89,12 +89,15 @@ WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
   if (k > 0)
     for (int c = 0; c < 3; ++c) out.wall_rgb[c] = sum[c] / k;
   out.classes.assign(n, OrthoClass::kOccluded);
+  out.through_no_return.assign(n, 0);
   std::size_t wall = 0;
   const double tol2 = p.colour_tolerance * p.colour_tolerance;
   for (std::size_t i = 0; i < n; ++i) {
     if (img.Count(i) == 0) {
       out.classes[i] =
           img.Passed(i) > img.Blocked(i) ? OrthoClass::kThrough : OrthoClass::kOccluded;
+      out.through_no_return[i] =
+          out.classes[i] == OrthoClass::kThrough && img.PassedNoReturn(i) == img.Passed(i);
       continue;
     }
     const double d = img.Depth(i);
@@ -113,6 +116,21 @@ WallArea SegmentWallArea(const Orthoimage& img, const OpeningParams& p) {
     }
   }
   out.wall_share = n > 0 ? static_cast<double>(wall) / n : 0.0;
+  // A seen-through pixel is weak (no-return only) unless a ray that returned from beyond the
+  // plane passed within through_window of it: a doorway's sparse dropouts sit among returns
+  // from the room behind, a dark occluder's do not.
+  const int cols = img.Cols(), rows = img.Rows();
+  cv::Mat strong(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = img.Index(c, r);
+      if (img.Passed(i) > img.PassedNoReturn(i)) strong.at<std::uint8_t>(r, c) = 1;
+    }
+  const int win = 2 * static_cast<int>(std::lround(0.5 * p.through_window / img.Pixel())) + 1;
+  cv::dilate(strong, strong, cv::Mat::ones(win, win, CV_8U));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (strong.at<std::uint8_t>(r, c)) out.through_no_return[img.Index(c, r)] = 0;
   return out;
 }
 
@@ -282,10 +300,78 @@ double Overlap(const Candidate& a, const Candidate& b) {
 
 namespace {
 
-// One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w.
+// The leaf's plan line (step 4): seeded RANSAC over lines through a jamb, then least squares on
+// the inliers of all points, twice. Sets the line (a, dir) and its inliers; false if none.
+bool FitLeafLine(const std::vector<Vec2>& pts, double u0, double u1, const OpeningParams& p,
+                 std::uint64_t index, Vec2& a, Vec2& dir, std::vector<Vec2>& inl) {
+  std::vector<Vec2> sample;
+  const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
+  for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
+  // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
+  // leaf_hinge_front] (hinged on this face or on the far one).
+  auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
+    for (double uj : {u0, u1}) {
+      if (std::abs(dir.x()) > 1e-6) {
+        const double t = (uj - a.x()) / dir.x();
+        const double d = a.y() + t * dir.y();
+        if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
+      }
+      const Vec2 nrm(-dir.y(), dir.x());
+      for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
+        if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
+    }
+    return false;
+  };
+  // Hypotheses scored by the truncated quadratic (MSAC, Torr & Zisserman 2000), not by the
+  // inlier count: both faces of a thick leaf may be seen, and a line crossing diagonally from
+  // one face to the other collects as many points within the band as a face does, but
+  // farther from the line.
+  CounterRng rng(p.seed, "sm4_leaf", index);
+  double best = 0.0;
+  const double inv_band2 = 1.0 / (p.leaf_inlier * p.leaf_inlier);
+  Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
+  const std::size_t n = sample.size();
+  for (int it = 0; it < p.leaf_iterations; ++it) {
+    const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
+    const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
+    const Vec2 dv = sample[j] - sample[i];
+    if (dv.norm() < 0.05) continue;
+    const Vec2 dir = dv.normalized();
+    if (!near_jamb(sample[i], dir)) continue;
+    const Vec2 nrm(-dir.y(), dir.x());
+    double c = 0.0;
+    for (const auto& q : sample) {
+      const double r = nrm.dot(q - sample[i]);
+      c += std::max(0.0, 1.0 - r * r * inv_band2);
+    }
+    if (c > best) best = c, best_a = sample[i], best_dir = dir;
+  }
+  if (best <= 0.0) return false;
+  // Least squares on the inliers of all points, twice.
+  a = best_a, dir = best_dir;
+  for (int round = 0; round < 2; ++round) {
+    const Vec2 nrm(-dir.y(), dir.x());
+    inl.clear();
+    for (const auto& q : pts)
+      if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
+    if (inl.size() < 3) return false;
+    Vec2 mean = Vec2::Zero();
+    for (const auto& q : inl) mean += q;
+    mean /= static_cast<double>(inl.size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    a = mean;
+    dir = es.eigenvectors().col(1).normalized();
+  }
+  return true;
+}
+
+// One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w; `far_face`
+// is the depth of the wall's far face where its reveals gave it (< 0), else NaN.
 // With `fixed` (a point and a unit direction), the line is taken as given: no RANSAC, no
 // least squares; the run, hinge and lambda follow from `pts` along it.
-LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double w,
+LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double w, double far_face,
                       const OpeningParams& p, std::uint64_t index,
                       const std::pair<Vec2, Vec2>* fixed = nullptr) {
   LeafFit out;
@@ -298,61 +384,9 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
     for (const auto& q : pts)
       if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
     if (inl.size() < 3) return out;
-  } else {
-    std::vector<Vec2> sample;
-    const std::size_t stride = std::max<std::size_t>(1, pts.size() / p.leaf_max_points);
-    for (std::size_t i = 0; i < pts.size(); i += stride) sample.push_back(pts[i]);
-    // A leaf's line passes a jamb: the segment u = u_j, depth in [-max_wall_thickness,
-    // leaf_hinge_front] (hinged on this face or on the far one).
-    auto near_jamb = [&](const Vec2& a, const Vec2& dir) {
-      for (double uj : {u0, u1}) {
-        if (std::abs(dir.x()) > 1e-6) {
-          const double t = (uj - a.x()) / dir.x();
-          const double d = a.y() + t * dir.y();
-          if (d >= -p.max_wall_thickness && d <= p.leaf_hinge_front) return true;
-        }
-        const Vec2 nrm(-dir.y(), dir.x());
-        for (double dj : {-p.max_wall_thickness, p.leaf_hinge_front})
-          if (std::abs(nrm.dot(Vec2(uj, dj) - a)) < p.leaf_jamb_reach) return true;
-      }
-      return false;
-    };
-    CounterRng rng(p.seed, "sm4_leaf", index);
-    int best = 0;
-    Vec2 best_a = Vec2::Zero(), best_dir = Vec2::UnitX();
-    const std::size_t n = sample.size();
-    for (int it = 0; it < p.leaf_iterations; ++it) {
-      const std::size_t i = static_cast<std::size_t>(rng.Uniform() * n) % n;
-      const std::size_t j = static_cast<std::size_t>(rng.Uniform() * n) % n;
-      const Vec2 dv = sample[j] - sample[i];
-      if (dv.norm() < 0.05) continue;
-      const Vec2 dir = dv.normalized();
-      if (!near_jamb(sample[i], dir)) continue;
-      const Vec2 nrm(-dir.y(), dir.x());
-      int c = 0;
-      for (const auto& q : sample)
-        if (std::abs(nrm.dot(q - sample[i])) <= p.leaf_inlier) ++c;
-      if (c > best) best = c, best_a = sample[i], best_dir = dir;
-    }
-    if (best == 0) return out;
-    // Least squares on the inliers of all points, twice.
-    a = best_a, dir = best_dir;
-    for (int round = 0; round < 2; ++round) {
-      const Vec2 nrm(-dir.y(), dir.x());
-      inl.clear();
-      for (const auto& q : pts)
-        if (std::abs(nrm.dot(q - a)) <= p.leaf_inlier) inl.push_back(q);
-      if (inl.size() < 3) return out;
-      Vec2 mean = Vec2::Zero();
-      for (const auto& q : inl) mean += q;
-      mean /= static_cast<double>(inl.size());
-      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-      for (const auto& q : inl) cov += (q - mean) * (q - mean).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-      a = mean;
-      dir = es.eigenvectors().col(1).normalized();
-    }
-  }  // fixed
+  } else if (!FitLeafLine(pts, u0, u1, p, index, a, dir, inl)) {
+    return out;
+  }
   out.line_point = a, out.line_dir = dir;
   // The leaf is the most populated run of inliers along the line without a gap over 10 cm
   // (other surfaces on the same line, e.g. a reveal or far furniture, are not the leaf).
@@ -369,34 +403,108 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
   const double t0 = ts[best_begin], t1 = ts[best_end - 1];
   out.inliers = static_cast<int>(best_end - best_begin);
   out.extent = t1 - t0;
-  if (out.inliers < p.leaf_min_points || out.extent < p.leaf_min_extent * w) {
-    out.inliers = 0;
-    return out;
-  }
-  // Hinge end: the end nearer a jamb (plan distance to the jamb segments).
+  // Hinge end: the end nearer a jamb's hinge line. A hinge stands at a jamb on one of the
+  // wall's faces: at depth 0 or at the far face where the reveals gave it, else anywhere on
+  // the jamb segment [-max_wall_thickness, leaf_hinge_front].
   const Vec2 e0 = a + t0 * dir, e1 = a + t1 * dir;
   auto jamb_dist = [&](const Vec2& e, double* uj_out) {
     double best_d = 1e300;
     for (double uj : {u0, u1}) {
-      const double dd = std::clamp(e.y(), -p.max_wall_thickness, p.leaf_hinge_front);
-      const double dist = (e - Vec2(uj, dd)).norm();
+      double dist;
+      if (std::isnan(far_face)) {
+        const double dd = std::clamp(e.y(), -p.max_wall_thickness, p.leaf_hinge_front);
+        dist = (e - Vec2(uj, dd)).norm();
+      } else {
+        dist = std::min((e - Vec2(uj, 0.0)).norm(), (e - Vec2(uj, far_face)).norm());
+      }
       if (dist < best_d) best_d = dist, *uj_out = uj;
     }
     return best_d;
   };
   double uj0 = u0, uj1 = u0;
   const double d0 = jamb_dist(e0, &uj0), d1 = jamb_dist(e1, &uj1);
+  // A run that starts at a jamb is a leaf even when the rest of it is hidden (seen through
+  // the hole at a slant); a run that does not must span more of the width.
+  const double min_extent =
+      (std::min(d0, d1) <= p.leaf_jamb_reach ? p.leaf_min_extent_hinged : p.leaf_min_extent) * w;
+  if (out.inliers < p.leaf_min_points || out.extent < min_extent) {
+    out.inliers = 0;
+    return out;
+  }
   const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
   const double uj = d0 <= d1 ? uj0 : uj1;
   out.hinge_u = (d0 <= d1 ? e0 : e1).x();
-  const Vec2 hf = free_end - hinge;
-  double lambda = std::atan2(std::abs(hf.y()), std::abs(hf.x())) * kRadToDeg;
-  // Swung past the hinge jamb (free end outside the opening on the hinge's side): > 90 deg.
+  // lambda: the angle between the wall's direction from the hinge jamb into the opening and
+  // the leaf's direction from its hinge to its free end, in [0, 180] deg (over 90 deg when it
+  // has swung past the hinge jamb). From the line's direction, not from the ends' positions:
+  // only part of the leaf may be seen.
   const bool left = std::abs(uj - u0) <= std::abs(uj - u1);
-  if ((left && free_end.x() < hinge.x() - 0.02) || (!left && free_end.x() > hinge.x() + 0.02))
-    lambda = 180.0 - lambda;
-  out.lambda_deg = lambda;
+  Vec2 leaf_dir = dir;
+  if (leaf_dir.dot(free_end - hinge) < 0.0) leaf_dir = -leaf_dir;
+  const double along_wall = left ? leaf_dir.x() : -leaf_dir.x();
+  out.lambda_deg = std::atan2(std::abs(leaf_dir.y()), along_wall) * kRadToDeg;
   return out;
+}
+
+// Removes the reveals of the jambs u0 and u1 from plan points (u, depth): behind the wall's
+// face (depth < -flush_depth) the reveal is the plan line u = u_r, u_r the densest 5 mm bin of
+// the points within reveal_search of the jamb (on its half of the opening) and less than 5 cm
+// behind the surface layer (only the wall's slab is there: a leaf hinges outside its casing,
+// and walls are at least 10 cm thick), followed from the face into the wall while its
+// points continue (gaps < leaf_run_gap). A leaf at 90 deg beside it is a leaf's thickness away.
+// Returns each reveal's u_r where one is found, else NaN, and the wall's far face: the depth
+// the deeper reveal reaches (NaN when none is found).
+struct Reveals {
+  std::array<double, 2> u{std::numeric_limits<double>::quiet_NaN(),
+                          std::numeric_limits<double>::quiet_NaN()};
+  double far_face = std::numeric_limits<double>::quiet_NaN();
+};
+Reveals RemoveReveals(std::vector<Vec2>& pts, double u0, double u1, const OpeningParams& p) {
+  Reveals jambs;
+  constexpr double kBin = 0.005, kSlabProbe = 0.05;
+  std::vector<std::uint8_t> drop(pts.size(), 0);
+  const double mid = 0.5 * (u0 + u1);
+  for (double uj : {u0, u1}) {
+    // The search window: reveal_search either side of the jamb, not past the middle.
+    const double lo = uj < mid ? uj - p.reveal_search : std::max(mid, uj - p.reveal_search);
+    const double hi = uj < mid ? std::min(mid, uj + p.reveal_search) : uj + p.reveal_search;
+    const int nb = static_cast<int>(std::ceil((hi - lo) / kBin)) + 1;
+    std::vector<int> hist(nb, 0);
+    for (const Vec2& q : pts)
+      if (q.y() < -p.flush_depth && q.y() >= -p.flush_depth - kSlabProbe && q.x() >= lo &&
+          q.x() <= hi)
+        ++hist[static_cast<int>((q.x() - lo) / kBin)];
+    int best = -1;
+    for (int b = 0; b < nb; ++b)
+      if (hist[b] > 0 && (best < 0 || hist[b] > hist[best])) best = b;
+    if (best < 0 || hist[best] < 10) continue;
+    const double u_bin = lo + (best + 0.5) * kBin;
+    double sum = 0.0;
+    int n = 0;
+    for (const Vec2& q : pts)
+      if (q.y() < -p.flush_depth && q.y() >= -p.flush_depth - kSlabProbe &&
+          std::abs(q.x() - u_bin) <= p.reveal_band)
+        sum += q.x(), ++n;
+    const double u_r = sum / std::max(1, n);
+    jambs.u[uj < mid ? 0 : 1] = u_r;
+    // Follow the line from the face into the wall.
+    std::vector<std::pair<double, std::size_t>> line;  // (-depth, index)
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (pts[i].y() < -p.flush_depth && std::abs(pts[i].x() - u_r) <= p.reveal_band)
+        line.push_back({-pts[i].y(), i});
+    std::sort(line.begin(), line.end());
+    double last = p.flush_depth;
+    for (const auto& [dd, i] : line) {
+      if (dd - last > p.leaf_run_gap) break;
+      drop[i] = 1, last = dd;
+    }
+    if (!(jambs.far_face <= -last)) jambs.far_face = -last;
+  }
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (!drop[i]) pts[k++] = pts[i];
+  pts.resize(k);
+  return jambs;
 }
 
 }  // namespace
@@ -404,7 +512,8 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
 LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
                     double v1, const OpeningParams& p, std::uint64_t index) {
   LeafFit out;
-  const double w = u1 - u0, h = v1 - v0;
+  double w = u1 - u0;
+  const double h = v1 - v0;
   if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
   std::vector<Vec2> pts;  // (u, depth)
   for (const auto& pf : *in.points) {
@@ -418,14 +527,30 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
     if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
     pts.push_back({uv.x(), d});
   }
+  // The leaf hinges at a jamb: the reveals where seen (an opened leaf may hide a jamb's edge
+  // in the images), else the rectangle's sides.
+  const Reveals rv = RemoveReveals(pts, u0, u1, p);
+  const std::array<double, 2> reveals = rv.u;
+  out.reveal_u = reveals;
+  const double j0 = std::isnan(reveals[0]) ? u0 : reveals[0];
+  const double j1 = std::isnan(reveals[1]) ? u1 : reveals[1];
+  if (j1 - j0 > 0.5 * w) u0 = j0, u1 = j1, w = u1 - u0;
   // The leaf first from the points off the wall's surface layer: a casing beside a door whose
   // rectangle came out too wide, or the floor-level reveal, would tilt a line through the leaf;
   // only a leaf flush with the wall (closed, on this side) needs the layer.
   std::vector<Vec2> deep;
   for (const Vec2& q : pts)
     if (std::abs(q.y()) > p.flush_depth) deep.push_back(q);
-  const LeafFit first = FitLeafPoints(deep, u0, u1, w, p, index);
-  if (first.inliers == 0) return FitLeafPoints(pts, u0, u1, w, p, index);
+  LeafFit first = FitLeafPoints(deep, u0, u1, w, rv.far_face, p, index);
+  first.reveal_u = reveals;
+  if (first.inliers == 0) {
+    // The surface layer serves a leaf lying in it (closed); a steeper line through it mixes
+    // the casing and the reveal's face end with what little is seen of an opened leaf.
+    LeafFit flush = FitLeafPoints(pts, u0, u1, w, rv.far_face, p, index);
+    if (flush.inliers > 0 && !(flush.lambda_deg < p.closed_below_deg)) flush = LeafFit{};
+    flush.reveal_u = reveals;
+    return flush;
+  }
   // Its run, hinge and width from all the points along that line (the part near the hinge is
   // on the surface layer).
   // Only on the leaf's side of the wall: the reveal behind a leaf opened into the room (or in
@@ -435,7 +560,8 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   for (const Vec2& q : pts)
     if (side * q.y() >= -p.flush_depth) same_side.push_back(q);
   const std::pair<Vec2, Vec2> line{first.line_point, first.line_dir};
-  const LeafFit along = FitLeafPoints(same_side, u0, u1, w, p, index, &line);
+  LeafFit along = FitLeafPoints(same_side, u0, u1, w, rv.far_face, p, index, &line);
+  along.reveal_u = reveals;
   return along.inliers > 0 ? along : first;
 }
 
@@ -470,8 +596,11 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
       depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
           std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
     }
-  const cv::Mat ev_door = ClassMask(
+  cv::Mat ev_door = ClassMask(
       area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (area.through_no_return[img.Index(c, r)]) ev_door.at<std::uint8_t>(r, c) = 0;
   const cv::Mat ev_window =
       ClassMask(area, cols, rows, {OrthoClass::kRecessed, OrthoClass::kThrough});
   const cv::Mat known = ClassMask(
@@ -487,7 +616,7 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
   cv::medianBlur(depth, depth, p.median_kernel);
   cv::Canny(colour, e_c, p.canny_low, p.canny_high);
   cv::Canny(depth, e_d, p.canny_low, p.canny_high);
-  cv::Mat ev255 = ev_door * 255;
+  cv::Mat ev255 = (ev_door | ev_window) * 255;  // outlines of any hole
   cv::medianBlur(ev255, ev255, p.median_kernel);
   cv::Canny(ev255, e_e, p.canny_low, p.canny_high);
   cv::bitwise_or(e_c, e_d, edges);
@@ -661,6 +790,12 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
       const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p,
                                        static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
       o.leaf_points = leaf.inliers;
+      // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
+      // the wall's colour may have moved a side's line in the images).
+      if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
+      if (!std::isnan(leaf.reveal_u[1])) o.u1 = leaf.reveal_u[1];
+      o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
+                   f.ToMap(o.u0, o.v1)};
       // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
       // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
       // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.
@@ -686,9 +821,10 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
         o.opening_angle_deg = leaf.lambda_deg;
         o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);
       } else {
-        // No leaf seen: open if the robot saw through it, else closed (its leaf is the wall's
-        // colour and flush, or hidden).
-        o.state = k.through >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
+        // No leaf seen: open if the robot saw through most of what it saw of it, else closed
+        // (its leaf is the wall's colour and flush, or hidden).
+        const double through_of_known = k.known > 0.0 ? k.through / k.known : 0.0;
+        o.state = through_of_known >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
       }
       if (o.state == DoorState::kClosed) {
         o.clear_width_m = 0.0;

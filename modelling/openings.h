@@ -33,14 +33,19 @@
 //     boundary is no frame): the hole, not the casing.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
-//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers;
+//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers.
+//     Each jamb's reveal (the hole's side, a plan line perpendicular to the wall from its face
+//     into the wall) is left out first: a leaf opened near 90 deg lies a leaf's thickness
+//     beside it and a line through both would lean towards the wall by several degrees;
 //     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
 //     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
 //     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
 //     deg, semi_open 5 <= lambda < 90, closed lambda < 5 (paper §3.3), with open from 90 -
 //     open_tolerance_deg (measurement). No leaf found: open (angle unknown) if open_through_share
-//     of it is seen through, else closed. Clear width = width - (width cos lambda + leaf_thickness
-//     sin lambda), 0 when closed.
+//     of its seen (known) interior is seen through, else closed: a closed leaf shows as a surface
+//     across the hole wherever the hole is seen, while the parts of an open doorway that are not
+//     seen through are mostly unseen (rays at a slant end on the far reveal). Clear width = width
+//     - (width cos lambda + leaf_thickness sin lambda), 0 when closed.
 //
 // Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k)).
 
@@ -59,10 +64,13 @@
 namespace mopad::modelling {
 
 struct OpeningParams {
-  OrthoimageParams orthoimage;       ///< J_CD of every wall
-  double flush_depth = 0.05;         ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
-  double recess_depth = 0.025;       ///< m, depth below which a pixel is recessed, [0.005, 0.5]
-  double colour_tolerance = 45.0;    ///< RGB distance (0-255 units) from the wall colour, [1, 255]
+  OrthoimageParams orthoimage;     ///< J_CD of every wall
+  double flush_depth = 0.05;       ///< m, |depth| on the wall's surface layer, [0.005, 0.2]
+  double recess_depth = 0.025;     ///< m, depth below which a pixel is recessed, [0.005, 0.5]
+  double colour_tolerance = 45.0;  ///< RGB distance (0-255 units) from the wall colour, [1, 255]
+  /// m, a seen-through pixel counts for a door when a ray that returned from beyond the plane
+  /// passed within this square around it (rays without a return alone: windows only), [0, 2]
+  double through_window = 0.15;
   double depth_step = 0.01;          ///< m per grey level of the depth edge image, [0.001, 0.1]
   double canny_low = 30.0;           ///< Canny hysteresis thresholds (grey levels), [1, 1000]
   double canny_high = 60.0;          ///< [1, 1000]
@@ -99,10 +107,17 @@ struct OpeningParams {
   double leaf_hinge_front = 0.05;   ///< m, farthest hinge in front of the wall face, [0, 0.5]
   double leaf_jamb_reach = 0.1;     ///< m, a leaf's line passes this close to a jamb, [0, 1]
   double leaf_run_gap = 0.10;       ///< m, gap that ends the leaf's run of points, [0.01, 1]
-  /// Share of a door seen through that makes it open when no leaf is found, [0, 1]
+  /// m, a jamb's reveal (the hole's side through the wall) is sought this far from the
+  /// rectangle's side (an opened leaf may hide the jamb's edge in the images), [0, 0.5]
+  double reveal_search = 0.25;
+  double reveal_band = 0.012;  ///< m, half width of a reveal's plan line, [0.001, 0.1]
+  /// Share of a door's seen interior seen through that makes it open when no leaf is found,
+  /// [0, 1]
   double open_through_share = 0.3;
   int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
   double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
+  /// The same share when the run starts within leaf_jamb_reach of a jamb (its hinge), [0, 1]
+  double leaf_min_extent_hinged = 0.15;
   int leaf_min_points = 40;      ///< inliers a leaf needs, [3, 1e7]
   int leaf_iterations = 400;     ///< RANSAC hypotheses, [1, 1e6]
   int leaf_max_points = 4000;    ///< points sampled for the fit (even stride), [10, 1e8]
@@ -125,6 +140,7 @@ struct OpeningParams {
     v("flush_depth", flush_depth, Bounds{0.005, 0.2});
     v("recess_depth", recess_depth, Bounds{0.005, 0.5});
     v("colour_tolerance", colour_tolerance, Bounds{1.0, 255.0});
+    v("through_window", through_window, Bounds{0.0, 2.0});
     v("depth_step", depth_step, Bounds{0.001, 0.1});
     v("canny_low", canny_low, Bounds{1.0, 1000.0});
     v("canny_high", canny_high, Bounds{1.0, 1000.0});
@@ -160,9 +176,12 @@ struct OpeningParams {
     v("leaf_hinge_front", leaf_hinge_front, Bounds{0.0, 0.5});
     v("leaf_jamb_reach", leaf_jamb_reach, Bounds{0.0, 1.0});
     v("leaf_run_gap", leaf_run_gap, Bounds{0.01, 1.0});
+    v("reveal_search", reveal_search, Bounds{0.0, 0.5});
+    v("reveal_band", reveal_band, Bounds{0.001, 0.1});
     v("open_through_share", open_through_share, Bounds{0.0, 1.0});
     v("median_kernel", median_kernel, Bounds{1, 15});
     v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
+    v("leaf_min_extent_hinged", leaf_min_extent_hinged, Bounds{0.0, 1.0});
     v("leaf_min_points", leaf_min_points, Bounds{3, 10000000});
     v("leaf_iterations", leaf_iterations, Bounds{1, 1000000});
     v("leaf_max_points", leaf_max_points, Bounds{10, 100000000});
@@ -227,6 +246,11 @@ enum class OrthoClass : std::uint8_t {
 struct WallArea {
   std::array<double, 3> wall_rgb{0, 0, 0};
   std::vector<OrthoClass> classes;
+  /// 1 where a kThrough pixel's passed rays all returned nothing and no ray returned from
+  /// beyond the plane within through_window of it: evidence of a window (glass, the outside)
+  /// but not of a door, since a dark occluder in front of the wall (a black cabinet) returns
+  /// nothing either; a door's far side is a room whose points come back.
+  std::vector<std::uint8_t> through_no_return;
   double wall_share = 0.0;  ///< share of the image's pixels that are wall
 };
 WallArea SegmentWallArea(const Orthoimage& image, const OpeningParams& params);
@@ -253,6 +277,10 @@ struct LeafFit {
   double extent = 0.0;   ///< m, span of the inliers along the fitted line
   double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
   Vec2 line_point = Vec2::Zero(), line_dir = Vec2::UnitX();  ///< the fitted line in (u, depth)
+  /// m, u of each jamb's reveal (the hole's side through the wall) where one was seen, NaN where
+  /// not; set whether or not a leaf was found
+  std::array<double, 2> reveal_u{std::numeric_limits<double>::quiet_NaN(),
+                                 std::numeric_limits<double>::quiet_NaN()};
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);

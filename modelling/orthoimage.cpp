@@ -51,6 +51,7 @@ Orthoimage::Orthoimage(const PatchFrame& frame, double pixel, int cols, int rows
     : frame_(frame), pixel_(pixel), cols_(cols), rows_(rows) {
   const std::size_t n = static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows);
   count_.assign(n, 0), passed_.assign(n, 0), blocked_.assign(n, 0);
+  passed_no_return_.assign(n, 0);
   rgb_.assign(n, {0, 0, 0});
   rgb_sum_.assign(n, {0.0, 0.0, 0.0});
   depth_.assign(n, std::numeric_limits<float>::quiet_NaN());
@@ -96,6 +97,11 @@ void Orthoimage::AddPoint(double pu, double pv, double depth,
 void Orthoimage::AddPassed(double pu, double pv) {
   const auto [c, r] = PixelOf(pu, pv);
   if (Inside(c, r)) ++passed_[Index(c, r)];
+}
+
+void Orthoimage::AddPassedNoReturn(double pu, double pv) {
+  const auto [c, r] = PixelOf(pu, pv);
+  if (Inside(c, r)) ++passed_[Index(c, r)], ++passed_no_return_[Index(c, r)];
 }
 
 void Orthoimage::AddBlocked(double pu, double pv) {
@@ -207,16 +213,20 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
       img.AddBlocked(uv.x(), uv.y());
     }
   }
+  // A ray without a return meets the plane at |nd| = cos(incidence) (unit directions).
+  const double min_cos = std::cos(DegToRad(params.no_return_max_incidence_deg));
   for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
     const std::size_t s = in.no_return_scan[i];
     const double dc = origin_depth[s];
-    const double nd = frame.n.dot(in.no_return_dirs[i].cast<double>());
+    const Vec3 dir = in.no_return_dirs[i].cast<double>().normalized();
+    const double nd = frame.n.dot(dir);
     if (dc <= 0.0 || nd >= -1e-9) continue;  // behind the plane, or heading away from it
+    if (-nd < min_cos) continue;             // grazing: the plane may not have echoed
     const double t = dc / -nd;
     if (t < params.no_return_min_range) continue;
-    const Vec3 x = in.scan_origins[s] + t * in.no_return_dirs[i].cast<double>();
+    const Vec3 x = in.scan_origins[s] + t * dir;
     const Vec2 uv = frame.ToUv(x);
-    img.AddPassed(uv.x(), uv.y());
+    img.AddPassedNoReturn(uv.x(), uv.y());
   }
   return img;
 }

@@ -52,6 +52,10 @@ struct OrthoimageParams {
   /// far from the scanner: nearer, the surface may simply be inside the scanner's minimum
   /// range, [0, 100]
   double no_return_min_range = 2.0;
+  /// deg, a ray without a return counts as passed only where it meets the plane at most this
+  /// far from the plane's normal: a surface met at a grazing angle may return nothing (a weak
+  /// echo, a dropout), so such a ray says nothing about a hole there, [1, 90]
+  double no_return_max_incidence_deg = 80.0;
 
   template <class V>
   void Visit(V& v) {
@@ -63,6 +67,7 @@ struct OrthoimageParams {
     v("margin", margin, Bounds{0.0, 2.0});
     v("max_pixels", max_pixels, Bounds{1, 1e9});
     v("no_return_min_range", no_return_min_range, Bounds{0.0, 100.0});
+    v("no_return_max_incidence_deg", no_return_max_incidence_deg, Bounds{1.0, 90.0});
   }
   /// Bounds of every field and finest_pixel <= coarsest_pixel (InputError naming the field).
   void Validate() const;
@@ -146,11 +151,16 @@ class Orthoimage {
   /// Mean signed depth, m (NaN where Count is 0).
   float Depth(std::size_t i) const { return depth_[i]; }
   std::uint32_t Passed(std::size_t i) const { return passed_[i]; }
+  /// The part of Passed(i) from rays without a return (weaker: a dark or grazing surface may
+  /// return nothing).
+  std::uint32_t PassedNoReturn(std::size_t i) const { return passed_no_return_[i]; }
   std::uint32_t Blocked(std::size_t i) const { return blocked_[i]; }
 
   /// Adds one imaged point (depth within the band) at (u, v): running mean of colour and depth.
   void AddPoint(double pu, double pv, double depth, const std::array<std::uint8_t, 3>& rgb);
   void AddPassed(double pu, double pv);
+  /// AddPassed for a ray without a return (counted in Passed and PassedNoReturn).
+  void AddPassedNoReturn(double pu, double pv);
   void AddBlocked(double pu, double pv);
   /// Sets the margin (m) the pixel grid starts before the frame's origin.
   void SetMargin(double margin) { margin_ = margin; }
@@ -160,7 +170,7 @@ class Orthoimage {
   PatchFrame frame_;
   double pixel_ = 0.01, margin_ = 0.0;
   int cols_ = 0, rows_ = 0;
-  std::vector<std::uint32_t> count_, passed_, blocked_;
+  std::vector<std::uint32_t> count_, passed_, blocked_, passed_no_return_;
   std::vector<std::array<std::uint8_t, 3>> rgb_;
   std::vector<std::array<double, 3>> rgb_sum_;
   std::vector<float> depth_;

@@ -522,17 +522,23 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
 }
 
 StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params,
-                             const std::string& room) {
+                             const std::string& room, const std::vector<std::uint8_t>* exclude) {
   const auto& labels = model.Labels();
   const auto& pts = model.Points();
+  if (exclude != nullptr && exclude->size() != pts.size())
+    throw InputError("sm3", "exclusion mask does not match the room's points",
+                     std::to_string(exclude->size()), std::to_string(pts.size()));
+  auto used = [&](std::size_t i) {
+    return labels[i] == PointLabel::kInlier && (exclude == nullptr || (*exclude)[i] == 0);
+  };
   std::size_t inliers = 0;
-  for (auto l : labels) inliers += l == PointLabel::kInlier;
+  for (std::size_t i = 0; i < pts.size(); ++i) inliers += used(i);
   const std::size_t stride = std::max<std::size_t>(1, inliers / 1000000);
   std::vector<Eigen::Vector3d> in;
   in.reserve(inliers / stride + 1);
   std::size_t n = 0;
   for (std::size_t i = 0; i < pts.size(); ++i)
-    if (labels[i] == PointLabel::kInlier && n++ % stride == 0) in.push_back(pts[i].cast<double>());
+    if (used(i) && n++ % stride == 0) in.push_back(pts[i].cast<double>());
   Sm3Input input;
   input.room = room;
   input.points = &in;

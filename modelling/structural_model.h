@@ -147,8 +147,12 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& par
 class RoomModel;
 
 /// SM3 of a room from its RoomModel: the inlier points (at most ~1 M, evenly subsampled), the
-/// RoI perimeter and the columns (paper §3.2). `room` labels the model.
+/// RoI perimeter and the columns (paper §3.2). `room` labels the model. `exclude`, when not
+/// null, has one entry per RoomModel point (InputError otherwise); points with a non-zero entry
+/// are left out of the fit: the refit with SM4, where a closed door's leaf and casing
+/// (ClosedDoorPointMask in modelling/openings.h) must not move its wall.
 StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params,
-                             const std::string& room);
+                             const std::string& room,
+                             const std::vector<std::uint8_t>* exclude = nullptr);
 
 }  // namespace mopad::modelling

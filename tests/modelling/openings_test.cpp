@@ -107,6 +107,30 @@ TEST(Orthoimage, RaysWithoutAReturnPassTheWallWhereTheyCrossIt) {
   EXPECT_THROW(BuildOrthoimage(in, f, {}, 0.01), InputError);
 }
 
+TEST(Orthoimage, RaysWithoutAReturnMeetingTheWallAtAGrazingAngleSayNothing) {
+  // The wall y = 0 seen from (0, 2, 1): a ray without a return heading for (4, 0, 1) meets it
+  // at 63 deg from its normal, one heading for (23, 0, 1) at 85 deg (a weak echo, no hole).
+  const PatchFrame f =
+      PatchFrame::Of(Vec3::UnitY(), {{30, 0, 0}, {0, 0, 0}, {0, 0, 2}, {30, 0, 2}});
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<std::array<std::uint8_t, 3>> rgb;
+  std::vector<std::uint16_t> idx;
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb, in.scan_index = &idx, in.scan_origins = {Vec3(0, 2, 1)};
+  in.no_return_dirs = {Eigen::Vector3f(4, -2, 0).normalized(),
+                       Eigen::Vector3f(23, -2, 0).normalized()};
+  in.no_return_scan = {0, 0};
+  OrthoimageParams p;  // 80 deg
+  const Orthoimage img = BuildOrthoimage(in, f, p, 0.01);
+  const auto a = img.PixelOf(30.0 - 4.0, 1.0), b = img.PixelOf(30.0 - 23.0, 1.0);
+  EXPECT_EQ(img.Passed(img.Index(a[0], a[1])), 1u);
+  EXPECT_EQ(img.PassedNoReturn(img.Index(a[0], a[1])), 1u);
+  EXPECT_EQ(img.Passed(img.Index(b[0], b[1])), 0u);
+  p.no_return_max_incidence_deg = 60.0;
+  const Orthoimage at60 = BuildOrthoimage(in, f, p, 0.01);
+  EXPECT_EQ(at60.Passed(at60.Index(a[0], a[1])), 0u);
+}
+
 TEST(Orthoimage, PixelSizeFollowsDensityAndIsOneCentimetreWhenDenseEnough) {
   const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}});
   auto grid = [](double spacing) {
@@ -273,6 +297,38 @@ TEST(Openings, WideOpenDoorIsOpen) {
   h.lambda_deg = 95.0;
   const Found f = Detect(testing::RoomScene(h));
   ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
+}
+
+// A leaf opened to 90 deg lies beside the jamb's reveal (the hole's side through the wall):
+// the reveal is not the leaf, on either side of the wall.
+class NinetyDegreeDoor : public ::testing::TestWithParam<bool> {};
+
+TEST_P(NinetyDegreeDoor, AngleWithinThreeDegreesAndStateOpen) {
+  HoleSpec h;
+  h.lambda_deg = 90.0;
+  h.swing_into_room = GetParam();
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  const auto& o = f.on_wall1.at(0);
+  SCOPED_TRACE(Describe(f.sm4));
+  // The sides: the hinge jamb stands behind the opened leaf (its reveal gives it).
+  EXPECT_NEAR(o.u0, 5.0 - h.x1, 0.02);
+  EXPECT_NEAR(o.u1, 5.0 - h.x0, 0.02);
+  EXPECT_NEAR(o.opening_angle_deg, 90.0, 3.0);
+  EXPECT_EQ(o.state, DoorState::kOpen);
+}
+INSTANTIATE_TEST_SUITE_P(SwingIntoRoom, NinetyDegreeDoor, ::testing::Bool());
+
+// Seen through the hole only part of the leaf shows; past 90 deg is told by the line's
+// direction from the hinge, which stands on the wall's far face (the reveals' depth).
+TEST(Openings, DoorSwungPastNinetyBehindTheWallReadsOverNinety) {
+  HoleSpec h;
+  h.swing_into_room = false;
+  h.lambda_deg = 100.0;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  EXPECT_NEAR(f.on_wall1.at(0).opening_angle_deg, 100.0, 3.0) << Describe(f.sm4);
   EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
 }
 
