@@ -39,7 +39,8 @@ class FloorMission {
       const std::vector<int> kids = res_.tree.UnvisitedChildren(current);
       if (kids.empty()) {
         if (current == 0) {
-          res_.end_reason = "done: no door of a visited room leads to unexplored space";
+          res_.end_reason = "done: no door of a visited room leads to unexplored space" +
+                            NotEnteredSummary();
           break;
         }
         ReturnToParent(current);
@@ -121,6 +122,22 @@ class FloorMission {
     res_.tree.Node(node).reason = r.stop_reason;
     res_.rooms.push_back(std::move(r));
     if (res_.rooms.back().error.empty()) AddChildren(node, res_.rooms.back());
+  }
+
+  // "; K doors not entered (closed: a, too narrow: b, unreachable: c)" or "".
+  std::string NotEnteredSummary() const {
+    int closed = 0, narrow = 0, unreachable = 0;
+    for (const TraversalNode& n : res_.tree.Nodes()) {
+      if (n.state == NodeState::kUnreachable) ++unreachable;
+      if (n.state != NodeState::kSeenNotEntered) continue;
+      if (n.reason.rfind("door closed", 0) == 0) ++closed;
+      if (n.reason.rfind("door too narrow", 0) == 0) ++narrow;
+    }
+    if (closed + narrow + unreachable == 0) return "";
+    return "; " + std::to_string(closed + narrow + unreachable) +
+           " doors to unexplored space not entered (closed: " + std::to_string(closed) +
+           ", too narrow: " + std::to_string(narrow) +
+           ", unreachable: " + std::to_string(unreachable) + "; dtt.json gives each reason)";
   }
 
   // The visited room whose perimeter holds `p`, or "".

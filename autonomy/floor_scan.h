@@ -40,9 +40,10 @@ struct FloorScanParams {
   double door_pose_search = 0.6;
   /// m, clearance of door scan poses to known obstacles (unknown counts as obstacle), [0, 3]
   double door_pose_clearance = 0.45;
-  /// m, doors narrower than this (SM4 clear width) are not entered: the robot's diameter plus
-  /// the local controller's margins, [0, 5]
-  double min_clear_width = 0.72;
+  /// m, doors narrower than this (SM4 clear width, or the gap in the robot's map) are not
+  /// entered: the base's width (0.5 m) plus the local controller's safety margins (2 x 0.03 m)
+  /// plus 2 x 0.04 m for the width's measurement error, [0, 5]
+  double min_clear_width = 0.64;
   /// m, a door leads to explored space when the point this far beyond its wall plane lies in
   /// a visited room's perimeter, [0.1, 5]
   double beyond_probe = 0.6;
