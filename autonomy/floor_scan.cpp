@@ -10,16 +10,11 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "common/polygon.h"
+#include "common/wall_clock.h"
 #include "perception/point_cloud_ops.h"
 
 namespace mopad::autonomy {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 double YawOf(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 
@@ -30,7 +25,7 @@ class FloorMission {
       : nav_(nav), rp_(rp), p_(p), hooks_(hooks), recogniser_(recogniser), target_(rp.icp) {}
 
   FloorScanResult Run() {
-    const auto t0 = Clock::now();
+    const auto t0 = WallClock::now();
     res_.tree.AddRoot("room_1");
     VisitRoom(0, DoorScan{});
     int current = 0;
@@ -39,8 +34,8 @@ class FloorMission {
       const std::vector<int> kids = res_.tree.UnvisitedChildren(current);
       if (kids.empty()) {
         if (current == 0) {
-          res_.end_reason = "done: no door of a visited room leads to unexplored space" +
-                            NotEnteredSummary();
+          res_.end_reason =
+              "done: no door of a visited room leads to unexplored space" + NotEnteredSummary();
           break;
         }
         ReturnToParent(current);
@@ -67,7 +62,7 @@ class FloorMission {
     }
     res_.scans = nav_.ScanCount();
     res_.sim_time = nav_.Time();
-    res_.wall_time = Since(t0);
+    res_.wall_time = SecondsSince(t0);
     return std::move(res_);
   }
 

@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/polygon.h"
+#include "common/wall_clock.h"
 #include "io/text_file.h"
 #include "mission/model_export.h"
 #include "mission/robot_catalogue.h"
@@ -19,12 +20,6 @@ namespace mopad::mission {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 // The truth room whose outline holds the world point `p`, else the one with the nearest edge.
 std::string TruthRoomAt(const scenes::GroundTruth& truth, const Eigen::Vector2d& p) {
   std::string best;
@@ -106,7 +101,7 @@ class FloorWorld {
 
  private:
   void Started(const std::string& robot_room) {
-    t_room_ = Clock::now();
+    t_room_ = WallClock::now();
     t_begin_ = session_.SimTime();
     const Pose2 at = session_.TruePoseInWorld();
     room_ = TruthRoomAt(*mw_.truth, Eigen::Vector2d(at.x, at.y));
@@ -125,7 +120,7 @@ class FloorWorld {
     r.status = v.error.empty() ? "scanned" : "failed";
     r.reason = v.error.empty() ? v.scan.stop_reason : v.error;
     if (v.error.empty()) Write(v, r);
-    r.seconds = Since(t_room_);
+    r.seconds = SecondsSince(t_room_);
     rooms_.push_back(std::move(r));
     labels_.reset();
   }
@@ -186,7 +181,7 @@ class FloorWorld {
   autonomy::ScanHook hook_;
   std::string room_, robot_room_;
   std::set<std::string> used_;
-  Clock::time_point t_room_;
+  WallClock::time_point t_room_;
   double t_begin_ = 0.0;
   std::vector<FloorRoomJob> rooms_;
 };

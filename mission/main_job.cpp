@@ -11,6 +11,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "common/params.h"
+#include "common/wall_clock.h"
 #include "evaluation/run_evaluation.h"
 #include "exports/exports.h"
 #include "io/text_file.h"
@@ -20,12 +21,6 @@ namespace mopad::mission {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point a) {
-  return std::chrono::duration<double>(Clock::now() - a).count();
-}
-
 // What the job collected, whichever mode ran.
 struct JobTables {
   ReportTable rooms{"Rooms (robot side)", {}, {}};
@@ -70,7 +65,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& o, JobTables& t, ReportInput& report) {
   t.rooms.header = {"room", "scans", "robot coverage", "stop reason", "path (m)", "SM1 points"};
   for (const std::string& id : o.rooms) {
-    const auto t0 = Clock::now();
+    const auto t0 = WallClock::now();
     const std::string room_dir = (fs::path(o.dir) / "rooms" / id).string();
     std::optional<RoomJob> job;
     try {
@@ -78,8 +73,10 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     } catch (const std::exception& ex) {
       if (o.print) o.print("room " + id + ": failed: " + ex.what());
       t.rooms.rows.push_back({id, "-", "-", std::string("failed: ") + ex.what(), "-", "-"});
-      t.rooms_json.push_back(
-          {{"room", id}, {"status", "failed"}, {"reason", ex.what()}, {"seconds", Seconds(t0)}});
+      t.rooms_json.push_back({{"room", id},
+                              {"status", "failed"},
+                              {"reason", ex.what()},
+                              {"seconds", SecondsSince(t0)}});
       ++t.rooms_failed;
       continue;
     }
@@ -87,7 +84,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     const double cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.ratio;
     if (o.print)
       o.print("room " + id + ": " + std::to_string(m.scans.size()) + " scans, robot coverage " +
-              FormatFixed(cov, 3) + " (" + FormatFixed(Seconds(t0), 1) + " s)");
+              FormatFixed(cov, 3) + " (" + FormatFixed(SecondsSince(t0), 1) + " s)");
     t.rooms.rows.push_back({id, std::to_string(m.scans.size()), FormatFixed(cov, 3), m.stop_reason,
                             FormatFixed(job->path_length, 2), std::to_string(job->points)});
     AddEvaluation(id, *job->evaluation, t, o);
@@ -104,7 +101,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     rj["sm5_seconds"] = job->sm5_seconds;
     rj["components"] = job->components;
     rj["evaluation"] = ToJson(*job->evaluation);
-    rj["seconds"] = Seconds(t0);
+    rj["seconds"] = SecondsSince(t0);
     t.rooms_json.push_back(std::move(rj));
   }
   t.subtitle =
@@ -244,7 +241,7 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
 
 void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& o) {
-  const auto t_start = Clock::now();
+  const auto t_start = WallClock::now();
   const fs::path dir(o.dir);
   ReportInput report;
   report.title = "OpenMoPAD run: " + o.scene_name;
@@ -254,21 +251,21 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
     RunFloor(mw, params, o, t, report);
   else
     RunPerRoom(mw, params, o, t, report);
-  const double t_mission = Seconds(t_start);
+  const double t_mission = SecondsSince(t_start);
 
   // The models against the truth (`mopad eval` over every room): eval/.
-  auto t0 = Clock::now();
+  auto t0 = WallClock::now();
   if (o.print) o.print("models against the truth (mopad eval):");
   const evaluation::RunEvaluation run_eval =
       evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string());
   if (o.print) o.print(run_eval.tables);
-  const double t_eval = Seconds(t0);
+  const double t_eval = SecondsSince(t0);
 
   // The deliverables (docs/exports.md): export/model.ifc, model.glb, sm1.las.
-  t0 = Clock::now();
+  t0 = WallClock::now();
   const exports::ExportResult exported = exports::WriteAllExports(dir.string());
   if (o.print) o.print(exported.summary);
-  const double t_export = Seconds(t0);
+  const double t_export = SecondsSince(t0);
 
   nlohmann::ordered_json j;
   j["job"] = "run";
@@ -284,7 +281,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                   {"mission", t_mission},
                   {"eval", t_eval},
                   {"export", t_export},
-                  {"total", Seconds(t_start) + o.t_generate}};
+                  {"total", SecondsSince(t_start) + o.t_generate}};
   io::WriteTextFile((dir / "summary.json").string(), j.dump(2) + "\n");
   io::WriteTextFile((dir / "room.effective.yaml").string(), YAML::Dump(SaveParams(params)) + "\n");
 
@@ -301,7 +298,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                             {"mission", FormatFixed(t_mission, 2)},
                             {"evaluate models", FormatFixed(t_eval, 2)},
                             {"exports", FormatFixed(t_export, 2)},
-                            {"total", FormatFixed(Seconds(t_start) + o.t_generate, 2)}}});
+                            {"total", FormatFixed(SecondsSince(t_start) + o.t_generate, 2)}}});
   WriteHtmlReport(report, (dir / "report.html").string());
   WriteMarkdownReport(report, (dir / "report.md").string());
 }

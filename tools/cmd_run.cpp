@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "common/params.h"
+#include "common/wall_clock.h"
 #include "mission/main_job.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
@@ -25,12 +26,6 @@ namespace mopad::tools {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point a) {
-  return std::chrono::duration<double>(Clock::now() - a).count();
-}
-
 nlohmann::ordered_json SceneJson(const std::string& source, const std::string& name,
                                  const SceneSummary& s) {
   return {{"spec", source},
@@ -66,11 +61,11 @@ extern "C" void OnStopSignal(int sig) {
 }
 
 // Progress for a person: on a terminal one live line rewritten in place, else plain lines.
-std::function<void(const std::string&)> ProgressPrinter(bool quiet, Clock::time_point t0) {
+std::function<void(const std::string&)> ProgressPrinter(bool quiet, WallClock::time_point t0) {
   if (quiet) return {};
   const bool tty = isatty(fileno(stdout)) != 0;
   return [tty, t0](const std::string& line) {
-    const std::string text = "[" + FormatFixed(Seconds(t0), 0) + " s] " + line;
+    const std::string text = "[" + FormatFixed(SecondsSince(t0), 0) + " s] " + line;
     if (tty)
       std::printf("\r\033[K%s", text.c_str());
     else
@@ -123,7 +118,7 @@ void RegisterRunCommand(CLI::App& app) {
       "trajectory_estimated.tum (floor mission), rooms/<ID>/ (models, scans, evaluation), "
       "eval/ and export/ (model.ifc, model.glb, sm1.las; docs/exports.md).");
   cmd->callback([=] {
-    const auto t_start = Clock::now();
+    const auto t_start = WallClock::now();
     const fs::path dir(*out);
     fs::create_directories(dir);
     mission::FloorMissionParams params;
@@ -153,7 +148,7 @@ void RegisterRunCommand(CLI::App& app) {
     if (o.scene_name.empty()) o.scene_name = mw.truth->scene_name, o.scene_source = scene_folder;
     const SceneSummary summary =
         Summarise(mw.world->scene(), &*mw.truth, scene_folder + "/scene.glb");
-    o.t_generate = Seconds(t_start);
+    o.t_generate = SecondsSince(t_start);
     o.scene_json = SceneJson(o.scene_source, o.scene_name, summary);
     o.scene_table = SceneTable(summary);
     std::printf(
@@ -172,7 +167,7 @@ void RegisterRunCommand(CLI::App& app) {
     o.stop_requested = [] { return g_stop.load(); };
     mission::RunMainJob(mw, params, o);
     std::printf("done in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
-                Seconds(t_start), dir.string().c_str());
+                SecondsSince(t_start), dir.string().c_str());
   });
 }
 
