@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "autonomy/exploration.h"
 #include "common/error.h"
@@ -220,15 +221,20 @@ class FloorMission {
     return kids[best];
   }
 
-  // Drives to `nominal` (or the nearest point with clearance), facing `yaw`. Empty on arrival,
-  // else the reason.
-  std::string DriveNear(const Vec2& nominal, double yaw, const char* what) {
-    const auto goal =
-        NearestClearPoint(nav_.Map(), nominal, p_.door_pose_search, p_.door_pose_clearance);
+  // Drives to a door scan pose on the door's axis, `depth` m from its wall plane on the side
+  // `side` points to (or the nearest point with clearance), facing `yaw`. A small room may have
+  // no such spot that far: nearer ones (down to 0.6 m) and then half the minimum clear width of
+  // clearance are tried before giving up. Empty on arrival, else the reason.
+  std::string DriveNear(const DoorRecord& d, const Vec2& side, double depth, double yaw,
+                        const char* what) {
+    std::optional<Vec2> goal;
+    for (const double clearance : {p_.door_pose_clearance, 0.5 * p_.min_clear_width})
+      for (double x = depth; !goal && x >= 0.6 - 1e-9; x -= 0.1)
+        goal = NearestClearPoint(nav_.Map(), d.centre + x * side, p_.door_pose_search, clearance);
     if (!goal)
-      return FormatNumbers("no free spot with %.2f m clearance within %.2f m of the ",
-                           p_.door_pose_clearance, p_.door_pose_search) +
-             what;
+      return FormatNumbers("no free spot with %.2f m clearance 0.6-%.1f m from the door plane on ",
+                           0.5 * p_.min_clear_width, depth) +
+             "the " + what;
     const DriveStatus st = nav_.NavigateTo(Pose2{goal->x(), goal->y(), yaw});
     if (st == DriveStatus::kArrived) return "";
     return std::string("drive to the ") + what + ": " + ToString(st) + " (" + nav_.Log().message +
@@ -242,7 +248,7 @@ class FloorMission {
     const double yaw = YawOf(-d.inward);
     Progress("to the door " + d.opening + " of " + d.room +
              FormatNumbers(" (%.1f, %.1f)", d.centre.x(), d.centre.y()));
-    std::string why = DriveNear(Approach(d), yaw, "door's front");
+    std::string why = DriveNear(d, d.inward, p_.door_approach, yaw, "door's front");
     if (!why.empty()) {
       res_.tree.MarkUnreachable(kid, why);
       return false;
@@ -256,7 +262,7 @@ class FloorMission {
                   reg.X_MS.translation());
     before = DoorScan{nav_.ScanCount() - 1, nav_.Time(), scan.X_MS_estimate, d.room};
     res_.door_scans.push_back(before);
-    why = DriveNear(d.centre - p_.door_exit * d.inward, yaw, "space beyond the door");
+    why = DriveNear(d, -d.inward, p_.door_exit, yaw, "space beyond the door");
     if (!why.empty()) {
       const Pose2 at = nav_.EstimatedPose();
       const double depth = (Vec2(at.x, at.y) - d.centre).dot(-d.inward);
@@ -272,7 +278,8 @@ class FloorMission {
     const TraversalNode& n = res_.tree.Node(node);
     const DoorRecord& d = n.entry_door;
     Progress(n.room + " done; back through " + d.opening + " to " + d.room);
-    const std::string why = DriveNear(Approach(d), YawOf(d.inward), "parent's side of the door");
+    const std::string why =
+        DriveNear(d, d.inward, p_.door_approach, YawOf(d.inward), "parent's side of the door");
     if (!why.empty()) res_.events.push_back(n.room + ": return to " + d.room + ": " + why);
   }
 
