@@ -193,6 +193,10 @@ FloorMissionParams::FloorMissionParams() {
   // points match only surfaces seen from their own side.
   icp.same_side = true;
   entry_icp.same_side = true;
+  // The floor's target also holds the other rooms' scans and the rays they cast through the
+  // doors: right registrations of a hall's scans put 0.009-0.013 of their points where one of
+  // those saw empty space (registration errors 1-10 mm), above the one-room bound of 0.006.
+  icp.max_free_space_violation = 0.015;
 }
 
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
