@@ -9,6 +9,29 @@
 
 namespace mopad::autonomy {
 
+namespace {
+
+// The cell nearest to `p` among those of the square of half-side `radius` around it that `ok`
+// accepts and that lie within sqrt(max_d2) of it (ties: row by row, the first).
+template <class Ok>
+std::optional<perception::Cell> NearestCell(const perception::OccupancyGrid& grid, const Vec2& p,
+                                            double radius, double max_d2, Ok&& ok) {
+  const perception::Cell c0 = grid.CellOf(p);
+  const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
+  std::optional<perception::Cell> best;
+  double best_d = max_d2;
+  for (int dj = -r; dj <= r; ++dj)
+    for (int di = -r; di <= r; ++di) {
+      const perception::Cell c{c0.i + di, c0.j + dj};
+      if (!grid.Contains(c) || !ok(c)) continue;
+      const double d = (grid.CentreOf(c) - p).squaredNorm();
+      if (d < best_d) best_d = d, best = c;
+    }
+  return best;
+}
+
+}  // namespace
+
 std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, const Vec2& from,
                                      const Vec2& goal, const ExplorationParams& p,
                                      const std::vector<Pose2>& scan_poses, std::string* why) {
@@ -22,18 +45,7 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
            optimistic.ClearanceOfCell(c) >= pass_clearance;
   };
   auto nearest_passable = [&](const Vec2& p, double radius) {
-    const perception::Cell c0 = grid.CellOf(p);
-    const int r = static_cast<int>(std::ceil(radius / res));
-    std::optional<perception::Cell> best;
-    double best_d = 1e18;
-    for (int dj = -r; dj <= r; ++dj)
-      for (int di = -r; di <= r; ++di) {
-        const perception::Cell c{c0.i + di, c0.j + dj};
-        if (!passable(c)) continue;
-        const double d = (grid.CentreOf(c) - p).squaredNorm();
-        if (d < best_d) best_d = d, best = c;
-      }
-    return best;
+    return NearestCell(grid, p, radius, 1e18, passable);
   };
   const auto start = nearest_passable(from, 0.5);
   const auto target = nearest_passable(goal, 1.0);
@@ -94,28 +106,6 @@ std::vector<Vec2> ExplorationTargets(const perception::OccupancyGrid& grid, cons
   return out;
 }
 
-namespace {
-
-// The cell nearest to `p` within `radius` that `ok` accepts (ties: lower index).
-template <class Ok>
-std::optional<perception::Cell> NearestCell(const perception::OccupancyGrid& grid, const Vec2& p,
-                                            double radius, Ok&& ok) {
-  const perception::Cell c0 = grid.CellOf(p);
-  const int r = static_cast<int>(std::ceil(radius / grid.Resolution()));
-  std::optional<perception::Cell> best;
-  double best_d = radius * radius + 1e-12;
-  for (int dj = -r; dj <= r; ++dj)
-    for (int di = -r; di <= r; ++di) {
-      const perception::Cell c{c0.i + di, c0.j + dj};
-      if (!grid.Contains(c) || !ok(c)) continue;
-      const double d = (grid.CentreOf(c) - p).squaredNorm();
-      if (d < best_d) best_d = d, best = c;
-    }
-  return best;
-}
-
-}  // namespace
-
 std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Vec2& from,
                                  const std::vector<Vec2>& goals, double clearance,
                                  bool through_unknown) {
@@ -127,7 +117,7 @@ std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Ve
            field.ClearanceOfCell(c) >= clearance;
   };
   std::vector<double> out(goals.size(), std::numeric_limits<double>::infinity());
-  const auto start = NearestCell(grid, from, 0.5, passable);
+  const auto start = NearestCell(grid, from, 0.5, 0.25 + 1e-12, passable);
   if (!start) return out;
   const double res = grid.Resolution();
   auto step_cost = [&](std::size_t, std::size_t to, const perception::GridStep& st) {
@@ -136,7 +126,7 @@ std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Ve
     return passable(nb) ? res * (st.Diagonal() ? std::sqrt(2.0) : 1.0) : -1.0;
   };
   for (std::size_t g = 0; g < goals.size(); ++g) {
-    const auto target = NearestCell(grid, goals[g], 0.5, passable);
+    const auto target = NearestCell(grid, goals[g], 0.5, 0.25 + 1e-12, passable);
     if (!target) continue;
     const std::vector<std::size_t> path = perception::GridShortestPath(
         grid.Width(), grid.Height(), grid.Index(*start), grid.Index(*target),
@@ -154,12 +144,14 @@ std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Ve
   return out;
 }
 
-std::optional<Vec2> NearestClearPoint(const perception::OccupancyGrid& grid, const Vec2& p,
+std::optional<Vec2> NearestClearPoint(const perception::OccupancyGrid& grid,
+                                      const perception::DistanceField& known, const Vec2& p,
                                       double radius, double clearance) {
-  const perception::DistanceField known(grid, /*unknown_is_obstacle=*/true);
-  const auto c = NearestCell(grid, p, radius, [&](const perception::Cell& c) {
-    return grid.State(c) == perception::CellState::kFree && known.ClearanceOfCell(c) >= clearance;
-  });
+  const auto c =
+      NearestCell(grid, p, radius, radius * radius + 1e-12, [&](const perception::Cell& c) {
+        return grid.State(c) == perception::CellState::kFree &&
+               known.ClearanceOfCell(c) >= clearance;
+      });
   if (!c) return std::nullopt;
   return grid.CentreOf(*c);
 }

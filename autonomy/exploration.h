@@ -44,9 +44,11 @@ std::vector<double> RouteLengths(const perception::OccupancyGrid& grid, const Ve
                                  const std::vector<Vec2>& goals, double clearance,
                                  bool through_unknown = false);
 
-/// The known free point nearest to `p` within `radius` whose clearance (unknown counts as
-/// obstacle) is at least `clearance`; nullopt when there is none. Ties: the lower cell index.
-std::optional<Vec2> NearestClearPoint(const perception::OccupancyGrid& grid, const Vec2& p,
+/// The known free point nearest to `p` within `radius` whose clearance in `known` (the grid's
+/// DistanceField with unknown counted as obstacle) is at least `clearance`; nullopt when there
+/// is none. Ties: the lower cell index.
+std::optional<Vec2> NearestClearPoint(const perception::OccupancyGrid& grid,
+                                      const perception::DistanceField& known, const Vec2& p,
                                       double radius, double clearance);
 
 /// Fraction of the grid cells within `radius` of `p` that are known (free or occupied).

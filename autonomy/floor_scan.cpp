@@ -167,8 +167,7 @@ class FloorMission {
       } else if (o.state == modelling::DoorState::kClosed) {
         res_.tree.AddChild(
             node, d, NodeState::kSeenNotEntered,
-            FormatNumbers("door closed (opening angle %.0f deg)",
-                          std::isfinite(o.opening_angle_deg) ? o.opening_angle_deg : 0.0));
+            FormatNumbers("door closed (opening angle %.0f deg)", d.opening_angle_deg));
       } else {
         res_.tree.AddChild(node, d, NodeState::kSeenNotEntered,
                            FormatNumbers("door too narrow: clear width %.2f m < %.2f m",
@@ -227,10 +226,12 @@ class FloorMission {
   // clearance are tried before giving up. Empty on arrival, else the reason.
   std::string DriveNear(const DoorRecord& d, const Vec2& side, double depth, double yaw,
                         const char* what) {
+    const perception::DistanceField known(nav_.Map(), /*unknown_is_obstacle=*/true);
     std::optional<Vec2> goal;
     for (const double clearance : {p_.door_pose_clearance, 0.5 * p_.min_clear_width})
       for (double x = depth; !goal && x >= 0.6 - 1e-9; x -= 0.1)
-        goal = NearestClearPoint(nav_.Map(), d.centre + x * side, p_.door_pose_search, clearance);
+        goal = NearestClearPoint(nav_.Map(), known, d.centre + x * side, p_.door_pose_search,
+                                 clearance);
     if (!goal)
       return FormatNumbers("no free spot with %.2f m clearance 0.6-%.1f m from the door plane on ",
                            0.5 * p_.min_clear_width, depth) +

@@ -65,6 +65,10 @@ void TraversalTree::MarkSeenNotEntered(int node, const std::string& reason) {
   n.reason = reason;
 }
 
+std::string TraversalTree::Summary() const {
+  return std::to_string(visited_) + " rooms visited of " + std::to_string(nodes_.size()) + " known";
+}
+
 std::vector<int> TraversalTree::UnvisitedChildren(int node) const {
   std::vector<int> out;
   for (int c : Node(node).children)

@@ -65,6 +65,8 @@ class TraversalTree {
   /// The unvisited children of `node`, in the order they were added.
   std::vector<int> UnvisitedChildren(int node) const;
   int VisitedCount() const { return visited_; }
+  /// "K rooms visited of N known" (known: every node, leaves included).
+  std::string Summary() const;
 
  private:
   std::vector<TraversalNode> nodes_;

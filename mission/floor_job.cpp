@@ -89,7 +89,7 @@ class FloorWorld {
 
   autonomy::FloorScanHooks Hooks(const std::function<void(const std::string&)>& progress) {
     autonomy::FloorScanHooks h;
-    h.room_started = [this](const std::string& robot_room) { Started(robot_room); };
+    h.room_started = [this](const std::string&) { Started(); };
     h.scan = [this](const std::string&, int index, const interfaces::TlsScan& scan) {
       if (labels_) hook_(index, scan);
     };
@@ -100,12 +100,11 @@ class FloorWorld {
   std::vector<FloorRoomJob>& Rooms() { return rooms_; }
 
  private:
-  void Started(const std::string& robot_room) {
+  void Started() {
     t_room_ = WallClock::now();
     t_begin_ = session_.SimTime();
     const Pose2 at = session_.TruePoseInWorld();
     room_ = TruthRoomAt(*mw_.truth, Eigen::Vector2d(at.x, at.y));
-    robot_room_ = robot_room;
     labels_ = std::make_unique<Sm1TruthCollector>(session_, *mw_.truth, room_);
     hook_ = labels_->Hook();
   }
@@ -179,7 +178,7 @@ class FloorWorld {
   bool evaluate_;
   std::unique_ptr<Sm1TruthCollector> labels_;
   autonomy::ScanHook hook_;
-  std::string room_, robot_room_;
+  std::string room_;  // the truth room of the room being scanned
   std::set<std::string> used_;
   WallClock::time_point t_room_;
   double t_begin_ = 0.0;

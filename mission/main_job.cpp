@@ -112,11 +112,9 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
 nlohmann::ordered_json MissionJson(const FloorJob& job) {
   const auto& m = job.mission;
   const DriveResult& d = job.drive;
-  int visited = 0;
-  for (const auto& n : m.tree.Nodes()) visited += n.state == autonomy::NodeState::kVisited;
   nlohmann::ordered_json j;
   j["start_W"] = {job.start_W.x, job.start_W.y, job.start_W.yaw};
-  j["rooms_visited"] = visited;
+  j["rooms_visited"] = m.tree.VisitedCount();
   j["rooms_known"] = m.tree.Nodes().size();
   j["scans"] = m.scans;
   j["door_scans"] = m.door_scans.size();
@@ -220,17 +218,15 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
                                             : "-",
                            n.state == autonomy::NodeState::kVisited ? "" : n.reason});
   }
-  const auto& m = t.mission_json;
-  if (o.print)
-    o.print(FormatNumbers("mission: %.0f rooms visited of %.0f known, %.0f scans (%.0f door "
-                          "scans), ",
-                          m["rooms_visited"].get<double>(), m["rooms_known"].get<double>(),
-                          m["scans"].get<double>(), m["door_scans"].get<double>()) +
+  if (o.print) {
+    const auto& m = job.mission;
+    o.print("mission: " + m.tree.Summary() + ", " + std::to_string(m.scans) + " scans (" +
+            std::to_string(m.door_scans.size()) + " door scans), " +
             FormatNumbers("path %.1f m, contacts %.0f, localisation RMS %.1f cm max %.1f cm, ",
                           job.drive.path_length, job.drive.contacts, 100 * job.drive.loc_rms,
                           100 * job.drive.loc_max) +
-            FormatNumbers("largest true step %.3f m; ", job.max_true_step) +
-            job.mission.end_reason);
+            FormatNumbers("largest true step %.3f m; ", job.max_true_step) + m.end_reason);
+  }
   t.subtitle =
       "One robot explores the floor from its start pose room by room through the doors "
       "it finds (Dynamic Traversal Tree, paper §2), scanning each room from positions "
