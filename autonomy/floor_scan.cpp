@@ -19,6 +19,9 @@ namespace {
 
 double YawOf(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 
+constexpr double kOnWall = 0.3;      // m, an opening this near a gap's wall line lies on it
+constexpr double kGapHeight = 2.0;   // m, nominal top of a gap's door record
+
 class FloorMission {
  public:
   FloorMission(Navigator& nav, const RoomScanParams& rp, const FloorScanParams& p,
@@ -174,6 +177,53 @@ class FloorMission {
                                          o.clear_width_m, p_.min_clear_width));
       }
     }
+    // Doorways SM4 did not model that the map shows: gaps in the walls the scans saw through.
+    int k = 0;
+    for (const WallGap& g : WallGaps(nav_.Map(), room.perimeter, p_.gaps)) {
+      if (OverlapsOpening(g, room.sm4)) continue;
+      const DoorRecord d = GapRecord(g, room.room, ++k);
+      if (!VisitedRoomAt(Beyond(d)).empty() || KnownDoor(d)) continue;
+      const std::string what = FormatNumbers(
+          "no SM4 opening here: a %.2f m gap in the wall that the scans saw through", d.width);
+      if (d.width >= p_.min_clear_width)
+        res_.tree.AddChild(node, d, NodeState::kUnvisited, what);
+      else
+        res_.tree.AddChild(node, d, NodeState::kSeenNotEntered,
+                           what + FormatNumbers(", too narrow (< %.2f m)", p_.min_clear_width));
+    }
+  }
+
+  // True when an SM4 opening (door or window) of the room lies on the gap's stretch of wall.
+  static bool OverlapsOpening(const WallGap& g, const modelling::Sm4Model& sm4) {
+    const Vec2 t = (g.b - g.a).normalized();
+    const double len = g.width();
+    for (const modelling::DetectedOpening& o : sm4.openings) {
+      const Vec2 c0 = o.corners[0].head<2>(), c1 = o.corners[1].head<2>();
+      if (std::abs((c0 - g.a).dot(g.inward)) > kOnWall || std::abs((c1 - g.a).dot(g.inward)) > kOnWall)
+        continue;
+      const double u0 = (c0 - g.a).dot(t), u1 = (c1 - g.a).dot(t);
+      if (std::max(u0, u1) > 0.0 && std::min(u0, u1) < len) return true;
+    }
+    return false;
+  }
+
+  // The door record of a gap: its plan ends on the wall line, corners up to kGapHeight (the map
+  // measures no height), counter-clockwise seen from the room.
+  static DoorRecord GapRecord(const WallGap& g, const std::string& room, int k) {
+    DoorRecord d;
+    d.room = room;
+    d.opening = "gap_" + std::to_string(k);
+    d.state = "gap";
+    d.centre = g.centre();
+    d.inward = g.inward;
+    d.width = g.width();
+    d.clear_width_m = d.width;
+    const Vec2 t(-g.inward.y(), g.inward.x());  // (c1 - c0) x up points into the room
+    const bool forward = (g.b - g.a).dot(t) > 0.0;
+    const Vec2 a = forward ? g.a : g.b, b = forward ? g.b : g.a;
+    d.corners = {Vec3(a.x(), a.y(), 0.0), Vec3(b.x(), b.y(), 0.0),
+                 Vec3(b.x(), b.y(), kGapHeight), Vec3(a.x(), a.y(), kGapHeight)};
+    return d;
   }
 
   // A route with half the minimum clear width of clearance from occupied cells (the jambs, an

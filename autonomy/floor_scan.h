@@ -4,7 +4,8 @@
 // as it goes:
 //
 //   room loop (autonomy/room_scan.h) in the start room -> SM3, SM4 -> its doors into space no
-//   visited room covers become children (passable) or leaves (closed, too narrow)
+//   visited room covers become children (passable) or leaves (closed, too narrow); so do the
+//   gaps in its walls that the obstacle map saw through and SM4 did not model
 //   loop: nearest unvisited child of the current node (route length in the robot's map)
 //         -> drive in front of its door, scan (door scan 1) -> drive just beyond the door frame
 //         -> room loop there (its first scan is door scan 2) -> SM3, SM4 -> children
@@ -26,6 +27,7 @@
 #include "autonomy/navigator.h"
 #include "autonomy/room_scan.h"
 #include "autonomy/traversal_tree.h"
+#include "autonomy/wall_gaps.h"
 #include "common/params.h"
 
 namespace mopad::autonomy {
@@ -48,6 +50,8 @@ struct FloorScanParams {
   /// a visited room's perimeter, [0.1, 5]
   double beyond_probe = 0.6;
   int max_rooms = 64;  ///< rooms visited at most (the mission ends there, explained), [1, 10000]
+  /// Doorways SM4 did not model: gaps in the room's walls its map saw through (wall_gaps.h)
+  WallGapParams gaps;
 
   template <class V>
   void Visit(V& v) {
@@ -58,6 +62,7 @@ struct FloorScanParams {
     v("min_clear_width", min_clear_width, Bounds{0.0, 5.0});
     v("beyond_probe", beyond_probe, Bounds{0.1, 5.0});
     v("max_rooms", max_rooms, Bounds{1, 10000});
+    v("gaps", gaps);
   }
 };
 

@@ -3,7 +3,8 @@
 // created as the robot discovers them; the root is the room the robot starts in. After a room
 // is modelled, each door of its SM4 that leads to space no visited room covers becomes a child:
 // a passable (open or semi-open, wide enough) door an unvisited child, a closed or too narrow
-// one a leaf "seen, not entered" with the reason. The robot visits the nearest unvisited child
+// one a leaf "seen, not entered" with the reason. Gaps in the room's walls that its obstacle map
+// saw through and SM4 did not model (autonomy/wall_gaps.h) count as doors. The robot visits the nearest unvisited child
 // of the node it is in, returns to the parent when none is left, and ends at the root.
 //
 // Pure bookkeeping (no driving, no geometry beyond the door records): robot side,
@@ -23,8 +24,8 @@ const char* ToString(NodeState s);
 /// A door as the robot modelled it (SM4, map frame), seen from the room that found it.
 struct DoorRecord {
   std::string room;     ///< the room whose SM4 found it (robot's name)
-  std::string opening;  ///< SM4 opening id in that room, e.g. "opening_2"
-  std::string state;    ///< SM4 state: "open", "semi_open", "closed"
+  std::string opening;  ///< SM4 opening id in that room, e.g. "opening_2", or "gap_k"
+  std::string state;    ///< SM4 state: "open", "semi_open", "closed"; "gap" for a map gap
   double opening_angle_deg = 0.0;
   double clear_width_m = 0.0;     ///< m, SM4's passable width
   Vec2 centre = Vec2::Zero();     ///< m, bottom-edge midpoint on the wall plane (plan)
