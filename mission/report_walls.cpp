@@ -163,8 +163,7 @@ std::string WallImagesHtml(const std::string& run_dir) {
       for (const auto& p : sm3.patches) {
         if (p.patch_class != modelling::PatchClass::kWall) continue;
         const std::string fig =
-            WallFigure(sm3.room.empty() ? name : sm3.room, p,
-                       dir / "orthoimages" / (p.id + "_colour.png"), sm4, sm5, bytes);
+            WallFigure(label, p, dir / "orthoimages" / (p.id + "_colour.png"), sm4, sm5, bytes);
         if (!fig.empty()) ++walls;
         body << fig;
       }

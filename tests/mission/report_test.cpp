@@ -92,7 +92,7 @@ std::string WallsRun(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(room / "orthoimages");
   modelling::StructuralModel m;
-  m.room = "R1";
+  m.room = "room_1";  // the robot's name; the folder is the truth room's
   m.ceiling_z = 2.5;
   auto patch = [](const char* id, PatchClass c, Eigen::Vector3d n,
                   std::vector<Eigen::Vector3d> poly) {
@@ -162,6 +162,9 @@ TEST(ReportWalls, EachWallImageCarriesItsOpeningsAndComponentsInItsUvFrame) {
   EXPECT_NE(fig1.find("x='50.0' y='25.0' width='50.0' height='100.0'"), std::string::npos) << fig1;
   EXPECT_NE(fig1.find("x='23.0' y='62.0' width='4.0' height='6.0'"), std::string::npos) << fig1;
   EXPECT_NE(fig1.find("opening_1 door, open"), std::string::npos);
+  EXPECT_NE(fig1.find("<figcaption>R1 (room_1) wall_1: 4.00 m x 2.50 m, 2 openings, 1 component"),
+            std::string::npos)
+      << fig1;
   EXPECT_NE(fig1.find(">switch</text>"), std::string::npos);
   EXPECT_NE(fig1.find("href='data:image/jpeg;base64,/9j/"), std::string::npos);  // JPEG magic
   EXPECT_EQ(WallImagesHtml(WallsRun("report_walls")), html);                     // deterministic
