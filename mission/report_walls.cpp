@@ -77,6 +77,8 @@ std::vector<fs::path> RoomFolders(const fs::path& dir) {
 std::string WallFigure(const std::string& room, const modelling::StructuralPatch& wall,
                        const fs::path& png, const modelling::Sm4Model& sm4,
                        const modelling::Sm5Model& sm5, std::size_t& bytes) {
+  std::error_code ec;
+  if (!fs::is_regular_file(png, ec)) return "";  // a wall imaged by no scan
   const cv::Mat image = cv::imread(png.string(), cv::IMREAD_COLOR);
   if (image.empty()) return "";
   const modelling::PatchFrame frame = modelling::PatchFrame::Of(wall);
