@@ -48,6 +48,19 @@ TEST(Report, CoveragePlotHasOnePointPerScanAndTheThresholdLine) {
   EXPECT_EQ(Count(both, "class='threshold'"), 0);
 }
 
+TEST(Report, PlanViewDrawsOneSquarePerPlanPixelAScanHits) {
+  ReportInput in;
+  ReportScan scan;
+  scan.name = "R1/0";
+  // 900 px over the 8 m from the nearest to the farthest point (112.5 px per metre): the first
+  // two points, 4 mm apart, share a pixel; the other two have their own.
+  scan.plan_points = {{1.001f, 1.001f}, {1.005f, 1.005f}, {2.0f, 1.0f}, {9.0f, 1.0f}};
+  in.scans = {scan};
+  const std::string svg = PlanSvg(in);
+  EXPECT_EQ(Count(svg, "class='scan-points'"), 1);
+  EXPECT_EQ(Count(svg, "h1v1h-1z"), 3) << svg;
+}
+
 TEST(Report, HtmlHasOneCoveragePlotPerRoomAndTheComponentTable) {
   const fs::path dir = fs::path(testing::TempDir()) / "report_html";
   fs::remove_all(dir);
