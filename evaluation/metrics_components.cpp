@@ -206,29 +206,48 @@ nlohmann::json ToJson(const ComponentEvaluation& e) {
   return j;
 }
 
-std::string MarkdownComponentsTable(const ComponentEvaluation& e) {
-  std::ostringstream md;
-  md << "| class | N | TP % | FN % | FP % | TP alpha > 0.9 % | TP alpha = 0.5 % | TP / FN / FP |\n";
-  md << "|---|---|---|---|---|---|---|---|\n";
-  auto line = [&](const ComponentClassRow& r, bool bold) {
+ComponentTableText ComponentsTable(const ComponentEvaluation& e) {
+  ComponentTableText t;
+  t.header = {"class",       "N", "TP %", "FN %", "FP %", "TP alpha > 0.9 %", "TP alpha = 0.5 %",
+              "TP / FN / FP"};
+  auto line = [&](const ComponentClassRow& r) {
     const double tp = r.tp > 0 ? r.tp : 1;
-    md << "| " << (bold ? "**" + r.class_name + "**" : r.class_name) << " | " << r.n << " | "
-       << FormatFixed(100 * r.Share(r.tp), 1) << " | " << FormatFixed(100 * r.Share(r.fn), 1)
-       << " | " << FormatFixed(100 * r.Share(r.fp), 1) << " | "
-       << FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_high / tp : 0.0, 1) << " | "
-       << FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_half / tp : 0.0, 1) << " | " << r.tp << " / "
-       << r.fn << " / " << r.fp << " |\n";
+    t.rows.push_back(
+        {r.class_name, std::to_string(r.n), FormatFixed(100 * r.Share(r.tp), 1),
+         FormatFixed(100 * r.Share(r.fn), 1), FormatFixed(100 * r.Share(r.fp), 1),
+         FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_high / tp : 0.0, 1),
+         FormatFixed(r.tp > 0 ? 100 * r.tp_alpha_half / tp : 0.0, 1),
+         std::to_string(r.tp) + " / " + std::to_string(r.fn) + " / " + std::to_string(r.fp)});
   };
-  for (const auto& r : e.classes) line(r, false);
-  line(e.total, true);
-  md << "\nCentre error on the host plane (mm): horizontal mean "
-     << FormatFixed(1000 * e.horizontal_stats.mean, 2) << ", median "
-     << FormatFixed(1000 * e.horizontal_median, 2) << ", max "
-     << FormatFixed(1000 * e.horizontal_stats.max, 2) << "; vertical mean "
-     << FormatFixed(1000 * e.vertical_stats.mean, 2) << ", median "
-     << FormatFixed(1000 * e.vertical_median, 2) << ", max "
-     << FormatFixed(1000 * e.vertical_stats.max, 2) << " (" << e.horizontal.size()
-     << " true positives)\n";
+  for (const auto& r : e.classes) line(r);
+  line(e.total);
+  t.centre_errors = "Centre error on the host plane (mm): horizontal mean " +
+                    FormatFixed(1000 * e.horizontal_stats.mean, 2) + ", median " +
+                    FormatFixed(1000 * e.horizontal_median, 2) + ", max " +
+                    FormatFixed(1000 * e.horizontal_stats.max, 2) + "; vertical mean " +
+                    FormatFixed(1000 * e.vertical_stats.mean, 2) + ", median " +
+                    FormatFixed(1000 * e.vertical_median, 2) + ", max " +
+                    FormatFixed(1000 * e.vertical_stats.max, 2) + " (" +
+                    std::to_string(e.horizontal.size()) + " true positives)";
+  return t;
+}
+
+std::string MarkdownComponentsTable(const ComponentEvaluation& e) {
+  const ComponentTableText t = ComponentsTable(e);
+  std::ostringstream md;
+  md << "|";
+  for (const auto& h : t.header) md << " " << h << " |";
+  md << "\n|";
+  for (std::size_t i = 0; i < t.header.size(); ++i) md << "---|";
+  md << "\n";
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    md << "|";
+    for (std::size_t j = 0; j < t.rows[i].size(); ++j)
+      md << " " << (j == 0 && i + 1 == t.rows.size() ? "**" + t.rows[i][j] + "**" : t.rows[i][j])
+         << " |";
+    md << "\n";
+  }
+  md << "\n" << t.centre_errors << "\n";
   return md.str();
 }
 

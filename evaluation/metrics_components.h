@@ -82,7 +82,16 @@ std::vector<ComponentRecord> ModelComponents(const modelling::Sm5Model& sm5, con
 
 /// JSON (keys in docs/evaluation.md, "components (SM5)").
 nlohmann::json ToJson(const ComponentEvaluation& e);
-/// Markdown: Table 3 (per class and all) and the centre errors.
+/// Table 3 as text cells (the one layout the Markdown and the run's HTML report share): class,
+/// N, TP %, FN %, FP %, TP alpha > 0.9 %, TP alpha = 0.5 %, TP / FN / FP; one row per class,
+/// then "all"; and the centre errors on the host plane as one line.
+struct ComponentTableText {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;  ///< classes, then "all" last
+  std::string centre_errors;
+};
+ComponentTableText ComponentsTable(const ComponentEvaluation& e);
+/// Markdown: Table 3 (per class and all, in bold) and the centre errors.
 std::string MarkdownComponentsTable(const ComponentEvaluation& e);
 
 }  // namespace mopad::evaluation

@@ -126,7 +126,7 @@ struct RoomResult {
   ConfusionMatrix dsm3;
   std::size_t scanners = 0;
   std::optional<ojson> mission;
-  std::optional<OpeningEvaluation> openings;  // SM4, when the run wrote sm4.json
+  std::optional<OpeningEvaluation> openings;      // SM4, when the run wrote sm4.json
   std::optional<ComponentEvaluation> components;  // SM5, when the run wrote sm5.json
 };
 
@@ -358,9 +358,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     }
     const fs::path sm5 = fs::path(run.dir) / "sm5.json";
     if (fs::exists(sm5))
-      r.components =
-          EvaluateComponents(ModelComponents(modelling::ReadSm5(sm5.string()), run.X_WM),
-                             TruthComponents(*truth, run.room), params.components);
+      r.components = EvaluateComponents(ModelComponents(modelling::ReadSm5(sm5.string()), run.X_WM),
+                                        TruthComponents(*truth, run.room), params.components);
     results.push_back(std::move(r));
   }
 
@@ -627,7 +626,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
          FormatFixed(params.report_buffer * 100, 0).c_str());
   Append(report, "wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
          dir.string().c_str());
-  return {report, summary};
+  return {report, summary, pooled_components};
 }
 
 }  // namespace mopad::evaluation

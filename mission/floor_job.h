@@ -36,14 +36,16 @@ struct FloorMissionParams : RoomMissionParams {
 
 /// One visited room of the mission, world side.
 struct FloorRoomJob {
-  std::string robot_room;  ///< the robot's name ("room_3")
-  std::string room;        ///< the truth room it scanned (where its first scan stood)
-  std::string dir;         ///< "rooms/<room>" relative to the run folder; empty: not written
-  std::string status;      ///< "scanned" or "failed"
-  std::string reason;      ///< the room loop's stop reason, or why it failed
-  int scans = 0;           ///< room-loop scans
-  int door_scans = 0;      ///< door scans listed with the room (in front of its entry door)
-  double robot_coverage = 0.0;
+  std::string robot_room;       ///< the robot's name ("room_3")
+  std::string room;             ///< the truth room it scanned (where its first scan stood)
+  std::string dir;              ///< "rooms/<room>" relative to the run folder; empty: not written
+  std::string status;           ///< "scanned" or "failed"
+  std::string reason;           ///< the room loop's stop reason, or why it failed
+  int scans = 0;                ///< room-loop scans
+  int door_scans = 0;           ///< door scans listed with the room (in front of its entry door)
+  double robot_coverage = 0.0;  ///< the robot's estimate after the last scan, [0, 1]
+  /// The robot's estimate after each room-loop scan (CoverageFigures::ratio), [0, 1].
+  std::vector<double> robot_coverage_per_scan;
   std::size_t openings = 0;                     ///< SM4: doors and windows found
   std::size_t components = 0;                   ///< SM5: service components found
   double sm4_seconds = 0.0, sm5_seconds = 0.0;  ///< wall time (reporting only)

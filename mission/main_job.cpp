@@ -23,11 +23,12 @@ namespace {
 namespace fs = std::filesystem;
 // What the job collected, whichever mode ran.
 struct JobTables {
-  ReportTable rooms{"Rooms (robot side)", {}, {}};
+  ReportTable rooms{"Rooms (robot side)", {}, {}, ""};
   ReportTable eval{"Evaluation against the truth",
                    {"room", "coverage of observable", "coverage of total",
                     "registration error max (mm / deg)", "SM1 labels agree"},
-                   {}};
+                   {},
+                   ""};
   nlohmann::ordered_json rooms_json = nlohmann::json::array();
   nlohmann::ordered_json mission_json;  ///< floor mode only
   ReportTable tree;                     ///< floor mode only
@@ -89,6 +90,9 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
                             FormatFixed(job->path_length, 2), std::to_string(job->points)});
     AddEvaluation(id, *job->evaluation, t, o);
     AddScans(id, job->scan_positions_W, job->plan_points_W, report);
+    ReportCoverage rc{id, {}, job->evaluation->coverage_per_scan};
+    for (const RoomScanLog& s : m.scans) rc.robot.push_back(s.coverage.ratio);
+    report.coverage.push_back(std::move(rc));
     nlohmann::ordered_json rj;
     rj["room"] = id;
     rj["status"] = "scanned";
@@ -193,6 +197,10 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
     rj["seconds"] = r.seconds;
     t.rooms_json.push_back(std::move(rj));
     if (r.status == "failed") ++t.rooms_failed;
+    if (!r.robot_coverage_per_scan.empty())
+      report.coverage.push_back(
+          {r.room + " (" + r.robot_room + ")", r.robot_coverage_per_scan,
+           r.evaluation ? r.evaluation->coverage_per_scan : std::vector<double>{}});
     AddScans(r.room, r.scan_positions_W, r.plan_points_W, report);
     for (const Eigen::Vector3d& p : r.door_scan_positions_W) {
       ReportScan rs;
@@ -242,6 +250,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   ReportInput report;
   report.title = "OpenMoPAD run: " + o.scene_name;
   report.truth = &*mw.truth;
+  report.coverage_threshold = params.stopping.epsilon1;
   JobTables t;
   if (o.rooms.empty())
     RunFloor(mw, params, o, t, report);
@@ -288,13 +297,19 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));
   report.tables.push_back(std::move(t.eval));
   report.tables.push_back(ModelScoresTable(run_eval.summary));
+  if (run_eval.components) {
+    const evaluation::ComponentTableText c = evaluation::ComponentsTable(*run_eval.components);
+    report.tables.push_back({"SM5 service components against the truth (paper Table 3, all rooms)",
+                             c.header, c.rows, c.centre_errors});
+  }
   report.tables.push_back({"Timing",
                            {"step", "seconds"},
                            {{"generate scene", FormatFixed(o.t_generate, 2)},
                             {"mission", FormatFixed(t_mission, 2)},
                             {"evaluate models", FormatFixed(t_eval, 2)},
                             {"exports", FormatFixed(t_export, 2)},
-                            {"total", FormatFixed(SecondsSince(t_start) + o.t_generate, 2)}}});
+                            {"total", FormatFixed(SecondsSince(t_start) + o.t_generate, 2)}},
+                           ""});
   WriteHtmlReport(report, (dir / "report.html").string());
   WriteMarkdownReport(report, (dir / "report.md").string());
 }

@@ -12,11 +12,11 @@
 #include "common/format.h"
 #include "common/polygon.h"
 #include "mission/report_viewer.h"
+#include "mission/report_walls.h"
 
 namespace mopad::mission {
-namespace {
 
-std::string Escape(const std::string& s) {
+std::string HtmlEscape(const std::string& s) {
   std::string o;
   for (char c : s) {
     switch (c) {
@@ -38,6 +38,10 @@ std::string Escape(const std::string& s) {
   }
   return o;
 }
+
+namespace {
+
+std::string Escape(const std::string& s) { return HtmlEscape(s); }
 
 const char* DoorColour(scenes::DoorState s) {
   switch (s) {
@@ -166,11 +170,17 @@ std::string PlanSvg(const ReportInput& in) {
     }
   }
   for (const auto& sc : in.scans) {
-    s << "<g fill='#1565c0' fill-opacity='0.35'>";
+    // One 1-pixel square per SVG pixel the scan's points fall in (sorted, so deterministic).
+    std::vector<std::pair<long, long>> px;
+    px.reserve(sc.plan_points.size());
     for (const auto& p : sc.plan_points)
-      s << "<rect width='1' height='1' x='" << FormatFixed(v.X(p.x()), 1) << "' y='"
-        << FormatFixed(v.Y(p.y()), 1) << "'/>";
-    s << "</g>\n";
+      px.emplace_back(std::lround(std::floor(v.X(p.x()))), std::lround(std::floor(v.Y(p.y()))));
+    std::sort(px.begin(), px.end());
+    px.erase(std::unique(px.begin(), px.end()), px.end());
+    if (px.empty()) continue;
+    s << "<path class='scan-points' fill='#1565c0' fill-opacity='0.35' d='";
+    for (const auto& [x, y] : px) s << "M" << x << " " << y << "h1v1h-1z";
+    s << "'/>\n";
   }
   if (in.path.size() >= 2) {
     s << "<polyline fill='none' stroke='#e65100' stroke-width='1.5' stroke-opacity='0.8' "
@@ -204,13 +214,60 @@ std::string PlanSvg(const ReportInput& in) {
   return s.str();
 }
 
+std::string CoveragePlotSvg(const ReportCoverage& c, double threshold) {
+  // Plot area in pixels: x from 40 to 300, y from 170 (share 0) to 20 (share 1).
+  const double x0 = 40, x1 = 300, y0 = 170, y1 = 20;
+  const std::size_t n = std::max(c.robot.size(), c.evaluator.size());
+  const double last = std::max<double>(2.0, static_cast<double>(n));
+  auto X = [&](std::size_t k) { return x0 + (x1 - x0) * (static_cast<double>(k) / (last - 1)); };
+  auto Y = [&](double share) { return y0 + (y1 - y0) * std::clamp(share, 0.0, 1.0); };
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' class='coverage' width='320' height='205' "
+       "viewBox='0 0 320 205' font-family='sans-serif' font-size='11'><title>"
+    << Escape(c.room) << ": coverage after each scan</title>\n";
+  for (int i = 0; i <= 4; ++i) {
+    const double y = Y(0.25 * i);
+    s << "<line stroke='#ddd' x1='" << x0 << "' x2='" << x1 << "' y1='" << FormatFixed(y, 1)
+      << "' y2='" << FormatFixed(y, 1) << "'/><text text-anchor='end' x='" << x0 - 4 << "' y='"
+      << FormatFixed(y + 4, 1) << "'>" << FormatFixed(0.25 * i, 2) << "</text>\n";
+  }
+  for (std::size_t k = 0; k < n; ++k)
+    s << "<text text-anchor='middle' x='" << FormatFixed(X(k), 1) << "' y='" << y0 + 14 << "'>"
+      << k + 1 << "</text>";
+  s << "<text text-anchor='middle' x='" << (x0 + x1) / 2 << "' y='" << y0 + 30 << "'>scan</text>\n";
+  if (threshold > 0)
+    s << "<line class='threshold' stroke='#c62828' stroke-dasharray='2 3' x1='" << x0 << "' x2='"
+      << x1 << "' y1='" << FormatFixed(Y(threshold), 1) << "' y2='" << FormatFixed(Y(threshold), 1)
+      << "'><title>stopping threshold epsilon1 = " << FormatFixed(threshold, 3)
+      << "</title></line>\n";
+  auto series = [&](const std::vector<double>& v, const char* cls, const char* colour,
+                    const char* dash) {
+    if (v.empty()) return;
+    s << "<polyline fill='none' stroke='" << colour << "' stroke-width='2'" << dash << " points='";
+    for (std::size_t k = 0; k < v.size(); ++k)
+      s << FormatFixed(X(k), 1) << "," << FormatFixed(Y(v[k]), 1) << " ";
+    s << "'/>";
+    for (std::size_t k = 0; k < v.size(); ++k)
+      s << "<circle class='" << cls << "' r='3' fill='" << colour << "' cx='"
+        << FormatFixed(X(k), 1) << "' cy='" << FormatFixed(Y(v[k]), 1) << "'><title>scan " << k + 1
+        << ": " << FormatFixed(v[k], 3) << "</title></circle>";
+    s << "\n";
+  };
+  series(c.evaluator, "evaluator", "#6d6d6d", " stroke-dasharray='5 3'");
+  series(c.robot, "robot", "#1565c0", "");
+  s << "<text font-weight='bold' x='" << x0 << "' y='12'>" << Escape(c.room) << "</text></svg>\n";
+  return s.str();
+}
+
 void WriteHtmlReport(const ReportInput& in, const std::string& path) {
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>" << Escape(in.title)
     << "</title>\n<style>body{font-family:sans-serif;margin:2em;color:#222}"
     << "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 10px;"
     << "text-align:right}th{background:#eee}td:first-child{text-align:left}"
-    << ".legend span{display:inline-block;margin-right:1.5em}</style></head><body>\n";
+    << ".legend span{display:inline-block;margin-right:1.5em}"
+    << "figure.wall{display:inline-block;margin:0 1em 1em 0}figcaption{font-size:small}"
+    << "svg.coverage{margin-right:1em}</style></head><body>\n";
   h << "<h1>" << Escape(in.title) << "</h1>\n<p>" << Escape(in.subtitle) << "</p>\n";
   const std::string svg = PlanSvg(in);
   if (!svg.empty()) {
@@ -221,8 +278,25 @@ void WriteHtmlReport(const ReportInput& in, const std::string& path) {
       << " scan position</span></p>\n"
       << svg;
   }
-  // The 3D view of the model files beside the report (a run folder), when there are any.
-  h << ModelViewerHtml(std::filesystem::path(path).parent_path().string(), in.truth);
+  if (!in.coverage.empty()) {
+    bool scored = false;
+    for (const auto& c : in.coverage) scored = scored || !c.evaluator.empty();
+    h << "<h2>Coverage against scans</h2>\n<p class='legend'><span style='color:#1565c0'>&#9679; "
+      << "the robot's estimate (sensed share of the structural area it modelled)</span>";
+    if (scored)
+      h << "<span style='color:#6d6d6d'>&#9679; the evaluator's (share of the truly observable "
+        << "area)</span>";
+    if (in.coverage_threshold > 0)
+      h << "<span style='color:#c62828'>- - stopping threshold epsilon1 = "
+        << FormatFixed(in.coverage_threshold, 2) << "</span>";
+    h << "</p>\n<div class='plots'>\n";
+    for (const auto& c : in.coverage) h << CoveragePlotSvg(c, in.coverage_threshold);
+    h << "</div>\n";
+  }
+  const std::string run_dir = std::filesystem::path(path).parent_path().string();
+  // The wall orthoimages and the 3D view of the model files beside the report (a run folder).
+  h << WallImagesHtml(run_dir);
+  h << ModelViewerHtml(run_dir, in.truth);
   for (const auto& t : in.tables) {
     h << "<h2>" << Escape(t.title) << "</h2>\n<table><tr>";
     for (const auto& c : t.header) h << "<th>" << Escape(c) << "</th>";
@@ -233,6 +307,7 @@ void WriteHtmlReport(const ReportInput& in, const std::string& path) {
       h << "</tr>\n";
     }
     h << "</table>\n";
+    if (!t.note.empty()) h << "<p>" << Escape(t.note) << "</p>\n";
   }
   h << "</body></html>\n";
   WriteOrThrow(path, h.str());
@@ -252,13 +327,14 @@ void WriteMarkdownReport(const ReportInput& in, const std::string& path) {
       for (const auto& c : r) m << " " << c << " |";
       m << "\n";
     }
+    if (!t.note.empty()) m << "\n" << t.note << "\n";
   }
   WriteOrThrow(path, m.str());
 }
 
 ReportTable ModelScoresTable(const nlohmann::ordered_json& summary) {
   ReportTable t{
-      "Models against the truth (mopad eval, eval/evaluation.md)", {"figure", "value"}, {}};
+      "Models against the truth (mopad eval, eval/evaluation.md)", {"figure", "value"}, {}, ""};
   int tp = 0, n = 0, fp = 0;
   for (const auto& [cls, d] : summary.at("detection").items())
     tp += d.at("tp").get<int>(), n += d.at("n_truth").get<int>(), fp += d.at("fp").get<int>();

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <span>
 
 #include "common/error.h"
 #include "mission/model_export.h"
@@ -27,6 +28,44 @@ autonomy::ScanHook Sm1TruthCollector::Hook() {
   };
 }
 
+namespace {
+
+// The share of the observable area sensed after each scan of the log: the cells of the model's
+// scans so far (a scan ICP refused is not in the model and adds none). SM1 is in scan order, so
+// each scan's points are one run of ScanIndices. Empty when the log and the model disagree.
+std::vector<double> CoveragePerScan(const evaluation::StructuralSurfaces& surfaces,
+                                    const std::vector<std::uint8_t>& observable,
+                                    const RoomMissionResult& result,
+                                    const modelling::RoomModel& model, const Pose3& X_WM) {
+  const auto& points = model.Points();
+  const auto& scan = model.ScanIndices();
+  std::size_t registered = 0;
+  for (const RoomScanLog& s : result.scans) registered += s.registered ? 1 : 0;
+  if (registered != static_cast<std::size_t>(model.ScanCount()) || scan.size() != points.size())
+    return {};
+  std::vector<std::uint8_t> sensed;
+  std::vector<double> out;
+  std::size_t begin = 0;
+  for (const RoomScanLog& s : result.scans) {
+    if (s.registered && begin < scan.size()) {
+      std::size_t end = begin;
+      while (end < scan.size() && scan[end] == scan[begin]) ++end;
+      const std::vector<std::uint8_t> cells = evaluation::SensedCells(
+          surfaces, std::span<const Eigen::Vector3f>(points.data() + begin, end - begin), X_WM);
+      if (sensed.empty()) sensed.assign(cells.size(), 0);
+      for (std::size_t i = 0; i < cells.size(); ++i) sensed[i] |= cells[i];
+      begin = end;
+    }
+    out.push_back(
+        sensed.empty()
+            ? 0.0
+            : evaluation::SummariseCoverage(surfaces, observable, sensed).room.ShareOfObservable());
+  }
+  return out;
+}
+
+}  // namespace
+
 RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
                             const std::string& room, const RobotSession& session,
                             const RoomMissionResult& result, const modelling::RoomModel& model,
@@ -38,6 +77,7 @@ RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundT
   const evaluation::RoomTruth rt = evaluation::ComputeRoomTruth(world, truth, room);
   const evaluation::Observability& obs = rt.observability;
   e.coverage = evaluation::ComputeCoverage(rt.surfaces, obs.observable, model.Points(), X_WM);
+  e.coverage_per_scan = CoveragePerScan(rt.surfaces, obs.observable, result, model, X_WM);
   e.observable_area = obs.observable_area;
   e.total_area = obs.total_area;
   const auto& truths = session.ScanTruths();
@@ -66,6 +106,7 @@ nlohmann::ordered_json ToJson(const RoomEvaluation& e) {
   j["coverage"] = nlohmann::ordered_json::parse(evaluation::CoverageToJson(e.coverage));
   j["coverage_of_observable"] = e.coverage.room.ShareOfObservable();
   j["coverage_of_total"] = e.coverage.room.ShareOfTotal();
+  j["coverage_of_observable_per_scan"] = e.coverage_per_scan;
   j["observable_area"] = e.observable_area;
   j["total_area"] = e.total_area;
   nlohmann::ordered_json reg = nlohmann::json::array();

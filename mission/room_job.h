@@ -41,6 +41,9 @@ class Sm1TruthCollector {
 struct RoomEvaluation {
   std::string room;
   evaluation::CoverageReport coverage;
+  /// Share of the observable area sensed after each scan of the room's log, [0, 1]; empty
+  /// when the log and the model's scans disagree.
+  std::vector<double> coverage_per_scan;
   double observable_area = 0.0, total_area = 0.0;
   std::vector<evaluation::PoseError> registration;  ///< per scan (the first scan included)
   double max_translation_error = 0.0, max_rotation_error_deg = 0.0;

@@ -49,7 +49,8 @@ mission::ReportTable SceneTable(const SceneSummary& s) {
            {"windows", std::to_string(s.windows)},
            {"service components", std::to_string(s.bsc_total)},
            {"furniture", std::to_string(s.furniture)},
-           {"triangles", std::to_string(s.triangles)}}};
+           {"triangles", std::to_string(s.triangles)}},
+          ""};
 }
 
 // SIGINT / SIGTERM: the floor mission stops before its next room and the job still writes its

@@ -1,5 +1,6 @@
 // The report's 3D view: the fragment carries the model of a run folder, and headless Chromium
-// (Debian `chromium`, when installed) draws it on a non-blank canvas with no script error.
+// (Debian `chromium`, when installed) draws it with three.js (Debian libjs-three), or with the
+// canvas 2D fallback when the library is absent, on a non-blank canvas with no script error.
 #include "mission/report_viewer.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <string>
 
 #include "modelling/model_io.h"
@@ -93,31 +95,68 @@ TEST(ReportViewer, TheTruthIsDrawnInTheExportFrameOfTheFirstRoom) {
   EXPECT_EQ(ViewerData(ModelViewerHtml(dir))["truth"].size(), 0u);  // no truth given
 }
 
-TEST(ReportViewer, HeadlessChromiumDrawsANonBlankCanvasWithoutScriptErrors) {
-  if (std::system("command -v chromium >/dev/null 2>&1") != 0)
-    GTEST_SKIP() << "Debian chromium is not installed (apt-get install chromium)";
-  const std::string dir = BoxRun("viewer_chromium");
-  const std::string page = dir + "/page.html";
-  // The page turns red on any script error, so an error can never pass as a drawing.
-  std::ofstream(page) << "<!DOCTYPE html><html><head><meta charset='utf-8'>"
-                      << "<script>window.onerror=function(){document.body.style.background="
-                      << "'#ff0000';};</script></head><body style='margin:0'>"
-                      << ModelViewerHtml(dir) << "</body></html>";
-  const std::string png = dir + "/shot.png";
-  const std::string profile = dir + "/profile";
+TEST(ReportViewer, InlinesThreeJsWhenInstalledElseNotesTheCanvasFallback) {
+  auto count = [](const std::string& text, const std::string& what) {
+    int n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  const std::string dir = BoxRun("viewer_three");
+  const std::string fallback = ModelViewerHtml(dir, nullptr, dir + "/no_three_here");
+  EXPECT_NE(fallback.find("three.js was not found in " + dir + "/no_three_here"),
+            std::string::npos);
+  EXPECT_EQ(count(fallback, "<script>"), 1);  // the view's own script only
+  if (!fs::exists(fs::path(kThreeJsDir) / kThreeJsFile))
+    GTEST_SKIP() << "Debian libjs-three is not installed (scripts/install-deps.sh)";
+  const std::string html = ModelViewerHtml(dir);
+  EXPECT_EQ(count(html, "<script>"), 3);  // three.js, OrbitControls, the view
+  EXPECT_NE(html.find("REVISION=\"111\""), std::string::npos);
+  EXPECT_EQ(html.find("three.js was not found"), std::string::npos);
+  EXPECT_EQ(html.find("<script src"), std::string::npos);  // nothing loaded from elsewhere
+  EXPECT_GT(html.size(), fallback.size() + 800'000);
+}
+
+// Headless Chromium's output for `page` with `what` ("--screenshot=PNG" or "--dump-dom"):
+// software WebGL (SwiftShader) so three.js gets a context without a GPU.
+std::string Chromium(const std::string& page, const std::string& profile, const std::string& what) {
   const std::string cmd =
-      "chromium --headless --no-sandbox --disable-gpu --disable-background-networking "
-      "--user-data-dir=" +
-      profile + " --window-size=1000,800 --screenshot=" + png + " file://" + page + " 2>&1";
+      "chromium --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
+      "--disable-background-networking --enable-logging=stderr --v=0 --user-data-dir=" +
+      profile + " --window-size=1000,800 " + what + " file://" + page + " 2>&1";
   std::string out;
   FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
+  if (!p) return out;
   std::array<char, 4096> buf;
   while (fgets(buf.data(), buf.size(), p)) out += buf.data();
   pclose(p);
+  return out;
+}
+
+// Writes the view of `dir` (library from `three_dir`) in a page that turns red on any script
+// error, so an error can never pass as a drawing; returns the page's path.
+std::string ViewerPage(const std::string& dir, const std::string& three_dir) {
+  const std::string page = dir + "/page.html";
+  std::ofstream(page) << "<!DOCTYPE html><html><head><meta charset='utf-8'>"
+                      << "<script>window.onerror=function(){document.body.style.background="
+                      << "'#ff0000';};</script></head><body style='margin:0'>"
+                      << ModelViewerHtml(dir, nullptr, three_dir) << "</body></html>";
+  return page;
+}
+
+// Asserts a screenshot of `page` shows a drawn model and no red error page.
+void ExpectDrawn(const std::string& dir, const std::string& page) {
+  const std::string png = dir + "/shot.png";
+  const std::string out = Chromium(page, dir + "/profile", "--screenshot=" + png);
   const cv::Mat shot = cv::imread(png, cv::IMREAD_COLOR);
   ASSERT_FALSE(shot.empty()) << out;
-  EXPECT_EQ(out.find("Uncaught"), std::string::npos) << out;
+  // The page's console lines (--enable-logging): no uncaught exception, no console.error.
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(":CONSOLE") != std::string::npos) {
+      EXPECT_EQ(line.find("Uncaught"), std::string::npos) << line;
+      EXPECT_EQ(line.find("ERROR:CONSOLE"), std::string::npos) << line;
+      EXPECT_EQ(line.find("rror"), std::string::npos) << line;
+    }
   int red = 0, drawn = 0;
   for (int r = 0; r < shot.rows; ++r)
     for (int c = 0; c < shot.cols; ++c) {
@@ -128,6 +167,28 @@ TEST(ReportViewer, HeadlessChromiumDrawsANonBlankCanvasWithoutScriptErrors) {
     }
   EXPECT_LT(red, 100) << "a script error turned the page red";
   EXPECT_GT(drawn, 20000) << "the canvas is blank";
+}
+
+TEST(ReportViewer, HeadlessChromiumDrawsTheThreeJsViewOnANonBlankCanvasWithoutErrors) {
+  if (std::system("command -v chromium >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "Debian chromium is not installed (apt-get install chromium)";
+  if (!fs::exists(fs::path(kThreeJsDir) / kThreeJsFile))
+    GTEST_SKIP() << "Debian libjs-three is not installed (scripts/install-deps.sh)";
+  const std::string dir = BoxRun("viewer_chromium");
+  const std::string page = ViewerPage(dir, kThreeJsDir);
+  ExpectDrawn(dir, page);
+  const std::string dom = Chromium(page, dir + "/profile_dom", "--dump-dom");
+  EXPECT_NE(dom.find("data-renderer=\"three.js r111\""), std::string::npos) << dom;
+}
+
+TEST(ReportViewer, HeadlessChromiumDrawsTheCanvasFallbackWithoutThreeJs) {
+  if (std::system("command -v chromium >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "Debian chromium is not installed (apt-get install chromium)";
+  const std::string dir = BoxRun("viewer_chromium_2d");
+  const std::string page = ViewerPage(dir, dir + "/no_three_here");
+  ExpectDrawn(dir, page);
+  const std::string dom = Chromium(page, dir + "/profile_dom", "--dump-dom");
+  EXPECT_NE(dom.find("data-renderer=\"canvas-2d\""), std::string::npos) << dom;
 }
 
 }  // namespace
