@@ -1,0 +1,19 @@
+#pragma once
+// The floor mission's floor-level models (issue 17, item 4): the robot's per-room SM3/SM4 of
+// the rooms it modelled, joined by modelling::BuildFloorModel, written to DIR/floor/sm3.json and
+// DIR/floor/sm4.json (docs/models.md, map frame). Reads nothing of the truth.
+
+#include <string>
+
+#include "autonomy/floor_scan.h"
+#include "modelling/floor_model.h"
+
+namespace mopad::mission {
+
+/// Builds the floor model of `mission`'s rooms modelled without error (visit order) and writes
+/// `dir`/floor/. InputError when the folder cannot be written or the models are malformed.
+modelling::FloorModel WriteFloorModel(const autonomy::FloorScanResult& mission,
+                                      const modelling::FloorModelParams& params,
+                                      const std::string& dir);
+
+}  // namespace mopad::mission
