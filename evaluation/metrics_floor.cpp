@@ -213,7 +213,8 @@ FloorEvaluation EvaluateFloor(const modelling::FloorModel& model, const Pose3& X
                    [](const Cand& x, const Cand& y) { return x.d < y.d; });
   std::vector<int> truth_door(door_openings.size(), -1), taken(truth.doors.size(), 0);
   for (const Cand& c : cands)
-    if (truth_door[c.model] < 0 && !taken[c.truth]) truth_door[c.model] = c.truth, taken[c.truth] = 1;
+    if (truth_door[c.model] < 0 && !taken[c.truth])
+      truth_door[c.model] = c.truth, taken[c.truth] = 1;
   e.truth_doors = static_cast<int>(truth.doors.size());
   std::vector<int> truth_merged(truth.doors.size(), 0);
   for (std::size_t m = 0; m < door_openings.size(); ++m) {
@@ -232,8 +233,8 @@ FloorEvaluation EvaluateFloor(const modelling::FloorModel& model, const Pose3& X
       Vec3 along = X_WM.linear() * (fo.opening.corners[1] - fo.opening.corners[0]);
       along.z() = 0;
       along = along.norm() > 0 ? along.normalized() : Vec3::UnitX();
-      r.side_offset = std::abs(along.dot(Centre(fo.sides[0].corners, X_WM) -
-                                         Centre(fo.sides[1].corners, X_WM)));
+      r.side_offset = std::abs(
+          along.dot(Centre(fo.sides[0].corners, X_WM) - Centre(fo.sides[1].corners, X_WM)));
       if (r.correct) {
         ++e.merged_correct;
         e.door_side_offset.Add(r.side_offset);
@@ -243,7 +244,8 @@ FloorEvaluation EvaluateFloor(const modelling::FloorModel& model, const Pose3& X
     e.doors.push_back(std::move(r));
   }
   for (std::size_t m = 0; m < door_openings.size(); ++m)
-    if (truth_door[m] >= 0 && !e.doors[m].merged && !truth_merged[truth_door[m]]) ++e.one_sided_doors;
+    if (truth_door[m] >= 0 && !e.doors[m].merged && !truth_merged[truth_door[m]])
+      ++e.one_sided_doors;
   return e;
 }
 
@@ -259,11 +261,11 @@ ojson ToJson(const FloorEvaluation& e) {
   j["thickness_error_m"] = Stats(e.thickness_error);
   ojson offsets = ojson::array();
   for (const FloorRoomOffset& o : e.room_offsets)
-    offsets.push_back({{"room", o.room},
-                       {"truth_room", o.truth_room},
-                       {"faces", o.faces},
-                       {"offset_m", o.solved ? ojson::array({o.offset.x(), o.offset.y()})
-                                             : ojson(nullptr)}});
+    offsets.push_back(
+        {{"room", o.room},
+         {"truth_room", o.truth_room},
+         {"faces", o.faces},
+         {"offset_m", o.solved ? ojson::array({o.offset.x(), o.offset.y()}) : ojson(nullptr)}});
   j["room_offsets"] = offsets;
   j["room_alignment_m"] = Stats(e.room_alignment);
   j["doors"] = {{"truth_between_rooms", e.truth_doors},

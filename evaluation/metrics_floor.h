@@ -73,11 +73,11 @@ struct FloorTruth {
 FloorTruth MakeFloorTruth(const scenes::GroundTruth& truth, const std::vector<std::string>& rooms);
 
 struct FloorPairResult {
-  std::string wall;                   ///< floor wall id
-  std::string face_a, face_b;         ///< "<robot room>/<patch>"
-  std::string truth_a, truth_b;       ///< matched truth faces ("" unmatched)
-  double thickness = 0.0;             ///< m, the model's
-  double truth_thickness = 0.0;       ///< m, NaN when not a truth pair
+  std::string wall;              ///< floor wall id
+  std::string face_a, face_b;    ///< "<robot room>/<patch>"
+  std::string truth_a, truth_b;  ///< matched truth faces ("" unmatched)
+  double thickness = 0.0;        ///< m, the model's
+  double truth_thickness = 0.0;  ///< m, NaN when not a truth pair
   bool correct = false;
 };
 
@@ -101,11 +101,11 @@ struct FloorEvaluation {
   PatchEvaluation faces;               ///< the floor walls' faces vs the truth wall faces
   int truth_pairs = 0;                 ///< truth faces pairs that are one physical wall
   int model_pairs = 0, correct_pairs = 0;
-  int truth_pairs_found = 0;           ///< truth pairs some correct model pair matches
-  ErrorStats thickness_error;          ///< m, over correct pairs: the alignment across walls
+  int truth_pairs_found = 0;                  ///< truth pairs some correct model pair matches
+  ErrorStats thickness_error;                 ///< m, over correct pairs: the alignment across walls
   std::vector<FloorRoomOffset> room_offsets;  ///< in the model's room order
-  ErrorStats room_alignment;  ///< m, |t_a - t_b| over room pairs sharing a wall
-  int truth_doors = 0;                 ///< doors between two evaluated rooms
+  ErrorStats room_alignment;                  ///< m, |t_a - t_b| over room pairs sharing a wall
+  int truth_doors = 0;                        ///< doors between two evaluated rooms
   int merged_doors = 0, merged_correct = 0;
   int one_sided_doors = 0;  ///< truth doors between two evaluated rooms found from one side only
   ErrorStats door_side_offset;  ///< m, over correct merges: the alignment along walls

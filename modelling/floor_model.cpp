@@ -14,8 +14,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 // One room's wall patch with what the pairing needs.
 struct Face {
-  int room = -1;   // index into the input rooms
-  int patch = -1;  // index into the room's patches
+  int room = -1;           // index into the input rooms
+  int patch = -1;          // index into the room's patches
   Vec3 h = Vec3::UnitX();  // horizontal unit normal (into the room)
   Vec3 centroid = Vec3::Zero();
   double z0 = 0, z1 = 0;  // height range of the polygon
@@ -45,7 +45,8 @@ int Find(std::vector<int>& parent, int i) {
 
 // The better-observed of two sides of one door (see the file comment): true when `a` wins.
 bool Better(const DetectedOpening& a, int room_a, const DetectedOpening& b, int room_b) {
-  const bool leaf_a = std::isfinite(a.opening_angle_deg), leaf_b = std::isfinite(b.opening_angle_deg);
+  const bool leaf_a = std::isfinite(a.opening_angle_deg),
+             leaf_b = std::isfinite(b.opening_angle_deg);
   if (leaf_a != leaf_b) return leaf_a;
   if (a.confidence != b.confidence) return a.confidence > b.confidence;
   return room_a < room_b;
@@ -241,7 +242,8 @@ FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
       const FloorWall& w = out.walls[wall_of[face]];
       const Vec3 hn = Horizontal(w.plane.n).normalized();
       const auto iv = Interval(o.corners, AlongWall(hn));
-      seen.push_back({r, wall_of[face], w.faces[index_in_wall[face]].side, &o, iv.first, iv.second});
+      seen.push_back(
+          {r, wall_of[face], w.faces[index_in_wall[face]].side, &o, iv.first, iv.second});
     }
   }
   struct Candidate {
@@ -275,8 +277,8 @@ FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
   for (int a = 0; a < static_cast<int>(seen.size()); ++a) {
     if (partner[a] >= 0 && partner[a] < a) continue;
     int first = a;
-    if (partner[a] >= 0 && !Better(*seen[a].o, seen[a].room, *seen[partner[a]].o,
-                                   seen[partner[a]].room))
+    if (partner[a] >= 0 &&
+        !Better(*seen[a].o, seen[a].room, *seen[partner[a]].o, seen[partner[a]].room))
       first = partner[a];
     items.push_back({seen[a].wall, 0.5 * (seen[first].u0 + seen[first].u1), first});
   }

@@ -41,7 +41,7 @@
 namespace mopad::modelling {
 
 struct FloorModelParams {
-  double max_angle_deg = 5.0;  ///< deg, two faces of a wall are antiparallel within this, [0, 30]
+  double max_angle_deg = 5.0;   ///< deg, two faces of a wall are antiparallel within this, [0, 30]
   double min_thickness = 0.05;  ///< m, thinnest wall whose faces are joined, [0, 1]
   double max_thickness = 0.5;   ///< m, thickest wall whose faces are joined, (0, 2]
   /// m, the two faces overlap along the wall and in height by at least this, [0, 10]
@@ -95,8 +95,8 @@ struct FloorOpening {
   /// The opening as the floor holds it: id "opening_<k>", host = the FloorWall id, corners on
   /// the wall's plane; type, state, angle, clear width and confidence of the chosen side.
   DetectedOpening opening;
-  std::vector<std::string> rooms;         ///< the rooms that saw it; the chosen side first
-  std::vector<DetectedOpening> sides;     ///< each room's own SM4 opening, same order as rooms
+  std::vector<std::string> rooms;      ///< the rooms that saw it; the chosen side first
+  std::vector<DetectedOpening> sides;  ///< each room's own SM4 opening, same order as rooms
 };
 
 struct FloorModel {

@@ -1,13 +1,12 @@
 // The floor model's evaluation (evaluation/metrics_floor.h) on two rooms built in code with a
 // known thickness error and door offset.
-#include "evaluation/metrics_floor.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
 
 #include "common/error.h"
+#include "evaluation/metrics_floor.h"
 
 namespace mopad::evaluation {
 namespace {
@@ -74,8 +73,7 @@ TEST(FloorEvaluation, ThicknessErrorAndDoorOffsetAreTheRoomsMisalignment) {
     for (Vec3& c : m.openings[0].corners) c = X_MW * c;
   const modelling::FloorModel model = modelling::BuildFloorModel(sm3, sm4);
 
-  const FloorEvaluation e =
-      EvaluateFloor(model, X_WM, {{"room_1", "A"}, {"room_2", "B"}}, truth);
+  const FloorEvaluation e = EvaluateFloor(model, X_WM, {{"room_1", "A"}, {"room_2", "B"}}, truth);
   const ClassDetection& w = e.faces.detection[static_cast<int>(SurfaceClass::kWall)];
   EXPECT_EQ(w.n_truth, 8);
   EXPECT_EQ(w.tp, 8);

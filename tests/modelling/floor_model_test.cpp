@@ -64,15 +64,16 @@ StructuralModel Room(const std::string& name, double x0, double y0, double x1, d
 }
 
 // A door in `host` spanning plan x in [x0, x1] at plan y (before the pose), 2.0 m high.
-DetectedOpening Door(const std::string& id, const std::string& host, double x0, double x1,
-                     double y, double angle_deg, double confidence, const PlanPose& X = {}) {
+DetectedOpening Door(const std::string& id, const std::string& host, double x0, double x1, double y,
+                     double angle_deg, double confidence, const PlanPose& X = {}) {
   DetectedOpening o;
   o.id = id;
   o.type = OpeningType::kDoor;
   o.host = host;
   o.corners = {X(x0, y, 0), X(x1, y, 0), X(x1, y, 2.0), X(x0, y, 2.0)};
   o.opening_angle_deg = angle_deg;
-  o.state = std::isfinite(angle_deg) ? DoorStateFromAngleDeg(angle_deg, 5.0, 2.0) : DoorState::kOpen;
+  o.state =
+      std::isfinite(angle_deg) ? DoorStateFromAngleDeg(angle_deg, 5.0, 2.0) : DoorState::kOpen;
   o.clear_width_m = 0.8;
   o.confidence = confidence;
   return o;
@@ -219,16 +220,15 @@ TEST(FloorModel, FloorFilesAreSm3AndSm4FilesOfTheFloorWithUniqueIds) {
   EXPECT_EQ(sm3.room, "floor");
   std::vector<std::string> ids;
   for (const StructuralPatch& p : sm3.patches) ids.push_back(p.id);
-  EXPECT_EQ(ids, (std::vector<std::string>{"wall_1", "wall_2", "wall_3", "wall_4", "wall_5",
-                                           "wall_6", "wall_7", "floor_1", "ceiling_1",
-                                           "column_1_face_1", "floor_2", "ceiling_2",
-                                           "column_2_face_1"}));
+  EXPECT_EQ(
+      ids, (std::vector<std::string>{"wall_1", "wall_2", "wall_3", "wall_4", "wall_5", "wall_6",
+                                     "wall_7", "floor_1", "ceiling_1", "column_1_face_1", "floor_2",
+                                     "ceiling_2", "column_2_face_1"}));
   const Sm4Model sm4 = ParseSm4(FloorSm4Json(m), "sm4.json");
   ASSERT_EQ(sm4.openings.size(), 1u);
   EXPECT_EQ(sm4.openings[0].host, WallWithFace(m, "A", "wall_3")->id);
   // Read back as a floor model, the rooms keep their own patch ids.
-  const FloorModel back =
-      ParseFloorModel(FloorSm3Json(m), "sm3.json", FloorSm4Json(m), "sm4.json");
+  const FloorModel back = ParseFloorModel(FloorSm3Json(m), "sm3.json", FloorSm4Json(m), "sm4.json");
   ASSERT_EQ(back.rooms.size(), 2u);
   EXPECT_EQ(back.rooms[1].patches.back().id, "column_1_face_1");
   EXPECT_EQ(FloorSm3Json(back), FloorSm3Json(m));
