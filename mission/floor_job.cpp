@@ -236,7 +236,7 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   io::WriteTextFile((d / "trajectory_true.tum").string(), ToTum(job.drive.truth));
   job.dtt = DttJson(job.mission, job.rooms);
   io::WriteTextFile((d / "dtt.json").string(), job.dtt.dump(2) + "\n");
-  WriteFloorModel(job.mission, params.floor_model, dir);
+  WriteFloorModel(job.mission, params.floor_model, dir, progress);
   return job;
 }
 
