@@ -9,7 +9,9 @@
 //             (TruthDsm3 with the true scanner centres = scan_poses.tum mapped by X_WM);
 //   plan    - over all rooms, each room's SM3 floor polygon in the world vs the truth rooms
 //             (EvaluateFloorplan);
-//   mission - the run's own evaluation.json (coverage, registration, SM1 labels) carried over.
+//   mission - the run's own evaluation.json (coverage, registration, SM1 labels) carried over;
+//   floor   - the floor mission's floor model (RUN_DIR/floor/) against the evaluated rooms'
+//             truth walls and doors (EvaluateFloor, evaluation/metrics_floor.h).
 // Every figure is described in docs/evaluation.md.
 // Writes DIR/evaluation.json, DIR/evaluation.md (tables + inline SVG plots), per room an SVG
 // plot and the truth DSM3 (dsm3_truth_<room>.ply, dsm3.ply's format), and DIR/eval.effective.yaml;
@@ -34,6 +36,7 @@
 #include "common/format.h"
 #include "common/params.h"
 #include "evaluation/metrics_components.h"
+#include "evaluation/metrics_floor.h"
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_openings.h"
@@ -69,6 +72,7 @@ struct EvalParams {
   TruthDsm3Params dsm3;
   OpeningMatchParams openings;
   ComponentMatchParams components;
+  FloorEvalParams floor;
   double report_buffer = 0.05;  ///< m, ISPRS buffer of the summary and tables, [0, 1]
   template <class V>
   void Visit(V& v) {
@@ -79,6 +83,7 @@ struct EvalParams {
     v("dsm3", dsm3);
     v("openings", openings);
     v("components", components);
+    v("floor", floor);
     v("report_buffer", report_buffer, Bounds{0.0, 1.0});
   }
 };
@@ -114,6 +119,7 @@ Patch ToWorld(const Patch& p, const Pose3& X_WM) {
 
 struct RoomResult {
   RunInfo run;
+  std::string model_room;  // the robot's name of the room (its sm3.json "room")
   const scenes::GroundTruth* truth = nullptr;
   std::size_t model_patches = 0;
   PatchEvaluation patches;  // walls, floors, ceilings
@@ -296,6 +302,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     r.run = run;
     r.truth = truth;
     const Sm3Model sm3 = ReadSm3(run.sm3);
+    r.model_room = sm3.room;
     std::vector<Patch> model;
     for (const auto& p : sm3.patches) model.push_back(ToWorld(p.patch, run.X_WM));
     r.model_patches = model.size();
@@ -376,6 +383,22 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     }
   }
   const FloorplanResult plan = EvaluateFloorplan(predicted, truth_rooms, params.floorplan);
+
+  // The floor model (RUN_DIR/floor/, the floor mission's), against the evaluated rooms' truth.
+  std::optional<FloorEvaluation> floor;
+  const fs::path floor_dir = fs::path(run_dir) / "floor";
+  if (!results.empty() && fs::exists(floor_dir / "sm3.json")) {
+    std::map<std::string, std::string> truth_room;
+    std::vector<std::string> rooms;
+    for (const auto& r : results) {
+      truth_room[r.model_room] = r.run.room;
+      if (std::find(rooms.begin(), rooms.end(), r.run.room) == rooms.end())
+        rooms.push_back(r.run.room);
+    }
+    floor = EvaluateFloor(modelling::ReadFloorModel(floor_dir.string()),
+                          results.front().run.X_WM, truth_room,
+                          MakeFloorTruth(*results.front().truth, rooms), params.floor);
+  }
 
   // Pooled figures.
   PatchEvaluation pooled;
@@ -484,6 +507,21 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   } else {
     summary["components"] = nullptr;
   }
+  if (floor) {
+    const ClassDetection& w = floor->faces.detection[static_cast<int>(SurfaceClass::kWall)];
+    summary["floor"] = {{"wall_faces", {{"n_truth", w.n_truth}, {"tp", w.tp}, {"fp", w.fp}}},
+                        {"d_v", Ord(ToJson(floor->faces.d_v))},
+                        {"d_h", Ord(ToJson(floor->faces.d_h))},
+                        {"thickness_error_m", Ord(ToJson(floor->thickness_error))},
+                        {"room_alignment_m", Ord(ToJson(floor->room_alignment))},
+                        {"face_pairs_correct", floor->correct_pairs},
+                        {"face_pairs_truth", floor->truth_pairs},
+                        {"doors_merged_correct", floor->merged_correct},
+                        {"doors_between_rooms", floor->truth_doors},
+                        {"door_side_offset_m", Ord(ToJson(floor->door_side_offset))}};
+  } else {
+    summary["floor"] = nullptr;
+  }
   j["summary"] = summary;
   ojson rooms = ojson::array();
   for (const auto& r : results) {
@@ -511,6 +549,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   j["rooms"] = rooms;
   j["floorplan"] = Ord(ToJson(plan));
   j["dsm3_all_rooms"] = any_dsm3 ? Ord(ToJson(pooled_dsm3)) : ojson(nullptr);
+  j["floor"] = floor ? ToJson(*floor) : ojson(nullptr);
 
   const fs::path dir = out.empty() ? fs::path(run_dir) / "eval" : fs::path(out);
   fs::create_directories(dir);
@@ -549,6 +588,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
      << (any_dsm3 ? FormatFixed(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
   md << "## Floorplan (all rooms)\n\n" << MarkdownFloorplanTable(plan) << "\n";
   if (any_dsm3) md << "## DSM3 (all rooms)\n\n" << MarkdownConfusionTable(pooled_dsm3) << "\n";
+  if (floor) md << "## Floor model (floor/)\n\n" << MarkdownFloorTable(*floor) << "\n";
   if (pooled_components)
     md << "## SM5 service components (all rooms)\n\n"
        << MarkdownComponentsTable(*pooled_components) << "\n";
@@ -624,6 +664,27 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
          FormatFixed(plan.mean_truth_iou, 4).c_str(),
          plan.corners.size() > 1 ? FormatFixed(plan.corners[1].score.recall, 3).c_str() : "-",
          FormatFixed(params.report_buffer * 100, 0).c_str());
+  if (floor) {
+    const ClassDetection& w = floor->faces.detection[static_cast<int>(SurfaceClass::kWall)];
+    Append(report,
+           "floor model: %d walls (%d two-sided); wall faces %d/%d (%d FP), d_v mean %s max %s cm, "
+           "d_h mean %s max %s cm; face pairs %d/%d correct of %d truth; thickness error mean %s "
+           "max %s cm; room-to-room alignment mean %s max %s cm; doors merged %d correct of %d (%d between rooms, %d one-sided); door side "
+           "offset mean %s max %s cm\n",
+           floor->walls, floor->two_sided_walls, w.tp, w.n_truth, w.fp,
+           FormatFixed(floor->faces.d_v.mean * 100, 2).c_str(),
+           FormatFixed(floor->faces.d_v.max * 100, 2).c_str(),
+           FormatFixed(floor->faces.d_h.mean * 100, 2).c_str(),
+           FormatFixed(floor->faces.d_h.max * 100, 2).c_str(), floor->correct_pairs,
+           floor->model_pairs, floor->truth_pairs,
+           FormatFixed(floor->thickness_error.mean * 100, 2).c_str(),
+           FormatFixed(floor->thickness_error.max * 100, 2).c_str(),
+           FormatFixed(floor->room_alignment.mean * 100, 2).c_str(),
+           FormatFixed(floor->room_alignment.max * 100, 2).c_str(), floor->merged_correct,
+           floor->merged_doors, floor->truth_doors, floor->one_sided_doors,
+           FormatFixed(floor->door_side_offset.mean * 100, 2).c_str(),
+           FormatFixed(floor->door_side_offset.max * 100, 2).c_str());
+  }
   Append(report, "wrote %s/{evaluation.json,evaluation.md,isprs_*.svg,dsm3_truth_*.ply}\n",
          dir.string().c_str());
   return {report, summary, pooled_components};

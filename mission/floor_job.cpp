@@ -10,6 +10,7 @@
 #include "common/polygon.h"
 #include "common/wall_clock.h"
 #include "io/text_file.h"
+#include "mission/floor_model_job.h"
 #include "mission/model_export.h"
 #include "mission/robot_catalogue.h"
 #include "modelling/model_io.h"
@@ -237,6 +238,7 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   io::WriteTextFile((d / "trajectory_true.tum").string(), ToTum(job.drive.truth));
   job.dtt = DttJson(job.mission, job.rooms);
   io::WriteTextFile((d / "dtt.json").string(), job.dtt.dump(2) + "\n");
+  WriteFloorModel(job.mission, params.floor_model, dir, progress);
   return job;
 }
 

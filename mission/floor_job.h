@@ -7,6 +7,7 @@
 //   DIR/dtt.json                                           the Dynamic Traversal Tree
 //   DIR/rooms/<ID>/                                        per room, as `mopad room` writes
 //                                                          them, all in the one map frame
+//   DIR/floor/                                             the floor-level SM3/SM4
 // Deterministic: same world + params + seed + start -> same files (timings aside).
 
 #include <nlohmann/json.hpp>
@@ -16,6 +17,7 @@
 
 #include "autonomy/floor_scan.h"
 #include "mission/room_job.h"
+#include "modelling/floor_model.h"
 #include "mission/room_mission.h"
 #include "sim/scene_world.h"
 
@@ -24,6 +26,7 @@ namespace mopad::mission {
 /// The room loop's params, the simulated robot's (`drive`) and the floor loop's (`floor`).
 struct FloorMissionParams : RoomMissionParams {
   autonomy::FloorScanParams floor;
+  modelling::FloorModelParams floor_model;  ///< joins the rooms' SM3/SM4 into floor/
 
   FloorMissionParams();
 
@@ -31,6 +34,7 @@ struct FloorMissionParams : RoomMissionParams {
   void Visit(V& v) {
     RoomMissionParams::Visit(v);
     v("floor", floor);
+    v("floor_model", floor_model);
   }
 };
 

@@ -1,5 +1,6 @@
 #include "modelling/model_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +23,38 @@ using Json = nlohmann::ordered_json;
 double R(double v, double q = 1e-4) { return std::round(v / q) * q; }
 Json V3(const Vec3& v) { return Json::array({R(v.x()), R(v.y()), R(v.z())}); }
 Json N3(const Vec3& v) { return Json::array({R(v.x(), 1e-9), R(v.y(), 1e-9), R(v.z(), 1e-9)}); }
+
+Json PatchJson(const StructuralPatch& p) {
+  Json jp;
+  jp["id"] = p.id;
+  jp["class"] = ToString(p.patch_class);
+  jp["plane"] = {{"n", N3(p.plane.n)}, {"d", R(p.plane.d, 1e-6)}};
+  Json poly = Json::array();
+  for (const auto& v : p.polygon) poly.push_back(V3(v));
+  jp["polygon"] = std::move(poly);
+  jp["support"] = p.support;
+  jp["rms"] = R(p.rms, 1e-6);
+  jp["fitted"] = p.fitted;
+  return jp;
+}
+
+Json OpeningJson(const DetectedOpening& o) {
+  Json jo;
+  jo["id"] = o.id;
+  jo["type"] = ToString(o.type);
+  jo["host"] = o.host;
+  Json cs = Json::array();
+  for (const auto& c : o.corners) cs.push_back(V3(c));
+  jo["corners"] = std::move(cs);
+  if (o.type == OpeningType::kDoor) {
+    jo["state"] = ToString(o.state);
+    jo["opening_angle_deg"] =
+        std::isfinite(o.opening_angle_deg) ? Json(R(o.opening_angle_deg, 0.01)) : Json(nullptr);
+    jo["clear_width_m"] = R(o.clear_width_m);
+  }
+  jo["confidence"] = R(o.confidence, 1e-4);
+  return jo;
+}
 
 }  // namespace
 
@@ -64,19 +97,7 @@ std::string Sm3Json(const StructuralModel& m) {
   j["floor_z"] = R(m.floor_z);
   j["ceiling_z"] = R(m.ceiling_z);
   Json ps = Json::array();
-  for (const auto& p : m.patches) {
-    Json jp;
-    jp["id"] = p.id;
-    jp["class"] = ToString(p.patch_class);
-    jp["plane"] = {{"n", N3(p.plane.n)}, {"d", R(p.plane.d, 1e-6)}};
-    Json poly = Json::array();
-    for (const auto& v : p.polygon) poly.push_back(V3(v));
-    jp["polygon"] = std::move(poly);
-    jp["support"] = p.support;
-    jp["rms"] = R(p.rms, 1e-6);
-    jp["fitted"] = p.fitted;
-    ps.push_back(std::move(jp));
-  }
+  for (const auto& p : m.patches) ps.push_back(PatchJson(p));
   j["patches"] = std::move(ps);
   Json adj = Json::array();
   for (const auto& [a, b] : m.adjacency) adj.push_back({a, b});
@@ -90,23 +111,7 @@ std::string Sm4Json(const Sm4Model& m) {
   j["version"] = kModelFormatVersion;
   j["room"] = m.room;
   Json os = Json::array();
-  for (const auto& o : m.openings) {
-    Json jo;
-    jo["id"] = o.id;
-    jo["type"] = ToString(o.type);
-    jo["host"] = o.host;
-    Json cs = Json::array();
-    for (const auto& c : o.corners) cs.push_back(V3(c));
-    jo["corners"] = std::move(cs);
-    if (o.type == OpeningType::kDoor) {
-      jo["state"] = ToString(o.state);
-      jo["opening_angle_deg"] =
-          std::isfinite(o.opening_angle_deg) ? Json(R(o.opening_angle_deg, 0.01)) : Json(nullptr);
-      jo["clear_width_m"] = R(o.clear_width_m);
-    }
-    jo["confidence"] = R(o.confidence, 1e-4);
-    os.push_back(std::move(jo));
-  }
+  for (const auto& o : m.openings) os.push_back(OpeningJson(o));
   j["openings"] = std::move(os);
   return j.dump(1);
 }
@@ -171,6 +176,69 @@ PatchClass ParsePatchClass(const std::string& c, const std::string& where, const
   throw InputError(where, ctx + "class: unknown", c, "wall|floor|ceiling|column");
 }
 
+StructuralPatch ParsePatch(const Json& jp, const std::string& where, const std::string& ctx) {
+  StructuralPatch p;
+  p.id = StringField(jp, "id", where, ctx);
+  p.patch_class = ParsePatchClass(StringField(jp, "class", where, ctx), where, ctx);
+  const Json& plane = Field(jp, "plane", where, ctx);
+  p.plane.n = PointField(Field(plane, "n", where, ctx + "plane."), where, ctx + "plane.n");
+  p.plane.d = NumberField(plane, "d", where, ctx + "plane.");
+  const Json& poly = Field(jp, "polygon", where, ctx);
+  if (!poly.is_array() || poly.size() < 3)
+    throw InputError(where, ctx + "polygon: wrong shape", poly.dump(), "3 or more [x, y, z]");
+  for (std::size_t k = 0; k < poly.size(); ++k)
+    p.polygon.push_back(PointField(poly[k], where, ctx + "polygon"));
+  p.support = static_cast<int>(NumberField(jp, "support", where, ctx));
+  p.rms = NumberField(jp, "rms", where, ctx);
+  const Json& fitted = Field(jp, "fitted", where, ctx);
+  if (!fitted.is_boolean())
+    throw InputError(where, ctx + "fitted: wrong type", fitted.dump(), "true or false");
+  p.fitted = fitted.get<bool>();
+  return p;
+}
+
+DetectedOpening ParseOpening(const Json& jo, const std::string& where,
+                             const std::string& ctx) {
+  DetectedOpening o;
+  o.id = StringField(jo, "id", where, ctx);
+  const std::string type = StringField(jo, "type", where, ctx);
+  if (type == "door")
+    o.type = OpeningType::kDoor;
+  else if (type == "window")
+    o.type = OpeningType::kWindow;
+  else
+    throw InputError(where, ctx + "type: unknown", type, "door|window");
+  o.host = StringField(jo, "host", where, ctx);
+  const Json& cs = Field(jo, "corners", where, ctx);
+  if (!cs.is_array() || cs.size() != 4)
+    throw InputError(where, ctx + "corners: wrong shape", cs.dump(), "4 points [x, y, z]");
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (!cs[k].is_array() || cs[k].size() != 3)
+      throw InputError(where, ctx + "corners: wrong shape", cs[k].dump(), "[x, y, z]");
+    for (int a = 0; a < 3; ++a) {
+      if (!cs[k][a].is_number() || !std::isfinite(cs[k][a].get<double>()))
+        throw InputError(where, ctx + "corners: not a finite number", cs[k][a].dump());
+      o.corners[k][a] = cs[k][a].get<double>();
+    }
+  }
+  o.confidence = NumberField(jo, "confidence", where, ctx);
+  if (o.type == OpeningType::kDoor) {
+    const std::string state = StringField(jo, "state", where, ctx);
+    if (state == "closed")
+      o.state = DoorState::kClosed;
+    else if (state == "semi_open")
+      o.state = DoorState::kSemiOpen;
+    else if (state == "open")
+      o.state = DoorState::kOpen;
+    else
+      throw InputError(where, ctx + "state: unknown", state, "closed|semi_open|open");
+    const Json& a = Field(jo, "opening_angle_deg", where, ctx);
+    if (!a.is_null()) o.opening_angle_deg = NumberField(jo, "opening_angle_deg", where, ctx);
+    o.clear_width_m = NumberField(jo, "clear_width_m", where, ctx);
+  }
+  return o;
+}
+
 }  // namespace
 
 StructuralModel ParseSm3(const std::string& text, const std::string& where) {
@@ -184,25 +252,7 @@ StructuralModel ParseSm3(const std::string& text, const std::string& where) {
   if (!ps.is_array()) throw InputError(where, "patches: wrong type", "", "an array");
   for (std::size_t i = 0; i < ps.size(); ++i) {
     const std::string ctx = "patches[" + std::to_string(i) + "].";
-    const Json& jp = ps[i];
-    StructuralPatch p;
-    p.id = StringField(jp, "id", where, ctx);
-    p.patch_class = ParsePatchClass(StringField(jp, "class", where, ctx), where, ctx);
-    const Json& plane = Field(jp, "plane", where, ctx);
-    p.plane.n = PointField(Field(plane, "n", where, ctx + "plane."), where, ctx + "plane.n");
-    p.plane.d = NumberField(plane, "d", where, ctx + "plane.");
-    const Json& poly = Field(jp, "polygon", where, ctx);
-    if (!poly.is_array() || poly.size() < 3)
-      throw InputError(where, ctx + "polygon: wrong shape", poly.dump(), "3 or more [x, y, z]");
-    for (std::size_t k = 0; k < poly.size(); ++k)
-      p.polygon.push_back(PointField(poly[k], where, ctx + "polygon"));
-    p.support = static_cast<int>(NumberField(jp, "support", where, ctx));
-    p.rms = NumberField(jp, "rms", where, ctx);
-    const Json& fitted = Field(jp, "fitted", where, ctx);
-    if (!fitted.is_boolean())
-      throw InputError(where, ctx + "fitted: wrong type", fitted.dump(), "true or false");
-    p.fitted = fitted.get<bool>();
-    m.patches.push_back(std::move(p));
+    m.patches.push_back(ParsePatch(ps[i], where, ctx));
   }
   const Json& adj = Field(j, "adjacency", where, "");
   if (!adj.is_array()) throw InputError(where, "adjacency: wrong type", "", "an array");
@@ -244,45 +294,7 @@ Sm4Model ParseSm4(const std::string& text, const std::string& where) {
   if (!os.is_array()) throw InputError(where, "openings: wrong type", "", "an array");
   for (std::size_t i = 0; i < os.size(); ++i) {
     const std::string ctx = "openings[" + std::to_string(i) + "].";
-    const Json& jo = os[i];
-    DetectedOpening o;
-    o.id = StringField(jo, "id", where, ctx);
-    const std::string type = StringField(jo, "type", where, ctx);
-    if (type == "door")
-      o.type = OpeningType::kDoor;
-    else if (type == "window")
-      o.type = OpeningType::kWindow;
-    else
-      throw InputError(where, ctx + "type: unknown", type, "door|window");
-    o.host = StringField(jo, "host", where, ctx);
-    const Json& cs = Field(jo, "corners", where, ctx);
-    if (!cs.is_array() || cs.size() != 4)
-      throw InputError(where, ctx + "corners: wrong shape", cs.dump(), "4 points [x, y, z]");
-    for (std::size_t k = 0; k < 4; ++k) {
-      if (!cs[k].is_array() || cs[k].size() != 3)
-        throw InputError(where, ctx + "corners: wrong shape", cs[k].dump(), "[x, y, z]");
-      for (int a = 0; a < 3; ++a) {
-        if (!cs[k][a].is_number() || !std::isfinite(cs[k][a].get<double>()))
-          throw InputError(where, ctx + "corners: not a finite number", cs[k][a].dump());
-        o.corners[k][a] = cs[k][a].get<double>();
-      }
-    }
-    o.confidence = NumberField(jo, "confidence", where, ctx);
-    if (o.type == OpeningType::kDoor) {
-      const std::string state = StringField(jo, "state", where, ctx);
-      if (state == "closed")
-        o.state = DoorState::kClosed;
-      else if (state == "semi_open")
-        o.state = DoorState::kSemiOpen;
-      else if (state == "open")
-        o.state = DoorState::kOpen;
-      else
-        throw InputError(where, ctx + "state: unknown", state, "closed|semi_open|open");
-      const Json& a = Field(jo, "opening_angle_deg", where, ctx);
-      if (!a.is_null()) o.opening_angle_deg = NumberField(jo, "opening_angle_deg", where, ctx);
-      o.clear_width_m = NumberField(jo, "clear_width_m", where, ctx);
-    }
-    m.openings.push_back(std::move(o));
+    m.openings.push_back(ParseOpening(os[i], where, ctx));
   }
   return m;
 }
@@ -292,6 +304,232 @@ Sm4Model ReadSm4(const std::string& path) {
   if (!f) throw InputError(path, "cannot read the file");
   std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   return ParseSm4(text, path);
+}
+
+namespace {
+
+// The floor file's id of a room's floor, ceiling or column patch: column faces renumbered
+// across the floor (`column_<N + offset>_face_<K>`, so a column keeps its faces' common prefix),
+// anything else `<id>_<room number>` ("floor_2").
+std::string FloorPatchId(const std::string& id, int room_number, int column_offset,
+                         int* column_number) {
+  const std::string prefix = "column_";
+  const std::size_t face = id.find("_face_");
+  if (id.rfind(prefix, 0) == 0 && face != std::string::npos && face > prefix.size()) {
+    const std::string n = id.substr(prefix.size(), face - prefix.size());
+    if (n.find_first_not_of("0123456789") == std::string::npos && n.size() < 9) {
+      const int k = std::stoi(n);
+      *column_number = std::max(*column_number, k);
+      return prefix + std::to_string(k + column_offset) + id.substr(face);
+    }
+  }
+  return id + "_" + std::to_string(room_number);
+}
+
+}  // namespace
+
+std::string FloorSm3Json(const FloorModel& m) {
+  Json j;
+  j["format"] = "mopad-sm3";
+  j["version"] = kModelFormatVersion;
+  j["room"] = "floor";
+  double floor_z = 0.0, ceiling_z = 0.0;
+  for (std::size_t r = 0; r < m.rooms.size(); ++r) {
+    floor_z = r == 0 ? m.rooms[r].floor_z : std::min(floor_z, m.rooms[r].floor_z);
+    ceiling_z = r == 0 ? m.rooms[r].ceiling_z : std::max(ceiling_z, m.rooms[r].ceiling_z);
+  }
+  j["floor_z"] = R(floor_z);
+  j["ceiling_z"] = R(ceiling_z);
+  Json ps = Json::array();
+  for (const FloorWall& w : m.walls) {
+    StructuralPatch p;
+    p.id = w.id;
+    p.patch_class = PatchClass::kWall;
+    p.plane = w.plane;
+    p.polygon = w.polygon;
+    p.fitted = !w.faces.empty();
+    for (const WallFace& f : w.faces) {
+      p.support += f.patch.support;
+      p.rms = std::max(p.rms, f.patch.rms);
+      p.fitted = p.fitted && f.patch.fitted;
+    }
+    Json jw = PatchJson(p);
+    jw["thickness_m"] = w.TwoSided() ? Json(R(w.thickness)) : Json(nullptr);
+    jw["known_side"] = w.TwoSided() || w.faces.empty() ? Json(nullptr) : Json(w.faces[0].room);
+    Json faces = Json::array();
+    for (const WallFace& f : w.faces)
+      faces.push_back({{"room", f.room}, {"side", f.side}, {"patch", PatchJson(f.patch)}});
+    jw["faces"] = std::move(faces);
+    Json pairs = Json::array();
+    for (const WallFacePair& q : w.pairs)
+      pairs.push_back(
+          {{"faces", {q.a, q.b}}, {"thickness_m", R(q.thickness)}, {"overlap_m", R(q.overlap)}});
+    jw["pairs"] = std::move(pairs);
+    ps.push_back(std::move(jw));
+  }
+  Json rooms = Json::array();
+  int column_offset = 0;
+  for (std::size_t r = 0; r < m.rooms.size(); ++r) {
+    const StructuralModel& room = m.rooms[r];
+    int columns = 0;
+    for (const StructuralPatch& p : room.patches) {
+      StructuralPatch q = p;
+      q.id = FloorPatchId(p.id, static_cast<int>(r) + 1, column_offset, &columns);
+      Json jp = PatchJson(q);
+      jp["room"] = room.room;
+      jp["room_patch"] = p.id;
+      ps.push_back(std::move(jp));
+    }
+    column_offset += columns;
+    rooms.push_back(
+        {{"room", room.room}, {"floor_z", R(room.floor_z)}, {"ceiling_z", R(room.ceiling_z)}});
+  }
+  j["patches"] = std::move(ps);
+  j["adjacency"] = Json::array();
+  j["rooms"] = std::move(rooms);
+  return j.dump(1);
+}
+
+std::string FloorSm4Json(const FloorModel& m) {
+  Json j;
+  j["format"] = "mopad-sm4";
+  j["version"] = kModelFormatVersion;
+  j["room"] = "floor";
+  Json os = Json::array();
+  for (const FloorOpening& o : m.openings) {
+    Json jo = OpeningJson(o.opening);
+    jo["rooms"] = o.rooms;
+    Json sides = Json::array();
+    for (std::size_t k = 0; k < o.sides.size() && k < o.rooms.size(); ++k)
+      sides.push_back({{"room", o.rooms[k]}, {"opening", OpeningJson(o.sides[k])}});
+    jo["sides"] = std::move(sides);
+    os.push_back(std::move(jo));
+  }
+  j["openings"] = std::move(os);
+  return j.dump(1);
+}
+
+namespace {
+
+const Json& ArrayField(const Json& j, const char* key, const std::string& where,
+                       const std::string& ctx) {
+  const Json& v = Field(j, key, where, ctx);
+  if (!v.is_array()) throw InputError(where, ctx + key + ": wrong type", "", "an array");
+  return v;
+}
+
+}  // namespace
+
+FloorModel ParseFloorModel(const std::string& sm3_text, const std::string& sm3_where,
+                           const std::string& sm4_text, const std::string& sm4_where) {
+  FloorModel m;
+  {
+    const std::string& where = sm3_where;
+    const Json j = ParseJsonText(sm3_text, where);
+    CheckFormat(j, "mopad-sm3", where);
+    if (StringField(j, "room", where, "") != "floor" || !j.contains("rooms"))
+      throw InputError(where, "not a floor model", "room " + j["room"].dump(),
+                       "\"room\": \"floor\" and a \"rooms\" list");
+    const Json& rooms = ArrayField(j, "rooms", where, "");
+    for (std::size_t i = 0; i < rooms.size(); ++i) {
+      const std::string ctx = "rooms[" + std::to_string(i) + "].";
+      StructuralModel r;
+      r.room = StringField(rooms[i], "room", where, ctx);
+      r.floor_z = NumberField(rooms[i], "floor_z", where, ctx);
+      r.ceiling_z = NumberField(rooms[i], "ceiling_z", where, ctx);
+      m.rooms.push_back(std::move(r));
+    }
+    const Json& ps = ArrayField(j, "patches", where, "");
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const std::string ctx = "patches[" + std::to_string(i) + "].";
+      const Json& jp = ps[i];
+      StructuralPatch p = ParsePatch(jp, where, ctx);
+      if (p.patch_class != PatchClass::kWall) {
+        const std::string room = StringField(jp, "room", where, ctx);
+        auto it = std::find_if(m.rooms.begin(), m.rooms.end(),
+                               [&](const StructuralModel& r) { return r.room == room; });
+        if (it == m.rooms.end())
+          throw InputError(where, ctx + "room: not in rooms", "\"" + room + "\"", "a listed room");
+        p.id = StringField(jp, "room_patch", where, ctx);
+        it->patches.push_back(std::move(p));
+        continue;
+      }
+      FloorWall w;
+      w.id = p.id;
+      w.plane = p.plane;
+      w.polygon = p.polygon;
+      const Json& faces = ArrayField(jp, "faces", where, ctx);
+      if (faces.empty()) throw InputError(where, ctx + "faces: empty", "", "1 or more faces");
+      for (std::size_t k = 0; k < faces.size(); ++k) {
+        const std::string fctx = ctx + "faces[" + std::to_string(k) + "].";
+        WallFace f;
+        f.room = StringField(faces[k], "room", where, fctx);
+        const double side = NumberField(faces[k], "side", where, fctx);
+        if (side != 1 && side != -1)
+          throw InputError(where, fctx + "side: unknown", faces[k]["side"].dump(), "1 or -1");
+        f.side = static_cast<int>(side);
+        f.patch = ParsePatch(Field(faces[k], "patch", where, fctx), where, fctx + "patch.");
+        w.faces.push_back(std::move(f));
+      }
+      const Json& t = Field(jp, "thickness_m", where, ctx);
+      if (!t.is_null()) w.thickness = NumberField(jp, "thickness_m", where, ctx);
+      if (t.is_null() != (w.faces.size() == 1))
+        throw InputError(where, ctx + "thickness_m: does not fit the faces", t.dump(),
+                         "null for one face, a number for two or more");
+      const Json& pairs = ArrayField(jp, "pairs", where, ctx);
+      const int n = static_cast<int>(w.faces.size());
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const std::string pctx = ctx + "pairs[" + std::to_string(k) + "].";
+        const Json& ab = Field(pairs[k], "faces", where, pctx);
+        if (!ab.is_array() || ab.size() != 2 || !ab[0].is_number_integer() ||
+            !ab[1].is_number_integer() || ab[0].get<int>() < 0 || ab[0].get<int>() >= n ||
+            ab[1].get<int>() < 0 || ab[1].get<int>() >= n)
+          throw InputError(where, pctx + "faces: not a pair of face indices", ab.dump(),
+                           "[i, j] in [0, " + std::to_string(n) + ")");
+        w.pairs.push_back({ab[0].get<int>(), ab[1].get<int>(),
+                           NumberField(pairs[k], "thickness_m", where, pctx),
+                           NumberField(pairs[k], "overlap_m", where, pctx)});
+      }
+      m.walls.push_back(std::move(w));
+    }
+  }
+  const std::string& where = sm4_where;
+  const Json j = ParseJsonText(sm4_text, where);
+  CheckFormat(j, "mopad-sm4", where);
+  const Json& os = ArrayField(j, "openings", where, "");
+  for (std::size_t i = 0; i < os.size(); ++i) {
+    const std::string ctx = "openings[" + std::to_string(i) + "].";
+    FloorOpening o;
+    o.opening = ParseOpening(os[i], where, ctx);
+    const Json& sides = ArrayField(os[i], "sides", where, ctx);
+    if (sides.empty() || sides.size() > 2)
+      throw InputError(where, ctx + "sides: wrong count", std::to_string(sides.size()), "1 or 2");
+    for (std::size_t k = 0; k < sides.size(); ++k) {
+      const std::string sctx = ctx + "sides[" + std::to_string(k) + "].";
+      o.rooms.push_back(StringField(sides[k], "room", where, sctx));
+      o.sides.push_back(ParseOpening(Field(sides[k], "opening", where, sctx), where,
+                                     sctx + "opening."));
+    }
+    m.openings.push_back(std::move(o));
+  }
+  return m;
+}
+
+FloorModel ReadFloorModel(const std::string& dir) {
+  auto read = [](const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw InputError(path, "cannot read the file");
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  const std::string p3 = (std::filesystem::path(dir) / "sm3.json").string();
+  const std::string p4 = (std::filesystem::path(dir) / "sm4.json").string();
+  return ParseFloorModel(read(p3), p3, read(p4), p4);
+}
+
+void WriteFloorModelFiles(const std::string& dir, const FloorModel& model) {
+  const std::filesystem::path d(dir);
+  io::WriteTextFile((d / "sm3.json").string(), FloorSm3Json(model));
+  io::WriteTextFile((d / "sm4.json").string(), FloorSm4Json(model));
 }
 
 void WriteSm4Files(const std::string& dir, const Sm4Model& model,

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "modelling/floor_model.h"
 #include "modelling/openings.h"
 #include "modelling/orthoimage.h"
 #include "modelling/roi.h"
@@ -37,6 +38,30 @@ StructuralModel ReadSm3(const std::string& path);
 Sm4Model ParseSm4(const std::string& text, const std::string& where);
 /// Reads sm4.json (InputError if missing or malformed, see ParseSm4).
 Sm4Model ReadSm4(const std::string& path);
+/// floor/sm3.json of a FloorModel (modelling/floor_model.h; docs/models.md "The floor model"):
+/// an sm3.json ("mopad-sm3", "room": "floor", so ParseSm3 and the exports read it as the floor's
+/// SM3) whose patches are the floor walls (plane and polygon of the FloorWall; plus
+/// "thickness_m" (null: one face), "known_side" (the room of a one-face wall, else null),
+/// "faces": [{"room", "side", "patch"}], "pairs": [{"faces": [i, j], "thickness_m",
+/// "overlap_m"}]), then each room's floor, ceiling and column patches (ids made unique across
+/// the floor: "floor_2", columns renumbered; plus "room" and "room_patch", the room's own id);
+/// "adjacency" is empty; top-level "rooms": [{"room", "floor_z", "ceiling_z"}].
+std::string FloorSm3Json(const FloorModel& model);
+/// floor/sm4.json: an sm4.json ("mopad-sm4", "room": "floor") whose openings' "host" is a floor
+/// wall, plus per opening "rooms" and "sides": [{"room", "opening"}] (each room's own SM4
+/// opening, the chosen side first).
+std::string FloorSm4Json(const FloorModel& model);
+/// Parses both floor files; `*_where` name them in errors. InputError for a wrong format or
+/// version, an sm3.json that is not a floor's (room "floor" with "rooms"), a missing or
+/// mistyped field, a room patch of an unlisted room, a wall without faces, a thickness that
+/// does not fit the face count (null exactly for one face), a face side other than 1 or -1, a
+/// pair index out of range, an opening with no side or more than two. The openings' (u, v) rectangles are left 0.
+FloorModel ParseFloorModel(const std::string& sm3_text, const std::string& sm3_where,
+                           const std::string& sm4_text, const std::string& sm4_where);
+/// Reads `<dir>/sm3.json` and `<dir>/sm4.json` (InputError if missing or malformed).
+FloorModel ReadFloorModel(const std::string& dir);
+/// Writes `<dir>/sm3.json` and `<dir>/sm4.json`; `dir` must exist. InputError on I/O failure.
+void WriteFloorModelFiles(const std::string& dir, const FloorModel& model);
 /// Writes `<dir>/sm4.json` and, per image, `<dir>/orthoimages/<patch id>_colour.png` and
 /// `_depth.png` (WriteOrthoimagePngs). `dir` must exist; InputError on I/O failure.
 void WriteSm4Files(const std::string& dir, const Sm4Model& model,

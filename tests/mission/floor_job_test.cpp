@@ -1,6 +1,7 @@
 // The floor mission (mission/floor_job.h) on scenes/two_rooms_door.yaml: R1 [0,5]x[0,4] and R2
 // [5.2,10]x[0,4] joined by door D1 at (5.1, 2). One robot starts in R1; through the open door
-// it must visit R2 by driving (no teleport), through the closed one it must not, and say why.
+// it must visit R2 by driving (no teleport), through the closed one it must not, and say why;
+// floor/ joins the two rooms' faces of the wall between them and the door seen from both.
 #include "mission/floor_job.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "modelling/model_io.h"
 #include "sim/scene_world.h"
 
 namespace mopad::mission {
@@ -61,6 +63,21 @@ TEST(FloorJob, VisitsTheSecondRoomThroughTheOpenDoorByDriving) {
     EXPECT_EQ(run["X_WM"], nlohmann::json::parse(
                                std::ifstream(fs::path(dir) / "rooms" / "R1" / "run.json"))["X_WM"]);
   }
+  // floor/: the 0.2 m wall between R1 and R2 is one wall of both rooms, D1 one door of both.
+  const modelling::FloorModel floor = modelling::ReadFloorModel((fs::path(dir) / "floor").string());
+  int shared = 0;
+  for (const modelling::FloorWall& w : floor.walls)
+    if (w.TwoSided()) {
+      ++shared;
+      EXPECT_NEAR(w.thickness, 0.2, 0.02) << w.id;
+      ASSERT_EQ(w.faces.size(), 2u);
+      EXPECT_NE(w.faces[0].room, w.faces[1].room);
+    }
+  EXPECT_EQ(shared, 1);
+  int doors_of_both = 0;
+  for (const modelling::FloorOpening& o : floor.openings)
+    doors_of_both += o.opening.type == modelling::OpeningType::kDoor && o.rooms.size() == 2;
+  EXPECT_EQ(doors_of_both, 1);
   fs::remove_all(dir);
 }
 

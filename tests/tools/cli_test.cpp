@@ -203,7 +203,7 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
     EXPECT_EQ(ja.dump(), jb.dump()) << "eval/evaluation.json differs between two runs";
   }
   for (const char* f : {"/rooms/R1/sm1.ply", "/rooms/R1/sm3.json", "/rooms/R1/trajectory_true.tum",
-                        "/rooms/R1/scans.json"}) {
+                        "/rooms/R1/scans.json", "/floor/sm3.json", "/floor/sm4.json"}) {
     std::ifstream fa(d + "/a" + f, std::ios::binary), fb(d + "/b" + f, std::ios::binary);
     std::string sa((std::istreambuf_iterator<char>(fa)), {});
     std::string sb((std::istreambuf_iterator<char>(fb)), {});
