@@ -98,6 +98,8 @@ void AddPatches(const ModelSet& set, std::vector<Element>& out) {
       continue;
     }
     e.id = set.id + "/" + p.id;
+    if (const auto t = set.wall_thickness.find(p.id); t != set.wall_thickness.end())
+      e.properties["thickness_m"] = t->second;
     e.class_name = modelling::ToString(p.patch_class);
     e.kind = p.patch_class == PatchClass::kWall    ? ElementKind::kWall
              : p.patch_class == PatchClass::kFloor ? ElementKind::kFloor

@@ -73,8 +73,13 @@ class IfcBuilder {
   void Pset(int product, const std::string& name, const std::string& id,
             const std::vector<std::pair<std::string, std::string>>& values);
   void ElementPset(int product, const Element& e);
+  /// Where a wall's body lies along its into-the-wall axis (-normal), from its polygon's plane.
+  struct Span {
+    double start = 0.0, depth = 0.0;  ///< m
+  };
+  Span WallSpan(const Element& wall) const;
   int Wall(const Element& e);
-  int Opening(const Element& e, int host_product);
+  int Opening(const Element& e, const Element& host, int host_product);
   int Component(const Element& e);
   void Relations();
 
@@ -174,20 +179,30 @@ void IfcBuilder::ElementPset(int product, const Element& e) {
         {"Class", "IFCLABEL(" + StepString(e.class_name) + ")"}});
 }
 
+IfcBuilder::Span IfcBuilder::WallSpan(const Element& wall) const {
+  const auto t = wall.properties.find("thickness_m");
+  if (t != wall.properties.end() && t->is_number() && t->get<double>() > 0.0)
+    return {-0.5 * t->get<double>(), t->get<double>()};  // polygon on the axis plane
+  return {0.0, params_.wall_thickness};                  // polygon on the room's face
+}
+
 int IfcBuilder::Wall(const Element& e) {
-  const Vec3 z = -e.normal;  // away from the room, into the wall
-  const int body = Body(e.polygon, {e.polygon.front(), HorizontalX(z), z}, params_.wall_thickness);
+  const Vec3 z = -e.normal;  // away from the room (or the axis plane's +n side), into the wall
+  const Span span = WallSpan(e);
+  const int body =
+      Body(e.polygon, {e.polygon.front() + z * span.start, HorizontalX(z), z}, span.depth);
   ++counts_.walls;
   return Product("IfcWall", e, body, "$,.SOLIDWALL.");
 }
 
 // The void in the host wall and the door or window that fills it.
-int IfcBuilder::Opening(const Element& e, int host_product) {
+int IfcBuilder::Opening(const Element& e, const Element& host, int host_product) {
   const Vec3 z = -e.normal;
   const Vec3 x = HorizontalX(z);
   const double margin = params_.opening_margin;
-  const int void_body =
-      Body(e.polygon, {e.polygon.front() - z * margin, x, z}, params_.wall_thickness + 2 * margin);
+  const Span span = WallSpan(host);
+  const int void_body = Body(e.polygon, {e.polygon.front() + z * (span.start - margin), x, z},
+                             span.depth + 2 * margin);
   Element hole = e;
   hole.id = e.id + "/void";
   hole.class_name = "opening";
@@ -197,7 +212,7 @@ int IfcBuilder::Opening(const Element& e, int host_product) {
       Gid(e.id + "/voids") + ",$,$,$," + StepRef(host_product) + "," + StepRef(opening));
   const bool door = e.kind == ElementKind::kDoor;
   const double t = door ? params_.leaf_thickness : params_.pane_thickness;
-  const double inset = 0.5 * (params_.wall_thickness - t);  // the leaf in mid-wall
+  const double inset = span.start + 0.5 * (span.depth - t);  // the leaf in mid-wall
   const int body = Body(e.polygon, {e.polygon.front() + z * inset, x, z}, t);
   // OverallHeight, OverallWidth at 0.1 mm (the model files' resolution).
   const auto mm01 = [](double v) { return StepReal(std::round(v * 1e4) / 1e4); };
@@ -307,7 +322,7 @@ std::string IfcBuilder::Build(IfcCounts* counts) {
       ++counts_.columns;
     } else if (e.kind == ElementKind::kDoor || e.kind == ElementKind::kWindow) {
       if (e.host < 0 || product_of[e.host] == 0) continue;  // no wall to void: left out
-      p = Opening(e, product_of[e.host]);
+      p = Opening(e, model_.elements[static_cast<std::size_t>(e.host)], product_of[e.host]);
     } else {
       p = Component(e);
       const auto it = space_of_room_.find(e.room);

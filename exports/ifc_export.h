@@ -5,14 +5,16 @@
 // (IfcColumn), doors and windows (IfcDoor / IfcWindow filling an IfcOpeningElement that voids
 // the host wall) contained in the storey; service components (ComponentIfcClass) contained in
 // their room's space. Every product has a swept-solid body (IfcExtrudedAreaSolid of an
-// IfcArbitraryClosedProfileDef): a wall its SM3 polygon extruded away from the room by the wall
-// thickness, a slab its floor polygon extruded down, a covering its ceiling polygon extruded up,
-// a column its plan hull from bottom to top, an opening its hole through the wall, a door or
-// window a leaf or pane in the hole, a component its box (size, or a default when unknown).
-// Property sets MoPAD_Element (every product: id, room, class), MoPAD_Opening (state, opening
-// angle, clear width, confidence, host) and MoPAD_Component (class, alpha, found_by, host).
-// SI units (metre, square metre, cubic metre, radian); no owner history (optional in IFC4).
-// GlobalIds: io::IfcGlobalId(content key + element id): the same run gives the same bytes.
+// IfcArbitraryClosedProfileDef): a wall seen from both rooms (floor/ model) its axis polygon
+// extruded by its measured thickness to both sides, a wall seen from one side its SM3 polygon
+// extruded away from the room by the assumed wall thickness, a slab its floor polygon extruded
+// down, a covering its ceiling polygon extruded up, a column its plan hull from bottom to top, an
+// opening its hole through the wall, a door or window a leaf or pane in the hole, a component its
+// box (size, or a default when unknown). Property sets MoPAD_Element (every product: id, room,
+// class), MoPAD_Opening (state, opening angle, clear width, confidence, host) and MoPAD_Component
+// (class, alpha, found_by, host). SI units (metre, square metre, cubic metre, radian); no owner
+// history (optional in IFC4). GlobalIds: io::IfcGlobalId(content key + element id): the same run
+// gives the same bytes.
 
 #include <string>
 
@@ -20,9 +22,10 @@
 
 namespace mopad::exports {
 
-/// Thicknesses the model files do not carry (the robot sees one face of each wall).
+/// Thicknesses the model files do not carry.
 struct IfcExportParams {
-  double wall_thickness = 0.10;          ///< m, walls extruded away from the room, (0, 2]
+  /// m, walls with one face seen (no measured thickness) extruded away from the room, (0, 2]
+  double wall_thickness = 0.10;
   double slab_thickness = 0.20;          ///< m, floors extruded down, (0, 2]
   double covering_thickness = 0.02;      ///< m, ceilings extruded up, (0, 1]
   double leaf_thickness = 0.04;          ///< m, door leaves (modelled closed in the hole), (0, 0.5]

@@ -101,7 +101,12 @@ ModelSet ReadModelSet(const fs::path& dir, const std::string& id, std::uint64_t&
     key = DeriveKey(key, HashName(text));
     return text;
   };
-  s.sm3 = modelling::ParseSm3(absorb(ReadText(dir / "sm3.json")), (dir / "sm3.json").string());
+  const std::string sm3_text = absorb(ReadText(dir / "sm3.json"));
+  s.sm3 = modelling::ParseSm3(sm3_text, (dir / "sm3.json").string());
+  for (const Json& p : ParseJson(sm3_text, (dir / "sm3.json").string()).value("patches", Json()))
+    if (p.is_object() && p.contains("thickness_m") && p["thickness_m"].is_number() &&
+        p.contains("id") && p["id"].is_string())
+      s.wall_thickness[p["id"].get<std::string>()] = p["thickness_m"].get<double>();
   if (fs::exists(dir / "sm4.json"))
     s.sm4 = modelling::ParseSm4(absorb(ReadText(dir / "sm4.json")), (dir / "sm4.json").string());
   if (fs::exists(dir / "sm5.json"))

@@ -15,6 +15,7 @@
 // file. A missing optional file (sm4, sm5, sm1, scans.json) only leaves its part out.
 
 #include <Eigen/Geometry>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +57,9 @@ struct ModelSet {
   std::optional<Sm5Model> sm5;
   std::string sm1_path;            ///< "" when absent
   std::vector<double> scan_times;  ///< s, sim time of scan i (scans.json); empty when absent
+  /// floor/sm3.json: measured thickness (m) of each two-sided floor wall, by patch id; a wall
+  /// not listed has one face (its other side unknown)
+  std::map<std::string, double> wall_thickness;
 };
 
 struct RunFolder {

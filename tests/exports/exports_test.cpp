@@ -16,6 +16,7 @@
 #include <optional>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "common/error.h"
@@ -336,6 +337,35 @@ TEST(ExportsFrames, AFloorModelReplacesTheRoomsElementsButNotTheirSpaces) {
   EXPECT_EQ(CountEntities(ifc, "IFCSPACE"), 1);   // from rooms/R1
   EXPECT_EQ(CountEntities(ifc, "IFCOUTLET"), 1);  // components stay with the rooms
   EXPECT_NE(ifc.find("'floor/wall_1'"), std::string::npos);
+}
+
+TEST(ExportsIfc, AWallSeenFromBothRoomsTakesItsMeasuredThicknessAboutItsAxisPlane) {
+  const std::string dir = MakeRun("exp_floor_thickness", /*with_sm1=*/false);
+  fs::create_directories(fs::path(dir) / "floor");
+  modelling::StructuralModel floor = Room();
+  floor.room = "floor";
+  floor.patches.resize(3);
+  nlohmann::json j = nlohmann::json::parse(modelling::Sm3Json(floor));
+  j["patches"][0]["thickness_m"] = 0.24;     // wall_1: two faces, 0.24 m apart
+  j["patches"][1]["thickness_m"] = nullptr;  // wall_2: one face
+  WriteText(fs::path(dir) / "floor" / "sm3.json", j.dump());
+  WriteExports(dir, {ExportKind::kIfc});
+  const std::string ifc = ReadBytes(dir + "/export/model.ifc");
+  const auto solids_of_depth = [&](const std::string& depth) {
+    int n = 0;
+    std::istringstream lines(ifc);
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("IFCEXTRUDEDAREASOLID(") != std::string::npos &&
+          line.find("," + depth + ");") != std::string::npos)
+        ++n;
+    return n;
+  };
+  EXPECT_EQ(solids_of_depth("0.24"), 1);  // wall_1
+  EXPECT_EQ(solids_of_depth("0.1"), 2);   // wall_2, wall_3: the assumed thickness
+  // wall_1 lies on y = 0, its normal +y: its body starts 0.12 m on the +y side of the axis
+  // plane (at its first vertex, (4, 0, 0)) and is extruded 0.24 m toward -y.
+  ASSERT_EQ(floor.patches[0].plane.n, Vec3(0, 1, 0));
+  EXPECT_NE(ifc.find("IFCCARTESIANPOINT((4.,0.12,0.));"), std::string::npos);
 }
 
 // Runs `node tools/validators/<script> FILE MODULES`; nullopt when node or `package` is absent.
