@@ -19,8 +19,8 @@ namespace {
 
 double YawOf(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 
-constexpr double kOnWall = 0.3;      // m, an opening this near a gap's wall line lies on it
-constexpr double kGapHeight = 2.0;   // m, nominal top of a gap's door record
+constexpr double kOnWall = 0.3;     // m, an opening this near a gap's wall line lies on it
+constexpr double kGapHeight = 2.0;  // m, nominal top of a gap's door record
 
 class FloorMission {
  public:
@@ -199,7 +199,8 @@ class FloorMission {
     const double len = g.width();
     for (const modelling::DetectedOpening& o : sm4.openings) {
       const Vec2 c0 = o.corners[0].head<2>(), c1 = o.corners[1].head<2>();
-      if (std::abs((c0 - g.a).dot(g.inward)) > kOnWall || std::abs((c1 - g.a).dot(g.inward)) > kOnWall)
+      if (std::abs((c0 - g.a).dot(g.inward)) > kOnWall ||
+          std::abs((c1 - g.a).dot(g.inward)) > kOnWall)
         continue;
       const double u0 = (c0 - g.a).dot(t), u1 = (c1 - g.a).dot(t);
       if (std::max(u0, u1) > 0.0 && std::min(u0, u1) < len) return true;
@@ -221,8 +222,8 @@ class FloorMission {
     const Vec2 t(-g.inward.y(), g.inward.x());  // (c1 - c0) x up points into the room
     const bool forward = (g.b - g.a).dot(t) > 0.0;
     const Vec2 a = forward ? g.a : g.b, b = forward ? g.b : g.a;
-    d.corners = {Vec3(a.x(), a.y(), 0.0), Vec3(b.x(), b.y(), 0.0),
-                 Vec3(b.x(), b.y(), kGapHeight), Vec3(a.x(), a.y(), kGapHeight)};
+    d.corners = {Vec3(a.x(), a.y(), 0.0), Vec3(b.x(), b.y(), 0.0), Vec3(b.x(), b.y(), kGapHeight),
+                 Vec3(a.x(), a.y(), kGapHeight)};
     return d;
   }
 

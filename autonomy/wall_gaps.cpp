@@ -41,8 +41,8 @@ std::vector<WallGap> WallGaps(const perception::OccupancyGrid& grid,
       for (double d = -params.inside_tolerance; d <= params.wall_band + 1e-9; d += step)
         if (StateAt(grid, q - d * inward) == CellState::kOccupied) v = Sample::kBlocked;
       if (v != Sample::kBlocked)
-        for (double d = grid.Resolution();
-             d <= params.wall_band + params.see_through_depth + 1e-9; d += step)
+        for (double d = grid.Resolution(); d <= params.wall_band + params.see_through_depth + 1e-9;
+             d += step)
           if (StateAt(grid, q - d * inward) == CellState::kFree) v = Sample::kSeenThrough;
       s[static_cast<std::size_t>(k)] = v;
     }
@@ -66,8 +66,7 @@ std::vector<WallGap> WallGaps(const perception::OccupancyGrid& grid,
       g.a = p0 + (a * step) * t;
       g.b = p0 + ((b - 1) * step) * t;
       g.inward = inward;
-      if (seen && g.width() >= params.min_width && g.width() <= params.max_width)
-        gaps.push_back(g);
+      if (seen && g.width() >= params.min_width && g.width() <= params.max_width) gaps.push_back(g);
       k = b;
     }
   }

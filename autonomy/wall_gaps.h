@@ -44,8 +44,8 @@ struct WallGapParams {
 
 /// A gap in one perimeter edge, in the map frame.
 struct WallGap {
-  int edge = -1;                ///< perimeter edge index (from vertex `edge` to `edge + 1`)
-  Vec2 a = Vec2::Zero();        ///< m, the gap's ends on the perimeter line
+  int edge = -1;          ///< perimeter edge index (from vertex `edge` to `edge + 1`)
+  Vec2 a = Vec2::Zero();  ///< m, the gap's ends on the perimeter line
   Vec2 b = Vec2::Zero();
   Vec2 inward = Vec2::UnitX();  ///< unit, plan normal into the room
   double width() const { return (b - a).norm(); }

@@ -71,8 +71,7 @@ TEST(WallGaps, GapsOutsideTheWidthRangeAreNotDoorways) {
 }
 
 TEST(WallGaps, AClosedWallIsNoGap) {
-  EXPECT_TRUE(
-      WallGaps(TwoRooms(1.0, 1.9, CellState::kOccupied), kRoom, WallGapParams{}).empty());
+  EXPECT_TRUE(WallGaps(TwoRooms(1.0, 1.9, CellState::kOccupied), kRoom, WallGapParams{}).empty());
 }
 
 TEST(WallGaps, AWallAt45DegreesWithAGap) {

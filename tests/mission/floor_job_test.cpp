@@ -5,6 +5,7 @@
 #include "mission/floor_job.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -31,7 +32,8 @@ std::string Spec() { return std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_d
 
 TEST(FloorJob, VisitsTheSecondRoomThroughTheOpenDoorByDriving) {
   const sim::SceneWorld mw = sim::LoadSceneWorld(Spec());
-  const std::string dir = (fs::temp_directory_path() / "mopad_floor_open").string();
+  const std::string dir =
+      (fs::temp_directory_path() / ("mopad_floor_open_" + std::to_string(::getpid()))).string();
   fs::remove_all(dir);
   const FloorJob job = RunFloorJob(mw, Params(), Pose2{1.5, 2.0, 0.0}, dir, false);
   ASSERT_EQ(job.rooms.size(), 2u) << job.mission.end_reason;
@@ -83,7 +85,8 @@ TEST(FloorJob, VisitsTheSecondRoomThroughTheOpenDoorByDriving) {
 
 TEST(FloorJob, AClosedDoorIsSeenNotEnteredAndTheMissionFinishes) {
   const sim::SceneWorld mw = sim::LoadSceneWorld(Spec(), {"D1=0"});
-  const std::string dir = (fs::temp_directory_path() / "mopad_floor_closed").string();
+  const std::string dir =
+      (fs::temp_directory_path() / ("mopad_floor_closed_" + std::to_string(::getpid()))).string();
   fs::remove_all(dir);
   const FloorJob job = RunFloorJob(mw, Params(), Pose2{1.5, 2.0, 0.0}, dir, false);
   ASSERT_EQ(job.rooms.size(), 1u);

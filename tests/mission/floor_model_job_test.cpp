@@ -3,6 +3,7 @@
 #include "mission/floor_model_job.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 
@@ -33,7 +34,9 @@ autonomy::FloorRoom Room(const std::string& name, double y0, double y1) {
 }
 
 TEST(FloorModelJob, WritesTheFloorOfTheModelledRoomsAndRefusesBadModelsExplained) {
-  const std::string dir = (fs::temp_directory_path() / "mopad_floor_model_job").string();
+  const std::string dir =
+      (fs::temp_directory_path() / ("mopad_floor_model_job_" + std::to_string(::getpid())))
+          .string();
   fs::remove_all(dir);
   autonomy::FloorScanResult mission;
   mission.rooms = {Room("room_1", 0, 3), Room("room_2", 3.2, 6), Room("room_3", 7, 9)};
