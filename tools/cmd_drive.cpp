@@ -56,6 +56,9 @@ void RegisterDriveCommand(CLI::App& app) {
   cmd->add_option("--config", *config, "YAML overriding DriveParams fields");
   cmd->add_option("--door", *doors, "ID=DEG: set a door's opening angle (spec .yaml only)");
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/drive");
+  cmd->footer(
+      "Writes DIR/trajectory_estimated.tum, trajectory_true.tum, map.png, map.yaml, "
+      "map_path.png and summary.json (docs/navigation.md).");
   cmd->callback([=] {
     mission::DriveParams params;
     if (!config->empty()) params = LoadParamsFile<mission::DriveParams>(*config);

@@ -38,6 +38,9 @@ void RegisterEvalCommand(CLI::App& app) {
                   "Truth sidecar (scene.truth.json) overriding the scene's");
   cmd->add_option("--config", *config, "YAML overriding the evaluation parameters");
   cmd->add_option("-o,--output", *out, "Output folder (default: RUN_DIR/eval)");
+  cmd->footer(
+      "Writes DIR/evaluation.json, evaluation.md, isprs_<room>.svg, dsm3_truth_<room>.ply and "
+      "eval.effective.yaml; DIR is RUN_DIR/eval unless -o (docs/evaluation.md).");
   cmd->callback([=] {
     std::fputs(evaluation::EvaluateRun(*run_dir, *truth_file, *config, *out).tables.c_str(),
                stdout);

@@ -36,6 +36,11 @@ void RegisterRoomCommand(CLI::App& app) {
   cmd->add_option("--config", *config, "YAML overriding RoomMissionParams fields");
   cmd->add_flag("--no-eval", *no_eval, "Skip the evaluation against the truth");
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/room");
+  cmd->footer(
+      "Writes DIR/sm1.ply, sm2.json, sm3.json, sm4.json, sm5.json, dsm3.ply, models.glb, "
+      "orthoimages/, scans.json, model.json, run.json, scan_poses.tum, trajectory_true.tum, "
+      "trajectory_estimated.tum, map.png, map.yaml, summary.json, room.effective.yaml and, unless "
+      "--no-eval, evaluation.json (docs/models.md, docs/room-scanning.md).");
   cmd->callback([=] {
     mission::RoomMissionParams params;
     if (!config->empty()) params = LoadParamsFile<mission::RoomMissionParams>(*config);

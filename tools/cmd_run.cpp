@@ -116,7 +116,8 @@ void RegisterRunCommand(CLI::App& app) {
   cmd->add_flag("-q,--quiet", *quiet, "No progress lines (results and errors only)");
   cmd->footer(
       "Writes DIR/summary.json, report.html, report.md, dtt.json, trajectory_true.tum, "
-      "trajectory_estimated.tum (floor mission), rooms/<ID>/ (models, scans, evaluation), "
+      "trajectory_estimated.tum and floor/ (sm3.json, sm4.json: the floor model) for the floor "
+      "mission, rooms/<ID>/ (models, scans, evaluation), "
       "eval/ and export/ (model.ifc, model.glb, sm1.las; docs/exports.md).");
   cmd->callback([=] {
     const auto t_start = WallClock::now();

@@ -57,6 +57,7 @@ void RegisterSceneCommands(CLI::App& app) {
     cmd->add_option("-o,--output", *out, "Output folder")->required();
     cmd->add_option("--seed", *seed, "Override the spec's seed (furniture, rule-based BSCs)")
         ->check(CLI::NonNegativeNumber);
+    cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, spec.effective.yaml.");
     cmd->callback([=] {
       scenes::SceneSpec s = scenes::LoadSceneSpec(*spec);
       if (*seed >= 0) s.seed = static_cast<std::uint64_t>(*seed);
@@ -71,6 +72,7 @@ void RegisterSceneCommands(CLI::App& app) {
     cmd->add_option("--seed", *seed, "Seed of the layout")->required();
     cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10")->default_val(5);
     cmd->add_option("-o,--output", *out, "Output folder")->required();
+    cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, spec.effective.yaml.");
     cmd->callback([=] { GenerateAndWrite(scenes::RandomFloorSpec(*seed, *rooms), *out); });
   }
   {
@@ -126,6 +128,7 @@ void RegisterSceneCommands(CLI::App& app) {
     cmd->add_option("--plane-tolerance", p->plane_tolerance,
                     "Largest distance of a wall/floor/ceiling face from the space boundary, m")
         ->default_val(0.003);
+    cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md).");
     cmd->callback([=] {
       scenes::BimImportParams params = *p;
       params.door_angles_deg = scenes::ParseDoorAngles(*doors);
@@ -194,6 +197,7 @@ void RegisterSceneCommands(CLI::App& app) {
     cmd->add_option("--pixel-size", *pixel, "Metres per image pixel")
         ->check(CLI::Range(0.0002, 0.05))
         ->default_val(0.002);
+    cmd->footer("Writes DIR/catalogue.yaml and per model <class>_colour.ppm and <class>_depth.pfm.");
     cmd->callback([=] {
       const auto catalogue = scenes::MakeObjectModelCatalogue(*pixel);
       interfaces::WriteCatalogue(catalogue, *out);
