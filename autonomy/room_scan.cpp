@@ -54,11 +54,12 @@ perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
 perception::RegistrationAcceptanceParams RoomScanParams::DefaultEntryAcceptance() {
   perception::RegistrationAcceptanceParams p;
   // Just beyond a door the localiser has little of the new room in its map: its yaw can be
-  // several degrees off (2.5 deg measured on a random floor). The ICP's own checks (fitness,
-  // residual, free space, conditioning) reject wrong minima; the bounds only stop a jump to
-  // another door frame.
+  // several degrees off (docs/floor-mission.md). The ICP's own checks (fitness, residual, free
+  // space, conditioning) reject wrong minima; the bounds only stop a jump to another door
+  // frame. The yaw bound moves the door frame the scan stands 1.3 m behind by at most
+  // sin(10 deg) x 1.3 m = 0.23 m, within the translation bound.
   p.max_correction = 0.3;
-  p.max_correction_deg = 5.0;
+  p.max_correction_deg = 10.0;
   return p;
 }
 
@@ -143,9 +144,11 @@ bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
   const Eigen::Matrix2d cov = navigator.Localisation().covariance.topLeftCorner<2, 2>();
   const double sigma = std::sqrt(
       std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff()));
-  const bool use = perception::AcceptRegistration(r, prior, icp, acceptance, sigma).use;
-  if (use) navigator.CorrectLastScanPose(r.X_MS);
-  return use;
+  const perception::RegistrationDecision d =
+      perception::AcceptRegistration(r, prior, icp, acceptance, sigma);
+  r.message = d.message;  // the logs say whether the result was used, and why not
+  if (d.use) navigator.CorrectLastScanPose(r.X_MS);
+  return d.use;
 }
 
 RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,

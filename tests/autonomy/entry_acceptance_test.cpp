@@ -1,0 +1,63 @@
+// The acceptance policy of a room's first scan just beyond a door (RoomScanParams's
+// entry_registration_acceptance): it takes the yaw a localiser loses in a door passage and
+// still refuses a jump to another door frame.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "autonomy/floor_scan.h"
+#include "autonomy/room_scan.h"
+#include "common/frames.h"
+
+namespace mopad::autonomy {
+namespace {
+
+// A registration that converged, fits and constrains every direction, `dx` m along x and `dyaw`
+// deg of yaw from the identity prior.
+perception::RegistrationResult Registered(double dx, double dyaw_deg) {
+  perception::RegistrationResult r;
+  r.ok = r.converged = true;
+  r.fitness = 0.6;
+  r.rmse = 0.01;
+  r.iterations = 20;
+  r.X_MS = Eigen::Translation3d(dx, 0.0, 1.4) *
+           Eigen::AngleAxisd(DegToRad(dyaw_deg), Eigen::Vector3d::UnitZ());
+  r.message = "registration ok";
+  return r;
+}
+
+TEST(EntryAcceptance, TakesTheYawALocaliserLosesInADoorPassage) {
+  const RoomScanParams p;
+  const Eigen::Isometry3d prior =
+      Eigen::Translation3d(0.0, 0.0, 1.4) * Eigen::Isometry3d::Identity();
+  // 5.2 deg and 6 cm: a door passage on an imported house; 2.5 deg on a random floor.
+  for (const double yaw : {2.5, 5.2, 8.0}) {
+    const auto d = perception::AcceptRegistration(Registered(0.06, yaw), prior, p.entry_icp,
+                                                  p.entry_acceptance, 0.01);
+    EXPECT_TRUE(d.use) << yaw << " deg: " << d.message;
+  }
+}
+
+TEST(EntryAcceptance, RefusesAJumpToAnotherDoorFrameAndARoomTurnedBySymmetry) {
+  const RoomScanParams p;
+  const Eigen::Isometry3d prior =
+      Eigen::Translation3d(0.0, 0.0, 1.4) * Eigen::Isometry3d::Identity();
+  const auto jump = perception::AcceptRegistration(Registered(0.9, 0.0), prior, p.entry_icp,
+                                                   p.entry_acceptance, 0.01);
+  EXPECT_FALSE(jump.use) << jump.message;
+  const auto turned = perception::AcceptRegistration(Registered(0.0, 90.0), prior, p.entry_icp,
+                                                     p.entry_acceptance, 0.01);
+  EXPECT_FALSE(turned.use) << turned.message;
+  EXPECT_NE(turned.message.find("refused"), std::string::npos);
+}
+
+TEST(EntryAcceptance, TheYawBoundMovesTheDoorFrameNoMoreThanTheTranslationBound) {
+  const RoomScanParams p;
+  const double door_frame = FloorScanParams{}.door_exit;  // m, the first scan behind the frame
+  EXPECT_LE(std::sin(DegToRad(p.entry_acceptance.max_correction_deg)) * door_frame,
+            p.entry_acceptance.max_correction);
+}
+
+}  // namespace
+}  // namespace mopad::autonomy
