@@ -13,6 +13,7 @@
 #include "mission/floor_model_job.h"
 #include "mission/model_export.h"
 #include "mission/robot_catalogue.h"
+#include "mission/run_checkpoint.h"
 #include "modelling/model_io.h"
 #include "modelling/openings.h"
 #include "modelling/sm5_io.h"
@@ -85,8 +86,14 @@ nlohmann::ordered_json DttJson(const autonomy::FloorScanResult& m,
 class FloorWorld {
  public:
   FloorWorld(const sim::SceneWorld& mw, const FloorMissionParams& params, RobotSession& session,
-             const std::string& dir, bool evaluate)
-      : mw_(mw), params_(params), session_(session), dir_(dir), evaluate_(evaluate) {}
+             const std::string& dir, bool evaluate,
+             const std::function<void(const RoomBoundary&)>& room_boundary)
+      : mw_(mw),
+        params_(params),
+        session_(session),
+        dir_(dir),
+        evaluate_(evaluate),
+        room_boundary_(room_boundary) {}
 
   autonomy::FloorScanHooks Hooks(const std::function<void(const std::string&)>& progress) {
     autonomy::FloorScanHooks h;
@@ -125,6 +132,22 @@ class FloorWorld {
     r.seconds = SecondsSince(t_room_);
     rooms_.push_back(std::move(r));
     labels_.reset();
+    if (room_boundary_) room_boundary_(Boundary(rooms_.back()));
+  }
+
+  RoomBoundary Boundary(const FloorRoomJob& r) const {
+    RoomBoundary b;
+    b.robot_room = r.robot_room;
+    b.room = r.room;
+    b.scans = session_.ScanCount();
+    b.sim_time = session_.SimTime();
+    Fingerprint f;
+    f.Add(rooms_.size()).Add(b.robot_room).Add(b.room).Add(b.scans).Add(b.sim_time);
+    const Pose2 truth = session_.TruePoseInWorld(), estimate = session_.EstimatedPose();
+    f.Add(truth.x).Add(truth.y).Add(truth.yaw).Add(estimate.x).Add(estimate.y).Add(estimate.yaw);
+    f.Add(r.status).Add(r.reason).Add(r.scans).Add(r.robot_coverage);
+    b.fingerprint = f.Hex();
+    return b;
   }
 
   void Write(const autonomy::RoomVisit& v, FloorRoomJob& r) {
@@ -179,6 +202,7 @@ class FloorWorld {
   RobotSession& session_;
   std::string dir_;
   bool evaluate_;
+  std::function<void(const RoomBoundary&)> room_boundary_;
   std::unique_ptr<Sm1TruthCollector> labels_;
   autonomy::ScanHook hook_;
   std::string room_;  // the truth room of the room being scanned
@@ -204,7 +228,8 @@ FloorMissionParams::FloorMissionParams() {
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                      const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
                      const std::function<void(const std::string&)>& progress,
-                     const std::function<bool()>& stop_requested) {
+                     const std::function<bool()>& stop_requested,
+                     const std::function<void(const RoomBoundary&)>& room_boundary) {
   if (!mw.truth || mw.truth->rooms.empty())
     throw InputError(
         "run: error: the scene has no truth rooms; expected a generated or "
@@ -220,7 +245,7 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
   RobotSession session(*mw.world, params.drive, job.start_W);
-  FloorWorld world(mw, params, session, dir, evaluate);
+  FloorWorld world(mw, params, session, dir, evaluate, room_boundary);
   autonomy::FloorScanHooks hooks = world.Hooks(progress);
   hooks.stop_requested = stop_requested;
   job.mission = autonomy::RunFloorScan(session.Robot(), params, params.floor, hooks,

@@ -60,6 +60,18 @@ struct FloorRoomJob {
   double seconds = 0.0;                                ///< wall time of the room (reporting only)
 };
 
+/// The state of the mission after a room, as `mopad run`'s checkpoint records it
+/// (mission/run_checkpoint.h): a resumed run checks that it passes the same boundaries.
+struct RoomBoundary {
+  std::string robot_room;  ///< "room_3"; per-room mode: the room id
+  std::string room;        ///< the truth room
+  int scans = 0;           ///< TLS scans of the mission so far
+  double sim_time = 0.0;   ///< s, the simulation clock
+  /// 16 hex digits: FNV-1a of the bits of the counts, the clock, the true and the estimated
+  /// pose, the room's status and reason. Equal fingerprints: the replay reached the same state.
+  std::string fingerprint;
+};
+
 struct FloorJob {
   Pose2 start_W;
   autonomy::FloorScanResult mission;
@@ -73,10 +85,12 @@ struct FloorJob {
 /// Runs the floor mission from `start_W` (default: the harness's free spot of the truth's first
 /// room) and writes the run folder `dir`; with `evaluate`, each room is scored as `mopad room`
 /// does (DIR/rooms/<ID>/evaluation.json). `progress` hears one line per robot event;
-/// `stop_requested`, asked before each room, ends the mission there (the rooms done are kept).
+/// `stop_requested`, asked before each room, ends the mission there (the rooms done are kept);
+/// `room_boundary` hears each room's end, its files written.
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                      const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
                      const std::function<void(const std::string&)>& progress = {},
-                     const std::function<bool()>& stop_requested = {});
+                     const std::function<bool()>& stop_requested = {},
+                     const std::function<void(const RoomBoundary&)>& room_boundary = {});
 
 }  // namespace mopad::mission

@@ -16,6 +16,7 @@
 #include "exports/exports.h"
 #include "io/text_file.h"
 #include "mission/room_job.h"
+#include "mission/run_checkpoint.h"
 
 namespace mopad::mission {
 namespace {
@@ -62,6 +63,20 @@ void AddScans(const std::string& room, const std::vector<Eigen::Vector3d>& posit
   }
 }
 
+// Per-room mode: each room is a fresh robot; its boundary is the room's own figures.
+RoomBoundary PerRoomBoundary(const std::string& id, const RoomJob* job) {
+  RoomBoundary b;
+  b.robot_room = b.room = id;
+  Fingerprint f;
+  f.Add(id).Add(job ? 1 : 0);
+  if (job) {
+    b.scans = static_cast<int>(job->mission.scans.size());
+    f.Add(b.scans).Add(job->mission.stop_reason).Add(job->path_length).Add(job->points);
+  }
+  b.fingerprint = f.Hex();
+  return b;
+}
+
 void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& o, JobTables& t, ReportInput& report) {
   t.rooms.header = {"room", "scans", "robot coverage", "stop reason", "path (m)", "SM1 points"};
@@ -79,6 +94,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
                               {"reason", ex.what()},
                               {"seconds", SecondsSince(t0)}});
       ++t.rooms_failed;
+      if (o.checkpoint) o.checkpoint->RoomDone(PerRoomBoundary(id, nullptr));
       continue;
     }
     const auto& m = job->mission;
@@ -107,6 +123,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     rj["evaluation"] = ToJson(*job->evaluation);
     rj["seconds"] = SecondsSince(t0);
     t.rooms_json.push_back(std::move(rj));
+    if (o.checkpoint) o.checkpoint->RoomDone(PerRoomBoundary(id, &*job));
   }
   t.subtitle =
       "A fresh robot placed at a harness-chosen free spot of each listed room scans it "
@@ -167,8 +184,10 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
               JobTables& t, ReportInput& report) {
   t.rooms.header = {"robot room",     "scene room",  "scans (+ door)",
                     "robot coverage", "stop reason", "openings"};
+  std::function<void(const RoomBoundary&)> boundary;
+  if (o.checkpoint) boundary = [&o](const RoomBoundary& b) { o.checkpoint->RoomDone(b); };
   const FloorJob job =
-      RunFloorJob(mw, params, o.start_W, o.dir, true, o.progress, o.stop_requested);
+      RunFloorJob(mw, params, o.start_W, o.dir, true, o.progress, o.stop_requested, boundary);
   for (const FloorRoomJob& r : job.rooms) {
     if (o.print)
       o.print(r.robot_room + " (" + r.room + "): " + r.status + ", " + std::to_string(r.scans) +
@@ -312,6 +331,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                            ""});
   WriteHtmlReport(report, (dir / "report.html").string());
   WriteMarkdownReport(report, (dir / "report.md").string());
+  if (o.checkpoint) o.checkpoint->MarkComplete();
 }
 
 }  // namespace mopad::mission

@@ -17,6 +17,8 @@
 
 namespace mopad::mission {
 
+class RunCheckpoint;
+
 struct MainJobOptions {
   std::string dir = "out/run";
   std::vector<std::string> rooms;  ///< non-empty: per-room mode in these rooms
@@ -32,6 +34,9 @@ struct MainJobOptions {
   /// Asked before each room of the floor mission: true ends it there; the rooms done are
   /// evaluated, exported and reported as usual.
   std::function<bool()> stop_requested;
+  /// Optional: hears every room's boundary and is marked complete when the run folder is
+  /// written (`mopad run --resume`, mission/run_checkpoint.h).
+  RunCheckpoint* checkpoint = nullptr;
 };
 
 /// Runs the job and writes the run folder. Robot failures are recorded per room (status and

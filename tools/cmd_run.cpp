@@ -9,12 +9,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "common/error.h"
 #include "common/format.h"
 #include "common/params.h"
 #include "common/wall_clock.h"
+#include "io/text_file.h"
 #include "mission/main_job.h"
+#include "mission/run_checkpoint.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/scene_world.h"
@@ -88,13 +91,14 @@ void RegisterRunCommand(CLI::App& app) {
   auto step = std::make_shared<double>(0.2);
   auto config = std::make_shared<std::string>();
   auto rooms = std::make_shared<std::vector<std::string>>();
-  cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/run");
+  auto* out_opt = cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/run");
   auto scene_dir = std::make_shared<std::string>();
   auto* spec_opt = cmd->add_option("--spec", *spec_path,
                                    "Scene spec YAML (default: the embedded office_5rooms)");
-  cmd->add_option("--scene", *scene_dir,
-                  "A scene folder with its truth (mopad scene generate|random|import)")
-      ->excludes(spec_opt);
+  auto* scene_opt =
+      cmd->add_option("--scene", *scene_dir,
+                      "A scene folder with its truth (mopad scene generate|random|import)")
+          ->excludes(spec_opt);
   auto* seed_opt =
       cmd->add_option("--seed", *seed,
                       "Run seed: sensor noise, odometry, localisation (default: the config's "
@@ -104,14 +108,23 @@ void RegisterRunCommand(CLI::App& app) {
                       "TLS angular step of the room scans in degrees (default: the config's "
                       "scan_step_deg, else 0.2)")
           ->check(CLI::Range(0.02, 5.0));
-  cmd->add_option("--config", *config, "YAML overriding FloorMissionParams fields");
-  cmd->add_option("--room", *rooms,
-                  "Per-room mode: a fresh robot placed in each of these rooms (default: the "
-                  "floor mission)");
+  auto* config_opt =
+      cmd->add_option("--config", *config, "YAML overriding FloorMissionParams fields");
+  auto* rooms_opt = cmd->add_option(
+      "--room", *rooms,
+      "Per-room mode: a fresh robot placed in each of these rooms (default: the floor mission)");
   auto start = std::make_shared<std::string>();
-  cmd->add_option("--start", *start,
-                  "Floor mission start pose in the scene frame 'x,y,yaw_deg' (default: a free "
-                  "spot of the scene's first room)");
+  auto* start_opt =
+      cmd->add_option("--start", *start,
+                      "Floor mission start pose in the scene frame 'x,y,yaw_deg' (default: a free "
+                      "spot of the scene's first room)");
+  auto resume = std::make_shared<std::string>();
+  cmd->add_option("--resume", *resume,
+                  "Finish the run in DIR after its process was killed: the job runs again from "
+                  "DIR/checkpoint/ (its scene, config, seed, start) and writes the files an "
+                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option")
+      ->excludes(out_opt, spec_opt, scene_opt, seed_opt, step_opt, config_opt, rooms_opt,
+                 start_opt);
   auto quiet = std::make_shared<bool>(false);
   cmd->add_flag("-q,--quiet", *quiet, "No progress lines (results and errors only)");
   cmd->footer(
@@ -121,33 +134,64 @@ void RegisterRunCommand(CLI::App& app) {
       "eval/ and export/ (model.ifc, model.glb, sm1.las; docs/exports.md).");
   cmd->callback([=] {
     const auto t_start = WallClock::now();
-    const fs::path dir(*out);
-    fs::create_directories(dir);
-    mission::FloorMissionParams params;
-    if (!config->empty()) params = LoadParamsFile<mission::FloorMissionParams>(*config);
-    OverrideIfGiven(step_opt, *step, params.scan_step_deg);
-    OverrideIfGiven(seed_opt, *seed, params.drive.seed);
-    ValidateParams(params, "room.");
+    // The run's inputs: from the command line (a checkpoint records them before anything
+    // else happens), or, with --resume, from that checkpoint.
+    std::optional<mission::RunCheckpoint> ck;
+    fs::path dir;
+    if (!resume->empty()) {
+      dir = *resume;
+      ck = mission::RunCheckpoint::Open(dir.string());
+      if (ck->Complete()) {
+        std::printf("%s: the run is complete (checkpoint/manifest.json); nothing to resume\n",
+                    dir.string().c_str());
+        return;
+      }
+      std::printf(
+          "resuming %s (resume %d): the job runs again from its checkpoint; the %d "
+          "rooms it recorded are re-run and checked\n",
+          dir.string().c_str(), ck->Resumes(), ck->RecordedRooms());
+    } else {
+      dir = *out;
+      fs::create_directories(dir);
+      mission::RunInputs in;
+      if (!config->empty()) in.params = LoadParamsFile<mission::FloorMissionParams>(*config);
+      OverrideIfGiven(step_opt, *step, in.params.scan_step_deg);
+      OverrideIfGiven(seed_opt, *seed, in.params.drive.seed);
+      ValidateParams(in.params, "room.");
+      in.rooms = *rooms;
+      if (!start->empty()) in.start_W = ParsePoseArg("--start", *start);
+      if (scene_dir->empty()) {
+        in.spec_name = spec_path->empty() ? kDefaultSceneSpecName : *spec_path;
+        in.spec_text = spec_path->empty() ? kDefaultSceneSpec : io::ReadTextFile(*spec_path);
+        in.scene_source = in.spec_name;
+      } else {
+        in.scene_folder = fs::absolute(*scene_dir).string();
+        in.scene_source = *scene_dir;
+      }
+      ck = mission::RunCheckpoint::Create(dir.string(), in);
+    }
+    const mission::RunInputs& in = ck->Inputs();
+    const mission::FloorMissionParams& params = in.params;
 
     // The world (truth side): a generated scene is written out so that `mopad eval` can
     // re-read it; a given scene folder is used where it is.
     mission::MainJobOptions o;
     o.dir = dir.string();
-    o.rooms = *rooms;
-    if (!start->empty()) o.start_W = ParsePoseArg("--start", *start);
-    if (scene_dir->empty()) {
-      const scenes::SceneSpec spec =
-          spec_path->empty() ? scenes::ParseSceneSpec(kDefaultSceneSpec, kDefaultSceneSpecName)
-                             : scenes::LoadSceneSpec(*spec_path);
+    o.rooms = in.rooms;
+    o.start_W = in.start_W;
+    if (in.scene_folder.empty()) {
+      const scenes::SceneSpec spec = scenes::ParseSceneSpec(in.spec_text, in.spec_name);
       scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
       o.scene_name = spec.name;
-      o.scene_source = spec_path->empty() ? kDefaultSceneSpecName : *spec_path;
+      o.scene_source = in.scene_source;
     }
-    const std::string scene_folder = scene_dir->empty() ? (dir / "scene").string() : *scene_dir;
+    const std::string scene_folder =
+        in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;
+    ck->SetScene(scene_folder);
     const sim::SceneWorld mw = sim::LoadSceneWorld(scene_folder);
     if (!mw.truth)
       throw InputError(scene_folder + ": error: the scene has no truth sidecar (scene.truth.json)");
-    if (o.scene_name.empty()) o.scene_name = mw.truth->scene_name, o.scene_source = scene_folder;
+    if (o.scene_name.empty()) o.scene_name = mw.truth->scene_name, o.scene_source = in.scene_source;
     const SceneSummary summary =
         Summarise(mw.world->scene(), &*mw.truth, scene_folder + "/scene.glb");
     o.t_generate = SecondsSince(t_start);
@@ -167,6 +211,7 @@ void RegisterRunCommand(CLI::App& app) {
     std::signal(SIGINT, OnStopSignal);
     std::signal(SIGTERM, OnStopSignal);
     o.stop_requested = [] { return g_stop.load(); };
+    o.checkpoint = &*ck;
     mission::RunMainJob(mw, params, o);
     std::printf("done in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
                 SecondsSince(t_start), dir.string().c_str());

@@ -1,6 +1,7 @@
 #include "io/tum.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -43,6 +44,28 @@ TEST(TextFile, WritesTheTextAndANewlineAndNamesAnUnwritablePath) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.json"), std::string::npos);
+  }
+}
+
+TEST(TextFile, AnAtomicWriteReplacesTheFileWholeAndLeavesNoTemporary) {
+  const auto path =
+      std::filesystem::path(testing::TempDir()) / ("mopad_io_atomic_" + std::to_string(::getpid()));
+  WriteFileAtomically(path.string(), "old");
+  WriteFileAtomically(path.string(), std::string("new\0bytes", 9));
+  EXPECT_EQ(ReadTextFile(path.string()), std::string("new\0bytes", 9));
+  EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+  std::filesystem::remove(path);
+  try {
+    WriteFileAtomically("/nonexistent-dir/x.json", "x");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.json"), std::string::npos);
+  }
+  try {
+    ReadTextFile("/nonexistent-dir/y.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/y.json"), std::string::npos);
   }
 }
 

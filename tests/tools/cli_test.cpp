@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <array>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -175,6 +177,10 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
   ASSERT_EQ(a.code, 0) << a.out;
   const Result b = Mopad(args + d + "/b");
   ASSERT_EQ(b.code, 0) << b.out;
+  // A finished run's checkpoint is marked complete; resuming it says so and changes nothing.
+  const Result again = Mopad("run --resume " + d + "/a");
+  EXPECT_EQ(again.code, 0) << again.out;
+  EXPECT_NE(again.out.find("the run is complete"), std::string::npos) << again.out;
   std::ifstream in(d + "/a/summary.json");
   const auto j = nlohmann::json::parse(in);
   ASSERT_EQ(j.at("rooms").size(), 1u);
@@ -238,6 +244,97 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
     EXPECT_FALSE(fa.empty()) << f;
     EXPECT_TRUE(fa == bytes(d + "/b/export/" + f)) << f << " differs between two runs";
   }
+}
+
+TEST(Cli, ResumeWithoutACheckpointOrWithOtherRunOptionsIsOneLineExitTwo) {
+  const std::string d = TempDir("resume_empty");
+  const Result r = Mopad("run --resume " + d);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: nothing to resume"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  fs::create_directories(d + "/checkpoint");
+  std::ofstream(d + "/checkpoint/manifest.json") << "{\"format\": \"mopad-checkpoint\", \"ver";
+  const Result torn = Mopad("run --resume " + d);
+  EXPECT_EQ(torn.code, 2) << torn.out;
+  EXPECT_NE(torn.out.find("corrupt checkpoint manifest"), std::string::npos) << torn.out;
+  EXPECT_EQ(std::count(torn.out.begin(), torn.out.end(), '\n'), 1) << torn.out;
+  EXPECT_EQ(Mopad("run --resume " + d + " --seed 2").code, 2);
+}
+
+// The wall-clock timings a resumed run may write differently (docs/floor-mission.md, Resume).
+nlohmann::json WithoutTimings(nlohmann::json j) {
+  if (j.is_array())
+    for (auto& x : j) x = WithoutTimings(x);
+  if (!j.is_object()) return j;
+  for (const char* key :
+       {"seconds", "wall_time", "wall_time_s", "tls_wall_time_s", "sm4_seconds", "sm5_seconds"})
+    j.erase(key);
+  for (auto& [k, v] : j.items()) v = WithoutTimings(v);
+  return j;
+}
+
+// Every file of a run folder (checkpoint/ aside), JSON without its timings, the reports without
+// their Timing table.
+std::map<std::string, std::string> RunFiles(const std::string& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string rel = fs::relative(e.path(), dir).generic_string();
+    if (rel.rfind("checkpoint/", 0) == 0) continue;
+    std::ifstream f(e.path(), std::ios::binary);
+    std::string s((std::istreambuf_iterator<char>(f)), {});
+    if (e.path().extension() == ".json") s = WithoutTimings(nlohmann::json::parse(s)).dump(1);
+    for (const char* timing : {"## Timing", "<h2>Timing</h2>"})
+      if (const auto at = s.find(timing); at != std::string::npos) {
+        const auto end = s.find(timing[0] == '#' ? "\n#" : "</table>", at + 1);
+        s.erase(at, end == std::string::npos ? std::string::npos : end - at);
+      }
+    out[rel] = std::move(s);
+  }
+  return out;
+}
+
+TEST(Cli, RunKilledWithSigkillAfterItsFirstRoomAndResumedWritesTheFilesOfAnUninterruptedRun) {
+  const std::string d = TempDir("resume_kill");
+  const std::string spec = Src("scenes/two_rooms_door.yaml");
+  const std::string args = "run -q --spec " + spec + " --step-deg 0.5 -o " + d + "/run";
+  // The uninterrupted run writes to the same path (eval/ names its run folder), then moves aside.
+  ASSERT_EQ(Mopad(args).code, 0);
+  fs::rename(d + "/run", d + "/whole");
+
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (!freopen("/dev/null", "w", stdout)) _exit(127);
+    execl(MOPAD_BINARY, "mopad", "run", "-q", "--spec", spec.c_str(), "--step-deg", "0.5", "-o",
+          (d + "/run").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Killed as soon as its checkpoint holds the first room: in the middle of the second.
+  bool first_room = false;
+  for (int k = 0; k < 2400 && !first_room; ++k) {
+    usleep(50000);
+    std::ifstream m(d + "/run/checkpoint/manifest.json");
+    const std::string s((std::istreambuf_iterator<char>(m)), {});
+    first_room = s.find("\"index\": 1") != std::string::npos;
+  }
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(first_room) << "the run wrote no room boundary in 120 s";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed";
+  EXPECT_FALSE(fs::exists(d + "/run/summary.json"));
+
+  const Result resumed = Mopad("run -q --resume " + d + "/run");
+  ASSERT_EQ(resumed.code, 0) << resumed.out;
+  const auto whole = RunFiles(d + "/whole"), run = RunFiles(d + "/run");
+  ASSERT_GT(whole.size(), 20u);
+  for (const auto& [name, bytes] : whole) {
+    ASSERT_TRUE(run.count(name)) << name << " missing after the resume";
+    EXPECT_TRUE(run.at(name) == bytes) << name << " differs after the resume";
+  }
+  EXPECT_EQ(whole.size(), run.size());
+  EXPECT_NE(Mopad("run --resume " + d + "/run").out.find("the run is complete"), std::string::npos);
 }
 
 TEST(Cli, ExportHelpNamesItsFilesAndAFolderWithoutModelsIsOneLineExitTwo) {
