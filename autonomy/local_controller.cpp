@@ -638,12 +638,17 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
   margin = P.passage_side_margin;
   const Vec2 off = here - passage.passage.centre;
   const double lateral = axis.x() * off.y() - axis.y() * off.x();  // + = left of the axis
-  // Jambs: returns beside the body, per slice the median lateral distance (JambDistance).
+  // Jambs: returns beside the body, per slice the median lateral distance (JambDistance). They
+  // are not the jambs when they stand farther apart than the passage is wide: before the base
+  // reaches the doorway, what is beside it (an opened leaf, a cabinet) is not, and centring
+  // between those would steer it into a jamb; it then follows the map's centre line. Nearer
+  // than the map's jambs, they are something the map lacks, and the base keeps clear of it.
   const double d_left = JambDistance(c.pts, +1.0), d_right = JambDistance(c.pts, -1.0);
   const double half_w = 0.5 * P.footprint_width;
   double centring = -lateral;  // desired leftward shift (m)
   std::string source = "map";
-  if (std::isfinite(d_left) && std::isfinite(d_right)) {
+  if (std::isfinite(d_left) && std::isfinite(d_right) &&
+      d_left + d_right <= passage.passage.width + P.passage_width_tolerance) {
     centring = 0.5 * (d_left - d_right);
     source = "LRF";
     if (std::min(d_left, d_right) - half_w < P.passage_side_margin) {

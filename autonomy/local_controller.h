@@ -60,6 +60,11 @@ struct LocalControllerParams {
   double passage_align_deg = 4.0;         ///< deg, heading tolerance before entering, (0, 45]
   double passage_entry_distance = 0.7;    ///< m before the narrowest point where it aligns
   double passage_side_margin = 0.03;      ///< m, minimum side clearance while crossing, [0, 1]
+  /// m: while crossing, the LRF returns beside the body centre the base unless their gap
+  /// exceeds the map's passage width by more than this (then they are not its jambs, and the
+  /// base follows the map's passage centre line). The map's cell size plus the LRF's noise.
+  /// (0, 2]
+  double passage_width_tolerance = 0.15;
   double centring_gain = 2.0;             ///< rad/s per m of off-centre, [0, 50]
   double blocked_wait = 2.0;              ///< s blocked before a recovery starts, [0, 600]
   double stuck_timeout = 4.0;             ///< s without progress before a recovery, (0, 600]
@@ -124,6 +129,7 @@ struct LocalControllerParams {
     v("passage_align_deg", passage_align_deg, Bounds{1e-2, 45.0});
     v("passage_entry_distance", passage_entry_distance, Bounds{0.0, 5.0});
     v("passage_side_margin", passage_side_margin, Bounds{0.0, 1.0});
+    v("passage_width_tolerance", passage_width_tolerance, Bounds{1e-3, 2.0});
     v("centring_gain", centring_gain, Bounds{0.0, 50.0});
     v("blocked_wait", blocked_wait, Bounds{0.0, 600.0});
     v("stuck_timeout", stuck_timeout, Bounds{1e-3, 600.0});

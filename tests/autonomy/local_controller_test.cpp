@@ -177,6 +177,33 @@ TEST(LocalController, ArrivesAtAGoalJustBeyondTheDoor) {
   EXPECT_TRUE(r.seen.count(NavStatus::kDoorPassage)) << "door-passage mode never engaged";
 }
 
+// Before the doorway, the returns beside the body are not the jambs: a leaf opened to 90 deg
+// into this room lies along the north jamb's line, and a cabinet stands 0.95 m south of the
+// door's centre line. Centred between those two, the base would steer 0.27 m off the door's
+// axis into the south jamb (a random floor's return through its door ended blocked there). Only
+// returns at the doorway, within the wall's reach of its narrowest point, count as jambs.
+TEST(LocalController, CrossesCentredOnTheDoorWhenALeafAndACabinetFrameTheWayToIt) {
+  Scenario sc;
+  for (auto* boxes : {&sc.world, &sc.map_boxes}) {
+    boxes->push_back({{4.05, 3.45}, {4.95, 3.49}});  // leaf at 90 deg, hinged at the north jamb
+    boxes->push_back({{3.6, 1.5}, {4.95, 2.05}});    // cabinet against the partition
+  }
+  double worst = 0.0;  // m, largest distance from the door's axis (y = 3) at the doorway
+  sc.events = [&](double, const Pose2& pose, std::vector<Box2>&, bool&, LocalisationStatus&) {
+    if (pose.x > 4.75 && pose.x < 5.25) worst = std::max(worst, std::abs(pose.y - 3.0));
+  };
+  const RunResult r = Drive(sc);
+  std::printf("[ DOORWAY  ] %.3f m off the door's axis at most\n", worst);
+  const double exy = std::hypot(r.final_pose.x - sc.goal.x, r.final_pose.y - sc.goal.y);
+  EXPECT_EQ(r.last.status, NavStatus::kArrived) << r.last.message;
+  EXPECT_LT(exy, 0.10);
+  EXPECT_LT(worst, 0.08);
+  EXPECT_FALSE(r.collided);
+  EXPECT_TRUE(r.seen.count(NavStatus::kDoorPassage)) << "door-passage mode never engaged";
+  EXPECT_FALSE(r.seen.count(NavStatus::kBlocked));
+  if (HasFailure()) PrintLog(r);
+}
+
 TEST(LocalController, StopsBlockedWhenAnUnmappedObstacleAppearsInTheLrf) {
   Scenario sc;
   sc.params.blocked_wait = 500.0;  // wait, do not recover
