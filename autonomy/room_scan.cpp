@@ -60,6 +60,11 @@ perception::RegistrationAcceptanceParams RoomScanParams::DefaultEntryAcceptance(
   // sin(10 deg) x 1.3 m = 0.23 m, within the translation bound.
   p.max_correction = 0.3;
   p.max_correction_deg = 10.0;
+  // Seeing the earlier rooms through one door often leaves one direction weak (along the door
+  // axis): the ICP keeps the prior there (solution remapping), so what it corrects is
+  // constrained, and a degenerate result is bounded like a constrained one. The localiser's own
+  // sigma is no gate here: it underreports its error just beyond a door.
+  p.gate_sigmas = 0.0;
   return p;
 }
 
