@@ -65,15 +65,15 @@ struct LocalControllerParams {
   /// base follows the map's passage centre line). The map's cell size plus the LRF's noise.
   /// (0, 2]
   double passage_width_tolerance = 0.15;
-  double centring_gain = 2.0;             ///< rad/s per m of off-centre, [0, 50]
-  double blocked_wait = 2.0;              ///< s blocked before a recovery starts, [0, 600]
-  double stuck_timeout = 4.0;             ///< s without progress before a recovery, (0, 600]
-  double progress_distance = 0.05;        ///< m of motion that counts as progress, (0, 5]
-  double backup_distance = 0.25;          ///< m, recovery back-up length, (0, 5]
-  double backup_speed = 0.12;             ///< m/s, (0, 1]; also the escape manoeuvre's speed
-  double escape_arc_length = 0.8;         ///< m, longest arc of an escape manoeuvre; 0 = none
-  int max_recoveries = 4;                 ///< recoveries before giving up as blocked, [0, 100]
-  double replan_radius = 2.5;             ///< m, LRF points within this are passed to replans
+  double centring_gain = 2.0;       ///< rad/s per m of off-centre, [0, 50]
+  double blocked_wait = 2.0;        ///< s blocked before a recovery starts, [0, 600]
+  double stuck_timeout = 4.0;       ///< s without progress before a recovery, (0, 600]
+  double progress_distance = 0.05;  ///< m of motion that counts as progress, (0, 5]
+  double backup_distance = 0.25;    ///< m, recovery back-up length, (0, 5]
+  double backup_speed = 0.12;       ///< m/s, (0, 1]; also the escape manoeuvre's speed
+  double escape_arc_length = 0.8;   ///< m, longest arc of an escape manoeuvre; 0 = none
+  int max_recoveries = 4;           ///< recoveries before giving up as blocked, [0, 100]
+  double replan_radius = 2.5;       ///< m, LRF points within this are passed to replans
   /// Each LRF range is replaced by the median of this many neighbours (odd; 1 = raw) before
   /// any check, as a laser median filter does. [1, 31]
   int range_median_window = 5;
