@@ -3,10 +3,13 @@
 
 #include "autonomy/detail_pass.h"
 
+#include "autonomy/room_scan.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "common/error.h"
 #include "common/params.h"
 
 namespace mopad::autonomy {
@@ -168,6 +171,19 @@ TEST(DetailPass, PointsSeenFromBehindTheFaceDoNotCount) {
 
 TEST(DetailPass, ParamsVisitEveryField) {
   EXPECT_TRUE(FieldsMissingFromVisit(DetailPassParams{}).empty());
+}
+
+TEST(DetailPass, TheRoomLoopLoadsItsParamsUnderDetailAndRejectsTypos) {
+  const auto p = LoadParams<RoomScanParams>(
+      LoadYamlString("detail: {enabled: true, fine_step_deg: 0.05, max_scans: 1}", "t.yaml"),
+      "t.yaml");
+  EXPECT_TRUE(p.detail.enabled);
+  EXPECT_EQ(p.detail.fine_step_deg, 0.05);
+  EXPECT_EQ(p.detail.max_scans, 1);
+  EXPECT_FALSE(RoomScanParams{}.detail.enabled);  // off unless asked for (docs/room-scanning.md)
+  EXPECT_THROW(LoadParams<RoomScanParams>(LoadYamlString("detail: {max_scan: 1}", "t.yaml"),
+                                          "t.yaml"),
+               InputError);
 }
 
 }  // namespace
