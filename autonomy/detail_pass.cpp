@@ -124,7 +124,8 @@ std::vector<DetailCell> AnalyseDetailCells(const std::vector<Eigen::Vector3f>& p
 DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
                           const std::vector<DetailSurface>& surfaces,
                           const std::vector<DetailCandidate>& candidates, const DetailView& view,
-                          const DetailPassParams& params, const LineOfSight& visible) {
+                          const DetailPassParams& params, const DetailScans& taken,
+                          const LineOfSight& visible) {
   DetailPlan plan;
   std::vector<int> deficient;
   for (int i = 0; i < static_cast<int>(cells.size()); ++i)
@@ -146,6 +147,11 @@ DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
   Vec2 cached_base(std::numeric_limits<double>::quiet_NaN(), 0.0);
   for (int ci = 0; ci < static_cast<int>(candidates.size()); ++ci) {
     const DetailCandidate& cand = candidates[ci];
+    bool repeat = false;
+    for (std::size_t k = 0; k < taken.origins.size() && k < taken.step_rad.size(); ++k)
+      repeat = repeat || ((taken.origins[k].head<2>() - cand.base).norm() < params.same_place &&
+                          cand.step_rad >= taken.step_rad[k] * (1.0 - 1e-9));
+    if (repeat) continue;
     if (!(cand.base == cached_base)) {
       vis_cache.assign(deficient.size(), -1);
       cached_base = cand.base;

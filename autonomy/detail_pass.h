@@ -21,7 +21,9 @@
 //     fixed area, its cost the platform seconds of the scan (rays / pulse rate, measured from
 //     the room's scans) plus the drive (straight distance x `route_factor` / `drive_speed`).
 //     The candidate with the largest gain per second wins when its gain is at least
-//     `min_gain_area`; ties: the nearer, then the lower index.
+//     `min_gain_area`; ties: the nearer, then the lower index. A candidate within
+//     `same_place` of a scan taken at a step no finer than that scan's is skipped (its rays
+//     would land on that scan's samples).
 //  3. After each detail scan the cells are measured again; at most `max_scans` per room.
 //
 // Robot side only: the robot's own points, scan poses, RoI and voxel space (no truth).
@@ -59,6 +61,10 @@ struct DetailPassParams {
   double route_factor = 1.5;  ///< route length / straight distance, for the cost, [1, 10]
   /// s, fixed cost of any scan beyond its rays (stop, registration, model update), [0, 600]
   double scan_overhead = 10.0;
+  /// m: a candidate this close (plan) to a scan already taken, at a step no finer than that
+  /// scan's, is no candidate: the scanner's angular grid would put its samples where that
+  /// scan's are (no new samples), [0, 5]
+  double same_place = 0.25;
 
   template <class V>
   void Visit(V& v) {
@@ -74,6 +80,7 @@ struct DetailPassParams {
     v("drive_speed", drive_speed, Bounds{1e-3, 5.0});
     v("route_factor", route_factor, Bounds{1.0, 10.0});
     v("scan_overhead", scan_overhead, Bounds{0.0, 600.0});
+    v("same_place", same_place, Bounds{0.0, 5.0});
   }
 };
 
@@ -143,10 +150,13 @@ struct DetailPlan {
   std::string message;       ///< one line with the figures
 };
 
-/// Step 2: the best candidate for the deficient cells (see the file comment).
+/// Step 2: the best candidate for the deficient cells (see the file comment). `taken`: the
+/// scans already in the model (candidates at their place and step add nothing; see
+/// DetailPassParams::same_place).
 DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
                           const std::vector<DetailSurface>& surfaces,
                           const std::vector<DetailCandidate>& candidates, const DetailView& view,
-                          const DetailPassParams& params, const LineOfSight& visible = {});
+                          const DetailPassParams& params, const DetailScans& taken,
+                          const LineOfSight& visible = {});
 
 }  // namespace mopad::autonomy

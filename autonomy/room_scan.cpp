@@ -179,7 +179,7 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     const modelling::VoxelSpace& vox = model.Voxels();
     const double stop_short = params.nbs.stop_short;
     const DetailPlan plan = PlanDetailScan(
-        cells, surfaces, candidates, view, P,
+        cells, surfaces, candidates, view, P, ds,
         [&vox, stop_short](const Vec3& a, const Vec3& b) { return vox.SegmentFree(a, b, stop_short); });
     log.t_nbs = Since(t0);
     res.detail_log.push_back(plan.message);

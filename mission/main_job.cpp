@@ -221,8 +221,8 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
     rj["seconds"] = r.seconds;
     rj["sim_seconds"] = r.sim_seconds;
     rj["detail"] = {{"scans", r.detail_scans},
-                    {"sim_seconds", r.detail_sim_seconds},
-                    {"wall_seconds", r.detail_wall_seconds},
+                    {"sim_time", r.detail_sim_seconds},
+                    {"wall_time", r.detail_wall_seconds},
                     {"log", r.detail_log}};
     t.rooms_json.push_back(std::move(rj));
     if (r.status == "failed") ++t.rooms_failed;

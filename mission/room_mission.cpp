@@ -128,8 +128,8 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   out["scans"] = std::move(scans);
   out["stop_reason"] = result.stop_reason;
   out["detail"] = {{"scans", result.detail_scans},
-                   {"sim_seconds", result.detail_sim_time},
-                   {"wall_seconds", result.detail_wall_time},
+                   {"sim_time", result.detail_sim_time},
+                   {"wall_time", result.detail_wall_time},
                    {"log", result.detail_log}};
   out["registration_failed"] = result.registration_failed;
   out["sim_time"] = result.sim_time;

@@ -92,7 +92,7 @@ TEST(DetailPass, AWallAlreadyDenseGetsNoDetailScan) {
   ASSERT_FALSE(cells.empty());
   EXPECT_EQ(DeficientArea(cells), 0.0);
   const std::vector<DetailCandidate> cands{{Vec2(1.5, 3.0), 1.4, 0.1 * kDeg, 0.5}};
-  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p);
+  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p, {});
   EXPECT_FALSE(plan.found) << plan.message;
   EXPECT_EQ(plan.deficient_area, 0.0);
 }
@@ -112,7 +112,7 @@ TEST(DetailPass, AWallSeenOnlyAtGrazingIncidenceGetsADetailScanInFrontOfIt) {
     cands.push_back({Vec2(-6.0, 4.5), 1.4, step * kDeg, 0.0});
     cands.push_back({Vec2(1.5, 3.0), 1.4, step * kDeg, 7.0});
   }
-  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p);
+  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p, {});
   ASSERT_TRUE(plan.found) << plan.message;
   EXPECT_EQ(cands[plan.chosen].base, Vec2(1.5, 3.0)) << plan.message;
   EXPECT_GE(plan.gain_area, 0.8 * 3.0 * 2.5) << plan.message;
@@ -130,10 +130,25 @@ TEST(DetailPass, ASparseWallFacedSquarelyGetsAFinerStepFromWhereTheRobotStands) 
     cands.push_back({Vec2(1.5, 0.0), 1.4, step * kDeg, 0.0});
     cands.push_back({Vec2(1.5, 3.0), 1.4, step * kDeg, 3.0});
   }
-  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p);
+  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p, {});
   ASSERT_TRUE(plan.found) << plan.message;
   EXPECT_EQ(cands[plan.chosen].base, Vec2(1.5, 0.0)) << plan.message;
   EXPECT_NEAR(cands[plan.chosen].step_rad, 0.1 * kDeg, 1e-12) << plan.message;
+}
+
+TEST(DetailPass, ARepeatScanFromTheSamePlaceAtTheSameStepIsNoCandidate) {
+  // 5 m in front at 0.2 deg; the only candidates stand there: at 0.2 deg (its rays would land
+  // on the first scan's samples) and at 0.1 deg (new samples between them).
+  const DetailSurface wall = Wall();
+  DetailPassParams p;
+  const std::vector<DetailCell> cells = Analyse(wall, Vec3(1.5, 0.0, 1.4), 0.2, p);
+  DetailScans taken;
+  taken.origins = {Vec3(1.5, 0.0, 1.4)};
+  taken.step_rad = {0.2 * kDeg};
+  const std::vector<DetailCandidate> same{{Vec2(1.5, 0.0), 1.4, 0.2 * kDeg, 0.0}};
+  EXPECT_FALSE(PlanDetailScan(cells, {wall}, same, View(), p, taken).found);
+  const std::vector<DetailCandidate> finer{{Vec2(1.5, 0.0), 1.4, 0.1 * kDeg, 0.0}};
+  EXPECT_TRUE(PlanDetailScan(cells, {wall}, finer, View(), p, taken).found);
 }
 
 TEST(DetailPass, ACandidateWhoseViewIsBlockedIsNotChosen) {
@@ -146,7 +161,7 @@ TEST(DetailPass, ACandidateWhoseViewIsBlockedIsNotChosen) {
   const LineOfSight blocked_from_first = [](const Vec3& scanner, const Vec3&) {
     return scanner.y() < 2.5;
   };
-  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p, blocked_from_first);
+  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p, {}, blocked_from_first);
   ASSERT_TRUE(plan.found) << plan.message;
   EXPECT_EQ(plan.chosen, 1) << plan.message;
 }
@@ -158,7 +173,7 @@ TEST(DetailPass, TooLittleDeficientAreaPlansNothing) {
   p.min_gain_area = 2.0;
   const std::vector<DetailCell> cells = Analyse(wall, Vec3(-6.0, 4.5, 1.4), 0.2, p);
   const std::vector<DetailCandidate> cands{{Vec2(0.25, 3.0), 1.4, 0.1 * kDeg, 3.0}};
-  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p);
+  const DetailPlan plan = PlanDetailScan(cells, {wall}, cands, View(), p, {});
   EXPECT_FALSE(plan.found) << plan.message;
   EXPECT_NEAR(plan.deficient_area, 1.25, 1e-9);
 }
