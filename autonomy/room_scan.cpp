@@ -151,7 +151,7 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
   view.ref_step_rad = room_step;
   view.seconds_at_ref = scan_seconds;
   std::vector<double> steps{room_step};
-  if (std::abs(P.fine_step_deg - params.scan_step_deg) > 1e-9)
+  if (P.fine_step_deg > 0.0 && std::abs(P.fine_step_deg - params.scan_step_deg) > 1e-9)
     steps.push_back(P.fine_step_deg * M_PI / 180.0);
   for (int d = 0; d < P.max_scans && model.ScanCount() > 0; ++d) {
     RoomScanLog log;
