@@ -25,7 +25,10 @@
 //     `min_gain_area`; ties: the nearer, then the lower index. A candidate within
 //     `same_place` of a scan taken at a step no finer than that scan's is skipped (its rays
 //     would land on that scan's samples).
-//  3. After each detail scan the cells are measured again; at most `max_scans` per room.
+//  3. After each detail scan the cells are measured again; at most `max_scans` per room. A
+//     detail scan that changes the RoI's estimated structural area by more than
+//     `max_structure_change` is left out of the model (the room loop keeps a copy of it) and
+//     ends the pass.
 //
 // Robot side only: the robot's own points, scan poses, RoI and voxel space (no truth).
 // Deterministic: fixed-order loops over cells and candidates.
@@ -70,6 +73,10 @@ struct DetailPassParams {
   /// scan's, is no candidate: the scanner's angular grid would put its samples where that
   /// scan's are (no new samples), [0, 5]
   double same_place = 0.25;
+  /// A detail scan is for data quality, not structure: one that changes the RoI's estimated
+  /// structural area by more than this share (it saw through a door and moved the perimeter,
+  /// or took a wall for an opening) is left out of the model and ends the pass, [0, 1]
+  double max_structure_change = 0.05;
 
   template <class V>
   void Visit(V& v) {
@@ -86,6 +93,7 @@ struct DetailPassParams {
     v("route_factor", route_factor, Bounds{1.0, 10.0});
     v("scan_overhead", scan_overhead, Bounds{0.0, 600.0});
     v("same_place", same_place, Bounds{0.0, 5.0});
+    v("max_structure_change", max_structure_change, Bounds{0.0, 1.0});
   }
 };
 

@@ -212,21 +212,38 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     const bool used = RegisterRoomScan(session, params, scan, false, target, log);
     log.t_registration = Since(t0);
     ++res.detail_scans;
+    bool kept = false;
     if (used) {
       t0 = Clock::now();
+      // The structure the stopping rule accepted stays: a scan that moves it is left out.
+      modelling::RoomModel before = model;
+      const double area0 = model.Coverage().total_area;
       model.AddScan(scan, log.X_MS);
-      steps_rad.push_back(c.step_rad);
-      modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
-                                 res.no_return);
+      const double area1 = model.Coverage().total_area;
+      const double change = std::abs(area1 - area0) / std::max(area0, 1e-9);
+      if (change > P.max_structure_change) {
+        model = std::move(before);
+        res.detail_log.push_back(
+            FormatNumbers("detail: the scan changed the estimated structural area %.2f -> %.2f "
+                          "m2 (%.3f > max_structure_change %.3f): left out of the model",
+                          area0, area1, change, P.max_structure_change));
+      } else {
+        kept = true;
+        steps_rad.push_back(c.step_rad);
+        modelling::AddNoReturnRays(scan, log.X_MS,
+                                   static_cast<std::uint16_t>(model.ScanCount() - 1),
+                                   res.no_return);
+        if (on_scan) on_scan(log.session_scan, scan);
+      }
       log.t_model = Since(t0);
-      if (on_scan) on_scan(log.session_scan, scan);
     } else {
       res.registration_failed = true;
     }
+    log.registered = kept;
     log.coverage = model.Coverage();
     log.stop_message = plan.message;
     res.scans.push_back(std::move(log));
-    if (!used) break;  // the same plan would win again
+    if (!kept) break;  // the same plan would win again
   }
   res.detail_sim_time = session.Time() - sim0;
   res.detail_wall_time = Since(wall0);

@@ -89,7 +89,7 @@ struct RoomScanLog {
   double sim_time = 0.0;                 ///< s, when the scan was taken
   Pose3 X_MS_prior = Pose3::Identity();  ///< odometry/AMCL estimate
   Pose3 X_MS = Pose3::Identity();        ///< registered pose used for the model
-  bool registered = true;                ///< false: ICP refused; the scan was left out of the model
+  bool registered = true;  ///< false: ICP refused (or a detail scan moved the structure): left out
   perception::RegistrationResult registration;  ///< empty for the first scan
   modelling::CoverageFigures coverage;
   std::string stop_message;  ///< the stopping rule's verdict after this scan
