@@ -58,9 +58,9 @@ struct DetailPassParams {
   double band = 0.05;  ///< m, points within +-band of a face count for its cells, [0.005, 0.5]
   int min_points = 3;  ///< points of one scan in a cell for that scan to have seen it, [1, 1000]
   /// deg, a finer step a detail scan may also use (then from any candidate, the current pose
-  /// included); 0 = the room step only. Off by default: on office_5rooms the 0.1 deg scans it
-  /// chose cost 4x the points to register, model and image, and SM5 found fewer components
-  /// than with room-step scans from new positions (docs/room-scanning.md). [0, 5]
+  /// included); 0 = the room step only. Off by default: on office_5rooms, with the 0.1 deg
+  /// scans it chose, SM5 found fewer components and more false positives than with room-step
+  /// scans from new positions (docs/room-scanning.md, "Detail pass"). [0, 5]
   double fine_step_deg = 0.0;
   int max_scans = 2;           ///< detail scans per room, [0, 20]
   /// m^2, least deficient area a detail scan must fix to be taken (16 cells of 25 cm), [0, 100]
