@@ -137,6 +137,123 @@ bool DriveToNextBestScan(Navigator& navigator, const RoomScanParams& params, con
   return false;
 }
 
+// The detail pass (autonomy/detail_pass.h) after the room loop: plan on the model's SE cells,
+// drive, scan, register, add; until nothing worth a scan is left or detail.max_scans.
+// `steps_rad` holds the angular step of every scan of the model (one is appended per scan the
+// model accepts); `scan_seconds` is the platform time of one scan at the room step.
+void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::RoomModel& model,
+                   const ScanHook& on_scan, perception::PointMap& target,
+                   std::vector<double>& steps_rad, double scan_seconds, RoomScanResult& res) {
+  const DetailPassParams& P = params.detail;
+  const auto wall0 = Clock::now();
+  const double sim0 = session.Time();
+  const double room_step = params.scan_step_deg * M_PI / 180.0;
+  DetailView view;
+  view.range_min = params.nbs.range_min;
+  view.range_max = params.nbs.range_max;
+  view.elevation_min = params.nbs.elevation_min_deg * M_PI / 180.0;
+  view.elevation_max = params.nbs.elevation_max_deg * M_PI / 180.0;
+  view.ref_step_rad = room_step;
+  view.seconds_at_ref = scan_seconds;
+  std::vector<double> steps{room_step};
+  if (P.fine_step_deg > 0.0 && std::abs(P.fine_step_deg - params.scan_step_deg) > 1e-9)
+    steps.push_back(P.fine_step_deg * M_PI / 180.0);
+  for (int d = 0; d < P.max_scans && model.ScanCount() > 0; ++d) {
+    RoomScanLog log;
+    log.index = static_cast<int>(res.scans.size());
+    log.detail = true;
+    auto t0 = Clock::now();
+    const std::vector<DetailSurface> surfaces = DetailSurfacesOf(model.GetRoi());
+    DetailScans ds;
+    for (const Pose3& X : model.ScanPoses()) ds.origins.push_back(X.translation());
+    ds.step_rad = steps_rad;
+    const std::vector<DetailCell> cells =
+        AnalyseDetailCells(model.Points(), model.ScanIndices(), ds, surfaces, P);
+    // Candidate bases: where the robot stands (no drive) and the next best scan's safe,
+    // reachable grid; each at every step.
+    const Pose2 here = session.EstimatedPose();
+    const double scanner_z = model.ScanPoses().back().translation().z();
+    std::vector<Vec2> bases{Vec2(here.x, here.y)};
+    const NbsResult nbs =
+        NextBestScan(model, session.Map(), here, params.scan_step_deg, params.nbs);
+    for (const NbsCandidate& c : nbs.candidates) bases.push_back(c.position);
+    std::vector<DetailCandidate> candidates;
+    for (const Vec2& b : bases)
+      for (double s : steps)
+        candidates.push_back({b, scanner_z, s, (b - Vec2(here.x, here.y)).norm()});
+    const modelling::VoxelSpace& vox = model.Voxels();
+    const double stop_short = params.nbs.stop_short;
+    const DetailPlan plan = PlanDetailScan(
+        cells, surfaces, candidates, view, P, ds,
+        [&vox, stop_short](const Vec3& a, const Vec3& b) { return vox.SegmentFree(a, b, stop_short); });
+    log.t_nbs = Since(t0);
+    res.detail_log.push_back(plan.message);
+    if (!plan.found) break;
+    const DetailCandidate& c = candidates[plan.chosen];
+    if (c.drive_distance > 0.0) {
+      const Pose2 goal{c.base.x(), c.base.y(), here.yaw};
+      log.has_next = true;
+      log.next_goal = goal;
+      log.expected_gain = plan.gain_area;
+      t0 = Clock::now();
+      const DriveStatus st = session.NavigateTo(goal);
+      log.t_drive = Since(t0);
+      log.nav_status = ToString(st);
+      log.nav_message = session.Log().message;
+      if (st != DriveStatus::kArrived) {
+        res.detail_log.push_back("detail: drive failed (" + log.nav_message + ")");
+        break;
+      }
+    }
+    log.step_deg = c.step_rad * 180.0 / M_PI;
+    t0 = Clock::now();
+    const interfaces::TlsScan& scan = session.TakeScan(log.step_deg);
+    log.t_scan = Since(t0);
+    log.session_scan = session.ScanCount() - 1;
+    log.sim_time = session.Time();
+    log.X_MS_prior = scan.X_MS_estimate;
+    log.X_MS = scan.X_MS_estimate;
+    t0 = Clock::now();
+    const bool used = RegisterRoomScan(session, params, scan, false, target, log);
+    log.t_registration = Since(t0);
+    ++res.detail_scans;
+    bool kept = false;
+    if (used) {
+      t0 = Clock::now();
+      // The structure the stopping rule accepted stays: a scan that moves it is left out.
+      modelling::RoomModel before = model;
+      const double area0 = model.Coverage().total_area;
+      model.AddScan(scan, log.X_MS);
+      const double area1 = model.Coverage().total_area;
+      const double change = std::abs(area1 - area0) / std::max(area0, 1e-9);
+      if (change > P.max_structure_change) {
+        model = std::move(before);
+        res.detail_log.push_back(
+            FormatNumbers("detail: the scan changed the estimated structural area %.2f -> %.2f "
+                          "m2 (%.3f > max_structure_change %.3f): left out of the model",
+                          area0, area1, change, P.max_structure_change));
+      } else {
+        kept = true;
+        steps_rad.push_back(c.step_rad);
+        modelling::AddNoReturnRays(scan, log.X_MS,
+                                   static_cast<std::uint16_t>(model.ScanCount() - 1),
+                                   res.no_return);
+        if (on_scan) on_scan(log.session_scan, scan);
+      }
+      log.t_model = Since(t0);
+    } else {
+      res.registration_failed = true;
+    }
+    log.registered = kept;
+    log.coverage = model.Coverage();
+    log.stop_message = plan.message;
+    res.scans.push_back(std::move(log));
+    if (!kept) break;  // the same plan would win again
+  }
+  res.detail_sim_time = session.Time() - sim0;
+  res.detail_wall_time = Since(wall0);
+}
+
 }  // namespace
 
 bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
@@ -167,13 +284,18 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
   perception::PointMap own_target(params.icp);
   perception::PointMap& target = floor_target ? *floor_target : own_target;
   std::vector<Vec2> failed_scans;  // base positions whose scan could not be registered
+  std::vector<double> steps_rad;   // angular step of each scan of the model
+  double scan_seconds = 0.0;       // platform seconds of one scan at the room step
 
   for (int k = 0; k < params.max_scans; ++k) {
     RoomScanLog log;
     log.index = k;
     auto t0 = Clock::now();
+    const double sim_before = session.Time();
     const interfaces::TlsScan& scan = session.TakeScan(params.scan_step_deg);
     log.t_scan = Since(t0);
+    if (k == 0) scan_seconds = session.Time() - sim_before;
+    log.step_deg = params.scan_step_deg;
     log.session_scan = session.ScanCount() - 1;
     log.sim_time = session.Time();
     log.X_MS_prior = scan.X_MS_estimate;
@@ -186,6 +308,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);
+      steps_rad.push_back(params.scan_step_deg * M_PI / 180.0);
       modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
                                  res.no_return);
       log.t_model = Since(t0);
@@ -235,6 +358,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       break;
     }
   }
+  if (params.detail.enabled)
+    RunDetailPass(session, params, model, on_scan, target, steps_rad, scan_seconds, res);
   res.sim_time = session.Time();
   res.wall_time = Since(wall0);
   return res;

@@ -6,6 +6,9 @@
 //   loop: stopping rule (epsilon1 / epsilon2)? -> next best scan -> Navigator::NavigateTo
 //         -> scan -> registration (AMCL prior, point-to-plane ICP against S(t-1), accepted by
 //         the one policy of perception/registration.h) -> RoomModel.AddScan
+//   detail pass (detail.enabled; autonomy/detail_pass.h): while SE cells are too sparse or
+//         too grazing for SM5 and a candidate fixes enough of them, drive there (or stay) and
+//         scan (possibly at a finer step) -> registration -> RoomModel.AddScan
 //
 // Robot side only: it drives an autonomy::Navigator and sees nothing of the world.
 // Deterministic: same platform behaviour + params -> same outputs (timings aside).
@@ -14,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "autonomy/detail_pass.h"
 #include "autonomy/navigator.h"
 #include "autonomy/next_best_scan.h"
 #include "common/frames.h"
@@ -48,6 +52,8 @@ struct RoomScanParams {
   modelling::Sm3Params sm3;
   modelling::OpeningParams sm4;
   modelling::ComponentParams sm5;
+  /// Extra scans for SM5's data quality after the stopping rule (not counted by max_scans)
+  DetailPassParams detail;
 
   static NextBestScanParams DefaultNbs();
   static perception::IcpParams DefaultIcp();
@@ -70,6 +76,7 @@ struct RoomScanParams {
     v("sm3", sm3);
     v("sm4", sm4);
     v("sm5", sm5);
+    v("detail", detail);
   }
 };
 
@@ -77,10 +84,12 @@ struct RoomScanParams {
 struct RoomScanLog {
   int index = 0;
   int session_scan = 0;                  ///< the navigator's scan index (the platform's scan order)
+  bool detail = false;                   ///< a scan of the detail pass
+  double step_deg = 0.0;                 ///< deg, its angular step
   double sim_time = 0.0;                 ///< s, when the scan was taken
   Pose3 X_MS_prior = Pose3::Identity();  ///< odometry/AMCL estimate
   Pose3 X_MS = Pose3::Identity();        ///< registered pose used for the model
-  bool registered = true;                ///< false: ICP refused; the scan was left out of the model
+  bool registered = true;  ///< false: ICP refused (or a detail scan moved the structure): left out
   perception::RegistrationResult registration;  ///< empty for the first scan
   modelling::CoverageFigures coverage;
   std::string stop_message;  ///< the stopping rule's verdict after this scan
@@ -103,6 +112,11 @@ struct RoomScanResult {
   std::string stop_reason;           ///< why the mission ended (stopping rule, cap, no candidate)
   bool registration_failed = false;  ///< some scan could not be registered
   double sim_time = 0.0, wall_time = 0.0;
+  /// The detail pass: its scans (in `scans` too, flagged), the platform and wall seconds it
+  /// took (drives, scans, registration, planning), and one line per planning round.
+  int detail_scans = 0;
+  double detail_sim_time = 0.0, detail_wall_time = 0.0;
+  std::vector<std::string> detail_log;
 };
 
 /// Scans the room the robot stands in. `model` receives the final RoomModel. `on_scan`

@@ -58,6 +58,11 @@ struct FloorRoomJob {
   std::vector<Eigen::Vector3d> door_scan_positions_W;  ///< the room's door scan 1 (world)
   std::vector<Eigen::Vector2f> plan_points_W;          ///< subsample of SM1 near scanner height
   double seconds = 0.0;                                ///< wall time of the room (reporting only)
+  double sim_seconds = 0.0;  ///< s, platform time from the room's start to its models
+  /// The detail pass (autonomy/detail_pass.h): its scans (in `scans` too) and seconds
+  int detail_scans = 0;
+  double detail_sim_seconds = 0.0, detail_wall_seconds = 0.0;
+  std::vector<std::string> detail_log;  ///< one line per planning round
 };
 
 /// The state of the mission after a room, as `mopad run`'s checkpoint records it

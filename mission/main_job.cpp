@@ -192,7 +192,12 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
     if (o.print)
       o.print(r.robot_room + " (" + r.room + "): " + r.status + ", " + std::to_string(r.scans) +
               " scans + " + std::to_string(r.door_scans) + " door scan, robot coverage " +
-              FormatFixed(r.robot_coverage, 3) + "; " + r.reason);
+              FormatFixed(r.robot_coverage, 3) + "; " + r.reason + "; " +
+              std::to_string(r.detail_scans) + " detail scans (" +
+              FormatFixed(r.detail_sim_seconds, 1) + " s platform, " +
+              FormatFixed(r.detail_wall_seconds, 1) + " s wall); room " +
+              FormatFixed(r.sim_seconds, 1) + " s platform, " + FormatFixed(r.seconds, 1) +
+              " s wall");
     t.rooms.rows.push_back(
         {r.robot_room, r.room, std::to_string(r.scans) + " + " + std::to_string(r.door_scans),
          FormatFixed(r.robot_coverage, 3), r.reason, std::to_string(r.openings)});
@@ -214,6 +219,11 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
       rj["evaluation"] = ToJson(*r.evaluation);
     }
     rj["seconds"] = r.seconds;
+    rj["sim_seconds"] = r.sim_seconds;
+    rj["detail"] = {{"scans", r.detail_scans},
+                    {"sim_time", r.detail_sim_seconds},
+                    {"wall_time", r.detail_wall_seconds},
+                    {"log", r.detail_log}};
     t.rooms_json.push_back(std::move(rj));
     if (r.status == "failed") ++t.rooms_failed;
     if (!r.robot_coverage_per_scan.empty())

@@ -90,6 +90,8 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   for (const auto& s : result.scans) {
     nlohmann::ordered_json j;
     j["index"] = s.index;
+    j["detail"] = s.detail;
+    j["step_deg"] = s.step_deg;
     j["registered"] = s.registered;
     j["sim_time"] = s.sim_time;
     j["X_MS_prior"] = PoseJson(s.X_MS_prior);
@@ -125,6 +127,10 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
   nlohmann::ordered_json out;
   out["scans"] = std::move(scans);
   out["stop_reason"] = result.stop_reason;
+  out["detail"] = {{"scans", result.detail_scans},
+                   {"sim_time", result.detail_sim_time},
+                   {"wall_time", result.detail_wall_time},
+                   {"log", result.detail_log}};
   out["registration_failed"] = result.registration_failed;
   out["sim_time"] = result.sim_time;
   out["wall_time"] = result.wall_time;
