@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "autonomy/detail_pass.h"
 #include "common/error.h"
 #include "modelling/stopping.h"
 #include "tests/modelling/sim_scans.h"
@@ -182,8 +183,18 @@ TEST(RoomScanningDocs, YamlExampleLoadsIntoTheParamsStructs) {
       block.clear();
     } else if (inside && line.rfind("```", 0) == 0) {
       inside = false;
-      ++blocks;
       const YAML::Node node = LoadYamlString(block, path);
+      // The detail pass's blocks: its parameters load (typos rejected); `enabled` aside, the
+      // documented values are the defaults (the other keys of a config, e.g. `drive`, belong
+      // to the mission's params).
+      if (node["detail"]) {
+        auto d = LoadParams<DetailPassParams>(node["detail"], path);
+        d.enabled = DetailPassParams{}.enabled;
+        if (node["detail"].size() > 1)
+          EXPECT_EQ(YAML::Dump(SaveParams(d)), YAML::Dump(SaveParams(DetailPassParams{})));
+        continue;
+      }
+      ++blocks;
       const auto m = LoadParams<modelling::RoomModelParams>(node["room_model"], path);
       const auto s = LoadParams<modelling::StoppingParams>(node["stopping"], path);
       const auto n = LoadParams<NextBestScanParams>(node["next_best_scan"], path);
