@@ -30,7 +30,11 @@
 //     floor). Overlapping accepted rectangles keep the best score; a kept rectangle becomes the
 //     valid one inside it whose every side is the same line or inset over a strip that is a
 //     casing (casing_min..casing_max wide, on the wall's surface) or hidden (an occlusion
-//     boundary is no frame): the hole, not the casing.
+//     boundary is no frame): the hole, not the casing. After step 4, one opening per hole:
+//     door rectangles that overlap or nearly touch (door_merge_gap) and together are no wider
+//     than a door (an opened leaf splits a doorway into a part seen through and a part behind
+//     the leaf) become their union, and its door step runs again; other overlapping openings
+//     keep the more confident.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
 //     RANSAC and least squares, the leaf being the most populated gap-free run of inliers.
@@ -98,6 +102,10 @@ struct OpeningParams {
   double casing_max = 0.15;       ///< m, largest casing width, [0, 0.5]
   double min_casing_share = 0.8;  ///< share of a casing strip on the wall's surface, [0, 1]
   double max_overlap = 0.2;       ///< overlap (of the smaller) above which the worse goes, [0, 1]
+  /// m, two door rectangles on one wall that overlap or lie closer than this, and together are
+  /// no wider than door_max_width, are one hole (distinct doors are kept apart by their
+  /// casings and a strip of wall), [0, 0.5]
+  double door_merge_gap = 0.04;
   // Door leaf.
   double leaf_inlier = 0.015;       ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
   double leaf_v_low = 0.25;         ///< share of the door height where leaf points start, [0, 1]
@@ -168,6 +176,7 @@ struct OpeningParams {
     v("casing_max", casing_max, Bounds{0.0, 0.5});
     v("min_casing_share", min_casing_share, Bounds{0.0, 1.0});
     v("max_overlap", max_overlap, Bounds{0.0, 1.0});
+    v("door_merge_gap", door_merge_gap, Bounds{0.0, 0.5});
     v("leaf_inlier", leaf_inlier, Bounds{0.001, 0.2});
     v("leaf_v_low", leaf_v_low, Bounds{0.0, 1.0});
     v("leaf_v_high", leaf_v_high, Bounds{0.0, 1.0});
@@ -261,6 +270,16 @@ WallArea SegmentWallArea(const Orthoimage& image, const OpeningParams& params);
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& image, const std::string& host,
                                                 const OrthoPoints& points,
                                                 const OpeningParams& params, double floor_v = 0.0);
+
+/// One opening per hole (the last part of step 3, after step 4; DetectWallOpenings calls it):
+/// door rectangles of one wall that overlap or lie closer than door_merge_gap and together are
+/// no wider than door_max_width become their union, whose door step (leaf, reveals, state) runs
+/// again on `points`; any other pair overlapping by more than max_overlap of the smaller keeps
+/// the more confident. All of `openings` on `image`'s wall (u, v in its frame). Ordered by u0.
+/// (Called here, a widened door's sides are not snapped to the image's lines.)
+std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,
+                                               const Orthoimage& image, const OrthoPoints& points,
+                                               const OpeningParams& params);
 
 /// SM4 of one room: every wall patch of `sm3` imaged (BuildOrthoimage) and searched. InputError
 /// for bad params or point arrays. `images`, when not null, receives the walls' orthoimages

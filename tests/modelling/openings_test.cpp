@@ -332,6 +332,36 @@ TEST(Openings, DoorSwungPastNinetyBehindTheWallReadsOverNinety) {
   EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
 }
 
+// Two door rectangles on one hole (a part seen through and a part behind the leaf, or a
+// casing's rectangle moved by the reveal step) are one door: the hole, not the casing, with
+// its leaf measured again.
+TEST(Openings, TwoDoorRectanglesOnOneHoleBecomeOneDoorWithoutItsCasing) {
+  HoleSpec h;
+  h.lambda_deg = 35.0;
+  const Cloud c = testing::ScanRoom(testing::RoomScene(h));
+  const OpeningParams p;
+  const Orthoimage img =
+      BuildOrthoimage(c.View(), PatchFrame::Of(testing::RoomSm3().patches[0]), p.orthoimage);
+  auto rect = [](double u0, double u1, double conf) {
+    DetectedOpening o;
+    o.host = "wall_1", o.u0 = u0, o.u1 = u1, o.v0 = 0.0, o.v1 = 2.1, o.confidence = conf;
+    o.known_share = 0.5, o.through_share = 0.3, o.evidence_share = 1.0;
+    return o;
+  };
+  // Each from a casing's outer edge (the casing is 8 cm wide) to somewhere inside the hole.
+  const auto one =
+      OneOpeningPerHole({rect(2.02, 2.62, 0.9), rect(2.55, 3.08, 0.6)}, img, c.View(), p);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_NEAR(one[0].u0, 5.0 - h.x1, 0.03);
+  EXPECT_NEAR(one[0].u1, 5.0 - h.x0, 0.03);
+  EXPECT_NEAR(one[0].opening_angle_deg, 35.0, 3.0);
+  EXPECT_EQ(one[0].state, DoorState::kSemiOpen);
+  EXPECT_DOUBLE_EQ(one[0].confidence, 0.9);
+  // Apart by more than door_merge_gap (a strip of wall between their casings): two doors.
+  const auto two = OneOpeningPerHole({rect(0.6, 1.5, 0.9), rect(2.1, 3.0, 0.6)}, img, c.View(), p);
+  EXPECT_EQ(two.size(), 2u);
+}
+
 TEST(Openings, WindowWithGlassIsFoundFromTheRaysThatPassedIt) {
   HoleSpec h;
   h.x0 = 1.5, h.x1 = 2.7, h.z0 = 0.9, h.z1 = 2.1;
@@ -429,8 +459,10 @@ TEST(Openings, StateThresholdsAreThePapers) {
 TEST(Openings, ParamsRoundTripThroughYamlAndRejectBadValues) {
   OpeningParams p;
   p.flush_depth = 0.04, p.orthoimage.band = 0.3, p.seed = 9, p.max_lines = 33;
+  p.door_merge_gap = 0.07;
   const OpeningParams q = LoadParams<OpeningParams>(SaveParams(p), "mem");
   EXPECT_EQ(q.flush_depth, 0.04);
+  EXPECT_EQ(q.door_merge_gap, 0.07);
   EXPECT_EQ(q.orthoimage.band, 0.3);
   EXPECT_EQ(q.seed, 9u);
   EXPECT_EQ(q.max_lines, 33);
