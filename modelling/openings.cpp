@@ -819,12 +819,53 @@ LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoim
   return leaf;
 }
 
+// A door side beside hidden pixels (occluded, or protruding: an opened leaf in front) is an
+// occlusion boundary, not a jamb: the doorway may go on behind the occluder. Each such side of
+// k moves out to the nearest vertical line beyond it where the wall resumes (its outside strip
+// on the wall's surface, min_casing_share of it), the strip crossed being hole-like (hidden or
+// evidence over min_evidence_share of it, over the door's height) and the door no wider than
+// door_max_width. Returns which sides moved (bit 0: left, bit 1: right).
+int ExtendOccludedSides(Candidate& k, const std::vector<Line>& vert, const Masks& m,
+                        const OpeningParams& p, double px) {
+  const int ring = std::max(1, static_cast<int>(std::lround(p.ring / px)));
+  const int max_w = static_cast<int>(std::lround(p.door_max_width / px));
+  const int r0 = k.rt + 1, r1 = k.rb;
+  if (r1 <= r0) return 0;
+  const auto share = [&](const Integral& in, int c0, int c1) {
+    const double a = double(std::max(0, c1 - c0)) * (r1 - r0);
+    return a > 0 ? in.Sum(c0, c1, r0, r1) / a : 0.0;
+  };
+  int moved = 0;
+  for (int dir : {-1, +1}) {
+    const int side = dir < 0 ? k.cl : k.cr;
+    const int out0 = dir < 0 ? side - ring : side + 1, out1 = dir < 0 ? side : side + 1 + ring;
+    if (share(m.hidden, out0, out1) < 0.5) continue;
+    int best = -1;
+    for (const Line& l : vert) {
+      const int c = static_cast<int>(std::lround(l.pos));
+      if (dir < 0 ? c >= side - 1 : c <= side + 1) continue;
+      if ((dir < 0 ? k.cr - c : c - k.cl) > max_w) continue;
+      if (std::min(l.b, r1) - std::max(l.a, r0) < 0.5 * (r1 - r0)) continue;  // a jamb's line
+      const int x0 = dir < 0 ? c + 1 : side + 1, x1 = dir < 0 ? side : c;
+      if (share(m.hidden, x0, x1) + share(m.ev_door, x0, x1) < p.min_evidence_share) continue;
+      const int o0 = dir < 0 ? c - ring : c + 1, o1 = dir < 0 ? c : c + 1 + ring;
+      if (share(m.flush, o0, o1) < p.min_casing_share) continue;
+      if (best < 0 || std::abs(c - side) < std::abs(best - side)) best = c;
+    }
+    if (best < 0) continue;
+    (dir < 0 ? k.cl : k.cr) = best;
+    moved |= dir < 0 ? 1 : 2;
+  }
+  return moved;
+}
+
 // Step 4 and the file's fields: each kept rectangle as an opening in the wall's frame, doors
 // with their leaf (FitDoor).
 std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
-                                        const std::vector<Line>& vert, const Orthoimage& img,
-                                        const std::string& host, const OrthoPoints& points,
-                                        const OpeningParams& p, double floor_v) {
+                                        const std::vector<Line>& vert, const Masks& m,
+                                        const Orthoimage& img, const std::string& host,
+                                        const OrthoPoints& points, const OpeningParams& p,
+                                        double floor_v) {
   std::vector<DetectedOpening> out;
   const PatchFrame& f = img.Frame();
   for (const Candidate& k : kept) {
@@ -840,7 +881,24 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
     o.known_share = k.known, o.evidence_share = k.evidence, o.through_share = k.through;
     o.side_support = k.support;
     if (o.type == OpeningType::kDoor) {
+      const DetectedOpening rect = o;
       FitDoor(o, vert, img, points, p, static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
+      // A side that is an occlusion boundary: the doorway with that side moved out to where the
+      // wall resumes, taken when the occluder is the door's own leaf (a leaf hinged at the
+      // moved side is found).
+      Candidate e = k;
+      const int moved = ExtendOccludedSides(e, vert, m, p, img.Pixel());
+      if (moved != 0) {
+        DetectedOpening x = rect;
+        x.u0 = img.ColU(e.cl + 0.5), x.u1 = img.ColU(e.cr + 0.5);
+        const LeafFit leaf =
+            FitDoor(x, vert, img, points, p, static_cast<std::uint64_t>(e.cl) * 100003u + e.rt);
+        const bool hinged_at_moved =
+            leaf.inliers > 0 &&
+            (((moved & 1) && std::abs(leaf.hinge_u - x.u0) <= p.leaf_jamb_reach) ||
+             ((moved & 2) && std::abs(leaf.hinge_u - x.u1) <= p.leaf_jamb_reach));
+        if (hinged_at_moved) o = x;
+      }
     }
     out.push_back(o);
   }
@@ -984,8 +1042,8 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
   std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
-  return OneOpeningPerHoleWithLines(ToOpenings(kept, vert, img, host, points, p, floor_v), vert,
-                                    we.m, img, points, p);
+  return OneOpeningPerHoleWithLines(ToOpenings(kept, vert, we.m, img, host, points, p, floor_v),
+                                    vert, we.m, img, points, p);
 }
 
 std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,

@@ -43,7 +43,11 @@
 //     beside it and a line through both would lean towards the wall by several degrees;
 //     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
 //     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
-//     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
+//     width from the hinge (its latch jamb hidden behind the opened leaf). A door side beside
+//     hidden pixels (an occlusion boundary: the part of the doorway behind an opened leaf) is no
+//     jamb: the door with that side moved out to the nearest vertical line where the wall
+//     resumes (hole-like strip crossed, within door_max_width) replaces it when a leaf hinged at
+//     the moved side is found there (the occluder is the door's own leaf). State: open lambda >= 90
 //     deg, semi_open 5 <= lambda < 90, closed lambda < 5 (paper §3.3), with open from 90 -
 //     open_tolerance_deg (measurement). No leaf found: open (angle unknown) if open_through_share
 //     of its seen (known) interior is seen through, else closed: a closed leaf shows as a surface

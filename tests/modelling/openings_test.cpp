@@ -332,6 +332,49 @@ TEST(Openings, DoorSwungPastNinetyBehindTheWallReadsOverNinety) {
   EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
 }
 
+// Seen from where the opened leaf hides the hinge side of the doorway, the images show a hole
+// seen through beside the leaf, framed on the leaf's side by an occlusion boundary: that side
+// is no jamb, and the door reaches the jamb its leaf hinges at.
+struct SplitCase {
+  double lambda_deg, x, y;
+};
+class DoorwaySplitByItsLeaf : public ::testing::TestWithParam<SplitCase> {};
+
+TEST_P(DoorwaySplitByItsLeaf, DoorReachesTheJambItsLeafHingesAt) {
+  HoleSpec h;
+  h.lambda_deg = GetParam().lambda_deg;
+  const testing::Scene s = testing::RoomScene(h);
+  Cloud c;
+  testing::Scan(s, {GetParam().x, GetParam().y, 1.3}, -testing::kPi, testing::kPi, 0.003, c);
+  testing::Scan(s, {2.5, 3.2, 1.3}, -testing::kPi, testing::kPi, 0.003, c);
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {});
+  ASSERT_EQ(m.openings.size(), 1u) << Describe(m);
+  const auto& o = m.openings[0];
+  SCOPED_TRACE(Describe(m));
+  EXPECT_NEAR(o.u0, 5.0 - h.x1, 0.03);
+  EXPECT_NEAR(o.u1, 5.0 - h.x0, 0.06);
+  EXPECT_NEAR(o.opening_angle_deg, h.lambda_deg, 3.0);
+  EXPECT_EQ(o.state, DoorState::kSemiOpen);
+}
+INSTANTIATE_TEST_SUITE_P(Views, DoorwaySplitByItsLeaf,
+                         ::testing::Values(SplitCase{30, 4.2, 2.0}, SplitCase{35, 3.3, 2.0},
+                                           SplitCase{40, 3.3, 2.0}));
+
+// A tall cabinet standing over a closed door's casing hides the wall beside the door: that side
+// is an occlusion boundary, but no leaf is hinged at the cabinet's far edge, so the door keeps
+// its side and its state.
+TEST(Openings, TallCabinetOverAClosedDoorsCasingDoesNotWidenTheDoor) {
+  HoleSpec h;
+  testing::Scene s = testing::RoomScene(h);
+  s.boxes.push_back(testing::AxisBox({2.86, 0.02, 0.0}, {3.5, 0.52, 2.2}, testing::kCabinetRgb));
+  const Found f = Detect(s);
+  SCOPED_TRACE(Describe(f.sm4));
+  for (const auto& o : f.on_wall1) {
+    EXPECT_GT(o.u0, 5.0 - 2.98 - 0.05);
+    EXPECT_NE(o.state, DoorState::kOpen);
+  }
+}
+
 // Two door rectangles on one hole (a part seen through and a part behind the leaf, or a
 // casing's rectangle moved by the reveal step) are one door: the hole, not the casing, with
 // its leaf measured again.
