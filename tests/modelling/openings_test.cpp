@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <ostream>
 
 #include "common/error.h"
 #include "modelling/model_io.h"
@@ -338,6 +339,9 @@ TEST(Openings, DoorSwungPastNinetyBehindTheWallReadsOverNinety) {
 struct SplitCase {
   double lambda_deg, x, y;
 };
+void PrintTo(const SplitCase& c, std::ostream* os) {
+  *os << "lambda " << c.lambda_deg << " deg, scan at (" << c.x << ", " << c.y << ")";
+}
 class DoorwaySplitByItsLeaf : public ::testing::TestWithParam<SplitCase> {};
 
 TEST_P(DoorwaySplitByItsLeaf, DoorReachesTheJambItsLeafHingesAt) {
@@ -358,7 +362,11 @@ TEST_P(DoorwaySplitByItsLeaf, DoorReachesTheJambItsLeafHingesAt) {
 }
 INSTANTIATE_TEST_SUITE_P(Views, DoorwaySplitByItsLeaf,
                          ::testing::Values(SplitCase{30, 4.2, 2.0}, SplitCase{35, 3.3, 2.0},
-                                           SplitCase{40, 3.3, 2.0}));
+                                           SplitCase{40, 3.3, 2.0}),
+                         [](const ::testing::TestParamInfo<SplitCase>& info) {
+                           return "Lambda" +
+                                  std::to_string(static_cast<int>(info.param.lambda_deg));
+                         });
 
 // A tall cabinet standing over a closed door's casing hides the wall beside the door: that side
 // is an occlusion boundary, but no leaf is hinged at the cabinet's far edge, so the door keeps
