@@ -596,6 +596,43 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
       depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
           std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
     }
+  // Sampling gaps: a pixel without points that no ray passed or stopped in front of takes the
+  // mean of its seen 8-neighbours, repeatedly up to gap_fill away. Where the wall is sampled
+  // more sparsely than the pixel (far from every scan position), a leaf or casing keeps its
+  // own colour and depth there instead of the wall's, and the edges follow the door, not the
+  // boundary of the sparse area.
+  const int fill_px = static_cast<int>(std::lround(p.gap_fill / px));
+  cv::Mat have(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (img.Count(img.Index(c, r)) > 0) have.at<std::uint8_t>(r, c) = 1;
+  for (int it = 0; it < fill_px; ++it) {
+    cv::Mat next = have.clone();
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const std::size_t i = img.Index(c, r);
+        if (have.at<std::uint8_t>(r, c) || img.Passed(i) > 0 || img.Blocked(i) > 0) continue;
+        double sc[3] = {0, 0, 0}, sd = 0;
+        int n = 0;
+        for (int dr = -1; dr <= 1; ++dr)
+          for (int dc = -1; dc <= 1; ++dc) {
+            const int rr = r + dr, cc = c + dc;
+            if (rr < 0 || rr >= rows || cc < 0 || cc >= cols || !have.at<std::uint8_t>(rr, cc))
+              continue;
+            const cv::Vec3b& q = colour.at<cv::Vec3b>(rr, cc);
+            for (int k = 0; k < 3; ++k) sc[k] += q[k];
+            sd += depth.at<std::uint8_t>(rr, cc);
+            ++n;
+          }
+        if (n == 0) continue;
+        colour.at<cv::Vec3b>(r, c) = cv::Vec3b(static_cast<std::uint8_t>(std::lround(sc[0] / n)),
+                                               static_cast<std::uint8_t>(std::lround(sc[1] / n)),
+                                               static_cast<std::uint8_t>(std::lround(sc[2] / n)));
+        depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(std::lround(sd / n));
+        next.at<std::uint8_t>(r, c) = 1;
+      }
+    have = next;
+  }
   cv::Mat ev_door = ClassMask(
       area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
   for (int r = 0; r < rows; ++r)

@@ -126,7 +126,10 @@ struct OpeningParams {
   /// Share of a door's seen interior seen through that makes it open when no leaf is found,
   /// [0, 1]
   double open_through_share = 0.3;
-  int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
+  int median_kernel = 5;  ///< px, odd, median before the edges (1 = none), [1, 15]
+  /// m, a pixel without points, passed or blocked rays takes the mean of its seen neighbours
+  /// up to this far (sampling gaps), before the edges, [0, 0.2]
+  double gap_fill = 0.03;
   double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
   /// The same share when the run starts within leaf_jamb_reach of a jamb (its hinge), [0, 1]
   double leaf_min_extent_hinged = 0.15;
@@ -193,6 +196,7 @@ struct OpeningParams {
     v("reveal_band", reveal_band, Bounds{0.001, 0.1});
     v("open_through_share", open_through_share, Bounds{0.0, 1.0});
     v("median_kernel", median_kernel, Bounds{1, 15});
+    v("gap_fill", gap_fill, Bounds{0.0, 0.2});
     v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
     v("leaf_min_extent_hinged", leaf_min_extent_hinged, Bounds{0.0, 1.0});
     v("leaf_min_points", leaf_min_points, Bounds{3, 10000000});

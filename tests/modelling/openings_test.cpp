@@ -383,6 +383,29 @@ TEST(Openings, TallCabinetOverAClosedDoorsCasingDoesNotWidenTheDoor) {
   }
 }
 
+// One scan from near the wall's end: the wall near the scanner is dense, so its pixel is fine,
+// and the door 2-3 m along the wall is hit at a slant, more sparsely than a point per pixel.
+// The gaps between its points take their neighbours' values (gap_fill), not the wall's, so its
+// edges follow the door rather than the edge of the sparse area.
+struct SparseCase {
+  double x, step;
+};
+class SparselySampledDoor : public ::testing::TestWithParam<SparseCase> {};
+
+TEST_P(SparselySampledDoor, IsStillFound) {
+  HoleSpec h;
+  const testing::Scene s = testing::RoomScene(h);
+  Cloud c;
+  testing::Scan(s, {GetParam().x, 0.25, 1.3}, -testing::kPi, testing::kPi, GetParam().step, c);
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {});
+  ASSERT_EQ(m.openings.size(), 1u) << Describe(m);
+  SCOPED_TRACE(Describe(m));
+  ExpectHole(m.openings[0], h, 0.1);
+  EXPECT_EQ(m.openings[0].state, DoorState::kClosed);
+}
+INSTANTIATE_TEST_SUITE_P(Scans, SparselySampledDoor,
+                         ::testing::Values(SparseCase{4.8, 0.003}, SparseCase{0.2, 0.005}));
+
 // Two door rectangles on one hole (a part seen through and a part behind the leaf, or a
 // casing's rectangle moved by the reveal step) are one door: the hole, not the casing, with
 // its leaf measured again.
@@ -510,10 +533,11 @@ TEST(Openings, StateThresholdsAreThePapers) {
 TEST(Openings, ParamsRoundTripThroughYamlAndRejectBadValues) {
   OpeningParams p;
   p.flush_depth = 0.04, p.orthoimage.band = 0.3, p.seed = 9, p.max_lines = 33;
-  p.door_merge_gap = 0.07;
+  p.door_merge_gap = 0.07, p.gap_fill = 0.05;
   const OpeningParams q = LoadParams<OpeningParams>(SaveParams(p), "mem");
   EXPECT_EQ(q.flush_depth, 0.04);
   EXPECT_EQ(q.door_merge_gap, 0.07);
+  EXPECT_EQ(q.gap_fill, 0.05);
   EXPECT_EQ(q.orthoimage.band, 0.3);
   EXPECT_EQ(q.seed, 9u);
   EXPECT_EQ(q.max_lines, 33);
