@@ -596,6 +596,43 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
       depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(
           std::clamp(128.0 + std::round(img.Depth(i) / p.depth_step), 1.0, 255.0));
     }
+  // Sampling gaps: a pixel without points that no ray passed or stopped in front of takes the
+  // mean of its seen 8-neighbours, repeatedly up to gap_fill away. Where the wall is sampled
+  // more sparsely than the pixel (far from every scan position), a leaf or casing keeps its
+  // own colour and depth there instead of the wall's, and the edges follow the door, not the
+  // boundary of the sparse area.
+  const int fill_px = static_cast<int>(std::lround(p.gap_fill / px));
+  cv::Mat have(rows, cols, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (img.Count(img.Index(c, r)) > 0) have.at<std::uint8_t>(r, c) = 1;
+  for (int it = 0; it < fill_px; ++it) {
+    cv::Mat next = have.clone();
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const std::size_t i = img.Index(c, r);
+        if (have.at<std::uint8_t>(r, c) || img.Passed(i) > 0 || img.Blocked(i) > 0) continue;
+        double sc[3] = {0, 0, 0}, sd = 0;
+        int n = 0;
+        for (int dr = -1; dr <= 1; ++dr)
+          for (int dc = -1; dc <= 1; ++dc) {
+            const int rr = r + dr, cc = c + dc;
+            if (rr < 0 || rr >= rows || cc < 0 || cc >= cols || !have.at<std::uint8_t>(rr, cc))
+              continue;
+            const cv::Vec3b& q = colour.at<cv::Vec3b>(rr, cc);
+            for (int k = 0; k < 3; ++k) sc[k] += q[k];
+            sd += depth.at<std::uint8_t>(rr, cc);
+            ++n;
+          }
+        if (n == 0) continue;
+        colour.at<cv::Vec3b>(r, c) = cv::Vec3b(static_cast<std::uint8_t>(std::lround(sc[0] / n)),
+                                               static_cast<std::uint8_t>(std::lround(sc[1] / n)),
+                                               static_cast<std::uint8_t>(std::lround(sc[2] / n)));
+        depth.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(std::lround(sd / n));
+        next.at<std::uint8_t>(r, c) = 1;
+      }
+    have = next;
+  }
   cv::Mat ev_door = ClassMask(
       area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
   for (int r = 0; r < rows; ++r)
@@ -766,12 +803,106 @@ std::vector<Candidate> KeepHoles(const std::vector<Candidate>& cands, const Mask
   return kept;
 }
 
+// Step 4 for one door rectangle o (u0, u1, v0, v1 set; known_share and through_share of its
+// interior set): its leaf (angle, state, clear width), its sides moved to its reveals where
+// they were seen, widened to the leaf where it is wider. `index` keys the leaf's RANSAC stream.
+LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoimage& img,
+                const OrthoPoints& points, const OpeningParams& p, std::uint64_t index) {
+  const PatchFrame& f = img.Frame();
+  const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p, index);
+  o.leaf_points = leaf.inliers;
+  // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
+  // the wall's colour may have moved a side's line in the images).
+  if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
+  if (!std::isnan(leaf.reveal_u[1])) o.u1 = leaf.reveal_u[1];
+  // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
+  // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
+  // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.
+  if (leaf.inliers > 0 && leaf.extent > o.Width() + p.leaf_widen_margin) {
+    const bool hinge_high = leaf.hinge_u > 0.5 * (o.u0 + o.u1);
+    auto snap = [&](double u) {
+      double best_d = 0.05, out_u = u;
+      for (const Line& l : vert) {
+        const double lu = img.ColU(l.pos + 0.5);
+        if (std::abs(lu - u) < best_d) best_d = std::abs(lu - u), out_u = lu;
+      }
+      return out_u;
+    };
+    const double hinge = snap(leaf.hinge_u);
+    const double latch = snap(hinge_high ? leaf.hinge_u - leaf.extent : leaf.hinge_u + leaf.extent);
+    o.u0 = std::min(o.u0, std::min(hinge, latch));
+    o.u1 = std::max(o.u1, std::max(hinge, latch));
+  }
+  o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+  o.opening_angle_deg = std::numeric_limits<double>::quiet_NaN();
+  if (leaf.inliers > 0) {
+    o.opening_angle_deg = leaf.lambda_deg;
+    o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);
+  } else {
+    // No leaf seen: open if the robot saw through most of what it saw of it, else closed
+    // (its leaf is the wall's colour and flush, or hidden).
+    const double through_of_known = o.known_share > 0.0 ? o.through_share / o.known_share : 0.0;
+    o.state = through_of_known >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
+  }
+  if (o.state == DoorState::kClosed) {
+    o.clear_width_m = 0.0;
+  } else {
+    const double lam = std::isnan(o.opening_angle_deg) ? 90.0 : o.opening_angle_deg;
+    const double l = lam / kRadToDeg;
+    const double intrusion =
+        std::max(0.0, o.Width() * std::cos(l)) + p.leaf_thickness * std::sin(l);
+    o.clear_width_m = std::max(0.0, o.Width() - intrusion);
+  }
+  return leaf;
+}
+
+// A door side beside hidden pixels (occluded, or protruding: an opened leaf in front) is an
+// occlusion boundary, not a jamb: the doorway may go on behind the occluder. Each such side of
+// k moves out to the nearest vertical line beyond it where the wall resumes (its outside strip
+// on the wall's surface, min_casing_share of it), the strip crossed being hole-like (hidden or
+// evidence over min_evidence_share of it, over the door's height) and the door no wider than
+// door_max_width. Returns which sides moved (bit 0: left, bit 1: right).
+int ExtendOccludedSides(Candidate& k, const std::vector<Line>& vert, const Masks& m,
+                        const OpeningParams& p, double px) {
+  const int ring = std::max(1, static_cast<int>(std::lround(p.ring / px)));
+  const int max_w = static_cast<int>(std::lround(p.door_max_width / px));
+  const int r0 = k.rt + 1, r1 = k.rb;
+  if (r1 <= r0) return 0;
+  const auto share = [&](const Integral& in, int c0, int c1) {
+    const double a = double(std::max(0, c1 - c0)) * (r1 - r0);
+    return a > 0 ? in.Sum(c0, c1, r0, r1) / a : 0.0;
+  };
+  int moved = 0;
+  for (int dir : {-1, +1}) {
+    const int side = dir < 0 ? k.cl : k.cr;
+    const int out0 = dir < 0 ? side - ring : side + 1, out1 = dir < 0 ? side : side + 1 + ring;
+    if (share(m.hidden, out0, out1) < 0.5) continue;
+    int best = -1;
+    for (const Line& l : vert) {
+      const int c = static_cast<int>(std::lround(l.pos));
+      if (dir < 0 ? c >= side - 1 : c <= side + 1) continue;
+      if ((dir < 0 ? k.cr - c : c - k.cl) > max_w) continue;
+      if (std::min(l.b, r1) - std::max(l.a, r0) < 0.5 * (r1 - r0)) continue;  // a jamb's line
+      const int x0 = dir < 0 ? c + 1 : side + 1, x1 = dir < 0 ? side : c;
+      if (share(m.hidden, x0, x1) + share(m.ev_door, x0, x1) < p.min_evidence_share) continue;
+      const int o0 = dir < 0 ? c - ring : c + 1, o1 = dir < 0 ? c : c + 1 + ring;
+      if (share(m.flush, o0, o1) < p.min_casing_share) continue;
+      if (best < 0 || std::abs(c - side) < std::abs(best - side)) best = c;
+    }
+    if (best < 0) continue;
+    (dir < 0 ? k.cl : k.cr) = best;
+    moved |= dir < 0 ? 1 : 2;
+  }
+  return moved;
+}
+
 // Step 4 and the file's fields: each kept rectangle as an opening in the wall's frame, doors
-// with their leaf (angle, state, clear width), widened to the leaf where it is wider.
+// with their leaf (FitDoor).
 std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
-                                        const std::vector<Line>& vert, const Orthoimage& img,
-                                        const std::string& host, const OrthoPoints& points,
-                                        const OpeningParams& p, double floor_v) {
+                                        const std::vector<Line>& vert, const Masks& m,
+                                        const Orthoimage& img, const std::string& host,
+                                        const OrthoPoints& points, const OpeningParams& p,
+                                        double floor_v) {
   std::vector<DetectedOpening> out;
   const PatchFrame& f = img.Frame();
   for (const Candidate& k : kept) {
@@ -787,58 +918,148 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
     o.known_share = k.known, o.evidence_share = k.evidence, o.through_share = k.through;
     o.side_support = k.support;
     if (o.type == OpeningType::kDoor) {
-      const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p,
-                                       static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
-      o.leaf_points = leaf.inliers;
-      // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
-      // the wall's colour may have moved a side's line in the images).
-      if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
-      if (!std::isnan(leaf.reveal_u[1])) o.u1 = leaf.reveal_u[1];
-      o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
-                   f.ToMap(o.u0, o.v1)};
-      // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
-      // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
-      // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.
-      if (leaf.inliers > 0 && leaf.extent > o.Width() + p.leaf_widen_margin) {
-        const bool hinge_high = leaf.hinge_u > 0.5 * (o.u0 + o.u1);
-        auto snap = [&](double u) {
-          double best_d = 0.05, out_u = u;
-          for (const Line& l : vert) {
-            const double lu = img.ColU(l.pos + 0.5);
-            if (std::abs(lu - u) < best_d) best_d = std::abs(lu - u), out_u = lu;
-          }
-          return out_u;
-        };
-        const double hinge = snap(leaf.hinge_u);
-        const double latch =
-            snap(hinge_high ? leaf.hinge_u - leaf.extent : leaf.hinge_u + leaf.extent);
-        o.u0 = std::min(o.u0, std::min(hinge, latch));
-        o.u1 = std::max(o.u1, std::max(hinge, latch));
-        o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
-                     f.ToMap(o.u0, o.v1)};
-      }
-      if (leaf.inliers > 0) {
-        o.opening_angle_deg = leaf.lambda_deg;
-        o.state = DoorStateFromAngleDeg(leaf.lambda_deg, p.closed_below_deg, p.open_tolerance_deg);
-      } else {
-        // No leaf seen: open if the robot saw through most of what it saw of it, else closed
-        // (its leaf is the wall's colour and flush, or hidden).
-        const double through_of_known = k.known > 0.0 ? k.through / k.known : 0.0;
-        o.state = through_of_known >= p.open_through_share ? DoorState::kOpen : DoorState::kClosed;
-      }
-      if (o.state == DoorState::kClosed) {
-        o.clear_width_m = 0.0;
-      } else {
-        const double lam = std::isnan(o.opening_angle_deg) ? 90.0 : o.opening_angle_deg;
-        const double l = lam / kRadToDeg;
-        const double intrusion =
-            std::max(0.0, o.Width() * std::cos(l)) + p.leaf_thickness * std::sin(l);
-        o.clear_width_m = std::max(0.0, o.Width() - intrusion);
+      const DetectedOpening rect = o;
+      FitDoor(o, vert, img, points, p, static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
+      // A side that is an occlusion boundary: the doorway with that side moved out to where the
+      // wall resumes, taken when the occluder is the door's own leaf (a leaf hinged at the
+      // moved side is found).
+      Candidate e = k;
+      const int moved = ExtendOccludedSides(e, vert, m, p, img.Pixel());
+      if (moved != 0) {
+        DetectedOpening x = rect;
+        x.u0 = img.ColU(e.cl + 0.5), x.u1 = img.ColU(e.cr + 0.5);
+        const LeafFit leaf =
+            FitDoor(x, vert, img, points, p, static_cast<std::uint64_t>(e.cl) * 100003u + e.rt);
+        const bool hinged_at_moved =
+            leaf.inliers > 0 &&
+            (((moved & 1) && std::abs(leaf.hinge_u - x.u0) <= p.leaf_jamb_reach) ||
+             ((moved & 2) && std::abs(leaf.hinge_u - x.u1) <= p.leaf_jamb_reach));
+        if (hinged_at_moved) o = x;
       }
     }
     out.push_back(o);
   }
   return out;
+}
+
+// The hole, not the casing (KeepHoles' rule, for a door rectangle in u, v): each side moves in
+// to the nearest vertical line casing_min..casing_max inside it when the strip between is a
+// casing (on the wall's surface over min_casing_share of its seen part, seen over a fifth).
+void InsetCasingSides(DetectedOpening& o, const std::vector<Line>& vert, const Masks& m,
+                      const Orthoimage& img, const OpeningParams& p) {
+  const double px = img.Pixel();
+  const int in_min = static_cast<int>(std::lround(p.casing_min / px));
+  const int in_max = static_cast<int>(std::lround(p.casing_max / px));
+  const auto lo = img.PixelOf(o.u0, o.v1), hi = img.PixelOf(o.u1, o.v0);
+  const int cl = lo[0], cr = hi[0], r0 = lo[1] + 1, r1 = hi[1];
+  if (r1 <= r0 || cr <= cl) return;
+  const auto casing = [&](int c0, int c1) {
+    const double a = double(std::max(0, c1 - c0)) * (r1 - r0);
+    if (a <= 0) return false;
+    const double seen = a - m.hidden.Sum(c0, c1, r0, r1);
+    return seen >= 0.2 * a && m.flush.Sum(c0, c1, r0, r1) >= p.min_casing_share * seen;
+  };
+  int new_cl = cl, new_cr = cr;
+  for (const Line& l : vert) {
+    const int c = static_cast<int>(std::lround(l.pos));
+    if (c - cl >= in_min && c - cl <= in_max && (new_cl == cl || c < new_cl) && casing(cl + 1, c))
+      new_cl = c;
+    if (cr - c >= in_min && cr - c <= in_max && (new_cr == cr || c > new_cr) && casing(c + 1, cr))
+      new_cr = c;
+  }
+  if (new_cr - new_cl < 2) return;
+  if (new_cl != cl) o.u0 = img.ColU(new_cl + 0.5);
+  if (new_cr != cr) o.u1 = img.ColU(new_cr + 0.5);
+}
+
+// One hole, one opening. The leaf and reveal steps move the sides of the rectangles KeepHoles
+// kept apart, and an opened leaf splits a doorway into a part seen through and a part behind
+// the leaf, each with a frame of edges: two door rectangles on one wall that overlap or lie
+// closer than door_merge_gap (distinct doors are kept apart by their casings and a strip of
+// wall) and together are no wider than a door are parts of one hole; the door step runs again
+// on their union (its reveals give the sides). Any other pair overlapping by more than
+// max_overlap of the smaller keeps the more confident (ties: the first). Order by u0.
+std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpening> in,
+                                                        const std::vector<Line>& vert,
+                                                        const Masks& masks, const Orthoimage& img,
+                                                        const OrthoPoints& points,
+                                                        const OpeningParams& p) {
+  const auto area = [](const DetectedOpening& o) { return o.Width() * o.Height(); };
+  bool merged = true;
+  for (int round = 0; merged && round < 16; ++round) {
+    merged = false;
+    for (std::size_t i = 0; i < in.size() && !merged; ++i)
+      for (std::size_t j = i + 1; j < in.size() && !merged; ++j) {
+        const DetectedOpening &a = in[i], &b = in[j];
+        if (a.type != OpeningType::kDoor || b.type != OpeningType::kDoor) continue;
+        const double gap = std::max(a.u0, b.u0) - std::min(a.u1, b.u1);
+        const double u0 = std::min(a.u0, b.u0), u1 = std::max(a.u1, b.u1);
+        if (gap >= p.door_merge_gap || u1 - u0 > p.door_max_width) continue;
+        DetectedOpening m = a.confidence >= b.confidence ? a : b;
+        const double wa = area(a), wb = area(b), wsum = std::max(1e-12, wa + wb);
+        m.u0 = u0, m.u1 = u1, m.v0 = std::min(a.v0, b.v0), m.v1 = std::max(a.v1, b.v1);
+        m.confidence = std::max(a.confidence, b.confidence);
+        m.known_share = (wa * a.known_share + wb * b.known_share) / wsum;
+        m.evidence_share = (wa * a.evidence_share + wb * b.evidence_share) / wsum;
+        m.through_share = (wa * a.through_share + wb * b.through_share) / wsum;
+        m.side_support = std::max(a.side_support, b.side_support);
+        InsetCasingSides(m, vert, masks, img, p);
+        const auto col = img.PixelOf(u0, m.v1);
+        FitDoor(m, vert, img, points, p,
+                static_cast<std::uint64_t>(std::max(0, col[0])) * 100003u +
+                    static_cast<std::uint64_t>(std::max(0, col[1])) + 7u);
+        in[i] = m;
+        in.erase(in.begin() + static_cast<std::ptrdiff_t>(j));
+        merged = true;
+      }
+  }
+  const auto overlap = [&](const DetectedOpening& a, const DetectedOpening& b) {
+    const double w = std::min(a.u1, b.u1) - std::max(a.u0, b.u0);
+    const double h = std::min(a.v1, b.v1) - std::max(a.v0, b.v0);
+    if (w <= 0.0 || h <= 0.0) return 0.0;
+    return w * h / std::max(1e-12, std::min(area(a), area(b)));
+  };
+  std::vector<std::size_t> order(in.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return in[x].confidence > in[y].confidence;
+  });
+  std::vector<bool> keep(in.size(), false);
+  for (std::size_t i : order) {
+    bool clash = false;
+    for (std::size_t j = 0; j < in.size() && !clash; ++j)
+      clash = keep[j] && overlap(in[i], in[j]) > p.max_overlap;
+    keep[i] = !clash;
+  }
+  std::vector<DetectedOpening> out;
+  for (std::size_t i = 0; i < in.size(); ++i)
+    if (keep[i]) out.push_back(in[i]);
+  std::stable_sort(out.begin(), out.end(),
+                   [](const DetectedOpening& x, const DetectedOpening& y) { return x.u0 < y.u0; });
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+// Step 2's straight lines of one wall: along columns (vertical) and rows (horizontal), on the
+// edge map with a 1-pixel slack.
+std::pair<std::vector<Line>, std::vector<Line>> WallLines(const cv::Mat& edge01, double px,
+                                                          const OpeningParams& p) {
+  const int cols = edge01.cols, rows = edge01.rows;
+  const int gap = static_cast<int>(std::lround(p.line_gap / px));
+  const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
+  auto e_at = [&](int r, int c) {
+    return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0;
+  };
+  std::vector<Line> vert = FindLines(
+      cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); }, gap,
+      min_len, p.max_lines);
+  std::vector<Line> horz = FindLines(
+      rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
+      min_len, p.max_lines);
+  return {std::move(vert), std::move(horz)};
 }
 
 }  // namespace
@@ -852,26 +1073,24 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   const double px = img.Pixel();
   const WallArea area = SegmentWallArea(img, p);
   const WallEdges we = BuildWallEdges(img, area, p);
-  const cv::Mat& edge01 = we.edge01;
-  // Lines along columns (vertical) and rows (horizontal), on the edge map with a 1-pixel slack.
-  const int gap = static_cast<int>(std::lround(p.line_gap / px));
-  const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
-  auto e_at = [&](int r, int c) {
-    return c >= 0 && c < cols && r >= 0 && r < rows && edge01.at<std::uint8_t>(r, c) != 0;
-  };
-  const std::vector<Line> vert = FindLines(
-      cols, rows, [&](int c, int r) { return e_at(r, c - 1) || e_at(r, c) || e_at(r, c + 1); }, gap,
-      min_len, p.max_lines);
-  const std::vector<Line> horz = FindLines(
-      rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
-      min_len, p.max_lines);
-
+  const auto [vert, horz] = WallLines(we.edge01, px, p);
   // Rectangles, the kept holes, the openings.
   const int floor_row =
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
   std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
-  return ToOpenings(kept, vert, img, host, points, p, floor_v);
+  return OneOpeningPerHoleWithLines(ToOpenings(kept, vert, we.m, img, host, points, p, floor_v),
+                                    vert, we.m, img, points, p);
+}
+
+std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,
+                                               const Orthoimage& image, const OrthoPoints& points,
+                                               const OpeningParams& params) {
+  params.Validate();
+  if (image.Cols() < 3 || image.Rows() < 3) return openings;
+  const WallEdges we = BuildWallEdges(image, SegmentWallArea(image, params), params);
+  const auto lines = WallLines(we.edge01, image.Pixel(), params);
+  return OneOpeningPerHoleWithLines(std::move(openings), lines.first, we.m, image, points, params);
 }
 
 Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,

@@ -30,7 +30,11 @@
 //     floor). Overlapping accepted rectangles keep the best score; a kept rectangle becomes the
 //     valid one inside it whose every side is the same line or inset over a strip that is a
 //     casing (casing_min..casing_max wide, on the wall's surface) or hidden (an occlusion
-//     boundary is no frame): the hole, not the casing.
+//     boundary is no frame): the hole, not the casing. After step 4, one opening per hole:
+//     door rectangles that overlap or nearly touch (door_merge_gap) and together are no wider
+//     than a door (an opened leaf splits a doorway into a part seen through and a part behind
+//     the leaf) become their union, and its door step runs again; other overlapping openings
+//     keep the more confident.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
 //     RANSAC and least squares, the leaf being the most populated gap-free run of inliers.
@@ -39,7 +43,11 @@
 //     beside it and a line through both would lean towards the wall by several degrees;
 //     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
 //     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
-//     width from the hinge (its latch jamb hidden behind the opened leaf). State: open lambda >= 90
+//     width from the hinge (its latch jamb hidden behind the opened leaf). A door side beside
+//     hidden pixels (an occlusion boundary: the part of the doorway behind an opened leaf) is no
+//     jamb: the door with that side moved out to the nearest vertical line where the wall
+//     resumes (hole-like strip crossed, within door_max_width) replaces it when a leaf hinged at
+//     the moved side is found there (the occluder is the door's own leaf). State: open lambda >= 90
 //     deg, semi_open 5 <= lambda < 90, closed lambda < 5 (paper §3.3), with open from 90 -
 //     open_tolerance_deg (measurement). No leaf found: open (angle unknown) if open_through_share
 //     of its seen (known) interior is seen through, else closed: a closed leaf shows as a surface
@@ -98,6 +106,10 @@ struct OpeningParams {
   double casing_max = 0.15;       ///< m, largest casing width, [0, 0.5]
   double min_casing_share = 0.8;  ///< share of a casing strip on the wall's surface, [0, 1]
   double max_overlap = 0.2;       ///< overlap (of the smaller) above which the worse goes, [0, 1]
+  /// m, two door rectangles on one wall that overlap or lie closer than this, and together are
+  /// no wider than door_max_width, are one hole (distinct doors are kept apart by their
+  /// casings and a strip of wall), [0, 0.5]
+  double door_merge_gap = 0.04;
   // Door leaf.
   double leaf_inlier = 0.015;       ///< m, plan distance of a leaf point to its line, [0.001, 0.2]
   double leaf_v_low = 0.25;         ///< share of the door height where leaf points start, [0, 1]
@@ -114,7 +126,10 @@ struct OpeningParams {
   /// Share of a door's seen interior seen through that makes it open when no leaf is found,
   /// [0, 1]
   double open_through_share = 0.3;
-  int median_kernel = 5;         ///< px, odd, median before the edges (1 = none), [1, 15]
+  int median_kernel = 5;  ///< px, odd, median before the edges (1 = none), [1, 15]
+  /// m, a pixel without points, passed or blocked rays takes the mean of its seen neighbours
+  /// up to this far (sampling gaps), before the edges, [0, 0.2]
+  double gap_fill = 0.03;
   double leaf_min_extent = 0.3;  ///< share of the width the leaf's points must span, [0, 1]
   /// The same share when the run starts within leaf_jamb_reach of a jamb (its hinge), [0, 1]
   double leaf_min_extent_hinged = 0.15;
@@ -168,6 +183,7 @@ struct OpeningParams {
     v("casing_max", casing_max, Bounds{0.0, 0.5});
     v("min_casing_share", min_casing_share, Bounds{0.0, 1.0});
     v("max_overlap", max_overlap, Bounds{0.0, 1.0});
+    v("door_merge_gap", door_merge_gap, Bounds{0.0, 0.5});
     v("leaf_inlier", leaf_inlier, Bounds{0.001, 0.2});
     v("leaf_v_low", leaf_v_low, Bounds{0.0, 1.0});
     v("leaf_v_high", leaf_v_high, Bounds{0.0, 1.0});
@@ -180,6 +196,7 @@ struct OpeningParams {
     v("reveal_band", reveal_band, Bounds{0.001, 0.1});
     v("open_through_share", open_through_share, Bounds{0.0, 1.0});
     v("median_kernel", median_kernel, Bounds{1, 15});
+    v("gap_fill", gap_fill, Bounds{0.0, 0.2});
     v("leaf_min_extent", leaf_min_extent, Bounds{0.0, 1.0});
     v("leaf_min_extent_hinged", leaf_min_extent_hinged, Bounds{0.0, 1.0});
     v("leaf_min_points", leaf_min_points, Bounds{3, 10000000});
@@ -261,6 +278,16 @@ WallArea SegmentWallArea(const Orthoimage& image, const OpeningParams& params);
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& image, const std::string& host,
                                                 const OrthoPoints& points,
                                                 const OpeningParams& params, double floor_v = 0.0);
+
+/// One opening per hole (the last part of step 3, after step 4; DetectWallOpenings calls it):
+/// door rectangles of one wall that overlap or lie closer than door_merge_gap and together are
+/// no wider than door_max_width become their union, whose door step (leaf, reveals, state) runs
+/// again on `points`; any other pair overlapping by more than max_overlap of the smaller keeps
+/// the more confident. All of `openings` on `image`'s wall (u, v in its frame). Ordered by u0.
+/// (Called here, a widened door's sides are not snapped to the image's lines.)
+std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,
+                                               const Orthoimage& image, const OrthoPoints& points,
+                                               const OpeningParams& params);
 
 /// SM4 of one room: every wall patch of `sm3` imaged (BuildOrthoimage) and searched. InputError
 /// for bad params or point arrays. `images`, when not null, receives the walls' orthoimages

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <ostream>
 
 #include "common/error.h"
 #include "modelling/model_io.h"
@@ -332,6 +333,109 @@ TEST(Openings, DoorSwungPastNinetyBehindTheWallReadsOverNinety) {
   EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kOpen) << Describe(f.sm4);
 }
 
+// Seen from where the opened leaf hides the hinge side of the doorway, the images show a hole
+// seen through beside the leaf, framed on the leaf's side by an occlusion boundary: that side
+// is no jamb, and the door reaches the jamb its leaf hinges at.
+struct SplitCase {
+  double lambda_deg, x, y;
+};
+void PrintTo(const SplitCase& c, std::ostream* os) {
+  *os << "lambda " << c.lambda_deg << " deg, scan at (" << c.x << ", " << c.y << ")";
+}
+class DoorwaySplitByItsLeaf : public ::testing::TestWithParam<SplitCase> {};
+
+TEST_P(DoorwaySplitByItsLeaf, DoorReachesTheJambItsLeafHingesAt) {
+  HoleSpec h;
+  h.lambda_deg = GetParam().lambda_deg;
+  const testing::Scene s = testing::RoomScene(h);
+  Cloud c;
+  testing::Scan(s, {GetParam().x, GetParam().y, 1.3}, -testing::kPi, testing::kPi, 0.003, c);
+  testing::Scan(s, {2.5, 3.2, 1.3}, -testing::kPi, testing::kPi, 0.003, c);
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {});
+  ASSERT_EQ(m.openings.size(), 1u) << Describe(m);
+  const auto& o = m.openings[0];
+  SCOPED_TRACE(Describe(m));
+  EXPECT_NEAR(o.u0, 5.0 - h.x1, 0.03);
+  EXPECT_NEAR(o.u1, 5.0 - h.x0, 0.06);
+  EXPECT_NEAR(o.opening_angle_deg, h.lambda_deg, 3.0);
+  EXPECT_EQ(o.state, DoorState::kSemiOpen);
+}
+INSTANTIATE_TEST_SUITE_P(Views, DoorwaySplitByItsLeaf,
+                         ::testing::Values(SplitCase{30, 4.2, 2.0}, SplitCase{35, 3.3, 2.0},
+                                           SplitCase{40, 3.3, 2.0}),
+                         [](const ::testing::TestParamInfo<SplitCase>& info) {
+                           return "Lambda" +
+                                  std::to_string(static_cast<int>(info.param.lambda_deg));
+                         });
+
+// A tall cabinet standing over a closed door's casing hides the wall beside the door: that side
+// is an occlusion boundary, but no leaf is hinged at the cabinet's far edge, so the door keeps
+// its side and its state.
+TEST(Openings, TallCabinetOverAClosedDoorsCasingDoesNotWidenTheDoor) {
+  HoleSpec h;
+  testing::Scene s = testing::RoomScene(h);
+  s.boxes.push_back(testing::AxisBox({2.86, 0.02, 0.0}, {3.5, 0.52, 2.2}, testing::kCabinetRgb));
+  const Found f = Detect(s);
+  SCOPED_TRACE(Describe(f.sm4));
+  for (const auto& o : f.on_wall1) {
+    EXPECT_GT(o.u0, 5.0 - 2.98 - 0.05);
+    EXPECT_NE(o.state, DoorState::kOpen);
+  }
+}
+
+// One scan from near the wall's end: the wall near the scanner is dense, so its pixel is fine,
+// and the door 2-3 m along the wall is hit at a slant, more sparsely than a point per pixel.
+// The gaps between its points take their neighbours' values (gap_fill), not the wall's, so its
+// edges follow the door rather than the edge of the sparse area.
+struct SparseCase {
+  double x, step;
+};
+class SparselySampledDoor : public ::testing::TestWithParam<SparseCase> {};
+
+TEST_P(SparselySampledDoor, IsStillFound) {
+  HoleSpec h;
+  const testing::Scene s = testing::RoomScene(h);
+  Cloud c;
+  testing::Scan(s, {GetParam().x, 0.25, 1.3}, -testing::kPi, testing::kPi, GetParam().step, c);
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {});
+  ASSERT_EQ(m.openings.size(), 1u) << Describe(m);
+  SCOPED_TRACE(Describe(m));
+  ExpectHole(m.openings[0], h, 0.1);
+  EXPECT_EQ(m.openings[0].state, DoorState::kClosed);
+}
+INSTANTIATE_TEST_SUITE_P(Scans, SparselySampledDoor,
+                         ::testing::Values(SparseCase{4.8, 0.003}, SparseCase{0.2, 0.005}));
+
+// Two door rectangles on one hole (a part seen through and a part behind the leaf, or a
+// casing's rectangle moved by the reveal step) are one door: the hole, not the casing, with
+// its leaf measured again.
+TEST(Openings, TwoDoorRectanglesOnOneHoleBecomeOneDoorWithoutItsCasing) {
+  HoleSpec h;
+  h.lambda_deg = 35.0;
+  const Cloud c = testing::ScanRoom(testing::RoomScene(h));
+  const OpeningParams p;
+  const Orthoimage img =
+      BuildOrthoimage(c.View(), PatchFrame::Of(testing::RoomSm3().patches[0]), p.orthoimage);
+  auto rect = [](double u0, double u1, double conf) {
+    DetectedOpening o;
+    o.host = "wall_1", o.u0 = u0, o.u1 = u1, o.v0 = 0.0, o.v1 = 2.1, o.confidence = conf;
+    o.known_share = 0.5, o.through_share = 0.3, o.evidence_share = 1.0;
+    return o;
+  };
+  // Each from a casing's outer edge (the casing is 8 cm wide) to somewhere inside the hole.
+  const auto one =
+      OneOpeningPerHole({rect(2.02, 2.62, 0.9), rect(2.55, 3.08, 0.6)}, img, c.View(), p);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_NEAR(one[0].u0, 5.0 - h.x1, 0.03);
+  EXPECT_NEAR(one[0].u1, 5.0 - h.x0, 0.03);
+  EXPECT_NEAR(one[0].opening_angle_deg, 35.0, 3.0);
+  EXPECT_EQ(one[0].state, DoorState::kSemiOpen);
+  EXPECT_DOUBLE_EQ(one[0].confidence, 0.9);
+  // Apart by more than door_merge_gap (a strip of wall between their casings): two doors.
+  const auto two = OneOpeningPerHole({rect(0.6, 1.5, 0.9), rect(2.1, 3.0, 0.6)}, img, c.View(), p);
+  EXPECT_EQ(two.size(), 2u);
+}
+
 TEST(Openings, WindowWithGlassIsFoundFromTheRaysThatPassedIt) {
   HoleSpec h;
   h.x0 = 1.5, h.x1 = 2.7, h.z0 = 0.9, h.z1 = 2.1;
@@ -429,8 +533,11 @@ TEST(Openings, StateThresholdsAreThePapers) {
 TEST(Openings, ParamsRoundTripThroughYamlAndRejectBadValues) {
   OpeningParams p;
   p.flush_depth = 0.04, p.orthoimage.band = 0.3, p.seed = 9, p.max_lines = 33;
+  p.door_merge_gap = 0.07, p.gap_fill = 0.05;
   const OpeningParams q = LoadParams<OpeningParams>(SaveParams(p), "mem");
   EXPECT_EQ(q.flush_depth, 0.04);
+  EXPECT_EQ(q.door_merge_gap, 0.07);
+  EXPECT_EQ(q.gap_fill, 0.05);
   EXPECT_EQ(q.orthoimage.band, 0.3);
   EXPECT_EQ(q.seed, 9u);
   EXPECT_EQ(q.max_lines, 33);
