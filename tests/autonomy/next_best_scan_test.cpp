@@ -190,8 +190,9 @@ TEST(RoomScanningDocs, YamlExampleLoadsIntoTheParamsStructs) {
       if (node["detail"]) {
         auto d = LoadParams<DetailPassParams>(node["detail"], path);
         d.enabled = DetailPassParams{}.enabled;
-        if (node["detail"].size() > 1)
+        if (node["detail"].size() > 1) {
           EXPECT_EQ(YAML::Dump(SaveParams(d)), YAML::Dump(SaveParams(DetailPassParams{})));
+        }
         continue;
       }
       ++blocks;
