@@ -87,7 +87,7 @@ std::vector<DetailCell> AnalyseDetailCells(const std::vector<Eigen::Vector3f>& p
       ++grids[k].counts[(static_cast<std::size_t>(iv) * grids[k].nu + iu) * S + scan];
     }
   }
-  const double max_inc = params.max_incidence_deg * M_PI / 180.0;
+  const double max_inc = DegToRad(params.max_incidence_deg);
   std::vector<DetailCell> cells;
   for (std::size_t k = 0; k < surfaces.size(); ++k) {
     const DetailSurface& s = surfaces[k];
@@ -99,7 +99,7 @@ std::vector<DetailCell> AnalyseDetailCells(const std::vector<Eigen::Vector3f>& p
         const double w = std::min(cell, s.width - iu * cell), h = std::min(cell, s.height - iv * cell);
         c.area = w * h;
         c.centre = s.origin + (iu * cell + 0.5 * w) * s.u + (iv * cell + 0.5 * h) * s.v;
-        c.incidence = M_PI / 2;
+        c.incidence = 0.5 * kPi;
         bool seen = false;
         for (std::size_t scan = 0; scan < S; ++scan) {
           if (g.counts[(static_cast<std::size_t>(iv) * g.nu + iu) * S + scan] < params.min_points)
@@ -139,7 +139,7 @@ DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
         plan.deficient_area, static_cast<double>(deficient.size()), params.min_gain_area);
     return plan;
   }
-  const double max_inc = params.max_incidence_deg * M_PI / 180.0;
+  const double max_inc = DegToRad(params.max_incidence_deg);
   const double max_density_needed = 1.0 / (params.max_spacing * params.max_spacing);
   double best_rate = -1.0;
   // Visibility is shared by candidates at the same base (they differ in step only).
@@ -208,7 +208,7 @@ DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
       FormatNumbers("detail: %.2f m2 of SE too sparse or grazing (%.0f cells); ", plan.deficient_area,
                     static_cast<double>(deficient.size())) +
       FormatNumbers("scan at (%.2f, %.2f) m, step %.3f deg, ", c.base.x(), c.base.y(),
-                    c.step_rad * 180.0 / M_PI) +
+                    RadToDeg(c.step_rad)) +
       FormatNumbers("%.2f m away, fixes %.2f m2 for ~%.0f s", c.drive_distance, plan.gain_area,
                     plan.cost_seconds);
   return plan;

@@ -147,17 +147,17 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
   const DetailPassParams& P = params.detail;
   const auto wall0 = Clock::now();
   const double sim0 = session.Time();
-  const double room_step = params.scan_step_deg * M_PI / 180.0;
+  const double room_step = DegToRad(params.scan_step_deg);
   DetailView view;
   view.range_min = params.nbs.range_min;
   view.range_max = params.nbs.range_max;
-  view.elevation_min = params.nbs.elevation_min_deg * M_PI / 180.0;
-  view.elevation_max = params.nbs.elevation_max_deg * M_PI / 180.0;
+  view.elevation_min = DegToRad(params.nbs.elevation_min_deg);
+  view.elevation_max = DegToRad(params.nbs.elevation_max_deg);
   view.ref_step_rad = room_step;
   view.seconds_at_ref = scan_seconds;
   std::vector<double> steps{room_step};
   if (P.fine_step_deg > 0.0 && std::abs(P.fine_step_deg - params.scan_step_deg) > 1e-9)
-    steps.push_back(P.fine_step_deg * M_PI / 180.0);
+    steps.push_back(DegToRad(P.fine_step_deg));
   for (int d = 0; d < P.max_scans && model.ScanCount() > 0; ++d) {
     RoomScanLog log;
     log.index = static_cast<int>(res.scans.size());
@@ -205,7 +205,7 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
         break;
       }
     }
-    log.step_deg = c.step_rad * 180.0 / M_PI;
+    log.step_deg = RadToDeg(c.step_rad);
     t0 = Clock::now();
     const interfaces::TlsScan& scan = session.TakeScan(log.step_deg);
     log.t_scan = Since(t0);
@@ -308,7 +308,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);
-      steps_rad.push_back(params.scan_step_deg * M_PI / 180.0);
+      steps_rad.push_back(DegToRad(params.scan_step_deg));
       modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
                                  res.no_return);
       log.t_model = Since(t0);
