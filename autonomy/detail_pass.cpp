@@ -73,8 +73,8 @@ std::vector<DetailCell> AnalyseDetailCells(const std::vector<Eigen::Vector3f>& p
   for (std::size_t i = 0; i < points.size(); ++i) {
     const std::size_t scan = scan_index[i];
     if (scan >= S)
-      throw InputError("AnalyseDetailCells", "point scan index out of range",
-                       std::to_string(scan), "< " + std::to_string(S));
+      throw InputError("AnalyseDetailCells", "point scan index out of range", std::to_string(scan),
+                       "< " + std::to_string(S));
     const Vec3 p = points[i].cast<double>();
     for (std::size_t k = 0; k < surfaces.size(); ++k) {
       const DetailSurface& s = surfaces[k];
@@ -96,7 +96,8 @@ std::vector<DetailCell> AnalyseDetailCells(const std::vector<Eigen::Vector3f>& p
       for (int iu = 0; iu < g.nu; ++iu) {
         DetailCell c;
         c.surface = static_cast<int>(k);
-        const double w = std::min(cell, s.width - iu * cell), h = std::min(cell, s.height - iv * cell);
+        const double w = std::min(cell, s.width - iu * cell),
+                     h = std::min(cell, s.height - iv * cell);
         c.area = w * h;
         c.centre = s.origin + (iu * cell + 0.5 * w) * s.u + (iv * cell + 0.5 * h) * s.v;
         c.incidence = 0.5 * kPi;
@@ -185,10 +186,9 @@ DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
     const double cost = params.scan_overhead + scan_s +
                         params.route_factor * cand.drive_distance / params.drive_speed;
     const double rate = gain / std::max(cost, 1e-6);
-    const bool better =
-        rate > best_rate * (1.0 + 1e-9) ||
-        (rate >= best_rate * (1.0 - 1e-9) && plan.chosen >= 0 &&
-         cand.drive_distance < candidates[plan.chosen].drive_distance - 1e-9);
+    const bool better = rate > best_rate * (1.0 + 1e-9) ||
+                        (rate >= best_rate * (1.0 - 1e-9) && plan.chosen >= 0 &&
+                         cand.drive_distance < candidates[plan.chosen].drive_distance - 1e-9);
     if (better) {
       best_rate = rate;
       plan.found = true;
@@ -204,13 +204,12 @@ DetailPlan PlanDetailScan(const std::vector<DetailCell>& cells,
     return plan;
   }
   const DetailCandidate& c = candidates[plan.chosen];
-  plan.message =
-      FormatNumbers("detail: %.2f m2 of SE too sparse or grazing (%.0f cells); ", plan.deficient_area,
-                    static_cast<double>(deficient.size())) +
-      FormatNumbers("scan at (%.2f, %.2f) m, step %.3f deg, ", c.base.x(), c.base.y(),
-                    RadToDeg(c.step_rad)) +
-      FormatNumbers("%.2f m away, fixes %.2f m2 for ~%.0f s", c.drive_distance, plan.gain_area,
-                    plan.cost_seconds);
+  plan.message = FormatNumbers("detail: %.2f m2 of SE too sparse or grazing (%.0f cells); ",
+                               plan.deficient_area, static_cast<double>(deficient.size())) +
+                 FormatNumbers("scan at (%.2f, %.2f) m, step %.3f deg, ", c.base.x(), c.base.y(),
+                               RadToDeg(c.step_rad)) +
+                 FormatNumbers("%.2f m away, fixes %.2f m2 for ~%.0f s", c.drive_distance,
+                               plan.gain_area, plan.cost_seconds);
   return plan;
 }
 

@@ -62,7 +62,7 @@ struct DetailPassParams {
   /// scans it chose, SM5 found fewer components and more false positives than with room-step
   /// scans from new positions (docs/room-scanning.md, "Detail pass"). [0, 5]
   double fine_step_deg = 0.0;
-  int max_scans = 2;           ///< detail scans per room, [0, 20]
+  int max_scans = 2;  ///< detail scans per room, [0, 20]
   /// m^2, least deficient area a detail scan must fix to be taken (16 cells of 25 cm), [0, 100]
   double min_gain_area = 1.0;
   double drive_speed = 0.3;   ///< m/s, mean speed of a drive, for the cost, (0, 5]
@@ -136,15 +136,15 @@ std::vector<DetailCell> AnalyseDetailCells(const std::vector<Eigen::Vector3f>& p
 
 /// Where a detail scan could be taken.
 struct DetailCandidate {
-  Vec2 base = Vec2::Zero();    ///< base position, map frame
-  double scanner_z = 0.0;      ///< m, scanner centre height (map frame)
-  double step_rad = 0.0;       ///< angular step of the scan
-  double drive_distance = 0.0; ///< m, straight distance from the current pose
+  Vec2 base = Vec2::Zero();     ///< base position, map frame
+  double scanner_z = 0.0;       ///< m, scanner centre height (map frame)
+  double step_rad = 0.0;        ///< angular step of the scan
+  double drive_distance = 0.0;  ///< m, straight distance from the current pose
 };
 
 /// The scanner's view limits, for the visibility test.
 struct DetailView {
-  double range_min = 1.5, range_max = 60.0;  ///< m
+  double range_min = 1.5, range_max = 60.0;              ///< m
   double elevation_min = -0.698, elevation_max = 1.047;  ///< rad
   /// Platform seconds of a scan at step s: seconds_at_ref x (ref_step / s)^2 (rays ~ 1/s^2)
   double ref_step_rad = 0.0, seconds_at_ref = 0.0;
@@ -156,11 +156,11 @@ using LineOfSight = std::function<bool(const Vec3& scanner, const Vec3& target)>
 
 struct DetailPlan {
   bool found = false;
-  int chosen = -1;           ///< index into the candidates
-  double gain_area = 0.0;    ///< m^2 of deficient cells it fixes
-  double cost_seconds = 0.0; ///< s, its estimated cost
+  int chosen = -1;              ///< index into the candidates
+  double gain_area = 0.0;       ///< m^2 of deficient cells it fixes
+  double cost_seconds = 0.0;    ///< s, its estimated cost
   double deficient_area = 0.0;  ///< m^2 of deficient cells before it
-  std::string message;       ///< one line with the figures
+  std::string message;          ///< one line with the figures
 };
 
 /// Step 2: the best candidate for the deficient cells (see the file comment). `taken`: the

@@ -183,9 +183,10 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
         candidates.push_back({b, scanner_z, s, (b - Vec2(here.x, here.y)).norm()});
     const modelling::VoxelSpace& vox = model.Voxels();
     const double stop_short = params.nbs.stop_short;
-    const DetailPlan plan = PlanDetailScan(
-        cells, surfaces, candidates, view, P, ds,
-        [&vox, stop_short](const Vec3& a, const Vec3& b) { return vox.SegmentFree(a, b, stop_short); });
+    const DetailPlan plan = PlanDetailScan(cells, surfaces, candidates, view, P, ds,
+                                           [&vox, stop_short](const Vec3& a, const Vec3& b) {
+                                             return vox.SegmentFree(a, b, stop_short);
+                                           });
     log.t_nbs = Since(t0);
     res.detail_log.push_back(plan.message);
     if (!plan.found) break;
@@ -235,9 +236,8 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
       } else {
         kept = true;
         steps_rad.push_back(c.step_rad);
-        modelling::AddNoReturnRays(scan, log.X_MS,
-                                   static_cast<std::uint16_t>(model.ScanCount() - 1),
-                                   res.no_return);
+        modelling::AddNoReturnRays(
+            scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1), res.no_return);
         if (on_scan) on_scan(log.session_scan, scan);
       }
       log.t_model = Since(t0);

@@ -3,12 +3,11 @@
 
 #include "autonomy/detail_pass.h"
 
-#include "autonomy/room_scan.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "autonomy/room_scan.h"
 #include "common/error.h"
 #include "common/params.h"
 
@@ -196,9 +195,9 @@ TEST(DetailPass, TheRoomLoopLoadsItsParamsUnderDetailAndRejectsTypos) {
   EXPECT_EQ(p.detail.fine_step_deg, 0.05);
   EXPECT_EQ(p.detail.max_scans, 1);
   EXPECT_FALSE(RoomScanParams{}.detail.enabled);  // off unless asked for (docs/room-scanning.md)
-  EXPECT_THROW(LoadParams<RoomScanParams>(LoadYamlString("detail: {max_scan: 1}", "t.yaml"),
-                                          "t.yaml"),
-               InputError);
+  EXPECT_THROW(
+      LoadParams<RoomScanParams>(LoadYamlString("detail: {max_scan: 1}", "t.yaml"), "t.yaml"),
+      InputError);
 }
 
 }  // namespace
