@@ -110,7 +110,6 @@ class FloorWorld {
  private:
   void Started() {
     t_room_ = WallClock::now();
-    sim_room_ = session_.SimTime();
     t_begin_ = session_.SimTime();
     const Pose2 at = session_.TruePoseInWorld();
     room_ = TruthRoomAt(*mw_.truth, Eigen::Vector2d(at.x, at.y));
@@ -131,7 +130,7 @@ class FloorWorld {
     r.reason = v.error.empty() ? v.scan.stop_reason : v.error;
     if (v.error.empty()) Write(v, r);
     r.seconds = SecondsSince(t_room_);
-    r.sim_seconds = session_.SimTime() - sim_room_;
+    r.sim_seconds = session_.SimTime() - t_begin_;
     r.detail_scans = v.scan.detail_scans;
     r.detail_sim_seconds = v.scan.detail_sim_time;
     r.detail_wall_seconds = v.scan.detail_wall_time;
@@ -214,7 +213,6 @@ class FloorWorld {
   std::string room_;  // the truth room of the room being scanned
   std::set<std::string> used_;
   WallClock::time_point t_room_;
-  double sim_room_ = 0.0;
   double t_begin_ = 0.0;
   std::vector<FloorRoomJob> rooms_;
 };
