@@ -1,9 +1,10 @@
 #pragma once
 // Plane polygons, robot and world side alike: the one point-in-polygon test, the one
-// point-to-segment distance and the one triangulation of the tree.
+// point-to-segment distance, the one triangulation and the one union of tiled polygons of the tree.
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 namespace mopad {
@@ -35,5 +36,18 @@ inline double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d&
 /// (Meisters 1975; O(n^2), for small polygons); collinear vertices give no triangle.
 /// std::invalid_argument when the polygon is not simple.
 std::vector<Eigen::Vector3i> TriangulatePolygon(const std::vector<Eigen::Vector2d>& poly);
+
+/// Signed area (m^2) of `poly`: positive when counter-clockwise.
+double SignedArea(const std::vector<Eigen::Vector2d>& poly);
+
+/// The union of simple polygons that tile a region: they meet only along shared boundary
+/// pieces (rooms of a building split by a boundary without a wall), vertices within
+/// `tolerance` (m) being the same point. Edges are split where another polygon's vertex lies on
+/// them, edge pieces shared by two polygons (opposite directions) cancel, and the rest is
+/// chained into one counter-clockwise outline without collinear vertices. nullopt when the
+/// result is not one simple polygon of the polygons' total area: they overlap, do not all
+/// touch, meet only at a point or enclose a hole. Any winding in; O(n^2) in the vertex count.
+std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
+    const std::vector<std::vector<Eigen::Vector2d>>& polygons, double tolerance = 1e-3);
 
 }  // namespace mopad

@@ -108,16 +108,6 @@ void ValidatePatch(const Patch& patch, const PatchValidationParams& params,
 }
 
 // ---------------------------------------------------------------------------------------------
-double SignedArea(const std::vector<Vec2>& p) {
-  double a = 0.0;
-  const size_t n = p.size();
-  for (size_t i = 0; i < n; ++i) {
-    const Vec2& s = p[i];
-    const Vec2& t = p[(i + 1) % n];
-    a += s.x() * t.y() - t.x() * s.y();
-  }
-  return 0.5 * a;
-}
 
 double PolygonArea3d(const std::vector<Vec3>& p) {
   Vec3 s = Vec3::Zero();

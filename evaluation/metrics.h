@@ -72,8 +72,7 @@ struct PlaneFrame {
 
 // ---- 2D polygon helpers (simple polygons, any winding unless stated) ----
 
-/// Signed area (positive for CCW), shoelace formula.
-double SignedArea(const std::vector<Vec2>& polygon);
+// SignedArea: common/polygon.h.
 /// Area of a planar 3D polygon (Newell's method).
 double PolygonArea3d(const std::vector<Vec3>& polygon);
 /// Exact area of the intersection of two simple polygons (convex or not, either winding):

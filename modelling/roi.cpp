@@ -20,17 +20,6 @@ const char* ToString(FaceKind kind) {
   return "?";
 }
 
-double SignedArea(const std::vector<Vec2>& polygon) {
-  double a = 0.0;
-  const std::size_t n = polygon.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2& p = polygon[i];
-    const Vec2& q = polygon[(i + 1) % n];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * a;
-}
-
 int RoiFace::CellIndexOf(const Vec3& p_M) const {
   const Vec3 d = p_M - origin;
   const int iu = static_cast<int>(std::floor(d.dot(u_axis) / cell));

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/frames.h"
+#include "common/polygon.h"
 
 namespace mopad::modelling {
 
@@ -77,8 +78,5 @@ struct Roi {
   /// Volume (m^3) of the prism minus the column prisms.
   double Volume() const;
 };
-
-/// Signed area of a plan polygon (positive when CCW), m^2.
-double SignedArea(const std::vector<Vec2>& polygon);
 
 }  // namespace mopad::modelling

@@ -1,0 +1,85 @@
+#include "common/polygon.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace mopad {
+namespace {
+
+using V2 = Eigen::Vector2d;
+using Poly = std::vector<V2>;
+
+Poly Rect(double x0, double y0, double x1, double y1) {
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+// The outline as a set of corners, whatever vertex it starts at.
+bool HasCorner(const Poly& p, const V2& c) {
+  for (const V2& v : p)
+    if ((v - c).norm() < 1e-6) return true;
+  return false;
+}
+
+TEST(SignedArea, PositiveCounterClockwiseNegativeClockwise) {
+  Poly r = Rect(0, 0, 2, 3);
+  EXPECT_DOUBLE_EQ(SignedArea(r), 6.0);
+  std::reverse(r.begin(), r.end());
+  EXPECT_DOUBLE_EQ(SignedArea(r), -6.0);
+}
+
+TEST(UnionOfTiledPolygons, ThreeRoomsSplitByBoundariesWithoutAWallBecomeOneOutline) {
+  // An L of a hall (a notch where a wall stub stands) and two rooms sharing parts of its edges,
+  // as the FZK-Haus ground floor: the shared pieces are split at each other's vertices.
+  const Poly hall = {{3.8, 4.01}, {7.41, 4.01}, {7.41, 5.75},
+                     {0.3, 5.75}, {0.3, 4.25},  {3.8, 4.25}};
+  const Poly living = Rect(3.8, 0.3, 11.7, 4.01);
+  Poly kitchen = Rect(0.3, 0.3, 3.8, 4.01);
+  std::reverse(kitchen.begin(), kitchen.end());  // any winding
+  const auto u = UnionOfTiledPolygons({hall, living, kitchen});
+  ASSERT_TRUE(u.has_value());
+  EXPECT_GT(SignedArea(*u), 0.0);
+  EXPECT_NEAR(SignedArea(*u),
+              std::abs(SignedArea(hall)) + SignedArea(living) + std::abs(SignedArea(kitchen)),
+              1e-9);
+  EXPECT_EQ(u->size(), 10u);  // 12 corners less the two on the straight south wall
+  for (const V2& c : {V2(0.3, 0.3), V2(11.7, 0.3), V2(11.7, 4.01), V2(7.41, 4.01), V2(7.41, 5.75),
+                      V2(0.3, 5.75), V2(0.3, 4.25), V2(3.8, 4.25), V2(3.8, 4.01), V2(0.3, 4.01)})
+    EXPECT_TRUE(HasCorner(*u, c)) << c.transpose();
+  EXPECT_FALSE(HasCorner(*u, V2(3.8, 0.3)));
+}
+
+TEST(UnionOfTiledPolygons, VerticesWithinTheToleranceAreOnePoint) {
+  const auto u = UnionOfTiledPolygons({Rect(0, 0, 1, 1), Rect(1.0005, 0, 2, 1.0004)}, 1e-3);
+  ASSERT_TRUE(u.has_value());
+  EXPECT_EQ(u->size(), 4u);
+  EXPECT_NEAR(SignedArea(*u), 2.0, 2e-3);
+}
+
+TEST(UnionOfTiledPolygons, RefusesWhatIsNotOneSimpleOutline) {
+  // Apart.
+  EXPECT_FALSE(UnionOfTiledPolygons({Rect(0, 0, 1, 1), Rect(2, 0, 3, 1)}).has_value());
+  // Touching at a corner only.
+  EXPECT_FALSE(UnionOfTiledPolygons({Rect(0, 0, 1, 1), Rect(1, 1, 2, 2)}).has_value());
+  // Overlapping.
+  EXPECT_FALSE(UnionOfTiledPolygons({Rect(0, 0, 2, 1), Rect(1, 0, 3, 1)}).has_value());
+  EXPECT_FALSE(UnionOfTiledPolygons({Rect(0, 0, 1, 1), Rect(0, 0, 1, 1)}).has_value());
+  // A ring of four rooms around a courtyard: the union has a hole.
+  EXPECT_FALSE(
+      UnionOfTiledPolygons({Rect(0, 0, 3, 1), Rect(2, 1, 3, 3), Rect(0, 2, 2, 3), Rect(0, 1, 1, 2)})
+          .has_value());
+  // Degenerate.
+  EXPECT_FALSE(UnionOfTiledPolygons({}).has_value());
+  EXPECT_FALSE(UnionOfTiledPolygons({{{0, 0}, {1, 0}, {2, 0}}}).has_value());
+}
+
+TEST(UnionOfTiledPolygons, OnePolygonComesBackCounterClockwiseWithoutCollinearVertices) {
+  const Poly p = {{0, 0}, {0, 1}, {1, 1}, {1, 0.5}, {1, 0}, {0.5, 0}};  // clockwise
+  const auto u = UnionOfTiledPolygons({p});
+  ASSERT_TRUE(u.has_value());
+  EXPECT_EQ(u->size(), 4u);
+  EXPECT_NEAR(SignedArea(*u), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace mopad
