@@ -119,8 +119,10 @@ Patch ToWorld(const Patch& p, const Pose3& X_WM) {
 
 struct RoomResult {
   RunInfo run;
-  std::string model_room;  // the robot's name of the room (its sm3.json "room")
-  const scenes::GroundTruth* truth = nullptr;
+  std::string model_room;                      // the robot's name of the room (its sm3.json "room")
+  const scenes::GroundTruth* truth = nullptr;  // open-plan rooms merged (MergeOpenPlanRooms)
+  std::string truth_room;                      // run.room's room in *truth
+  std::vector<std::string> joined;             // the sidecar rooms it stands for, when merged
   std::size_t model_patches = 0;
   PatchEvaluation patches;  // walls, floors, ceilings
   ColumnEvaluation columns;
@@ -277,7 +279,9 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   std::optional<scenes::GroundTruth> truth_override;
   if (!truth_file.empty()) truth_override = scenes::ReadGroundTruth(truth_file);
 
-  std::map<std::string, sim::SceneWorld> worlds;  // by scene argument and door overrides
+  std::map<std::string, sim::SceneWorld> worlds;   // by scene argument and door overrides
+  std::map<std::string, OpenPlanTruth> open_plan;  // the same keys ("" = --truth)
+  std::vector<std::string> truth_notes;
   std::vector<RoomResult> results;
   for (const auto& run : runs) {
     const std::string where = (fs::path(run.dir) / "run.json").string();
@@ -291,22 +295,40 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     for (const auto& d : run.doors) key += "\n" + d;
     if (!worlds.count(key)) worlds.emplace(key, sim::LoadSceneWorld(scene, run.doors));
     const sim::SceneWorld& mw = worlds.at(key);
-    const scenes::GroundTruth* truth = truth_override ? &*truth_override
-                                       : mw.truth     ? &*mw.truth
-                                                      : nullptr;
-    if (!truth)
+    const scenes::GroundTruth* sidecar = truth_override ? &*truth_override
+                                         : mw.truth     ? &*mw.truth
+                                                        : nullptr;
+    if (!sidecar)
       throw InputError(where, "scene has no truth sidecar", "'" + scene + "'", "--truth FILE");
+    const std::string truth_key = truth_override ? std::string() : key;
+    if (!open_plan.count(truth_key)) {
+      open_plan.emplace(truth_key, MergeOpenPlanRooms(*sidecar));
+      for (const auto& note : open_plan.at(truth_key).notes)
+        if (std::find(truth_notes.begin(), truth_notes.end(), note) == truth_notes.end())
+          truth_notes.push_back(note);
+    }
+    const OpenPlanTruth& op = open_plan.at(truth_key);
+    const scenes::GroundTruth* truth = &op.truth;
+    if (!sidecar->FindRoom(run.room)) {
+      std::string ids;
+      for (const auto& x : sidecar->rooms) ids += (ids.empty() ? "" : ", ") + x.id;
+      throw InputError(where, "room: not a room of the truth", "'" + run.room + "'",
+                       "one of " + ids);
+    }
+    const std::string truth_room = op.room_of.at(run.room);
     if (run.sm3.empty()) throw InputError(where, "files.sm3: missing field");
 
     RoomResult r;
     r.run = run;
     r.truth = truth;
+    r.truth_room = truth_room;
+    if (op.members.count(truth_room)) r.joined = op.members.at(truth_room);
     const Sm3Model sm3 = ReadSm3(run.sm3);
     r.model_room = sm3.room;
     std::vector<Patch> model;
     for (const auto& p : sm3.patches) model.push_back(ToWorld(p.patch, run.X_WM));
     r.model_patches = model.size();
-    const std::vector<Patch> truth_patches = TruthPatches(*truth, run.room);
+    const std::vector<Patch> truth_patches = TruthPatches(*truth, truth_room);
     // Columns are scored as objects, the other classes patch by patch.
     auto no_columns = [](const std::vector<Patch>& v) {
       std::vector<Patch> out;
@@ -316,7 +338,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     };
     try {
       r.patches = EvaluatePatches(no_columns(model), no_columns(truth_patches), params.patches);
-      r.columns = EvaluateColumns(GroupModelColumns(model), TruthColumns(*truth, run.room),
+      r.columns = EvaluateColumns(GroupModelColumns(model), TruthColumns(*truth, truth_room),
                                   params.columns, params.patches);
       r.isprs = EvaluateIsprs(model, truth_patches, params.isprs);
     } catch (const InputError& e) {
@@ -326,7 +348,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     for (const auto& p : model)
       if (p.cls == SurfaceClass::kFloor && PolygonArea3d(p.polygon) > best) {
         best = PolygonArea3d(p.polygon);
-        Room room{run.room, {}};
+        Room room{truth_room, {}};
         for (const auto& v : p.polygon) room.polygon.emplace_back(v.x(), v.y());
         r.floor = room;
       }
@@ -339,7 +361,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       std::vector<Vec3> scanners;
       for (const auto& p : ReadTumPositions(poses)) scanners.push_back(run.X_WM * p);
       r.scanners = scanners.size();
-      r.dsm3_truth = TruthDsm3(*mw.world, *truth, run.room, dsm.grid, dsm.ijk, run.X_WM, scanners,
+      r.dsm3_truth = TruthDsm3(*mw.world, *truth, truth_room, dsm.grid, dsm.ijk, run.X_WM, scanners,
                                params.dsm3);
       r.dsm3_pred = dsm.labels;
       r.dsm3_voxels = dsm;
@@ -360,13 +382,13 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     }
     if (!run.sm4.empty() && fs::exists(run.sm4)) {
       const modelling::Sm4Model sm4 = modelling::ReadSm4(run.sm4);
-      r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, run.room),
+      r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, truth_room),
                                     params.openings);
     }
     const fs::path sm5 = fs::path(run.dir) / "sm5.json";
     if (fs::exists(sm5))
       r.components = EvaluateComponents(ModelComponents(modelling::ReadSm5(sm5.string()), run.X_WM),
-                                        TruthComponents(*truth, run.room), params.components);
+                                        TruthComponents(*truth, truth_room), params.components);
     results.push_back(std::move(r));
   }
 
@@ -376,10 +398,10 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     std::vector<std::string> seen;
     for (const auto& r : results) {
       if (r.floor) predicted.push_back(*r.floor);
-      if (std::find(seen.begin(), seen.end(), r.run.room) != seen.end()) continue;
-      seen.push_back(r.run.room);
+      if (std::find(seen.begin(), seen.end(), r.truth_room) != seen.end()) continue;
+      seen.push_back(r.truth_room);
       for (const auto& t : TruthFloorplan(*r.truth))
-        if (t.id == r.run.room) truth_rooms.push_back(t);
+        if (t.id == r.truth_room) truth_rooms.push_back(t);
     }
   }
   const FloorplanResult plan = EvaluateFloorplan(predicted, truth_rooms, params.floorplan);
@@ -391,13 +413,12 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     std::map<std::string, std::string> truth_room;
     std::vector<std::string> rooms;
     for (const auto& r : results) {
-      truth_room[r.model_room] = r.run.room;
-      if (std::find(rooms.begin(), rooms.end(), r.run.room) == rooms.end())
-        rooms.push_back(r.run.room);
+      truth_room[r.model_room] = r.truth_room;
+      if (std::find(rooms.begin(), rooms.end(), r.truth_room) == rooms.end())
+        rooms.push_back(r.truth_room);
     }
-    floor = EvaluateFloor(modelling::ReadFloorModel(floor_dir.string()),
-                          results.front().run.X_WM, truth_room,
-                          MakeFloorTruth(*results.front().truth, rooms), params.floor);
+    floor = EvaluateFloor(modelling::ReadFloorModel(floor_dir.string()), results.front().run.X_WM,
+                          truth_room, MakeFloorTruth(*results.front().truth, rooms), params.floor);
   }
 
   // Pooled figures.
@@ -522,11 +543,13 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   } else {
     summary["floor"] = nullptr;
   }
+  if (!truth_notes.empty()) summary["truth_notes"] = truth_notes;
   j["summary"] = summary;
   ojson rooms = ojson::array();
   for (const auto& r : results) {
     ojson x;
     x["room"] = r.run.room;
+    if (!r.joined.empty()) x["truth_rooms"] = r.joined;
     x["run_dir"] = r.run.dir;
     x["seed"] = r.run.seed;
     x["model_patches"] = r.model_patches;
@@ -586,6 +609,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
      << FormatFixed(pooled.d_h.mean * 100, 2) << " | " << FormatFixed(pooled.phi_deg.mean, 4)
      << " | " << FormatFixed(compl_b, 4) << " | " << FormatFixed(corr_b, 4) << " | "
      << (any_dsm3 ? FormatFixed(pooled_dsm3.iou[structure], 4) : std::string("-")) << " |\n\n";
+  for (const auto& note : truth_notes) md << "Note: " << note << ".\n\n";
   md << "## Floorplan (all rooms)\n\n" << MarkdownFloorplanTable(plan) << "\n";
   if (any_dsm3) md << "## DSM3 (all rooms)\n\n" << MarkdownConfusionTable(pooled_dsm3) << "\n";
   if (floor) md << "## Floor model (floor/)\n\n" << MarkdownFloorTable(*floor) << "\n";
@@ -593,8 +617,14 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     md << "## SM5 service components (all rooms)\n\n"
        << MarkdownComponentsTable(*pooled_components) << "\n";
   for (const auto& r : results) {
-    md << "## Room " << r.run.room << "\n\n### SM3 structural elements\n\n"
-       << MarkdownPatchTable(r.patches) << "\n";
+    md << "## Room " << r.run.room << "\n\n";
+    if (!r.joined.empty()) {
+      md << "Scored against the truth rooms";
+      for (std::size_t k = 0; k < r.joined.size(); ++k)
+        md << (k == 0 ? " " : k + 1 == r.joined.size() ? " and " : ", ") << r.joined[k];
+      md << " as one room: open passages without a wall join them.\n\n";
+    }
+    md << "### SM3 structural elements\n\n" << MarkdownPatchTable(r.patches) << "\n";
     if (r.columns.detection.n_truth + r.columns.detection.n_model > 0)
       md << "### Columns (objects)\n\n" << ColumnsMarkdown(r.columns) << "\n";
     md << "### ISPRS surfaces\n\n"
@@ -669,7 +699,8 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
     Append(report,
            "floor model: %d walls (%d two-sided); wall faces %d/%d (%d FP), d_v mean %s max %s cm, "
            "d_h mean %s max %s cm; face pairs %d/%d correct of %d truth; thickness error mean %s "
-           "max %s cm; room-to-room alignment mean %s max %s cm; doors merged %d correct of %d (%d between rooms, %d one-sided); door side "
+           "max %s cm; room-to-room alignment mean %s max %s cm; doors merged %d correct of %d (%d "
+           "between rooms, %d one-sided); door side "
            "offset mean %s max %s cm\n",
            floor->walls, floor->two_sided_walls, w.tp, w.n_truth, w.fp,
            FormatFixed(floor->faces.d_v.mean * 100, 2).c_str(),

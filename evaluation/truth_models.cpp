@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_voxels.h"
 
@@ -154,6 +155,180 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
 }
 
 }  // namespace
+
+OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth) {
+  OpenPlanTruth out;
+  out.truth = truth;
+  const std::size_t n = truth.rooms.size();
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < n; ++i) index[truth.rooms[i].id] = i;
+  // Union-find over the open passages; the root is the group's first room in sidecar order.
+  std::vector<std::size_t> parent(n);
+  for (std::size_t i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& c : truth.connections) {
+    if (!c.door.empty() || !index.count(c.room_a) || !index.count(c.room_b)) continue;
+    const std::size_t a = find(index[c.room_a]), b = find(index[c.room_b]);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  for (std::size_t i = 0; i < n; ++i) out.room_of[truth.rooms[i].id] = truth.rooms[i].id;
+  std::vector<scenes::Room> rooms;
+  for (std::size_t g = 0; g < n; ++g) {
+    if (find(g) != g) continue;
+    std::vector<std::size_t> group;
+    for (std::size_t i = 0; i < n; ++i)
+      if (find(i) == g) group.push_back(i);
+    if (group.size() == 1) {
+      rooms.push_back(truth.rooms[g]);
+      continue;
+    }
+    std::vector<std::vector<Vec2>> plans;
+    std::string ids;
+    for (std::size_t i : group) {
+      plans.push_back(truth.rooms[i].polygon);
+      ids += (ids.empty() ? "" : ", ") + truth.rooms[i].id;
+    }
+    const auto outline = UnionOfTiledPolygons(plans);
+    if (!outline) {
+      out.notes.push_back("rooms " + ids +
+                          " are joined by open passages but their plans do not form one simple "
+                          "outline: scored as separate rooms");
+      for (std::size_t i : group) rooms.push_back(truth.rooms[i]);
+      continue;
+    }
+    scenes::Room merged = truth.rooms[g];
+    merged.polygon = *outline;
+    for (std::size_t i : group) {
+      merged.floor_z = std::min(merged.floor_z, truth.rooms[i].floor_z);
+      merged.ceiling_z = std::max(merged.ceiling_z, truth.rooms[i].ceiling_z);
+      out.room_of[truth.rooms[i].id] = merged.id;
+      out.members[merged.id].push_back(truth.rooms[i].id);
+    }
+    rooms.push_back(std::move(merged));
+  }
+  if (out.members.empty()) return out;
+  out.truth.rooms = std::move(rooms);
+  auto map_room = [&](std::string& id) {
+    const auto it = out.room_of.find(id);
+    if (it != out.room_of.end()) id = it->second;
+  };
+  auto map_rooms = [&](std::vector<std::string>& ids) {
+    for (auto& id : ids) map_room(id);
+    std::vector<std::string> unique;
+    for (const auto& id : ids)
+      if (std::find(unique.begin(), unique.end(), id) == unique.end()) unique.push_back(id);
+    ids = std::move(unique);
+  };
+  // Floors and ceilings of a merged room: one element per class and height.
+  std::vector<scenes::StructuralElement> elements;
+  for (const auto& e0 : truth.elements) {
+    scenes::StructuralElement e = e0;
+    const bool flat =
+        e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
+    if (flat && e.polygons.empty() && e.rooms.size() == 1) {
+      // The room's plan at its floor or ceiling height (as RoomSurfaces does).
+      const scenes::Room* r = truth.FindRoom(e.rooms[0]);
+      if (r) {
+        std::vector<Vec3> p;
+        const double z = e.element_class == ElementClass::kFloor ? r->floor_z : r->ceiling_z;
+        for (const auto& q : r->polygon) p.emplace_back(q.x(), q.y(), z);
+        e.polygons.push_back(std::move(p));
+      }
+    }
+    const std::vector<std::string> before = e.rooms;
+    map_rooms(e.rooms);
+    if (flat && e.rooms.size() == 1 && out.members.count(e.rooms[0]) && !e.polygons.empty()) {
+      const double z = e.polygons[0][0].z();
+      auto same = std::find_if(elements.begin(), elements.end(), [&](const auto& x) {
+        return x.element_class == e.element_class && x.rooms == e.rooms && !x.polygons.empty() &&
+               std::abs(x.polygons[0][0].z() - z) <= 1e-3;
+      });
+      if (same != elements.end()) {
+        same->polygons.insert(same->polygons.end(), e.polygons.begin(), e.polygons.end());
+        continue;
+      }
+    }
+    elements.push_back(std::move(e));
+  }
+  for (auto& e : elements) {
+    const bool flat =
+        e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
+    if (!flat || e.polygons.size() < 2 || e.rooms.size() != 1 || !out.members.count(e.rooms[0]))
+      continue;
+    std::vector<std::vector<Vec2>> plans;
+    for (const auto& p : e.polygons) {
+      std::vector<Vec2> q;
+      for (const auto& v : p) q.emplace_back(v.x(), v.y());
+      plans.push_back(std::move(q));
+    }
+    const auto outline = UnionOfTiledPolygons(plans);
+    if (!outline) continue;  // kept as pieces: one patch each
+    const double z = e.polygons[0][0].z();
+    std::vector<Vec3> p;
+    for (const auto& q : *outline) p.emplace_back(q.x(), q.y(), z);
+    e.polygons = {std::move(p)};
+  }
+  // Walls of a merged room that continue one another across a boundary without a wall (the
+  // same plane, the same height band, one ending where the next begins) are one wall face.
+  std::map<std::string, std::string> wall_of;  // merged-away wall id -> the wall it joined
+  std::map<std::string, double> u_shift;       // and its origin's u along that wall
+  for (bool joined = true; joined;) {
+    joined = false;
+    for (auto& w : elements) {
+      if (w.element_class != ElementClass::kWall || w.rooms.size() != 1 ||
+          !out.members.count(w.rooms[0]) || w.length <= 0.0)
+        continue;
+      const Vec3 u = w.u_axis.normalized(), end = w.origin + w.length * u;
+      auto next = std::find_if(elements.begin(), elements.end(), [&](const auto& x) {
+        return &x != &w && x.element_class == ElementClass::kWall && x.rooms == w.rooms &&
+               x.u_axis.normalized().dot(u) > std::cos(DegToRad(0.5)) &&
+               x.normal.normalized().dot(w.normal.normalized()) > std::cos(DegToRad(0.5)) &&
+               (x.origin - end).norm() <= 1e-3 && std::abs(x.height - w.height) <= 1e-3;
+      });
+      if (next == elements.end()) continue;
+      const std::string gone = next->id;
+      const double shift = w.length;
+      w.length += next->length;
+      w.polygons = {WallRect(w.origin, u, 0.0, w.length, 0.0, w.height)};
+      wall_of[gone] = w.id;
+      u_shift[gone] = shift;
+      for (auto& [from, to] : wall_of)
+        if (to == gone) to = w.id, u_shift[from] += shift;
+      elements.erase(next);
+      joined = true;
+      break;
+    }
+  }
+  out.truth.elements = std::move(elements);
+  for (auto& o : out.truth.openings) {
+    map_rooms(o.rooms);
+    map_room(o.swing_room);
+    if (!o.host_walls.empty() && wall_of.count(o.host_walls[0])) {
+      const double shift = u_shift.at(o.host_walls[0]);
+      o.u0 += shift;
+      o.u1 += shift;
+    }
+    for (auto& h : o.host_walls)
+      if (wall_of.count(h)) h = wall_of.at(h);
+  }
+  for (auto& c : out.truth.service_components) {
+    map_room(c.room);
+    if (wall_of.count(c.host)) c.host = wall_of.at(c.host);
+  }
+  for (auto& f : out.truth.furniture) map_room(f.room);
+  std::vector<scenes::RoomConnection> connections;
+  for (auto c : truth.connections) {
+    map_room(c.room_a);
+    map_room(c.room_b);
+    if (c.door.empty() && c.room_a == c.room_b) continue;
+    connections.push_back(std::move(c));
+  }
+  out.truth.connections = std::move(connections);
+  return out;
+}
 
 std::vector<Patch> TruthPatches(const scenes::GroundTruth& truth, const std::string& room) {
   std::vector<Patch> out;

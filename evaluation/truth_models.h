@@ -36,6 +36,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,24 @@
 #include "sim/embree_world.h"
 
 namespace mopad::evaluation {
+
+/// The truth as a robot meets it: rooms joined by open passages (truth format 2: connections
+/// with door "", rooms split by a boundary without a wall, as a BIM model's spaces of one
+/// open-plan area) are one room, because no wall divides them and a robot scans and models them
+/// as one. Each group of joined rooms becomes its first room (sidecar order): plan polygon the
+/// union of theirs (UnionOfTiledPolygons), floor_z the lowest, ceiling_z the highest; every
+/// element, opening, component and furniture item of a member is the group's; floor and ceiling
+/// elements of one height are merged into one element (the first one's id) with the union of
+/// their polygons; the open passages inside the group are dropped. A group whose plans do not
+/// form one simple outline (a hole, overlaps) is left as separate rooms, with a line in `notes`.
+/// A truth without open passages comes back unchanged.
+struct OpenPlanTruth {
+  scenes::GroundTruth truth;
+  std::map<std::string, std::string> room_of;  ///< every sidecar room id -> its room in `truth`
+  std::map<std::string, std::vector<std::string>> members;  ///< merged room -> its rooms (>= 2)
+  std::vector<std::string> notes;                           ///< groups left unmerged, and why
+};
+OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth);
 
 /// Truth SM3 patches of `room` (world frame). InputError for an unknown room or a room without
 /// structural elements.

@@ -110,6 +110,144 @@ TEST(TruthModels, PatchesOfOneRoomMatchTheRoom) {
   EXPECT_THROW(TruthPatches(g.truth, "R9"), InputError);
 }
 
+// ---- Open-plan rooms: spaces joined by open passages are scored as one room ----
+
+scenes::StructuralElement TestWall(const std::string& id, const std::string& room, Vec3 origin,
+                                   Vec3 u, double length, double height) {
+  scenes::StructuralElement w;
+  w.id = id;
+  w.element_class = scenes::ElementClass::kWall;
+  w.rooms = {room};
+  w.origin = origin;
+  w.u_axis = u;
+  w.length = length;
+  w.height = height;
+  w.normal = Vec3::UnitZ().cross(u);  // left of u: into a CCW room
+  w.polygons = {{origin, origin + length * u, origin + length * u + height * Vec3::UnitZ(),
+                 origin + height * Vec3::UnitZ()}};
+  return w;
+}
+
+// Two spaces A = [0,4]x[0,3] and B = [4,10]x[0,3] with no wall between them (a BIM model's
+// hall and living area), and C = [0,10]x[3,6] behind a door from A.
+scenes::GroundTruth OpenPlanTruth3() {
+  scenes::GroundTruth t;
+  t.format_version = scenes::kTruthFormatVersionPassages;
+  auto room = [](const std::string& id, std::vector<Vec2> poly) {
+    scenes::Room r;
+    r.id = id;
+    r.polygon = std::move(poly);
+    r.ceiling_z = 2.5;
+    return r;
+  };
+  t.rooms = {room("A", {{0, 0}, {4, 0}, {4, 3}, {0, 3}}),
+             room("B", {{4, 0}, {10, 0}, {10, 3}, {4, 3}}),
+             room("C", {{0, 3}, {10, 3}, {10, 6}, {0, 6}})};
+  const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY();
+  t.elements = {TestWall("wall_A_s", "A", {0, 0, 0}, x, 4, 2.5),
+                TestWall("wall_B_s", "B", {4, 0, 0}, x, 6, 2.5),
+                TestWall("wall_B_e", "B", {10, 0, 0}, y, 3, 2.5),
+                TestWall("wall_B_n", "B", {10, 3, 0}, -x, 6, 2.5),
+                TestWall("wall_A_n", "A", {4, 3, 0}, -x, 4, 2.5),
+                TestWall("wall_A_w", "A", {0, 3, 0}, -y, 3, 2.5),
+                TestWall("wall_C_s", "C", {0, 3, 0}, x, 10, 2.5)};
+  for (const std::string r : {"A", "B", "C"})
+    for (const auto cls : {scenes::ElementClass::kFloor, scenes::ElementClass::kCeiling}) {
+      scenes::StructuralElement e;
+      e.id = std::string(cls == scenes::ElementClass::kFloor ? "floor_" : "ceiling_") + r;
+      e.element_class = cls;
+      e.rooms = {r};
+      t.elements.push_back(e);  // no polygon: the room's plan
+    }
+  scenes::Opening w;
+  w.id = "W1";
+  w.type = scenes::OpeningType::kWindow;
+  w.host_walls = {"wall_B_s"};
+  w.rooms = {"B"};
+  w.u0 = 1, w.u1 = 2, w.v0 = 1, w.v1 = 2;
+  w.corners = {{5, 0, 1}, {6, 0, 1}, {6, 0, 2}, {5, 0, 2}};
+  t.openings.push_back(w);
+  scenes::ServiceComponent c;
+  c.id = "S1";
+  c.bsc_class = "socket_x1";
+  c.host = "wall_B_s";
+  c.room = "B";
+  c.centre = {8, 0, 0.3};
+  c.normal = y;
+  t.service_components.push_back(c);
+  t.connections = {{"", "A", "B"}, {"D1", "A", "C"}};
+  return t;
+}
+
+TEST(OpenPlanTruth, SpacesJoinedByAnOpenPassageAreOneRoomWithWholeWalls) {
+  const OpenPlanTruth op = MergeOpenPlanRooms(OpenPlanTruth3());
+  EXPECT_TRUE(op.notes.empty());
+  EXPECT_EQ(op.room_of.at("A"), "A");
+  EXPECT_EQ(op.room_of.at("B"), "A");
+  EXPECT_EQ(op.room_of.at("C"), "C");
+  ASSERT_EQ(op.members.count("A"), 1u);
+  EXPECT_EQ(op.members.at("A"), (std::vector<std::string>{"A", "B"}));
+  ASSERT_EQ(op.truth.rooms.size(), 2u);
+  const scenes::Room& a = *op.truth.FindRoom("A");
+  EXPECT_EQ(a.polygon.size(), 4u);
+  EXPECT_NEAR(SignedArea(a.polygon), 30.0, 1e-9);
+  EXPECT_EQ(op.truth.FindRoom("B"), nullptr);
+  // The south and north walls run on across the boundary without a wall: one face each.
+  const auto patches = TruthPatches(op.truth, "A");
+  int walls = 0, floors = 0, ceilings = 0;
+  for (const auto& p : patches) {
+    EXPECT_NO_THROW(ValidatePatch(p, {}, p.id)) << p.id;
+    if (p.cls == SurfaceClass::kWall) ++walls;
+    if (p.cls == SurfaceClass::kFloor || p.cls == SurfaceClass::kCeiling) {
+      (p.cls == SurfaceClass::kFloor ? floors : ceilings) += 1;
+      EXPECT_NEAR(PolygonArea3d(p.polygon), 30.0, 1e-9) << p.id;
+    }
+  }
+  EXPECT_EQ(walls, 4);
+  EXPECT_EQ(floors, 1);
+  EXPECT_EQ(ceilings, 1);
+  const scenes::StructuralElement* south = op.truth.FindElement("wall_A_s");
+  ASSERT_NE(south, nullptr);
+  EXPECT_NEAR(south->length, 10.0, 1e-12);
+  EXPECT_EQ(op.truth.FindElement("wall_B_s"), nullptr);
+  const scenes::StructuralElement* north = op.truth.FindElement("wall_B_n");
+  ASSERT_NE(north, nullptr);
+  EXPECT_NEAR(north->length, 10.0, 1e-12);
+  // The window and the socket move onto the joined wall, the window's u along it.
+  const scenes::Opening& w = op.truth.openings[0];
+  EXPECT_EQ(w.host_walls, (std::vector<std::string>{"wall_A_s"}));
+  EXPECT_NEAR(w.u0, 5.0, 1e-12);
+  EXPECT_NEAR(w.u1, 6.0, 1e-12);
+  EXPECT_EQ(w.rooms, (std::vector<std::string>{"A"}));
+  ASSERT_EQ(TruthOpeningPatches(op.truth, "A").size(), 1u);
+  EXPECT_EQ(op.truth.service_components[0].host, "wall_A_s");
+  EXPECT_EQ(op.truth.service_components[0].room, "A");
+  // The passage inside the room is gone, the door to C stays.
+  ASSERT_EQ(op.truth.connections.size(), 1u);
+  EXPECT_EQ(op.truth.connections[0].door, "D1");
+  // Room C is untouched.
+  EXPECT_EQ(TruthPatches(op.truth, "C").size(), TruthPatches(OpenPlanTruth3(), "C").size());
+}
+
+TEST(OpenPlanTruth, WithoutPassagesTheTruthIsUnchangedAndAnUnmergeableGroupStaysApart) {
+  scenes::GroundTruth t = OpenPlanTruth3();
+  t.connections = {{"D1", "A", "C"}};
+  const OpenPlanTruth same = MergeOpenPlanRooms(t);
+  EXPECT_TRUE(same.members.empty());
+  EXPECT_EQ(same.truth.rooms.size(), 3u);
+  EXPECT_EQ(same.truth.elements.size(), t.elements.size());
+  // A "passage" between rooms whose plans only meet at a corner cannot be one outline.
+  t = OpenPlanTruth3();
+  t.rooms[1].polygon = {{4, 3.5}, {10, 3.5}, {10, 6}, {4, 6}};  // B moved off A (overlaps C)
+  t.rooms[2].polygon = {{4, 3}, {8, 3}, {8, 3.2}, {4, 3.2}};
+  const OpenPlanTruth apart = MergeOpenPlanRooms(t);
+  EXPECT_TRUE(apart.members.empty());
+  ASSERT_EQ(apart.notes.size(), 1u);
+  EXPECT_NE(apart.notes[0].find("A, B"), std::string::npos) << apart.notes[0];
+  EXPECT_EQ(apart.truth.rooms.size(), 3u);
+  EXPECT_EQ(apart.room_of.at("B"), "B");
+}
+
 // ---- Truth columns of the office: round C1, C2 (16 facets, r 0.2) in R1, square C3 in R4 ----
 
 TEST(TruthModels, ColumnsAreObjectsWithFootprintsFromTheSidecar) {
