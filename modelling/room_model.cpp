@@ -168,8 +168,12 @@ struct RoomModel::Boundary {
 
 namespace {
 
-constexpr double kRefitGuard = 0.1;     // m, edge ends left out of a refit (corners)
-constexpr double kChamferMax = 0.3;     // m, unfitted corner-cutting edges collapsed below this
+constexpr double kRefitGuard = 0.1;  // m, edge ends left out of a refit (corners)
+constexpr double kChamferMax = 0.3;  // m, unfitted corner-cutting edges collapsed below this
+constexpr double kWallEndMax = 0.6;  // m, a wall's end face is at most this wide (thick walls)
+// m, a jump in the ceiling's reach between neighbouring azimuths that the outline steps
+// radially around (TraceOutline): above the reach's noise along a wall.
+constexpr double kShadowStep = 0.05;
 constexpr double kRefitHighBand = 2.2;  // m above the floor: above door heads (2.0-2.1 m)
 // column_index_ packs the azimuth column with two flags.
 constexpr std::uint32_t kRayCastBit = 0x80000000u;  // on the ray-casting stride
@@ -222,6 +226,58 @@ void Clean(std::vector<Vec2>& poly, double min_len) {
         poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(i));
         changed = true;
         break;
+      }
+    }
+  }
+}
+
+// Views through openings (RoomModelParams::seal_depth): a run of vertices after a wall edge
+// (at least kSealMinWall long) that passes behind the wall's line by more than kSealMinDepth
+// and at most seal_depth, never further into the room than seal_inward, spans at most
+// seal_width along the line and comes back onto it ahead of the edge, where a parallel wall
+// edge goes on, is replaced by the straight wall.
+// A detour that stays in the room (a pilaster, a cabinet) is kept: it never passes behind.
+constexpr double kSealMinWall = 0.3;    // m, the wall edges either side of the detour
+constexpr double kSealOnLine = 0.03;    // m, the detour's end this close to the wall line
+constexpr double kSealMinDepth = 0.05;  // m, behind the line: beyond the wall's own noise
+constexpr std::size_t kSealMaxVertices = 12;
+
+void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
+  if (P.seal_depth <= 0.0) return;
+  bool changed = true;
+  while (changed && poly.size() > 4) {
+    changed = false;
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n && !changed; ++i) {
+      const Vec2& a = poly[(i + n - 1) % n];
+      const Vec2& b = poly[i];
+      const double la = (b - a).norm();
+      if (la < kSealMinWall) continue;
+      const Vec2 t = (b - a) / la, out(t.y(), -t.x());  // CCW: `out` leaves the room
+      double behind = 0.0, u_min = 0.0;
+      for (std::size_t s = 1; s < std::min(n - 2, kSealMaxVertices + 1); ++s) {
+        const Vec2& v = poly[(i + s) % n];
+        const double u = (v - b).dot(t), d = (v - b).dot(out);
+        u_min = std::min(u_min, u);  // a reveal seen obliquely reaches back under the wall
+        if (u - u_min > P.seal_width + kSealOnLine || d > P.seal_depth || d < -P.seal_inward) break;
+        if (s >= 2 && std::abs(d) <= kSealOnLine && u > 0.0 && behind > kSealMinDepth) {
+          const Vec2& w = poly[(i + s + 1) % n];
+          const double lw = (w - v).norm();
+          if (lw >= kSealMinWall && (w - v).dot(t) >= lw * std::cos(DegToRad(5.0))) {
+            const std::size_t first = i + 1, last = i + s;  // erase [first, last)
+            if (last <= n) {
+              poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(first),
+                         poly.begin() + static_cast<std::ptrdiff_t>(last));
+            } else {
+              poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(first), poly.end());
+              poly.erase(poly.begin(), poly.begin() + static_cast<std::ptrdiff_t>(last - n));
+            }
+            Clean(poly, P.min_edge_length);  // the wall's pieces either side become one edge
+            changed = true;
+            break;
+          }
+        }
+        behind = std::max(behind, d);
       }
     }
   }
@@ -439,6 +495,24 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
     if (best_rho > 0.0) rec.outline.push_back(vertex);
     i = j;
   }
+  // Where the ceiling's reach jumps between neighbouring azimuths (the end of a wall, a door
+  // jamb, a re-entrant corner seen past its edge), the straight edge between the two vertices
+  // would claim the unseen shadow behind the nearer one: the outline steps radially instead,
+  // at the nearer reach on the farther azimuth. Along a smooth wall the step costs a sliver
+  // of one azimuth step's width.
+  const std::size_t m = rec.outline.size();
+  if (m < 3) return;
+  std::vector<Vec2> stepped;
+  stepped.reserve(2 * m);
+  for (std::size_t k = 0; k < m; ++k) {
+    const Vec2& a = rec.outline[k];
+    const Vec2& b = rec.outline[(k + 1) % m];
+    stepped.push_back(a);
+    const double ra = (a - o).norm(), rb = (b - o).norm();
+    if (std::abs(ra - rb) <= kShadowStep) continue;
+    stepped.push_back(ra < rb ? o + (b - o) * (ra / rb) : o + (a - o) * (rb / ra));
+  }
+  rec.outline.swap(stepped);
 }
 
 void RoomModel::BuildPerimeter() {
@@ -496,6 +570,8 @@ void RoomModel::BuildPerimeter() {
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   Clean(poly, params_.min_edge_length);
   RefitPerimeter(poly);
+  Clean(poly, params_.min_edge_length);
+  SealOpenings(poly, params_);
   Clean(poly, params_.min_edge_length);
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   roi_.perimeter = poly;
@@ -655,6 +731,18 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
     line_p[i] = fits[i].p;
     line_t[i] = fits[i].t;
     fitted[i] = fits[i].fitted;
+  }
+  // A short fitted edge between two antiparallel fitted walls is the end face of a wall that
+  // stands into the room: walls are prisms, so it is square to them. Its traced direction is
+  // poor (a 0.24 m edge, ends moved by the simplification: 15 deg off) and tilts its fit.
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n;
+    if (!fitted[i] || !fitted[pi] || !fitted[ni] || n < 5) continue;
+    if ((poly[ni] - poly[i]).norm() >= kWallEndMax) continue;
+    if (line_t[pi].dot(line_t[ni]) > -std::cos(DegToRad(5.0))) continue;
+    const Vec2 side = (line_t[pi] - line_t[ni]).normalized();
+    const Vec2 square(-side.y(), side.x());
+    line_t[i] = square.dot(poly[ni] - poly[i]) >= 0.0 ? square : Vec2(-square);
   }
   // A short edge left unfitted between two fitted walls is the tracer cutting their corner
   // (a re-entrant corner seen obliquely: office_5rooms R1's L corner got a 13 cm chamfer, a

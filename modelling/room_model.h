@@ -55,6 +55,16 @@ struct RoomModelParams {
   double perimeter_raster = 0.025;  ///< m, plan raster of the ceiling outline, [0.005, 0.2]
   double perimeter_epsilon = 0.04;  ///< m, polygon simplification tolerance, [0.005, 0.5]
   double min_edge_length = 0.1;     ///< m, shorter simplified edges are merged, [0, 2]
+  /// m, a perimeter detour that leaves a wall line, passes up to this far behind it and comes
+  /// back onto the same line is a view through an opening in that wall (the trace walked into
+  /// a door's or window's reveal under a head close to the ceiling) and is cut off by the
+  /// straight wall; 0 = off. Wall reveals are 0.1-0.5 m deep. [0, 2]
+  double seal_depth = 0.6;
+  /// m, widest such detour along the wall line (a double door's clear width), [0, 10]
+  double seal_width = 3.0;
+  /// m, how far such a detour may also reach into the room (the leaf of a door opened inwards,
+  /// which hides the wall beside the doorway), [0, 5]
+  double seal_inward = 1.2;
   double refit_band = 0.1;    ///< m, wall points gathered around an edge for its refit, [0.01, 1]
   int refit_min_points = 30;  ///< points an edge needs to be refit, [3, 100000]
   double column_max_size = 1.5;          ///< m, largest column footprint side, [0.1, 10]
@@ -82,6 +92,9 @@ struct RoomModelParams {
     v("perimeter_raster", perimeter_raster, Bounds{0.005, 0.2});
     v("perimeter_epsilon", perimeter_epsilon, Bounds{0.005, 0.5});
     v("min_edge_length", min_edge_length, Bounds{0.0, 2.0});
+    v("seal_depth", seal_depth, Bounds{0.0, 2.0});
+    v("seal_width", seal_width, Bounds{0.0, 10.0});
+    v("seal_inward", seal_inward, Bounds{0.0, 5.0});
     v("refit_band", refit_band, Bounds{0.01, 1.0});
     v("refit_min_points", refit_min_points, Bounds{3, 100000});
     v("column_max_size", column_max_size, Bounds{0.1, 10.0});
