@@ -156,7 +156,7 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
 
 }  // namespace
 
-OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth) {
+OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_faces) {
   OpenPlanTruth out;
   out.truth = truth;
   const std::size_t n = truth.rooms.size();
@@ -238,9 +238,9 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth) {
         e.polygons.push_back(std::move(p));
       }
     }
-    const std::vector<std::string> before = e.rooms;
     map_rooms(e.rooms);
-    if (flat && e.rooms.size() == 1 && out.members.count(e.rooms[0]) && !e.polygons.empty()) {
+    if (join_faces && flat && e.rooms.size() == 1 && out.members.count(e.rooms[0]) &&
+        !e.polygons.empty()) {
       const double z = e.polygons[0][0].z();
       auto same = std::find_if(elements.begin(), elements.end(), [&](const auto& x) {
         return x.element_class == e.element_class && x.rooms == e.rooms && !x.polygons.empty() &&
@@ -256,7 +256,8 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth) {
   for (auto& e : elements) {
     const bool flat =
         e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
-    if (!flat || e.polygons.size() < 2 || e.rooms.size() != 1 || !out.members.count(e.rooms[0]))
+    if (!join_faces || !flat || e.polygons.size() < 2 || e.rooms.size() != 1 ||
+        !out.members.count(e.rooms[0]))
       continue;
     std::vector<std::vector<Vec2>> plans;
     for (const auto& p : e.polygons) {
@@ -275,7 +276,7 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth) {
   // same plane, the same height band, one ending where the next begins) are one wall face.
   std::map<std::string, std::string> wall_of;  // merged-away wall id -> the wall it joined
   std::map<std::string, double> u_shift;       // and its origin's u along that wall
-  for (bool joined = true; joined;) {
+  for (bool joined = join_faces; joined;) {
     joined = false;
     for (auto& w : elements) {
       if (w.element_class != ElementClass::kWall || w.rooms.size() != 1 ||

@@ -60,14 +60,16 @@ namespace mopad::evaluation {
 /// elements of one height are merged into one element (the first one's id) with the union of
 /// their polygons; the open passages inside the group are dropped. A group whose plans do not
 /// form one simple outline (a hole, overlaps) is left as separate rooms, with a line in `notes`.
-/// A truth without open passages comes back unchanged.
+/// A truth without open passages comes back unchanged. With `join_faces` false only the rooms
+/// are merged and every element keeps its id and geometry (what needs the scene's element ids
+/// to stay valid: SM1 truth labels, surface sampling).
 struct OpenPlanTruth {
   scenes::GroundTruth truth;
   std::map<std::string, std::string> room_of;  ///< every sidecar room id -> its room in `truth`
   std::map<std::string, std::vector<std::string>> members;  ///< merged room -> its rooms (>= 2)
   std::vector<std::string> notes;                           ///< groups left unmerged, and why
 };
-OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth);
+OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_faces = true);
 
 /// Truth SM3 patches of `room` (world frame). InputError for an unknown room or a room without
 /// structural elements.

@@ -4,11 +4,13 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include "common/error.h"
 #include "common/polygon.h"
 #include "common/wall_clock.h"
+#include "evaluation/truth_models.h"
 #include "io/text_file.h"
 #include "mission/floor_model_job.h"
 #include "mission/model_export.h"
@@ -113,7 +115,10 @@ class FloorWorld {
     t_begin_ = session_.SimTime();
     const Pose2 at = session_.TruePoseInWorld();
     room_ = TruthRoomAt(*mw_.truth, Eigen::Vector2d(at.x, at.y));
-    labels_ = std::make_unique<Sm1TruthCollector>(session_, *mw_.truth, room_);
+    // The truth side scores an open-plan room as the robot meets it (MergeOpenPlanRooms).
+    if (!open_plan_) open_plan_ = evaluation::MergeOpenPlanRooms(*mw_.truth, /*join_faces=*/false);
+    labels_ = std::make_unique<Sm1TruthCollector>(session_, open_plan_->truth,
+                                                  open_plan_->room_of.at(room_));
     hook_ = labels_->Hook();
   }
 
@@ -195,8 +200,8 @@ class FloorWorld {
       r.plan_points_W.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
     }
     if (evaluate_) {
-      r.evaluation =
-          EvaluateRoom(*mw_.world, *mw_.truth, room_, session_, v.scan, model, labels_->Labels());
+      r.evaluation = EvaluateRoom(*mw_.world, open_plan_->truth, open_plan_->room_of.at(room_),
+                                  session_, v.scan, model, labels_->Labels());
       io::WriteTextFile((fs::path(dir) / "evaluation.json").string(),
                         ToJson(*r.evaluation).dump(2) + "\n");
     }
@@ -208,6 +213,7 @@ class FloorWorld {
   std::string dir_;
   bool evaluate_;
   std::function<void(const RoomBoundary&)> room_boundary_;
+  std::optional<evaluation::OpenPlanTruth> open_plan_;  // before labels_: they refer to it
   std::unique_ptr<Sm1TruthCollector> labels_;
   autonomy::ScanHook hook_;
   std::string room_;  // the truth room of the room being scanned

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "common/error.h"
+#include "evaluation/truth_models.h"
 #include "mission/model_export.h"
 #include "mission/robot_catalogue.h"
 #include "modelling/model_io.h"
@@ -146,7 +147,12 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   }
   RobotSession session(*mw.world, params.drive, job.start_W);
   modelling::RoomModel model(params.model);
-  Sm1TruthCollector labels(session, *mw.truth, room);
+  // The truth side scores an open-plan room (spaces joined by open passages) as the robot
+  // meets it: one room (evaluation/truth_models.h, MergeOpenPlanRooms).
+  const evaluation::OpenPlanTruth open_plan =
+      evaluation::MergeOpenPlanRooms(*mw.truth, /*join_faces=*/false);
+  const std::string truth_room = open_plan.room_of.at(room);
+  Sm1TruthCollector labels(session, open_plan.truth, truth_room);
   job.mission =
       RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;
@@ -179,8 +185,8 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   job.path_length = session.Result().path_length;
   job.points = model.PointCount();
   if (evaluate) {
-    job.evaluation =
-        EvaluateRoom(*mw.world, *mw.truth, room, session, job.mission, model, labels.Labels());
+    job.evaluation = EvaluateRoom(*mw.world, open_plan.truth, truth_room, session, job.mission,
+                                  model, labels.Labels());
     std::ofstream(std::filesystem::path(dir) / "evaluation.json")
         << ToJson(*job.evaluation).dump(2) << "\n";
   }

@@ -227,6 +227,13 @@ TEST(OpenPlanTruth, SpacesJoinedByAnOpenPassageAreOneRoomWithWholeWalls) {
   EXPECT_EQ(op.truth.connections[0].door, "D1");
   // Room C is untouched.
   EXPECT_EQ(TruthPatches(op.truth, "C").size(), TruthPatches(OpenPlanTruth3(), "C").size());
+  // Rooms only: every element keeps its id (the scene's element ids stay valid) and is A's.
+  const OpenPlanTruth rooms_only = MergeOpenPlanRooms(OpenPlanTruth3(), /*join_faces=*/false);
+  ASSERT_EQ(rooms_only.truth.elements.size(), OpenPlanTruth3().elements.size());
+  EXPECT_EQ(rooms_only.truth.FindElement("wall_B_s")->rooms, (std::vector<std::string>{"A"}));
+  EXPECT_NEAR(rooms_only.truth.FindElement("wall_B_s")->length, 6.0, 1e-12);
+  EXPECT_EQ(rooms_only.truth.openings[0].host_walls, (std::vector<std::string>{"wall_B_s"}));
+  EXPECT_NEAR(SignedArea(rooms_only.truth.FindRoom("A")->polygon), 30.0, 1e-9);
 }
 
 TEST(OpenPlanTruth, WithoutPassagesTheTruthIsUnchangedAndAnUnmergeableGroupStaysApart) {
