@@ -734,15 +734,28 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
   }
   // A short fitted edge between two antiparallel fitted walls is the end face of a wall that
   // stands into the room: walls are prisms, so it is square to them. Its traced direction is
-  // poor (a 0.24 m edge, ends moved by the simplification: 15 deg off) and tilts its fit.
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n;
-    if (!fitted[i] || !fitted[pi] || !fitted[ni] || n < 5) continue;
-    if ((poly[ni] - poly[i]).norm() >= kWallEndMax) continue;
+  // poor (a 0.24 m edge, ends moved by the simplification: 15 deg off) and tilts its fit. The
+  // trace may also have cut one of its corners (a second short edge, 36 deg off on FZK-Haus):
+  // of the two the squarer is the end face, the other is left unfitted and collapses below.
+  auto length = [&](std::size_t k) { return (poly[(k + 1) % n] - poly[k]).norm(); };
+  for (std::size_t i = 0; i < n && n >= 6; ++i) {
+    if (!fitted[i] || length(i) >= kWallEndMax) continue;
+    std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n, other = n;
+    if (length(pi) < kChamferMax)
+      other = pi, pi = (pi + n - 1) % n;
+    else if (length(ni) < kChamferMax)
+      other = ni, ni = (ni + 1) % n;
+    if (!fitted[pi] || !fitted[ni] || pi == ni) continue;
     if (line_t[pi].dot(line_t[ni]) > -std::cos(DegToRad(5.0))) continue;
     const Vec2 side = (line_t[pi] - line_t[ni]).normalized();
+    if (other < n && other != i && fitted[other] &&
+        std::abs(line_t[other].dot(side)) < std::abs(line_t[i].dot(side)))
+      continue;  // the other is the end face
+    if (other < n && length(i) + length(other) >= kWallEndMax) continue;
     const Vec2 square(-side.y(), side.x());
-    line_t[i] = square.dot(poly[ni] - poly[i]) >= 0.0 ? square : Vec2(-square);
+    const Vec2 traced = poly[(i + 1) % n] - poly[i];
+    line_t[i] = square.dot(traced) >= 0.0 ? square : Vec2(-square);
+    if (other < n) fitted[other] = false;
   }
   // A short edge left unfitted between two fitted walls is the tracer cutting their corner
   // (a re-entrant corner seen obliquely: office_5rooms R1's L corner got a 13 cm chamfer, a
