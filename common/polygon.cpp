@@ -77,10 +77,11 @@ double SignedArea(const std::vector<Eigen::Vector2d>& poly) {
   return 0.5 * a;
 }
 
-std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
-    const std::vector<std::vector<Eigen::Vector2d>>& polygons, double tolerance) {
+TiledBoundary BoundaryOfTiledPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
+                                      double tolerance) {
   using V2 = Eigen::Vector2d;
-  // Vertices within `tolerance` are one point (index into `pts`).
+  TiledBoundary out;
+  // Vertices within `tolerance` are one point (index into `pts`), numbered as first met.
   std::vector<V2> pts;
   auto id_of = [&](const V2& p) {
     for (std::size_t i = 0; i < pts.size(); ++i)
@@ -89,7 +90,6 @@ std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
     return static_cast<int>(pts.size() - 1);
   };
   std::vector<std::vector<int>> loops;
-  double total = 0.0, perimeter = 0.0;
   for (const auto& poly : polygons) {
     const double a = SignedArea(poly);
     std::vector<int> loop;
@@ -98,14 +98,10 @@ std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
       if (loop.empty() || loop.back() != i) loop.push_back(i);
     }
     while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
-    if (loop.size() < 3 || !(std::abs(a) > 0.0)) return std::nullopt;
+    if (loop.size() < 3 || !(std::abs(a) > 0.0)) continue;
     if (a < 0.0) std::reverse(loop.begin(), loop.end());
-    total += std::abs(a);
-    for (std::size_t k = 0; k < poly.size(); ++k)
-      perimeter += (poly[(k + 1) % poly.size()] - poly[k]).norm();
     loops.push_back(std::move(loop));
   }
-  if (loops.empty()) return std::nullopt;
   // Directed edge pieces, split at every vertex lying on an edge.
   std::map<std::pair<int, int>, int> count;
   for (const auto& loop : loops)
@@ -115,8 +111,10 @@ std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
       std::vector<std::pair<double, int>> on;
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const int c = static_cast<int>(i);
-        if (c == a || c == b || DistanceToSegment(pts[i], pts[a], pts[b]) > tolerance) continue;
-        on.emplace_back((pts[i] - pts[a]).dot(d) / d.squaredNorm(), c);
+        if (c == a || c == b) continue;
+        const double t = (pts[i] - pts[a]).dot(d) / d.squaredNorm();
+        if (t <= 0.0 || t >= 1.0 || DistanceToSegment(pts[i], pts[a], pts[b]) > tolerance) continue;
+        on.emplace_back(t, c);
       }
       std::sort(on.begin(), on.end());
       int from = a;
@@ -126,34 +124,55 @@ std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
       }
       ++count[{from, b}];
     }
-  // Pieces two polygons share (met in opposite directions) are inside the union; a piece met
-  // twice in one direction means the polygons overlap.
-  std::map<int, std::vector<int>> next;
+  // Pieces two polygons share (met in opposite directions) are inside the union.
+  std::map<int, int> next;
   for (const auto& [e, n] : count) {
-    if (n > 1) return std::nullopt;
-    const auto back = count.find({e.second, e.first});
-    if (back != count.end() && back->second > 0) continue;
-    next[e.first].push_back(e.second);
+    if (n > 1) out.overlap = true;
+    if (count.count({e.second, e.first})) continue;
+    if (next.count(e.first)) {
+      out.problem = TiledBoundary::kTouchesItself;
+      return out;
+    }
+    next[e.first] = e.second;
   }
-  std::size_t edges = 0;
-  for (const auto& [v, out] : next) {
-    if (out.size() != 1) return std::nullopt;  // the outline would touch itself
-    ++edges;
+  // Loops, each from its lowest-numbered vertex.
+  std::map<int, bool> used;
+  for (const auto& [start, unused] : next) {
+    if (used[start]) continue;
+    std::vector<V2> loop;
+    for (int v = start; !used[v];) {
+      used[v] = true;
+      loop.push_back(pts[v]);
+      const auto it = next.find(v);
+      if (it == next.end()) {
+        out.problem = TiledBoundary::kNotClosed;
+        return out;
+      }
+      v = it->second;
+    }
+    out.loops.push_back(std::move(loop));
   }
-  if (next.empty()) return std::nullopt;
-  std::vector<int> outline{next.begin()->first};
-  while (outline.size() <= edges) {
-    const auto it = next.find(outline.back());
-    if (it == next.end()) return std::nullopt;
-    if (it->second[0] == outline.front()) break;
-    outline.push_back(it->second[0]);
+  return out;
+}
+
+std::optional<std::vector<Eigen::Vector2d>> UnionOfTiledPolygons(
+    const std::vector<std::vector<Eigen::Vector2d>>& polygons, double tolerance) {
+  double total = 0.0, perimeter = 0.0;
+  for (const auto& poly : polygons) {
+    if (poly.size() < 3 || !(std::abs(SignedArea(poly)) > 0.0)) return std::nullopt;
+    total += std::abs(SignedArea(poly));
+    for (std::size_t k = 0; k < poly.size(); ++k)
+      perimeter += (poly[(k + 1) % poly.size()] - poly[k]).norm();
   }
-  if (outline.size() != edges) return std::nullopt;  // more than one outline: a hole or apart
-  std::vector<V2> out;
-  for (std::size_t k = 0; k < outline.size(); ++k) {
-    const V2& p = pts[outline[(k + outline.size() - 1) % outline.size()]];
-    const V2& c = pts[outline[k]];
-    const V2& q = pts[outline[(k + 1) % outline.size()]];
+  const TiledBoundary b = BoundaryOfTiledPolygons(polygons, tolerance);
+  // One outline: not apart, no hole, no overlap.
+  if (b.problem != TiledBoundary::kNone || b.overlap || b.loops.size() != 1) return std::nullopt;
+  const std::vector<Eigen::Vector2d>& loop = b.loops[0];
+  std::vector<Eigen::Vector2d> out;
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const Eigen::Vector2d& p = loop[(k + loop.size() - 1) % loop.size()];
+    const Eigen::Vector2d& c = loop[k];
+    const Eigen::Vector2d& q = loop[(k + 1) % loop.size()];
     if (DistanceToSegment(c, p, q) > tolerance) out.push_back(c);
   }
   if (out.size() < 3) return std::nullopt;

@@ -40,6 +40,20 @@ std::vector<Eigen::Vector3i> TriangulatePolygon(const std::vector<Eigen::Vector2
 /// Signed area (m^2) of `poly`: positive when counter-clockwise.
 double SignedArea(const std::vector<Eigen::Vector2d>& poly);
 
+/// The boundary of polygons that meet only along shared boundary pieces (vertices within
+/// `tolerance`, m, being one point; any winding, polygons with fewer than 3 distinct vertices or
+/// no area skipped): their edges, split where another polygon's vertex lies on them, without
+/// the pieces two polygons share (met in opposite directions), chained into loops —
+/// counter-clockwise for outlines, clockwise for holes, each from its first-met vertex.
+struct TiledBoundary {
+  enum Problem { kNone, kTouchesItself, kNotClosed };
+  std::vector<std::vector<Eigen::Vector2d>> loops;  ///< empty when `problem` is set
+  Problem problem = kNone;  ///< a vertex starts two boundary pieces; a chain does not close
+  bool overlap = false;     ///< a piece met twice in one direction: polygons overlap
+};
+TiledBoundary BoundaryOfTiledPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
+                                      double tolerance);
+
 /// The union of simple polygons that tile a region: they meet only along shared boundary
 /// pieces (rooms of a building split by a boundary without a wall), vertices within
 /// `tolerance` (m) being the same point. Edges are split where another polygon's vertex lies on

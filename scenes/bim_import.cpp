@@ -526,82 +526,33 @@ bool GapAround(const std::vector<std::pair<double, double>>& cov, double x, doub
 // The outline of a space's bottom face (triangles facing down at its lowest z), CCW from above.
 bool Footprint(const std::vector<Poly3>& tris, double z_min, double tol, Polygon2* out,
                std::string* why) {
-  std::map<std::pair<long long, long long>, int> vid;
-  std::vector<Vector2d> pts;
-  auto key = [&](const Vector3d& p) {
-    const std::pair<long long, long long> k{std::llround(p.x() * 1e4), std::llround(p.y() * 1e4)};
-    auto [it, fresh] = vid.emplace(k, static_cast<int>(pts.size()));
-    if (fresh) pts.emplace_back(p.x(), p.y());
-    return it->second;
-  };
-  std::vector<std::pair<int, int>> directed;
+  // The bottom face's triangles in plan (seen from above a downward face runs clockwise: the
+  // boundary takes any winding). T-junctions, common in BRep spaces, are split there.
+  std::vector<std::vector<Vector2d>> faces;
   for (const Poly3& t : tris) {
     if (NormalOf(t).z() > -kFacingCos) continue;
     bool low = true;
     for (const auto& p : t) low = low && std::abs(p.z() - z_min) <= tol;
     if (!low) continue;
-    // Seen from above a downward face runs clockwise; store edges reversed (CCW from above).
-    const int a = key(t[0]), b = key(t[1]), c = key(t[2]);
-    if (a == b || b == c || a == c) continue;
-    for (auto [p, q] : {std::pair{b, a}, std::pair{c, b}, std::pair{a, c}})
-      directed.push_back({p, q});
+    faces.push_back({t[0].head<2>(), t[1].head<2>(), t[2].head<2>()});
   }
-  // T-junctions (a vertex of one face on an edge of its neighbour, common in BRep spaces):
-  // split every edge at the vertices lying on it, so inner edges pair up with their reverse.
-  std::map<std::pair<int, int>, int> edges;
-  for (const auto& [a, b] : directed) {
-    const Vector2d pa = pts[a], pb = pts[b];
-    const double len = (pb - pa).norm();
-    std::vector<std::pair<double, int>> on;  // (position along the edge, vertex)
-    for (int v = 0; v < static_cast<int>(pts.size()); ++v) {
-      if (v == a || v == b) continue;
-      const double t = (pts[v] - pa).dot(pb - pa) / (len * len);
-      if (t <= 0.0 || t >= 1.0) continue;
-      if ((pa + t * (pb - pa) - pts[v]).norm() <= 1e-4) on.push_back({t, v});
-    }
-    std::sort(on.begin(), on.end());
-    int from = a;
-    for (const auto& [t, v] : on) {
-      ++edges[{from, v}];
-      from = v;
-    }
-    ++edges[{from, b}];
+  const TiledBoundary boundary = BoundaryOfTiledPolygons(faces, 1e-4);
+  if (boundary.problem == TiledBoundary::kTouchesItself) {
+    *why = "its bottom outline touches itself";
+    return false;
   }
-  std::map<int, int> next;
-  for (const auto& [e, count] : edges) {
-    const auto rev = edges.find({e.second, e.first});
-    if (rev != edges.end()) continue;  // inner edge
-    if (next.count(e.first)) {
-      *why = "its bottom outline touches itself";
-      return false;
-    }
-    next[e.first] = e.second;
+  if (boundary.problem == TiledBoundary::kNotClosed) {
+    *why = "its bottom outline is not closed";
+    return false;
   }
-  if (next.empty()) {
+  if (boundary.loops.empty()) {
     *why = "no downward face at its lowest point";
     return false;
   }
-  // Loops; the largest is the outline.
-  std::set<int> used;
+  // The largest loop is the outline.
   Polygon2 best;
-  int loops = 0;
-  for (const auto& [start, unused] : next) {
-    if (used.count(start)) continue;
-    Polygon2 loop;
-    int v = start;
-    while (!used.count(v)) {
-      used.insert(v);
-      loop.push_back(pts[v]);
-      const auto it = next.find(v);
-      if (it == next.end()) {
-        *why = "its bottom outline is not closed";
-        return false;
-      }
-      v = it->second;
-    }
-    ++loops;
+  for (const auto& loop : boundary.loops)
     if (std::abs(SignedArea(loop)) > std::abs(SignedArea(best))) best = loop;
-  }
   // Drop collinear vertices.
   for (bool changed = true; changed && best.size() > 3;) {
     changed = false;
@@ -626,7 +577,8 @@ bool Footprint(const std::vector<Poly3>& tris, double z_min, double tol, Polygon
       s = i;
   std::rotate(best.begin(), best.begin() + static_cast<long>(s), best.end());
   if (!IsSimplePolygon(best, why)) return false;
-  if (loops > 1) *why = std::to_string(loops) + " outlines; the largest is used";
+  if (boundary.loops.size() > 1)
+    *why = std::to_string(boundary.loops.size()) + " outlines; the largest is used";
   *out = best;
   return true;
 }

@@ -23,16 +23,6 @@ bool OnSegment(const Vector2d& p, const Vector2d& a, const Vector2d& b) {
 
 }  // namespace
 
-double SignedArea(const Polygon2& poly) {
-  double a = 0.0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vector2d& p = poly[i];
-    const Vector2d& q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * a;
-}
-
 bool SegmentsIntersect(const Vector2d& a, const Vector2d& b, const Vector2d& c, const Vector2d& d) {
   const double eps = 1e-12;
   const int d1 = Sign(Cross(c, d, a), eps), d2 = Sign(Cross(c, d, b), eps);

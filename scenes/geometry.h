@@ -16,8 +16,7 @@ namespace mopad::scenes {
 
 using Polygon2 = std::vector<Eigen::Vector2d>;
 
-/// Signed area (positive for counter-clockwise vertex order), m^2.
-double SignedArea(const Polygon2& poly);
+using mopad::SignedArea;  // positive for counter-clockwise vertex order, m^2
 /// True if the polygon has >= 3 vertices, non-zero area, no repeated vertices, no zero-length
 /// edges and no two non-adjacent edges that touch or cross. `why` (optional) says what failed.
 bool IsSimplePolygon(const Polygon2& poly, std::string* why = nullptr);
