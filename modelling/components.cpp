@@ -32,71 +32,110 @@ float Median(std::vector<float>& v) {
   return *mid;
 }
 
-// Step 1: normalised convolution of the imaged pixels, openings removed.
-// Typical sample spacing (m): points per pixel over the seen area (seen pixels closed by a
-// 9 x 9 dilation), spacing = pixel / sqrt(density).
-double SampleSpacing(const Orthoimage& im) {
-  cv::Mat seen(im.Rows(), im.Cols(), CV_8U, cv::Scalar(0));
-  double n = 0.0;
-  for (int r = 0; r < im.Rows(); ++r)
-    for (int k = 0; k < im.Cols(); ++k) {
-      const std::uint32_t c = im.Count(im.Index(k, r));
-      n += c;
-      if (c > 0) seen.at<uchar>(r, k) = 255;
-    }
-  cv::dilate(seen, seen, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
-  const double area = cv::countNonZero(seen);
-  return n > 0 ? im.Pixel() / std::sqrt(n / area) : im.Pixel();
-}
+// Step 1: normalised convolution of the imaged pixels, openings removed, at the LOCAL sample
+// spacing. One SE is sampled very unevenly (a wall 1 m from a scan and 8 m from it, the band
+// near the floor at grazing incidence): a filter sized by the SE's typical spacing leaves the
+// sparse parts full of holes, which splits a component into fragments. So the spacing is
+// measured per pixel (points per pixel over the seen area in a Gaussian window of
+// `density_window`), each pixel is filled at the smallest of a ladder of sigmas (ratio sqrt 2)
+// reaching fill_spacing_share of its spacing, and its weight is compared with the local share
+// of pixels holding points (the weight a uniform sampling gives there).
+struct FillScale {
+  cv::Mat w, d, c;  // blurred weight, depth, colour over `roi`
+  cv::Mat closed;   // seen pixels closed by about a sample spacing, over `roi`
+  cv::Rect roi;
+};
 
 void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
             const ComponentParams& p, SeImages& se) {
   const int rows = im.Rows(), cols = im.Cols();
-  const double spacing = SampleSpacing(im);
+  const double pixel = im.Pixel();
   cv::Mat w(rows, cols, CV_32F, cv::Scalar(0)), d(rows, cols, CV_32F, cv::Scalar(0));
+  cv::Mat n(rows, cols, CV_32F, cv::Scalar(0));
   cv::Mat c(rows, cols, CV_32FC3, cv::Scalar(0, 0, 0));
   for (int r = 0; r < rows; ++r)
     for (int k = 0; k < cols; ++k) {
       const std::size_t i = im.Index(k, r);
       if (im.Count(i) == 0) continue;
       w.at<float>(r, k) = 1.0f;
+      n.at<float>(r, k) = static_cast<float>(im.Count(i));
       d.at<float>(r, k) = im.Depth(i);
       const auto rgb = im.Rgb(i);
       c.at<cv::Vec3f>(r, k) = cv::Vec3f(rgb[0], rgb[1], rgb[2]);
     }
-  const double s = std::max(p.fill_sigma, p.fill_spacing_share * spacing) / im.Pixel();
-  cv::Mat seen = w.clone();
-  cv::GaussianBlur(w, w, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
-  cv::GaussianBlur(d, d, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
-  cv::GaussianBlur(c, c, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
-  // Weight threshold relative to the typical weight where points are: holes between scan
-  // lines fill, shadows and unseen areas wider than about a sample spacing stay unknown.
-  std::vector<float> ws;
+  // Local density over the seen area (seen pixels closed by a 9 x 9 dilation): points per pixel
+  // and the share of pixels holding points.
+  cv::Mat seen8, area;
+  w.convertTo(seen8, CV_8U, 255.0);
+  cv::dilate(seen8, area, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
+  area.convertTo(area, CV_32F, 1.0 / 255.0);
+  const double sw = p.density_window / pixel;
+  cv::Mat area_b, n_b, w_b;
+  cv::GaussianBlur(area, area_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(n, n_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(w, w_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  // Scale of each pixel: index into sigma_0 * sqrt(2)^k (pixels), -1 where nothing is seen.
+  const double s0 = p.fill_sigma / pixel, s_max = std::max(s0, p.fill_sigma_max / pixel);
+  const int levels = 1 + static_cast<int>(std::ceil(2.0 * std::log2(s_max / s0) - 1e-9));
+  auto sigma_of = [&](int k) { return std::min(s_max, s0 * std::pow(std::sqrt(2.0), k)); };
+  cv::Mat level(rows, cols, CV_8S, cv::Scalar(-1));
+  cv::Mat share(rows, cols, CV_32F, cv::Scalar(0));
+  std::vector<cv::Rect> box(static_cast<std::size_t>(levels));
   for (int r = 0; r < rows; ++r)
-    for (int k = 0; k < cols; ++k)
-      if (seen.at<float>(r, k) > 0.0f) ws.push_back(w.at<float>(r, k));
-  if (ws.empty()) ws.push_back(1.0f);
-  const float w_min = static_cast<float>(p.fill_min_weight) * Median(ws);
-  // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
-  cv::Mat closed;
-  seen.convertTo(closed, CV_8U, 255.0);
-  const int kd = std::max(3, 2 * static_cast<int>(std::ceil(0.75 * spacing / im.Pixel())) + 1);
-  cv::morphologyEx(closed, closed, cv::MORPH_CLOSE,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kd, kd)));
+    for (int k = 0; k < cols; ++k) {
+      const float a = area_b.at<float>(r, k);
+      if (a < 1e-3f) continue;
+      const double density = n_b.at<float>(r, k) / a;  // points per pixel
+      if (density <= 0.0) continue;
+      share.at<float>(r, k) = std::min(1.0f, w_b.at<float>(r, k) / a);
+      const double want = p.fill_spacing_share / std::sqrt(density);  // pixels
+      int lv = 0;
+      while (lv + 1 < levels && sigma_of(lv) < want) ++lv;
+      level.at<schar>(r, k) = static_cast<schar>(lv);
+      box[static_cast<std::size_t>(lv)] |= cv::Rect(k, r, 1, 1);
+    }
+  std::vector<FillScale> scales(static_cast<std::size_t>(levels));
+  for (int lv = 0; lv < levels; ++lv) {
+    cv::Rect b = box[static_cast<std::size_t>(lv)];
+    if (b.area() == 0) continue;
+    const double s = sigma_of(lv);
+    const int m = static_cast<int>(std::ceil(4.0 * s)) + 2;
+    b = cv::Rect(b.x - m, b.y - m, b.width + 2 * m, b.height + 2 * m) & cv::Rect(0, 0, cols, rows);
+    FillScale& f = scales[static_cast<std::size_t>(lv)];
+    f.roi = b;
+    cv::GaussianBlur(w(b), f.w, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    cv::GaussianBlur(d(b), f.d, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    cv::GaussianBlur(c(b), f.c, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
+    const int kd =
+        std::max(3, 2 * static_cast<int>(std::ceil(0.75 * s / p.fill_spacing_share)) + 1);
+    cv::morphologyEx(seen8(b), f.closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kd, kd)),
+                     cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
   se.valid = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
   se.depth = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   se.rgb = cv::Mat(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0));
   for (int r = 0; r < rows; ++r)
     for (int k = 0; k < cols; ++k) {
-      const float wk = w.at<float>(r, k);
-      if (wk < w_min || !closed.at<uchar>(r, k)) continue;
+      const int lv = level.at<schar>(r, k);
+      if (lv < 0) continue;
+      const FillScale& f = scales[static_cast<std::size_t>(lv)];
+      const int rr = r - f.roi.y, kk = k - f.roi.x;
+      const float wk = f.w.at<float>(rr, kk);
+      // Weight threshold relative to the weight a uniform sampling of this density gives: holes
+      // between scan lines fill, shadows and unseen areas wider than a sample spacing stay
+      // unknown.
+      if (wk < static_cast<float>(p.fill_min_weight) * share.at<float>(r, k) || wk <= 0.0f ||
+          !f.closed.at<uchar>(rr, kk))
+        continue;
       se.valid.at<uchar>(r, k) = 255;
       // A pixel holding points keeps their mean; an empty one takes the filter's estimate.
-      const bool own = seen.at<float>(r, k) > 0.0f;
+      const bool own = w.at<float>(r, k) > 0.0f;
       const std::size_t i = im.Index(k, r);
-      se.depth.at<float>(r, k) = own ? im.Depth(i) : d.at<float>(r, k) / wk;
+      se.depth.at<float>(r, k) = own ? im.Depth(i) : f.d.at<float>(rr, kk) / wk;
       const auto rgb = im.Rgb(i);
-      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : c.at<cv::Vec3f>(r, k) / wk;
+      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : f.c.at<cv::Vec3f>(rr, kk) / wk;
       se.rgb.at<cv::Vec3b>(r, k) =
           cv::Vec3b(cv::saturate_cast<uchar>(ck[0]), cv::saturate_cast<uchar>(ck[1]),
                     cv::saturate_cast<uchar>(ck[2]));

@@ -7,7 +7,8 @@
 // Per SE (SM3 wall, column face or ceiling patch):
 //  1. SE orthoimage J^_CD (modelling/orthoimage.h) of the points within `band` of the plane at
 //     `pixel` metres, holes between samples filled by normalised convolution (Gaussian sigma
-//     from the SE's sample spacing; shadows and unseen areas stay unknown, fill_min_weight),
+//     from the local sample spacing, which varies several-fold over one SE; shadows and unseen
+//     areas stay unknown, fill_min_weight),
 //     the pixels inside the SE's SM4 openings (grown by `opening_margin`) removed. It splits into
 //     the depth image J^_D (protrusion, m) and the colour image J^_C (CIE Lab).
 //  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
@@ -63,14 +64,17 @@
 namespace mopad::modelling {
 
 struct ComponentParams {
-  double pixel = 0.005;       ///< m, SE orthoimage pixel, [0.001, 0.05]
-  double band = 0.20;         ///< m, points within +-band of the SE plane, [0.01, 1]
-  double fill_sigma = 0.004;  ///< m, least Gaussian sigma of the hole filling, [0.001, 0.1]
-  /// Sigma of the filling as a share of the SE's typical sample spacing (the larger of the
-  /// two sigmas is used), [0, 5]
+  double pixel = 0.005;          ///< m, SE orthoimage pixel, [0.001, 0.05]
+  double band = 0.20;            ///< m, points within +-band of the SE plane, [0.01, 1]
+  double fill_sigma = 0.004;     ///< m, least Gaussian sigma of the hole filling, [0.001, 0.1]
+  double fill_sigma_max = 0.03;  ///< m, largest Gaussian sigma of the filling, [0.001, 0.2]
+  /// Sigma of the filling as a share of the local sample spacing (at least fill_sigma, at
+  /// most fill_sigma_max, on a ladder of ratio sqrt 2), [0, 5]
   double fill_spacing_share = 0.6;
-  /// A filled pixel is known when its filter weight is at least this share of the median
-  /// weight of the pixels holding points, [0.001, 1]
+  /// m, Gaussian sigma of the window the local sample spacing is measured in, [0.005, 0.5]
+  double density_window = 0.04;
+  /// A filled pixel is known when its filter weight is at least this share of the local
+  /// share of pixels holding points (the weight of a uniform sampling there), [0.001, 1]
   double fill_min_weight = 0.3;
   double opening_margin = 0.05;   ///< m, SM4 openings grown by this before removal, [0, 0.5]
   double surface_band = 0.015;    ///< m, |depth| of the SE surface layer, [0.001, 0.1]
@@ -109,7 +113,9 @@ struct ComponentParams {
     v("pixel", pixel, Bounds{0.001, 0.05});
     v("band", band, Bounds{0.01, 1.0});
     v("fill_sigma", fill_sigma, Bounds{0.001, 0.1});
+    v("fill_sigma_max", fill_sigma_max, Bounds{0.001, 0.2});
     v("fill_spacing_share", fill_spacing_share, Bounds{0.0, 5.0});
+    v("density_window", density_window, Bounds{0.005, 0.5});
     v("fill_min_weight", fill_min_weight, Bounds{0.001, 1.0});
     v("opening_margin", opening_margin, Bounds{0.0, 0.5});
     v("surface_band", surface_band, Bounds{0.001, 0.1});

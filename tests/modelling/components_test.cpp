@@ -187,16 +187,23 @@ void Scan(const TestWall& w, const Vec3& s, double step, double shift, std::uint
   }
 }
 
-Sm5Model Detect(const TestWall& w, ComponentParams params = {}) {
+// The wall scanned at the main job's 0.2 deg step from `positions` (u, v, distance), the second
+// and later scans with a 1 mm registration offset.
+Sm5Model DetectFrom(const TestWall& w, const std::vector<Vec3>& positions,
+                    ComponentParams params = {}) {
   std::vector<Eigen::Vector3f> pts;
   std::vector<Rgb> cols;
   const double step = 0.2 * 3.14159265358979 / 180.0;
-  Scan(w, Vec3(1.4, 1.2, 2.5), step, 0.0, 1, pts, cols);
-  Scan(w, Vec3(2.8, 1.3, 3.0), step, 0.001, 2, pts, cols);
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    Scan(w, positions[i], step, i > 0 ? 0.001 : 0.0, i + 1, pts, cols);
   OrthoPoints op;
   op.points = &pts;
   op.colours = &cols;
   return DetectComponents(w.sm3, Sm4Model{}, op, Recogniser(), params);
+}
+
+Sm5Model Detect(const TestWall& w, ComponentParams params = {}) {
+  return DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, params);
 }
 
 const interfaces::ObjectModel& ModelOf(const std::string& name) {
@@ -274,6 +281,20 @@ TEST(Components, RenderedSocketAtScanDensityFromTwoPositionsIsFoundWithin2mm) {
   EXPECT_EQ(c.found_by, FoundBy::kColourAndDepth);
   EXPECT_GT(c.alpha, 0.5);
   EXPECT_NEAR(c.centre.y(), 0.0, 1e-9);  // on the host plane
+}
+
+// One SE is sampled very unevenly: here a scan 0.6 m from one end of the wall puts most of the
+// points there, and the socket at the other end is seen at about a tenth of that density. The
+// hole filling must follow the local spacing (sigma from the SE's mean spacing left the socket
+// in fragments that no class's size fits).
+TEST(Components, SocketInTheSparsePartOfAnUnevenlySampledWallIsFound) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("socket_x1"), 3.5, 0.3});
+  const Sm5Model m = DetectFrom(w, {Vec3(0.4, 1.2, 0.6), Vec3(1.5, 1.3, 3.5)});
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "socket_x1");
+  EXPECT_LT(std::abs(m.components[0].u - 3.5), 0.005);
+  EXPECT_LT(std::abs(m.components[0].v - 0.3), 0.005);
 }
 
 TEST(Components, FlushSocketIsFoundByColourAloneAtHalf) {
