@@ -396,6 +396,12 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   return out;
 }
 
+// Two classes of one mounting whose widths and heights agree within 10 %.
+bool SameSize(const interfaces::ObjectModel& a, const interfaces::ObjectModel& b) {
+  return a.mounting == b.mounting && std::abs(a.width - b.width) <= 0.1 * a.width &&
+         std::abs(a.height - b.height) <= 0.1 * a.height;
+}
+
 // The colour box of class m centred at (col, row): RGB bytes in the model's orientation.
 std::vector<std::uint8_t> ColourBox(const cv::Mat& rgb_padded, int pad, const PathDetection& d,
                                     bool ceiling, int* w, int* h) {
@@ -441,10 +447,13 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       int w = 0, h = 0;
       const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, d, ceiling, &w, &h);
       const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
-      // The box is a component (its best class beats "none") and class k is among the
-      // perceptron's likely ones; look-alike classes (same size and colours, e.g. signs with
-      // different pictograms) are then told apart by the NCC of their colour models (step 5).
-      const float sk = s[static_cast<std::size_t>(k)];
+      // The box is a component (its best class beats "none") and class k's size is among the
+      // perceptron's likely ones: its pattern holds global colour statistics and the box size,
+      // not the pictogram, so classes of one size (e.g. signs with different pictograms on the
+      // same colours) are told apart by the NCC of their colour models (step 5), not by it.
+      float sk = 0.0f;
+      for (std::size_t j = 0; j + 1 < s.size(); ++j)
+        if (SameSize(m, cat.models[j])) sk = std::max(sk, s[j]);
       const float best = *std::max_element(s.begin(), s.end() - 1);
       if (best <= s.back() || sk < p.colour_score_min * best) continue;
       d.score = best;

@@ -26,7 +26,8 @@
 //     located by NCC of its colour model (padded with the local wall colour) and verified by
 //     the perceptron (ComponentRecogniser) on the box of the class size there: a colour
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
-//     beats its "none" score, the class scores at least colour_score_min of that best, and the
+//     beats its "none" score, a class of the same size scores at least colour_score_min of that
+//     best (the pattern holds colour statistics and size, not the pictogram), and the
 //     box's measured protrusion agrees with the class (depth_consistency). Its score is the
 //     best class score (how sure the box is a component); look-alike classes (same size and
 //     colours, e.g. signs with different pictograms) are told apart by the NCC in step 5.
