@@ -327,9 +327,9 @@ cv::Mat MaybeFlip(cv::Mat m, bool ceiling) {
 
 namespace {
 
-// Measured protrusion of a box: the 95th percentile of the high-pass depth over its known
-// pixels (m); NaN when less than 30 % of the box is known.
-double BoxProtrusion(const SeImages& se, const PathDetection& d) {
+// Measured protrusion of a box: the `quantile` of the high-pass depth over its known pixels (m);
+// NaN when less than 30 % of the box is known.
+double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile = 0.95) {
   const cv::Rect box =
       cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
                static_cast<int>(std::ceil(d.col1 - d.col0)),
@@ -341,7 +341,8 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d) {
       if (se.valid.at<uchar>(r, c)) h.push_back(se.highpass.at<float>(r, c));
   if (h.empty() || h.size() < 0.3 * std::max(1, box.area()))
     return std::numeric_limits<double>::quiet_NaN();
-  const auto q = h.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(h.size() - 1));
+  const auto q =
+      h.begin() + static_cast<std::ptrdiff_t>(quantile * static_cast<double>(h.size() - 1));
   std::nth_element(h.begin(), q, h.end());
   return *q;
 }
@@ -350,9 +351,16 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d) {
 // depth_consistency); true when too little of the box is known to tell.
 bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
                  const ComponentParams& p) {
-  const double top = BoxProtrusion(se, d), flush = 2.0 * p.protrusion_min;
-  if (!std::isfinite(top)) return true;
-  return m.depth >= flush ? top >= p.depth_consistency * m.depth : top < flush;
+  // A protruding class: its top (95th percentile) stands out, even when it covers part of the
+  // box. A flush class: most of the box (the median) lies on the wall; a top percentile would
+  // read the range noise of a grazing view, or a neighbour's edge, as a protrusion.
+  const double flush = 2.0 * p.protrusion_min;
+  if (m.depth >= flush) {
+    const double top = BoxProtrusion(se, d, 0.95);
+    return !std::isfinite(top) || top >= p.depth_consistency * m.depth;
+  }
+  const double mid = BoxProtrusion(se, d, 0.5);
+  return !std::isfinite(mid) || mid < flush;
 }
 
 // Step 2 on one SE.

@@ -96,9 +96,9 @@ struct ComponentParams {
   /// score, [0, 1]
   double colour_score_min = 0.2;
   double colour_ncc_min = 0.3;  ///< least colour NCC peak of a colour detection, [-1, 1]
-  /// A colour detection's class must agree with the box's measured protrusion (95th
-  /// percentile of the high-pass depth, where known): a protruding class (depth >=
-  /// 2 protrusion_min) needs at least this share of its depth, a flush one less than
+  /// A colour detection's class must agree with the box's measured protrusion (high-pass
+  /// depth, where known): a protruding class (depth >= 2 protrusion_min) needs its 95th
+  /// percentile at least this share of its depth, a flush one its median below
   /// 2 protrusion_min, [0, 1]
   double depth_consistency = 0.3;
   double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]

@@ -374,6 +374,22 @@ TEST(Components, SignsOfOneSizeAndColoursAreToldApartByTheirPictograms) {
   EXPECT_LT(std::abs(m.components[1].u - 3.0), 0.01);
 }
 
+// A flush class is told from a protruding one by the median protrusion of its box, not a top
+// percentile: the sign's box here takes in the edge of a cable duct of the wall's colour (3 cm
+// deep) running past it (range noise at grazing incidence did the same on office_5rooms), and
+// the sign is still a sign.
+TEST(Components, FlushSignBesideACableDuctIsStillFlush) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("fire_sign"), 1.0, 1.6});
+  w.placed.push_back({Draw("duct", interfaces::Mounting::kWall, 0.025, 1.0, 0.03,
+                           [](double, double, Rgb& c, float& d) { c = kWall, d = 0.03f; }),
+                      1.0 + 0.1 - 0.015 + 0.0125, 1.6});
+  const Sm5Model m = Detect(w);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "fire_sign");
+  EXPECT_LT(std::abs(m.components[0].u - 1.0), 0.01);
+}
+
 TEST(Components, DoorHandleStainAndPictureAreNotComponents) {
   using interfaces::Mounting;
   TestWall w = MakeWall();
