@@ -24,6 +24,7 @@ struct SeImages {
   cv::Mat highpass;  // CV_32F, m, depth minus its wall background (0 where not valid)
   cv::Mat wall_rgb;  // CV_8UC3, local wall colour
   cv::Mat delta_e;   // CV_32F, Lab distance to the local wall colour (0 where not valid)
+  cv::Mat blur;      // CV_32F, pixels, sigma of the filling at each pixel (0 where unseen)
 };
 
 float Median(std::vector<float>& v) {
@@ -79,6 +80,7 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
   const int levels = 1 + static_cast<int>(std::ceil(2.0 * std::log2(s_max / s0) - 1e-9));
   auto sigma_of = [&](int k) { return std::min(s_max, s0 * std::pow(std::sqrt(2.0), k)); };
   cv::Mat level(rows, cols, CV_8S, cv::Scalar(-1));
+  se.blur = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   cv::Mat share(rows, cols, CV_32F, cv::Scalar(0));
   std::vector<cv::Rect> box(static_cast<std::size_t>(levels));
   for (int r = 0; r < rows; ++r)
@@ -92,6 +94,7 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
       int lv = 0;
       while (lv + 1 < levels && sigma_of(lv) < want) ++lv;
       level.at<schar>(r, k) = static_cast<schar>(lv);
+      se.blur.at<float>(r, k) = static_cast<float>(sigma_of(lv));
       box[static_cast<std::size_t>(lv)] |= cv::Rect(k, r, 1, 1);
     }
   std::vector<FillScale> scales(static_cast<std::size_t>(levels));
@@ -441,12 +444,17 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
     if (r.area() * pixel * pixel < 0.25 * p.min_region_area) continue;
     const cv::Point mid(r.x + r.width / 2, r.y + r.height / 2);
     const cv::Vec3b wall = se.wall_rgb.at<cv::Vec3b>(mid);
+    const double sigma = p.template_blur_share * se.blur.at<float>(mid);
     for (int k = 0; k < static_cast<int>(cat.models.size()); ++k) {
       const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
       if (!MountsOn(m, ceiling) || !SizeFits(r, pixel, m, p, p.colour_min_extent)) continue;
       cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, p.template_pad, pixel), ceiling), t_f,
               t_lab;
       t_rgb.convertTo(t_f, CV_32FC3, 1.0 / 255.0);
+      // Matched filter: the template degraded as the scan degraded the blob (the filling's
+      // sigma there), so that a small, faint model is compared with what a scan makes of it.
+      if (sigma > 0.0)
+        cv::GaussianBlur(t_f, t_f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
       cv::cvtColor(t_f, t_lab, cv::COLOR_RGB2Lab);
       const Peak pk = MatchAround(lab_padded, pad, t_lab, r, margin);
       if (pk.score < p.colour_ncc_min) continue;

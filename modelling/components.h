@@ -96,6 +96,9 @@ struct ComponentParams {
   /// score, [0, 1]
   double colour_score_min = 0.2;
   double colour_ncc_min = 0.3;  ///< least colour NCC peak of a colour detection, [-1, 1]
+  /// The colour model is blurred by this share of the filling's sigma at the candidate before
+  /// the NCC (compared with what a scan makes of it); 0 = the sharp model, [0, 3]
+  double template_blur_share = 1.0;
   /// A colour detection's class must agree with the box's measured protrusion (high-pass
   /// depth, where known): a protruding class (depth >= 2 protrusion_min) needs its 95th
   /// percentile at least this share of its depth, a flush one its median below
@@ -133,6 +136,7 @@ struct ComponentParams {
     v("colour_min_extent", colour_min_extent, Bounds{0.0, 1.0});
     v("colour_score_min", colour_score_min, Bounds{0.0, 1.0});
     v("colour_ncc_min", colour_ncc_min, Bounds{-1.0, 1.0});
+    v("template_blur_share", template_blur_share, Bounds{0.0, 3.0});
     v("depth_consistency", depth_consistency, Bounds{0.0, 1.0});
     v("min_pair_alpha", min_pair_alpha, Bounds{0.0, 1.0});
     v("single_depth_ncc", single_depth_ncc, Bounds{-1.0, 1.0});

@@ -307,6 +307,19 @@ TEST(Components, FlushSocketIsFoundByColourAloneAtHalf) {
   EXPECT_DOUBLE_EQ(m.components[0].alpha, 0.5);
 }
 
+// Farther scans blur a small, faint model more; its colour model is blurred alike before the
+// NCC (a matched filter) and it is still found (with the sharp model it is missed from 6 m; at
+// 7 m the blurred model calls it a switch, the sharp one finds it: a limit, not a pin).
+TEST(Components, FlushSocketSeenFromFartherIsFoundByColourAlone) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("built_in_socket"), 2.2, 0.35});
+  const Sm5Model m = DetectFrom(w, {Vec3(1.2, 1.2, 6.0), Vec3(3.0, 1.3, 6.5)});
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "built_in_socket");
+  EXPECT_EQ(m.components[0].found_by, FoundBy::kColour);
+  EXPECT_LT(std::abs(m.components[0].u - 2.2), 0.01);
+}
+
 TEST(Components, RadiatorOfTheWallColourIsFoundByDepthAlone) {
   TestWall w = MakeWall();
   w.colour = kWhite;
