@@ -78,7 +78,10 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
   // Scale of each pixel: index into sigma_0 * sqrt(2)^k (pixels), -1 where nothing is seen.
   const double s0 = p.fill_sigma / pixel, s_max = std::max(s0, p.fill_sigma_max / pixel);
   const int levels = 1 + static_cast<int>(std::ceil(2.0 * std::log2(s_max / s0) - 1e-9));
-  auto sigma_of = [&](int k) { return std::min(s_max, s0 * std::pow(std::sqrt(2.0), k)); };
+  std::vector<double> sigmas;
+  for (int k = 0; k < levels; ++k)
+    sigmas.push_back(std::min(s_max, s0 * std::pow(std::sqrt(2.0), k)));
+  auto sigma_of = [&](int k) { return sigmas[static_cast<std::size_t>(k)]; };
   cv::Mat level(rows, cols, CV_8S, cv::Scalar(-1));
   se.blur = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   cv::Mat share(rows, cols, CV_32F, cv::Scalar(0));
