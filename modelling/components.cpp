@@ -430,6 +430,38 @@ std::vector<std::uint8_t> ColourBox(const cv::Mat& rgb_padded, int pad, const Pa
   return std::vector<std::uint8_t>(crop.data, crop.data + crop.total() * 3);
 }
 
+// A depth detection whose colour contradicts its class: the perceptron reads the box as a
+// component (its best class beats "none") but no class of this one's size among its likely
+// ones (colour_score_min of the best), e.g. a white socket's box taken by depth for a red
+// fire alarm switch of nearly its shape. A box the perceptron reads as plain wall (a
+// radiator of the wall's colour) does not contradict.
+bool ColourContradicts(const SeImages& se, double pixel, bool ceiling, const PathDetection& d,
+                       const ComponentRecogniser& rec, const ComponentParams& p) {
+  const interfaces::ObjectModelCatalogue& cat = rec.Catalogue();
+  const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(d.class_index)];
+  const int pad = static_cast<int>(std::ceil(std::max(m.width, m.height) / pixel)) + 2;
+  cv::Mat rgb_padded;
+  const cv::Rect win = cv::Rect(static_cast<int>(std::floor(d.col0)) - pad,
+                                static_cast<int>(std::floor(d.row0)) - pad,
+                                static_cast<int>(std::ceil(d.col1 - d.col0)) + 2 * pad,
+                                static_cast<int>(std::ceil(d.row1 - d.row0)) + 2 * pad) &
+                       cv::Rect(0, 0, se.rgb.cols, se.rgb.rows);
+  if (win.area() == 0) return false;
+  cv::copyMakeBorder(se.rgb(win), rgb_padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
+  PathDetection local = d;
+  local.col0 -= win.x, local.col1 -= win.x, local.row0 -= win.y, local.row1 -= win.y;
+  int w = 0, h = 0;
+  const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, local, ceiling, &w, &h);
+  if (w < 2 || h < 2) return false;
+  const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
+  const float best = *std::max_element(s.begin(), s.end() - 1);
+  if (best <= s.back()) return false;
+  float sk = 0.0f;
+  for (std::size_t j = 0; j + 1 < s.size(); ++j)
+    if (SameSize(m, cat.models[j])) sk = std::max(sk, s[j]);
+  return sk < p.colour_score_min * best;
+}
+
 // Step 3 on one SE.
 std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool ceiling,
                                       const ComponentRecogniser& rec, const ComponentParams& p) {
@@ -606,7 +638,13 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
   FillSe(image, mine, params, se);
   Background(params, image.Pixel(), se);
   const auto& cat = recogniser.Catalogue();
-  const std::vector<PathDetection> depth = DepthPath(se, image.Pixel(), ceiling, cat, params);
+  std::vector<PathDetection> depth = DepthPath(se, image.Pixel(), ceiling, cat, params);
+  depth.erase(std::remove_if(depth.begin(), depth.end(),
+                             [&](const PathDetection& d) {
+                               return ColourContradicts(se, image.Pixel(), ceiling, d, recogniser,
+                                                        params);
+                             }),
+              depth.end());
   const std::vector<PathDetection> colour =
       ColourPath(se, image.Pixel(), ceiling, recogniser, params);
   for (const ConsensusInstance& c : Consensus(colour, depth, params)) {

@@ -19,7 +19,9 @@
 //     (cv::TM_CCOEFF_NORMED) against that class's depth model, padded with `template_pad` of
 //     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak),
 //     scored by the NCC times the agreement of the box's measured protrusion with the class's
-//     depth (NCC alone cannot tell a 12 mm switch from a 40 mm socket).
+//     depth (NCC alone cannot tell a 12 mm switch from a 40 mm socket). A depth detection is
+//     dropped when the perceptron reads its box as a component of none of the classes of its
+//     size (colour_score_min of the box's best class): its colour contradicts it.
 //  3. Colour path: pixels whose Lab distance to the local wall colour (same background
 //     estimate as 2, from the colour of the surface layer) exceeds `colour_delta_e`, merged by
 //     a dilation of `colour_merge`, are candidate boxes; a class whose size can hold a box is

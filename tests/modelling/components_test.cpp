@@ -403,6 +403,40 @@ TEST(Components, FlushSignBesideACableDuctIsStillFlush) {
   EXPECT_LT(std::abs(m.components[0].u - 1.0), 0.01);
 }
 
+// A depth detection is dropped when the box's colour contradicts its class: a red alarm box of
+// nearly a socket's shape (and a protrusion that fits it better) is not what a white socket's
+// box shows; the socket is found as a socket.
+TEST(Components, DepthDetectionContradictedByColourIsDropped) {
+  using interfaces::Mounting;
+  interfaces::ObjectModelCatalogue cat = TestCatalogue();
+  cat.models.push_back(
+      Draw("alarm", Mounting::kWall, 0.09, 0.09, 0.045, [](double x, double y, Rgb& c, float& d) {
+        SocketFace(x * 0.08 / 0.09, y * 0.08 / 0.09, c, d, 0.045f);
+        c = {200, 30, 32};
+      }));
+  ComponentTrainingParams tp;
+  tp.samples_per_class = 120;
+  tp.iterations = 200;
+  const ComponentRecogniser rec = ComponentRecogniser::Train(cat, tp);
+  TestWall w = MakeWall();
+  interfaces::ObjectModel deep = *cat.Find("socket_x1");  // scanned 5 mm proud of its model
+  for (float& d : deep.depth_m)
+    if (d > 0.0f) d += 0.005f;
+  w.placed.push_back({deep, 1.5, 0.3});
+  w.placed.push_back({deep, 2.7, 0.3});
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<Rgb> cols;
+  const double step = 0.2 * 3.14159265358979 / 180.0;
+  Scan(w, Vec3(1.4, 1.2, 2.5), step, 0.0, 1, pts, cols);
+  Scan(w, Vec3(2.8, 1.3, 3.0), step, 0.001, 2, pts, cols);
+  OrthoPoints op;
+  op.points = &pts;
+  op.colours = &cols;
+  const Sm5Model m = DetectComponents(w.sm3, Sm4Model{}, op, rec, ComponentParams{});
+  ASSERT_EQ(m.components.size(), 2u);
+  for (const auto& c : m.components) EXPECT_EQ(c.class_name, "socket_x1");
+}
+
 TEST(Components, DoorHandleStainAndPictureAreNotComponents) {
   using interfaces::Mounting;
   TestWall w = MakeWall();
