@@ -24,6 +24,7 @@ struct SeImages {
   cv::Mat highpass;  // CV_32F, m, depth minus its wall background (0 where not valid)
   cv::Mat wall_rgb;  // CV_8UC3, local wall colour
   cv::Mat delta_e;   // CV_32F, Lab distance to the local wall colour (0 where not valid)
+  cv::Mat blur;      // CV_32F, pixels, sigma of the filling at each pixel (0 where unseen)
 };
 
 float Median(std::vector<float>& v) {
@@ -32,71 +33,115 @@ float Median(std::vector<float>& v) {
   return *mid;
 }
 
-// Step 1: normalised convolution of the imaged pixels, openings removed.
-// Typical sample spacing (m): points per pixel over the seen area (seen pixels closed by a
-// 9 x 9 dilation), spacing = pixel / sqrt(density).
-double SampleSpacing(const Orthoimage& im) {
-  cv::Mat seen(im.Rows(), im.Cols(), CV_8U, cv::Scalar(0));
-  double n = 0.0;
-  for (int r = 0; r < im.Rows(); ++r)
-    for (int k = 0; k < im.Cols(); ++k) {
-      const std::uint32_t c = im.Count(im.Index(k, r));
-      n += c;
-      if (c > 0) seen.at<uchar>(r, k) = 255;
-    }
-  cv::dilate(seen, seen, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
-  const double area = cv::countNonZero(seen);
-  return n > 0 ? im.Pixel() / std::sqrt(n / area) : im.Pixel();
-}
+// Step 1: normalised convolution of the imaged pixels, openings removed, at the LOCAL sample
+// spacing. One SE is sampled very unevenly (a wall 1 m from a scan and 8 m from it, the band
+// near the floor at grazing incidence): a filter sized by the SE's typical spacing leaves the
+// sparse parts full of holes, which splits a component into fragments. So the spacing is
+// measured per pixel (points per pixel over the seen area in a Gaussian window of
+// `density_window`), each pixel is filled at the smallest of a ladder of sigmas (ratio sqrt 2)
+// reaching fill_spacing_share of its spacing, and its weight is compared with the local share
+// of pixels holding points (the weight a uniform sampling gives there).
+struct FillScale {
+  cv::Mat w, d, c;  // blurred weight, depth, colour over `roi`
+  cv::Mat closed;   // seen pixels closed by about a sample spacing, over `roi`
+  cv::Rect roi;
+};
 
 void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
             const ComponentParams& p, SeImages& se) {
   const int rows = im.Rows(), cols = im.Cols();
-  const double spacing = SampleSpacing(im);
+  const double pixel = im.Pixel();
   cv::Mat w(rows, cols, CV_32F, cv::Scalar(0)), d(rows, cols, CV_32F, cv::Scalar(0));
+  cv::Mat n(rows, cols, CV_32F, cv::Scalar(0));
   cv::Mat c(rows, cols, CV_32FC3, cv::Scalar(0, 0, 0));
   for (int r = 0; r < rows; ++r)
     for (int k = 0; k < cols; ++k) {
       const std::size_t i = im.Index(k, r);
       if (im.Count(i) == 0) continue;
       w.at<float>(r, k) = 1.0f;
+      n.at<float>(r, k) = static_cast<float>(im.Count(i));
       d.at<float>(r, k) = im.Depth(i);
       const auto rgb = im.Rgb(i);
       c.at<cv::Vec3f>(r, k) = cv::Vec3f(rgb[0], rgb[1], rgb[2]);
     }
-  const double s = std::max(p.fill_sigma, p.fill_spacing_share * spacing) / im.Pixel();
-  cv::Mat seen = w.clone();
-  cv::GaussianBlur(w, w, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
-  cv::GaussianBlur(d, d, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
-  cv::GaussianBlur(c, c, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT);
-  // Weight threshold relative to the typical weight where points are: holes between scan
-  // lines fill, shadows and unseen areas wider than about a sample spacing stay unknown.
-  std::vector<float> ws;
+  // Local density over the seen area (seen pixels closed by a 9 x 9 dilation): points per pixel
+  // and the share of pixels holding points.
+  cv::Mat seen8, area;
+  w.convertTo(seen8, CV_8U, 255.0);
+  cv::dilate(seen8, area, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
+  area.convertTo(area, CV_32F, 1.0 / 255.0);
+  const double sw = p.density_window / pixel;
+  cv::Mat area_b, n_b, w_b;
+  cv::GaussianBlur(area, area_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(n, n_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(w, w_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  // Scale of each pixel: index into sigma_0 * sqrt(2)^k (pixels), -1 where nothing is seen.
+  const double s0 = p.fill_sigma / pixel, s_max = std::max(s0, p.fill_sigma_max / pixel);
+  const int levels = 1 + static_cast<int>(std::ceil(2.0 * std::log2(s_max / s0) - 1e-9));
+  std::vector<double> sigmas;
+  for (int k = 0; k < levels; ++k)
+    sigmas.push_back(std::min(s_max, s0 * std::pow(std::sqrt(2.0), k)));
+  auto sigma_of = [&](int k) { return sigmas[static_cast<std::size_t>(k)]; };
+  cv::Mat level(rows, cols, CV_8S, cv::Scalar(-1));
+  se.blur = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
+  cv::Mat share(rows, cols, CV_32F, cv::Scalar(0));
+  std::vector<cv::Rect> box(static_cast<std::size_t>(levels));
   for (int r = 0; r < rows; ++r)
-    for (int k = 0; k < cols; ++k)
-      if (seen.at<float>(r, k) > 0.0f) ws.push_back(w.at<float>(r, k));
-  if (ws.empty()) ws.push_back(1.0f);
-  const float w_min = static_cast<float>(p.fill_min_weight) * Median(ws);
-  // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
-  cv::Mat closed;
-  seen.convertTo(closed, CV_8U, 255.0);
-  const int kd = std::max(3, 2 * static_cast<int>(std::ceil(0.75 * spacing / im.Pixel())) + 1);
-  cv::morphologyEx(closed, closed, cv::MORPH_CLOSE,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kd, kd)));
+    for (int k = 0; k < cols; ++k) {
+      const float a = area_b.at<float>(r, k);
+      if (a < 1e-3f) continue;
+      const double density = n_b.at<float>(r, k) / a;  // points per pixel
+      if (density <= 0.0) continue;
+      share.at<float>(r, k) = std::min(1.0f, w_b.at<float>(r, k) / a);
+      const double want = p.fill_spacing_share / std::sqrt(density);  // pixels
+      int lv = 0;
+      while (lv + 1 < levels && sigma_of(lv) < want) ++lv;
+      level.at<schar>(r, k) = static_cast<schar>(lv);
+      se.blur.at<float>(r, k) = static_cast<float>(sigma_of(lv));
+      box[static_cast<std::size_t>(lv)] |= cv::Rect(k, r, 1, 1);
+    }
+  std::vector<FillScale> scales(static_cast<std::size_t>(levels));
+  for (int lv = 0; lv < levels; ++lv) {
+    cv::Rect b = box[static_cast<std::size_t>(lv)];
+    if (b.area() == 0) continue;
+    const double s = sigma_of(lv);
+    const int m = static_cast<int>(std::ceil(4.0 * s)) + 2;
+    b = cv::Rect(b.x - m, b.y - m, b.width + 2 * m, b.height + 2 * m) & cv::Rect(0, 0, cols, rows);
+    FillScale& f = scales[static_cast<std::size_t>(lv)];
+    f.roi = b;
+    cv::GaussianBlur(w(b), f.w, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    cv::GaussianBlur(d(b), f.d, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    cv::GaussianBlur(c(b), f.c, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
+    const int kd =
+        std::max(3, 2 * static_cast<int>(std::ceil(0.75 * s / p.fill_spacing_share)) + 1);
+    cv::morphologyEx(seen8(b), f.closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kd, kd)),
+                     cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
   se.valid = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
   se.depth = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   se.rgb = cv::Mat(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0));
   for (int r = 0; r < rows; ++r)
     for (int k = 0; k < cols; ++k) {
-      const float wk = w.at<float>(r, k);
-      if (wk < w_min || !closed.at<uchar>(r, k)) continue;
+      const int lv = level.at<schar>(r, k);
+      if (lv < 0) continue;
+      const FillScale& f = scales[static_cast<std::size_t>(lv)];
+      const int rr = r - f.roi.y, kk = k - f.roi.x;
+      const float wk = f.w.at<float>(rr, kk);
+      // Weight threshold relative to the weight a uniform sampling of this density gives: holes
+      // between scan lines fill, shadows and unseen areas wider than a sample spacing stay
+      // unknown.
+      if (wk < static_cast<float>(p.fill_min_weight) * share.at<float>(r, k) || wk <= 0.0f ||
+          !f.closed.at<uchar>(rr, kk))
+        continue;
       se.valid.at<uchar>(r, k) = 255;
       // A pixel holding points keeps their mean; an empty one takes the filter's estimate.
-      const bool own = seen.at<float>(r, k) > 0.0f;
+      const bool own = w.at<float>(r, k) > 0.0f;
       const std::size_t i = im.Index(k, r);
-      se.depth.at<float>(r, k) = own ? im.Depth(i) : d.at<float>(r, k) / wk;
+      se.depth.at<float>(r, k) = own ? im.Depth(i) : f.d.at<float>(rr, kk) / wk;
       const auto rgb = im.Rgb(i);
-      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : c.at<cv::Vec3f>(r, k) / wk;
+      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : f.c.at<cv::Vec3f>(rr, kk) / wk;
       se.rgb.at<cv::Vec3b>(r, k) =
           cv::Vec3b(cv::saturate_cast<uchar>(ck[0]), cv::saturate_cast<uchar>(ck[1]),
                     cv::saturate_cast<uchar>(ck[2]));
@@ -288,9 +333,9 @@ cv::Mat MaybeFlip(cv::Mat m, bool ceiling) {
 
 namespace {
 
-// Measured protrusion of a box: the 95th percentile of the high-pass depth over its known
-// pixels (m); NaN when less than 30 % of the box is known.
-double BoxProtrusion(const SeImages& se, const PathDetection& d) {
+// Measured protrusion of a box: the `quantile` of the high-pass depth over its known pixels (m);
+// NaN when less than 30 % of the box is known.
+double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile = 0.95) {
   const cv::Rect box =
       cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
                static_cast<int>(std::ceil(d.col1 - d.col0)),
@@ -302,7 +347,8 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d) {
       if (se.valid.at<uchar>(r, c)) h.push_back(se.highpass.at<float>(r, c));
   if (h.empty() || h.size() < 0.3 * std::max(1, box.area()))
     return std::numeric_limits<double>::quiet_NaN();
-  const auto q = h.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(h.size() - 1));
+  const auto q =
+      h.begin() + static_cast<std::ptrdiff_t>(quantile * static_cast<double>(h.size() - 1));
   std::nth_element(h.begin(), q, h.end());
   return *q;
 }
@@ -311,9 +357,16 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d) {
 // depth_consistency); true when too little of the box is known to tell.
 bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
                  const ComponentParams& p) {
-  const double top = BoxProtrusion(se, d), flush = 2.0 * p.protrusion_min;
-  if (!std::isfinite(top)) return true;
-  return m.depth >= flush ? top >= p.depth_consistency * m.depth : top < flush;
+  // A protruding class: its top (95th percentile) stands out, even when it covers part of the
+  // box. A flush class: most of the box (the median) lies on the wall; a top percentile would
+  // read the range noise of a grazing view, or a neighbour's edge, as a protrusion.
+  const double flush = 2.0 * p.protrusion_min;
+  if (m.depth >= flush) {
+    const double top = BoxProtrusion(se, d, 0.95);
+    return !std::isfinite(top) || top >= p.depth_consistency * m.depth;
+  }
+  const double mid = BoxProtrusion(se, d, 0.5);
+  return !std::isfinite(mid) || mid < flush;
 }
 
 // Step 2 on one SE.
@@ -357,6 +410,12 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   return out;
 }
 
+// Two classes of one mounting whose widths and heights agree within 10 %.
+bool SameSize(const interfaces::ObjectModel& a, const interfaces::ObjectModel& b) {
+  return a.mounting == b.mounting && std::abs(a.width - b.width) <= 0.1 * a.width &&
+         std::abs(a.height - b.height) <= 0.1 * a.height;
+}
+
 // The colour box of class m centred at (col, row): RGB bytes in the model's orientation.
 std::vector<std::uint8_t> ColourBox(const cv::Mat& rgb_padded, int pad, const PathDetection& d,
                                     bool ceiling, int* w, int* h) {
@@ -369,6 +428,38 @@ std::vector<std::uint8_t> ColourBox(const cv::Mat& rgb_padded, int pad, const Pa
   cv::Mat crop = MaybeFlip(rgb_padded(box).clone(), ceiling);
   *w = crop.cols, *h = crop.rows;
   return std::vector<std::uint8_t>(crop.data, crop.data + crop.total() * 3);
+}
+
+// A depth detection whose colour contradicts its class: the perceptron reads the box as a
+// component (its best class beats "none") but no class of this one's size among its likely
+// ones (colour_score_min of the best), e.g. a white socket's box taken by depth for a red
+// fire alarm switch of nearly its shape. A box the perceptron reads as plain wall (a
+// radiator of the wall's colour) does not contradict.
+bool ColourContradicts(const SeImages& se, double pixel, bool ceiling, const PathDetection& d,
+                       const ComponentRecogniser& rec, const ComponentParams& p) {
+  const interfaces::ObjectModelCatalogue& cat = rec.Catalogue();
+  const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(d.class_index)];
+  const int pad = static_cast<int>(std::ceil(std::max(m.width, m.height) / pixel)) + 2;
+  cv::Mat rgb_padded;
+  const cv::Rect win = cv::Rect(static_cast<int>(std::floor(d.col0)) - pad,
+                                static_cast<int>(std::floor(d.row0)) - pad,
+                                static_cast<int>(std::ceil(d.col1 - d.col0)) + 2 * pad,
+                                static_cast<int>(std::ceil(d.row1 - d.row0)) + 2 * pad) &
+                       cv::Rect(0, 0, se.rgb.cols, se.rgb.rows);
+  if (win.area() == 0) return false;
+  cv::copyMakeBorder(se.rgb(win), rgb_padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
+  PathDetection local = d;
+  local.col0 -= win.x, local.col1 -= win.x, local.row0 -= win.y, local.row1 -= win.y;
+  int w = 0, h = 0;
+  const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, local, ceiling, &w, &h);
+  if (w < 2 || h < 2) return false;
+  const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
+  const float best = *std::max_element(s.begin(), s.end() - 1);
+  if (best <= s.back()) return false;
+  float sk = 0.0f;
+  for (std::size_t j = 0; j + 1 < s.size(); ++j)
+    if (SameSize(m, cat.models[j])) sk = std::max(sk, s[j]);
+  return sk < p.colour_score_min * best;
 }
 
 // Step 3 on one SE.
@@ -388,12 +479,17 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
     if (r.area() * pixel * pixel < 0.25 * p.min_region_area) continue;
     const cv::Point mid(r.x + r.width / 2, r.y + r.height / 2);
     const cv::Vec3b wall = se.wall_rgb.at<cv::Vec3b>(mid);
+    const double sigma = p.template_blur_share * se.blur.at<float>(mid);
     for (int k = 0; k < static_cast<int>(cat.models.size()); ++k) {
       const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
       if (!MountsOn(m, ceiling) || !SizeFits(r, pixel, m, p, p.colour_min_extent)) continue;
       cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, p.template_pad, pixel), ceiling), t_f,
               t_lab;
       t_rgb.convertTo(t_f, CV_32FC3, 1.0 / 255.0);
+      // Matched filter: the template degraded as the scan degraded the blob (the filling's
+      // sigma there), so that a small, faint model is compared with what a scan makes of it.
+      if (sigma > 0.0)
+        cv::GaussianBlur(t_f, t_f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
       cv::cvtColor(t_f, t_lab, cv::COLOR_RGB2Lab);
       const Peak pk = MatchAround(lab_padded, pad, t_lab, r, margin);
       if (pk.score < p.colour_ncc_min) continue;
@@ -402,10 +498,13 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       int w = 0, h = 0;
       const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, d, ceiling, &w, &h);
       const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
-      // The box is a component (its best class beats "none") and class k is among the
-      // perceptron's likely ones; look-alike classes (same size and colours, e.g. signs with
-      // different pictograms) are then told apart by the NCC of their colour models (step 5).
-      const float sk = s[static_cast<std::size_t>(k)];
+      // The box is a component (its best class beats "none") and class k's size is among the
+      // perceptron's likely ones: its pattern holds global colour statistics and the box size,
+      // not the pictogram, so classes of one size (e.g. signs with different pictograms on the
+      // same colours) are told apart by the NCC of their colour models (step 5), not by it.
+      float sk = 0.0f;
+      for (std::size_t j = 0; j + 1 < s.size(); ++j)
+        if (SameSize(m, cat.models[j])) sk = std::max(sk, s[j]);
       const float best = *std::max_element(s.begin(), s.end() - 1);
       if (best <= s.back() || sk < p.colour_score_min * best) continue;
       d.score = best;
@@ -539,7 +638,13 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
   FillSe(image, mine, params, se);
   Background(params, image.Pixel(), se);
   const auto& cat = recogniser.Catalogue();
-  const std::vector<PathDetection> depth = DepthPath(se, image.Pixel(), ceiling, cat, params);
+  std::vector<PathDetection> depth = DepthPath(se, image.Pixel(), ceiling, cat, params);
+  depth.erase(std::remove_if(depth.begin(), depth.end(),
+                             [&](const PathDetection& d) {
+                               return ColourContradicts(se, image.Pixel(), ceiling, d, recogniser,
+                                                        params);
+                             }),
+              depth.end());
   const std::vector<PathDetection> colour =
       ColourPath(se, image.Pixel(), ceiling, recogniser, params);
   for (const ConsensusInstance& c : Consensus(colour, depth, params)) {

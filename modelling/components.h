@@ -7,7 +7,8 @@
 // Per SE (SM3 wall, column face or ceiling patch):
 //  1. SE orthoimage J^_CD (modelling/orthoimage.h) of the points within `band` of the plane at
 //     `pixel` metres, holes between samples filled by normalised convolution (Gaussian sigma
-//     from the SE's sample spacing; shadows and unseen areas stay unknown, fill_min_weight),
+//     from the local sample spacing, which varies several-fold over one SE; shadows and unseen
+//     areas stay unknown, fill_min_weight),
 //     the pixels inside the SE's SM4 openings (grown by `opening_margin`) removed. It splits into
 //     the depth image J^_D (protrusion, m) and the colour image J^_C (CIE Lab).
 //  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
@@ -18,14 +19,17 @@
 //     (cv::TM_CCOEFF_NORMED) against that class's depth model, padded with `template_pad` of
 //     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak),
 //     scored by the NCC times the agreement of the box's measured protrusion with the class's
-//     depth (NCC alone cannot tell a 12 mm switch from a 40 mm socket).
+//     depth (NCC alone cannot tell a 12 mm switch from a 40 mm socket). A depth detection is
+//     dropped when the perceptron reads its box as a component of none of the classes of its
+//     size (colour_score_min of the box's best class): its colour contradicts it.
 //  3. Colour path: pixels whose Lab distance to the local wall colour (same background
 //     estimate as 2, from the colour of the surface layer) exceeds `colour_delta_e`, merged by
 //     a dilation of `colour_merge`, are candidate boxes; a class whose size can hold a box is
 //     located by NCC of its colour model (padded with the local wall colour) and verified by
 //     the perceptron (ComponentRecogniser) on the box of the class size there: a colour
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
-//     beats its "none" score, the class scores at least colour_score_min of that best, and the
+//     beats its "none" score, a class of the same size scores at least colour_score_min of that
+//     best (the pattern holds colour statistics and size, not the pictogram), and the
 //     box's measured protrusion agrees with the class (depth_consistency). Its score is the
 //     best class score (how sure the box is a component); look-alike classes (same size and
 //     colours, e.g. signs with different pictograms) are told apart by the NCC in step 5.
@@ -63,14 +67,17 @@
 namespace mopad::modelling {
 
 struct ComponentParams {
-  double pixel = 0.005;       ///< m, SE orthoimage pixel, [0.001, 0.05]
-  double band = 0.20;         ///< m, points within +-band of the SE plane, [0.01, 1]
-  double fill_sigma = 0.004;  ///< m, least Gaussian sigma of the hole filling, [0.001, 0.1]
-  /// Sigma of the filling as a share of the SE's typical sample spacing (the larger of the
-  /// two sigmas is used), [0, 5]
+  double pixel = 0.005;          ///< m, SE orthoimage pixel, [0.001, 0.05]
+  double band = 0.20;            ///< m, points within +-band of the SE plane, [0.01, 1]
+  double fill_sigma = 0.004;     ///< m, least Gaussian sigma of the hole filling, [0.001, 0.1]
+  double fill_sigma_max = 0.03;  ///< m, largest Gaussian sigma of the filling, [0.001, 0.2]
+  /// Sigma of the filling as a share of the local sample spacing (at least fill_sigma, at
+  /// most fill_sigma_max, on a ladder of ratio sqrt 2), [0, 5]
   double fill_spacing_share = 0.6;
-  /// A filled pixel is known when its filter weight is at least this share of the median
-  /// weight of the pixels holding points, [0.001, 1]
+  /// m, Gaussian sigma of the window the local sample spacing is measured in, [0.005, 0.5]
+  double density_window = 0.04;
+  /// A filled pixel is known when its filter weight is at least this share of the local
+  /// share of pixels holding points (the weight of a uniform sampling there), [0.001, 1]
   double fill_min_weight = 0.3;
   double opening_margin = 0.05;   ///< m, SM4 openings grown by this before removal, [0, 0.5]
   double surface_band = 0.015;    ///< m, |depth| of the SE surface layer, [0.001, 0.1]
@@ -91,9 +98,12 @@ struct ComponentParams {
   /// score, [0, 1]
   double colour_score_min = 0.2;
   double colour_ncc_min = 0.3;  ///< least colour NCC peak of a colour detection, [-1, 1]
-  /// A colour detection's class must agree with the box's measured protrusion (95th
-  /// percentile of the high-pass depth, where known): a protruding class (depth >=
-  /// 2 protrusion_min) needs at least this share of its depth, a flush one less than
+  /// The colour model is blurred by this share of the filling's sigma at the candidate before
+  /// the NCC (compared with what a scan makes of it); 0 = the sharp model, [0, 3]
+  double template_blur_share = 1.0;
+  /// A colour detection's class must agree with the box's measured protrusion (high-pass
+  /// depth, where known): a protruding class (depth >= 2 protrusion_min) needs its 95th
+  /// percentile at least this share of its depth, a flush one its median below
   /// 2 protrusion_min, [0, 1]
   double depth_consistency = 0.3;
   double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]
@@ -109,7 +119,9 @@ struct ComponentParams {
     v("pixel", pixel, Bounds{0.001, 0.05});
     v("band", band, Bounds{0.01, 1.0});
     v("fill_sigma", fill_sigma, Bounds{0.001, 0.1});
+    v("fill_sigma_max", fill_sigma_max, Bounds{0.001, 0.2});
     v("fill_spacing_share", fill_spacing_share, Bounds{0.0, 5.0});
+    v("density_window", density_window, Bounds{0.005, 0.5});
     v("fill_min_weight", fill_min_weight, Bounds{0.001, 1.0});
     v("opening_margin", opening_margin, Bounds{0.0, 0.5});
     v("surface_band", surface_band, Bounds{0.001, 0.1});
@@ -126,6 +138,7 @@ struct ComponentParams {
     v("colour_min_extent", colour_min_extent, Bounds{0.0, 1.0});
     v("colour_score_min", colour_score_min, Bounds{0.0, 1.0});
     v("colour_ncc_min", colour_ncc_min, Bounds{-1.0, 1.0});
+    v("template_blur_share", template_blur_share, Bounds{0.0, 3.0});
     v("depth_consistency", depth_consistency, Bounds{0.0, 1.0});
     v("min_pair_alpha", min_pair_alpha, Bounds{0.0, 1.0});
     v("single_depth_ncc", single_depth_ncc, Bounds{-1.0, 1.0});
