@@ -364,7 +364,10 @@ bool FitLeafLine(const std::vector<Vec2>& pts, double u0, double u1, const Openi
     a = mean;
     dir = es.eigenvectors().col(1).normalized();
   }
-  return true;
+  // The least squares may carry a hypothesis through a jamb onto a stronger surface nearby (a
+  // side wall beside the door, perpendicular like a leaf at 90 deg): a leaf hinges at a jamb,
+  // so the fitted line must still pass one.
+  return near_jamb(a, dir);
 }
 
 // One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w; `far_face`

@@ -37,7 +37,8 @@
 //     keep the more confident.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
-//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers.
+//     RANSAC and least squares (the fitted line, not only the hypotheses, passes a jamb), the
+//     leaf being the most populated gap-free run of inliers.
 //     Each jamb's reveal (the hole's side, a plan line perpendicular to the wall from its face
 //     into the wall) is left out first: a leaf opened near 90 deg lies a leaf's thickness
 //     beside it and a line through both would lean towards the wall by several degrees;

@@ -368,6 +368,29 @@ INSTANTIATE_TEST_SUITE_P(Views, DoorwaySplitByItsLeaf,
                                   std::to_string(static_cast<int>(info.param.lambda_deg));
                          });
 
+// A closed 1.2 m door 35 cm from the end of its wall (an exterior door in a corridor's end
+// wall): the side wall stands inside the leaf's search window beyond the jamb, perpendicular to
+// the wall like a leaf at 90 deg. A RANSAC hypothesis through the jamb may converge onto it by
+// least squares; a leaf hinges at a jamb, so a line that ends up 35 cm from both is no leaf,
+// whatever the RANSAC stream.
+TEST(Openings, SideWallBesideAClosedDoorIsNoLeafWhateverTheRansacStream) {
+  HoleSpec h;
+  h.x0 = 0.39, h.x1 = 1.59;
+  testing::Scene s = testing::RoomScene(h);
+  // An extinguisher-like box on the side wall, 0.9 m out from the door's wall.
+  s.boxes.push_back(testing::AxisBox({0.0, 0.8, 0.9}, {0.12, 1.0, 1.5}, {200, 30, 30}));
+  const Cloud c = testing::ScanRoom(s);
+  const PatchFrame f = PatchFrame::Of(testing::RoomSm3().patches[0]);
+  const OpeningParams p;
+  for (std::uint64_t k = 0; k < 40; ++k) {
+    const LeafFit leaf = FitDoorLeaf(c.View(), f, 5.0 - h.x1, 5.0 - h.x0, 0.0, h.z1, p, k);
+    EXPECT_LT(leaf.lambda_deg, p.closed_below_deg) << "stream " << k;
+  }
+  const Found found = Detect(s);
+  ASSERT_EQ(found.on_wall1.size(), 1u) << Describe(found.sm4);
+  EXPECT_EQ(found.on_wall1[0].state, DoorState::kClosed) << Describe(found.sm4);
+}
+
 // A tall cabinet standing over a closed door's casing hides the wall beside the door: that side
 // is an occlusion boundary, but no leaf is hinged at the cabinet's far edge, so the door keeps
 // its side and its state.
