@@ -83,13 +83,14 @@ TEST(Orthoimage, RaysEndingBehindTheWallMarkWherePassedThrough) {
 
 TEST(Orthoimage, RaysWithoutAReturnPassTheWallWhereTheyCrossIt) {
   const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
-  // A 3 x 3 grid scan from (2, 2, 1): only the centre ray (straight along -y) returned nothing.
+  // A 3 x 3 grid scan from (2, 2, 1): only the centre ray (straight along -y) returned nothing;
+  // its neighbours returned from 5 m (a window's frame, beyond the minimum range).
   interfaces::TlsScan scan;
   scan.rows = 3, scan.columns = 3;
   scan.azimuth_min = -testing::kPi / 2 - 0.1, scan.azimuth_step = 0.1;
   scan.elevation_max = 0.1, scan.elevation_step = 0.1;
   scan.points.resize(9);
-  for (auto& p : scan.points) p.range = 1.0f;
+  for (auto& p : scan.points) p.range = 5.0f;
   scan.points[4].range = 0.0f;
   Pose3 X_MS = Pose3::Identity();
   X_MS.translation() = Vec3(2, 2, 1);
@@ -106,6 +107,41 @@ TEST(Orthoimage, RaysWithoutAReturnPassTheWallWhereTheyCrossIt) {
   EXPECT_EQ(img.Passed(img.Index(px[0], px[1])), 1u);
   in.no_return_scan[0] = 3;
   EXPECT_THROW(BuildOrthoimage(in, f, {}, 0.01), InputError);
+}
+
+// A scanner standing beside an opened leaf (or a desk) gets no return from it where it lies
+// inside the minimum range, over a wide angle; those rays, extended, cross the walls behind it
+// and would read as a window there. A region without returns bordered mostly by returns nearer
+// than no_return_min_range met such a surface: its rays are left out. A region bordered by far
+// returns (a window's frame) keeps its rays.
+TEST(Orthoimage, RaysWithoutAReturnBorderedByNearReturnsMetASurfaceInsideTheMinimumRange) {
+  // A 20 x 40 grid: a 6 x 8 block without returns bordered by returns at `border` m.
+  auto scan_with_hole = [](float border) {
+    interfaces::TlsScan scan;
+    scan.rows = 20, scan.columns = 40;
+    scan.azimuth_min = -1.0, scan.azimuth_step = 0.02;
+    scan.elevation_max = 0.2, scan.elevation_step = 0.02;
+    scan.points.resize(20 * 40);
+    for (std::uint32_t r = 0; r < 20; ++r)
+      for (std::uint32_t c = 0; c < 40; ++c) {
+        auto& p = scan.points[r * 40 + c];
+        p.row = r, p.column = c;
+        const bool hole = r >= 7 && r < 13 && c >= 16 && c < 24;
+        const bool ring = r >= 6 && r < 14 && c >= 15 && c < 25;
+        p.range = hole ? 0.0f : ring ? border : 6.0f;
+      }
+    return scan;
+  };
+  for (const auto& [border, rays] : {std::pair{1.2f, 0u}, {4.0f, 48u}}) {
+    OrthoPoints in;
+    AddNoReturnRays(scan_with_hole(border), Pose3::Identity(), 0, in);
+    EXPECT_EQ(in.no_return_dirs.size(), rays) << "border at " << border << " m";
+  }
+  OrthoimageParams keep_all;
+  keep_all.no_return_near_border_share = 1.0;
+  OrthoPoints in;
+  AddNoReturnRays(scan_with_hole(1.2f), Pose3::Identity(), 0, in, keep_all);
+  EXPECT_EQ(in.no_return_dirs.size(), 48u);
 }
 
 TEST(Orthoimage, RaysWithoutAReturnMeetingTheWallAtAGrazingAngleSayNothing) {
