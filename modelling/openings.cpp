@@ -434,9 +434,46 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
     out.inliers = 0;
     return out;
   }
-  const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
-  const double uj = d0 <= d1 ? uj0 : uj1;
-  out.hinge_u = (d0 <= d1 ? e0 : e1).x();
+  Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
+  double uj = d0 <= d1 ? uj0 : uj1;
+  out.hinge_u = hinge.x();
+  // The line itself passes its hinge: where it passes one jamb's hinge and not the other's
+  // (the leaf is not along the wall), that jamb holds the hinge, the hinge is the line's point
+  // nearest it, and the leaf runs from there towards its seen points. The seen run's ends say
+  // less: only the part near the free end may be seen (through the hole at a slant, or past
+  // an occluder), and its far end may then lie nearer the other jamb.
+  const Vec2 nrm(-dir.y(), dir.x());
+  auto line_hinge = [&](double uj_c, Vec2* h) {
+    // Distance from the line to the jamb's hinge points (depth 0 and the far face where the
+    // reveals gave it, else the jamb segment), and the line's point nearest them.
+    std::vector<Vec2> cand;
+    if (std::isnan(far_face)) {
+      if (std::abs(dir.x()) > 1e-9) {
+        const double d_cross = a.y() + (uj_c - a.x()) / dir.x() * dir.y();
+        if (d_cross >= -p.max_wall_thickness && d_cross <= p.leaf_hinge_front) {
+          *h = Vec2(uj_c, d_cross);
+          return 0.0;
+        }
+      }
+      cand = {Vec2(uj_c, -p.max_wall_thickness), Vec2(uj_c, p.leaf_hinge_front)};
+    } else {
+      cand = {Vec2(uj_c, 0.0), Vec2(uj_c, far_face)};
+    }
+    double best_d = 1e300;
+    for (const Vec2& c : cand) {
+      const double d = std::abs(nrm.dot(c - a));
+      if (d < best_d) best_d = d, *h = a + dir.dot(c - a) * dir;
+    }
+    return best_d;
+  };
+  Vec2 h0, h1;
+  const double l0 = line_hinge(u0, &h0), l1 = line_hinge(u1, &h1);
+  if (std::min(l0, l1) <= p.leaf_jamb_reach && std::max(l0, l1) > p.leaf_jamb_reach) {
+    uj = l0 <= l1 ? u0 : u1;
+    hinge = l0 <= l1 ? h0 : h1;
+    free_end = 0.5 * (e0 + e1);
+    out.hinge_u = hinge.x();
+  }
   // lambda: the angle between the wall's direction from the hinge jamb into the opening and
   // the leaf's direction from its hinge to its free end, in [0, 180] deg (over 90 deg when it
   // has swung past the hinge jamb). From the line's direction, not from the ends' positions:

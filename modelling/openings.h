@@ -303,7 +303,9 @@ struct LeafFit {
   double lambda_deg = std::numeric_limits<double>::quiet_NaN();
   int inliers = 0;
   double extent = 0.0;   ///< m, span of the inliers along the fitted line
-  double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
+  /// m, u of the leaf's hinge: where its line meets the jamb it passes (the other jamb far
+  /// from the line), else the end of its seen run nearer a jamb
+  double hinge_u = 0.0;
   Vec2 line_point = Vec2::Zero(), line_dir = Vec2::UnitX();  ///< the fitted line in (u, depth)
   /// m, u of each jamb's reveal (the hole's side through the wall) where one was seen, NaN where
   /// not; set whether or not a leaf was found

@@ -427,6 +427,50 @@ TEST(Openings, SideWallBesideAClosedDoorIsNoLeafWhateverTheRansacStream) {
   EXPECT_EQ(found.on_wall1[0].state, DoorState::kClosed) << Describe(found.sm4);
 }
 
+// Only part of a leaf may be seen: the part near its hinge hidden (behind the leaf's own edge,
+// or past an occluder), or only its free end seen through the hole at a slant. The leaf's line
+// passes its hinge: the hinge is where the line meets the jamb, not the seen run's nearer end,
+// and lambda follows from the line's direction away from it.
+struct PartLeafCase {
+  double lambda_deg;
+  bool into_room;   // hinged on the room's face, else on the far face (20 cm deep)
+  bool hinge_left;  // at u0, else at u1
+  double s0, s1;    // the seen part, m from the hinge along the 0.9 m leaf
+};
+void PrintTo(const PartLeafCase& c, std::ostream* os) {
+  *os << c.lambda_deg << " deg " << (c.into_room ? "into the room" : "away") << ", hinge "
+      << (c.hinge_left ? "u0" : "u1") << ", seen " << c.s0 << "-" << c.s1 << " m";
+}
+class PartlySeenLeaf : public ::testing::TestWithParam<PartLeafCase> {};
+
+TEST_P(PartlySeenLeaf, HingeIsWhereItsLineMeetsTheJamb) {
+  const PartLeafCase& k = GetParam();
+  const PatchFrame f = PatchFrame::Of(testing::RoomSm3().patches[0]);
+  const double u0 = 2.1, u1 = 3.0, hinge_depth = k.into_room ? 0.021 : -0.221;
+  const double lam = k.lambda_deg * testing::kPi / 180.0;
+  const Vec2 hinge(k.hinge_left ? u0 : u1, hinge_depth);
+  const Vec2 leaf_dir((k.hinge_left ? 1.0 : -1.0) * std::cos(lam),
+                      (k.into_room ? 1.0 : -1.0) * std::sin(lam));
+  std::vector<Eigen::Vector3f> pts;
+  for (double s = k.s0; s <= k.s1; s += 0.004)
+    for (double v = 0.6; v <= 1.7; v += 0.02) {
+      const Vec2 q = hinge + s * leaf_dir;
+      pts.push_back(f.ToMap(q.x(), v, q.y()).cast<float>());
+    }
+  OrthoPoints in;
+  in.points = &pts;
+  const LeafFit leaf = FitDoorLeaf(in, f, u0, u1, 0.0, 2.1, OpeningParams{}, 0);
+  ASSERT_GT(leaf.inliers, 0);
+  EXPECT_NEAR(leaf.hinge_u, hinge.x(), 0.05);
+  EXPECT_NEAR(leaf.lambda_deg, k.lambda_deg, 1.0);
+}
+INSTANTIATE_TEST_SUITE_P(Views, PartlySeenLeaf,
+                         ::testing::Values(PartLeafCase{35, true, true, 0.3, 0.9},
+                                           PartLeafCase{35, true, false, 0.3, 0.9},
+                                           PartLeafCase{60, false, true, 0.5, 0.9},
+                                           PartLeafCase{60, false, false, 0.5, 0.9},
+                                           PartLeafCase{100, false, true, 0.3, 0.9}));
+
 // A tall cabinet standing over a closed door's casing hides the wall beside the door: that side
 // is an occlusion boundary, but no leaf is hinged at the cabinet's far edge, so the door keeps
 // its side and its state.
