@@ -851,6 +851,7 @@ LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoim
   const PatchFrame& f = img.Frame();
   const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p, index);
   o.leaf_points = leaf.inliers;
+  o.leaf_line_point = leaf.line_point, o.leaf_line_dir = leaf.line_dir;
   // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
   // the wall's colour may have moved a side's line in the images).
   if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
@@ -1104,6 +1105,57 @@ std::pair<std::vector<Line>, std::vector<Line>> WallLines(const cv::Mat& edge01,
 
 }  // namespace
 
+bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
+                            const OpeningParams& p) {
+  // 2 cm plan bins along u from casing_max + 0.1 m before u0 to as far after u1; a bin is
+  // occupied when points of the upper half of the leaf's v band stand in front of the wall
+  // there (a door seen behind a low cabinet shows its frame and leaf above it).
+  if (in.points == nullptr || o.type != OpeningType::kDoor || !(o.u1 > o.u0)) return false;
+  constexpr double kBin = 0.02;
+  const double lo = o.u0 - p.casing_max - 0.1, hi = o.u1 + p.casing_max + 0.1, h = o.Height();
+  const int nb = static_cast<int>(std::ceil((hi - lo) / kBin));
+  std::vector<int> bins(static_cast<std::size_t>(nb), 0);
+  const Vec2 nrm(-o.leaf_line_dir.y(), o.leaf_line_dir.x());
+  for (const auto& pf : *in.points) {
+    const Vec3 q = pf.cast<double>();
+    const double d = f.Depth(q);
+    if (d <= p.flush_depth || d > p.front_depth) continue;
+    const Vec2 uv = f.ToUv(q);
+    if (uv.x() < lo || uv.x() >= hi) continue;
+    if (uv.y() < o.v0 + 0.5 * (p.leaf_v_low + p.leaf_v_high) * h ||
+        uv.y() > o.v0 + p.leaf_v_high * h)
+      continue;
+    // The leaf's own points (either face) are not in front of the doorway: it swung there.
+    if (o.leaf_points > 0 &&
+        std::abs(nrm.dot(Vec2(uv.x(), d) - o.leaf_line_point)) <= p.leaf_thickness + p.leaf_inlier)
+      continue;
+    ++bins[std::min(nb - 1, static_cast<int>((uv.x() - lo) / kBin))];
+  }
+  const int b0 = static_cast<int>((o.u0 - lo) / kBin);
+  const int b1 = std::min(nb, static_cast<int>((o.u1 - lo) / kBin));
+  int occupied = 0;
+  for (int b = b0; b < b1; ++b) occupied += bins[b] > 0;
+  if (b1 <= b0 || occupied < p.front_min_share * (b1 - b0)) return false;
+  // The occupied run (one-bin gaps bridged) holding most of the door's occupied bins: an
+  // object in front of a door frame seen beside it ends away from the door's sides.
+  double a = 0.0, b = 0.0;
+  int best_in = 0;
+  for (int k = 0; k < nb;) {
+    if (bins[k] == 0) {
+      ++k;
+      continue;
+    }
+    int e = k, in_door = 0;
+    while (e < nb && (bins[e] > 0 || (e + 1 < nb && bins[e + 1] > 0))) {
+      in_door += e >= b0 && e < b1 && bins[e] > 0;
+      ++e;
+    }
+    if (in_door > best_in) best_in = in_door, a = lo + k * kBin, b = lo + e * kBin;
+    k = e;
+  }
+  return std::abs(a - o.u0) <= p.casing_max && std::abs(b - o.u1) <= p.casing_max;
+}
+
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
                                                 const OrthoPoints& points, const OpeningParams& p,
                                                 double floor_v) {
@@ -1119,8 +1171,15 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
   std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
-  return OneOpeningPerHoleWithLines(ToOpenings(kept, vert, we.m, img, host, points, p, floor_v),
-                                    vert, we.m, img, points, p);
+  std::vector<DetectedOpening> out = OneOpeningPerHoleWithLines(
+      ToOpenings(kept, vert, we.m, img, host, points, p, floor_v), vert, we.m, img, points, p);
+  // A door whose front is occupied by one object ending at its sides is that object's outline.
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const DetectedOpening& o) {
+                             return StandsInFrontOfTheWall(o, img.Frame(), points, p);
+                           }),
+            out.end());
+  return out;
 }
 
 std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,

@@ -567,6 +567,64 @@ TEST(Openings, PictureLikeSignIsNotAnOpening) {
   EXPECT_TRUE(f.sm4.openings.empty()) << Describe(f.sm4);
 }
 
+// A bookshelf of a door's size (0.9 x 1.8 m, 0.35 m deep) against the wall can pass as a door
+// (office seeds 2, 3, 5: R1's shelf, its side panel read as a leaf at 89-90 deg): its outline
+// gives the sides, its off-colour back lies on the wall's surface layer like a flush leaf. But
+// it stands in front of its whole "doorway", out to both sides; an opened leaf swept its
+// doorway's front clear, and a door seen behind an object has its frame beside the object.
+testing::Scene BookshelfScene() {
+  testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
+  const testing::Rgb wood{120, 40, 35}, back{178, 158, 122};
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.9, 0.01, 1.8}, back));
+  s.boxes.push_back(testing::AxisBox({2.0, 0.0, 0.0}, {2.02, 0.35, 1.8}, wood));
+  s.boxes.push_back(testing::AxisBox({2.88, 0.0, 0.0}, {2.9, 0.35, 1.8}, wood));
+  for (double z : {0.0, 0.6, 1.2, 1.78})
+    s.boxes.push_back(testing::AxisBox({2.0, 0.0, z}, {2.9, 0.35, z + 0.02}, wood));
+  return s;
+}
+
+DetectedOpening DoorRect(double u0, double u1, double v1) {
+  DetectedOpening o;
+  o.type = OpeningType::kDoor, o.host = "wall_1";
+  o.u0 = u0, o.u1 = u1, o.v0 = 0.0, o.v1 = v1;
+  return o;
+}
+
+TEST(Openings, BookshelfOfADoorsSizeStandsInFrontOfTheWall) {
+  const Cloud c = testing::ScanRoom(BookshelfScene());
+  const PatchFrame f = PatchFrame::Of(testing::RoomSm3().patches[0]);
+  const OpeningParams p;
+  // The shelf's outline (x 2.0-2.9 is u 2.1-3.0), with its side panel as the 'leaf'.
+  DetectedOpening shelf = DoorRect(2.1, 3.0, 1.8);
+  shelf.leaf_points = 1000;
+  shelf.leaf_line_point = Vec2(2.99, 0.2), shelf.leaf_line_dir = Vec2(0.0, 1.0);
+  EXPECT_TRUE(StandsInFrontOfTheWall(shelf, f, c.View(), p));
+  // A door frame twice as wide around it: the object ends away from the sides.
+  EXPECT_FALSE(StandsInFrontOfTheWall(DoorRect(1.65, 3.45, 2.1), f, c.View(), p));
+  // Nothing is detected on the wall.
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), p);
+  EXPECT_TRUE(m.openings.empty()) << Describe(m);
+}
+
+// The leaf of a door opened into the room stands in front of the wall, but it is the leaf: a
+// door at 20 and at 90 deg is no object in front of its doorway.
+class OpenedIntoTheRoom : public ::testing::TestWithParam<double> {};
+TEST_P(OpenedIntoTheRoom, DoorIsNoObjectInFrontOfTheWall) {
+  HoleSpec h;
+  h.lambda_deg = GetParam();
+  const Cloud c = testing::ScanRoom(testing::RoomScene(h));
+  const PatchFrame f = PatchFrame::Of(testing::RoomSm3().patches[0]);
+  const OpeningParams p;
+  OpeningParams keep_all = p;
+  keep_all.front_min_share = 1.0;
+  keep_all.front_depth = 0.1;  // nothing counts as in front
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), keep_all);
+  ASSERT_EQ(m.openings.size(), 1u) << Describe(m);
+  ASSERT_GT(m.openings[0].leaf_points, 0) << Describe(m);
+  EXPECT_FALSE(StandsInFrontOfTheWall(m.openings[0], f, c.View(), p)) << Describe(m);
+}
+INSTANTIATE_TEST_SUITE_P(Lambda, OpenedIntoTheRoom, ::testing::Values(20.0, 90.0));
+
 TEST(Openings, OpenShelfWithAnOffColourBackIsNotADoor) {
   // 0.9 m wide, 2.0 m tall, 0.35 m deep: a back panel 1 cm in front of the wall (another
   // colour, on the wall's surface layer like a flush door), sides, and six boards.
@@ -637,7 +695,11 @@ TEST(Openings, ParamsRoundTripThroughYamlAndRejectBadValues) {
   OpeningParams p;
   p.flush_depth = 0.04, p.orthoimage.band = 0.3, p.seed = 9, p.max_lines = 33;
   p.door_merge_gap = 0.07, p.gap_fill = 0.05;
+  p.front_depth = 0.9, p.front_min_share = 0.7, p.orthoimage.no_return_near_border_share = 0.6;
   const OpeningParams q = LoadParams<OpeningParams>(SaveParams(p), "mem");
+  EXPECT_EQ(q.front_depth, 0.9);
+  EXPECT_EQ(q.front_min_share, 0.7);
+  EXPECT_EQ(q.orthoimage.no_return_near_border_share, 0.6);
   EXPECT_EQ(q.flush_depth, 0.04);
   EXPECT_EQ(q.door_merge_gap, 0.07);
   EXPECT_EQ(q.gap_fill, 0.05);
