@@ -236,8 +236,9 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
       } else {
         kept = true;
         steps_rad.push_back(c.step_rad);
-        modelling::AddNoReturnRays(
-            scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1), res.no_return);
+        modelling::AddNoReturnRays(scan, log.X_MS,
+                                   static_cast<std::uint16_t>(model.ScanCount() - 1), res.no_return,
+                                   params.sm4.orthoimage);
         if (on_scan) on_scan(log.session_scan, scan);
       }
       log.t_model = Since(t0);
@@ -310,7 +311,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       model.AddScan(scan, log.X_MS);
       steps_rad.push_back(DegToRad(params.scan_step_deg));
       modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
-                                 res.no_return);
+                                 res.no_return, params.sm4.orthoimage);
       log.t_model = Since(t0);
       if (on_scan) on_scan(log.session_scan, scan);
     } else {

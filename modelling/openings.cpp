@@ -364,7 +364,10 @@ bool FitLeafLine(const std::vector<Vec2>& pts, double u0, double u1, const Openi
     a = mean;
     dir = es.eigenvectors().col(1).normalized();
   }
-  return true;
+  // The least squares may carry a hypothesis through a jamb onto a stronger surface nearby (a
+  // side wall beside the door, perpendicular like a leaf at 90 deg): a leaf hinges at a jamb,
+  // so the fitted line must still pass one.
+  return near_jamb(a, dir);
 }
 
 // One leaf fit (step 4) on plan points (u, depth) of a door [u0, u1] of width w; `far_face`
@@ -431,9 +434,46 @@ LeafFit FitLeafPoints(const std::vector<Vec2>& pts, double u0, double u1, double
     out.inliers = 0;
     return out;
   }
-  const Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
-  const double uj = d0 <= d1 ? uj0 : uj1;
-  out.hinge_u = (d0 <= d1 ? e0 : e1).x();
+  Vec2 hinge = d0 <= d1 ? e0 : e1, free_end = d0 <= d1 ? e1 : e0;
+  double uj = d0 <= d1 ? uj0 : uj1;
+  out.hinge_u = hinge.x();
+  // The line itself passes its hinge: where it passes one jamb's hinge and not the other's
+  // (the leaf is not along the wall), that jamb holds the hinge, the hinge is the line's point
+  // nearest it, and the leaf runs from there towards its seen points. The seen run's ends say
+  // less: only the part near the free end may be seen (through the hole at a slant, or past
+  // an occluder), and its far end may then lie nearer the other jamb.
+  const Vec2 nrm(-dir.y(), dir.x());
+  auto line_hinge = [&](double uj_c, Vec2* h) {
+    // Distance from the line to the jamb's hinge points (depth 0 and the far face where the
+    // reveals gave it, else the jamb segment), and the line's point nearest them.
+    std::vector<Vec2> cand;
+    if (std::isnan(far_face)) {
+      if (std::abs(dir.x()) > 1e-9) {
+        const double d_cross = a.y() + (uj_c - a.x()) / dir.x() * dir.y();
+        if (d_cross >= -p.max_wall_thickness && d_cross <= p.leaf_hinge_front) {
+          *h = Vec2(uj_c, d_cross);
+          return 0.0;
+        }
+      }
+      cand = {Vec2(uj_c, -p.max_wall_thickness), Vec2(uj_c, p.leaf_hinge_front)};
+    } else {
+      cand = {Vec2(uj_c, 0.0), Vec2(uj_c, far_face)};
+    }
+    double best_d = 1e300;
+    for (const Vec2& c : cand) {
+      const double d = std::abs(nrm.dot(c - a));
+      if (d < best_d) best_d = d, *h = a + dir.dot(c - a) * dir;
+    }
+    return best_d;
+  };
+  Vec2 h0, h1;
+  const double l0 = line_hinge(u0, &h0), l1 = line_hinge(u1, &h1);
+  if (std::min(l0, l1) <= p.leaf_jamb_reach && std::max(l0, l1) > p.leaf_jamb_reach) {
+    uj = l0 <= l1 ? u0 : u1;
+    hinge = l0 <= l1 ? h0 : h1;
+    free_end = 0.5 * (e0 + e1);
+    out.hinge_u = hinge.x();
+  }
   // lambda: the angle between the wall's direction from the hinge jamb into the opening and
   // the leaf's direction from its hinge to its free end, in [0, 180] deg (over 90 deg when it
   // has swung past the hinge jamb). From the line's direction, not from the ends' positions:
@@ -811,6 +851,7 @@ LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoim
   const PatchFrame& f = img.Frame();
   const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p, index);
   o.leaf_points = leaf.inliers;
+  o.leaf_line_point = leaf.line_point, o.leaf_line_dir = leaf.line_dir;
   // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
   // the wall's colour may have moved a side's line in the images).
   if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
@@ -1064,6 +1105,57 @@ std::pair<std::vector<Line>, std::vector<Line>> WallLines(const cv::Mat& edge01,
 
 }  // namespace
 
+bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
+                            const OpeningParams& p) {
+  // 2 cm plan bins along u from casing_max + 0.1 m before u0 to as far after u1; a bin is
+  // occupied when points of the upper half of the leaf's v band stand in front of the wall
+  // there (a door seen behind a low cabinet shows its frame and leaf above it).
+  if (in.points == nullptr || o.type != OpeningType::kDoor || !(o.u1 > o.u0)) return false;
+  constexpr double kBin = 0.02;
+  const double lo = o.u0 - p.casing_max - 0.1, hi = o.u1 + p.casing_max + 0.1, h = o.Height();
+  const int nb = static_cast<int>(std::ceil((hi - lo) / kBin));
+  std::vector<int> bins(static_cast<std::size_t>(nb), 0);
+  const Vec2 nrm(-o.leaf_line_dir.y(), o.leaf_line_dir.x());
+  for (const auto& pf : *in.points) {
+    const Vec3 q = pf.cast<double>();
+    const double d = f.Depth(q);
+    if (d <= p.flush_depth || d > p.front_depth) continue;
+    const Vec2 uv = f.ToUv(q);
+    if (uv.x() < lo || uv.x() >= hi) continue;
+    if (uv.y() < o.v0 + 0.5 * (p.leaf_v_low + p.leaf_v_high) * h ||
+        uv.y() > o.v0 + p.leaf_v_high * h)
+      continue;
+    // The leaf's own points (either face) are not in front of the doorway: it swung there.
+    if (o.leaf_points > 0 &&
+        std::abs(nrm.dot(Vec2(uv.x(), d) - o.leaf_line_point)) <= p.leaf_thickness + p.leaf_inlier)
+      continue;
+    ++bins[std::min(nb - 1, static_cast<int>((uv.x() - lo) / kBin))];
+  }
+  const int b0 = static_cast<int>((o.u0 - lo) / kBin);
+  const int b1 = std::min(nb, static_cast<int>((o.u1 - lo) / kBin));
+  int occupied = 0;
+  for (int b = b0; b < b1; ++b) occupied += bins[b] > 0;
+  if (b1 <= b0 || occupied < p.front_min_share * (b1 - b0)) return false;
+  // The occupied run (one-bin gaps bridged) holding most of the door's occupied bins: an
+  // object in front of a door frame seen beside it ends away from the door's sides.
+  double a = 0.0, b = 0.0;
+  int best_in = 0;
+  for (int k = 0; k < nb;) {
+    if (bins[k] == 0) {
+      ++k;
+      continue;
+    }
+    int e = k, in_door = 0;
+    while (e < nb && (bins[e] > 0 || (e + 1 < nb && bins[e + 1] > 0))) {
+      in_door += e >= b0 && e < b1 && bins[e] > 0;
+      ++e;
+    }
+    if (in_door > best_in) best_in = in_door, a = lo + k * kBin, b = lo + e * kBin;
+    k = e;
+  }
+  return std::abs(a - o.u0) <= p.casing_max && std::abs(b - o.u1) <= p.casing_max;
+}
+
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
                                                 const OrthoPoints& points, const OpeningParams& p,
                                                 double floor_v) {
@@ -1079,8 +1171,15 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
   std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
-  return OneOpeningPerHoleWithLines(ToOpenings(kept, vert, we.m, img, host, points, p, floor_v),
-                                    vert, we.m, img, points, p);
+  std::vector<DetectedOpening> out = OneOpeningPerHoleWithLines(
+      ToOpenings(kept, vert, we.m, img, host, points, p, floor_v), vert, we.m, img, points, p);
+  // A door whose front is occupied by one object ending at its sides is that object's outline.
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const DetectedOpening& o) {
+                             return StandsInFrontOfTheWall(o, img.Frame(), points, p);
+                           }),
+            out.end());
+  return out;
 }
 
 std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,

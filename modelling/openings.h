@@ -37,7 +37,8 @@
 //     keep the more confident.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
-//     RANSAC and least squares, the leaf being the most populated gap-free run of inliers.
+//     RANSAC and least squares (the fitted line, not only the hypotheses, passes a jamb), the
+//     leaf being the most populated gap-free run of inliers.
 //     Each jamb's reveal (the hole's side, a plan line perpendicular to the wall from its face
 //     into the wall) is left out first: a leaf opened near 90 deg lies a leaf's thickness
 //     beside it and a line through both would lean towards the wall by several degrees;
@@ -147,6 +148,12 @@ struct OpeningParams {
   /// Horizontal lines across at least half an opening's width allowed strictly inside it (a
   /// transom, an occluder's top edge); shelves and cabinets have more, [0, 100]
   int max_interior_lines = 3;
+  /// m, farthest in front of the wall a point stands on a door's front
+  /// (StandsInFrontOfTheWall), [0.1, 3]
+  double front_depth = 0.6;
+  /// Share of a door's width with an object standing in front of it (StandsInFrontOfTheWall)
+  /// from which, the object ending at the door's sides, the door is that object, [0, 1]
+  double front_min_share = 0.8;
   std::uint64_t seed = 1;  ///< leaf RANSAC stream
 
   template <class V>
@@ -207,6 +214,8 @@ struct OpeningParams {
     v("closed_below_deg", closed_below_deg, Bounds{0.0, 45.0});
     v("open_tolerance_deg", open_tolerance_deg, Bounds{0.0, 10.0});
     v("max_interior_lines", max_interior_lines, Bounds{0, 100});
+    v("front_depth", front_depth, Bounds{0.1, 3.0});
+    v("front_min_share", front_min_share, Bounds{0.0, 1.0});
     v("seed", seed);
   }
   void Validate() const;
@@ -238,6 +247,8 @@ struct DetectedOpening {
   // Diagnostics (not in sm4.json): shares of the interior.
   double known_share = 0.0, evidence_share = 0.0, through_share = 0.0, side_support = 0.0;
   int leaf_points = 0;  ///< inliers of the leaf fit (0: none)
+  /// The leaf's plan line (u, depth) in the host frame where leaf_points > 0
+  Vec2 leaf_line_point = Vec2::Zero(), leaf_line_dir = Vec2::UnitX();
 
   double Width() const { return u1 - u0; }
   double Height() const { return v1 - v0; }
@@ -301,8 +312,10 @@ Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
 struct LeafFit {
   double lambda_deg = std::numeric_limits<double>::quiet_NaN();
   int inliers = 0;
-  double extent = 0.0;   ///< m, span of the inliers along the fitted line
-  double hinge_u = 0.0;  ///< m, u of the leaf's hinge end (the end nearer a jamb)
+  double extent = 0.0;  ///< m, span of the inliers along the fitted line
+  /// m, u of the leaf's hinge: where its line meets the jamb it passes (the other jamb far
+  /// from the line), else the end of its seen run nearer a jamb
+  double hinge_u = 0.0;
   Vec2 line_point = Vec2::Zero(), line_dir = Vec2::UnitX();  ///< the fitted line in (u, depth)
   /// m, u of each jamb's reveal (the hole's side through the wall) where one was seen, NaN where
   /// not; set whether or not a leaf was found
@@ -311,6 +324,16 @@ struct LeafFit {
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);
+
+/// True when the door rectangle `door` on the wall `frame` is the outline of an object standing
+/// in front of the wall (a shelf, a cabinet), not a hole behind it: points of the upper half of
+/// its leaf's v band stand in front of the wall (flush_depth < depth <= front_depth), the leaf's
+/// own points left out, over front_min_share of its width, in one run whose ends lie within
+/// casing_max of its sides. A leaf that swung open swept its doorway's front clear; a door seen
+/// behind an object has its frame beside or above the object. DetectWallOpenings drops such
+/// doors.
+bool StandsInFrontOfTheWall(const DetectedOpening& door, const PatchFrame& frame,
+                            const OrthoPoints& points, const OpeningParams& params);
 
 /// DSM3 with SM4 (issue 15, item 5): flags VoxelSpace::kOpeningFace on every structural voxel
 /// whose centre lies within `band` (m; <= 0: one voxel edge) of an opening's plane and inside

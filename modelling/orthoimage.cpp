@@ -232,15 +232,63 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
 }
 
 void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,
-                     OrthoPoints& out) {
+                     OrthoPoints& out, const OrthoimageParams& params) {
   if (scan.points.size() != static_cast<std::size_t>(scan.rows) * scan.columns)
     throw InputError("", "scan grid and point count disagree", std::to_string(scan.points.size()),
                      std::to_string(scan.rows) + " x " + std::to_string(scan.columns));
+  params.Validate();
+  // The grid's regions without a return (8-connected; azimuth wraps round on a full turn), each
+  // with the returns that border it. A region bordered mostly by returns nearer than
+  // no_return_min_range is a surface inside the scanner's minimum range (an opened leaf or a
+  // desk beside the scanner, seen over a wide angle), not a view into space: its rays are left
+  // out. Flood fill in grid order with an explicit stack (deterministic).
+  const int rows = static_cast<int>(scan.rows), cols = static_cast<int>(scan.columns);
+  const bool wraps = scan.azimuth_step > 0.0 &&
+                     std::abs(cols * scan.azimuth_step - 2.0 * kPi) < 1.5 * scan.azimuth_step;
+  std::vector<std::uint8_t> keep(scan.points.size(), 1);
+  std::vector<std::int32_t> region(scan.points.size(), -1);
+  std::vector<std::size_t> stack, cells;
+  std::int32_t next = 0;
+  for (std::size_t start = 0; start < scan.points.size(); ++start) {
+    if (scan.points[start].valid() || region[start] >= 0) continue;
+    stack.assign(1, start);
+    cells.clear();
+    region[start] = next;
+    std::size_t border = 0, near = 0;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      cells.push_back(i);
+      const int r = static_cast<int>(i / cols), c = static_cast<int>(i % cols);
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr;
+          int cc = c + dc;
+          if (rr < 0 || rr >= rows || (dr == 0 && dc == 0)) continue;
+          if (cc < 0 || cc >= cols) {
+            if (!wraps) continue;
+            cc = (cc + cols) % cols;
+          }
+          const std::size_t j = static_cast<std::size_t>(rr) * cols + cc;
+          if (scan.points[j].valid()) {
+            ++border;
+            near += scan.points[j].range < params.no_return_min_range;
+          } else if (region[j] < 0) {
+            region[j] = next;
+            stack.push_back(j);
+          }
+        }
+    }
+    ++next;
+    if (border > 0 && near > params.no_return_near_border_share * border)
+      for (std::size_t i : cells) keep[i] = 0;
+  }
   const Eigen::Matrix3d R = X_MS.linear();
   for (std::uint32_t r = 0; r < scan.rows; ++r) {
     const double el = scan.elevation_max - r * scan.elevation_step;
     for (std::uint32_t c = 0; c < scan.columns; ++c) {
-      if (scan.at(r, c).valid()) continue;
+      const std::size_t i = static_cast<std::size_t>(r) * scan.columns + c;
+      if (scan.points[i].valid() || !keep[i]) continue;
       const double az = scan.azimuth_min + c * scan.azimuth_step;
       const Vec3 d_S(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
       out.no_return_dirs.push_back((R * d_S).cast<float>());

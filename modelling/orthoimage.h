@@ -52,6 +52,11 @@ struct OrthoimageParams {
   /// far from the scanner: nearer, the surface may simply be inside the scanner's minimum
   /// range, [0, 100]
   double no_return_min_range = 2.0;
+  /// Share of the returns bordering a region of the scan grid without returns that lie nearer
+  /// than no_return_min_range, above which the region met a surface inside the scanner's
+  /// minimum range (an opened leaf beside the scanner) and its rays pass nothing
+  /// (AddNoReturnRays), [0, 1]
+  double no_return_near_border_share = 0.5;
   /// deg, a ray without a return counts as passed only where it meets the plane at most this
   /// far from the plane's normal: a surface met at a grazing angle may return nothing (a weak
   /// echo, a dropout), so such a ray says nothing about a hole there, [1, 90]
@@ -67,6 +72,7 @@ struct OrthoimageParams {
     v("margin", margin, Bounds{0.0, 2.0});
     v("max_pixels", max_pixels, Bounds{1, 1e9});
     v("no_return_min_range", no_return_min_range, Bounds{0.0, 100.0});
+    v("no_return_near_border_share", no_return_near_border_share, Bounds{0.0, 1.0});
     v("no_return_max_incidence_deg", no_return_max_incidence_deg, Bounds{1.0, 90.0});
   }
   /// Bounds of every field and finest_pixel <= coarsest_pixel (InputError naming the field).
@@ -110,10 +116,13 @@ struct OrthoPoints {
 
 /// Appends the rays of `scan` without a return (range 0), directions from their grid indices
 /// (row r at elevation_max - r * elevation_step, column c at azimuth_min + c * azimuth_step,
-/// x forward, y left, z up in the scanner frame) rotated into the map frame by X_MS.
-/// InputError if the scan's grid and point count disagree.
+/// x forward, y left, z up in the scanner frame) rotated into the map frame by X_MS. The rays
+/// of a region of the grid without returns (8-connected) whose bordering returns lie nearer
+/// than params.no_return_min_range for more than params.no_return_near_border_share of them
+/// are left out: such a region met a surface inside the scanner's minimum range. InputError if
+/// the scan's grid and point count disagree or the params are out of range.
 void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,
-                     OrthoPoints& out);
+                     OrthoPoints& out, const OrthoimageParams& params = {});
 
 class Orthoimage {
  public:
