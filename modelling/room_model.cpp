@@ -734,9 +734,9 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
   }
   // A short fitted edge between two antiparallel fitted walls is the end face of a wall that
   // stands into the room: walls are prisms, so it is square to them. Its traced direction is
-  // poor (a 0.24 m edge, ends moved by the simplification: 15 deg off) and tilts its fit. The
-  // trace may also have cut one of its corners (a second short edge, 36 deg off on FZK-Haus):
-  // of the two the squarer is the end face, the other is left unfitted and collapses below.
+  // poor (each end moved by up to perimeter_epsilon: tens of degrees on a 0.2 m edge) and tilts
+  // its fit. The trace may also have cut one of its corners (a second short edge): of the two
+  // the squarer is the end face, the other is left unfitted and collapses below.
   auto length = [&](std::size_t k) { return (poly[(k + 1) % n] - poly[k]).norm(); };
   for (std::size_t i = 0; i < n && n >= 6; ++i) {
     if (!fitted[i] || length(i) >= kWallEndMax) continue;
