@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/frames.h"
 #include "common/rng.h"
 #include "modelling/component_features.h"
 #include "modelling/sm5_io.h"
@@ -188,22 +189,24 @@ void Scan(const TestWall& w, const Vec3& s, double step, double shift, std::uint
 }
 
 // The wall scanned at the main job's 0.2 deg step from `positions` (u, v, distance), the second
-// and later scans with a 1 mm registration offset.
+// and later scans with a 1 mm registration offset; `rec` null: the test catalogue's recogniser.
 Sm5Model DetectFrom(const TestWall& w, const std::vector<Vec3>& positions,
-                    ComponentParams params = {}) {
+                    ComponentParams params = {}, const ComponentRecogniser* rec = nullptr) {
   std::vector<Eigen::Vector3f> pts;
   std::vector<Rgb> cols;
-  const double step = 0.2 * 3.14159265358979 / 180.0;
+  const double step = DegToRad(0.2);
   for (std::size_t i = 0; i < positions.size(); ++i)
     Scan(w, positions[i], step, i > 0 ? 0.001 : 0.0, i + 1, pts, cols);
   OrthoPoints op;
   op.points = &pts;
   op.colours = &cols;
-  return DetectComponents(w.sm3, Sm4Model{}, op, Recogniser(), params);
+  return DetectComponents(w.sm3, Sm4Model{}, op, rec ? *rec : Recogniser(), params);
 }
 
-Sm5Model Detect(const TestWall& w, ComponentParams params = {}) {
-  return DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, params);
+// From two positions, as the two scans of a room that see one wall.
+Sm5Model Detect(const TestWall& w, ComponentParams params = {},
+                const ComponentRecogniser* rec = nullptr) {
+  return DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, params, rec);
 }
 
 const interfaces::ObjectModel& ModelOf(const std::string& name) {
@@ -367,19 +370,11 @@ TEST(Components, SignsOfOneSizeAndColoursAreToldApartByTheirPictograms) {
   TestWall w = MakeWall();
   w.placed.push_back({*cat.Find("fire_sign"), 1.0, 1.9});
   w.placed.push_back({*cat.Find("arrow_sign"), 3.0, 1.9});
-  std::vector<Eigen::Vector3f> pts;
-  std::vector<Rgb> cols;
-  const double step = 0.2 * 3.14159265358979 / 180.0;
-  Scan(w, Vec3(1.4, 1.2, 2.5), step, 0.0, 1, pts, cols);
-  Scan(w, Vec3(2.8, 1.3, 3.0), step, 0.001, 2, pts, cols);
-  OrthoPoints op;
-  op.points = &pts;
-  op.colours = &cols;
   // Only the perceptron's best class (of its size) passes: its pick between the two signs is
   // not trusted, the NCC decides.
   ComponentParams p;
   p.colour_score_min = 1.0;
-  const Sm5Model m = DetectComponents(w.sm3, Sm4Model{}, op, rec, p);
+  const Sm5Model m = Detect(w, p, &rec);
   ASSERT_EQ(m.components.size(), 2u);
   EXPECT_EQ(m.components[0].class_name, "fire_sign");
   EXPECT_LT(std::abs(m.components[0].u - 1.0), 0.01);
@@ -424,15 +419,7 @@ TEST(Components, DepthDetectionContradictedByColourIsDropped) {
     if (d > 0.0f) d += 0.005f;
   w.placed.push_back({deep, 1.5, 0.3});
   w.placed.push_back({deep, 2.7, 0.3});
-  std::vector<Eigen::Vector3f> pts;
-  std::vector<Rgb> cols;
-  const double step = 0.2 * 3.14159265358979 / 180.0;
-  Scan(w, Vec3(1.4, 1.2, 2.5), step, 0.0, 1, pts, cols);
-  Scan(w, Vec3(2.8, 1.3, 3.0), step, 0.001, 2, pts, cols);
-  OrthoPoints op;
-  op.points = &pts;
-  op.colours = &cols;
-  const Sm5Model m = DetectComponents(w.sm3, Sm4Model{}, op, rec, ComponentParams{});
+  const Sm5Model m = Detect(w, ComponentParams{}, &rec);
   ASSERT_EQ(m.components.size(), 2u);
   for (const auto& c : m.components) EXPECT_EQ(c.class_name, "socket_x1");
 }
@@ -476,7 +463,7 @@ TEST(Components, OpeningsAreRemovedFromTheSe) {
   sm4.openings.push_back(door);
   std::vector<Eigen::Vector3f> pts;
   std::vector<Rgb> cols;
-  Scan(w, Vec3(1.4, 1.2, 2.5), 0.2 * 3.14159265358979 / 180.0, 0.0, 1, pts, cols);
+  Scan(w, Vec3(1.4, 1.2, 2.5), DegToRad(0.2), 0.0, 1, pts, cols);
   OrthoPoints op;
   op.points = &pts;
   op.colours = &cols;
