@@ -93,6 +93,9 @@ perception::AmclParams NavigatorParams::DefaultAmcl() {
   p.max_beams = 30;
   p.odom_alpha1 = 0.02;
   p.odom_alpha3 = 0.01;
+  // The wide sigma keeps the filter robust; the precision comes from matching every beam
+  // (perception/amcl.h, refinement).
+  p.refine = true;
   return p;
 }
 
@@ -360,8 +363,8 @@ struct Navigator::Impl {
           std::fprintf(stderr, "t=%.2f scan registration refused: %s\n", t, r.message.c_str());
       } else {
         r.ok || d.creeping ? ++log.scan_registrations_ok : ++log.scan_registrations_degenerate;
-        last_scan.X_MS_estimate = r.X_MS;
-        X_MB_est = Pose2Of(r.X_MS * last_scan.X_BS.inverse());
+        last_scan.X_MS_estimate = d.X_MS;
+        X_MB_est = Pose2Of(d.X_MS * last_scan.X_BS.inverse());
       }
     }
     // A refused scan joins too, with its AMCL pose: it is usually the first look into new

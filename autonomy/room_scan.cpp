@@ -270,6 +270,7 @@ bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
   const perception::RegistrationDecision d =
       perception::AcceptRegistration(r, prior, icp, acceptance, sigma);
   r.message = d.message;  // the logs say whether the result was used, and why not
+  r.X_MS = d.X_MS;        // and carry the pose used
   if (d.use) navigator.CorrectLastScanPose(r.X_MS);
   return d.use;
 }

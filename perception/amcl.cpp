@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -230,15 +231,15 @@ void Amcl::MotionUpdate(const Pose2& last, const Pose2& cur, std::uint64_t u) {
 }
 
 // Evenly spaced valid returns, projected to base_link.
-std::vector<Vec2> Amcl::SelectBeams(const interfaces::LrfScan& scan) const {
+std::vector<Vec2> Amcl::SelectBeams(const interfaces::LrfScan& scan, int max_beams) const {
   std::vector<Vec2> beams;
   std::vector<std::size_t> valid;
   for (std::size_t k = 0; k < scan.ranges.size(); ++k) {
     const double r = scan.ranges[k];
     if (std::isfinite(r) && r >= scan.range_min && r < scan.range_max) valid.push_back(k);
   }
-  const std::size_t want =
-      std::min<std::size_t>(valid.size(), static_cast<std::size_t>(params_.max_beams));
+  const std::size_t want = std::min<std::size_t>(
+      valid.size(), static_cast<std::size_t>(max_beams > 0 ? max_beams : params_.max_beams));
   const Pose3& X_BL = scan.X_BL;
   for (std::size_t b = 0; b < want; ++b) {
     const std::size_t k = valid[b * valid.size() / want];
@@ -392,6 +393,74 @@ void Amcl::CountInliers(const std::vector<Vec2>& beams, const Pose2& X_MB, int* 
   }
 }
 
+bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
+  const Impl& m = *impl_;
+  const AmclParams& p = params_;
+  const std::vector<Vec2> beams = SelectBeams(scan, p.refine_max_beams);
+  struct Row {
+    Eigen::Vector3d J;  // d(distance)/d(x, y, yaw)
+    double r;           // m, distance to the nearest return
+  };
+  std::vector<Row> rows;
+  // Matched beams at X (rows), and how many of them end within inlier_distance.
+  auto match = [&](const Pose2& X) {
+    rows.clear();
+    int inliers = 0;
+    const double c = std::cos(X.yaw), s = std::sin(X.yaw);
+    for (const Vec2& b : beams) {
+      const Vec2 lever(c * b.x() - s * b.y(), s * b.x() + c * b.y());  // e - t
+      const Vec2 e(X.x + lever.x(), X.y + lever.y());
+      const DistanceField::Nearest near = m.likelihood.NearestReturn(e);
+      if (!near.found || near.distance > p.refine_gate) continue;
+      // A beam ending in unknown space (the unseen far face of a mapped wall) matches only
+      // when it ends on a return, not a wall's thickness away from one.
+      const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
+      const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
+      const bool known = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
+                         m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
+      if (!known && near.distance > m.resolution) continue;
+      const Vec2& n = near.normal;
+      rows.push_back(
+          {Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()), near.distance});
+      if (near.distance < p.inlier_distance) ++inliers;
+    }
+    return inliers;
+  };
+  const int inliers_before = match(*X_MB);
+  Pose2 X = *X_MB;
+  for (int it = 0; it < p.refine_iterations; ++it) {
+    if (it > 0) match(X);
+    if (static_cast<int>(rows.size()) < p.refine_min_beams) return false;
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (const Row& row : rows) {
+      const double w = row.r <= p.refine_huber ? 1.0 : p.refine_huber / row.r;
+      H += w * row.J * row.J.transpose();
+      g += w * row.J * row.r;
+    }
+    // Steps only along the directions the beams constrain (rotation as the displacement 1 m
+    // from the base, so all three eigenvalues count beams).
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
+    Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const double lambda = es.eigenvalues()(k);
+      if (lambda < p.refine_min_constraint) continue;
+      const Eigen::Vector3d v = es.eigenvectors().col(k);
+      delta -= (v.dot(g) / lambda) * v;
+    }
+    X = Pose2{X.x + delta.x(), X.y + delta.y(), WrapAngle(X.yaw + delta.z())};
+    if (delta.norm() < 1e-5) break;
+  }
+  const int inliers_after = match(X);
+  if (static_cast<int>(rows.size()) < p.refine_min_beams || inliers_after < inliers_before)
+    return false;
+  if (std::hypot(X.x - X_MB->x, X.y - X_MB->y) > p.refine_max_shift ||
+      std::abs(WrapAngle(X.yaw - X_MB->yaw)) > DegToRad(p.refine_max_turn_deg))
+    return false;
+  *X_MB = X;
+  return true;
+}
+
 // KLD-adapted size (Fox 2003) and Augmented MCL injection of `p_inject` random particles.
 void Amcl::Resample(std::uint64_t u, double p_inject) {
   const Impl& m = *impl_;
@@ -470,7 +539,30 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   // whole set about it (so a multi-modal set reads as uncertain). Inliers among the beams that
   // end in mapped space.
   Eigen::Matrix3d cov;
-  const Pose2 X_MB = ClusterEstimate(&cov);
+  Pose2 X_MB = ClusterEstimate(&cov);
+  // 4b. Refinement while tracking: the whole set moves rigidly by the correction.
+  estimate_.refined = false;
+  estimate_.refinement = Pose2{};
+  if (p.refine && !m.relocalising && !beams.empty()) {
+    Pose2 refined = X_MB;
+    if (Refine(scan, &refined)) {
+      const Pose2 D = Compose(refined, Inverse(X_MB));
+      for (Particle& q : particles_) {
+        const Pose2 moved = Compose(D, Pose2{q.x, q.y, q.yaw});
+        q.x = moved.x;
+        q.y = moved.y;
+        q.yaw = moved.yaw;
+      }
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      R.topLeftCorner<2, 2>() << std::cos(D.yaw), -std::sin(D.yaw), std::sin(D.yaw),
+          std::cos(D.yaw);
+      cov = R * cov * R.transpose();
+      estimate_.refined = true;
+      estimate_.refinement =
+          Pose2{refined.x - X_MB.x, refined.y - X_MB.y, WrapAngle(refined.yaw - X_MB.yaw)};
+      X_MB = refined;
+    }
+  }
   int inliers = 0, mapped_beams = 0;
   CountInliers(beams, X_MB, &inliers, &mapped_beams);
   const double inlier_ratio = mapped_beams == 0 ? 0.0 : static_cast<double>(inliers) / mapped_beams;

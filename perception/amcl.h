@@ -29,6 +29,15 @@
 //   are seeded around the `global_hypotheses` best poses after non-maximum suppression; the
 //   filter then tells the hypotheses apart as the base moves, with the wider sigma, until the
 //   estimate has converged for `relocalisation_min_updates` updates.
+// - refinement (`refine`, off by default): the particle filter is robust but, with a wide hit
+//   sigma over a few beams, imprecise where only a few beams carry the information (the end
+//   wall of a corridor, the jambs of a doorway). After each tracking update the estimate is
+//   refined by a point-to-line Gauss-Newton match of all the sweep's beams that end near a
+//   mapped return (the same segments as the likelihood field, Huber-weighted), corrected only
+//   along the directions the matched beams constrain (eigenvalues of J^T J, in beams' worth;
+//   a corridor without a visible end wall stays as the filter has it), and accepted only when
+//   it is small, keeps at least as many beams on the map, and has enough of them; the whole
+//   particle set is then moved rigidly so the filter carries the correction on.
 //
 // Frames (REP-105): particles are poses of base_link in `map`; odometry gives base_link in
 // `odom`; the scan's X_BL (its mount on base_link) is projected to the plane.
@@ -99,6 +108,18 @@ struct AmclParams {
   double converged_sigma_yaw_deg = 5.0;  ///< deg, yaw std for "localised", (0, 180]
   double cluster_radius = 0.5;           ///< m, particles within this of the mode form the estimate
   double cluster_angle_deg = 30.0;       ///< deg, idem for yaw
+  bool refine = false;                   ///< scan-matching refinement while tracking (above)
+  int refine_max_beams = 1080;           ///< beams matched per sweep, evenly spaced, [10, 100000]
+  double refine_gate =
+      0.25;  ///< m, beams ending farther from a mapped return are unmatched, (0, 2]
+  double refine_huber = 0.05;  ///< m, Huber threshold of the match's residuals, (0, 1]
+  int refine_iterations = 10;  ///< Gauss-Newton steps, [1, 100]
+  /// Information (in beams' worth: sum over matched beams of (normal . direction)^2, rotation
+  /// measured as the displacement 1 m from the base) a direction needs to be corrected along.
+  double refine_min_constraint = 15.0;  ///< [1, 1e6]
+  int refine_min_beams = 40;            ///< matched beams needed to apply a refinement, [3, 100000]
+  double refine_max_shift = 0.2;        ///< m, larger corrections are refused, (0, 5]
+  double refine_max_turn_deg = 5.0;     ///< deg, idem for yaw, (0, 90]
 
   template <class V>
   void Visit(V& v) {
@@ -139,6 +160,15 @@ struct AmclParams {
     v("converged_sigma_yaw_deg", converged_sigma_yaw_deg, Bounds{1e-3, 180.0});
     v("cluster_radius", cluster_radius, Bounds{1e-3, 100.0});
     v("cluster_angle_deg", cluster_angle_deg, Bounds{1e-3, 180.0});
+    v("refine", refine);
+    v("refine_max_beams", refine_max_beams, Bounds{10, 100000});
+    v("refine_gate", refine_gate, Bounds{1e-3, 2.0});
+    v("refine_huber", refine_huber, Bounds{1e-4, 1.0});
+    v("refine_iterations", refine_iterations, Bounds{1, 100});
+    v("refine_min_constraint", refine_min_constraint, Bounds{1.0, 1e6});
+    v("refine_min_beams", refine_min_beams, Bounds{3, 100000});
+    v("refine_max_shift", refine_max_shift, Bounds{1e-3, 5.0});
+    v("refine_max_turn_deg", refine_max_turn_deg, Bounds{1e-3, 90.0});
   }
   /// ValidateParams plus cross-field checks (min <= max particles); throws InputError.
   void Validate() const;
@@ -163,8 +193,12 @@ struct LocalisationEstimate {
   int particles = 0;                                     ///< current particle count
   double inlier_ratio = 0.0;          ///< fraction of beams matching the map at X_MB, [0, 1]
   double w_slow = 0.0, w_fast = 0.0;  ///< Augmented MCL likelihood averages (per beam)
-  std::uint64_t updates = 0;          ///< filter updates so far
-  double timestamp = 0.0;             ///< s, odometry time of the last update
+  /// The last update's refinement (params.refine): applied, and the correction it made
+  /// (x, y in m, yaw in rad, map frame) — zero when not applied.
+  bool refined = false;
+  Pose2 refinement{};
+  std::uint64_t updates = 0;  ///< filter updates so far
+  double timestamp = 0.0;     ///< s, odometry time of the last update
   /// Current pose estimate for a newer odometry reading (odometry between filter updates).
   Pose2 PoseAt(const Pose2& X_OB) const { return Compose(X_MO, X_OB); }
 };
@@ -217,7 +251,8 @@ class Amcl {
   // The steps of Update (Probabilistic Robotics: Table 5.6 motion, Table 6.3 likelihood field,
   // Table 8.4 KLD resampling; Augmented MCL for injection).
   void MotionUpdate(const Pose2& last, const Pose2& cur, std::uint64_t update);
-  std::vector<Vec2> SelectBeams(const interfaces::LrfScan& scan) const;
+  /// Up to `max_beams` (default params.max_beams) evenly spaced valid returns in base_link.
+  std::vector<Vec2> SelectBeams(const interfaces::LrfScan& scan, int max_beams = 0) const;
   /// Weights from the likelihood field; returns N_eff. Updates w_slow / w_fast.
   double MeasurementUpdate(const std::vector<Vec2>& beams_B, const interfaces::LrfScan& scan);
   std::int64_t BinKey(const Particle& q) const;
@@ -227,6 +262,9 @@ class Amcl {
   void CountInliers(const std::vector<Vec2>& beams_B, const Pose2& X_MB, int* inliers,
                     int* mapped_beams) const;
   void Resample(std::uint64_t update, double p_inject);
+  /// Scan-matching refinement of `X_MB` (see the class comment); returns false, leaving it,
+  /// when the match is refused.
+  bool Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const;
   std::unique_ptr<Impl> impl_;
   AmclParams params_;
   std::uint64_t seed_;

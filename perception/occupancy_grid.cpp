@@ -427,6 +427,14 @@ double DistanceField::CentreDistance(const Vec2& p, double outside) const {
 double DistanceField::ObstacleDistance(const Vec2& p, double outside) const {
   const Cell c = CellOf(p);
   if (c.i < 0 || c.j < 0 || c.i >= width_ || c.j >= height_) return outside;
+  const Nearest n = NearestReturn(p);
+  return n.found ? n.distance : max_distance_;
+}
+
+DistanceField::Nearest DistanceField::NearestReturn(const Vec2& p) const {
+  Nearest out;
+  const Cell c = CellOf(p);
+  if (c.i < 0 || c.j < 0 || c.i >= width_ || c.j >= height_) return out;
   // The nearest-cell labels are exact only up to ties and to where in its cell p lies: take
   // the best of the segments labelled in the 3x3 neighbourhood.
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -442,13 +450,17 @@ double DistanceField::ObstacleDistance(const Vec2& p, double outside) const {
       seen[n_seen++] = n;
       const auto& seg = segments_[n];
       const Vec2 v = p - seg.centre;
-      const double along = seg.direction.dot(v);
-      const double perp = seg.direction.x() * v.y() - seg.direction.y() * v.x();
-      const double excess = std::max(0.0, std::abs(along) - seg.half_length);
-      best = std::min(best, std::sqrt(perp * perp + excess * excess));
+      const double along = std::clamp(seg.direction.dot(v), -seg.half_length, seg.half_length);
+      const Vec2 r = v - along * seg.direction;  // from the segment's nearest point to p
+      const double d = r.norm();
+      if (d >= best) continue;
+      best = d;
+      out.found = true;
+      out.distance = d;
+      out.normal = d > 1e-12 ? Vec2(r / d) : Vec2(-seg.direction.y(), seg.direction.x());
     }
   }
-  return best;
+  return out;
 }
 
 // --- map_server I/O ---------------------------------------------------------------------------

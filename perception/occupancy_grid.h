@@ -200,6 +200,16 @@ class DistanceField {
   /// distance is perpendicular to the wall), capped at `max_distance` — the field AMCL's
   /// likelihood model uses. `outside` is returned beyond the grid.
   double ObstacleDistance(const Vec2& p_M, double outside) const;
+  /// The return nearest to `p_M` as ObstacleDistance finds it: `distance` (m, capped as
+  /// there), and `normal`, the unit vector from the nearest point of that segment to p (the
+  /// segment's normal when p lies on it): moving p by d changes the distance by about
+  /// normal . d. `found` is false beyond the grid or with no obstacle within the cap.
+  struct Nearest {
+    bool found = false;
+    double distance = 0.0;
+    Vec2 normal = Vec2::Zero();
+  };
+  Nearest NearestReturn(const Vec2& p_M) const;
   /// True if the cell is known free (not an obstacle) and its clearance is >= `radius`.
   bool IsFree(const Vec2& p_M, double radius) const;
   double ClearanceOfCell(const Cell& c) const;  ///< m; 0 outside or on obstacles

@@ -566,7 +566,22 @@ RegistrationDecision AcceptRegistration(const RegistrationResult& r,
   const bool fits = (r.converged || d.creeping) && r.fitness >= icp.min_fitness &&
                     r.rmse <= icp.max_rmse &&
                     r.free_space_violation <= icp.max_free_space_violation;
-  const Eigen::Isometry3d dX = prior_X_MS.inverse() * r.X_MS;
+  d.X_MS = r.X_MS;
+  bool slid = false;
+  if (r.degenerate) {
+    // The weak direction's translation (map frame, as the ICP's steps): how far the result
+    // moved along it from the prior.
+    const Eigen::Vector3d w = r.weakest_direction.tail<3>();
+    if (w.norm() > 0.5) {
+      const Eigen::Vector3d u = w.normalized();
+      d.weak_slide = (r.X_MS.translation() - prior_X_MS.translation()).dot(u);
+      if (std::abs(d.weak_slide) > policy.max_weak_slide) {
+        d.X_MS.translation() -= d.weak_slide * u;
+        slid = true;
+      }
+    }
+  }
+  const Eigen::Isometry3d dX = prior_X_MS.inverse() * d.X_MS;
   d.correction = dX.translation().head<2>().norm();
   d.correction_deg = std::abs(std::atan2(dX.linear()(1, 0), dX.linear()(0, 0))) * 180.0 / kPi;
   const bool gated = policy.gate_sigmas > 0.0 && (r.degenerate || !policy.trust_constrained);
@@ -580,9 +595,13 @@ RegistrationDecision AcceptRegistration(const RegistrationResult& r,
   std::snprintf(figures, sizeof figures,
                 "; correction %.3f m / %.3f deg, prior sigma %.3f m, gate %.3f m", d.correction,
                 d.correction_deg, prior_sigma, d.gate);
+  const std::string slide_note =
+      slid ? FormatNumbers("; slid %.3f m along its weak direction: the prior kept along it",
+                           d.weak_slide)
+           : "";
   d.message = std::string(d.use ? "" : "refused, prior kept: ") +
               (d.creeping && fits ? "converged but for a creep below the step limit: " : "") +
-              r.message + figures + (d.within_bounds ? "" : " (too large)");
+              r.message + figures + slide_note + (d.within_bounds ? "" : " (too large)");
   return d;
 }
 

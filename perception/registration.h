@@ -152,6 +152,11 @@ struct RegistrationAcceptanceParams {
   /// A result that constrains every direction is bounded by max_correction alone (a
   /// localiser drifts more in door passages than it reports; the scan sees it).
   bool trust_constrained = true;
+  /// m: a degenerate result may have moved along its weak direction by up to this (the ICP
+  /// keeps the prior there while that direction is weak all the way; a direction that turns
+  /// weak only at the result lets it slide). A larger slide is no evidence: the used pose takes
+  /// the result's correction across the weak direction and keeps the prior along it. [0, 10]
+  double max_weak_slide = 0.02;
 
   template <class V>
   void Visit(V& v) {
@@ -162,11 +167,14 @@ struct RegistrationAcceptanceParams {
     v("gate_sigmas", gate_sigmas, Bounds{0.0, 100.0});
     v("min_gate", min_gate, Bounds{0.0, 10.0});
     v("trust_constrained", trust_constrained);
+    v("max_weak_slide", max_weak_slide, Bounds{0.0, 10.0});
   }
 };
 
 struct RegistrationDecision {
-  bool use = false;             ///< the registered pose replaces the prior
+  bool use = false;  ///< the registered pose replaces the prior
+  Eigen::Isometry3d X_MS = Eigen::Isometry3d::Identity();  ///< the pose to use (when `use`)
+  double weak_slide = 0.0;      ///< m, a degenerate result's move along its weak direction
   bool creeping = false;        ///< counted as converged while creeping (see creeping_step_factor)
   bool within_bounds = false;   ///< the correction is within the gate and the yaw bound
   double correction = 0.0;      ///< m, x-y distance of the result from the prior

@@ -53,6 +53,39 @@ TEST(EntryAcceptance, TakesADegenerateResultsConstrainedCorrection) {
   EXPECT_TRUE(d.use) << d.message;
 }
 
+// A direction that turns weak only near the result lets the ICP slide along it (a room's
+// first scan seen through a door, 9 cm along the door's wall from a 5 cm prior error): what it
+// corrected across the weak direction is used, the prior is kept along it.
+TEST(EntryAcceptance, KeepsThePriorAlongTheWeakDirectionADegenerateResultSlidAlong) {
+  const RoomScanParams p;
+  const Eigen::Isometry3d prior =
+      Eigen::Translation3d(0.0, 0.0, 1.4) * Eigen::Isometry3d::Identity();
+  perception::RegistrationResult r = Registered(0.025, 1.3);
+  r.X_MS.translation().y() = -0.093;
+  r.ok = false;
+  r.degenerate = true;
+  r.weakest_direction << 0.0, 0.0, 0.0, -0.02, 1.0, 0.0;
+  const auto d = perception::AcceptRegistration(r, prior, p.entry_icp, p.entry_acceptance, 0.01);
+  ASSERT_TRUE(d.use) << d.message;
+  EXPECT_NEAR(d.weak_slide, -0.093, 0.003);
+  EXPECT_NEAR(d.X_MS.translation().y(), 0.0, 0.002);
+  EXPECT_NEAR(d.X_MS.translation().x(), 0.025, 0.003);
+  EXPECT_NEAR(d.X_MS.translation().z(), 1.4, 1e-9);
+  EXPECT_TRUE(d.X_MS.linear().isApprox(r.X_MS.linear()));
+  EXPECT_NE(d.message.find("slid"), std::string::npos) << d.message;
+  // Within max_weak_slide the result is used as it is; a constrained result always is.
+  r.X_MS.translation().y() = -0.01;
+  const auto small =
+      perception::AcceptRegistration(r, prior, p.entry_icp, p.entry_acceptance, 0.01);
+  EXPECT_TRUE(small.use);
+  EXPECT_TRUE(small.X_MS.isApprox(r.X_MS));
+  r.degenerate = false;
+  r.ok = true;
+  r.X_MS.translation().y() = -0.093;
+  const auto ok = perception::AcceptRegistration(r, prior, p.entry_icp, p.entry_acceptance, 0.01);
+  EXPECT_TRUE(ok.X_MS.isApprox(r.X_MS));
+}
+
 TEST(EntryAcceptance, RefusesAJumpToAnotherDoorFrameAndARoomTurnedBySymmetry) {
   const RoomScanParams p;
   const Eigen::Isometry3d prior =

@@ -137,7 +137,7 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   EXPECT_EQ(in_front(a), 1);
   EXPECT_EQ(beyond(a), 1);
   EXPECT_EQ(in_front(b), 0);
-  EXPECT_EQ(beyond(b), 1);
+  EXPECT_GE(beyond(b), 1);  // within the time budget it may scan again on its way on
 }
 
 // The way on behind the base: starting 0.8 m in front of the door, facing away from it. The

@@ -242,10 +242,11 @@ TEST(Amcl, BeamsOnUnmappedWallFacesDoNotPullTheEstimate) {
     if (q.x() <= 5.02) pts.push_back(q);  // the west room and the partition's west face only
   OccupancyGrid map(OccupancyGridParams{}, {-0.5, -0.5}, 220, 140);
   map.InsertPoints(pts);
-  double max_err[2] = {0, 0};
-  for (const int variant : {0, 1}) {
+  double max_err[3] = {0, 0, 0};
+  for (const int variant : {0, 1, 2}) {
     AmclParams p;
     p.unknown_endpoint_distance = variant ? 0.1 : 0.0;
+    p.refine = variant == 2;
     Drive drive(world, {3.5, 3.0, 0.0}, 11);
     Amcl amcl(map, p, 5);
     amcl.SetInitialPose(drive.Truth(), Cov(0.01, DegToRad(0.5)));
@@ -262,12 +263,98 @@ TEST(Amcl, BeamsOnUnmappedWallFacesDoNotPullTheEstimate) {
   }
   std::printf(
       "[ AMCL     ] unmapped east room: max error %.1f mm plain, %.1f mm with neutral unknown "
-      "endpoints\n",
-      1000 * max_err[0], 1000 * max_err[1]);
+      "endpoints, %.1f mm refined too\n",
+      1000 * max_err[0], 1000 * max_err[1], 1000 * max_err[2]);
   // Plain: the filter is dragged metres off (measured 4.7 m); neutral: odometry-bound drift
   // while most beams end in the unknown room (measured 0.11 m; the test odometry has 2 %).
   EXPECT_GT(max_err[0], 0.5);
   EXPECT_LT(max_err[1], 0.15);
+  // The refinement matches only beams on mapped returns (the partition's far face is not one).
+  EXPECT_LT(max_err[2], 0.15);
+}
+
+// A straight corridor, 1.6 m wide, x in [0, length], with end walls when `ends`.
+std::vector<testing::Box2> Corridor(double length, bool ends) {
+  std::vector<testing::Box2> b = {{{-0.1, -0.1}, {length + 0.1, 0.0}},
+                                  {{-0.1, 1.6}, {length + 0.1, 1.7}}};
+  if (ends) {
+    b.push_back({{-0.1, -0.1}, {0.0, 1.7}});
+    b.push_back({{length, -0.1}, {length + 0.1, 1.7}});
+  }
+  return b;
+}
+
+OccupancyGrid CorridorMap(const std::vector<testing::Box2>& world, double length) {
+  OccupancyGrid map(OccupancyGridParams{}, {-0.5, -0.5},
+                    static_cast<int>(std::ceil((length + 1.0) / 0.05)), 56);
+  map.InsertPoints(testing::ScanPoints(world, {0.0, 0.0}, {length, 1.6}));
+  return map;
+}
+
+/// The navigator's filter: a wide hit sigma over few beams (robust, imprecise).
+AmclParams WideFilter(bool refine) {
+  AmclParams p;
+  p.min_particles = 300;
+  p.max_particles = 3000;
+  p.recovery_alpha_slow = 0.0;
+  p.unknown_endpoint_distance = 0.1;
+  p.sigma_hit = 0.2;
+  p.max_beams = 30;
+  p.odom_alpha1 = 0.02;
+  p.odom_alpha3 = 0.01;
+  p.refine = refine;
+  return p;
+}
+
+// Along a corridor only the end walls tell where the base is: a few of 30 beams, scored with a
+// 0.2 m sigma, barely move the filter, so it lags the truth by the odometry's drift. Matching
+// every beam holds the estimate to centimetres.
+TEST(Amcl, RefinementHoldsTheEstimateAlongACorridorWithVisibleEnds) {
+  const double length = 14.0;
+  const auto world = Corridor(length, true);
+  const OccupancyGrid map = CorridorMap(world, length);
+  double max_err[2] = {0, 0};
+  int refined = 0;
+  for (const int variant : {0, 1}) {
+    Drive drive(world, {1.0, 0.8, 0.0}, 21);
+    Amcl amcl(map, WideFilter(variant == 1), 5);
+    amcl.SetInitialPose(drive.Truth(), Cov(0.01, DegToRad(0.5)));
+    auto update = [&] {
+      if (!amcl.Update(drive.Odom(), drive.Scan()).updated) return;
+      if (variant == 1 && amcl.Estimate().refined) ++refined;
+      max_err[variant] =
+          std::max(max_err[variant], PoseError(amcl.Estimate().X_MB, drive.Truth()).xy);
+    };
+    update();
+    drive.GoTo(13.0, 0.8, update);
+    drive.GoTo(2.0, 0.8, update);
+  }
+  std::printf(
+      "[ AMCL     ] corridor with ends: max error %.1f mm filter only, %.1f mm refined "
+      "(%d refinements)\n",
+      1000 * max_err[0], 1000 * max_err[1], refined);
+  EXPECT_GT(max_err[0], 0.06);  // the lag the refinement is for (the odometry has 2 %)
+  EXPECT_LT(max_err[1], 0.03);
+  EXPECT_GT(refined, 100);
+}
+
+// Without a visible end, nothing in the sweep says where along the corridor the base is: the
+// refinement corrects across it and leaves the along-corridor position to the filter.
+TEST(Amcl, RefinementLeavesDirectionsTheBeamsDoNotConstrain) {
+  const double length = 60.0;  // the test LRF reaches 20 m
+  const auto world = Corridor(length, false);
+  const OccupancyGrid map = CorridorMap(world, length);
+  const Pose2 truth{30.0, 0.8, 0.0};
+  Amcl amcl(map, WideFilter(true), 5);
+  amcl.SetInitialPose({30.1, 0.75, 0.0}, Cov(0.001, DegToRad(0.01)));
+  interfaces::Odometry odom;
+  ASSERT_TRUE(amcl.Update(odom, testing::SimulateScan(world, truth, 3, 0, 0.01)).updated);
+  const LocalisationEstimate& e = amcl.Estimate();
+  ASSERT_TRUE(e.refined) << e.message;
+  EXPECT_NEAR(e.refinement.y, 0.05, 0.01);
+  EXPECT_NEAR(e.refinement.x, 0.0, 0.005);
+  EXPECT_NEAR(e.X_MB.y, truth.y, 0.01);
+  EXPECT_NEAR(e.X_MB.x, 30.1, 0.01);
 }
 
 TEST(Amcl, SameSeedGivesTheSameParticleBytesWithOneOrManyThreads) {
