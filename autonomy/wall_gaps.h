@@ -31,6 +31,11 @@ struct WallGapParams {
   double min_width = 0.5;
   /// m, gaps wider than this are not taken as doorways (a wall the scans did not see), [0.1, 50]
   double max_width = 3.0;
+  /// Consecutive perimeter edges turning by less than this (deg) and staying within
+  /// `collinear_offset` (m) of the first one's line are one wall line: a gap may span the
+  /// small steps an outline makes in a doorway. [0, 45], [0, 0.5]
+  double collinear_deg = 10.0;
+  double collinear_offset = 0.08;
 
   template <class V>
   void Visit(V& v) {
@@ -39,12 +44,14 @@ struct WallGapParams {
     v("see_through_depth", see_through_depth, Bounds{0.05, 3.0});
     v("min_width", min_width, Bounds{0.0, 10.0});
     v("max_width", max_width, Bounds{0.1, 50.0});
+    v("collinear_deg", collinear_deg, Bounds{0.0, 45.0});
+    v("collinear_offset", collinear_offset, Bounds{0.0, 0.5});
   }
 };
 
-/// A gap in one perimeter edge, in the map frame.
+/// A gap in one wall line of the perimeter, in the map frame.
 struct WallGap {
-  int edge = -1;          ///< perimeter edge index (from vertex `edge` to `edge + 1`)
+  int edge = -1;  ///< perimeter edge (from vertex `edge` to `edge + 1`) where the gap starts
   Vec2 a = Vec2::Zero();  ///< m, the gap's ends on the perimeter line
   Vec2 b = Vec2::Zero();
   Vec2 inward = Vec2::UnitX();  ///< unit, plan normal into the room
@@ -52,13 +59,14 @@ struct WallGap {
   Vec2 centre() const { return 0.5 * (a + b); }
 };
 
-/// The gaps of `perimeter` (a simple polygon, either orientation) in `grid`: per edge, samples
-/// every half cell along it; a sample is blocked when an occupied cell lies in the band from
-/// `inside_tolerance` inside to `wall_band` beyond the perimeter, seen-through when it is not
-/// blocked and a free cell lies beyond the perimeter (from one cell out to `see_through_depth`
-/// past the band: rays crossed the wall line there). A gap is a run of
-/// unblocked samples with a blocked sample at each end, at least one seen-through sample, and a
-/// width in [min_width, max_width]. In edge order, then along each edge.
+/// The gaps of `perimeter` (a simple polygon, either orientation) in `grid`: per wall line
+/// (consecutive near-collinear edges, see collinear_deg), samples every half cell along it; a
+/// sample is blocked when an occupied cell lies in the band from `inside_tolerance` inside to
+/// `wall_band` beyond the perimeter, seen-through when it is not blocked and a free cell lies
+/// beyond the perimeter (from one cell out to `see_through_depth` past the band: rays crossed the
+/// wall line there). A gap is a run of unblocked samples with a blocked sample at each end, at
+/// least one seen-through sample, and a width in [min_width, max_width]. In line order from a
+/// corner, then along each line.
 std::vector<WallGap> WallGaps(const perception::OccupancyGrid& grid,
                               const std::vector<Vec2>& perimeter, const WallGapParams& params);
 

@@ -51,6 +51,20 @@ TEST(WallGaps, AnOpenDoorwayTheScansSawThroughIsOneGap) {
   EXPECT_NEAR(gaps[0].inward.x(), -1.0, 1e-9);  // into the room
 }
 
+// Outlines make small steps in doorways (a shadow step, a sealed reveal): a gap across such a
+// vertex is still one gap, not two halves too narrow and unframed.
+TEST(WallGaps, AGapAcrossAKinkOfTheOutlineIsOneGap) {
+  const std::vector<Vec2> kinked = {{0, 0}, {4, 0}, {4.03, 1.4}, {4.0, 2.0}, {4, 3}, {0, 3}};
+  const auto gaps = WallGaps(TwoRooms(1.0, 1.9, CellState::kFree), kinked, WallGapParams{});
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_NEAR(gaps[0].width(), 0.9, 0.1);
+  EXPECT_NEAR(gaps[0].centre().y(), 1.45, 0.05);
+  EXPECT_NEAR(gaps[0].inward.x(), -1.0, 0.02);
+  WallGapParams per_edge;  // edges taken one by one: the gap is lost
+  per_edge.collinear_deg = 0.0;
+  EXPECT_TRUE(WallGaps(TwoRooms(1.0, 1.9, CellState::kFree), kinked, per_edge).empty());
+}
+
 TEST(WallGaps, EitherPolygonOrientationGivesTheSameGap) {
   const std::vector<Vec2> cw(kRoom.rbegin(), kRoom.rend());
   const auto gaps = WallGaps(TwoRooms(1.0, 1.9, CellState::kFree), cw, WallGapParams{});
