@@ -77,6 +77,31 @@ double SignedArea(const std::vector<Eigen::Vector2d>& poly) {
   return 0.5 * a;
 }
 
+void RemoveShallowVertices(std::vector<Eigen::Vector2d>& poly, double tolerance) {
+  while (poly.size() > 3) {
+    const std::size_t n = poly.size();
+    std::size_t best = n;
+    double best_offset = tolerance;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d& a = poly[(i + n - 1) % n];
+      const Eigen::Vector2d& b = poly[i];
+      const Eigen::Vector2d& c = poly[(i + 1) % n];
+      const Eigen::Vector2d ac = c - a;
+      const double len = ac.norm();
+      if (len <= 0.0) continue;
+      const double along = (b - a).dot(ac) / len;
+      if (along <= 0.0 || along >= len) continue;
+      const double offset = std::abs(ac.x() * (b - a).y() - ac.y() * (b - a).x()) / len;
+      if (offset < best_offset) {
+        best_offset = offset;
+        best = i;
+      }
+    }
+    if (best == n) return;
+    poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+}
+
 TiledBoundary BoundaryOfTiledPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
                                       double tolerance) {
   using V2 = Eigen::Vector2d;

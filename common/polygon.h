@@ -40,6 +40,12 @@ std::vector<Eigen::Vector3i> TriangulatePolygon(const std::vector<Eigen::Vector2
 /// Signed area (m^2) of `poly`: positive when counter-clockwise.
 double SignedArea(const std::vector<Eigen::Vector2d>& poly);
 
+/// Removes, one at a time (the shallowest first) and keeping at least 3 vertices, every
+/// vertex of the closed polygon `poly` that lies within `tolerance` (m) of the segment joining
+/// its two neighbours and between them along it: jogs smaller than `tolerance` in an
+/// otherwise straight line. A spike (a vertex beyond its neighbours' span) stays.
+void RemoveShallowVertices(std::vector<Eigen::Vector2d>& poly, double tolerance);
+
 /// The boundary of polygons that meet only along shared boundary pieces (vertices within
 /// `tolerance`, m, being one point; any winding, polygons with fewer than 3 distinct vertices or
 /// no area skipped): their edges, split where another polygon's vertex lies on them, without

@@ -209,8 +209,11 @@ bool IntersectLines(const Vec2& p, const Vec2& t, const Vec2& q, const Vec2& u, 
 }
 
 // Drops vertices whose neighbours make them (nearly) collinear or that close edges shorter
-// than `min_len`.
-void Clean(std::vector<Vec2>& poly, double min_len) {
+// than `min_len`; with `max_offset` > 0 first the jogs shallower than it (the refit moves
+// edges onto their walls, and a short edge fitted in a doorway, where there is no wall, left
+// 3.5 cm jogs that split one wall into three in SM3).
+void Clean(std::vector<Vec2>& poly, double min_len, double max_offset = 0.0) {
+  if (max_offset > 0.0) RemoveShallowVertices(poly, max_offset);
   bool changed = true;
   while (changed && poly.size() > 3) {
     changed = false;
@@ -570,9 +573,9 @@ void RoomModel::BuildPerimeter() {
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   Clean(poly, params_.min_edge_length);
   RefitPerimeter(poly);
-  Clean(poly, params_.min_edge_length);
+  Clean(poly, params_.min_edge_length, params_.jog_tolerance);
   SealOpenings(poly, params_);
-  Clean(poly, params_.min_edge_length);
+  Clean(poly, params_.min_edge_length, params_.jog_tolerance);
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   roi_.perimeter = poly;
 }

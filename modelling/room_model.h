@@ -54,6 +54,9 @@ struct RoomModelParams {
   double reveal_depth = 0.0;
   double perimeter_raster = 0.025;  ///< m, plan raster of the ceiling outline, [0.005, 0.2]
   double perimeter_epsilon = 0.04;  ///< m, polygon simplification tolerance, [0.005, 0.5]
+  /// m: after the refit, a vertex this close to the line through its neighbours is dropped
+  /// (a short edge fitted in a doorway left such jogs, splitting the wall). 0 = off. [0, 0.5]
+  double jog_tolerance = 0.04;
   double min_edge_length = 0.1;     ///< m, shorter simplified edges are merged, [0, 2]
   /// m, a perimeter detour that leaves a wall line, passes up to this far behind it and comes
   /// back onto the same line is a view through an opening in that wall (the trace walked into
@@ -91,6 +94,7 @@ struct RoomModelParams {
     v("reveal_depth", reveal_depth, Bounds{0.0, 1.0});
     v("perimeter_raster", perimeter_raster, Bounds{0.005, 0.2});
     v("perimeter_epsilon", perimeter_epsilon, Bounds{0.005, 0.5});
+    v("jog_tolerance", jog_tolerance, Bounds{0.0, 0.5});
     v("min_edge_length", min_edge_length, Bounds{0.0, 2.0});
     v("seal_depth", seal_depth, Bounds{0.0, 2.0});
     v("seal_width", seal_width, Bounds{0.0, 10.0});

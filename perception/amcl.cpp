@@ -400,14 +400,15 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
   struct Row {
     Eigen::Vector3d J;  // d(distance)/d(x, y, yaw)
     double r;           // m, distance to the nearest return
+    std::size_t beam;
   };
   std::vector<Row> rows;
-  // Matched beams at X (rows), and how many of them end within inlier_distance.
+  // Matched beams at X (rows, in beam order).
   auto match = [&](const Pose2& X) {
     rows.clear();
-    int inliers = 0;
     const double c = std::cos(X.yaw), s = std::sin(X.yaw);
-    for (const Vec2& b : beams) {
+    for (std::size_t k = 0; k < beams.size(); ++k) {
+      const Vec2& b = beams[k];
       const Vec2 lever(c * b.x() - s * b.y(), s * b.x() + c * b.y());  // e - t
       const Vec2 e(X.x + lever.x(), X.y + lever.y());
       const DistanceField::Nearest near = m.likelihood.NearestReturn(e);
@@ -420,13 +421,16 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
                          m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
       if (!known && near.distance > m.resolution) continue;
       const Vec2& n = near.normal;
-      rows.push_back(
-          {Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()), near.distance});
-      if (near.distance < p.inlier_distance) ++inliers;
+      rows.push_back({Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()),
+                      near.distance, k});
     }
-    return inliers;
   };
-  const int inliers_before = match(*X_MB);
+  const auto huber = [&](double r) {
+    const double k = p.refine_huber;
+    return r <= k ? 0.5 * r * r : k * (r - 0.5 * k);
+  };
+  match(*X_MB);
+  const std::vector<Row> before = rows;
   Pose2 X = *X_MB;
   for (int it = 0; it < p.refine_iterations; ++it) {
     if (it > 0) match(X);
@@ -451,9 +455,22 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
     X = Pose2{X.x + delta.x(), X.y + delta.y(), WrapAngle(X.yaw + delta.z())};
     if (delta.norm() < 1e-5) break;
   }
-  const int inliers_after = match(X);
-  if (static_cast<int>(rows.size()) < p.refine_min_beams || inliers_after < inliers_before)
-    return false;
+  match(X);
+  if (static_cast<int>(rows.size()) < p.refine_min_beams) return false;
+  // The robust cost over the beams matched at both poses must not grow (a Gauss-Newton that
+  // wandered off).
+  double cost_before = 0.0, cost_after = 0.0;
+  for (std::size_t i = 0, j = 0; i < before.size() && j < rows.size();) {
+    if (before[i].beam < rows[j].beam) {
+      ++i;
+    } else if (rows[j].beam < before[i].beam) {
+      ++j;
+    } else {
+      cost_before += huber(before[i++].r);
+      cost_after += huber(rows[j++].r);
+    }
+  }
+  if (cost_after > cost_before) return false;
   if (std::hypot(X.x - X_MB->x, X.y - X_MB->y) > p.refine_max_shift ||
       std::abs(WrapAngle(X.yaw - X_MB->yaw)) > DegToRad(p.refine_max_turn_deg))
     return false;

@@ -36,7 +36,8 @@
 //   mapped return (the same segments as the likelihood field, Huber-weighted), corrected only
 //   along the directions the matched beams constrain (eigenvalues of J^T J, in beams' worth;
 //   a corridor without a visible end wall stays as the filter has it), and accepted only when
-//   it is small, keeps at least as many beams on the map, and has enough of them; the whole
+//   it is small, lowers the robust cost of the beams matched before and after, and has enough
+//   of them; the whole
 //   particle set is then moved rigidly so the filter carries the correction on.
 //
 // Frames (REP-105): particles are poses of base_link in `map`; odometry gives base_link in

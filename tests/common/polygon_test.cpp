@@ -81,5 +81,35 @@ TEST(UnionOfTiledPolygons, OnePolygonComesBackCounterClockwiseWithoutCollinearVe
   EXPECT_NEAR(SignedArea(*u), 1.0, 1e-12);
 }
 
+// A room's outline after its walls were refitted (office_5rooms R1, map frame): the short
+// edge fitted across an open doorway left two jogs of 3.4-3.5 cm in the wall x = 11.05, which
+// SM3 split into three walls. With a 4 cm tolerance the wall is one edge again; a 5 cm shadow
+// step and the room's corners stay.
+TEST(RemoveShallowVertices, RemovesJogsInAStraightWallAndKeepsCornersStepsAndSpikes) {
+  Poly outline = {{19.5523, 2.1519},  {-2.9557, 2.1522},  {-2.9468, -5.036},  {11.0303, -5.0549},
+                  {11.0604, -2.7966}, {11.0258, -2.1958}, {11.0621, -0.6511}, {19.5531, -0.649}};
+  RemoveShallowVertices(outline, 0.04);
+  ASSERT_EQ(outline.size(), 6u);
+  EXPECT_FALSE(HasCorner(outline, {11.0604, -2.7966}));
+  EXPECT_FALSE(HasCorner(outline, {11.0258, -2.1958}));
+  for (const V2& c : {V2(11.0303, -5.0549), V2(11.0621, -0.6511), V2(-2.9468, -5.036)})
+    EXPECT_TRUE(HasCorner(outline, c));
+  // A 5 cm step (two vertices) is a feature at 4 cm, and at 6 cm it goes.
+  const Poly step = {{0, 0}, {4, 0}, {4, 1.5}, {4.05, 1.5}, {4.05, 3}, {0, 3}};
+  Poly kept = step;
+  RemoveShallowVertices(kept, 0.04);
+  EXPECT_EQ(kept.size(), step.size());
+  Poly gone = step;
+  RemoveShallowVertices(gone, 0.06);
+  EXPECT_LT(gone.size(), step.size());
+  // A spike beyond its neighbours' span is not a jog, however thin.
+  Poly spike = {{0, 0}, {4, 0}, {4, 3}, {2, 3}, {2.01, 6}, {1.99, 3}, {0, 3}};
+  RemoveShallowVertices(spike, 0.04);
+  EXPECT_TRUE(HasCorner(spike, {2.01, 6}));
+  Poly triangle = {{0, 0}, {1, 0}, {0.5, 0.01}};
+  RemoveShallowVertices(triangle, 0.04);
+  EXPECT_EQ(triangle.size(), 3u);
+}
+
 }  // namespace
 }  // namespace mopad
