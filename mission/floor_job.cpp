@@ -233,8 +233,7 @@ FloorMissionParams::FloorMissionParams() {
   // The floor's target also holds the other rooms' scans and the rays they cast through the
   // doors: right registrations of a hall's scans put 0.009-0.013 of their points where one of
   // those saw empty space (registration errors 1-10 mm), above the one-room bound of 0.006.
-  // A room's first scan registers against the same target (a random floor's entry scan that
-  // corrected a 3.9 deg doorway yaw error was refused at 0.0103 against the navigator's 0.01).
+  // A room's first scan registers against the same target, rays through doors included.
   icp.max_free_space_violation = 0.015;
   entry_icp.max_free_space_violation = 0.015;
 }

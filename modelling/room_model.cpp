@@ -210,8 +210,8 @@ bool IntersectLines(const Vec2& p, const Vec2& t, const Vec2& q, const Vec2& u, 
 
 // Drops vertices whose neighbours make them (nearly) collinear or that close edges shorter
 // than `min_len`; with `max_offset` > 0 first the jogs shallower than it (the refit moves
-// edges onto their walls, and a short edge fitted in a doorway, where there is no wall, left
-// 3.5 cm jogs that split one wall into three in SM3).
+// edges onto their walls, and a short edge fitted across a doorway, where there is no wall,
+// can land a few cm off the line and split one wall into pieces in SM3).
 void Clean(std::vector<Vec2>& poly, double min_len, double max_offset = 0.0) {
   if (max_offset > 0.0) RemoveShallowVertices(poly, max_offset);
   bool changed = true;

@@ -54,10 +54,11 @@ struct RoomModelParams {
   double reveal_depth = 0.0;
   double perimeter_raster = 0.025;  ///< m, plan raster of the ceiling outline, [0.005, 0.2]
   double perimeter_epsilon = 0.04;  ///< m, polygon simplification tolerance, [0.005, 0.5]
-  /// m: after the refit, a vertex this close to the line through its neighbours is dropped
-  /// (a short edge fitted in a doorway left such jogs, splitting the wall). 0 = off. [0, 0.5]
+  /// m: after the refit, a vertex this close to the segment joining its neighbours is dropped
+  /// (a short edge fitted across a doorway can leave such a jog, splitting the wall). 0 = off.
+  /// [0, 0.5]
   double jog_tolerance = 0.04;
-  double min_edge_length = 0.1;     ///< m, shorter simplified edges are merged, [0, 2]
+  double min_edge_length = 0.1;  ///< m, shorter simplified edges are merged, [0, 2]
   /// m, a perimeter detour that leaves a wall line, passes up to this far behind it and comes
   /// back onto the same line is a view through an opening in that wall (the trace walked into
   /// a door's or window's reveal under a head close to the ceiling) and is cut off by the
