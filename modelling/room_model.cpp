@@ -174,6 +174,9 @@ constexpr double kWallEndMax = 0.6;  // m, a wall's end face is at most this wid
 // m, a jump in the ceiling's reach between neighbouring azimuths that the outline steps
 // radially around (TraceOutline): above the reach's noise along a wall.
 constexpr double kShadowStep = 0.05;
+// m, the outline's reach in a direction the scan saw nothing in (TraceOutline): about the
+// robot's own half-width around the scanner, the only space known to be free there.
+constexpr double kBlindOutlineRadius = 0.25;
 constexpr double kRefitHighBand = 2.2;  // m above the floor: above door heads (2.0-2.1 m)
 // column_index_ packs the azimuth column with two flags.
 constexpr std::uint32_t kRayCastBit = 0x80000000u;  // on the ray-casting stride
@@ -348,6 +351,10 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   }
   rec.end = points_.size();
   if (rec.end == rec.begin) throw InputError(where, "scan has no valid return");
+  rec.columns = scan.columns;
+  rec.azimuth_min = scan.azimuth_min;
+  rec.azimuth_step = scan.azimuth_step;
+  rec.R_MS = X_MS.linear();
   rec.min_range = std::numeric_limits<double>::infinity();
   for (const auto& p : scan.points)
     if (p.valid()) rec.min_range = std::min(rec.min_range, static_cast<double>(p.range));
@@ -448,6 +455,12 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
   const double hang = 0.25;  // m, hanging depth tolerated below the ceiling
   const Vec2 o = rec.origin.head<2>();
   rec.outline.clear();
+  // Per column: no return at all (empty), or the vertex of its walk (has).
+  struct Column {
+    bool empty = true, has = false;
+    Vec2 vertex = Vec2::Zero();
+  };
+  std::vector<Column> cols(rec.columns);
   std::size_t i = rec.begin;
   while (i < rec.end) {
     const std::uint32_t col = column_index_[i] & kColumnMask;
@@ -495,8 +508,47 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
       }
       break;
     }
-    if (best_rho > 0.0) rec.outline.push_back(vertex);
+    if (col < cols.size()) {
+      cols[col].empty = false;
+      if (best_rho > 0.0) cols[col] = {false, true, vertex};
+    }
     i = j;
+  }
+  // Columns without a vertex are bridged by the edge between their neighbours' vertices. A
+  // column without any return saw something inside the minimum range (a wall's end right
+  // beside the scanner): where the bridge passes beyond that range, it would claim space the
+  // column says is blocked nearer, so those columns keep to the scanner's surroundings instead.
+  // (A wall along the scanner closer than the minimum range is bridged by its own far parts.)
+  std::vector<std::uint32_t> with;
+  for (std::uint32_t c = 0; c < rec.columns; ++c)
+    if (cols[c].has) with.push_back(c);
+  const double reach = rec.min_range + kMinRangeSlack;
+  auto direction = [&](std::uint32_t c) {
+    const double a = rec.azimuth_min + rec.azimuth_step * static_cast<double>(c);
+    return Vec2((rec.R_MS * Vec3(std::cos(a), std::sin(a), 0.0)).head<2>().normalized());
+  };
+  for (std::size_t k = 0; k < with.size(); ++k) {
+    const std::uint32_t a = with[k], b = with[(k + 1) % with.size()];
+    rec.outline.push_back(cols[a].vertex);
+    const std::uint32_t n_between = (b + rec.columns - a - 1) % rec.columns;
+    if (with.size() < 2 || n_between == 0) continue;
+    const Vec2 A = cols[a].vertex, AB = cols[b].vertex - A;
+    bool beyond = false;
+    for (std::uint32_t m = 1; m <= n_between && !beyond; ++m) {
+      const std::uint32_t c = (a + m) % rec.columns;
+      if (!cols[c].empty) continue;
+      // Where the column's ray meets the bridge A-B (none: taken as beyond).
+      const Vec2 d = direction(c), w = A - o;
+      const double den = d.x() * AB.y() - d.y() * AB.x();
+      const double t = std::abs(den) > 1e-12 ? (w.x() * AB.y() - w.y() * AB.x()) / den : -1.0;
+      const double u = std::abs(den) > 1e-12 ? (w.x() * d.y() - w.y() * d.x()) / den : -1.0;
+      beyond = !(t > 0.0 && u >= -1e-9 && u <= 1.0 + 1e-9 && t <= reach);
+    }
+    if (!beyond) continue;
+    for (std::uint32_t m = 1; m <= n_between; ++m) {
+      const std::uint32_t c = (a + m) % rec.columns;
+      if (cols[c].empty) rec.outline.push_back(o + kBlindOutlineRadius * direction(c));
+    }
   }
   // Where the ceiling's reach jumps between neighbouring azimuths (the end of a wall, a door
   // jamb, a re-entrant corner seen past its edge), the straight edge between the two vertices

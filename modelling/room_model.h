@@ -190,6 +190,9 @@ class RoomModel {
     Vec3 origin = Vec3::Zero();      // scanner centre, map
     std::vector<Vec2> outline;       // plan outline of its ceiling view (map)
     double min_range = 0.0;          // m, the shortest return of the scan (its minimum range)
+    std::uint32_t columns = 0;       // azimuth columns of the scan
+    double azimuth_min = 0.0, azimuth_step = 0.0;        // rad, scanner frame
+    Eigen::Matrix3d R_MS = Eigen::Matrix3d::Identity();  // scanner orientation in map
   };
 
   void UpdateWorkingCloud(std::size_t begin, std::size_t end);

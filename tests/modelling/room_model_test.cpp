@@ -357,6 +357,30 @@ TEST(RoomModel, PerimeterKeepsTheEndOfAWallStandingIntoTheRoom) {
   EXPECT_LT(OutlineDistance(per, truth), 0.03) << model.FiguresJson();
 }
 
+// The same wall with one scan standing 0.7 m from its end, inside the scanner's minimum
+// range of it: that scan's azimuths towards the end return nothing, and its outline must not
+// bridge them with a straight edge across the end.
+TEST(RoomModel, PerimeterKeepsTheEndOfAWallAScanStandsTooCloseTo) {
+  scenes::Scene scene;
+  sim::testing::AddRoomWithOpening(scene, 8.0f, 6.0f, 2.5f, 0.0f, 0.0f, 0.0f, 0.0f);
+  AddBox(scene, testing::V3(0.0f, 2.88f, 0.0f), testing::V3(3.5f, 3.12f, 2.5f),
+         scenes::ElementClass::kWall, "stub");
+  for (auto& part : scene.parts) part.room = "R";
+  const sim::EmbreeWorld world(std::move(scene));
+  RoomModel model;
+  for (const auto& xy :
+       {Vec2(5.5, 1.5), Vec2(5.5, 4.5), Vec2(2.0, 1.2), Vec2(2.0, 4.8), Vec2(4.15, 2.7)}) {
+    const SimScan s = TakeScan(world, TestTls(), xy.x(), xy.y(), 0);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  const auto& per = model.Perimeter();
+  for (const Vec2& c : {Vec2(3.5, 3.12), Vec2(3.5, 2.88)}) {
+    double best = 1e9;
+    for (const Vec2& p : per) best = std::min(best, (p - c).norm());
+    EXPECT_LT(best, 0.03) << "corner " << c.transpose() << "\n" << model.FiguresJson();
+  }
+}
+
 TEST(RoomModel, StructuralVoxelsAreTheSingleLayerContainingEachFace) {
   RoomModel model;
   const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
