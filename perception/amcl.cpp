@@ -270,7 +270,7 @@ double Amcl::MeasurementUpdate(const std::vector<Vec2>& beams, const interfaces:
         for (const Vec2& b : beams) {
           const Vec2 e(q.x + c * b.x() - s * b.y(), q.y + s * b.x() + c * b.y());
           double d = m.likelihood.ObstacleDistance(e, p.likelihood_max_dist);
-          if (p.unknown_endpoint_distance > 0.0 && d > p.unknown_endpoint_distance) {
+          if (p.unknown_endpoint_distance > 0.0 && d > m.resolution) {
             const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
             const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
             const bool known = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
@@ -403,23 +403,32 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
     std::size_t beam;
   };
   std::vector<Row> rows;
+  // A beam ending in unknown space away from any return at the filter's estimate (on the
+  // unmapped near face of a wall whose far face the map holds) stays out of the match: moved
+  // by the wall's thickness it would end on that far face and pull the estimate there.
+  std::vector<std::uint8_t> excluded(beams.size(), 0);
+  bool first = true;
   // Matched beams at X (rows, in beam order).
   auto match = [&](const Pose2& X) {
     rows.clear();
     const double c = std::cos(X.yaw), s = std::sin(X.yaw);
     for (std::size_t k = 0; k < beams.size(); ++k) {
+      if (excluded[k]) continue;
       const Vec2& b = beams[k];
       const Vec2 lever(c * b.x() - s * b.y(), s * b.x() + c * b.y());  // e - t
       const Vec2 e(X.x + lever.x(), X.y + lever.y());
       const DistanceField::Nearest near = m.likelihood.NearestReturn(e);
-      if (!near.found || near.distance > p.refine_gate) continue;
-      // A beam ending in unknown space (the unseen far face of a mapped wall) matches only
-      // when it ends on a return, not a wall's thickness away from one.
       const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
       const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
       const bool known = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
                          m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
-      if (!known && near.distance > m.resolution) continue;
+      // A beam ending in unknown space matches only when it ends on a return.
+      const bool on_return = near.found && near.distance <= m.resolution;
+      if (!known && !on_return) {
+        if (first) excluded[k] = 1;
+        continue;
+      }
+      if (!near.found || near.distance > p.refine_gate) continue;
       const Vec2& n = near.normal;
       rows.push_back({Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()),
                       near.distance, k});
@@ -430,6 +439,7 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
     return r <= k ? 0.5 * r * r : k * (r - 0.5 * k);
   };
   match(*X_MB);
+  first = false;
   const std::vector<Row> before = rows;
   Pose2 X = *X_MB;
   for (int it = 0; it < p.refine_iterations; ++it) {

@@ -33,12 +33,13 @@
 //   sigma over a few beams, imprecise where only a few beams carry the information (the end
 //   wall of a corridor, the jambs of a doorway). After each tracking update the estimate is
 //   refined by a point-to-line Gauss-Newton match of all the sweep's beams that end near a
-//   mapped return (the same segments as the likelihood field, Huber-weighted), corrected only
-//   along the directions the matched beams constrain (eigenvalues of J^T J, in beams' worth;
-//   a corridor without a visible end wall stays as the filter has it), and accepted only when
-//   it is small, lowers the robust cost of the beams matched before and after, and has enough
-//   of them; the whole
-//   particle set is then moved rigidly so the filter carries the correction on.
+//   mapped return (the same segments as the likelihood field, Huber-weighted; a beam that ends
+//   in unknown space away from a return at the filter's estimate stays out, however near a
+//   return the moving pose brings it), corrected only along the directions the matched beams
+//   constrain (eigenvalues of J^T J, in beams' worth; a corridor without a visible end wall
+//   stays as the filter has it), and accepted only when it is small, lowers the robust cost of
+//   the beams matched before and after, and has enough of them; the whole particle set is then
+//   moved rigidly so the filter carries the correction on.
 //
 // Frames (REP-105): particles are poses of base_link in `map`; odometry gives base_link in
 // `odom`; the scan's X_BL (its mount on base_link) is projected to the plane.
@@ -82,7 +83,8 @@ struct AmclParams {
   /// A beam ending in an unknown cell (a wall face the map has not seen yet, e.g. the far side
   /// of a wall entered through its door) is scored as if this far (m) from an obstacle, not by
   /// its distance to the nearest mapped one, which would pull the estimate towards poses that
-  /// put it on a mapped face. 0 = off (plain likelihood field). [0, 5]
+  /// put it on a mapped face (the wall's other face, a thickness away); unless it ends within a
+  /// cell of a return. 0 = off (plain likelihood field). [0, 5]
   double unknown_endpoint_distance = 0.0;
   double sigma_hit = 0.05;             ///< m, std of the hit term while tracking, (0, 5]
   double global_sigma_hit = 0.2;       ///< m, std of the hit term while re-localising, (0, 5]
