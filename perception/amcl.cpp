@@ -97,6 +97,14 @@ struct Amcl::Impl {
   std::uint64_t reloc_updates = 0;
   double w_slow = 0.0, w_fast = 0.0;
 
+  // True if p lies in a known (free or occupied) cell of the map.
+  bool Known(const Vec2& p) const {
+    const int i = static_cast<int>(std::floor((p.x() - origin.x()) / resolution));
+    const int j = static_cast<int>(std::floor((p.y() - origin.y()) / resolution));
+    return i >= 0 && j >= 0 && i < width && j < height &&
+           mapped[static_cast<std::size_t>(j) * width + i];
+  }
+
   Impl(const OccupancyGrid& map, const AmclParams& p)
       : likelihood(map, false, p.likelihood_max_dist),
         origin(map.Origin()),
@@ -270,13 +278,8 @@ double Amcl::MeasurementUpdate(const std::vector<Vec2>& beams, const interfaces:
         for (const Vec2& b : beams) {
           const Vec2 e(q.x + c * b.x() - s * b.y(), q.y + s * b.x() + c * b.y());
           double d = m.likelihood.ObstacleDistance(e, p.likelihood_max_dist);
-          if (p.unknown_endpoint_distance > 0.0 && d > m.resolution) {
-            const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
-            const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
-            const bool known = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
-                               m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
-            if (!known) d = p.unknown_endpoint_distance;
-          }
+          if (p.unknown_endpoint_distance > 0.0 && d > m.resolution && !m.Known(e))
+            d = p.unknown_endpoint_distance;
           sum += std::log(hit_norm * std::exp(-0.5 * d * d / (sigma * sigma)) + rand_term);
         }
         loglik[k] = sum;
@@ -383,11 +386,7 @@ void Amcl::CountInliers(const std::vector<Vec2>& beams, const Pose2& X_MB, int* 
     const Vec2 e(X_MB.x + c * b.x() - s * b.y(), X_MB.y + s * b.x() + c * b.y());
     const bool near_obstacle =
         m.likelihood.ObstacleDistance(e, params_.likelihood_max_dist) < params_.inlier_distance;
-    const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
-    const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
-    const bool in_map = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
-                        m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
-    if (!in_map && !near_obstacle) continue;
+    if (!m.Known(e) && !near_obstacle) continue;
     ++*mapped_beams;
     if (near_obstacle) ++*inliers;
   }
@@ -418,13 +417,9 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
       const Vec2 lever(c * b.x() - s * b.y(), s * b.x() + c * b.y());  // e - t
       const Vec2 e(X.x + lever.x(), X.y + lever.y());
       const DistanceField::Nearest near = m.likelihood.NearestReturn(e);
-      const int ci = static_cast<int>(std::floor((e.x() - m.origin.x()) / m.resolution));
-      const int cj = static_cast<int>(std::floor((e.y() - m.origin.y()) / m.resolution));
-      const bool known = ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
-                         m.mapped[static_cast<std::size_t>(cj) * m.width + ci];
       // A beam ending in unknown space matches only when it ends on a return.
       const bool on_return = near.found && near.distance <= m.resolution;
-      if (!known && !on_return) {
+      if (!m.Known(e) && !on_return) {
         if (first) excluded[k] = 1;
         continue;
       }
