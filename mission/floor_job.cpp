@@ -276,7 +276,16 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   io::WriteTextFile((d / "trajectory_true.tum").string(), ToTum(job.drive.truth));
   job.dtt = DttJson(job.mission, job.rooms);
   io::WriteTextFile((d / "dtt.json").string(), job.dtt.dump(2) + "\n");
-  WriteFloorModel(job.mission, params.floor_model, dir, progress);
+  // A door's state shared from the room that saw it better: that room's files again.
+  auto rewrite = [&](const autonomy::FloorRoom& r) {
+    for (const FloorRoomJob& rj : job.rooms) {
+      if (rj.robot_room != r.room || rj.dir.empty()) continue;
+      const fs::path room_dir = d / rj.dir;
+      io::WriteTextFile((room_dir / "sm4.json").string(), modelling::Sm4Json(r.sm4));
+      modelling::WriteModelsGlb(r.sm3, &r.sm4, rj.room, (room_dir / "models.glb").string());
+    }
+  };
+  WriteFloorModel(job.mission, params.floor_model, dir, progress, rewrite);
   return job;
 }
 

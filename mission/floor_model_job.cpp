@@ -1,5 +1,6 @@
 #include "mission/floor_model_job.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <system_error>
 
@@ -8,9 +9,10 @@
 
 namespace mopad::mission {
 
-bool WriteFloorModel(const autonomy::FloorScanResult& mission,
-                     const modelling::FloorModelParams& params, const std::string& dir,
-                     const std::function<void(const std::string&)>& progress) {
+bool WriteFloorModel(autonomy::FloorScanResult& mission, const modelling::FloorModelParams& params,
+                     const std::string& dir,
+                     const std::function<void(const std::string&)>& progress,
+                     const std::function<void(const autonomy::FloorRoom&)>& sm4_changed) {
   std::vector<modelling::StructuralModel> sm3;
   std::vector<modelling::Sm4Model> sm4;
   for (const autonomy::FloorRoom& r : mission.rooms) {
@@ -29,6 +31,14 @@ bool WriteFloorModel(const autonomy::FloorScanResult& mission,
     std::filesystem::create_directories(floor, ec);
     if (ec) throw InputError(floor.string(), "cannot create the folder", ec.message());
     modelling::WriteFloorModelFiles(floor.string(), model);
+    const std::vector<std::string> changed = modelling::ShareDoors(model, sm4);
+    for (autonomy::FloorRoom& r : mission.rooms) {
+      if (!r.error.empty() || std::find(changed.begin(), changed.end(), r.sm4.room) == changed.end())
+        continue;
+      for (const modelling::Sm4Model& m : sm4)
+        if (m.room == r.sm4.room) r.sm4 = m;
+      if (sm4_changed) sm4_changed(r);
+    }
     return true;
   } catch (const InputError& e) {
     // A half-written floor/ would be read by the exports and the evaluator as the floor's model.

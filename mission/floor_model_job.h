@@ -12,11 +12,16 @@
 namespace mopad::mission {
 
 /// Builds the floor model of `mission`'s rooms modelled without error (visit order) and writes
-/// `dir`/floor/. Returns false, having told `progress` why, when no room was modelled, the
-/// rooms' models cannot be joined (a malformed model) or the folder cannot be written: the rooms'
-/// own files stand, and the mission's other files are still written.
-bool WriteFloorModel(const autonomy::FloorScanResult& mission,
-                     const modelling::FloorModelParams& params, const std::string& dir,
-                     const std::function<void(const std::string&)>& progress = {});
+/// `dir`/floor/. Then one door, one state, on both faces (modelling::ShareDoors): a door seen
+/// from two rooms takes the better-observed side's state in both rooms' SM4 in `mission`, a
+/// door one room found goes to the room on its wall's other face, and `sm4_changed` is called
+/// with each room whose SM4 changed, so its files can be written again.
+/// Returns false, having told `progress` why, when no room was modelled, the rooms' models
+/// cannot be joined (a malformed model) or the folder cannot be written: the rooms' own files
+/// stand, and the mission's other files are still written.
+bool WriteFloorModel(autonomy::FloorScanResult& mission, const modelling::FloorModelParams& params,
+                     const std::string& dir,
+                     const std::function<void(const std::string&)>& progress = {},
+                     const std::function<void(const autonomy::FloorRoom&)>& sm4_changed = {});
 
 }  // namespace mopad::mission

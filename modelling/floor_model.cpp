@@ -1,7 +1,9 @@
 #include "modelling/floor_model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <tuple>
 
@@ -303,6 +305,89 @@ FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
     }
     out.openings.push_back(std::move(fo));
   }
+  return out;
+}
+
+std::vector<std::string> ShareDoors(const FloorModel& floor, std::vector<Sm4Model>& sm4,
+                                    double tolerance) {
+  std::vector<std::uint8_t> changed(sm4.size(), 0);
+  auto room_of = [&](const std::string& name) {
+    for (std::size_t r = 0; r < sm4.size(); ++r)
+      if (sm4[r].room == name) return static_cast<int>(r);
+    return -1;
+  };
+  for (const FloorOpening& fo : floor.openings) {
+    if (fo.opening.type != OpeningType::kDoor || fo.sides.empty()) continue;
+    const DetectedOpening& chosen = fo.sides[0];
+    if (fo.sides.size() == 2) {
+      const int r = room_of(fo.rooms[1]);
+      if (r < 0) continue;
+      for (DetectedOpening& o : sm4[r].openings) {
+        if (o.id != fo.sides[1].id) continue;
+        // The same state with the leaf measured here too, or unseen from both sides: this
+        // room's reading stands.
+        if (o.state == chosen.state &&
+            (std::isfinite(o.opening_angle_deg) || !std::isfinite(chosen.opening_angle_deg)))
+          continue;
+        o.state_from = fo.rooms[0];
+        o.own_state = o.state;
+        o.own_opening_angle_deg = o.opening_angle_deg;
+        o.own_clear_width_m = o.clear_width_m;
+        o.state = chosen.state;
+        o.opening_angle_deg = chosen.opening_angle_deg;
+        o.clear_width_m = chosen.clear_width_m;
+        changed[r] = 1;
+      }
+      continue;
+    }
+    // Seen from one room: the other face of its wall.
+    const FloorWall* wall = nullptr;
+    for (const FloorWall& w : floor.walls)
+      if (w.id == fo.opening.host) wall = &w;
+    if (wall == nullptr) continue;
+    int seen_side = 0;
+    for (const WallFace& f : wall->faces)
+      if (f.room == fo.rooms[0] && f.patch.id == chosen.host) seen_side = f.side;
+    if (seen_side == 0) continue;
+    for (const WallFace& f : wall->faces) {
+      if (f.side == seen_side || f.room == fo.rooms[0]) continue;
+      const int r = room_of(f.room);
+      if (r < 0) continue;
+      const Vec3 h = Horizontal(f.patch.plane.n).normalized();
+      const Vec3 u = AlongWall(h);
+      const auto door_u = Interval(chosen.corners, u);
+      const auto door_z = Interval(chosen.corners, Vec3::UnitZ());
+      const auto face_u = Interval(f.patch.polygon, u);
+      const auto face_z = Interval(f.patch.polygon, Vec3::UnitZ());
+      if (door_u.first < face_u.first - tolerance || door_u.second > face_u.second + tolerance ||
+          door_z.first < face_z.first - tolerance || door_z.second > face_z.second + tolerance)
+        continue;
+      bool taken = false;
+      for (const DetectedOpening& o : sm4[r].openings)
+        if (o.host == f.patch.id && Overlap(Interval(o.corners, u), door_u) > 0.0) taken = true;
+      if (taken) break;
+      DetectedOpening d;
+      d.type = OpeningType::kDoor;
+      d.host = f.patch.id;
+      const Plane unit{f.patch.plane.n / f.patch.plane.n.norm(),
+                       f.patch.plane.d / f.patch.plane.n.norm()};
+      // Seen from this face the wall's u runs the other way: (u0, v0) is the other's (u1, v0).
+      const std::array<int, 4> order{1, 0, 3, 2};
+      for (int k = 0; k < 4; ++k) d.corners[k] = OntoPlane(chosen.corners[order[k]], unit);
+      d.state = chosen.state;
+      d.opening_angle_deg = chosen.opening_angle_deg;
+      d.clear_width_m = chosen.clear_width_m;
+      d.confidence = chosen.confidence;
+      d.state_from = d.found_from = fo.rooms[0];
+      d.id = "opening_" + std::to_string(sm4[r].openings.size() + 1);
+      sm4[r].openings.push_back(d);
+      changed[r] = 1;
+      break;
+    }
+  }
+  std::vector<std::string> out;
+  for (std::size_t r = 0; r < sm4.size(); ++r)
+    if (changed[r]) out.push_back(sm4[r].room);
   return out;
 }
 

@@ -113,4 +113,22 @@ struct FloorModel {
 FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
                            const std::vector<Sm4Model>& sm4, const FloorModelParams& params = {});
 
+/// One door, one state, on both faces (beyond the paper, which models rooms apart). For each
+/// door of `floor`:
+///  - seen from two rooms: the chosen (better observed) side's state, opening angle and clear
+///    width go to the other room's opening in `sm4` (matched by room and opening id), which
+///    keeps its own reading in own_* and names the chosen room in state_from; unless both give
+///    the same state and this room measured the leaf too (or neither did): that reading
+///    stands. The side a leaf swung away from often sees no leaf (only a reveal at a grazing
+///    angle, or the doorway from afar); the room it swung into sees it whole.
+///  - seen from one room, on a two-faced wall whose other face (another room's wall patch)
+///    spans the door's width and height within `tolerance` (m) and holds no opening
+///    overlapping it: a hole through a wall is on both faces, so that room gets the door (its
+///    corners moved onto its face, counter-clockwise seen from it; found_from names the room
+///    that found it; id after the room's last). A leaf opened into a room can hide its own
+///    doorway from that room.
+/// Returns the rooms (names, in `sm4` order) whose SM4 changed.
+std::vector<std::string> ShareDoors(const FloorModel& floor, std::vector<Sm4Model>& sm4,
+                                    double tolerance = 0.05);
+
 }  // namespace mopad::modelling

@@ -51,6 +51,18 @@ Json OpeningJson(const DetectedOpening& o) {
     jo["opening_angle_deg"] =
         std::isfinite(o.opening_angle_deg) ? Json(R(o.opening_angle_deg, 0.01)) : Json(nullptr);
     jo["clear_width_m"] = R(o.clear_width_m);
+    if (!o.found_from.empty()) {
+      jo["found_from"] = o.found_from;
+    } else if (!o.state_from.empty()) {
+      jo["state_from"] = o.state_from;
+      Json own;
+      own["state"] = ToString(o.own_state);
+      own["opening_angle_deg"] = std::isfinite(o.own_opening_angle_deg)
+                                     ? Json(R(o.own_opening_angle_deg, 0.01))
+                                     : Json(nullptr);
+      own["clear_width_m"] = R(o.own_clear_width_m);
+      jo["own"] = std::move(own);
+    }
   }
   jo["confidence"] = R(o.confidence, 1e-4);
   return jo;
@@ -223,18 +235,32 @@ DetectedOpening ParseOpening(const Json& jo, const std::string& where,
   }
   o.confidence = NumberField(jo, "confidence", where, ctx);
   if (o.type == OpeningType::kDoor) {
-    const std::string state = StringField(jo, "state", where, ctx);
-    if (state == "closed")
-      o.state = DoorState::kClosed;
-    else if (state == "semi_open")
-      o.state = DoorState::kSemiOpen;
-    else if (state == "open")
-      o.state = DoorState::kOpen;
-    else
-      throw InputError(where, ctx + "state: unknown", state, "closed|semi_open|open");
-    const Json& a = Field(jo, "opening_angle_deg", where, ctx);
-    if (!a.is_null()) o.opening_angle_deg = NumberField(jo, "opening_angle_deg", where, ctx);
-    o.clear_width_m = NumberField(jo, "clear_width_m", where, ctx);
+    // A door's reading: state, opening_angle_deg (null: unknown), clear_width_m.
+    auto reading = [&](const Json& j, const std::string& c, DoorState& state, double& angle,
+                       double& clear) {
+      const std::string st = StringField(j, "state", where, c);
+      if (st == "closed")
+        state = DoorState::kClosed;
+      else if (st == "semi_open")
+        state = DoorState::kSemiOpen;
+      else if (st == "open")
+        state = DoorState::kOpen;
+      else
+        throw InputError(where, c + "state: unknown", st, "closed|semi_open|open");
+      const Json& a = Field(j, "opening_angle_deg", where, c);
+      if (!a.is_null()) angle = NumberField(j, "opening_angle_deg", where, c);
+      clear = NumberField(j, "clear_width_m", where, c);
+    };
+    reading(jo, ctx, o.state, o.opening_angle_deg, o.clear_width_m);
+    if (jo.contains("found_from")) {
+      o.found_from = StringField(jo, "found_from", where, ctx);
+      o.state_from = o.found_from;
+    } else if (jo.contains("state_from")) {
+      o.state_from = StringField(jo, "state_from", where, ctx);
+      const Json& own = Field(jo, "own", where, ctx);
+      if (!own.is_object()) throw InputError(where, ctx + "own: wrong type", own.dump(), "an object");
+      reading(own, ctx + "own.", o.own_state, o.own_opening_angle_deg, o.own_clear_width_m);
+    }
   }
   return o;
 }

@@ -244,6 +244,16 @@ struct DetectedOpening {
   double opening_angle_deg = std::numeric_limits<double>::quiet_NaN();  ///< lambda; NaN unknown
   double clear_width_m = 0.0;                                           ///< m, passable width
   double confidence = 0.0;  ///< [0, 1], the validation score
+  /// A door seen from two rooms (floor model, ShareDoorStates): the room whose reading of it
+  /// is better observed when that is not this room's own; state, opening_angle_deg and
+  /// clear_width_m are then that room's, and own_* keep this room's. Empty: this room's own.
+  std::string state_from;
+  DoorState own_state = DoorState::kClosed;
+  double own_opening_angle_deg = std::numeric_limits<double>::quiet_NaN();  ///< deg; NaN unknown
+  double own_clear_width_m = 0.0;                                           ///< m
+  /// A door this room did not find, on its face of a wall whose other face's room found it
+  /// (floor model, ShareDoors): that room's name. Empty: found in this room's own data.
+  std::string found_from;
   // Diagnostics (not in sm4.json): shares of the interior.
   double known_share = 0.0, evidence_share = 0.0, through_share = 0.0, side_support = 0.0;
   int leaf_points = 0;  ///< inliers of the leaf fit (0: none)

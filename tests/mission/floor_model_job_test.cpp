@@ -57,5 +57,35 @@ TEST(FloorModelJob, WritesTheFloorOfTheModelledRoomsAndRefusesBadModelsExplained
   fs::remove_all(dir);
 }
 
+TEST(FloorModelJob, ADoorOneRoomFoundIsSharedWithTheRoomBehindItsWall) {
+  const std::string dir =
+      (fs::temp_directory_path() / ("mopad_floor_model_job_share_" + std::to_string(::getpid())))
+          .string();
+  fs::remove_all(dir);
+  autonomy::FloorScanResult mission;
+  mission.rooms = {Room("room_1", 0, 3), Room("room_2", 3.2, 6)};
+  modelling::DetectedOpening door;
+  door.id = "opening_1";
+  door.host = "wall_1";  // room_2's south wall, y = 3.2
+  door.corners = {Vec3(2, 3.2, 0), Vec3(1, 3.2, 0), Vec3(1, 3.2, 2), Vec3(2, 3.2, 2)};
+  door.state = modelling::DoorState::kSemiOpen;
+  door.opening_angle_deg = 45.0;
+  mission.rooms[1].sm4.openings = {door};
+  std::vector<std::string> rewritten;
+  ASSERT_TRUE(WriteFloorModel(mission, {}, dir, {}, [&](const autonomy::FloorRoom& r) {
+    rewritten.push_back(r.room);
+  }));
+  EXPECT_EQ(rewritten, std::vector<std::string>{"room_1"});
+  ASSERT_EQ(mission.rooms[0].sm4.openings.size(), 1u);
+  EXPECT_EQ(mission.rooms[0].sm4.openings[0].host, "wall_3");
+  EXPECT_EQ(mission.rooms[0].sm4.openings[0].found_from, "room_2");
+  EXPECT_EQ(mission.rooms[0].sm4.openings[0].state, modelling::DoorState::kSemiOpen);
+  // floor/ keeps each room's own reading: the door from room_2 only.
+  const modelling::FloorModel m = modelling::ReadFloorModel(dir + "/floor");
+  ASSERT_EQ(m.openings.size(), 1u);
+  EXPECT_EQ(m.openings[0].rooms, std::vector<std::string>{"room_2"});
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace mopad::mission

@@ -259,5 +259,82 @@ TEST(FloorModel, BadInputIsAClearError) {
   EXPECT_THROW(ParseFloorModel(bad, "sm3.json", FloorSm4Json({}), "sm4.json"), InputError);
 }
 
+TEST(FloorModel, ADoorSeenFromTwoRoomsHasTheBetterObservedSidesStateInBoth) {
+  // A saw the doorway without a leaf and read it closed; B saw the leaf at 90 deg.
+  TwoRooms in;
+  in.sm4[0].openings[0].state = DoorState::kClosed;
+  in.sm4[0].openings[0].clear_width_m = 0.0;
+  std::vector<Sm4Model> sm4 = in.sm4;
+  EXPECT_EQ(ShareDoors(BuildFloorModel(in.sm3, in.sm4), sm4), std::vector<std::string>{"A"});
+  const DetectedOpening& a = sm4[0].openings[0];
+  EXPECT_EQ(a.state, DoorState::kOpen);
+  EXPECT_DOUBLE_EQ(a.opening_angle_deg, 90.0);
+  EXPECT_DOUBLE_EQ(a.clear_width_m, 0.8);
+  EXPECT_EQ(a.state_from, "B");
+  EXPECT_TRUE(a.found_from.empty());
+  EXPECT_EQ(a.own_state, DoorState::kClosed);
+  EXPECT_TRUE(std::isnan(a.own_opening_angle_deg));
+  EXPECT_DOUBLE_EQ(a.own_clear_width_m, 0.0);
+  EXPECT_EQ(a.corners, in.sm4[0].openings[0].corners);  // the hole stays this room's
+  EXPECT_TRUE(sm4[1].openings[0].state_from.empty());
+  // Written and read back with both readings.
+  const Sm4Model back = ParseSm4(Sm4Json(sm4[0]), "sm4.json");
+  EXPECT_EQ(Sm4Json(back), Sm4Json(sm4[0]));
+  EXPECT_EQ(back.openings[0].state_from, "B");
+  EXPECT_EQ(back.openings[0].own_state, DoorState::kClosed);
+  // Both measured the leaf and agree on the state: each keeps its own angle.
+  TwoRooms both;
+  both.sm4[0].openings[0].opening_angle_deg = 89.0;
+  sm4 = both.sm4;
+  EXPECT_TRUE(ShareDoors(BuildFloorModel(both.sm3, both.sm4), sm4).empty());
+  EXPECT_DOUBLE_EQ(sm4[0].openings[0].opening_angle_deg, 89.0);
+  EXPECT_TRUE(sm4[0].openings[0].state_from.empty());
+}
+
+TEST(FloorModel, ADoorFoundFromOneRoomIsOnTheOtherFaceOfItsWallToo) {
+  // B found the door; A (its leaf stood in front of the doorway) did not.
+  TwoRooms in;
+  in.sm4[0].openings.clear();
+  std::vector<Sm4Model> sm4 = in.sm4;
+  EXPECT_EQ(ShareDoors(BuildFloorModel(in.sm3, in.sm4), sm4), std::vector<std::string>{"A"});
+  ASSERT_EQ(sm4[0].openings.size(), 1u);
+  const DetectedOpening& a = sm4[0].openings[0];
+  EXPECT_EQ(a.id, "opening_1");
+  EXPECT_EQ(a.host, "wall_3");
+  EXPECT_EQ(a.found_from, "B");
+  EXPECT_EQ(a.state, DoorState::kOpen);
+  EXPECT_DOUBLE_EQ(a.opening_angle_deg, 90.0);
+  // On A's face (y = 3), B's (u0, v0) corner second: counter-clockwise seen from A.
+  const auto& b = in.sm4[1].openings[0].corners;
+  EXPECT_NEAR((a.corners[0] - Vec3(b[1].x(), 3.0, b[1].z())).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((a.corners[1] - Vec3(b[0].x(), 3.0, b[0].z())).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((a.corners[2] - Vec3(b[3].x(), 3.0, b[3].z())).norm(), 0.0, 1e-9);
+  // The same turn seen from A as B's corners seen from B.
+  auto turn = [](const std::array<Vec3, 4>& c, const Vec3& n) {
+    return (c[1] - c[0]).cross(c[2] - c[1]).dot(n);
+  };
+  EXPECT_DOUBLE_EQ(turn(a.corners, in.sm3[0].patches[2].plane.n),
+                   turn(b, in.sm3[1].patches[0].plane.n));
+  const Sm4Model back = ParseSm4(Sm4Json(sm4[0]), "sm4.json");
+  EXPECT_EQ(back.openings[0].found_from, "B");
+  EXPECT_EQ(Sm4Json(back), Sm4Json(sm4[0]));
+  // A wall face that already has an opening there, or a door beyond the face, gets none.
+  TwoRooms taken;
+  taken.sm4[0].openings[0].type = OpeningType::kWindow;
+  sm4 = taken.sm4;
+  EXPECT_TRUE(ShareDoors(BuildFloorModel(taken.sm3, taken.sm4), sm4).empty());
+  TwoRooms narrow;
+  narrow.sm3[0] = Room("A", 1.5, 0, 4, 3);
+  narrow.sm4[0].openings.clear();
+  sm4 = narrow.sm4;
+  EXPECT_TRUE(ShareDoors(BuildFloorModel(narrow.sm3, narrow.sm4), sm4).empty());
+  // A door on an outer wall has no other face.
+  TwoRooms outer;
+  outer.sm4[0].openings[0] = Door("opening_1", "wall_1", 1.0, 2.0, 0.0, 90.0, 0.9);
+  outer.sm4[1].openings.clear();
+  sm4 = outer.sm4;
+  EXPECT_TRUE(ShareDoors(BuildFloorModel(outer.sm3, outer.sm4), sm4).empty());
+}
+
 }  // namespace
 }  // namespace mopad::modelling
