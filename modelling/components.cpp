@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 #include <utility>
 
 #include "common/error.h"
@@ -687,17 +688,24 @@ Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
   op.band = params.band;
   op.finest_pixel = op.coarsest_pixel = params.pixel;
   op.max_pixels = params.max_image_pixels;
+  std::vector<const StructuralPatch*> ses;
   for (const StructuralPatch& patch : sm3.patches) {
     if (patch.patch_class == PatchClass::kFloor) continue;
     const PatchFrame frame = PatchFrame::Of(patch);
     if ((frame.width / params.pixel) * (frame.height / params.pixel) > params.max_image_pixels)
       continue;
-    const Orthoimage image = BuildOrthoimage(pts, frame, op, params.pixel);
-    const bool ceiling = patch.patch_class == PatchClass::kCeiling;
-    for (DetectedComponent& d :
-         DetectSeComponents(image, patch.id, ceiling, sm4.openings, recogniser, params))
-      out.components.push_back(std::move(d));
+    ses.push_back(&patch);
   }
+  // One task per SE (each reads only its own image, the shared points and the trained
+  // recogniser), gathered in SE order: the same bytes on any number of threads.
+  std::vector<std::vector<DetectedComponent>> found(ses.size());
+  tbb::parallel_for(std::size_t{0}, ses.size(), [&](std::size_t i) {
+    const Orthoimage image = BuildOrthoimage(pts, PatchFrame::Of(*ses[i]), op, params.pixel);
+    const bool ceiling = ses[i]->patch_class == PatchClass::kCeiling;
+    found[i] = DetectSeComponents(image, ses[i]->id, ceiling, sm4.openings, recogniser, params);
+  });
+  for (auto& f : found)
+    for (DetectedComponent& d : f) out.components.push_back(std::move(d));
   for (std::size_t i = 0; i < out.components.size(); ++i)
     out.components[i].id = "bsc_" + std::to_string(i + 1);
   return out;

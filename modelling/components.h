@@ -50,8 +50,10 @@
 // Centre: the depth peak's box when depth found the instance, else the colour peak's box, on
 // the SE plane (depth 0); map frame.
 //
-// Robot side only (no truth). Deterministic: ordered loops, single-threaded OpenCV calls on
-// fixed inputs; the perceptron is trained from a CounterRng stream (ComponentTrainingParams).
+// Robot side only (no truth). Deterministic: ordered loops, OpenCV calls on fixed inputs; the
+// perceptron is trained from a CounterRng stream (ComponentTrainingParams). DetectComponents
+// runs the SEs in parallel (TBB; the trained recogniser is only read) and gathers them in SE
+// order, so the result does not depend on the number of threads.
 
 #include <memory>
 #include <string>

@@ -3,8 +3,10 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 #include <tuple>
 
 #include "common/error.h"
@@ -1198,13 +1200,23 @@ Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
   params.Validate();
   Sm4Model out;
   out.room = sm3.room;
-  for (const StructuralPatch& patch : sm3.patches) {
-    if (patch.patch_class != PatchClass::kWall) continue;
-    const PatchFrame frame = PatchFrame::Of(patch);
-    Orthoimage img = BuildOrthoimage(points, frame, params.orthoimage);
-    std::vector<DetectedOpening> found = DetectWallOpenings(img, patch.id, points, params, 0.0);
-    for (auto& o : found) out.openings.push_back(std::move(o));
-    if (images != nullptr) images->emplace_back(patch.id, std::move(img));
+  std::vector<const StructuralPatch*> walls;
+  for (const StructuralPatch& patch : sm3.patches)
+    if (patch.patch_class == PatchClass::kWall) walls.push_back(&patch);
+  // One task per wall (each wall's steps read only its own image and the shared points; its
+  // leaf streams are keyed by its own rectangles), gathered in wall order: the same bytes on
+  // any number of threads.
+  std::vector<std::vector<DetectedOpening>> found(walls.size());
+  std::vector<std::unique_ptr<Orthoimage>> wall_images(walls.size());
+  tbb::parallel_for(std::size_t{0}, walls.size(), [&](std::size_t i) {
+    const PatchFrame frame = PatchFrame::Of(*walls[i]);
+    auto img = std::make_unique<Orthoimage>(BuildOrthoimage(points, frame, params.orthoimage));
+    found[i] = DetectWallOpenings(*img, walls[i]->id, points, params, 0.0);
+    if (images != nullptr) wall_images[i] = std::move(img);
+  });
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    for (auto& o : found[i]) out.openings.push_back(std::move(o));
+    if (images != nullptr) images->emplace_back(walls[i]->id, std::move(*wall_images[i]));
   }
   for (std::size_t i = 0; i < out.openings.size(); ++i)
     out.openings[i].id = "opening_" + std::to_string(i + 1);

@@ -56,7 +56,9 @@
 //     seen through are mostly unseen (rays at a slant end on the far reveal). Clear width = width
 //     - (width cos lambda + leaf_thickness sin lambda), 0 when closed.
 //
-// Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k)).
+// Robot side only (no truth). Deterministic (ordered loops, CounterRng(seed, "sm4_leaf", k) keyed
+// by each wall's own rectangles); DetectOpenings runs the walls in parallel (TBB) and gathers
+// them in wall order, so the result does not depend on the number of threads.
 
 #include <array>
 #include <cstdint>

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <tbb/task_arena.h>
 #include <string>
 #include <vector>
 
@@ -344,6 +345,21 @@ TEST(Components, TwoInstancesOfAClassOnOneWallAreBothFound) {
   for (const auto& c : m.components) EXPECT_EQ(c.class_name, "fire_sign");
   EXPECT_LT(std::abs(m.components[0].u - 1.0), 0.01);
   EXPECT_LT(std::abs(m.components[1].u - 3.0), 0.01);
+}
+
+TEST(Components, TheSameBytesOnOneThreadAndOnTwo) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("fire_sign"), 1.0, 1.9});
+  w.placed.push_back({ModelOf("switch"), 3.0, 1.05});
+  // The wall twice (two SEs, one task each).
+  StructuralPatch twin = w.sm3.patches[0];
+  twin.id = "wall_2";
+  w.sm3.patches.push_back(twin);
+  std::string one, two;
+  tbb::task_arena(1).execute([&] { one = Sm5Json(Detect(w)); });
+  tbb::task_arena(2).execute([&] { two = Sm5Json(Detect(w)); });
+  EXPECT_NE(one.find("\"wall_2\""), std::string::npos);
+  EXPECT_EQ(one, two);
 }
 
 // Signs of one size on the same colours differ only in their pictograms, which the perceptron's

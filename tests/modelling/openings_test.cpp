@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <tbb/task_arena.h>
 #include <ostream>
 
 #include "common/error.h"
@@ -750,6 +751,25 @@ TEST(Sm4File, RoundTripKeepsEveryField) {
   EXPECT_TRUE(std::isnan(b.openings[2].opening_angle_deg));
   EXPECT_EQ(b.openings[2].state, DoorState::kOpen);
   EXPECT_EQ(Sm4Json(b), text);
+}
+
+TEST(Sm4File, TheSameBytesOnOneThreadAndOnTwo) {
+  HoleSpec h;
+  h.lambda_deg = 35.0;
+  const Cloud c = testing::ScanRoom(testing::RoomScene(h));
+  std::string one, two;
+  std::vector<std::pair<std::string, Orthoimage>> images_one, images_two;
+  tbb::task_arena(1).execute([&] {
+    one = Sm4Json(DetectOpenings(testing::RoomSm3(), c.View(), {}, &images_one));
+  });
+  tbb::task_arena(2).execute([&] {
+    two = Sm4Json(DetectOpenings(testing::RoomSm3(), c.View(), {}, &images_two));
+  });
+  EXPECT_NE(one.find("\"door\""), std::string::npos);
+  EXPECT_EQ(one, two);
+  ASSERT_EQ(images_one.size(), images_two.size());
+  for (std::size_t i = 0; i < images_one.size(); ++i)
+    EXPECT_EQ(images_one[i].first, images_two[i].first);
 }
 
 TEST(Sm4File, RoomFilesAreTheJsonAndOneColourAndDepthImagePerWall) {
