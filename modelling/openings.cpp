@@ -1,12 +1,13 @@
 #include "modelling/openings.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <tbb/parallel_for.h>
 #include <tuple>
 
 #include "common/error.h"
@@ -549,6 +550,42 @@ Reveals RemoveReveals(std::vector<Vec2>& pts, double u0, double u1, const Openin
   return jambs;
 }
 
+// The lintel's underside from the slab's points near a door's top (u, v, depth; u inside the
+// rectangle): of those in the hole's middle 80 % and in front of the wall's far face (where the
+// reveals gave it), the densest 5 mm bin in v within lintel_search of v1; its v is the mean of
+// the points within reveal_band of the bin's centre. NaN when the bin holds fewer than
+// lintel_min_points or less than lintel_peak_ratio times the window's mean bin (a leaf or a
+// far-side surface spreads over the heights; a lintel's face is one height).
+double LintelV(const std::vector<Vec3>& pts, double u0, double u1, double v1, double far_face,
+               const OpeningParams& p) {
+  constexpr double kBin = 0.005;
+  const double m = 0.1 * (u1 - u0);
+  const double lo = v1 - p.lintel_search;
+  const int nb = std::max(1, static_cast<int>(std::ceil(2.0 * p.lintel_search / kBin)));
+  std::vector<int> hist(static_cast<std::size_t>(nb), 0);
+  std::vector<Vec2> kept;  // (v, u)
+  int total = 0;
+  for (const Vec3& q : pts) {
+    if (q.x() < u0 + m || q.x() > u1 - m) continue;
+    if (!std::isnan(far_face) && q.z() < far_face + 0.01) continue;
+    const int b = std::clamp(static_cast<int>((q.y() - lo) / kBin), 0, nb - 1);
+    ++hist[static_cast<std::size_t>(b)], ++total;
+    kept.push_back({q.y(), q.x()});
+  }
+  int best = 0;
+  for (int b = 1; b < nb; ++b)
+    if (hist[static_cast<std::size_t>(b)] > hist[static_cast<std::size_t>(best)]) best = b;
+  const int peak = hist[static_cast<std::size_t>(best)];
+  if (peak < p.lintel_min_points || peak < p.lintel_peak_ratio * total / nb)
+    return std::numeric_limits<double>::quiet_NaN();
+  const double centre = lo + (best + 0.5) * kBin;
+  double sum = 0.0;
+  int n = 0;
+  for (const Vec2& q : kept)
+    if (std::abs(q.x() - centre) <= p.reveal_band) sum += q.x(), ++n;
+  return sum / n;
+}
+
 }  // namespace
 
 LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
@@ -557,10 +594,15 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   double w = u1 - u0;
   const double h = v1 - v0;
   if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
-  std::vector<Vec2> pts;  // (u, depth)
+  std::vector<Vec2> pts;     // (u, depth)
+  std::vector<Vec3> lintel;  // (u, v, depth): behind the surface layer near the top
   for (const auto& pf : *in.points) {
     const Vec3 q = pf.cast<double>();
     const Vec2 uv = frame.ToUv(q);
+    if (std::abs(uv.y() - v1) <= p.lintel_search && uv.x() > u0 && uv.x() < u1) {
+      const double d = frame.Depth(q);
+      if (d < -p.flush_depth && d >= -p.max_wall_thickness) lintel.push_back({uv.x(), uv.y(), d});
+    }
     if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) continue;
     if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) continue;
     const double d = frame.Depth(q);
@@ -577,6 +619,8 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   const double j0 = std::isnan(reveals[0]) ? u0 : reveals[0];
   const double j1 = std::isnan(reveals[1]) ? u1 : reveals[1];
   if (j1 - j0 > 0.5 * w) u0 = j0, u1 = j1, w = u1 - u0;
+  const double lintel_v = LintelV(lintel, u0, u1, v1, rv.far_face, p);
+  out.lintel_v = lintel_v;
   // The leaf first from the points off the wall's surface layer: a casing beside a door whose
   // rectangle came out too wide, or the floor-level reveal, would tilt a line through the leaf;
   // only a leaf flush with the wall (closed, on this side) needs the layer.
@@ -585,12 +629,14 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
     if (std::abs(q.y()) > p.flush_depth) deep.push_back(q);
   LeafFit first = FitLeafPoints(deep, u0, u1, w, rv.far_face, p, index);
   first.reveal_u = reveals;
+  first.lintel_v = lintel_v;
   if (first.inliers == 0) {
     // The surface layer serves a leaf lying in it (closed); a steeper line through it mixes
     // the casing and the reveal's face end with what little is seen of an opened leaf.
     LeafFit flush = FitLeafPoints(pts, u0, u1, w, rv.far_face, p, index);
     if (flush.inliers > 0 && !(flush.lambda_deg < p.closed_below_deg)) flush = LeafFit{};
     flush.reveal_u = reveals;
+    flush.lintel_v = lintel_v;
     return flush;
   }
   // Its run, hinge and width from all the points along that line (the part near the hinge is
@@ -604,6 +650,7 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   const std::pair<Vec2, Vec2> line{first.line_point, first.line_dir};
   LeafFit along = FitLeafPoints(same_side, u0, u1, w, rv.far_face, p, index, &line);
   along.reveal_u = reveals;
+  along.lintel_v = lintel_v;
   return along.inliers > 0 ? along : first;
 }
 
@@ -858,6 +905,7 @@ LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoim
   // the wall's colour may have moved a side's line in the images).
   if (!std::isnan(leaf.reveal_u[0])) o.u0 = leaf.reveal_u[0];
   if (!std::isnan(leaf.reveal_u[1])) o.u1 = leaf.reveal_u[1];
+  if (!std::isnan(leaf.lintel_v)) o.v1 = leaf.lintel_v;
   // The leaf is as wide as the hole: a rectangle narrower than the leaf (its latch jamb
   // hidden behind the opened leaf, the leaf's free edge taken for it) widens to the leaf's
   // width from the hinge jamb, to the nearest vertical line within 5 cm if there is one.

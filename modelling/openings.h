@@ -43,7 +43,12 @@
 //     into the wall) is left out first: a leaf opened near 90 deg lies a leaf's thickness
 //     beside it and a line through both would lean towards the wall by several degrees;
 //     lambda is its angle to the wall (over 90 deg when the free end swings past the hinge
-//     jamb). A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
+//     jamb). The hole's top is the lintel's underside where it was seen: a horizontal face
+//     inside the wall's slab, seen from below through the hole (the densest 5 mm height bin
+//     of the slab's points in the hole's middle, within lintel_search of the rectangle's top,
+//     lintel_min_points and lintel_peak_ratio times its window's mean bin); the images put
+//     the top at a casing's outer edge or a leaf's top edge by up to 12 cm.
+//     A door narrower than its leaf by more than leaf_widen_margin widens to the leaf's
 //     width from the hinge (its latch jamb hidden behind the opened leaf). A door side beside
 //     hidden pixels (an occlusion boundary: the part of the doorway behind an opened leaf) is no
 //     jamb: the door with that side moved out to the nearest vertical line where the wall
@@ -126,6 +131,13 @@ struct OpeningParams {
   /// rectangle's side (an opened leaf may hide the jamb's edge in the images), [0, 0.5]
   double reveal_search = 0.25;
   double reveal_band = 0.012;  ///< m, half width of a reveal's plan line, [0.001, 0.1]
+  /// m, a door's lintel (the hole's top through the wall) is sought this far above and below
+  /// the rectangle's top (a casing of the wall's colour, or an opened leaf's top edge, may
+  /// have moved it in the images), [0, 0.5]
+  double lintel_search = 0.15;
+  int lintel_min_points = 15;  ///< points a lintel's 5 mm height bin needs, [1, 1e6]
+  /// The lintel's bin holds at least this many times the mean bin of its search window, [1, 100]
+  double lintel_peak_ratio = 4.0;
   /// Share of a door's seen interior seen through that makes it open when no leaf is found,
   /// [0, 1]
   double open_through_share = 0.3;
@@ -203,6 +215,9 @@ struct OpeningParams {
     v("leaf_run_gap", leaf_run_gap, Bounds{0.01, 1.0});
     v("reveal_search", reveal_search, Bounds{0.0, 0.5});
     v("reveal_band", reveal_band, Bounds{0.001, 0.1});
+    v("lintel_search", lintel_search, Bounds{0.0, 0.5});
+    v("lintel_min_points", lintel_min_points, Bounds{1, 1000000});
+    v("lintel_peak_ratio", lintel_peak_ratio, Bounds{1.0, 100.0});
     v("open_through_share", open_through_share, Bounds{0.0, 1.0});
     v("median_kernel", median_kernel, Bounds{1, 15});
     v("gap_fill", gap_fill, Bounds{0.0, 0.2});
@@ -333,6 +348,9 @@ struct LeafFit {
   /// not; set whether or not a leaf was found
   std::array<double, 2> reveal_u{std::numeric_limits<double>::quiet_NaN(),
                                  std::numeric_limits<double>::quiet_NaN()};
+  /// m, v of the lintel's underside (the hole's top through the wall) where it was seen, NaN
+  /// where not; set whether or not a leaf was found
+  double lintel_v = std::numeric_limits<double>::quiet_NaN();
 };
 LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u0, double u1,
                     double v0, double v1, const OpeningParams& params, std::uint64_t index = 0);

@@ -4,11 +4,11 @@
 #include "modelling/openings.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <tbb/task_arena.h>
 #include <ostream>
 
 #include "common/error.h"
@@ -290,6 +290,32 @@ TEST(Openings, ClosedDoorWithCasingGivesTheHoleNotTheCasing) {
   ExpectHole(f.on_wall1.at(0), h);
   EXPECT_EQ(f.on_wall1.at(0).state, DoorState::kClosed) << Describe(f.sm4);
 }
+
+// The hole's top is the lintel's underside seen through the hole, not an edge in the images
+// (a casing's outer edge, an opened leaf's top): within 1 cm.
+struct LintelCase {
+  double lambda_deg;
+  bool swing_into_room;
+  bool casing_of_wall_colour;
+};
+void PrintTo(const LintelCase& c, std::ostream* os) {
+  *os << "lambda " << c.lambda_deg << (c.swing_into_room ? " into the room" : " away")
+      << (c.casing_of_wall_colour ? ", casing of the wall's colour" : "");
+}
+class DoorTop : public ::testing::TestWithParam<LintelCase> {};
+TEST_P(DoorTop, IsTheLintelWithinOneCentimetre) {
+  HoleSpec h;
+  h.lambda_deg = GetParam().lambda_deg;
+  h.swing_into_room = GetParam().swing_into_room;
+  if (GetParam().casing_of_wall_colour) h.casing_rgb = testing::kWallRgb;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.on_wall1.size(), 1u) << Describe(f.sm4);
+  EXPECT_NEAR(f.on_wall1[0].v1, h.z1, 0.01) << Describe(f.sm4);
+}
+INSTANTIATE_TEST_SUITE_P(Doors, DoorTop,
+                         ::testing::Values(LintelCase{0, true, false}, LintelCase{45, true, false},
+                                           LintelCase{90, false, false}, LintelCase{45, true, true},
+                                           LintelCase{0, false, true}));
 
 TEST(Openings, DoorFortyPercentOccludedByACabinetIsStillFound) {
   HoleSpec h;
@@ -759,12 +785,10 @@ TEST(Sm4File, TheSameBytesOnOneThreadAndOnTwo) {
   const Cloud c = testing::ScanRoom(testing::RoomScene(h));
   std::string one, two;
   std::vector<std::pair<std::string, Orthoimage>> images_one, images_two;
-  tbb::task_arena(1).execute([&] {
-    one = Sm4Json(DetectOpenings(testing::RoomSm3(), c.View(), {}, &images_one));
-  });
-  tbb::task_arena(2).execute([&] {
-    two = Sm4Json(DetectOpenings(testing::RoomSm3(), c.View(), {}, &images_two));
-  });
+  tbb::task_arena(1).execute(
+      [&] { one = Sm4Json(DetectOpenings(testing::RoomSm3(), c.View(), {}, &images_one)); });
+  tbb::task_arena(2).execute(
+      [&] { two = Sm4Json(DetectOpenings(testing::RoomSm3(), c.View(), {}, &images_two)); });
   EXPECT_NE(one.find("\"door\""), std::string::npos);
   EXPECT_EQ(one, two);
   ASSERT_EQ(images_one.size(), images_two.size());
