@@ -172,8 +172,9 @@ struct Navigator::Impl {
   bool looked_around = false;  // since the last scan (LookAround)
   std::vector<Vec2> leg_path;  // the path being followed (map)
 
-  double t = 0.0;    // s, platform time
-  Pose2 X_MB_est{};  // map frame := base_link at the first scan
+  double t = 0.0;           // s, platform time
+  double call_start = 0.0;  // s, platform time when the current NavigateTo began
+  Pose2 X_MB_est{};         // map frame := base_link at the first scan
   interfaces::VelocityCommand cmd;
   bool was_lost = false;
   NavigatorLog log;
@@ -229,7 +230,7 @@ struct Navigator::Impl {
     double turned = 0.0, last_yaw = X_MB_est.yaw;
     // Bounded in time too: a base that does not turn (a wheel caught) must not sit here.
     const double time_limit = start_time + 2.0 * kPi / params.look_around_rate + 5.0;
-    while (turned < 2.0 * kPi - 0.05 && t < params.max_time - 1e-9 && t < time_limit) {
+    while (turned < 2.0 * kPi - 0.05 && t - call_start < params.max_time - 1e-9 && t < time_limit) {
       if (!controller->CanTurn(X_MB_est, platform.BaseSweep(), 0.15)) break;
       cmd = {0.0, params.look_around_rate};
       const perception::LocalisationEstimate& est = StepOnce();
@@ -683,6 +684,7 @@ struct Navigator::Impl {
     leg_blocked = false;
     log.status = DriveStatus::kTimeout;
     log.message.clear();
+    call_start = t;
     const Eigen::Vector3d g3(goal.x, goal.y, 0.0);
     if (std::find(extent_extra.begin(), extent_extra.end(), g3) == extent_extra.end()) {
       extent_extra.push_back(g3);
@@ -702,7 +704,7 @@ struct Navigator::Impl {
     };
     mark_visited();
     while (running) {
-      if (t >= params.max_time - 1e-9) {
+      if (t - call_start >= params.max_time - 1e-9) {
         Finish(DriveStatus::kTimeout,
                FormatNumbers("no arrival within %.1f s of simulation time", params.max_time));
         break;

@@ -39,7 +39,9 @@
 namespace mopad::autonomy {
 
 struct NavigatorParams {
-  double max_time = 600.0;    ///< s of platform time before `timeout`, (0, 1e5]
+  /// s of platform time one NavigateTo may take before `timeout` (from its call, not from the
+  /// mission's start: a floor mission's drives add up past any one drive's bound), (0, 1e5]
+  double max_time = 600.0;
   double tls_step_deg = 0.2;  ///< deg, angular step of the scans taken for maps, [0.05, 5]
   int max_scans = 20;         ///< TLS scans per NavigateTo, the mission's first included, [1, 100]
   double min_scan_progress = 0.1;  ///< m, a new scan target must be this much closer, (0, 10]

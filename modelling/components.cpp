@@ -1,5 +1,7 @@
 #include "modelling/components.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,7 +9,6 @@
 #include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
-#include <tbb/parallel_for.h>
 #include <utility>
 
 #include "common/error.h"

@@ -209,8 +209,7 @@ StructuralPatch ParsePatch(const Json& jp, const std::string& where, const std::
   return p;
 }
 
-DetectedOpening ParseOpening(const Json& jo, const std::string& where,
-                             const std::string& ctx) {
+DetectedOpening ParseOpening(const Json& jo, const std::string& where, const std::string& ctx) {
   DetectedOpening o;
   o.id = StringField(jo, "id", where, ctx);
   const std::string type = StringField(jo, "type", where, ctx);
@@ -258,7 +257,8 @@ DetectedOpening ParseOpening(const Json& jo, const std::string& where,
     } else if (jo.contains("state_from")) {
       o.state_from = StringField(jo, "state_from", where, ctx);
       const Json& own = Field(jo, "own", where, ctx);
-      if (!own.is_object()) throw InputError(where, ctx + "own: wrong type", own.dump(), "an object");
+      if (!own.is_object())
+        throw InputError(where, ctx + "own: wrong type", own.dump(), "an object");
       reading(own, ctx + "own.", o.own_state, o.own_opening_angle_deg, o.own_clear_width_m);
     }
   }
@@ -533,8 +533,8 @@ FloorModel ParseFloorModel(const std::string& sm3_text, const std::string& sm3_w
     for (std::size_t k = 0; k < sides.size(); ++k) {
       const std::string sctx = ctx + "sides[" + std::to_string(k) + "].";
       o.rooms.push_back(StringField(sides[k], "room", where, sctx));
-      o.sides.push_back(ParseOpening(Field(sides[k], "opening", where, sctx), where,
-                                     sctx + "opening."));
+      o.sides.push_back(
+          ParseOpening(Field(sides[k], "opening", where, sctx), where, sctx + "opening."));
     }
     m.openings.push_back(std::move(o));
   }

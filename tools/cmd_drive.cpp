@@ -52,7 +52,8 @@ void RegisterDriveCommand(CLI::App& app) {
       cmd->add_option("--seed", *seed, "Run seed (default: the config's seed, else 1)");
   auto* max_time_opt =
       cmd->add_option("--max-time", *max_time,
-                      "Simulation time limit in s (default: the config's max_time, else 600)");
+                      "Simulation time limit of the drive in s, from the first scan (default: "
+                      "the config's max_time, else 600)");
   cmd->add_option("--config", *config, "YAML overriding DriveParams fields");
   cmd->add_option("--door", *doors, "ID=DEG: set a door's opening angle (spec .yaml only)");
   cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/drive");

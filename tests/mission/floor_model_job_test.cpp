@@ -72,9 +72,8 @@ TEST(FloorModelJob, ADoorOneRoomFoundIsSharedWithTheRoomBehindItsWall) {
   door.opening_angle_deg = 45.0;
   mission.rooms[1].sm4.openings = {door};
   std::vector<std::string> rewritten;
-  ASSERT_TRUE(WriteFloorModel(mission, {}, dir, {}, [&](const autonomy::FloorRoom& r) {
-    rewritten.push_back(r.room);
-  }));
+  ASSERT_TRUE(WriteFloorModel(mission, {}, dir, {},
+                              [&](const autonomy::FloorRoom& r) { rewritten.push_back(r.room); }));
   EXPECT_EQ(rewritten, std::vector<std::string>{"room_1"});
   ASSERT_EQ(mission.rooms[0].sm4.openings.size(), 1u);
   EXPECT_EQ(mission.rooms[0].sm4.openings[0].host, "wall_3");

@@ -7,13 +7,13 @@
 #include "modelling/components.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 #include <map>
-#include <tbb/task_arena.h>
 #include <string>
 #include <vector>
 
