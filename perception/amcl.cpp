@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -30,6 +31,11 @@ void AmclParams::Validate() const {
   if (min_particles > max_particles) {
     throw InputError("", "parameter 'amcl.min_particles' exceeds max_particles",
                      std::to_string(min_particles), "<= " + std::to_string(max_particles));
+  }
+  if (refine_normal_radius > refine_normal_max_radius) {
+    throw InputError("", "parameter 'amcl.refine_normal_radius' exceeds refine_normal_max_radius",
+                     std::to_string(refine_normal_radius),
+                     "<= " + std::to_string(refine_normal_max_radius));
   }
   if (z_hit + z_rand > 1.0 + 1e-9) {
     throw InputError("", "amcl mixture weights z_hit + z_rand exceed 1",
@@ -146,6 +152,43 @@ Amcl& Amcl::operator=(Amcl&&) noexcept = default;
 namespace {
 std::uint64_t Key(std::uint64_t seed, std::string_view stream, std::uint64_t a, std::uint64_t b) {
   return DeriveKey(DeriveKey(DeriveKey(Mix64(seed), HashName(stream)), a), b);
+}
+
+// Unit normals (base_link) of a sweep's surface at its beams' endpoints, in scan order: the
+// line through the endpoint and its contiguous neighbours within a radius, from
+// max(min_radius, 2.5 x the gap to the nearer neighbour) (a far wall seen at a grazing angle
+// is sampled tens of cm apart) grown by half up to max_radius until the neighbourhood is
+// line-like (the grid's rule: the smaller principal spread at most 10 % of the larger; range
+// noise of a few cm needs tens of cm of surface); zero where none is (a corner, a lone return).
+std::vector<Vec2> SweepNormals(const std::vector<Vec2>& pts, double min_radius, double max_radius) {
+  std::vector<Vec2> normals(pts.size(), Vec2::Zero());
+  const std::size_t n = pts.size();
+  for (std::size_t b = 0; b < n; ++b) {
+    double gap = std::numeric_limits<double>::infinity();
+    if (b > 0) gap = std::min(gap, (pts[b] - pts[b - 1]).norm());
+    if (b + 1 < n) gap = std::min(gap, (pts[b] - pts[b + 1]).norm());
+    for (double radius = std::max(min_radius, 2.5 * gap); radius <= max_radius + 1e-9;
+         radius *= 1.5) {
+      std::size_t lo = b, hi = b;
+      while (lo > 0 && (pts[lo - 1] - pts[lo]).norm() <= radius &&
+             (pts[lo - 1] - pts[b]).norm() <= radius)
+        --lo;
+      while (hi + 1 < n && (pts[hi + 1] - pts[hi]).norm() <= radius &&
+             (pts[hi + 1] - pts[b]).norm() <= radius)
+        ++hi;
+      if (hi - lo < 2) continue;
+      Vec2 mean = Vec2::Zero();
+      for (std::size_t j = lo; j <= hi; ++j) mean += pts[j];
+      mean /= static_cast<double>(hi - lo + 1);
+      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+      for (std::size_t j = lo; j <= hi; ++j) cov += (pts[j] - mean) * (pts[j] - mean).transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+      if (!(es.eigenvalues()(1) > 0.0) || es.eigenvalues()(0) > 0.1 * es.eigenvalues()(1)) continue;
+      normals[b] = es.eigenvectors().col(0).normalized();
+      break;
+    }
+  }
+  return normals;
 }
 }  // namespace
 
@@ -401,6 +444,11 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
     double r;           // m, distance to the nearest return
     std::size_t beam;
   };
+  // Each beam's residual is measured along its own surface's normal where the sweep has one
+  // (point-to-plane with the sensor's normals): the map's far walls are sampled sparsely, and
+  // a beam ending between two of their returns is on the wall, not off the end of a return.
+  const std::vector<Vec2> normals_B =
+      SweepNormals(beams, p.refine_normal_radius, p.refine_normal_max_radius);
   std::vector<Row> rows;
   // A beam ending in unknown space away from any return at the filter's estimate (on the
   // unmapped near face of a wall whose far face the map holds) stays out of the match: moved
@@ -424,14 +472,18 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
         continue;
       }
       if (!near.found || near.distance > p.refine_gate) continue;
-      const Vec2& n = near.normal;
-      rows.push_back({Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()),
-                      near.distance, k});
+      // Without a surface normal (a corner, a lone return) the beam stays out: towards the
+      // nearest return it would pull along a wall whose returns end there.
+      const Vec2& nb = normals_B[k];
+      if (nb.squaredNorm() == 0.0) continue;
+      const Vec2 n(c * nb.x() - s * nb.y(), s * nb.x() + c * nb.y());
+      const double r = near.distance * n.dot(near.normal);  // n . (e - nearest return)
+      rows.push_back({Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()), r, k});
     }
   };
   const auto huber = [&](double r) {
-    const double k = p.refine_huber;
-    return r <= k ? 0.5 * r * r : k * (r - 0.5 * k);
+    const double k = p.refine_huber, a = std::abs(r);
+    return a <= k ? 0.5 * a * a : k * (a - 0.5 * k);
   };
   match(*X_MB);
   first = false;
@@ -443,7 +495,8 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (const Row& row : rows) {
-      const double w = row.r <= p.refine_huber ? 1.0 : p.refine_huber / row.r;
+      const double a = std::abs(row.r);
+      const double w = a <= p.refine_huber ? 1.0 : p.refine_huber / a;
       H += w * row.J * row.J.transpose();
       g += w * row.J * row.r;
     }

@@ -116,6 +116,10 @@ struct AmclParams {
   double refine_gate =
       0.25;  ///< m, beams ending farther from a mapped return are unmatched, (0, 2]
   double refine_huber = 0.05;  ///< m, Huber threshold of the match's residuals, (0, 1]
+  /// m, smallest and largest neighbourhood radius of a sweep's surface normal at a beam's
+  /// endpoint (the match measures each beam along it), (0, 2]
+  double refine_normal_radius = 0.1;
+  double refine_normal_max_radius = 0.4;
   int refine_iterations = 10;  ///< Gauss-Newton steps, [1, 100]
   /// Information (in beams' worth: sum over matched beams of (normal . direction)^2, rotation
   /// measured as the displacement 1 m from the base) a direction needs to be corrected along.
@@ -167,6 +171,8 @@ struct AmclParams {
     v("refine_max_beams", refine_max_beams, Bounds{10, 100000});
     v("refine_gate", refine_gate, Bounds{1e-3, 2.0});
     v("refine_huber", refine_huber, Bounds{1e-4, 1.0});
+    v("refine_normal_radius", refine_normal_radius, Bounds{1e-3, 2.0});
+    v("refine_normal_max_radius", refine_normal_max_radius, Bounds{1e-3, 2.0});
     v("refine_iterations", refine_iterations, Bounds{1, 100});
     v("refine_min_constraint", refine_min_constraint, Bounds{1.0, 1e6});
     v("refine_min_beams", refine_min_beams, Bounds{3, 100000});

@@ -98,9 +98,9 @@ TEST(DriveMission, ClosedDoorEndsExplainedWithPartialTrajectory) {
 
 // MoPAD's two scans at a doorframe, on office_5rooms: the start scan in R3 is 6 m from door
 // D3, so the robot scans in front of the door (map x 4-6.3; the door's wall spans 6.4-6.6)
-// before it crosses, and then just beyond it in the hall. Without the scan in front
-// (door_entry_scan_distance 0), the scan beyond the door registers against the distant start
-// scan alone and the hall's map carries its error (docs/navigation.md has the figures).
+// before it crosses, and then just beyond it in the hall. Without the rule
+// (door_entry_scan_distance 0) nothing stops the leg in front of the door, and the scan
+// beyond it may register against the distant start scan alone (docs/navigation.md).
 TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   const sim::EmbreeWorld world = MakeWorld("office_5rooms", std::nullopt);
   DriveRequest req;
@@ -110,6 +110,7 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   with.navigator.max_time = 32.0;  // the crossing of D3 and the scan beyond it
   DriveParams without = with;
   without.navigator.door_entry_scan_distance = 0.0;
+
   auto in_front = [](const DriveResult& r) {
     int n = 0;
     for (const Pose2& p : r.scan_poses) n += p.x > 4.0 && p.x < 6.3 && p.y > 0.0 && p.y < 2.0;
@@ -136,8 +137,19 @@ TEST(DriveMission, ScansInFrontOfADoorFarFromTheLastScan) {
   EXPECT_LT(std::hypot(e.x - t.x, e.y - t.y), 0.03);  // after the scan beyond the door
   EXPECT_EQ(in_front(a), 1);
   EXPECT_EQ(beyond(a), 1);
-  EXPECT_EQ(in_front(b), 0);
   EXPECT_GE(beyond(b), 1);  // within the time budget it may scan again on its way on
+  // The rule cuts the first leg short of the doorway; without it the leg runs on to the edge of
+  // the start scan's map (where the base may still stop and scan for other reasons: on this
+  // route the LRFs find the open leaf beside that leg's end, and it scans short of it).
+  auto length = [](const std::vector<Pose2>& path) {
+    double l = 0.0;
+    for (std::size_t k = 1; k < path.size(); ++k)
+      l += std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
+    return l;
+  };
+  ASSERT_FALSE(a.plans.empty());
+  ASSERT_FALSE(b.plans.empty());
+  EXPECT_LT(length(a.plans.front()), length(b.plans.front()) - 0.5);
 }
 
 // The way on behind the base: starting 0.8 m in front of the door, facing away from it. The

@@ -357,6 +357,38 @@ TEST(Amcl, RefinementLeavesDirectionsTheBeamsDoNotConstrain) {
   EXPECT_NEAR(e.X_MB.x, 30.1, 0.01);
 }
 
+// A terrestrial scanner samples a far wall seen at a grazing angle in columns tens of cm
+// apart, and its beams clear the cells between them: the map's wall is a dashed line. Those
+// dashes are no feature along the wall: a sweep of the (continuous) corridor matched against
+// them must not slide the estimate along it (each beam is measured along its own surface's
+// normal, not towards the end of the nearest dash).
+TEST(Amcl, RefinementDoesNotSlideAlongTheDashesOfASparselyMappedWall) {
+  const double length = 60.0;
+  const auto world = Corridor(length, false);
+  OccupancyGrid map(OccupancyGridParams{}, {-0.5, -0.5},
+                    static_cast<int>(std::ceil((length + 1.0) / 0.05)), 56);
+  std::vector<Eigen::Vector3d> dashes;
+  const double period = 0.4, dash = 0.1;
+  for (const Eigen::Vector3d& q : testing::ScanPoints(world, {0.0, 0.0}, {length, 1.6}))
+    if (std::fmod(q.x() + 10.0, period) < dash) dashes.push_back(q);
+  map.InsertPoints(dashes);
+  for (double x = dash; x < length; x += period) {
+    map.FillBox({x + 0.01, -0.09}, {x + period - dash - 0.01, -0.01}, CellState::kFree);
+    map.FillBox({x + 0.01, 1.61}, {x + period - dash - 0.01, 1.69}, CellState::kFree);
+  }
+  const Pose2 truth{30.0, 0.8, 0.0};
+  interfaces::Odometry odom;
+  for (const double offset : {0.06, 0.1, 0.16}) {
+    Amcl amcl(map, WideFilter(true), 5);
+    amcl.SetInitialPose({truth.x + offset, 0.75, 0.0}, Cov(0.001, DegToRad(0.01)));
+    ASSERT_TRUE(amcl.Update(odom, testing::SimulateScan(world, truth, 3, 0, 0.01)).updated);
+    const LocalisationEstimate& e = amcl.Estimate();
+    ASSERT_TRUE(e.refined) << e.message;
+    EXPECT_NEAR(e.refinement.y, 0.05, 0.01) << "offset " << offset;
+    EXPECT_NEAR(e.refinement.x, 0.0, 0.005) << "offset " << offset;
+  }
+}
+
 TEST(Amcl, SameSeedGivesTheSameParticleBytesWithOneOrManyThreads) {
   auto bytes = [](const Amcl& a) {
     const auto& p = a.Particles();
