@@ -239,10 +239,10 @@ void Clean(std::vector<Vec2>& poly, double min_len, double max_offset = 0.0) {
 
 // Views through openings (RoomModelParams::seal_depth): a run of vertices after a wall edge
 // (at least kSealMinWall long) that passes behind the wall's line by more than kSealMinDepth
-// and at most seal_depth, never further into the room than seal_inward, spans at most
-// seal_width along the line and comes back onto it ahead of the edge, where a parallel wall
-// edge goes on, is replaced by the straight wall.
-// A detour that stays in the room (a pilaster, a cabinet) is kept: it never passes behind.
+// (or jog_tolerance, if smaller) and at most seal_depth, never further into the room than
+// seal_inward, spans at most seal_width along the line and comes back onto it ahead of the edge,
+// where a parallel wall edge goes on, is replaced by the straight wall. A detour that stays in the
+// room (a pilaster, a cabinet) is kept: it never passes behind.
 constexpr double kSealMinWall = 0.3;    // m, the wall edges either side of the detour
 constexpr double kSealOnLine = 0.03;    // m, the detour's end this close to the wall line
 constexpr double kSealMinDepth = 0.05;  // m, behind the line: beyond the wall's own noise
@@ -250,6 +250,10 @@ constexpr std::size_t kSealMaxVertices = 12;
 
 void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
   if (P.seal_depth <= 0.0) return;
+  // Shallower detours are the jog rule's (Clean with jog_tolerance): the two rules meet, so a
+  // vertex 4-5 cm behind a wall line falls between them (one split a wall in SM3).
+  const double min_depth =
+      P.jog_tolerance > 0.0 ? std::min(kSealMinDepth, P.jog_tolerance) : kSealMinDepth;
   bool changed = true;
   while (changed && poly.size() > 4) {
     changed = false;
@@ -266,7 +270,7 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
         const double u = (v - b).dot(t), d = (v - b).dot(out);
         u_min = std::min(u_min, u);  // a reveal seen obliquely reaches back under the wall
         if (u - u_min > P.seal_width + kSealOnLine || d > P.seal_depth || d < -P.seal_inward) break;
-        if (s >= 2 && std::abs(d) <= kSealOnLine && u > 0.0 && behind > kSealMinDepth) {
+        if (s >= 2 && std::abs(d) <= kSealOnLine && u > 0.0 && behind > min_depth) {
           const Vec2& w = poly[(i + s + 1) % n];
           const double lw = (w - v).norm();
           if (lw >= kSealMinWall && (w - v).dot(t) >= lw * std::cos(DegToRad(5.0))) {
@@ -290,6 +294,12 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
 }
 
 }  // namespace
+
+void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params) {
+  Clean(poly, params.min_edge_length, params.jog_tolerance);
+  SealOpenings(poly, params);
+  Clean(poly, params.min_edge_length, params.jog_tolerance);
+}
 
 RoomModel::RoomModel(RoomModelParams params) : params_(params) { params_.Validate(); }
 
@@ -625,9 +635,7 @@ void RoomModel::BuildPerimeter() {
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   Clean(poly, params_.min_edge_length);
   RefitPerimeter(poly);
-  Clean(poly, params_.min_edge_length, params_.jog_tolerance);
-  SealOpenings(poly, params_);
-  Clean(poly, params_.min_edge_length, params_.jog_tolerance);
+  TidyPerimeter(poly, params_);
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   roi_.perimeter = poly;
 }

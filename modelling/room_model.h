@@ -114,6 +114,12 @@ struct RoomModelParams {
   void Validate() const { ValidateParams(*this, "room_model."); }
 };
 
+/// The perimeter's last pass after its edges were refit onto their walls (plan polygon, CCW,
+/// map frame, m): vertices closer than `jog_tolerance` to the segment joining their neighbours
+/// dropped, detours behind a wall line deeper than that and at most `seal_depth` (views through
+/// an opening) cut across, short and collinear edges merged.
+void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params);
+
 /// Coverage of the structural elements after a scan (areas in m^2).
 struct CoverageFigures {
   int scans = 0;

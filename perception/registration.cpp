@@ -559,8 +559,9 @@ RegistrationDecision AcceptRegistration(const RegistrationResult& r,
                                         const RegistrationAcceptanceParams& policy,
                                         double prior_sigma) {
   RegistrationDecision d;
-  d.creeping = policy.creeping_step_factor > 0.0 && !r.converged && !r.degenerate &&
-               r.iterations > 0 &&
+  // A degenerate result creeps along its weak direction, where nothing holds it; what it
+  // moved along that direction is the slide rule's (below).
+  d.creeping = policy.creeping_step_factor > 0.0 && !r.converged && r.iterations > 0 &&
                r.last_step <= policy.creeping_step_factor * icp.min_delta_translation &&
                r.last_step_deg <= policy.creeping_step_factor * icp.min_delta_rotation_deg;
   const bool fits = (r.converged || d.creeping) && r.fitness >= icp.min_fitness &&

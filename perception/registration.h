@@ -138,9 +138,9 @@ struct RegistrationResult {
 /// must stay within the bounds: a larger jump is ICP sliding into a neighbouring minimum.
 struct RegistrationAcceptanceParams {
   bool accept_degenerate = true;  ///< use results whose only flaw is a weak direction
-  /// A result that constrains every direction and fits, but whose last stage ran out of
-  /// iterations creeping by less than this many times the ICP step thresholds, counts as
-  /// converged. 0 = off; degenerate results never. [0, 1000]
+  /// A result that fits but whose last stage ran out of iterations creeping by less than this
+  /// many times the ICP step thresholds counts as converged (a degenerate one: its correction
+  /// across the weak direction, under max_weak_slide). 0 = off. [0, 1000]
   double creeping_step_factor = 10.0;
   double max_correction = 0.1;      ///< m, largest accepted x-y correction of the prior, [0, 1000]
   double max_correction_deg = 2.0;  ///< deg, largest accepted yaw correction, [0, 180]

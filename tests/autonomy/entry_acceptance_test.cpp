@@ -86,6 +86,37 @@ TEST(EntryAcceptance, KeepsThePriorAlongTheWeakDirectionADegenerateResultSlidAlo
   EXPECT_TRUE(ok.X_MS.isApprox(r.X_MS));
 }
 
+// Degenerate along the door's wall, the last stage runs out of iterations creeping along that
+// weak direction (steps of micrometres) while the yaw has long converged (office seed 5 with
+// a retraced R1: R4 entered through D7 1.07 deg off, the correction refused as "not
+// converged", R4 modelled 11.7 cm off): the correction across the weak direction is used, the
+// prior kept along it; a stage still taking large steps is not creeping.
+TEST(EntryAcceptance, TakesADegenerateResultCreepingAlongItsWeakDirection) {
+  const RoomScanParams p;
+  const Eigen::Isometry3d prior =
+      Eigen::Translation3d(0.0, 0.0, 1.4) * Eigen::Isometry3d::Identity();
+  perception::RegistrationResult r = Registered(0.012, 1.07);
+  r.X_MS.translation().y() = -0.074;
+  r.ok = r.converged = false;
+  r.degenerate = true;
+  r.weakest_direction << 0.0, 0.0, 0.01, -0.02, 1.0, 0.0;
+  r.fitness = 0.175;
+  r.iterations = 70;
+  r.last_step = 2.2e-6;
+  r.last_step_deg = 0.00015;
+  const auto d = perception::AcceptRegistration(r, prior, p.entry_icp, p.entry_acceptance, 0.01);
+  ASSERT_TRUE(d.use) << d.message;
+  EXPECT_TRUE(d.creeping);
+  EXPECT_NEAR(d.X_MS.translation().y(), 0.0, 0.003);
+  EXPECT_NEAR(d.X_MS.translation().x(), 0.012, 0.003);
+  EXPECT_TRUE(d.X_MS.linear().isApprox(r.X_MS.linear()));
+  r.last_step = 0.01;
+  r.last_step_deg = 0.1;
+  const auto moving =
+      perception::AcceptRegistration(r, prior, p.entry_icp, p.entry_acceptance, 0.01);
+  EXPECT_FALSE(moving.use) << moving.message;
+}
+
 TEST(EntryAcceptance, RefusesAJumpToAnotherDoorFrameAndARoomTurnedBySymmetry) {
   const RoomScanParams p;
   const Eigen::Isometry3d prior =
