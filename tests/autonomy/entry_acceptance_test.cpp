@@ -87,10 +87,10 @@ TEST(EntryAcceptance, KeepsThePriorAlongTheWeakDirectionADegenerateResultSlidAlo
 }
 
 // Degenerate along the door's wall, the last stage runs out of iterations creeping along that
-// weak direction (steps of micrometres) while the yaw has long converged (office seed 5 with
-// a retraced R1: R4 entered through D7 1.07 deg off, the correction refused as "not
-// converged", R4 modelled 11.7 cm off): the correction across the weak direction is used, the
-// prior kept along it; a stage still taking large steps is not creeping.
+// weak direction (steps of micrometres) while the yaw has long converged (a room entered
+// 1.07 deg off, the figures of such a scan; docs/navigation.md): the correction across the
+// weak direction is used, the prior kept along it; a stage still taking large steps is not
+// creeping.
 TEST(EntryAcceptance, TakesADegenerateResultCreepingAlongItsWeakDirection) {
   const RoomScanParams p;
   const Eigen::Isometry3d prior =

@@ -275,8 +275,8 @@ TEST(RoomModel, WallRefitStaysOnTheWallBehindADoorHighPanelCoveringMostOfIt) {
 
 // The perimeter's last pass: a vertex between two on a wall line, behind it by up to
 // jog_tolerance, is a jog (dropped); deeper, up to seal_depth, a view through an opening (cut
-// across). The two rules meet: on office seed 5 a vertex 4.8 cm behind R1's wall fell between
-// them (jog 4 cm, seal from 5 cm) and split the wall in three SM3 faces.
+// across). The two rules meet: a vertex between the two thresholds (jog 4 cm, seal from 5 cm)
+// used to stay and split its wall in three SM3 faces (docs/floor-mission.md).
 TEST(RoomModel, PerimeterDropsADetourBehindAWallLineAtAnyDepthUpToSealDepth) {
   const RoomModelParams p;
   for (const double depth : {0.02, 0.039, 0.045, 0.049, 0.1, 0.5}) {
