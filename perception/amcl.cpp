@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -158,8 +157,8 @@ std::uint64_t Key(std::uint64_t seed, std::string_view stream, std::uint64_t a, 
 // line through the endpoint and its contiguous neighbours within a radius, from
 // max(min_radius, 2.5 x the gap to the nearer neighbour) (a far wall seen at a grazing angle
 // is sampled tens of cm apart) grown by half up to max_radius until the neighbourhood is
-// line-like (the grid's rule: the smaller principal spread at most 10 % of the larger; range
-// noise of a few cm needs tens of cm of surface); zero where none is (a corner, a lone return).
+// line-like (kLineLikeRatio, the grid's rule for a cell's returns; range noise of a few cm
+// needs tens of cm of surface); zero where none is (a corner, a lone return).
 std::vector<Vec2> SweepNormals(const std::vector<Vec2>& pts, double min_radius, double max_radius) {
   std::vector<Vec2> normals(pts.size(), Vec2::Zero());
   const std::size_t n = pts.size();
@@ -183,7 +182,9 @@ std::vector<Vec2> SweepNormals(const std::vector<Vec2>& pts, double min_radius, 
       Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
       for (std::size_t j = lo; j <= hi; ++j) cov += (pts[j] - mean) * (pts[j] - mean).transpose();
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-      if (!(es.eigenvalues()(1) > 0.0) || es.eigenvalues()(0) > 0.1 * es.eigenvalues()(1)) continue;
+      if (!(es.eigenvalues()(1) > 0.0) ||
+          es.eigenvalues()(0) > kLineLikeRatio * es.eigenvalues()(1))
+        continue;
       normals[b] = es.eigenvectors().col(0).normalized();
       break;
     }

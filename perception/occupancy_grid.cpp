@@ -140,7 +140,7 @@ OccupancyGrid::ReturnSegment OccupancyGrid::ObstacleSegment(const Cell& c) const
   const double tr = sxx + syy, det = sxx * syy - sxy * sxy;
   const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
   const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
-  if (!(l1 > 0.0) || l2 > 0.1 * l1) return seg;
+  if (!(l1 > 0.0) || l2 > kLineLikeRatio * l1) return seg;
   Vec2 dir =
       std::abs(sxy) > 1e-12 ? Vec2(l1 - syy, sxy) : (sxx >= syy ? Vec2::UnitX() : Vec2::UnitY());
   seg.direction = dir.normalized();

@@ -84,6 +84,10 @@ struct Cell {
   bool operator==(const Cell&) const = default;
 };
 
+/// Points are line-like when the smaller principal variance of their spread is at most this
+/// share of the larger (a cell's returns; an LRF sweep's neighbourhood in AMCL's refinement).
+inline constexpr double kLineLikeRatio = 0.1;
+
 class OccupancyGrid {
  public:
   /// An all-unknown grid of width x height cells whose lower-left corner is `origin` (map, m).
@@ -148,7 +152,7 @@ class OccupancyGrid {
   Vec2 ObstaclePosition(const Cell& c) const;
   /// The returns of a cell as a short segment: centre (map, m), unit direction and half
   /// length (m). When the returns are not line-like (fewer than 3, or the smaller principal
-  /// spread above 10 % of the larger) the half length is 0: a point.
+  /// variance above kLineLikeRatio times the larger) the half length is 0: a point.
   struct ReturnSegment {
     Vec2 centre = Vec2::Zero();
     Vec2 direction = Vec2::UnitX();
