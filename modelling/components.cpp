@@ -485,15 +485,29 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
     for (int k = 0; k < static_cast<int>(cat.models.size()); ++k) {
       const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
       if (!MountsOn(m, ceiling) || !SizeFits(r, pixel, m, p, p.colour_min_extent)) continue;
-      cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, p.template_pad, pixel), ceiling), t_f,
-              t_lab;
-      t_rgb.convertTo(t_f, CV_32FC3, 1.0 / 255.0);
       // Matched filter: the template degraded as the scan degraded the blob (the filling's
       // sigma there), so that a small, faint model is compared with what a scan makes of it.
-      if (sigma > 0.0)
-        cv::GaussianBlur(t_f, t_f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
-      cv::cvtColor(t_f, t_lab, cv::COLOR_RGB2Lab);
-      const Peak pk = MatchAround(lab_padded, pad, t_lab, r, margin);
+      auto match = [&](double template_pad) {
+        cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, template_pad, pixel), ceiling), t_f,
+                t_lab;
+        t_rgb.convertTo(t_f, CV_32FC3, 1.0 / 255.0);
+        if (sigma > 0.0)
+          cv::GaussianBlur(t_f, t_f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+        cv::cvtColor(t_f, t_lab, cv::COLOR_RGB2Lab);
+        return MatchAround(lab_padded, pad, t_lab, r, margin);
+      };
+      Peak pk = match(p.template_pad);
+      // The padded template holds the model's colours (the catalogue's) beside the wall's
+      // measured colour, so its outline is only as right as the two agree. A flush plate whose
+      // colour the scan renders as its wall's (a white built-in socket on a light wall) shows
+      // no outline in the scan although its template has one; its inner pattern (cup and
+      // holes) still shows. So a flush class is also matched without the padding; that peak
+      // counts when it is higher and reaches inner_ncc_min (fewer pixels and no outline: a
+      // higher floor for the same rate of chance matches).
+      if (m.depth < 2.0 * p.protrusion_min) {
+        const Peak inner = match(0.0);
+        if (inner.score > pk.score && inner.score >= p.inner_ncc_min) pk = inner;
+      }
       if (pk.score < p.colour_ncc_min) continue;
       PathDetection d = BoxAt(k, m, pixel, pk);
       if (!DepthAgrees(se, d, m, p)) continue;

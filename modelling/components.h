@@ -25,7 +25,9 @@
 //  3. Colour path: pixels whose Lab distance to the local wall colour (same background
 //     estimate as 2, from the colour of the surface layer) exceeds `colour_delta_e`, merged by
 //     a dilation of `colour_merge`, are candidate boxes; a class whose size can hold a box is
-//     located by NCC of its colour model (padded with the local wall colour) and verified by
+//     located by NCC of its colour model (padded with the local wall colour; a flush class
+//     also by its model alone, the inner pattern, when that matches better and reaches
+//     inner_ncc_min: its outline may not show in the scan) and verified by
 //     the perceptron (ComponentRecogniser) on the box of the class size there: a colour
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
 //     beats its "none" score, a class of the same size scores at least colour_score_min of that
@@ -100,6 +102,9 @@ struct ComponentParams {
   /// score, [0, 1]
   double colour_score_min = 0.2;
   double colour_ncc_min = 0.3;  ///< least colour NCC peak of a colour detection, [-1, 1]
+  /// Least NCC of a flush class's inner pattern (its colour model without the wall padding)
+  /// to stand for the padded match, [-1, 1]
+  double inner_ncc_min = 0.75;
   /// The colour model is blurred by this share of the filling's sigma at the candidate before
   /// the NCC (compared with what a scan makes of it); 0 = the sharp model, [0, 3]
   double template_blur_share = 1.0;
@@ -140,6 +145,7 @@ struct ComponentParams {
     v("colour_min_extent", colour_min_extent, Bounds{0.0, 1.0});
     v("colour_score_min", colour_score_min, Bounds{0.0, 1.0});
     v("colour_ncc_min", colour_ncc_min, Bounds{-1.0, 1.0});
+    v("inner_ncc_min", inner_ncc_min, Bounds{-1.0, 1.0});
     v("template_blur_share", template_blur_share, Bounds{0.0, 3.0});
     v("depth_consistency", depth_consistency, Bounds{0.0, 1.0});
     v("min_pair_alpha", min_pair_alpha, Bounds{0.0, 1.0});

@@ -311,6 +311,29 @@ TEST(Components, FlushSocketIsFoundByColourAloneAtHalf) {
   EXPECT_DOUBLE_EQ(m.components[0].alpha, 0.5);
 }
 
+// The scan renders the socket darker than the catalogue draws it, by the factor that makes its
+// white plate the wall's colour: no outline shows, only the cup and the holes. Found by the
+// inner pattern of its colour model; with that match switched off (inner_ncc_min above any
+// NCC) the padded model, whose white plate stands out from the wall, misses it.
+TEST(Components, FlushSocketWhosePlateLooksLikeItsWallIsFoundByItsInnerPattern) {
+  TestWall w = MakeWall();
+  interfaces::ObjectModel seen = ModelOf("built_in_socket");
+  for (std::size_t i = 0; i < seen.colour_rgb.size(); ++i) {
+    const double gain = static_cast<double>(w.colour[i % 3]) / kWhite[i % 3];
+    seen.colour_rgb[i] = static_cast<std::uint8_t>(std::lround(seen.colour_rgb[i] * gain));
+  }
+  w.placed.push_back({seen, 2.2, 0.35});
+  const Sm5Model m = Detect(w);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "built_in_socket");
+  EXPECT_EQ(m.components[0].found_by, FoundBy::kColour);
+  EXPECT_LT(std::abs(m.components[0].u - 2.2), 0.005);
+  EXPECT_LT(std::abs(m.components[0].v - 0.35), 0.005);
+  ComponentParams outline_only;
+  outline_only.inner_ncc_min = 1.0;
+  EXPECT_TRUE(Detect(w, outline_only).components.empty());
+}
+
 // Farther scans blur a small, faint model more; its colour model is blurred alike before the
 // NCC (a matched filter) and it is still found (with the sharp model it is missed from 6 m; at
 // 7 m the blurred model calls it a switch, the sharp one finds it: a limit, not a pin).
