@@ -241,12 +241,12 @@ bool MountsOn(const interfaces::ObjectModel& m, bool ceiling) {
 }
 
 // The class's box can be the candidate: extent within tolerance (colour blobs may be smaller:
-// a part of the model differs from the wall).
+// a part of the model differs from the wall), plus `spread` metres on each side.
 bool SizeFits(const cv::Rect& r, double pixel, const interfaces::ObjectModel& m,
-              const ComponentParams& p, double min_share) {
+              const ComponentParams& p, double min_share, double spread = 0.0) {
   const double w = r.width * pixel, h = r.height * pixel;
   auto fits = [&](double x, double size) {
-    return x <= size * (1.0 + p.size_tolerance) + p.size_slack &&
+    return x <= size * (1.0 + p.size_tolerance) + p.size_slack + 2.0 * spread &&
            x >= std::max(0.0, min_share * size - p.size_slack);
   };
   return fits(w, m.width) && fits(h, m.height);
@@ -387,10 +387,15 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
   for (const cv::Rect& r : regions) {
     if (r.area() * pixel * pixel < p.min_region_area) continue;
+    // The filling blurs a protrusion's edges: a step of depth H crosses protrusion_min
+    // sigma x Phi^-1(1 - protrusion_min / H) outside the object, about one sigma for a 4 cm
+    // socket. Where the wall is sparsely sampled (sigma up to fill_sigma_max) an 8 cm high
+    // four-gang socket made a 15 cm high region that no class of its size fitted.
+    const double spread = se.blur.at<float>(r.y + r.height / 2, r.x + r.width / 2) * pixel;
     for (int k = 0; k < static_cast<int>(cat.models.size()); ++k) {
       const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
       if (!MountsOn(m, ceiling) || m.depth < 1.5 * p.protrusion_min) continue;
-      if (!SizeFits(r, pixel, m, p, 1.0 - p.size_tolerance)) continue;
+      if (!SizeFits(r, pixel, m, p, 1.0 - p.size_tolerance, spread)) continue;
       auto it = templates.find(k);
       if (it == templates.end())
         it = templates.emplace(k, MaybeFlip(ModelDepthOnWall(m, p.template_pad, pixel), ceiling))

@@ -15,7 +15,8 @@
 //     surface (the median depth of the surface layer, |depth| < surface_band, in cells of
 //     `background_cell`, bilinearly interpolated); pixels protruding more than
 //     `protrusion_min` form candidate regions (connected components); each region of a size
-//     a catalogue class can have is matched by normalised cross-correlation
+//     a catalogue class can have (the filling's sigma there added on each side: the filling
+//     spreads a protrusion's edges) is matched by normalised cross-correlation
 //     (cv::TM_CCOEFF_NORMED) against that class's depth model, padded with `template_pad` of
 //     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak),
 //     scored by the NCC times the agreement of the box's measured protrusion with the class's

@@ -301,6 +301,23 @@ TEST(Components, SocketInTheSparsePartOfAnUnevenlySampledWallIsFound) {
   EXPECT_LT(std::abs(m.components[0].v - 0.3), 0.005);
 }
 
+// Seen from far only, the wall is filled with a wide sigma, which spreads the socket's 4 cm
+// protrusion into a region taller and wider than the class's size tolerance; the size test
+// allows the filling's spread.
+TEST(Components, SocketOnASparselySampledWallIsFoundByDepthDespiteTheFillingsSpread) {
+  TestWall w = MakeWall();
+  w.placed.push_back({ModelOf("socket_x1"), 2.0, 0.3});
+  const Sm5Model m = DetectFrom(w, {Vec3(1.0, 1.3, 9.0)});
+  bool found = false;
+  for (const auto& c : m.components)
+    if (c.class_name == "socket_x1" && c.found_by != FoundBy::kColour) {
+      found = true;
+      EXPECT_LT(std::abs(c.u - 2.0), 0.01);
+      EXPECT_LT(std::abs(c.v - 0.3), 0.01);
+    }
+  EXPECT_TRUE(found);
+}
+
 TEST(Components, FlushSocketIsFoundByColourAloneAtHalf) {
   TestWall w = MakeWall();
   w.placed.push_back({ModelOf("built_in_socket"), 2.2, 0.35});
