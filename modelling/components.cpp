@@ -360,12 +360,15 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile
 bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
                  const ComponentParams& p) {
   // A protruding class: its top (95th percentile) stands out, even when it covers part of the
-  // box. A flush class: most of the box (the median) lies on the wall; a top percentile would
-  // read the range noise of a grazing view, or a neighbour's edge, as a protrusion.
+  // box, and not by much more than the class's depth (a chair's back or a sill is no switch):
+  // within a factor 1 / depth_consistency either way. A flush class: most of the box (the
+  // median) lies on the wall; a top percentile would read the range noise of a grazing view,
+  // or a neighbour's edge, as a protrusion.
   const double flush = 2.0 * p.protrusion_min;
   if (m.depth >= flush) {
     const double top = BoxProtrusion(se, d, 0.95);
-    return !std::isfinite(top) || top >= p.depth_consistency * m.depth;
+    return !std::isfinite(top) ||
+           (top >= p.depth_consistency * m.depth && top * p.depth_consistency <= m.depth);
   }
   const double mid = BoxProtrusion(se, d, 0.5);
   return !std::isfinite(mid) || mid < flush;

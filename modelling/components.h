@@ -33,7 +33,8 @@
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
 //     beats its "none" score, a class of the same size scores at least colour_score_min of that
 //     best (the pattern holds colour statistics and size, not the pictogram), and the
-//     box's measured protrusion agrees with the class (depth_consistency). Its score is the
+//     box's measured protrusion agrees with the class (depth_consistency, either way). Its
+//     score is the
 //     best class score (how sure the box is a component); look-alike classes (same size and
 //     colours, e.g. signs with different pictograms) are told apart by the NCC in step 5.
 //  4. Consensus per class (equation (1)): the Recognition Coherence Matrix R(O) has one row
@@ -111,8 +112,8 @@ struct ComponentParams {
   double template_blur_share = 1.0;
   /// A colour detection's class must agree with the box's measured protrusion (high-pass
   /// depth, where known): a protruding class (depth >= 2 protrusion_min) needs its 95th
-  /// percentile at least this share of its depth, a flush one its median below
-  /// 2 protrusion_min, [0, 1]
+  /// percentile between this share of its depth and its depth over this share, a flush one
+  /// its median below 2 protrusion_min, [0, 1]
   double depth_consistency = 0.3;
   double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]
   /// Least depth score (NCC x protrusion agreement) of a depth-only instance, [-1, 1]

@@ -318,6 +318,25 @@ TEST(Components, SocketOnASparselySampledWallIsFoundByDepthDespiteTheFillingsSpr
   EXPECT_TRUE(found);
 }
 
+// A switch's face on a box 20 cm deep (a sensor housing, a chair's back against the wall):
+// its colours match a switch or a socket, its protrusion is five times a socket's depth and
+// more than any class of its size has. Neither path may claim it; the same face at a switch's
+// depth is a switch.
+TEST(Components, ASwitchFaceOnADeepBoxIsNoComponent) {
+  TestWall w = MakeWall();
+  interfaces::ObjectModel deep = ModelOf("switch");
+  for (float& d : deep.depth_m) d = 0.20f;
+  deep.depth = 0.20;
+  w.placed.push_back({deep, 2.0, 1.05});
+  for (const auto& c : Detect(w).components)
+    ADD_FAILURE() << c.class_name << " by " << ToString(c.found_by) << " at u " << c.u;
+  TestWall plain = MakeWall();
+  plain.placed.push_back({ModelOf("switch"), 2.0, 1.05});
+  const Sm5Model m = Detect(plain);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "switch");
+}
+
 TEST(Components, FlushSocketIsFoundByColourAloneAtHalf) {
   TestWall w = MakeWall();
   w.placed.push_back({ModelOf("built_in_socket"), 2.2, 0.35});
