@@ -27,6 +27,7 @@ struct SeImages {
   cv::Mat wall_rgb;  // CV_8UC3, local wall colour
   cv::Mat delta_e;   // CV_32F, Lab distance to the local wall colour (0 where not valid)
   cv::Mat blur;      // CV_32F, pixels, sigma of the filling at each pixel (0 where unseen)
+  std::vector<cv::Rect> openings;  // the removed openings (grown by opening_margin), pixels
 };
 
 float Median(std::vector<float>& v) {
@@ -153,8 +154,21 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
     const auto b = im.PixelOf(o.u1 + p.opening_margin, o.v0 - p.opening_margin);
     const int c0 = std::clamp(a[0], 0, cols), c1 = std::clamp(b[0] + 1, 0, cols);
     const int r0 = std::clamp(a[1], 0, rows), r1 = std::clamp(b[1] + 1, 0, rows);
-    if (c1 > c0 && r1 > r0) se.valid(cv::Rect(c0, r0, c1 - c0, r1 - r0)).setTo(0);
+    if (c1 > c0 && r1 > r0) {
+      se.valid(cv::Rect(c0, r0, c1 - c0, r1 - r0)).setTo(0);
+      se.openings.emplace_back(c0, r0, c1 - c0, r1 - r0);
+    }
   }
+}
+
+// A candidate region that touches a removed opening (within 2 pixels) is the rest of the
+// opening's casing or trim beyond the removal margin (a door casing is often wider than the
+// margin, and SM4's edges are known to a centimetre or two), not a component on the wall.
+bool TouchesOpening(const SeImages& se, const cv::Rect& r) {
+  const cv::Rect grown(r.x - 2, r.y - 2, r.width + 4, r.height + 4);
+  for (const cv::Rect& o : se.openings)
+    if ((grown & o).area() > 0) return true;
+  return false;
 }
 
 // Steps 2-3: the low-frequency wall surface (depth and colour medians of the surface layer per
@@ -389,7 +403,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   std::vector<PathDetection> out;
   const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
   for (const cv::Rect& r : regions) {
-    if (r.area() * pixel * pixel < p.min_region_area) continue;
+    if (r.area() * pixel * pixel < p.min_region_area || TouchesOpening(se, r)) continue;
     // The filling blurs a protrusion's edges: a step of depth H crosses protrusion_min
     // sigma x Phi^-1(1 - protrusion_min / H) outside the object, about one sigma for a 4 cm
     // socket. Where the wall is sparsely sampled (sigma up to fill_sigma_max) an 8 cm high
@@ -486,7 +500,7 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
   const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
   std::vector<PathDetection> out;
   for (const cv::Rect& r : blobs) {
-    if (r.area() * pixel * pixel < 0.25 * p.min_region_area) continue;
+    if (r.area() * pixel * pixel < 0.25 * p.min_region_area || TouchesOpening(se, r)) continue;
     const cv::Point mid(r.x + r.width / 2, r.y + r.height / 2);
     const cv::Vec3b wall = se.wall_rgb.at<cv::Vec3b>(mid);
     const double sigma = p.template_blur_share * se.blur.at<float>(mid);

@@ -9,8 +9,9 @@
 //     `pixel` metres, holes between samples filled by normalised convolution (Gaussian sigma
 //     from the local sample spacing, which varies several-fold over one SE; shadows and unseen
 //     areas stay unknown, fill_min_weight),
-//     the pixels inside the SE's SM4 openings (grown by `opening_margin`) removed. It splits into
-//     the depth image J^_D (protrusion, m) and the colour image J^_C (CIE Lab).
+//     the pixels inside the SE's SM4 openings (grown by `opening_margin`) removed; candidate
+//     regions of steps 2-3 touching a removed opening are its casing, not components. It splits
+//     into the depth image J^_D (protrusion, m) and the colour image J^_C (CIE Lab).
 //  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
 //     surface (the median depth of the surface layer, |depth| < surface_band, in cells of
 //     `background_cell`, bilinearly interpolated); pixels protruding more than

@@ -545,6 +545,35 @@ TEST(Components, OpeningsAreRemovedFromTheSe) {
   EXPECT_TRUE(DetectComponents(w.sm3, sm4, op, Recogniser(), {}).components.empty());
 }
 
+// A door's casing is 8 cm wide and SM4's removal margin 5 cm: the casing's outer strip stays
+// in the image, a 2 cm protrusion of a switch's size where the head casing breaks up. Regions
+// touching the removed opening are its trim. A socket 10 cm beside the removed area is still
+// found.
+TEST(Components, ACasingLeftBeyondTheOpeningsMarginIsNoComponent) {
+  TestWall w = MakeWall();
+  interfaces::ObjectModel strip = ModelOf("switch");
+  for (float& d : strip.depth_m) d = 0.02f;
+  strip.depth = 0.02;
+  w.placed.push_back({strip, 1.0, 2.0 + 0.05 + 0.04});    // above the door, touching the margin
+  w.placed.push_back({ModelOf("socket_x1"), 1.45, 0.3});  // beside the door's margin
+  Sm4Model sm4;
+  DetectedOpening door;
+  door.host = "wall_1";
+  door.u0 = 0.6, door.u1 = 1.3, door.v0 = 0.0, door.v1 = 2.0;
+  sm4.openings.push_back(door);
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<Rgb> cols;
+  Scan(w, Vec3(1.4, 1.2, 2.5), DegToRad(0.2), 0.0, 1, pts, cols);
+  Scan(w, Vec3(2.8, 1.3, 3.0), DegToRad(0.2), 0.001, 2, pts, cols);
+  OrthoPoints op;
+  op.points = &pts;
+  op.colours = &cols;
+  const Sm5Model m = DetectComponents(w.sm3, sm4, op, Recogniser(), {});
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "socket_x1");
+  EXPECT_LT(std::abs(m.components[0].u - 1.45), 0.01);
+}
+
 TEST(Sm5Io, RoundTripsAndRefusesBadInput) {
   Sm5Model m;
   m.room = "R1";
