@@ -192,7 +192,8 @@ void Scan(const TestWall& w, const Vec3& s, double step, double shift, std::uint
 // The wall scanned at the main job's 0.2 deg step from `positions` (u, v, distance), the second
 // and later scans with a 1 mm registration offset; `rec` null: the test catalogue's recogniser.
 Sm5Model DetectFrom(const TestWall& w, const std::vector<Vec3>& positions,
-                    ComponentParams params = {}, const ComponentRecogniser* rec = nullptr) {
+                    ComponentParams params = {}, const ComponentRecogniser* rec = nullptr,
+                    const Sm4Model& sm4 = {}) {
   std::vector<Eigen::Vector3f> pts;
   std::vector<Rgb> cols;
   const double step = DegToRad(0.2);
@@ -201,7 +202,7 @@ Sm5Model DetectFrom(const TestWall& w, const std::vector<Vec3>& positions,
   OrthoPoints op;
   op.points = &pts;
   op.colours = &cols;
-  return DetectComponents(w.sm3, Sm4Model{}, op, rec ? *rec : Recogniser(), params);
+  return DetectComponents(w.sm3, sm4, op, rec ? *rec : Recogniser(), params);
 }
 
 // From two positions, as the two scans of a room that see one wall.
@@ -536,13 +537,7 @@ TEST(Components, OpeningsAreRemovedFromTheSe) {
   door.host = "wall_1";
   door.u0 = 0.8, door.u1 = 1.2, door.v0 = 0.0, door.v1 = 2.0;
   sm4.openings.push_back(door);
-  std::vector<Eigen::Vector3f> pts;
-  std::vector<Rgb> cols;
-  Scan(w, Vec3(1.4, 1.2, 2.5), DegToRad(0.2), 0.0, 1, pts, cols);
-  OrthoPoints op;
-  op.points = &pts;
-  op.colours = &cols;
-  EXPECT_TRUE(DetectComponents(w.sm3, sm4, op, Recogniser(), {}).components.empty());
+  EXPECT_TRUE(DetectFrom(w, {Vec3(1.4, 1.2, 2.5)}, {}, nullptr, sm4).components.empty());
 }
 
 // A door's casing is 8 cm wide and SM4's removal margin 5 cm: the casing's outer strip stays
@@ -561,14 +556,7 @@ TEST(Components, ACasingLeftBeyondTheOpeningsMarginIsNoComponent) {
   door.host = "wall_1";
   door.u0 = 0.6, door.u1 = 1.3, door.v0 = 0.0, door.v1 = 2.0;
   sm4.openings.push_back(door);
-  std::vector<Eigen::Vector3f> pts;
-  std::vector<Rgb> cols;
-  Scan(w, Vec3(1.4, 1.2, 2.5), DegToRad(0.2), 0.0, 1, pts, cols);
-  Scan(w, Vec3(2.8, 1.3, 3.0), DegToRad(0.2), 0.001, 2, pts, cols);
-  OrthoPoints op;
-  op.points = &pts;
-  op.colours = &cols;
-  const Sm5Model m = DetectComponents(w.sm3, sm4, op, Recogniser(), {});
+  const Sm5Model m = DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, {}, nullptr, sm4);
   ASSERT_EQ(m.components.size(), 1u);
   EXPECT_EQ(m.components[0].class_name, "socket_x1");
   EXPECT_LT(std::abs(m.components[0].u - 1.45), 0.01);
