@@ -51,6 +51,7 @@ Json OpeningJson(const DetectedOpening& o) {
     jo["opening_angle_deg"] =
         std::isfinite(o.opening_angle_deg) ? Json(R(o.opening_angle_deg, 0.01)) : Json(nullptr);
     jo["clear_width_m"] = R(o.clear_width_m);
+    if (!o.hole_from.empty()) jo["hole_from"] = o.hole_from;
     if (!o.found_from.empty()) {
       jo["found_from"] = o.found_from;
     } else if (!o.state_from.empty()) {
@@ -251,6 +252,7 @@ DetectedOpening ParseOpening(const Json& jo, const std::string& where, const std
       clear = NumberField(j, "clear_width_m", where, c);
     };
     reading(jo, ctx, o.state, o.opening_angle_deg, o.clear_width_m);
+    if (jo.contains("hole_from")) o.hole_from = StringField(jo, "hole_from", where, ctx);
     if (jo.contains("found_from")) {
       o.found_from = StringField(jo, "found_from", where, ctx);
       o.state_from = o.found_from;

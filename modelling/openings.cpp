@@ -144,6 +144,9 @@ namespace {
 struct Line {
   double pos = 0;    // column (vertical line) or row (horizontal line), pixel index
   int a = 0, b = 0;  // extent along the other axis, inclusive
+  // Where the step lies across the line, in continuous pixel coordinates (ColU/RowV take it):
+  // pos + 0.5 is the edge pixel's centre (LocateEdges).
+  double edge = 0;
   int Length() const { return b - a + 1; }
 };
 
@@ -193,6 +196,52 @@ std::vector<Line> FindLines(int n_i, int n_j, On on, int gap, int min_len, int m
     return std::tie(x.pos, x.a, x.b) < std::tie(y.pos, y.a, y.b);
   });
   return merged;
+}
+
+// Where each line's step lies across it, to a fraction of a pixel: the vertex of the parabola
+// through the gradient across the line (summed along its extent) at the strongest of the
+// columns (rows) pos-1..pos+1 and its two neighbours. Canny marks one pixel of a step, and of a
+// step between two pixels (both with the same gradient) the first: its centre is half a pixel
+// off the step, which the vertex puts back on it (a two-point plateau has its vertex between
+// them); a step inside a mixed pixel keeps that pixel's centre. `grad`: |d/dcol| for vertical
+// lines, |d/drow| for horizontal ones.
+void LocateEdges(std::vector<Line>& lines, const cv::Mat& grad, bool vertical) {
+  const int n_across = vertical ? grad.cols : grad.rows;
+  const int n_along = vertical ? grad.rows : grad.cols;
+  for (Line& l : lines) {
+    const auto profile = [&](int i) {
+      if (i < 0 || i >= n_across) return 0.0;
+      double s = 0.0;
+      for (int j = std::max(0, l.a); j <= std::min(n_along - 1, l.b); ++j)
+        s += vertical ? grad.at<float>(j, i) : grad.at<float>(i, j);
+      return s;
+    };
+    const int c = static_cast<int>(std::lround(l.pos));
+    int peak = c;
+    for (int i = c - 1; i <= c + 1; ++i)
+      if (profile(i) > profile(peak)) peak = i;
+    const double s0 = profile(peak - 1), s1 = profile(peak), s2 = profile(peak + 1);
+    const double den = s0 - 2.0 * s1 + s2;
+    // Within the peak pixel (+-0.49: the line's pixel stays the peak's, see LinePixel).
+    const double d = den < 0.0 ? std::clamp(0.5 * (s0 - s2) / den, -0.49, 0.49) : 0.0;
+    l.edge = peak + 0.5 + d;
+  }
+}
+
+// The pixel (column, row) of the line at (u, v) of a rectangle's side (the inverse of ColU and
+// RowV of a Line::edge; PixelOf would take the next pixel for a step on a pixel boundary).
+std::array<int, 2> LinePixel(const Orthoimage& img, double u, double v) {
+  const double px = img.Pixel();
+  return {static_cast<int>(std::lround((u + img.Margin()) / px - 0.5)),
+          static_cast<int>(std::lround(img.Rows() - (v + img.Margin()) / px - 0.5))};
+}
+
+// The step of the longest line at index i (a rectangle's side), or the pixel's centre.
+double EdgeAt(const std::vector<Line>& lines, int i) {
+  const Line* best = nullptr;
+  for (const Line& l : lines)
+    if (std::lround(l.pos) == i && (best == nullptr || l.Length() > best->Length())) best = &l;
+  return best != nullptr ? best->edge : i + 0.5;
 }
 
 // Sum of a 0/1 mask over [c0, c1) x [r0, r1) from its integral image (clipped).
@@ -666,6 +715,9 @@ namespace {
 struct WallEdges {
   cv::Mat edge01;  // 1 where any of the three images has an edge
   Masks m;
+  // |d/dcol| and |d/drow| of the three images (3x3 Sobel, each scaled to 1 for a full-range
+  // step, summed; CV_32F): where across a line its step lies (LocateEdges).
+  cv::Mat grad_c, grad_r;
 };
 
 WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const OpeningParams& p) {
@@ -761,8 +813,18 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
   const Masks m{Integral(known), Integral(ev_door), Integral(ev_window), Integral(through),
                 Integral(wall),  Integral(edge_v),  Integral(edge_h),    Integral(hid_v),
                 Integral(hid_h), Integral(flush),   Integral(hidden)};
-
-  return {edge01, m};
+  cv::Mat grad[2];
+  for (int axis = 0; axis < 2; ++axis) {
+    grad[axis] = cv::Mat::zeros(rows, cols, CV_32F);
+    for (const cv::Mat* im : {&colour, &depth, &ev255}) {
+      cv::Mat g;
+      cv::Sobel(*im, g, CV_32F, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1, 3, 1.0 / (4.0 * 255.0));
+      g = cv::abs(g);
+      if (g.channels() > 1) cv::reduce(g.reshape(1, rows * cols), g, 1, cv::REDUCE_MAX);
+      grad[axis] += g.reshape(1, rows);
+    }
+  }
+  return {edge01, m, grad[0], grad[1]};
 }
 
 // Step 3: rectangles from pairs of vertical lines and one (door, down to the floor) or two
@@ -914,7 +976,7 @@ LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoim
     auto snap = [&](double u) {
       double best_d = 0.05, out_u = u;
       for (const Line& l : vert) {
-        const double lu = img.ColU(l.pos + 0.5);
+        const double lu = img.ColU(l.edge);
         if (std::abs(lu - u) < best_d) best_d = std::abs(lu - u), out_u = lu;
       }
       return out_u;
@@ -990,7 +1052,8 @@ int ExtendOccludedSides(Candidate& k, const std::vector<Line>& vert, const Masks
 // Step 4 and the file's fields: each kept rectangle as an opening in the wall's frame, doors
 // with their leaf (FitDoor).
 std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
-                                        const std::vector<Line>& vert, const Masks& m,
+                                        const std::vector<Line>& vert,
+                                        const std::vector<Line>& horz, const Masks& m,
                                         const Orthoimage& img, const std::string& host,
                                         const OrthoPoints& points, const OpeningParams& p,
                                         double floor_v) {
@@ -1000,9 +1063,9 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
     DetectedOpening o;
     o.type = k.type;
     o.host = host;
-    o.u0 = img.ColU(k.cl + 0.5), o.u1 = img.ColU(k.cr + 0.5);
-    o.v1 = img.RowV(k.rt + 0.5);
-    o.v0 = k.type == OpeningType::kDoor ? floor_v : img.RowV(k.rb + 0.5);
+    o.u0 = img.ColU(EdgeAt(vert, k.cl)), o.u1 = img.ColU(EdgeAt(vert, k.cr));
+    o.v1 = img.RowV(EdgeAt(horz, k.rt));
+    o.v0 = k.type == OpeningType::kDoor ? floor_v : img.RowV(EdgeAt(horz, k.rb));
     o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
                  f.ToMap(o.u0, o.v1)};
     o.confidence = std::clamp(k.score, 0.0, 1.0);
@@ -1018,7 +1081,7 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
       const int moved = ExtendOccludedSides(e, vert, m, p, img.Pixel());
       if (moved != 0) {
         DetectedOpening x = rect;
-        x.u0 = img.ColU(e.cl + 0.5), x.u1 = img.ColU(e.cr + 0.5);
+        x.u0 = img.ColU(EdgeAt(vert, e.cl)), x.u1 = img.ColU(EdgeAt(vert, e.cr));
         const LeafFit leaf =
             FitDoor(x, vert, img, points, p, static_cast<std::uint64_t>(e.cl) * 100003u + e.rt);
         const bool hinged_at_moved =
@@ -1041,7 +1104,7 @@ void InsetCasingSides(DetectedOpening& o, const std::vector<Line>& vert, const M
   const double px = img.Pixel();
   const int in_min = static_cast<int>(std::lround(p.casing_min / px));
   const int in_max = static_cast<int>(std::lround(p.casing_max / px));
-  const auto lo = img.PixelOf(o.u0, o.v1), hi = img.PixelOf(o.u1, o.v0);
+  const auto lo = LinePixel(img, o.u0, o.v1), hi = LinePixel(img, o.u1, o.v0);
   const int cl = lo[0], cr = hi[0], r0 = lo[1] + 1, r1 = hi[1];
   if (r1 <= r0 || cr <= cl) return;
   const auto casing = [&](int c0, int c1) {
@@ -1059,8 +1122,8 @@ void InsetCasingSides(DetectedOpening& o, const std::vector<Line>& vert, const M
       new_cr = c;
   }
   if (new_cr - new_cl < 2) return;
-  if (new_cl != cl) o.u0 = img.ColU(new_cl + 0.5);
-  if (new_cr != cr) o.u1 = img.ColU(new_cr + 0.5);
+  if (new_cl != cl) o.u0 = img.ColU(EdgeAt(vert, new_cl));
+  if (new_cr != cr) o.u1 = img.ColU(EdgeAt(vert, new_cr));
 }
 
 // One hole, one opening. The leaf and reveal steps move the sides of the rectangles KeepHoles
@@ -1135,9 +1198,10 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
 namespace {
 
 // Step 2's straight lines of one wall: along columns (vertical) and rows (horizontal), on the
-// edge map with a 1-pixel slack.
-std::pair<std::vector<Line>, std::vector<Line>> WallLines(const cv::Mat& edge01, double px,
+// edge map with a 1-pixel slack, each with its step (LocateEdges).
+std::pair<std::vector<Line>, std::vector<Line>> WallLines(const WallEdges& we, double px,
                                                           const OpeningParams& p) {
+  const cv::Mat& edge01 = we.edge01;
   const int cols = edge01.cols, rows = edge01.rows;
   const int gap = static_cast<int>(std::lround(p.line_gap / px));
   const int min_len = std::max(2, static_cast<int>(std::lround(p.min_line / px)));
@@ -1150,10 +1214,98 @@ std::pair<std::vector<Line>, std::vector<Line>> WallLines(const cv::Mat& edge01,
   std::vector<Line> horz = FindLines(
       rows, cols, [&](int r, int c) { return e_at(r - 1, c) || e_at(r, c) || e_at(r + 1, c); }, gap,
       min_len, p.max_lines);
+  LocateEdges(vert, we.grad_c, true);
+  LocateEdges(horz, we.grad_r, false);
   return {std::move(vert), std::move(horz)};
 }
 
 }  // namespace
+
+namespace {
+
+// A door among `openings` overlaps the hint along the wall.
+bool Shown(const HoleHint& h, const std::vector<DetectedOpening>& openings) {
+  for (const DetectedOpening& o : openings)
+    if (o.type == OpeningType::kDoor && std::min(o.u1, h.u1) > std::max(o.u0, h.u0)) return true;
+  return false;
+}
+
+// Step 4 on the hint's rectangle (from the floor to its top) of `img`'s wall; leaf_points 0
+// unless a leaf opened out of the wall's plane was found (lambda >= closed_below_deg): a
+// closed leaf's fit takes any flat wall's surface layer, which is no evidence of a door here.
+DetectedOpening DoorOnHint(const HoleHint& h, const std::vector<Line>& vert, const Orthoimage& img,
+                           const std::string& host, const OrthoPoints& points,
+                           const OpeningParams& p, double floor_v) {
+  DetectedOpening o;
+  o.type = OpeningType::kDoor;
+  o.host = host;
+  o.hole_from = h.room;
+  if (!(h.u1 > h.u0) || !(h.v1 > floor_v)) return o;
+  const PatchFrame& f = img.Frame();
+  o.u0 = h.u0, o.u1 = h.u1, o.v0 = floor_v, o.v1 = h.v1;
+  o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+  o.confidence = h.confidence;
+  const double px = img.Pixel();
+  FitDoor(o, vert, img, points, p,
+          static_cast<std::uint64_t>(std::max(0L, std::lround(h.u0 / px))) * 100003u +
+              static_cast<std::uint64_t>(std::max(0L, std::lround(h.v1 / px))) + 11u);
+  if (!(o.opening_angle_deg >= p.closed_below_deg)) o.leaf_points = 0;
+  return o;
+}
+
+}  // namespace
+
+std::vector<HoleHint> HoleHints(const PatchFrame& frame, const std::string& room,
+                                const std::vector<Sm4Model>& others, const OpeningParams& p) {
+  std::vector<HoleHint> hints;
+  for (const Sm4Model& other : others) {
+    if (other.room == room) continue;
+    for (const DetectedOpening& o : other.openings) {
+      if (o.type != OpeningType::kDoor) continue;
+      HoleHint h{other.room, 1e300, -1e300, -1e300, o.confidence};
+      bool near = true;
+      for (const Vec3& c : o.corners) {
+        const double d = frame.Depth(c);
+        near = near && d <= p.flush_depth && d >= -p.max_wall_thickness;
+        const Vec2 uv = frame.ToUv(c);
+        h.u0 = std::min(h.u0, uv.x()), h.u1 = std::max(h.u1, uv.x());
+        h.v1 = std::max(h.v1, uv.y());
+      }
+      if (near && h.u0 >= -p.flush_depth && h.u1 <= frame.width + p.flush_depth) hints.push_back(h);
+    }
+  }
+  return hints;
+}
+
+int AddDoorsFromNeighbours(const StructuralModel& sm3, Sm4Model& sm4, const OrthoPoints& points,
+                           const std::vector<Sm4Model>& others, const OpeningParams& params) {
+  params.Validate();
+  int added = 0;
+  for (const StructuralPatch& wall : sm3.patches) {
+    if (wall.patch_class != PatchClass::kWall) continue;
+    const PatchFrame frame = PatchFrame::Of(wall);
+    // Step 4 needs the wall's frame only (no image lines: a widened side is not snapped).
+    const Orthoimage frame_only(frame, params.orthoimage.finest_pixel, 1, 1);
+    std::vector<DetectedOpening> on_wall;
+    for (const DetectedOpening& o : sm4.openings)
+      if (o.host == wall.id) {
+        DetectedOpening q = o;
+        const Vec2 a = frame.ToUv(o.corners[0]), b = frame.ToUv(o.corners[2]);
+        q.u0 = std::min(a.x(), b.x()), q.u1 = std::max(a.x(), b.x());
+        on_wall.push_back(q);
+      }
+    for (const HoleHint& h : HoleHints(frame, sm3.room, others, params)) {
+      if (Shown(h, on_wall)) continue;
+      DetectedOpening o = DoorOnHint(h, {}, frame_only, wall.id, points, params, 0.0);
+      if (o.leaf_points == 0) continue;
+      o.id = "opening_" + std::to_string(sm4.openings.size() + 1);
+      on_wall.push_back(o);
+      sm4.openings.push_back(std::move(o));
+      ++added;
+    }
+  }
+  return added;
+}
 
 bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
                             const OpeningParams& p) {
@@ -1208,21 +1360,30 @@ bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const
 
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
                                                 const OrthoPoints& points, const OpeningParams& p,
-                                                double floor_v) {
+                                                double floor_v,
+                                                const std::vector<HoleHint>& hints) {
   p.Validate();
   const int cols = img.Cols(), rows = img.Rows();
   if (cols < 3 || rows < 3) return {};
   const double px = img.Pixel();
   const WallArea area = SegmentWallArea(img, p);
   const WallEdges we = BuildWallEdges(img, area, p);
-  const auto [vert, horz] = WallLines(we.edge01, px, p);
+  const auto [vert, horz] = WallLines(we, px, p);
   // Rectangles, the kept holes, the openings.
   const int floor_row =
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
   const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
   std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
-  std::vector<DetectedOpening> out = OneOpeningPerHoleWithLines(
-      ToOpenings(kept, vert, we.m, img, host, points, p, floor_v), vert, we.m, img, points, p);
+  std::vector<DetectedOpening> out =
+      OneOpeningPerHoleWithLines(ToOpenings(kept, vert, horz, we.m, img, host, points, p, floor_v),
+                                 vert, we.m, img, points, p);
+  for (const HoleHint& h : hints)
+    if (!Shown(h, out)) {
+      DetectedOpening o = DoorOnHint(h, vert, img, host, points, p, floor_v);
+      if (o.leaf_points > 0) out.push_back(std::move(o));
+    }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const DetectedOpening& a, const DetectedOpening& b) { return a.u0 < b.u0; });
   // A door whose front is occupied by one object ending at its sides is that object's outline.
   out.erase(std::remove_if(out.begin(), out.end(),
                            [&](const DetectedOpening& o) {
@@ -1238,13 +1399,14 @@ std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> open
   params.Validate();
   if (image.Cols() < 3 || image.Rows() < 3) return openings;
   const WallEdges we = BuildWallEdges(image, SegmentWallArea(image, params), params);
-  const auto lines = WallLines(we.edge01, image.Pixel(), params);
+  const auto lines = WallLines(we, image.Pixel(), params);
   return OneOpeningPerHoleWithLines(std::move(openings), lines.first, we.m, image, points, params);
 }
 
 Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
                         const OpeningParams& params,
-                        std::vector<std::pair<std::string, Orthoimage>>* images) {
+                        std::vector<std::pair<std::string, Orthoimage>>* images,
+                        const std::vector<Sm4Model>& neighbours) {
   params.Validate();
   Sm4Model out;
   out.room = sm3.room;
@@ -1259,7 +1421,8 @@ Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
   tbb::parallel_for(std::size_t{0}, walls.size(), [&](std::size_t i) {
     const PatchFrame frame = PatchFrame::Of(*walls[i]);
     auto img = std::make_unique<Orthoimage>(BuildOrthoimage(points, frame, params.orthoimage));
-    found[i] = DetectWallOpenings(*img, walls[i]->id, points, params, 0.0);
+    found[i] = DetectWallOpenings(*img, walls[i]->id, points, params, 0.0,
+                                  HoleHints(frame, sm3.room, neighbours, params));
     if (images != nullptr) wall_images[i] = std::move(img);
   });
   for (std::size_t i = 0; i < walls.size(); ++i) {

@@ -271,6 +271,10 @@ struct DetectedOpening {
   /// A door this room did not find, on its face of a wall whose other face's room found it
   /// (floor model, ShareDoors): that room's name. Empty: found in this room's own data.
   std::string found_from;
+  /// A door this room's images did not show whose hole another room found on the other face
+  /// of the wall (DetectOpenings' neighbours) and whose leaf this room's points measured: that
+  /// room's name; the state, angle and clear width are this room's. Empty otherwise.
+  std::string hole_from;
   // Diagnostics (not in sm4.json): shares of the interior.
   double known_share = 0.0, evidence_share = 0.0, through_share = 0.0, side_support = 0.0;
   int leaf_points = 0;  ///< inliers of the leaf fit (0: none)
@@ -310,12 +314,26 @@ struct WallArea {
 };
 WallArea SegmentWallArea(const Orthoimage& image, const OpeningParams& params);
 
+/// A door hole another room found on the other face of a wall, in this wall's frame (m): its
+/// sides u0 < u1 and its top v1 (DetectOpenings' neighbours).
+struct HoleHint {
+  std::string room;  ///< the room that found it
+  double u0 = 0.0, u1 = 0.0, v1 = 0.0;
+  double confidence = 0.0;  ///< that room's validation score
+};
+
 /// The openings of one wall from its orthoimage (steps 1-3) and its doors' leaves (step 4,
 /// from `points`, which may be the same as the image's). `floor_v` is the floor's v in the
-/// image's frame (0 for an SM3 wall). Ids are left empty (DetectOpenings numbers them).
+/// image's frame (0 for an SM3 wall). Each hint no door found here overlaps is a door of this
+/// wall when a leaf opened out of the wall's plane is found in `points` (step 4 on the
+/// hint's rectangle, lambda >= closed_below_deg; hole_from names the hint's room): a leaf opened
+/// into this room can hide its own doorway's frame from it (the latch jamb and the top in its
+/// shadow), while the leaf itself is in plain view. Ids are left empty (DetectOpenings numbers
+/// them).
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& image, const std::string& host,
                                                 const OrthoPoints& points,
-                                                const OpeningParams& params, double floor_v = 0.0);
+                                                const OpeningParams& params, double floor_v = 0.0,
+                                                const std::vector<HoleHint>& hints = {});
 
 /// One opening per hole (the last part of step 3, after step 4; DetectWallOpenings calls it):
 /// door rectangles of one wall that overlap or lie closer than door_merge_gap and together are
@@ -327,12 +345,29 @@ std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> open
                                                const Orthoimage& image, const OrthoPoints& points,
                                                const OpeningParams& params);
 
+/// The doors of `others` (rooms other than `room`, same map frame) whose corners lie on the
+/// plane of `frame`'s wall or up to max_wall_thickness behind it (the other face of the wall),
+/// within its extent along u (flush_depth slack): hints in that wall's frame.
+std::vector<HoleHint> HoleHints(const PatchFrame& frame, const std::string& room,
+                                const std::vector<Sm4Model>& others, const OpeningParams& params);
+
+/// The same hints for a room modelled before the rooms that found them (the floor model): each
+/// hint on a wall of `sm3` that no door of `sm4` overlaps becomes a door of `sm4` (next free
+/// id, hole_from set) when a leaf opened out of the wall's plane is found in `points` (step 4
+/// only: no image; see DetectWallOpenings). Returns the doors added.
+int AddDoorsFromNeighbours(const StructuralModel& sm3, Sm4Model& sm4, const OrthoPoints& points,
+                           const std::vector<Sm4Model>& others, const OpeningParams& params);
+
 /// SM4 of one room: every wall patch of `sm3` imaged (BuildOrthoimage) and searched. InputError
 /// for bad params or point arrays. `images`, when not null, receives the walls' orthoimages
-/// (same order as the wall patches) for writing (WriteOrthoimagePngs) or SM5.
+/// (same order as the wall patches) for writing (WriteOrthoimagePngs) or SM5. `neighbours`:
+/// the SM4 of rooms modelled before (same map frame); their doors whose corners lie on a
+/// wall's plane or up to max_wall_thickness behind it, within the wall's image, are that
+/// wall's hints (DetectWallOpenings).
 Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,
                         const OpeningParams& params,
-                        std::vector<std::pair<std::string, Orthoimage>>* images = nullptr);
+                        std::vector<std::pair<std::string, Orthoimage>>* images = nullptr,
+                        const std::vector<Sm4Model>& neighbours = {});
 
 /// The leaf of a door in [u0, u1] x [v0, v1] of `frame` (step 4): lambda (deg, NaN when no
 /// leaf is found) and the inlier count.
