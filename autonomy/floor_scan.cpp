@@ -64,6 +64,7 @@ class FloorMission {
       VisitRoom(kid, before);
       current = kid;
     }
+    DoorsFromLaterRooms();
     res_.scans = nav_.ScanCount();
     res_.sim_time = nav_.Time();
     res_.wall_time = SecondsSince(t0);
@@ -101,8 +102,13 @@ class FloorMission {
     };
     try {
       v.scan = RunRoomScan(nav_, rp_, model, on_scan, &target_);
-      v.models =
-          BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images, recogniser_);
+      // The rooms modelled before: their doors on this room's walls are hints (a leaf opened
+      // into this room can hide its own doorway's frame from it).
+      std::vector<modelling::Sm4Model> neighbours;
+      for (const FloorRoom& r : res_.rooms)
+        if (r.error.empty()) neighbours.push_back(r.sm4);
+      v.models = BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images,
+                                 recogniser_, neighbours);
     } catch (const std::exception& e) {
       v.error = e.what();
     }
@@ -118,9 +124,34 @@ class FloorMission {
     r.sm3 = std::move(v.models.sm3);
     r.sm4 = std::move(v.models.sm4);
     r.error = v.error;
+    if (r.error.empty()) {
+      const modelling::OpeningParams& op = rp_.sm4;
+      const double z0 = r.sm3.floor_z + op.leaf_v_low * op.door_min_height;
+      const double z1 = r.sm3.floor_z + op.door_max_height + op.lintel_search;
+      for (const Eigen::Vector3f& q : model.Points())
+        if (q.z() >= z0 && q.z() <= z1) r.leaf_points.push_back(q);
+    }
     res_.tree.Node(node).reason = r.stop_reason;
     res_.rooms.push_back(std::move(r));
     if (res_.rooms.back().error.empty()) AddChildren(node, res_.rooms.back());
+  }
+
+  // A door a later room found on a wall it shares with an earlier room that did not show it
+  // there (its leaf, opened into the earlier room, hid the doorway's frame): the earlier room
+  // measures the leaf in its kept points (the later rooms had it as a hint already).
+  void DoorsFromLaterRooms() {
+    for (std::size_t i = 0; i < res_.rooms.size(); ++i) {
+      FloorRoom& r = res_.rooms[i];
+      if (!r.error.empty()) continue;
+      std::vector<modelling::Sm4Model> later;
+      for (std::size_t j = i + 1; j < res_.rooms.size(); ++j)
+        if (res_.rooms[j].error.empty()) later.push_back(res_.rooms[j].sm4);
+      modelling::OrthoPoints pts;
+      pts.points = &r.leaf_points;
+      r.doors_from_later_rooms =
+          modelling::AddDoorsFromNeighbours(r.sm3, r.sm4, pts, later, rp_.sm4);
+    }
+    for (FloorRoom& r : res_.rooms) std::vector<Eigen::Vector3f>().swap(r.leaf_points);
   }
 
   // "; K doors not entered (closed: a, too narrow: b, unreachable: c)" or "".

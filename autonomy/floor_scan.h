@@ -113,6 +113,12 @@ struct FloorRoom {
   modelling::StructuralModel sm3;
   modelling::Sm4Model sm4;
   std::string error;
+  /// Doors added to sm4 at the mission's end from rooms modelled after this one
+  /// (modelling::AddDoorsFromNeighbours): its files are to be written again when > 0.
+  int doors_from_later_rooms = 0;
+  /// SM1 points in the height band of door leaves and lintels (floor + leaf_v_low *
+  /// door_min_height to floor + door_max_height + lintel_search), kept for that pass only.
+  std::vector<Eigen::Vector3f> leaf_points;
 };
 
 struct FloorScanResult {

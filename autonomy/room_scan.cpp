@@ -370,7 +370,8 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
 RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
                            const RoomScanParams& params, const std::string& room,
                            std::vector<std::pair<std::string, modelling::Orthoimage>>* images,
-                           const modelling::ComponentRecogniser* recogniser) {
+                           const modelling::ComponentRecogniser* recogniser,
+                           const std::vector<modelling::Sm4Model>& neighbours) {
   RoomModels out;
   out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
   modelling::OrthoPoints ortho = std::move(no_return);
@@ -380,7 +381,7 @@ RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPo
   ortho.scan_origins.clear();
   for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
   const auto t0 = Clock::now();
-  out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images);
+  out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images, neighbours);
   // A closed door's leaf and casing are not its wall: when SM4 found one, SM3 is fitted again
   // without their points, and SM4 again on that SM3.
   bool closed_door = false;
@@ -392,7 +393,7 @@ RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPo
         modelling::ClosedDoorPointMask(model.Points(), out.sm3.patches, out.sm4.openings);
     out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room, &mask);
     if (images) images->clear();
-    out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images);
+    out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images, neighbours);
   }
   out.sm4_seconds = Since(t0);
   out.sm5.room = room;

@@ -34,7 +34,8 @@ bool WriteFloorModel(autonomy::FloorScanResult& mission, const modelling::FloorM
     const std::vector<std::string> changed = modelling::ShareDoors(model, sm4);
     for (autonomy::FloorRoom& r : mission.rooms) {
       if (!r.error.empty() ||
-          std::find(changed.begin(), changed.end(), r.sm4.room) == changed.end())
+          (r.doors_from_later_rooms == 0 &&
+           std::find(changed.begin(), changed.end(), r.sm4.room) == changed.end()))
         continue;
       for (const modelling::Sm4Model& m : sm4)
         if (m.room == r.sm4.room) r.sm4 = m;
