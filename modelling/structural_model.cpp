@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "common/error.h"
+#include "common/frames.h"
 #include "common/rng.h"
 #include "modelling/room_model.h"
 
@@ -203,6 +204,14 @@ PlaneFit FitHorizontal(const std::vector<Eigen::Vector3d>& points, double z, boo
     f.plane.n = Eigen::Vector3d::UnitZ();
     f.plane.d = -z;
     f.fitted = false;
+  } else if (std::acos(std::min(1.0, std::abs(f.plane.n.z()))) <
+             prm.level_tolerance_deg * kPi / 180.0) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& p : band) c += p;
+    c /= static_cast<double>(band.size());
+    const double zc = -(f.plane.n.x() * c.x() + f.plane.n.y() * c.y() + f.plane.d) / f.plane.n.z();
+    f.plane.n = Eigen::Vector3d::UnitZ();
+    f.plane.d = -zc;
   }
   if ((f.plane.n.z() > 0) != up) f.plane.n = -f.plane.n, f.plane.d = -f.plane.d;
   return f;

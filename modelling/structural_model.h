@@ -46,6 +46,12 @@ struct Sm3Params {
   /// m, column footprint edges shorter than this collapse into a corner (a traced 1 mm chamfer
   /// gave a sliver face with a clockwise polygon), [0, 1]
   double min_column_edge = 0.05;
+  /// deg, a fitted floor or ceiling tilted less than this from horizontal is taken horizontal
+  /// through the fit's height at its points' centroid: the map frame is levelled (the
+  /// scanner's inclinometer, +-0.008 deg), and a smaller fitted tilt is range noise and clutter
+  /// over the room's span (0.05 deg over a 15 m hall is 1.3 cm at its far walls' tops); a
+  /// sloped ceiling tilts more and keeps its fit. 0: every fit kept, [0, 10]
+  double level_tolerance_deg = 0.5;
 
   template <class V>
   void Visit(V& v) {
@@ -63,6 +69,7 @@ struct Sm3Params {
     v("round_max_rms_ratio", round_max_rms_ratio, Bounds{1e-6, 1.0});
     v("round_segments", round_segments, Bounds{3, 360});
     v("min_column_edge", min_column_edge, Bounds{0.0, 1.0});
+    v("level_tolerance_deg", level_tolerance_deg, Bounds{0.0, 10.0});
   }
 };
 

@@ -117,6 +117,44 @@ TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
   EXPECT_EQ(m.adjacency.size(), 6u + 12u);
 }
 
+// The map frame is levelled: a ceiling whose points tilt 0.1 deg (range noise, clutter) is
+// horizontal, so every wall's vertical edges are the room's height; a ceiling sloped 3 deg
+// (beyond level_tolerance_deg) keeps its slope.
+TEST(StructuralModel, ANearlyLevelCeilingIsLevelAndASlopedOneKeepsItsSlope) {
+  for (const double slope_deg : {0.1, 3.0}) {
+    CounterRng rng(5, "sm3-level");
+    std::vector<Eigen::Vector3d> pts;
+    const double t = std::tan(slope_deg * kPi / 180.0);
+    AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 5, 0}, 40000);
+    AddRect(pts, rng, {0, 0, 3}, {5, 0, 5 * t}, {0, 5, 0}, 40000);
+    const std::vector<Eigen::Vector2d> sq = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
+    for (std::size_t i = 0; i < 4; ++i) {
+      const auto a = sq[i], b = sq[(i + 1) % 4];
+      AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 3}, 15000);
+    }
+    Sm3Input in;
+    in.room = "S";
+    in.points = &pts;
+    in.perimeter = sq;
+    const StructuralModel m = BuildStructuralModel(in, {});
+    for (const auto& p : m.patches) {
+      if (p.patch_class == PatchClass::kCeiling) {
+        const double tilt = std::acos(std::abs(p.plane.n.z())) * 180.0 / kPi;
+        if (slope_deg < 1.0)
+          EXPECT_EQ(tilt, 0.0);
+        else
+          EXPECT_NEAR(tilt, slope_deg, 0.05);
+      }
+      if (p.patch_class != PatchClass::kWall || slope_deg > 1.0) continue;
+      double top_min = 1e9, top_max = -1e9;
+      for (const auto& v : p.polygon)
+        if (v.z() > 1.5) top_min = std::min(top_min, v.z()), top_max = std::max(top_max, v.z());
+      EXPECT_LT(top_max - top_min, 1e-9) << p.id;
+      EXPECT_NEAR(top_min, 3.0 + 2.5 * t, 0.003) << p.id;  // the fit's height at the centre
+    }
+  }
+}
+
 TEST(StructuralModel, WallNormalsPointIntoTheRoom) {
   LRoom room;
   Sm3Input in;
