@@ -123,6 +123,7 @@ class FloorMission {
     if (model.ScanCount() > 0) r.perimeter = model.Perimeter();
     r.sm3 = std::move(v.models.sm3);
     r.sm4 = std::move(v.models.sm4);
+    r.sm5 = std::move(v.models.sm5);
     r.error = v.error;
     if (r.error.empty()) {
       const modelling::OpeningParams& op = rp_.sm4;

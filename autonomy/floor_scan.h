@@ -112,6 +112,7 @@ struct FloorRoom {
   std::vector<Vec2> perimeter;  ///< map frame plan polygon (empty when modelling failed)
   modelling::StructuralModel sm3;
   modelling::Sm4Model sm4;
+  modelling::Sm5Model sm5;  ///< empty without a recogniser
   std::string error;
   /// Doors added to sm4 at the mission's end from rooms modelled after this one
   /// (modelling::AddDoorsFromNeighbours): its files are to be written again when > 0.

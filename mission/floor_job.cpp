@@ -180,7 +180,7 @@ class FloorWorld {
     const Pose3 X_WM = session_.X_MW().To3d().inverse();
     WriteRunJson(dir, mw_, room_, params_.drive.seed, X_WM);
     modelling::WriteModelsGlb(v.models.sm3, &v.models.sm4, room_,
-                              (fs::path(dir) / "models.glb").string());
+                              (fs::path(dir) / "models.glb").string(), &v.models.sm5);
     r.openings = v.models.sm4.openings.size();
     r.components = v.models.sm5.components.size();
     r.sm4_seconds = v.models.sm4_seconds;
@@ -282,7 +282,7 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
       if (rj.robot_room != r.room || rj.dir.empty()) continue;
       const fs::path room_dir = d / rj.dir;
       io::WriteTextFile((room_dir / "sm4.json").string(), modelling::Sm4Json(r.sm4));
-      modelling::WriteModelsGlb(r.sm3, &r.sm4, rj.room, (room_dir / "models.glb").string());
+      modelling::WriteModelsGlb(r.sm3, &r.sm4, rj.room, (room_dir / "models.glb").string(), &r.sm5);
     }
   };
   WriteFloorModel(job.mission, params.floor_model, dir, progress, rewrite);

@@ -171,7 +171,8 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   job.components = models.sm5.components.size();
   modelling::WriteSm5File(dir, models.sm5);
   WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
-  modelling::WriteModelsGlb(sm3, &sm4, room, (std::filesystem::path(dir) / "models.glb").string());
+  modelling::WriteModelsGlb(sm3, &sm4, room, (std::filesystem::path(dir) / "models.glb").string(),
+                            &models.sm5);
   for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
   const Pose3 X_WM = session.X_MW().To3d().inverse();
   const auto& pts = model.Points();

@@ -604,7 +604,7 @@ void WriteDsm3Ply(const VoxelSpace& vs, const std::string& path) {
 }
 
 void WriteModelsGlb(const StructuralModel& sm3, const Sm4Model* sm4, const std::string& room,
-                    const std::string& path) {
+                    const std::string& path, const Sm5Model* sm5) {
   io::GlbScene scene;
   scene.name = "robot model of room " + room;  // not the output path: same run, same bytes
   struct ClassStyle {
@@ -673,6 +673,38 @@ void WriteModelsGlb(const StructuralModel& sm3, const Sm4Model* sm4, const std::
                                      : nlohmann::ordered_json(nullptr);
       }
       mesh.extras = {{"mopad", m}};
+      scene.meshes.push_back(std::move(mesh));
+    }
+  }
+  if (sm5 != nullptr && !sm5->components.empty()) {
+    const int material = static_cast<int>(scene.materials.size());
+    scene.materials.push_back({"component", {0.90f, 0.20f, 0.15f, 1.f}});
+    for (const DetectedComponent& c : sm5->components) {
+      const StructuralPatch* host = nullptr;
+      for (const auto& p : sm3.patches)
+        if (p.id == c.host) host = &p;
+      if (host == nullptr || host->polygon.size() < 3) continue;
+      const PatchFrame f = PatchFrame::Of(*host);
+      const Vec3 hu = 0.5 * c.size.x() * f.u, hv = 0.5 * c.size.y() * f.v;
+      const Vec3 dn = c.size.z() * f.n;  // the host's normal into the room, as c.normal
+      io::GlbMesh mesh;
+      mesh.name = room + "/" + c.id;
+      mesh.material = material;
+      // Corners: bit 0 +u, bit 1 +v, bit 2 off the host (into the room).
+      for (int k = 0; k < 8; ++k)
+        mesh.positions.push_back((c.centre + ((k & 1) ? hu : Vec3(-hu)) +
+                                  ((k & 2) ? hv : Vec3(-hv)) + ((k & 4) ? dn : Vec3::Zero()))
+                                     .cast<float>());
+      // Outward faces, counter-clockwise seen from outside (u x v = n for a PatchFrame).
+      mesh.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+      mesh.extras = {{"mopad",
+                      {{"id", mesh.name},
+                       {"class", c.class_name},
+                       {"room", room},
+                       {"host", c.host},
+                       {"alpha", c.alpha},
+                       {"found_by", ToString(c.found_by)}}}};
       scene.meshes.push_back(std::move(mesh));
     }
   }

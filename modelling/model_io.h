@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "modelling/components.h"
 #include "modelling/floor_model.h"
 #include "modelling/openings.h"
 #include "modelling/orthoimage.h"
@@ -55,7 +56,8 @@ std::string FloorSm4Json(const FloorModel& model);
 /// version, an sm3.json that is not a floor's (room "floor" with "rooms"), a missing or
 /// mistyped field, a room patch of an unlisted room, a wall without faces, a thickness that
 /// does not fit the face count (null exactly for one face), a face side other than 1 or -1, a
-/// pair index out of range, an opening with no side or more than two. The openings' (u, v) rectangles are left 0.
+/// pair index out of range, an opening with no side or more than two. The openings' (u, v)
+/// rectangles are left 0.
 FloorModel ParseFloorModel(const std::string& sm3_text, const std::string& sm3_where,
                            const std::string& sm4_text, const std::string& sm4_where);
 /// Reads `<dir>/sm3.json` and `<dir>/sm4.json` (InputError if missing or malformed).
@@ -68,11 +70,14 @@ void WriteSm4Files(const std::string& dir, const Sm4Model& model,
                    const std::vector<std::pair<std::string, Orthoimage>>& images);
 /// models.glb (io::WriteGlb): one node per SM3 patch (walls, floor, ceiling, column faces) and,
 /// with `sm4`, per opening (a quad on its hole), each with extras {"mopad": {"id", "class",
-/// "room"}} and, for openings, "state" and "opening_angle_deg"; materials per class. Patches
-/// whose polygon is not counter-clockwise seen from the room are left out. InputError when
-/// nothing could be triangulated or the file cannot be written.
+/// "room"}} and, for openings, "state" and "opening_angle_deg"; materials per class. With
+/// `sm5`, per service component a box of its class's size standing on its host (width along
+/// the host frame's u, height along v, depth along the normal into the room), extras "class"
+/// (the catalogue class), "host", "alpha", "found_by", material "component". Patches whose
+/// polygon is not counter-clockwise seen from the room are left out. InputError when nothing
+/// could be triangulated or the file cannot be written.
 void WriteModelsGlb(const StructuralModel& sm3, const Sm4Model* sm4, const std::string& room,
-                    const std::string& path);
+                    const std::string& path, const Sm5Model* sm5 = nullptr);
 /// Every voxel inside the RoI (flag kInside or on a face) with its DSM3 label and indices.
 void WriteDsm3Ply(const VoxelSpace& voxels, const std::string& path);
 

@@ -4,6 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "common/error.h"
@@ -84,6 +90,47 @@ TEST(Sm3File, BadFilesNameTheField) {
   t.replace(t.find("\"support\""), 9, "\"suport\"");
   EXPECT_NE(message(t).find("patches[0].support: missing field"), std::string::npos) << message(t);
   EXPECT_THROW(ReadSm3("/nonexistent/sm3.json"), InputError);
+}
+
+// models.glb carries SM5: a switch on wall_1 is a box of its size standing on the wall (depth
+// into the room), named and described in its extras.
+TEST(ModelsGlb, AComponentIsABoxOnItsHostWithItsClassInTheExtras) {
+  const StructuralModel sm3 = TwoPatches();
+  Sm5Model sm5;
+  sm5.room = "R7";
+  DetectedComponent c;
+  c.id = "bsc_1", c.class_name = "switch", c.host = "wall_1";
+  c.centre = {2.0, -1.5, 1.2}, c.normal = {0, 1, 0}, c.size = {0.08, 0.12, 0.01};
+  c.alpha = 0.95, c.found_by = FoundBy::kColour;
+  sm5.components = {c};
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "mopad_models_glb_sm5.glb").string();
+  WriteModelsGlb(sm3, nullptr, "R7", path, &sm5);
+  std::ifstream in(path, std::ios::binary);
+  const std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::uint32_t len = 0;
+  std::memcpy(&len, b.data() + 12, 4);
+  const auto j = nlohmann::json::parse(b.substr(20, len));
+  bool found = false;
+  for (const auto& node : j["nodes"]) {
+    if (node["name"] != "R7/bsc_1") continue;
+    found = true;
+    const auto& x = node["extras"]["mopad"];
+    const auto& mesh = j["meshes"][node["mesh"].get<int>()];
+    EXPECT_EQ(x["class"], "switch");
+    EXPECT_EQ(x["host"], "wall_1");
+    EXPECT_EQ(x["found_by"], "colour");
+    EXPECT_DOUBLE_EQ(x["alpha"].get<double>(), 0.95);
+    const auto& acc = j["accessors"][mesh["primitives"][0]["attributes"]["POSITION"].get<int>()];
+    const double lo[3] = {1.96, -1.5, 1.14}, hi[3] = {2.04, -1.49, 1.26};
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(acc["min"][k].get<double>(), lo[k], 1e-6) << k;
+      EXPECT_NEAR(acc["max"][k].get<double>(), hi[k], 1e-6) << k;
+    }
+    EXPECT_EQ(j["accessors"][mesh["primitives"][0]["indices"].get<int>()]["count"], 36);
+  }
+  EXPECT_TRUE(found);
+  std::filesystem::remove(path);
 }
 
 }  // namespace
