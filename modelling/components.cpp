@@ -27,6 +27,7 @@ struct SeImages {
   cv::Mat wall_rgb;  // CV_8UC3, local wall colour
   cv::Mat delta_e;   // CV_32F, Lab distance to the local wall colour (0 where not valid)
   cv::Mat blur;      // CV_32F, pixels, sigma of the filling at each pixel (0 where unseen)
+  cv::Mat measured;  // CV_8U, 255 = the pixel holds points (not filled)
   std::vector<cv::Rect> openings;  // the removed openings (grown by opening_margin), pixels
 };
 
@@ -63,7 +64,7 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
       if (im.Count(i) == 0) continue;
       w.at<float>(r, k) = 1.0f;
       n.at<float>(r, k) = static_cast<float>(im.Count(i));
-      d.at<float>(r, k) = im.Depth(i);
+      d.at<float>(r, k) = im.FrontDepth(i);
       const auto rgb = im.Rgb(i);
       c.at<cv::Vec3f>(r, k) = cv::Vec3f(rgb[0], rgb[1], rgb[2]);
     }
@@ -123,6 +124,7 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
                      cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   }
   se.valid = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
+  se.measured = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
   se.depth = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   se.rgb = cv::Mat(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0));
   for (int r = 0; r < rows; ++r)
@@ -141,8 +143,9 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
       se.valid.at<uchar>(r, k) = 255;
       // A pixel holding points keeps their mean; an empty one takes the filter's estimate.
       const bool own = w.at<float>(r, k) > 0.0f;
+      if (own) se.measured.at<uchar>(r, k) = 255;
       const std::size_t i = im.Index(k, r);
-      se.depth.at<float>(r, k) = own ? im.Depth(i) : f.d.at<float>(rr, kk) / wk;
+      se.depth.at<float>(r, k) = own ? im.FrontDepth(i) : f.d.at<float>(rr, kk) / wk;
       const auto rgb = im.Rgb(i);
       const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : f.c.at<cv::Vec3f>(rr, kk) / wk;
       se.rgb.at<cv::Vec3b>(r, k) =
@@ -369,6 +372,21 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile
   return *q;
 }
 
+// Measured samples (pixels holding points, not filled) in the box protruding more than
+// protrusion_min.
+int ProtrudingSamples(const SeImages& se, const PathDetection& d, const ComponentParams& p) {
+  const cv::Rect box =
+      cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
+               static_cast<int>(std::ceil(d.col1 - d.col0)),
+               static_cast<int>(std::ceil(d.row1 - d.row0))) &
+      cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
+  int n = 0;
+  for (int r = box.y; r < box.y + box.height; ++r)
+    for (int c = box.x; c < box.x + box.width; ++c)
+      n += se.measured.at<uchar>(r, c) && se.highpass.at<float>(r, c) > p.protrusion_min;
+  return n;
+}
+
 // The measured protrusion inside a box agrees with the class (ComponentParams::
 // depth_consistency); true when too little of the box is known to tell.
 bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
@@ -376,8 +394,9 @@ bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::O
   // A protruding class: its top (95th percentile) stands out, even when it covers part of the
   // box, and not by much more than the class's depth (a chair's back or a sill is no switch):
   // within a factor 1 / depth_consistency either way. A flush class: most of the box (the
-  // median) lies on the wall; a top percentile would read the range noise of a grazing view,
-  // or a neighbour's edge, as a protrusion.
+  // median) lies on the wall, neither proud of it nor behind it (a window's reveal or a recess
+  // seen past a removed opening's margin); a top percentile would read the range noise of a
+  // grazing view, or a neighbour's edge, as a protrusion.
   const double flush = 2.0 * p.protrusion_min;
   if (m.depth >= flush) {
     const double top = BoxProtrusion(se, d, 0.95);
@@ -385,20 +404,35 @@ bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::O
            (top >= p.depth_consistency * m.depth && top * p.depth_consistency <= m.depth);
   }
   const double mid = BoxProtrusion(se, d, 0.5);
-  return !std::isfinite(mid) || mid < flush;
+  return !std::isfinite(mid) || std::abs(mid) < flush;
 }
 
 // Step 2 on one SE.
 std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceiling,
                                      const interfaces::ObjectModelCatalogue& cat,
                                      const ComponentParams& p) {
-  cv::Mat mask = (se.highpass > p.protrusion_min) & se.valid;
+  // An unknown pixel in a gap narrower than gap_close between protruding ones takes their
+  // protrusion (a grey closing of the high-pass depth, on unknown pixels only): the wall
+  // behind a radiator's fins or in an extinguisher's own shadow is hidden by the object, not a
+  // hole in it, and read as wall it broke the object into fragments no class fitted and pulled
+  // the NCC down. A shadow wider than gap_close stays unknown.
+  cv::Mat hp = se.highpass, known = se.valid;
+  const int gap = 2 * static_cast<int>(std::lround(0.5 * p.gap_close / pixel)) + 1;
+  if (gap >= 3) {
+    cv::Mat closed;
+    cv::morphologyEx(se.highpass, closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(gap, gap)));
+    hp = se.highpass.clone();
+    closed.copyTo(hp, ~se.valid);
+    known = se.valid | (hp > p.protrusion_min);
+  }
+  cv::Mat mask = (hp > p.protrusion_min) & known;
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
   const std::vector<cv::Rect> regions = Regions(mask, 0);
   const int pad = static_cast<int>(std::ceil((1.2 + p.template_pad * 2 + p.search_margin) / pixel));
   cv::Mat padded;
-  cv::copyMakeBorder(se.highpass, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::copyMakeBorder(hp, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
   std::map<int, cv::Mat> templates;
   std::vector<PathDetection> out;
   const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
@@ -427,6 +461,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
       const double agree =
           std::isfinite(top) && top > 0.0 ? std::min(top, m.depth) / std::max(top, m.depth) : 0.5;
       d.score = pk.score * agree;
+      d.samples = ProtrudingSamples(se, d, p);
       out.push_back(d);
     }
   }
@@ -554,6 +589,13 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
   return out;
 }
 
+// x's projection onto the frame's plane lies within `margin` of its extent.
+bool OverExtent(const PatchFrame& f, const Vec3& x, double margin) {
+  const Vec2 uv = f.ToUv(x);
+  return uv.x() >= -margin && uv.y() >= -margin && uv.x() <= f.width + margin &&
+         uv.y() <= f.height + margin;
+}
+
 }  // namespace
 
 void ComponentParams::Validate() const { ValidateParams(*this, "components."); }
@@ -629,7 +671,8 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
     }
     for (std::size_t b = 0; b < cols.size(); ++b) {
       const PathDetection& d = depth[static_cast<std::size_t>(cols[b])];
-      if (!col_used[b] && d.score >= p.single_depth_ncc && !overlaps_pair(d, false))
+      if (!col_used[b] && d.score >= p.single_depth_ncc && d.samples >= p.min_depth_samples &&
+          !overlaps_pair(d, false))
         out.push_back({k, -1, cols[b], 0.5});
     }
   }
@@ -710,6 +753,28 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
   return out;
 }
 
+std::vector<std::size_t> SePointIndices(const StructuralModel& sm3, std::size_t se,
+                                        const std::vector<Eigen::Vector3f>& points,
+                                        const ComponentParams& params) {
+  if (se >= sm3.patches.size())
+    throw InputError("", "SE index out of range", std::to_string(se),
+                     "< " + std::to_string(sm3.patches.size()));
+  std::vector<PatchFrame> frames;
+  for (const StructuralPatch& patch : sm3.patches) frames.push_back(PatchFrame::Of(patch));
+  const PatchFrame& frame = frames[se];
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Vec3 x = points[k].cast<double>();
+    if (std::abs(frame.Depth(x)) > params.band || !OverExtent(frame, x, 0.0)) continue;
+    bool other = false;
+    for (std::size_t j = 0; j < frames.size() && !other; ++j)
+      other = j != se && std::abs(frames[j].Depth(x)) <= params.surface_band &&
+              OverExtent(frames[j], x, params.band);
+    if (!other) out.push_back(k);
+  }
+  return out;
+}
+
 Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
                           const OrthoPoints& points, const ComponentRecogniser& recogniser,
                           const ComponentParams& params) {
@@ -718,28 +783,46 @@ Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
     throw InputError("", "component recogniser is not trained", "untrained", "a trained one");
   Sm5Model out;
   out.room = sm3.room;
-  OrthoPoints pts;  // points and colours only: the ray counts are not used here
-  pts.points = points.points;
-  pts.colours = points.colours;
+  // Points and colours only: the ray counts are not used here.
+  if (points.points == nullptr || points.colours == nullptr ||
+      points.points->size() != points.colours->size())
+    throw InputError("", "SM5 points and colours missing or of different sizes",
+                     points.points && points.colours
+                         ? std::to_string(points.points->size()) + " and " +
+                               std::to_string(points.colours->size())
+                         : "missing",
+                     "one colour per point");
   OrthoimageParams op;
   op.band = params.band;
   op.finest_pixel = op.coarsest_pixel = params.pixel;
   op.max_pixels = params.max_image_pixels;
-  std::vector<const StructuralPatch*> ses;
-  for (const StructuralPatch& patch : sm3.patches) {
-    if (patch.patch_class == PatchClass::kFloor) continue;
-    const PatchFrame frame = PatchFrame::Of(patch);
-    if ((frame.width / params.pixel) * (frame.height / params.pixel) > params.max_image_pixels)
+  std::vector<std::size_t> ses;  // indices into sm3.patches
+  for (std::size_t j = 0; j < sm3.patches.size(); ++j) {
+    const PatchFrame f = PatchFrame::Of(sm3.patches[j]);
+    if (sm3.patches[j].patch_class == PatchClass::kFloor ||
+        (f.width / params.pixel) * (f.height / params.pixel) > params.max_image_pixels)
       continue;
-    ses.push_back(&patch);
+    ses.push_back(j);
   }
   // One task per SE (each reads only its own image, the shared points and the trained
   // recogniser), gathered in SE order: the same bytes on any number of threads.
   std::vector<std::vector<DetectedComponent>> found(ses.size());
   tbb::parallel_for(std::size_t{0}, ses.size(), [&](std::size_t i) {
-    const Orthoimage image = BuildOrthoimage(pts, PatchFrame::Of(*ses[i]), op, params.pixel);
-    const bool ceiling = ses[i]->patch_class == PatchClass::kCeiling;
-    found[i] = DetectSeComponents(image, ses[i]->id, ceiling, sm4.openings, recogniser, params);
+    const std::size_t se = ses[i];
+    std::vector<Eigen::Vector3f> own_points;
+    std::vector<std::array<std::uint8_t, 3>> own_colours;
+    for (const std::size_t k : SePointIndices(sm3, se, *points.points, params)) {
+      own_points.push_back((*points.points)[k]);
+      own_colours.push_back((*points.colours)[k]);
+    }
+    OrthoPoints own;
+    own.points = &own_points;
+    own.colours = &own_colours;
+    const Orthoimage image =
+        BuildOrthoimage(own, PatchFrame::Of(sm3.patches[se]), op, params.pixel);
+    const bool ceiling = sm3.patches[se].patch_class == PatchClass::kCeiling;
+    found[i] =
+        DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings, recogniser, params);
   });
   for (auto& f : found)
     for (DetectedComponent& d : f) out.components.push_back(std::move(d));

@@ -6,18 +6,22 @@
 //
 // Per SE (SM3 wall, column face or ceiling patch):
 //  1. SE orthoimage J^_CD (modelling/orthoimage.h) of the points within `band` of the plane at
-//     `pixel` metres, holes between samples filled by normalised convolution (Gaussian sigma
-//     from the local sample spacing, which varies several-fold over one SE; shadows and unseen
-//     areas stay unknown, fill_min_weight),
-//     the pixels inside the SE's SM4 openings (grown by `opening_margin`) removed; candidate
-//     regions of steps 2-3 touching a removed opening are its casing, not components. It splits
-//     into the depth image J^_D (protrusion, m) and the colour image J^_C (CIE Lab).
+//     `pixel` metres, less the points lying on another SE (within surface_band of the floor,
+//     the ceiling or a meeting wall: not this SE's protrusions), holes between samples filled by
+//     normalised convolution (Gaussian sigma from the local sample spacing, which varies
+//     several-fold over one SE; shadows and unseen areas stay unknown, fill_min_weight), the pixels
+//     inside the SE's SM4 openings (grown by `opening_margin`) removed; candidate regions of steps
+//     2-3 touching a removed opening are its casing, not components. It splits into the depth image
+//     J^_D (protrusion, m; per pixel its front-most point's: where an oblique scan saw the wall
+//     behind an object standing off it, a mean mixed the two) and the colour image J^_C (CIE
+//     Lab).
 //  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
 //     surface (the median depth of the surface layer, |depth| < surface_band, in cells of
-//     `background_cell`, bilinearly interpolated); pixels protruding more than
-//     `protrusion_min` form candidate regions (connected components); each region of a size
-//     a catalogue class can have (the filling's sigma there added on each side: the filling
-//     spreads a protrusion's edges) is matched by normalised cross-correlation
+//     `background_cell`, bilinearly interpolated); unknown pixels in gaps narrower than
+//     `gap_close` between protruding ones take their protrusion (the object's own shadow);
+//     pixels protruding more than `protrusion_min` form candidate regions (connected components);
+//     each region of a size a catalogue class can have (the filling's sigma there added on each
+//     side: the filling spreads a protrusion's edges) is matched by normalised cross-correlation
 //     (cv::TM_CCOEFF_NORMED) against that class's depth model, padded with `template_pad` of
 //     wall; a peak >= depth_ncc_min is a depth detection (box of the class size at the peak),
 //     scored by the NCC times the agreement of the box's measured protrusion with the class's
@@ -44,7 +48,8 @@
 //     iterated maximum picks the largest entry >= min_pair_alpha, makes it an instance
 //     (found_by colour+depth) and removes its row and column, until none is left. A row or
 //     column left over is a single-path instance with alpha = 0.5 when its own path is
-//     confident (depth score >= single_depth_ncc; colour score >= single_colour_score and
+//     confident (depth score >= single_depth_ncc on at least min_depth_samples measured
+//     protruding samples; colour score >= single_colour_score and
 //     NCC >= single_colour_ncc) and
 //     does not overlap a paired instance of the class. This replaces the paper's "expected
 //     number of instances" (unknown to the robot): the stopping rule is the coherence floor
@@ -90,6 +95,9 @@ struct ComponentParams {
   double surface_band = 0.015;    ///< m, |depth| of the SE surface layer, [0.001, 0.1]
   double background_cell = 0.4;   ///< m, cell of the low-frequency background, [0.05, 5]
   double protrusion_min = 0.006;  ///< m, high-pass depth of a protruding pixel, [0.001, 0.2]
+  /// m, unknown pixels in gaps narrower than this between protruding ones are part of the
+  /// protrusion (its own shadow: radiator fins, an extinguisher's side); 0 = off, [0, 0.2]
+  double gap_close = 0.03;
   double min_region_area = 4e-4;  ///< m^2, smallest candidate region or box, [0, 1]
   /// Relative tolerance between a candidate's extent and a class's size, [0, 2]
   double size_tolerance = 0.3;
@@ -119,6 +127,9 @@ struct ComponentParams {
   double min_pair_alpha = 0.05;  ///< least alpha of a colour+depth pair, [0, 1]
   /// Least depth score (NCC x protrusion agreement) of a depth-only instance, [-1, 1]
   double single_depth_ncc = 0.5;
+  /// Least measured samples protruding > protrusion_min in a depth-only instance's box: with
+  /// fewer, its shape is the filling's interpolation of a few (noisy) points, [0, 10000]
+  int min_depth_samples = 6;
   double single_colour_score = 0.3;  ///< least score of a colour-only instance, [0, 1]
   double single_colour_ncc = 0.6;    ///< least colour NCC of a colour-only instance, [-1, 1]
   double max_class_overlap = 0.3;    ///< overlap (of the smaller box) across classes, [0, 1]
@@ -137,6 +148,7 @@ struct ComponentParams {
     v("surface_band", surface_band, Bounds{0.001, 0.1});
     v("background_cell", background_cell, Bounds{0.05, 5.0});
     v("protrusion_min", protrusion_min, Bounds{0.001, 0.2});
+    v("gap_close", gap_close, Bounds{0.0, 0.2});
     v("min_region_area", min_region_area, Bounds{0.0, 1.0});
     v("size_tolerance", size_tolerance, Bounds{0.0, 2.0});
     v("size_slack", size_slack, Bounds{0.0, 0.5});
@@ -153,6 +165,7 @@ struct ComponentParams {
     v("depth_consistency", depth_consistency, Bounds{0.0, 1.0});
     v("min_pair_alpha", min_pair_alpha, Bounds{0.0, 1.0});
     v("single_depth_ncc", single_depth_ncc, Bounds{-1.0, 1.0});
+    v("min_depth_samples", min_depth_samples, Bounds{0, 10000});
     v("single_colour_score", single_colour_score, Bounds{0.0, 1.0});
     v("single_colour_ncc", single_colour_ncc, Bounds{-1.0, 1.0});
     v("max_class_overlap", max_class_overlap, Bounds{0.0, 1.0});
@@ -279,6 +292,8 @@ struct PathDetection {
   /// box's best perceptron score; [0, 1]
   double score = 0.0;
   double ncc = 0.0;  ///< NCC peak of the path's model template, [-1, 1]
+  /// depth: measured samples (pixels holding points) in the box protruding > protrusion_min
+  int samples = 0;
 };
 
 /// Equation (1): area of the boxes' intersection over the area of the box enclosing both; 0
@@ -304,6 +319,15 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
                                                   const std::vector<DetectedOpening>& openings,
                                                   const ComponentRecogniser& recogniser,
                                                   const ComponentParams& params);
+
+/// Step 1's points of patch `se` of `sm3` (indices into `points`, ascending): those within
+/// `band` of its plane over its extent, less those lying on another patch (within
+/// surface_band of its plane, over its extent grown by `band`). Where a wall meets the floor,
+/// the ceiling or the next wall, that patch's surface runs through this one's band and reads as
+/// a protruding strip along its edge. InputError when `se` is out of range.
+std::vector<std::size_t> SePointIndices(const StructuralModel& sm3, std::size_t se,
+                                        const std::vector<Eigen::Vector3f>& points,
+                                        const ComponentParams& params);
 
 /// SM5 of one room: every wall, column face and ceiling patch of `sm3` imaged and searched,
 /// SM4's openings removed. InputError for bad params, point arrays or an untrained recogniser.

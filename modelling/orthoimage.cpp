@@ -56,6 +56,7 @@ Orthoimage::Orthoimage(const PatchFrame& frame, double pixel, int cols, int rows
   rgb_sum_.assign(n, {0.0, 0.0, 0.0});
   depth_.assign(n, std::numeric_limits<float>::quiet_NaN());
   depth_sum_.assign(n, 0.0);
+  front_.assign(n, std::numeric_limits<float>::quiet_NaN());
 }
 
 std::array<int, 2> Orthoimage::PixelOf(double pu, double pv) const {
@@ -92,6 +93,7 @@ void Orthoimage::AddPoint(double pu, double pv, double depth,
   }
   depth_sum_[i] += depth;
   depth_[i] = static_cast<float>(depth_sum_[i] / k);
+  front_[i] = k == 1 ? static_cast<float>(depth) : std::max(front_[i], static_cast<float>(depth));
 }
 
 void Orthoimage::AddPassed(double pu, double pv) {

@@ -159,6 +159,9 @@ class Orthoimage {
   std::array<float, 3> Hsv(std::size_t i) const;
   /// Mean signed depth, m (NaN where Count is 0).
   float Depth(std::size_t i) const { return depth_[i]; }
+  /// Largest signed depth of the pixel's points (the surface nearest the room side; NaN where
+  /// Count is 0), m.
+  float FrontDepth(std::size_t i) const { return front_[i]; }
   std::uint32_t Passed(std::size_t i) const { return passed_[i]; }
   /// The part of Passed(i) from rays without a return (weaker: a dark or grazing surface may
   /// return nothing).
@@ -184,6 +187,7 @@ class Orthoimage {
   std::vector<std::array<double, 3>> rgb_sum_;
   std::vector<float> depth_;
   std::vector<double> depth_sum_;
+  std::vector<float> front_;
 };
 
 /// Pixel size for `frame` from the density of the points within the band over the patch

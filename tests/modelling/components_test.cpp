@@ -254,13 +254,15 @@ TEST(CoherenceAlpha, IsOverlapOverEnclosingBoxAndZeroApart) {
 TEST(Consensus, PairsByIteratedMaximumAndKeepsConfidentSinglesAtHalf) {
   ComponentParams p;
   // Two colour and two depth detections of class 0; the pairs are (0, 1) and (1, 0); a third,
-  // weak depth detection elsewhere is dropped, a strong one kept at alpha 0.5.
+  // weak depth detection elsewhere is dropped, a strong one kept at alpha 0.5, and a strong one
+  // on fewer than min_depth_samples measured samples dropped.
   const std::vector<PathDetection> colour{{0, 0, 0, 10, 10, 0.9, 0.8},
                                           {0, 50, 0, 60, 10, 0.9, 0.8}};
-  const std::vector<PathDetection> depth{{0, 51, 0, 61, 10, 0.9, 0.9},
-                                         {0, 0, 1, 10, 11, 0.9, 0.9},
-                                         {0, 100, 0, 110, 10, 0.4, 0.6},
-                                         {0, 200, 0, 210, 10, 0.9, 0.9}};
+  const std::vector<PathDetection> depth{{0, 51, 0, 61, 10, 0.9, 0.9, 20},
+                                         {0, 0, 1, 10, 11, 0.9, 0.9, 20},
+                                         {0, 100, 0, 110, 10, 0.4, 0.6, 20},
+                                         {0, 200, 0, 210, 10, 0.9, 0.9, 20},
+                                         {0, 300, 0, 310, 10, 0.9, 0.9, 5}};
   const auto inst = Consensus(colour, depth, p);
   ASSERT_EQ(inst.size(), 3u);
   EXPECT_EQ(inst[0].colour, 0);
@@ -396,6 +398,43 @@ TEST(Components, RadiatorOfTheWallColourIsFoundByDepthAlone) {
   EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.02);
 }
 
+// A wall seen from 7 m only (samples about 2.5 cm apart) with cable clips on it: 4 cm squares
+// 12 mm proud, each no more than a few samples. The filling spreads one into a blob of a
+// switch's size and protrusion; a shape read from so few samples is no switch
+// (min_depth_samples; with 0, two of them were depth-only switches).
+TEST(Components, AClipSpreadByTheFillingOfASparseWallIsNoSwitch) {
+  using interfaces::Mounting;
+  TestWall w = MakeWall();
+  for (int k = 0; k < 8; ++k)
+    w.placed.push_back({Draw("clip", Mounting::kWall, 0.04, 0.04, 0.012,
+                             [](double, double, Rgb& c, float& d) { c = kWall, d = 0.012f; }),
+                        0.3 + 0.45 * k, 0.6 + 0.173 * k});
+  const Sm5Model m = DetectFrom(w, {Vec3(2.0, 1.3, 7.0)});
+  for (const auto& c : m.components)
+    ADD_FAILURE() << c.class_name << " at u " << c.u << " v " << c.v << " by "
+                  << ToString(c.found_by);
+}
+
+// A radiator whose fins stand 10 cm off the wall with open gaps between them, scanned from 1 m
+// beside and above it: the wall behind the gaps is in the fins' shadow, unknown, not wall.
+// Read as wall (gap_close 0), the gaps pulled its NCC below the floor and it was not found;
+// the gaps narrower than gap_close take the fins' protrusion.
+TEST(Components, ARadiatorWhoseFinsShadowTheWallBehindIsOneObject) {
+  using interfaces::Mounting;
+  TestWall w = MakeWall();
+  w.colour = kWhite;
+  w.placed.push_back({Draw("open_radiator", Mounting::kWall, 1.0, 0.6, 0.10,
+                           [](double x, double, Rgb& c, float& d) {
+                             if (std::fmod(x + 0.5, 0.05) < 0.03) c = kWhite, d = 0.10f;
+                           }),
+                      2.0, 0.45});
+  const Sm5Model m = DetectFrom(w, {Vec3(1.0, 1.5, 1.0)});
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "radiator");
+  EXPECT_NE(m.components[0].found_by, FoundBy::kColour);
+  EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.03);
+}
+
 TEST(Components, TwoInstancesOfAClassOnOneWallAreBothFound) {
   TestWall w = MakeWall();
   w.placed.push_back({ModelOf("fire_sign"), 1.0, 1.9});
@@ -411,13 +450,24 @@ TEST(Components, TheSameBytesOnOneThreadAndOnTwo) {
   TestWall w = MakeWall();
   w.placed.push_back({ModelOf("fire_sign"), 1.0, 1.9});
   w.placed.push_back({ModelOf("switch"), 3.0, 1.05});
-  // The wall twice (two SEs, one task each).
+  // The wall twice, the second 5 m further along x (two SEs, one task each).
   StructuralPatch twin = w.sm3.patches[0];
   twin.id = "wall_2";
+  for (Vec3& v : twin.polygon) v.x() += 5.0;
   w.sm3.patches.push_back(twin);
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<Rgb> cols;
+  Scan(w, Vec3(1.4, 1.2, 2.5), DegToRad(0.2), 0.0, 1, pts, cols);
+  for (std::size_t i = 0, n = pts.size(); i < n; ++i)
+    pts.push_back(pts[i] + Eigen::Vector3f(5.0f, 0.0f, 0.0f)), cols.push_back(cols[i]);
+  OrthoPoints op;
+  op.points = &pts;
+  op.colours = &cols;
   std::string one, two;
-  tbb::task_arena(1).execute([&] { one = Sm5Json(Detect(w)); });
-  tbb::task_arena(2).execute([&] { two = Sm5Json(Detect(w)); });
+  tbb::task_arena(1).execute(
+      [&] { one = Sm5Json(DetectComponents(w.sm3, {}, op, Recogniser(), {})); });
+  tbb::task_arena(2).execute(
+      [&] { two = Sm5Json(DetectComponents(w.sm3, {}, op, Recogniser(), {})); });
   EXPECT_NE(one.find("\"wall_2\""), std::string::npos);
   EXPECT_EQ(one, two);
 }
@@ -560,6 +610,35 @@ TEST(Components, ACasingLeftBeyondTheOpeningsMarginIsNoComponent) {
   ASSERT_EQ(m.components.size(), 1u);
   EXPECT_EQ(m.components[0].class_name, "socket_x1");
   EXPECT_LT(std::abs(m.components[0].u - 1.45), 0.01);
+}
+
+// Where the wall meets the floor and a side wall, their surfaces run through the wall's 20 cm
+// band; their points are not the wall's (they read as a protruding strip along its edges).
+TEST(Components, TheFloorAndAMeetingWallAreNotPartOfAWallsImage) {
+  TestWall w = MakeWall();  // y = 0, x in [0, 4], z in [0, 2.7], facing +y
+  StructuralPatch floor;
+  floor.id = "floor";
+  floor.patch_class = PatchClass::kFloor;
+  floor.plane.n = Vec3::UnitZ();
+  floor.polygon = {{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}};
+  StructuralPatch side;
+  side.id = "wall_2";
+  side.patch_class = PatchClass::kWall;
+  side.plane.n = -Vec3::UnitX();
+  side.plane.d = 4.0;
+  side.polygon = {{4, 0, 0}, {4, 3, 0}, {4, 3, 2.7}, {4, 0, 2.7}};
+  w.sm3.patches.push_back(floor);
+  w.sm3.patches.push_back(side);
+  const std::vector<Eigen::Vector3f> pts = {
+      {1.0f, 0.001f, 1.0f},    // 0: on the wall
+      {1.0f, 0.10f, 0.002f},   // 1: floor, 10 cm in front of the wall
+      {3.995f, 0.12f, 1.5f},   // 2: side wall, 12 cm in front of the wall
+      {2.0f, 0.04f, 0.30f},    // 3: a socket's face on the wall
+      {2.0f, 0.15f, 0.03f},    // 4: something on the floor, 3 cm up: not on the floor
+      {1.0f, 0.30f, 1.0f},     // 5: beyond the band
+      {3.98f, 0.001f, 1.0f}};  // 6: on the wall 2 cm from the corner
+  EXPECT_EQ(SePointIndices(w.sm3, 0, pts, {}), (std::vector<std::size_t>{0, 3, 4, 6}));
+  EXPECT_THROW(SePointIndices(w.sm3, 3, pts, {}), InputError);
 }
 
 TEST(Sm5Io, RoundTripsAndRefusesBadInput) {

@@ -61,6 +61,9 @@ TEST(Orthoimage, PointsLandInTheirPixelWithMeanColourAndSignedDepth) {
   EXPECT_EQ(img.Rgb(i)[0], 150);
   EXPECT_EQ(img.Rgb(i)[2], 25);
   EXPECT_NEAR(img.Depth(i), 0.02, 1e-6);
+  // The front depth is the surface nearest the room: an oblique scan that saw the wall behind
+  // an object standing off it puts both in one pixel, and their mean is neither.
+  EXPECT_NEAR(img.FrontDepth(i), 0.03, 1e-6);
   EXPECT_EQ(px[1], 200 - 1 - 100);  // row 0 at the top
   // The third point is 0.5 m in front (beyond the band): its ray, extended, meets the wall.
   std::uint32_t blocked = 0;
