@@ -280,6 +280,9 @@ void WriteCatalogue(const ObjectModelCatalogue& catalogue, const std::string& di
   std::set<std::string> seen;
   for (const auto& m : catalogue.models) {
     CheckModelForWrite(m, dir);
+    if (!m.marks.empty() && !IsSafeName(m.marks))
+      throw InputError(dir + ": model '" + m.class_name + "'", "bad class name in 'marks'",
+                       "'" + m.marks + "'", "[A-Za-z0-9_.-]+");
     if (!seen.insert(m.class_name).second)
       throw InputError(dir, "duplicate object model class", "'" + m.class_name + "'",
                        "unique class names");
@@ -305,8 +308,9 @@ void WriteCatalogue(const ObjectModelCatalogue& catalogue, const std::string& di
       << "    mounting: " << MountingName(m.mounting) << "\n"
       << "    width: " << FormatNumbers("%.17g", m.width) << "\n"
       << "    height: " << FormatNumbers("%.17g", m.height) << "\n"
-      << "    depth: " << FormatNumbers("%.17g", m.depth) << "\n"
-      << "    pixel_size: " << FormatNumbers("%.17g", m.pixel_size) << "\n"
+      << "    depth: " << FormatNumbers("%.17g", m.depth) << "\n";
+    if (!m.marks.empty()) y << "    marks: " << m.marks << "\n";
+    y << "    pixel_size: " << FormatNumbers("%.17g", m.pixel_size) << "\n"
       << "    image_width: " << m.image_width << "\n"
       << "    image_height: " << m.image_height << "\n"
       << "    colour_file: " << colour_file << "\n"
@@ -358,7 +362,7 @@ ObjectModelCatalogue ReadCatalogue(const std::string& dir) {
   for (const YAML::Node& n : models) {
     if (!n.IsMap()) throw InputError(YamlWhere(file, n), "each model must be a map");
     RejectUnknownKeys(n,
-                      {"class_name", "mounting", "width", "height", "depth", "pixel_size",
+                      {"class_name", "mounting", "width", "height", "depth", "marks", "pixel_size",
                        "image_width", "image_height", "colour_file", "depth_file"},
                       file, "models[].");
     ObjectModel m;
@@ -376,6 +380,12 @@ ObjectModelCatalogue ReadCatalogue(const std::string& dir) {
     m.width = GetPositive(n, "width", file, false);
     m.height = GetPositive(n, "height", file, false);
     m.depth = GetPositive(n, "depth", file, true);
+    if (n["marks"]) {
+      m.marks = Get<std::string>(n, "marks", file, "a class name");
+      if (!IsSafeName(m.marks))
+        throw InputError(YamlWhere(file, n["marks"]), "bad class name in 'marks'",
+                         "'" + m.marks + "'", "[A-Za-z0-9_.-]+");
+    }
     m.pixel_size = GetPositive(n, "pixel_size", file, false);
     for (auto [key, out] :
          {std::pair{"image_width", &m.image_width}, std::pair{"image_height", &m.image_height}}) {

@@ -596,6 +596,48 @@ bool OverExtent(const PatchFrame& f, const Vec3& x, double margin) {
          uv.y() <= f.height + margin;
 }
 
+// Location signs of one size and colours differ only in their pictograms, which a scan a few
+// metres away does not resolve (the colour NCCs of the look-alike classes then differ by
+// chance). What a sign marks does: a colour-only instance whose class marks no equipment found
+// below it on this SE (overlapping it along u) takes a look-alike class, detected on the same
+// box by the colour path, whose marked equipment is there (interfaces::ObjectModel::marks: the
+// catalogue's relation, a robot's knowledge of the objects, not of the scene).
+void ApplyMarks(const std::vector<PathDetection>& colour, const std::vector<PathDetection>& depth,
+                const interfaces::ObjectModelCatalogue& cat,
+                std::vector<ConsensusInstance>& instances) {
+  auto box = [&](const ConsensusInstance& c) -> const PathDetection& {
+    return c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
+                        : colour[static_cast<std::size_t>(c.colour)];
+  };
+  auto marked_below = [&](const PathDetection& sign) {
+    const std::string& marks = cat.models[static_cast<std::size_t>(sign.class_index)].marks;
+    if (marks.empty()) return false;
+    for (const ConsensusInstance& q : instances) {
+      if (cat.models[static_cast<std::size_t>(q.class_index)].class_name != marks) continue;
+      const PathDetection& b = box(q);
+      const bool along = std::min(b.col1, sign.col1) > std::max(b.col0, sign.col0);
+      if (along && 0.5 * (b.row0 + b.row1) > sign.row1) return true;  // rows run downwards
+    }
+    return false;
+  };
+  for (ConsensusInstance& c : instances) {
+    if (c.colour < 0 || c.depth >= 0) continue;
+    const PathDetection& sign = colour[static_cast<std::size_t>(c.colour)];
+    if (marked_below(sign)) continue;
+    for (std::size_t j = 0; j < colour.size(); ++j) {
+      const PathDetection& alt = colour[j];
+      if (alt.class_index == c.class_index ||
+          !SameSize(cat.models[static_cast<std::size_t>(alt.class_index)],
+                    cat.models[static_cast<std::size_t>(c.class_index)]) ||
+          OverlapOfSmaller(alt, sign) < 0.5 || !marked_below(alt))
+        continue;
+      c.class_index = alt.class_index;
+      c.colour = static_cast<int>(j);
+      break;
+    }
+  }
+}
+
 }  // namespace
 
 void ComponentParams::Validate() const { ValidateParams(*this, "components."); }
@@ -728,7 +770,9 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
               depth.end());
   const std::vector<PathDetection> colour =
       ColourPath(se, image.Pixel(), ceiling, recogniser, params);
-  for (const ConsensusInstance& c : Consensus(colour, depth, params)) {
+  std::vector<ConsensusInstance> instances = Consensus(colour, depth, params);
+  if (!ceiling) ApplyMarks(colour, depth, cat, instances);
+  for (const ConsensusInstance& c : instances) {
     const PathDetection& b = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
                                           : colour[static_cast<std::size_t>(c.colour)];
     const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(c.class_index)];

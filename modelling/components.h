@@ -57,6 +57,10 @@
 //  5. Instances of different classes overlapping by more than `max_class_overlap` (of the
 //     smaller box) keep the one of larger rank: max(alpha, 0.5) x its evidence (the depth
 //     score when depth found it, else the colour NCC).
+//  6. On walls, a colour-only instance whose class marks equipment (ObjectModel::marks: a
+//     location sign) that was not found below it on the SE takes a look-alike class (same
+//     size, detected by the colour path on the same box) whose marked equipment was: signs of
+//     one size and colours differ only in pictograms a scan a few metres away does not resolve.
 // Centre: the depth peak's box when depth found the instance, else the colour peak's box, on
 // the SE plane (depth 0); map frame.
 //

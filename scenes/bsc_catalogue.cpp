@@ -392,8 +392,8 @@ const std::vector<BscSpec>& Specs() {
       {"fire_alarm_switch", Mounting::kWall, 0.09, 0.09, 0.05, 1.40},
       {"smoke_detector", Mounting::kCeiling, 0.11, 0.11, 0.05, 0.0},
       {"exit_light", Mounting::kWall, 0.35, 0.15, 0.05, 2.30},
-      {"extinguisher_sign", Mounting::kWall, 0.20, 0.20, 0.003, 1.90},
-      {"fire_alarm_switch_sign", Mounting::kWall, 0.20, 0.20, 0.003, 1.90},
+      {"extinguisher_sign", Mounting::kWall, 0.20, 0.20, 0.003, 1.90, "fire_extinguisher"},
+      {"fire_alarm_switch_sign", Mounting::kWall, 0.20, 0.20, 0.003, 1.90, "fire_alarm_switch"},
       {"fire_sign", Mounting::kWall, 0.20, 0.20, 0.003, 1.90},
       {"exit_sign", Mounting::kWall, 0.30, 0.15, 0.003, 2.20},
       {"electric_sign", Mounting::kWall, 0.20, 0.20 * 0.8660254037844386, 0.002, 1.90},
@@ -754,6 +754,7 @@ interfaces::ObjectModel MakeObjectModel(const std::string& class_name, double pi
   m.width = spec.width;
   m.height = spec.height;
   m.depth = spec.depth;
+  m.marks = spec.marks;
   m.pixel_size = pixel_size;
   // 1e-9 guards against 0.08 / 0.002 = 40.000000000000007.
   m.image_width = std::max(1, static_cast<int>(std::ceil(spec.width / pixel_size - 1e-9)));

@@ -19,6 +19,9 @@ struct BscSpec {
   double height = 0.0;  ///< m, along the host's vertical axis (ceiling: along world y)
   double depth = 0.0;   ///< m, protrusion (0 for flush/built-in components)
   double default_mount_height = 0.0;  ///< m above floor (wall-mounted), for generators
+  /// Class of the equipment a location sign marks, hung above it (ISO 7010; the catalogue's
+  /// ObjectModel::marks); empty for none.
+  std::string marks;
   // default_mount_height is the height of the model's centre (local origin), not of its lower
   // edge; it is 0 for ceiling-mounted classes. For a ceiling mount the local z axis points down
   // into the room: map the model with a proper rotation (e.g. 180° about x, so local y is

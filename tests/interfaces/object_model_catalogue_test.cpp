@@ -57,6 +57,7 @@ ObjectModelCatalogue SampleCatalogue() {
   c.models.push_back(MakeModel("socket_x2", 5, 3, Mounting::kWall));
   c.models.push_back(MakeModel("smoke_detector", 4, 4, Mounting::kCeiling));
   c.models.push_back(MakeModel("floor_box", 1, 2, Mounting::kFloor));
+  c.models.back().marks = "socket_x2";
   return c;
 }
 
@@ -110,6 +111,7 @@ TEST_F(CatalogueDir, WriteThenReadIsIdentical) {
     EXPECT_EQ(a.width, b.width);  // exact: 17 significant digits
     EXPECT_EQ(a.height, b.height);
     EXPECT_EQ(a.depth, b.depth);
+    EXPECT_EQ(a.marks, b.marks);
     EXPECT_EQ(a.pixel_size, b.pixel_size);
     EXPECT_EQ(a.image_width, b.image_width);
     EXPECT_EQ(a.image_height, b.image_height);
@@ -180,6 +182,7 @@ TEST_F(CatalogueDir, BadValuesAreRejected) {
       {"image_width: 5", "image_width: five"},
       {"pixel_size: 0.002", "pixel_size: 0"},
       {"colour_file: socket_x2_colour.ppm", "colour_file: ../socket_x2_colour.ppm"},
+      {"marks: socket_x2", "marks: ../socket_x2"},
   };
   for (const auto& [from, to] : cases) {
     SCOPED_TRACE(to);

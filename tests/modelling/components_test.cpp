@@ -512,6 +512,36 @@ TEST(Components, SignsOfOneSizeAndColoursAreToldApartByTheirPictograms) {
 // percentile: the sign's box here takes in the edge of a cable duct of the wall's colour (3 cm
 // deep) running past it (range noise at grazing incidence did the same on office_5rooms), and
 // the sign is still a sign.
+// Two location signs drawn alike (a scan a few metres away resolves no more of two pictograms
+// on one red) are told apart by what they mark: the one over a socket is the class that marks
+// sockets (ObjectModel::marks), whichever the colour NCC preferred; with nothing below it, a
+// sign keeps the class the NCC chose.
+TEST(Components, LookAlikeSignsAreToldApartByTheEquipmentTheyMark) {
+  interfaces::ObjectModelCatalogue cat;
+  interfaces::ObjectModel plain = *TestCatalogue().Find("fire_sign");
+  plain.class_name = "exit_route_sign";
+  interfaces::ObjectModel marking = plain;
+  marking.class_name = "socket_sign";
+  marking.marks = "socket_x1";
+  cat.models = {plain, marking, *TestCatalogue().Find("socket_x1")};
+  ComponentTrainingParams tp;
+  tp.samples_per_class = 120;
+  tp.iterations = 200;
+  const ComponentRecogniser rec = ComponentRecogniser::Train(cat, tp);
+  TestWall w = MakeWall();
+  w.placed.push_back({marking, 1.0, 1.9});
+  w.placed.push_back({*cat.Find("socket_x1"), 1.0, 0.3});
+  w.placed.push_back({plain, 3.0, 1.9});
+  const Sm5Model m = Detect(w, {}, &rec);
+  std::map<std::string, std::string> at;  // class by place
+  for (const auto& c : m.components)
+    at[(c.u < 2.0 ? "left " : "right ") + std::string(c.v > 1.0 ? "high" : "low")] = c.class_name;
+  EXPECT_EQ(at["left high"], "socket_sign");
+  EXPECT_EQ(at["left low"], "socket_x1");
+  EXPECT_EQ(at["right high"], "exit_route_sign");
+  EXPECT_EQ(m.components.size(), 3u);
+}
+
 TEST(Components, FlushSignBesideACableDuctIsStillFlush) {
   TestWall w = MakeWall();
   w.placed.push_back({ModelOf("fire_sign"), 1.0, 1.6});

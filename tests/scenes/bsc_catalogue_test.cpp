@@ -229,6 +229,22 @@ TEST(ObjectModel, DepthFollowsTheProtrudingGeometry) {
   EXPECT_NEAR(sw.depth_m[static_cast<std::size_t>(1) * 40 + 1], 0.008, 1e-6);
 }
 
+// The location signs the generators hang above equipment (`placement: above`) say so in the
+// catalogue the robot carries; no other class marks anything.
+TEST(ObjectModelCatalogue, LocationSignsMarkTheEquipmentBelowThem) {
+  const interfaces::ObjectModelCatalogue cat = MakeObjectModelCatalogue(0.004);
+  for (const auto& m : cat.models) {
+    SCOPED_TRACE(m.class_name);
+    if (m.class_name == "extinguisher_sign")
+      EXPECT_EQ(m.marks, "fire_extinguisher");
+    else if (m.class_name == "fire_alarm_switch_sign")
+      EXPECT_EQ(m.marks, "fire_alarm_switch");
+    else
+      EXPECT_EQ(m.marks, "");
+    if (!m.marks.empty()) EXPECT_NE(cat.Find(m.marks), nullptr);
+  }
+}
+
 TEST(ObjectModelCatalogue, CoversAllClassesAndRoundTripsThroughFiles) {
   const interfaces::ObjectModelCatalogue cat = MakeObjectModelCatalogue(0.004);
   ASSERT_EQ(cat.models.size(), kPaperClasses.size());
@@ -247,6 +263,7 @@ TEST(ObjectModelCatalogue, CoversAllClassesAndRoundTripsThroughFiles) {
     EXPECT_EQ(back.models[i].mounting, cat.models[i].mounting);
     EXPECT_EQ(back.models[i].width, cat.models[i].width);
     EXPECT_EQ(back.models[i].depth, cat.models[i].depth);
+    EXPECT_EQ(back.models[i].marks, cat.models[i].marks);
     EXPECT_EQ(back.models[i].colour_rgb, cat.models[i].colour_rgb);
     EXPECT_EQ(back.models[i].depth_m, cat.models[i].depth_m);
   }
