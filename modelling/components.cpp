@@ -141,7 +141,8 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
           !f.closed.at<uchar>(rr, kk))
         continue;
       se.valid.at<uchar>(r, k) = 255;
-      // A pixel holding points keeps their mean; an empty one takes the filter's estimate.
+      // A pixel holding points keeps their front depth and mean colour; an empty one takes the
+      // filter's estimate.
       const bool own = w.at<float>(r, k) > 0.0f;
       if (own) se.measured.at<uchar>(r, k) = 255;
       const std::size_t i = im.Index(k, r);
