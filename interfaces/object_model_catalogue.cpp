@@ -84,6 +84,8 @@ void CheckModelForWrite(const ObjectModel& m, const std::string& dir) {
   if (!IsSafeName(m.class_name))
     throw InputError(dir, "object model class name not usable as a file name",
                      "'" + m.class_name + "'", "[A-Za-z0-9_.-]+");
+  if (!m.marks.empty() && !IsSafeName(m.marks))
+    throw InputError(where, "bad class name in 'marks'", "'" + m.marks + "'", "[A-Za-z0-9_.-]+");
   for (auto [name, v] :
        {std::pair{"width", m.width}, {"height", m.height}, {"pixel_size", m.pixel_size}}) {
     if (!std::isfinite(v) || v <= 0.0)
@@ -280,9 +282,6 @@ void WriteCatalogue(const ObjectModelCatalogue& catalogue, const std::string& di
   std::set<std::string> seen;
   for (const auto& m : catalogue.models) {
     CheckModelForWrite(m, dir);
-    if (!m.marks.empty() && !IsSafeName(m.marks))
-      throw InputError(dir + ": model '" + m.class_name + "'", "bad class name in 'marks'",
-                       "'" + m.marks + "'", "[A-Za-z0-9_.-]+");
     if (!seen.insert(m.class_name).second)
       throw InputError(dir, "duplicate object model class", "'" + m.class_name + "'",
                        "unique class names");

@@ -355,12 +355,16 @@ namespace {
 
 // Measured protrusion of a box: the `quantile` of the high-pass depth over its known pixels (m);
 // NaN when less than 30 % of the box is known.
+// A detection's box in whole pixels, clipped to the SE image.
+cv::Rect BoxRect(const SeImages& se, const PathDetection& d) {
+  return cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
+                  static_cast<int>(std::ceil(d.col1 - d.col0)),
+                  static_cast<int>(std::ceil(d.row1 - d.row0))) &
+         cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
+}
+
 double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile = 0.95) {
-  const cv::Rect box =
-      cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
-               static_cast<int>(std::ceil(d.col1 - d.col0)),
-               static_cast<int>(std::ceil(d.row1 - d.row0))) &
-      cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
+  const cv::Rect box = BoxRect(se, d);
   std::vector<float> h;
   for (int r = box.y; r < box.y + box.height; ++r)
     for (int c = box.x; c < box.x + box.width; ++c)
@@ -376,11 +380,7 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile
 // Measured samples (pixels holding points, not filled) in the box protruding more than
 // protrusion_min.
 int ProtrudingSamples(const SeImages& se, const PathDetection& d, const ComponentParams& p) {
-  const cv::Rect box =
-      cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
-               static_cast<int>(std::ceil(d.col1 - d.col0)),
-               static_cast<int>(std::ceil(d.row1 - d.row0))) &
-      cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
+  const cv::Rect box = BoxRect(se, d);
   int n = 0;
   for (int r = box.y; r < box.y + box.height; ++r)
     for (int c = box.x; c < box.x + box.width; ++c)
@@ -828,15 +828,7 @@ Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
     throw InputError("", "component recogniser is not trained", "untrained", "a trained one");
   Sm5Model out;
   out.room = sm3.room;
-  // Points and colours only: the ray counts are not used here.
-  if (points.points == nullptr || points.colours == nullptr ||
-      points.points->size() != points.colours->size())
-    throw InputError("", "SM5 points and colours missing or of different sizes",
-                     points.points && points.colours
-                         ? std::to_string(points.points->size()) + " and " +
-                               std::to_string(points.colours->size())
-                         : "missing",
-                     "one colour per point");
+  CheckOrthoPoints(points);  // of it, points and colours are used here, not the rays
   OrthoimageParams op;
   op.band = params.band;
   op.finest_pixel = op.coarsest_pixel = params.pixel;

@@ -111,9 +111,7 @@ void Orthoimage::AddBlocked(double pu, double pv) {
   if (Inside(c, r)) ++blocked_[Index(c, r)];
 }
 
-namespace {
-
-void CheckPoints(const OrthoPoints& in) {
+void CheckOrthoPoints(const OrthoPoints& in) {
   if (in.points == nullptr || in.colours == nullptr)
     throw InputError("", "orthoimage input has no points or no colours");
   if (in.colours->size() != in.points->size())
@@ -141,12 +139,10 @@ void CheckPoints(const OrthoPoints& in) {
   }
 }
 
-}  // namespace
-
 double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
                        const OrthoimageParams& params) {
   params.Validate();
-  CheckPoints(in);
+  CheckOrthoPoints(in);
   const double cell = params.density_cell;
   std::map<std::pair<long, long>, int> cells;  // ordered: deterministic
   for (const auto& pf : *in.points) {
@@ -171,7 +167,7 @@ double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
 Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
                            const OrthoimageParams& params, double pixel) {
   params.Validate();
-  CheckPoints(in);
+  CheckOrthoPoints(in);
   if (!(frame.width > 0.0) || !(frame.height > 0.0))
     throw InputError("", "orthoimage patch has no extent",
                      std::to_string(frame.width) + " x " + std::to_string(frame.height), "> 0");

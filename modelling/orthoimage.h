@@ -190,6 +190,10 @@ class Orthoimage {
   std::vector<float> front_;
 };
 
+/// InputError unless `in` holds points and one colour each, and its optional scan and
+/// no-return arrays agree with them (what BuildOrthoimage checks).
+void CheckOrthoPoints(const OrthoPoints& in);
+
 /// Pixel size for `frame` from the density of the points within the band over the patch
 /// (median over the occupied density cells), clamped to [finest_pixel, coarsest_pixel] and
 /// rounded to 1 mm.

@@ -205,7 +205,7 @@ PlaneFit FitHorizontal(const std::vector<Eigen::Vector3d>& points, double z, boo
     f.plane.d = -z;
     f.fitted = false;
   } else if (std::acos(std::min(1.0, std::abs(f.plane.n.z()))) <
-             prm.level_tolerance_deg * kPi / 180.0) {
+             DegToRad(prm.level_tolerance_deg)) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (const auto& p : band) c += p;
     c /= static_cast<double>(band.size());
