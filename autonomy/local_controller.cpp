@@ -617,6 +617,40 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
   const Vec2 here(c.X_MB.x, c.X_MB.y);
   const double axis_yaw = passage.passage.axis_yaw;
   const Vec2 axis(std::cos(axis_yaw), std::sin(axis_yaw));
+  // Onto the axis first, when the path goes through (its end lies past the narrowest point
+  // along the axis; a goal in front of a gap, a scan stop beside a desk, is reached by the
+  // crossing's hand-over to the final approach, not by a crossing): the point of the axis
+  // level with the base (at least 0.3 m before the narrowest point), reached by turning
+  // towards it and driving there.
+  if (!passage.on_axis && !path_.empty() &&
+      axis.dot(Vec2(path_.back().pose.x, path_.back().pose.y) - passage.passage.centre) <= 0.0)
+    passage.on_axis = true;
+  if (!passage.on_axis && !passage.aligned) {
+    const Vec2 off = here - passage.passage.centre;
+    const double along = std::min(axis.dot(off), -0.3);
+    const Vec2 target = passage.passage.centre + along * axis;
+    const double slack =
+        std::max(0.02, 0.5 * (passage.passage.width - P.footprint_width) - P.passage_side_margin);
+    const double d = (target - here).norm();
+    if (d <= std::max(0.02, P.passage_axis_share * slack)) {
+      passage.on_axis = true;
+    } else {
+      out.status = NavStatus::kDoorPassage;
+      const double herr =
+          WrapAngle(std::atan2(target.y() - here.y(), target.x() - here.x()) - c.X_MB.yaw);
+      const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
+      if (std::abs(herr) > DegToRad(10.0)) {
+        out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+        if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);
+      } else {
+        out.cmd = {std::min(P.passage_speed, d), w};
+      }
+      out.message = FormatNumbers(
+          "door passage: moving onto the passage axis (%.3f m off it), %.2f m before its centre", d,
+          -along);
+      return;
+    }
+  }
   if (!passage.aligned) {
     const double herr = WrapAngle(axis_yaw - c.X_MB.yaw);
     if (std::abs(herr) < DegToRad(P.passage_align_deg)) {

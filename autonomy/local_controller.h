@@ -7,8 +7,10 @@
 //    commanded arc against the base LRF's points: obstacles the map lacks slow the base and
 //    then stop it with status kBlocked (explained, never a silent stop);
 //  - a door-passage mode for the passages the planner found on the map (GlobalPlan::passages):
-//    reduced speed, stop and align with the passage axis before entering, then cross
-//    centred between the jambs seen by the LRF, checking the clearance on both sides;
+//    reduced speed, stop and align with the passage axis before entering (first driving onto
+//    the axis when the approach left the base farther off it than the crossing can correct),
+//    then cross centred between the jambs seen by the LRF, checking the clearance on both
+//    sides;
 //  - recovery when blocked for `blocked_wait` or making no progress for `stuck_timeout`:
 //    alternately back up or rotate in place, then ask the replanner (the owner's callback,
 //    usually GlobalPlanner with the LRF obstacles added) for a new path; an unreachable
@@ -65,7 +67,14 @@ struct LocalControllerParams {
   /// base follows the map's passage centre line). The map's cell size plus the LRF's noise.
   /// (0, 2]
   double passage_width_tolerance = 0.15;
-  double centring_gain = 2.0;       ///< rad/s per m of off-centre, [0, 50]
+  double centring_gain = 2.0;  ///< rad/s per m of off-centre, [0, 50]
+  /// Before aligning with a passage the path goes through, a base farther off its axis than
+  /// this share of the crossing's side slack ((passage width - footprint width) / 2 -
+  /// passage_side_margin, at least 2 cm) first drives onto the axis: while crossing, the
+  /// centring corrects an offset over about heading_gain / centring_gain metres of travel,
+  /// longer than the approach, so a diagonal approach to a gap a few centimetres wider than
+  /// the base meets its side. [0, 10]
+  double passage_axis_share = 0.5;
   double blocked_wait = 2.0;        ///< s blocked before a recovery starts, [0, 600]
   double stuck_timeout = 4.0;       ///< s without progress before a recovery, (0, 600]
   double progress_distance = 0.05;  ///< m of motion that counts as progress, (0, 5]
@@ -131,6 +140,7 @@ struct LocalControllerParams {
     v("passage_side_margin", passage_side_margin, Bounds{0.0, 1.0});
     v("passage_width_tolerance", passage_width_tolerance, Bounds{1e-3, 2.0});
     v("centring_gain", centring_gain, Bounds{0.0, 50.0});
+    v("passage_axis_share", passage_axis_share, Bounds{0.0, 10.0});
     v("blocked_wait", blocked_wait, Bounds{0.0, 600.0});
     v("stuck_timeout", stuck_timeout, Bounds{1e-3, 600.0});
     v("progress_distance", progress_distance, Bounds{1e-3, 5.0});
@@ -261,6 +271,7 @@ class LocalController {
   enum class Mode { kFollow, kFinalRotate, kBackUp, kRotate, kEscape, kDone };
   struct PassageState {
     Passage passage;
+    bool on_axis = false;  // the base drove onto the axis, or needed not
     bool aligned = false;
     bool done = false;
   };
