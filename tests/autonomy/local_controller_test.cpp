@@ -204,18 +204,17 @@ TEST(LocalController, CrossesCentredOnTheDoorWhenALeafAndACabinetFrameTheWayToIt
   if (HasFailure()) PrintLog(r);
 }
 
-// A gap a few centimetres wider than the base, approached diagonally: a desk's corner and the
-// end of a door leaf opened into the room leave 0.63 m (the 0.5 m base plus 6.5 cm a side), the
-// only way into the pocket in front of the door. The path reaches the passage from the
-// south-east; aligned where it stood, the base would cross 0.13 m off the axis and meet the
-// desk (random floor 31 with 10 rooms: the door's front was never reached and nine rooms were
-// lost). It first drives onto the axis, then aligns and crosses centred.
+// A gap a little wider than the base, approached diagonally: a desk's corner and the end of a
+// door leaf opened into the room stand 0.72 m apart, the only way into the pocket in front of
+// the door (random floor 31 with 10 rooms has such a pocket). The path reaches the passage
+// from the south-east; aligned where it stood, the base would cross about 0.12 m off the axis
+// and meet the desk. It first drives onto the axis, then aligns and crosses centred.
 TEST(LocalController, DrivesOntoThePassageAxisBeforeCrossingANarrowGap) {
   const std::vector<Box2> room = {
-      {{-0.1, -0.1}, {6.1, 0.0}}, {{-0.1, 4.5}, {6.1, 4.6}},  // south, north walls
-      {{-0.1, -0.1}, {0.0, 4.6}}, {{6.0, -0.1}, {6.1, 4.6}},  // west, east walls
-      {{0.0, 2.0}, {2.2, 2.7}},                               // desk against the west wall
-      {{2.45, 3.37}, {2.49, 4.5}},                            // leaf, hinged at the north wall
+      {{-0.1, -0.1}, {6.1, 0.0}},  {{-0.1, 4.5}, {6.1, 4.6}},  // south, north walls
+      {{-0.1, -0.1}, {0.0, 4.6}},  {{6.0, -0.1}, {6.1, 4.6}},  // west, east walls
+      {{0.0, 2.0}, {2.2, 2.7}},                                // desk against the west wall
+      {{2.45, 3.37}, {2.49, 4.5}},                             // leaf, hinged at the north wall
   };
   Scenario sc;
   sc.world = sc.map_boxes = room;
