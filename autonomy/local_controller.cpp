@@ -608,6 +608,13 @@ LocalController::PassageState* LocalController::CurrentPassage(const Vec2& here,
   return nullptr;
 }
 
+interfaces::VelocityCommand LocalController::TurnOnTheSpot(double heading_error) const {
+  const LocalControllerParams& P = params_;
+  const double w =
+      std::clamp(P.heading_gain * heading_error, -P.max_angular_speed, P.max_angular_speed);
+  return {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+}
+
 // Door passage: align with the axis first, then cross it centred between the jambs the LRF
 // sees. `margin` becomes the crossing's side margin; `turn_needed` the alignment that must be
 // free as a whole (facing away from the passage).
@@ -638,12 +645,12 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
       out.status = NavStatus::kDoorPassage;
       const double herr =
           WrapAngle(std::atan2(target.y() - here.y(), target.x() - here.x()) - c.X_MB.yaw);
-      const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
       if (std::abs(herr) > DegToRad(10.0)) {
-        out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+        out.cmd = TurnOnTheSpot(herr);
         if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);
       } else {
-        out.cmd = {std::min(P.passage_speed, d), w};
+        out.cmd = {std::min(P.passage_speed, d),
+                   std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed)};
       }
       out.message = FormatNumbers(
           "door passage: moving onto the passage axis (%.3f m off it), %.2f m before its centre", d,
@@ -657,8 +664,7 @@ void LocalController::PassageStep(const Step& c, PassageState& passage, double s
       passage.aligned = true;
     } else {
       out.status = NavStatus::kDoorPassage;
-      const double w = std::clamp(P.heading_gain * herr, -P.max_angular_speed, P.max_angular_speed);
-      out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+      out.cmd = TurnOnTheSpot(herr);
       if (std::abs(herr) > 0.5 * kPi) turn_needed = std::abs(herr);  // facing away: see Update
       out.message = FormatNumbers(
           "door passage: aligning with the passage axis (%.1f deg to go), %.2f m "
@@ -864,9 +870,7 @@ ControlOutput LocalController::Update(double time, const Pose2& X_MB, Localisati
       return Finish(NavStatus::kArrived, FormatNumbers("arrived: %.3f m and %.2f deg from the goal",
                                                        d_goal, RadToDeg(std::abs(yaw_err_goal))));
     }
-    const double w =
-        std::clamp(P.heading_gain * yaw_err_goal, -P.max_angular_speed, P.max_angular_speed);
-    out.cmd = {0.0, std::copysign(std::max(std::abs(w), P.min_turn_speed), w)};
+    out.cmd = TurnOnTheSpot(yaw_err_goal);
     out.message = FormatNumbers("at the goal (%.3f m); rotating to its yaw (%.1f deg to go)",
                                 d_goal, RadToDeg(yaw_err_goal));
   } else if (PassageState* passage = CurrentPassage(here, s_here)) {

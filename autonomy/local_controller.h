@@ -287,6 +287,9 @@ class LocalController {
   Step BeginStep(double time, const Pose2& X_MB, const interfaces::LrfScan& scan);
   const std::vector<Vec2>& Around(Step& c) const;
   ControlOutput Emit(const Step& c, ControlOutput out, bool limit = true);
+  /// A turn on the spot towards a heading error (rad): heading_gain, clamped to
+  /// max_angular_speed, at least min_turn_speed.
+  interfaces::VelocityCommand TurnOnTheSpot(double heading_error) const;
   void ResetAnchor(const Step& c);
   std::optional<ControlOutput> LocalisationStep(Step& c, perception::LocalisationStatus loc);
   ControlOutput BackUpStep(Step& c);

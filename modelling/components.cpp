@@ -353,8 +353,6 @@ cv::Mat MaybeFlip(cv::Mat m, bool ceiling) {
 
 namespace {
 
-// Measured protrusion of a box: the `quantile` of the high-pass depth over its known pixels (m);
-// NaN when less than 30 % of the box is known.
 // A detection's box in whole pixels, clipped to the SE image.
 cv::Rect BoxRect(const SeImages& se, const PathDetection& d) {
   return cv::Rect(static_cast<int>(std::floor(d.col0)), static_cast<int>(std::floor(d.row0)),
@@ -363,6 +361,8 @@ cv::Rect BoxRect(const SeImages& se, const PathDetection& d) {
          cv::Rect(0, 0, se.highpass.cols, se.highpass.rows);
 }
 
+// Measured protrusion of a box: the `quantile` of the high-pass depth over its known pixels (m);
+// NaN when less than 30 % of the box is known.
 double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile = 0.95) {
   const cv::Rect box = BoxRect(se, d);
   std::vector<float> h;
