@@ -642,20 +642,14 @@ void RoomModel::BuildPerimeter() {
 
 namespace {
 
-struct EdgeFit {
-  Vec2 p = Vec2::Zero();   // a point of the wall line (map plan)
-  Vec2 t = Vec2::UnitX();  // its unit direction
-  bool fitted = false;     // false: the edge keeps its traced line
-};
-
 // One perimeter edge a -> b moved onto its wall (RoomModel::RefitPerimeter): `band` are the
 // plan points between the floor and ceiling bands, `high` flags those above door heads.
-EdgeFit FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
-                    const std::vector<std::uint8_t>& high, const RoomModelParams& P) {
+PerimeterLine FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
+                          const std::vector<std::uint8_t>& high, const RoomModelParams& P) {
   const double bandw = P.refit_band, tol = P.wall_tolerance;
   const double len = (b - a).norm();
   const Vec2 t = (b - a) / std::max(len, 1e-12), nrm(t.y(), -t.x());
-  EdgeFit fit{a, t, false};
+  PerimeterLine fit{a, t, false, t};
   const double guard = len > 3 * kRefitGuard ? kRefitGuard : 0.0;
   const int nb = static_cast<int>(std::ceil(2 * bandw / 0.005)) + 1;
   std::vector<int> hist(nb, 0), hist_high(nb, 0);
@@ -726,12 +720,14 @@ EdgeFit FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
     for (const auto& p : sel) mean += p;
   }
   mean /= static_cast<double>(sel.size());
+  Vec2 support = t;  // the principal direction of the points of the last fit
   auto pca_dir = [&](const std::vector<Vec2>& pts, const Vec2& c) {
     Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
     for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
     Vec2 dir = es.eigenvectors().col(1);
     if (dir.dot(t) < 0) dir = -dir;
+    support = dir;
     return dir.dot(t) < std::cos(DegToRad(10.0)) ? t : dir;  // else keep the direction, only shift
   };
   Vec2 dir = pca_dir(sel, mean);
@@ -760,7 +756,7 @@ EdgeFit FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
     }
     if (refit) mean = lp, dir = ld;
   }
-  return {mean, dir, true};
+  return {mean, dir, true, support};
 }
 
 }  // namespace
@@ -784,16 +780,24 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
       high.push_back(p.z() > z_high ? 1 : 0);
     }
   }
-  std::vector<Vec2> line_p(n), line_t(n);
-  std::vector<bool> fitted(n, false);
-  std::vector<EdgeFit> fits(n);
+  std::vector<PerimeterLine> fits(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     fits[i] = FitWallEdge(poly[i], poly[(i + 1) % n], band, high, params_);
   });
+  poly = JoinPerimeterLines(poly, fits, params_);
+}
+
+std::vector<Vec2> JoinPerimeterLines(const std::vector<Vec2>& poly,
+                                     const std::vector<PerimeterLine>& lines,
+                                     const RoomModelParams& params) {
+  const std::size_t n = poly.size();
+  if (n < 3 || lines.size() != n) return poly;
+  std::vector<Vec2> line_p(n), line_t(n);
+  std::vector<bool> fitted(n, false);
   for (std::size_t i = 0; i < n; ++i) {
-    line_p[i] = fits[i].p;
-    line_t[i] = fits[i].t;
-    fitted[i] = fits[i].fitted;
+    line_p[i] = lines[i].p;
+    line_t[i] = lines[i].t;
+    fitted[i] = lines[i].fitted;
   }
   // A short fitted edge between two antiparallel fitted walls is the end face of a wall that
   // stands into the room: walls are prisms, so it is square to them. Its traced direction is
@@ -820,6 +824,30 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
     line_t[i] = square.dot(traced) >= 0.0 ? square : Vec2(-square);
     if (other < n) fitted[other] = false;
   }
+  // A short fitted edge whose points run within 10 deg of a fitted neighbour's line and lie on
+  // it (their mean within twice the wall tolerance: the band one wall's points fill) carries
+  // that wall's own points: the tracer cut the corner at the wall's end (along the wall, up to
+  // a wall end's width) and the refit moved the cut onto the wall's face. It is no face of its
+  // own (SM3 would get a wall a few degrees off beside the real one): it collapses below with
+  // the unfitted cuts, its neighbours extended to their corner. Only at a corner: the other
+  // neighbour is a fitted wall at least 45 deg off.
+  std::vector<bool> on_neighbour(n, false);
+  for (std::size_t i = 0; i < n && n >= 5; ++i) {
+    if (!fitted[i] || length(i) >= kWallEndMax) continue;
+    const std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n;
+    if (!fitted[pi] || !fitted[ni] ||
+        std::abs(line_t[pi].dot(line_t[ni])) > std::cos(DegToRad(45.0)))
+      continue;
+    for (const std::size_t k : {pi, ni}) {
+      const Vec2 nk(-line_t[k].y(), line_t[k].x());
+      if (std::abs(lines[i].support.dot(line_t[k])) > std::cos(DegToRad(10.0)) &&
+          std::abs((line_p[i] - line_p[k]).dot(nk)) <= 2.0 * params.wall_tolerance) {
+        fitted[i] = false;
+        on_neighbour[i] = true;
+        break;
+      }
+    }
+  }
   // A short edge left unfitted between two fitted walls is the tracer cutting their corner
   // (a re-entrant corner seen obliquely: office_5rooms R1's L corner got a 13 cm chamfer, a
   // false 'wall' in SM3): the two walls meet in one corner instead.
@@ -828,10 +856,11 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n;
     if (fitted[i] || !fitted[pi] || !fitted[ni] || (pi > 0 && collapse[pi]) || n < 5) continue;
-    if ((poly[ni] - poly[i]).norm() >= kChamferMax) continue;
+    const double reach = on_neighbour[i] ? kWallEndMax : kChamferMax;
+    if ((poly[ni] - poly[i]).norm() >= reach) continue;
     Vec2 x;
     if (IntersectLines(line_p[pi], line_t[pi], line_p[ni], line_t[ni], &x) &&
-        (x - poly[i]).norm() < kChamferMax && (x - poly[ni]).norm() < kChamferMax) {
+        (x - poly[i]).norm() < reach && (x - poly[ni]).norm() < reach) {
       collapse[i] = true;
       corner[i] = x;
     }
@@ -861,7 +890,7 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
       if ((a - b).norm() > 0.02) out.push_back(b);
     }
   }
-  poly = out;
+  return out;
 }
 
 void RoomModel::DetectColumns() {

@@ -120,6 +120,25 @@ struct RoomModelParams {
 /// an opening) cut across, short and collinear edges merged.
 void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params);
 
+/// One perimeter edge's wall line after the refit (plan, map frame): a point `p` of it, its unit
+/// direction `t`, `fitted` false where no wall's points carried the edge (it keeps the traced
+/// line), and `support` the principal direction of the points that carried it (`t` keeps the
+/// traced direction, only shifted, where they run more than 10 deg off the edge).
+struct PerimeterLine {
+  Vec2 p = Vec2::Zero();
+  Vec2 t = Vec2::UnitX();
+  bool fitted = false;
+  Vec2 support = Vec2::UnitX();
+};
+
+/// The refit perimeter's corners from its edges' lines (`lines[i]` for the edge poly[i] ->
+/// poly[i+1]): a short end face of a wall standing into the room squared to it, short edges
+/// that cut a corner (unfitted, or fitted onto a neighbour's wall) collapsed into the corner of
+/// their neighbours, the other neighbours re-intersected.
+std::vector<Vec2> JoinPerimeterLines(const std::vector<Vec2>& poly,
+                                     const std::vector<PerimeterLine>& lines,
+                                     const RoomModelParams& params);
+
 /// Coverage of the structural elements after a scan (areas in m^2).
 struct CoverageFigures {
   int scans = 0;

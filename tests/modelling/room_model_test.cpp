@@ -14,6 +14,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/frames.h"
 #include "modelling/stopping.h"
 #include "tests/modelling/sim_scans.h"
 
@@ -290,6 +291,37 @@ TEST(RoomModel, PerimeterDropsADetourBehindAWallLineAtAnyDepthUpToSealDepth) {
                               {3.5, 0}, {6, 0},   {6, 4},      {0, 4}};
   TidyPerimeter(alcove, p);
   EXPECT_EQ(alcove.size(), 8u);
+}
+
+// A corner the tracer cut with a 0.39 m edge 11 deg off the wall it ends (office_5rooms, R1's
+// corner at the room east of it): the refit kept the cut's direction but moved it onto the
+// wall, whose points are the only ones in its band and run along the wall. It is no face: the
+// room keeps its four corners. A cut whose points run 30 deg off (a diagonal face of its own)
+// or lie 5 cm in front of the wall stays an edge; a 0.21 m cut no wall carried collapses.
+TEST(RoomModel, ACornerCutFittedOntoItsNeighboursWallCollapsesIntoTheCorner) {
+  const RoomModelParams params;
+  const std::vector<Vec2> poly = {{0, 0}, {6, 0}, {6, 3.62}, {5.925, 4}, {0, 4}};
+  const Vec2 cut = (poly[3] - poly[2]).normalized();
+  auto lines_with_cut = [&](double support_deg, double offset, bool fitted) {
+    const double a = DegToRad(support_deg);
+    return std::vector<PerimeterLine>{{{3, 0}, {1, 0}, true, {1, 0}},
+                                      {{6, 2}, {0, 1}, true, {0, 1}},
+                                      {{6 - offset, 3.8}, cut, fitted, {-std::sin(a), std::cos(a)}},
+                                      {{3, 4}, {-1, 0}, true, {-1, 0}},
+                                      {{0, 2}, {0, -1}, true, {0, -1}}};
+  };
+  const std::vector<Vec2> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+  auto expect_truth = [&](const std::vector<Vec2>& out, const char* what) {
+    ASSERT_EQ(out.size(), truth.size()) << what;
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      EXPECT_LT((out[i] - truth[i]).norm(), 1e-3) << what << " corner " << i;
+  };
+  expect_truth(JoinPerimeterLines(poly, lines_with_cut(0.5, 0.003, true), params), "on the wall");
+  EXPECT_EQ(JoinPerimeterLines(poly, lines_with_cut(30.0, 0.003, true), params).size(), 5u);
+  EXPECT_EQ(JoinPerimeterLines(poly, lines_with_cut(0.5, 0.05, true), params).size(), 5u);
+  const std::vector<Vec2> short_cut = {{0, 0}, {6, 0}, {6, 3.79}, {5.96, 4}, {0, 4}};
+  expect_truth(JoinPerimeterLines(short_cut, lines_with_cut(0.5, 0.003, false), params),
+               "unfitted");
 }
 
 // An L-shaped room scanned from both legs: the perimeter is the six corners of the L to 1 cm,
