@@ -105,6 +105,14 @@ if office:
                  100 * m["localisation_rms_m"], 100 * m["localisation_max_m"], min(covs) if covs else 0.0,
                  wf.get("tp"), wf.get("n_truth"), wf.get("fp"), 100 * dv, 100 * dh, 100 * al,
                  "PASS" if not fails else "FAIL: " + ", ".join(fails), timing(run)))
+        if "coverage" in fails or "alignment" in fails:  # which room: where to look first
+            low = min(((r["mission"]["coverage_of_observable"], r["room"]) for r in ev["rooms"]
+                       if (r.get("mission") or {}).get("coverage_of_observable") is not None),
+                      default=(0.0, "-"))
+            off = max(((math.hypot(*o["offset_m"]), o["truth_room"])
+                       for o in (ev.get("floor") or {}).get("room_offsets", [])), default=(0.0, "-"))
+            print("            lowest coverage %s %.3f; room farthest off %s %.2f cm (floor model)"
+                  % (low[1], low[0], off[1], 100 * off[0]))
     if scans:
         mean = sum(scans) / len(scans)
         ok &= mean <= 20.0
