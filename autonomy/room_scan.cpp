@@ -381,6 +381,7 @@ RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPo
   ortho.scan_origins.clear();
   for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
   const auto t0 = Clock::now();
+  modelling::DropNoReturnRaysThroughSeenSurfaces(ortho, params.sm4.orthoimage);
   out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images, neighbours);
   // A closed door's leaf and casing are not its wall: when SM4 found one, SM3 is fitted again
   // without their points, and SM4 again on that SM3.

@@ -1,5 +1,7 @@
 #include "modelling/orthoimage.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -293,6 +295,73 @@ void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::ui
       out.no_return_scan.push_back(scan_index);
     }
   }
+}
+
+std::size_t DropNoReturnRaysThroughSeenSurfaces(OrthoPoints& in, const OrthoimageParams& params,
+                                                double voxel) {
+  params.Validate();
+  if (!(voxel > 0.0 && voxel <= 1.0))
+    throw InputError("", "no-return blocker voxel out of range", std::to_string(voxel), "(0, 1]");
+  if (in.no_return_dirs.size() != in.no_return_scan.size())
+    throw InputError("", "no-return rays and their scans disagree",
+                     std::to_string(in.no_return_dirs.size()),
+                     std::to_string(in.no_return_scan.size()));
+  for (const std::uint16_t s : in.no_return_scan)
+    if (s >= in.scan_origins.size())
+      throw InputError("", "no-return ray of an unknown scan", std::to_string(s),
+                       "< " + std::to_string(in.scan_origins.size()));
+  const double reach = params.no_return_min_range - 2.0 * voxel;
+  if (in.points == nullptr || in.points->empty() || in.no_return_dirs.empty() || reach <= voxel)
+    return 0;
+  // Occupancy of the points' bounding box, one byte per cell.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+  for (const auto& p : *in.points) {
+    lo = lo.cwiseMin(p.cast<double>());
+    hi = hi.cwiseMax(p.cast<double>());
+  }
+  const Eigen::Vector3i dims = ((hi - lo) / voxel).array().floor().cast<int>() + 1;
+  const std::size_t cells = static_cast<std::size_t>(dims.x()) * dims.y() * dims.z();
+  if (cells > 400'000'000u)
+    throw InputError("", "points span too many blocker cells", std::to_string(cells),
+                     "<= 400000000");
+  std::vector<std::uint8_t> occ(cells, 0);
+  auto cell = [&](const Eigen::Vector3d& x, std::size_t* idx) {
+    const Eigen::Vector3d q = (x - lo) / voxel;
+    if ((q.array() < 0.0).any()) return false;
+    const Eigen::Vector3i c = q.array().floor().cast<int>();
+    if ((c.array() >= dims.array()).any()) return false;
+    *idx = (static_cast<std::size_t>(c.z()) * dims.y() + c.y()) * dims.x() + c.x();
+    return true;
+  };
+  for (const auto& p : *in.points) {
+    std::size_t i = 0;
+    if (cell(p.cast<double>(), &i)) occ[i] = 1;
+  }
+  std::vector<std::uint8_t> keep(in.no_return_dirs.size(), 1);
+  tbb::parallel_for(std::size_t{0}, keep.size(), [&](std::size_t r) {
+    const Vec3& o = in.scan_origins[in.no_return_scan[r]];
+    const Vec3 d = in.no_return_dirs[r].cast<double>().normalized();
+    for (double t = voxel; t <= reach; t += 0.5 * voxel) {
+      std::size_t i = 0;
+      if (cell(o + t * d, &i) && occ[i]) {
+        keep[r] = 0;
+        return;
+      }
+    }
+  });
+  std::size_t n = 0, dropped = 0;
+  for (std::size_t r = 0; r < keep.size(); ++r) {
+    if (!keep[r]) {
+      ++dropped;
+      continue;
+    }
+    in.no_return_dirs[n] = in.no_return_dirs[r];
+    in.no_return_scan[n] = in.no_return_scan[r];
+    ++n;
+  }
+  in.no_return_dirs.resize(n);
+  in.no_return_scan.resize(n);
+  return dropped;
 }
 
 void WriteOrthoimagePngs(const Orthoimage& img, const std::string& stem) {

@@ -50,8 +50,10 @@ struct OrthoimageParams {
   int max_pixels = 20'000'000;  ///< refuse larger images (InputError), [1, 1e9]
   /// m, a ray without a return counts as passed only where it crosses the plane at least this
   /// far from the scanner: nearer, the surface may simply be inside the scanner's minimum
-  /// range, [0, 100]
-  double no_return_min_range = 2.0;
+  /// range. The TLS's minimum range (1.5 m, `nbs.range_min`) plus 0.1 m: a wall beyond it
+  /// returns, so a ray that crossed it there and returned nothing went through a hole (a window
+  /// seen from 1.6-2 m), [0, 100]
+  double no_return_min_range = 1.6;
   /// Share of the returns bordering a region of the scan grid without returns that lie nearer
   /// than no_return_min_range, above which the region met a surface inside the scanner's
   /// minimum range (an opened leaf beside the scanner) and its rays pass nothing
@@ -123,6 +125,17 @@ struct OrthoPoints {
 /// the scan's grid and point count disagree or the params are out of range.
 void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,
                      OrthoPoints& out, const OrthoimageParams& params = {});
+
+/// Leaves out the rays without a return (in.no_return_dirs, no_return_scan) that pass through a
+/// surface the robot's points (in.points, all scans) show within the scanner's minimum range of
+/// their scanner: such a ray met that surface (a desk or a chair beside the scan position, which
+/// the room's other scans saw) and returned nothing because it was too near, not because a hole
+/// in a wall behind let it through. The points are binned in `voxel` cells (m, (0, 1]); each
+/// ray is sampled every half cell from one cell out to no_return_min_range less two cells (the
+/// minimum range; a wall the ray crosses beyond it is not reached). Deterministic, the order of
+/// the kept rays unchanged. Returns the number left out; InputError on inconsistent input.
+std::size_t DropNoReturnRaysThroughSeenSurfaces(OrthoPoints& in, const OrthoimageParams& params,
+                                                double voxel = 0.05);
 
 class Orthoimage {
  public:

@@ -109,6 +109,14 @@ TEST(Orthoimage, RaysWithoutAReturnPassTheWallWhereTheyCrossIt) {
   const Orthoimage img = BuildOrthoimage(in, f, {}, 0.01);
   const auto px = img.PixelOf(3.0, 1.0);  // (x, z) = (2, 1)
   EXPECT_EQ(img.Passed(img.Index(px[0], px[1])), 1u);
+  // The same ray from 1.7 m (beyond the 1.5 m minimum range: the wall would have returned) and
+  // from 1.4 m (inside it: the wall may be there).
+  for (const auto& [dist, passed] : {std::pair{1.7, 1u}, {1.4, 0u}}) {
+    OrthoPoints near = in;
+    near.scan_origins = {Vec3(2, dist, 1)};
+    const Orthoimage at = BuildOrthoimage(near, f, {}, 0.01);
+    EXPECT_EQ(at.Passed(at.Index(px[0], px[1])), passed) << "scanner " << dist << " m away";
+  }
   in.no_return_scan[0] = 3;
   EXPECT_THROW(BuildOrthoimage(in, f, {}, 0.01), InputError);
 }
@@ -136,7 +144,9 @@ TEST(Orthoimage, RaysWithoutAReturnBorderedByNearReturnsMetASurfaceInsideTheMini
       }
     return scan;
   };
-  for (const auto& [border, rays] : {std::pair{1.2f, 0u}, {4.0f, 48u}}) {
+  // A window's frame 1.7 m away (a scan standing near the window's wall) is beyond the 1.5 m
+  // minimum range: its rays are kept.
+  for (const auto& [border, rays] : {std::pair{1.2f, 0u}, {1.7f, 48u}, {4.0f, 48u}}) {
     OrthoPoints in;
     AddNoReturnRays(scan_with_hole(border), Pose3::Identity(), 0, in);
     EXPECT_EQ(in.no_return_dirs.size(), rays) << "border at " << border << " m";
@@ -146,6 +156,36 @@ TEST(Orthoimage, RaysWithoutAReturnBorderedByNearReturnsMetASurfaceInsideTheMini
   OrthoPoints in;
   AddNoReturnRays(scan_with_hole(1.2f), Pose3::Identity(), 0, in, keep_all);
   EXPECT_EQ(in.no_return_dirs.size(), 48u);
+}
+
+// A scanner 1.4 m above the floor, 1.7 m from a wall, a desk top (z 0.74) between them that
+// other scans saw: a ray heading for the wall's foot passes through the desk 1.1 m away, inside
+// the 1.5 m minimum range, and returned nothing for that reason (extended, it would read as a
+// low window). It is left out; a level ray to the wall and one over the desk are kept.
+TEST(Orthoimage, RaysWithoutAReturnThroughASurfaceSeenInsideTheMinimumRangeAreLeftOut) {
+  std::vector<Eigen::Vector3f> pts;
+  for (double x = 0.6; x <= 1.2; x += 0.01)
+    for (double y = -0.4; y <= 0.4; y += 0.01)
+      pts.emplace_back(static_cast<float>(x), static_cast<float>(y), 0.74f);
+  for (double y = -1.0; y <= 1.0; y += 0.01)
+    for (double z = 0.0; z <= 2.8; z += 0.01)
+      pts.emplace_back(1.7f, static_cast<float>(y), static_cast<float>(z));
+  OrthoPoints in;
+  in.points = &pts;
+  in.scan_origins = {Vec3(0, 0, 1.4)};
+  const Eigen::Vector3f through_desk = Eigen::Vector3f(1.7f, 0.0f, -1.2f).normalized();
+  const Eigen::Vector3f level = Eigen::Vector3f(1.0f, 0.0f, 0.0f);
+  const Eigen::Vector3f over_desk = Eigen::Vector3f(1.7f, 0.0f, -0.3f).normalized();
+  in.no_return_dirs = {through_desk, level, over_desk};
+  in.no_return_scan = {0, 0, 0};
+  EXPECT_EQ(DropNoReturnRaysThroughSeenSurfaces(in, {}), 1u);
+  ASSERT_EQ(in.no_return_dirs.size(), 2u);
+  EXPECT_EQ(in.no_return_dirs[0], level);
+  EXPECT_EQ(in.no_return_dirs[1], over_desk);
+  in.no_return_scan = {0, 1};
+  EXPECT_THROW(DropNoReturnRaysThroughSeenSurfaces(in, {}), InputError);
+  in.no_return_scan = {0, 0};
+  EXPECT_THROW(DropNoReturnRaysThroughSeenSurfaces(in, {}, 0.0), InputError);
 }
 
 TEST(Orthoimage, RaysWithoutAReturnMeetingTheWallAtAGrazingAngleSayNothing) {
