@@ -144,6 +144,7 @@ struct Navigator::Impl {
   std::uint64_t seed;
 
   interfaces::TlsScan last_scan;
+  perception::RangeBiasEstimate last_range_bias;
   std::vector<std::vector<Eigen::Vector3d>> batches;  // the robot's own map points, per scan
   std::vector<Eigen::Vector3d> batch_origins;         // scanner centre of each batch (map)
   std::optional<perception::PointMap> scan_map;       // ICP target: every scan (register_scans)
@@ -314,6 +315,11 @@ struct Navigator::Impl {
     const double step_deg = step_override > 0.0 ? step_override : params.tls_step_deg;
     double still_for = 0.0;
     last_scan = platform.Scan(step_deg, &still_for);
+    last_range_bias = {};
+    if (params.range_bias.estimate) {
+      last_range_bias = perception::EstimateRangeBias(last_scan, params.range_bias);
+      if (last_range_bias.ok) perception::RemoveRangeBias(last_scan, last_range_bias.bias);
+    }
     last_scan.X_MS_estimate = X_MB_est.To3d() * last_scan.X_BS;
     if (params.register_scans) RegisterLastScan();
     ++log.tls_scans;
@@ -798,6 +804,9 @@ const interfaces::TlsScan& Navigator::TakeScan(double step_deg_override) {
   return impl_->TakeScan(step_deg_override);
 }
 const interfaces::TlsScan& Navigator::LastScan() const { return impl_->last_scan; }
+const perception::RangeBiasEstimate& Navigator::LastRangeBias() const {
+  return impl_->last_range_bias;
+}
 void Navigator::CorrectLastScanPose(const Pose3& X_MS) { impl_->CorrectLastScanPose(X_MS); }
 void Navigator::ExtendMap(const Vec2& p_M) {
   const Eigen::Vector3d p3(p_M.x(), p_M.y(), 0.0);

@@ -34,6 +34,7 @@
 #include "interfaces/tls_scan.h"
 #include "perception/amcl.h"
 #include "perception/occupancy_grid.h"
+#include "perception/range_bias.h"
 #include "perception/registration.h"
 
 namespace mopad::autonomy {
@@ -95,6 +96,9 @@ struct NavigatorParams {
   /// Cost per metre of a route through unknown or too narrow cells, relative to known free
   /// space, when choosing exploration targets (keeps routes in what the scans saw), [1, 100]
   double exploration_unknown_cost = 3.0;
+  /// Each TLS scan's range offset, estimated from its floor and ceiling, is removed before the
+  /// scan is used (perception/range_bias.h).
+  perception::RangeBiasParams range_bias;
   perception::IcpParams icp = DefaultIcp();
   perception::RegistrationAcceptanceParams acceptance;
   perception::OccupancyGridParams grid;
@@ -137,6 +141,7 @@ struct NavigatorParams {
     v("look_around_rate", look_around_rate, Bounds{1e-3, 3.0});
     v("door_entry_standoff", door_entry_standoff, Bounds{0.0, 5.0});
     v("exploration_unknown_cost", exploration_unknown_cost, Bounds{1.0, 100.0});
+    v("range_bias", range_bias);
     v("icp", icp);
     v("registration_acceptance", acceptance);
     v("occupancy_grid", grid);
@@ -183,6 +188,8 @@ class Navigator {
   /// the scan's duration. The reference stays valid until the next TakeScan.
   const interfaces::TlsScan& TakeScan(double step_deg_override = 0.0);
   const interfaces::TlsScan& LastScan() const;  ///< empty before the first
+  /// The range offset estimated for LastScan (removed from it when ok).
+  const perception::RangeBiasEstimate& LastRangeBias() const;
   /// After the caller refined the last scan's pose (e.g. its own ICP): re-stamps its map
   /// points with `X_MS` (scanner in map), rebuilds the map and re-seeds AMCL around the
   /// corresponding base pose (odometry offset since the scan kept). InputError before any scan.

@@ -210,6 +210,7 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     t0 = Clock::now();
     const interfaces::TlsScan& scan = session.TakeScan(log.step_deg);
     log.t_scan = Since(t0);
+    log.range_bias = session.LastRangeBias();
     log.session_scan = session.ScanCount() - 1;
     log.sim_time = session.Time();
     log.X_MS_prior = scan.X_MS_estimate;
@@ -296,6 +297,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
     const double sim_before = session.Time();
     const interfaces::TlsScan& scan = session.TakeScan(params.scan_step_deg);
     log.t_scan = Since(t0);
+    log.range_bias = session.LastRangeBias();
     if (k == 0) scan_seconds = session.Time() - sim_before;
     log.step_deg = params.scan_step_deg;
     log.session_scan = session.ScanCount() - 1;

@@ -28,6 +28,7 @@
 #include "modelling/room_model.h"
 #include "modelling/stopping.h"
 #include "modelling/structural_model.h"
+#include "perception/range_bias.h"
 #include "perception/registration.h"
 
 namespace mopad::autonomy {
@@ -91,6 +92,7 @@ struct RoomScanLog {
   Pose3 X_MS = Pose3::Identity();        ///< registered pose used for the model
   bool registered = true;  ///< false: ICP refused (or a detail scan moved the structure): left out
   perception::RegistrationResult registration;  ///< empty for the first scan
+  perception::RangeBiasEstimate range_bias;     ///< the scan's range offset (removed when ok)
   modelling::CoverageFigures coverage;
   std::string stop_message;  ///< the stopping rule's verdict after this scan
   // Next best scan chosen after this scan (none after the last one).

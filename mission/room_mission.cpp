@@ -103,6 +103,10 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
           {"rmse", r.rmse},      {"degenerate", r.degenerate}, {"iterations", r.iterations},
           {"message", r.message}};
     }
+    j["range_bias"] = {{"applied", s.range_bias.ok},
+                       {"bias_m", s.range_bias.bias},
+                       {"sigma_m", s.range_bias.sigma},
+                       {"message", s.range_bias.message}};
     j["coverage"] = {{"ratio", s.coverage.ratio},
                      {"increment", s.coverage.increment},
                      {"sensed_area", s.coverage.sensed_area},

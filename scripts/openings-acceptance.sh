@@ -6,6 +6,8 @@
 #
 #   scripts/openings-acceptance.sh [BUILD_DIR] [OUT_DIR] [SEEDS...]
 #   RANDOM_FLOORS="1 2 3" scripts/openings-acceptance.sh ...
+# A run whose folder already holds summary.json is not run again, so two instances with disjoint
+# seeds can share OUT_DIR and a last call with every seed prints the pooled table.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -19,15 +21,17 @@ mopad="$build/tools/mopad"
 mkdir -p "$out"
 runs=()
 for s in "${seeds[@]}"; do
+  runs+=("office_s$s")
+  [ -f "$out/office_s$s/summary.json" ] && continue
   "$mopad" run --seed "$s" -o "$out/office_s$s" > "$out/office_s$s.log" 2>&1 || echo "run seed $s failed (see $out/office_s$s.log)"
   rm -f "$out"/office_s"$s"/rooms/*/sm1.ply
-  runs+=("office_s$s")
 done
 for k in "${floors[@]}"; do
+  runs+=("random$k/run")
+  [ -f "$out/random$k/run/summary.json" ] && continue
   "$mopad" scene random --seed "$k" -o "$out/random$k/scene" > /dev/null
   "$mopad" run --scene "$out/random$k/scene" -o "$out/random$k/run" > "$out/random$k.log" 2>&1 || echo "random floor $k failed (see $out/random$k.log)"
   rm -f "$out"/random"$k"/run/rooms/*/sm1.ply
-  runs+=("random$k/run")
 done
 /usr/bin/env python3 - "$out" "${runs[@]}" <<'PY'
 import json, os, sys
