@@ -14,8 +14,7 @@
 // above it (the ceiling); s_x and s_y take the levelling error's slopes so that a tilted
 // scanner does not read as a bias. Residuals are trimmed twice. A wall seen with b bends by
 // b cos(incidence): left in, a room scanned from several positions comes out warped by
-// millimetres to a centimetre (office_5rooms' hall: its 2 m end wall 1.2 cm short, its long
-// walls 0.05 deg apart).
+// millimetres to a centimetre (docs/room-scanning.md, "Range offset").
 //
 // Frames: scanner S (levelled up to the small tilt above; z up). Consumes the scan only.
 // Deterministic (sums in grid order, one thread).
