@@ -297,11 +297,9 @@ void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::ui
   }
 }
 
-std::size_t DropNoReturnRaysThroughSeenSurfaces(OrthoPoints& in, const OrthoimageParams& params,
-                                                double voxel) {
+std::size_t DropNoReturnRaysThroughSeenSurfaces(OrthoPoints& in, const OrthoimageParams& params) {
   params.Validate();
-  if (!(voxel > 0.0 && voxel <= 1.0))
-    throw InputError("", "no-return blocker voxel out of range", std::to_string(voxel), "(0, 1]");
+  const double voxel = params.no_return_blocker_cell;
   if (in.no_return_dirs.size() != in.no_return_scan.size())
     throw InputError("", "no-return rays and their scans disagree",
                      std::to_string(in.no_return_dirs.size()),

@@ -63,6 +63,9 @@ struct OrthoimageParams {
   /// far from the plane's normal: a surface met at a grazing angle may return nothing (a weak
   /// echo, a dropout), so such a ray says nothing about a hole there, [1, 90]
   double no_return_max_incidence_deg = 80.0;
+  /// m, cell of the occupancy grid in which DropNoReturnRaysThroughSeenSurfaces looks for a
+  /// surface the room's points show on a ray's way inside the minimum range, [0.005, 1]
+  double no_return_blocker_cell = 0.05;
 
   template <class V>
   void Visit(V& v) {
@@ -76,6 +79,7 @@ struct OrthoimageParams {
     v("no_return_min_range", no_return_min_range, Bounds{0.0, 100.0});
     v("no_return_near_border_share", no_return_near_border_share, Bounds{0.0, 1.0});
     v("no_return_max_incidence_deg", no_return_max_incidence_deg, Bounds{1.0, 90.0});
+    v("no_return_blocker_cell", no_return_blocker_cell, Bounds{0.005, 1.0});
   }
   /// Bounds of every field and finest_pixel <= coarsest_pixel (InputError naming the field).
   void Validate() const;
@@ -130,12 +134,12 @@ void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::ui
 /// surface the robot's points (in.points, all scans) show within the scanner's minimum range of
 /// their scanner: such a ray met that surface (a desk or a chair beside the scan position, which
 /// the room's other scans saw) and returned nothing because it was too near, not because a hole
-/// in a wall behind let it through. The points are binned in `voxel` cells (m, (0, 1]); each
-/// ray is sampled every half cell from one cell out to no_return_min_range less two cells (the
-/// minimum range; a wall the ray crosses beyond it is not reached). Deterministic, the order of
-/// the kept rays unchanged. Returns the number left out; InputError on inconsistent input.
-std::size_t DropNoReturnRaysThroughSeenSurfaces(OrthoPoints& in, const OrthoimageParams& params,
-                                                double voxel = 0.05);
+/// in a wall behind let it through. The points are binned in `no_return_blocker_cell` cells;
+/// each ray is sampled every half cell from one cell out to no_return_min_range less two cells
+/// (the minimum range; a wall the ray crosses beyond it is not reached). Deterministic, the
+/// order of the kept rays unchanged. Returns the number left out; InputError on inconsistent
+/// input or params.
+std::size_t DropNoReturnRaysThroughSeenSurfaces(OrthoPoints& in, const OrthoimageParams& params);
 
 class Orthoimage {
  public:

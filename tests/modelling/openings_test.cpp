@@ -185,7 +185,9 @@ TEST(Orthoimage, RaysWithoutAReturnThroughASurfaceSeenInsideTheMinimumRangeAreLe
   in.no_return_scan = {0, 1};
   EXPECT_THROW(DropNoReturnRaysThroughSeenSurfaces(in, {}), InputError);
   in.no_return_scan = {0, 0};
-  EXPECT_THROW(DropNoReturnRaysThroughSeenSurfaces(in, {}, 0.0), InputError);
+  OrthoimageParams no_cell;
+  no_cell.no_return_blocker_cell = 0.0;
+  EXPECT_THROW(DropNoReturnRaysThroughSeenSurfaces(in, no_cell), InputError);
 }
 
 TEST(Orthoimage, RaysWithoutAReturnMeetingTheWallAtAGrazingAngleSayNothing) {
