@@ -71,7 +71,7 @@ TEST(RangeBias, EachScansDrawnOffsetIsFoundWithinAFifthOfAMillimetre) {
     interfaces::TlsScan scan = room.Scan(tls, id, bases[id], truth);
     const RangeBiasEstimate e = EstimateRangeBias(scan, RangeBiasParams{});
     std::printf("  scan %d: truth %.2f mm, tilt %.3f/%.3f deg; %s\n", int(id),
-                1e3 * truth.range_bias, truth.tilt_roll * 180 / M_PI, truth.tilt_pitch * 180 / M_PI,
+                1e3 * truth.range_bias, RadToDeg(truth.tilt_roll), RadToDeg(truth.tilt_pitch),
                 e.message.c_str());
     ASSERT_TRUE(e.ok) << e.message;
     EXPECT_NEAR(e.bias, truth.range_bias, 2e-4);
@@ -118,7 +118,7 @@ TEST(RangeBias, AScanWithoutFloorOrCeilingIsNotEstimated) {
   scan.columns = 360;
   for (std::uint32_t c = 0; c < scan.columns; ++c) {
     interfaces::TlsPoint p;
-    const double a = c * M_PI / 180.0;
+    const double a = DegToRad(c);
     p.x = static_cast<float>(3.0 * std::cos(a));
     p.y = static_cast<float>(3.0 * std::sin(a));
     p.z = 0.1f;
