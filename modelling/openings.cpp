@@ -635,31 +635,63 @@ double LintelV(const std::vector<Vec3>& pts, double u0, double u1, double v1, do
   return sum / n;
 }
 
-}  // namespace
+// The room's points as one wall's door steps read them: OrthoPoints and, optionally, each
+// point's u along the wall (float) for a quick range test, so that a door's leaf and front are
+// sought among the points beside it instead of all the room's. Without u every point is read.
+struct WallPoints {
+  const OrthoPoints& in;
+  std::vector<float> u;
+};
 
-LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
+WallPoints AlongWall(const OrthoPoints& in, const PatchFrame& f) {
+  WallPoints w{in, {}};
+  if (in.points == nullptr) return w;
+  w.u.reserve(in.points->size());
+  for (const auto& pf : *in.points)
+    w.u.push_back(static_cast<float>(f.ToUv(pf.cast<double>()).x()));
+  return w;
+}
+
+// Calls visit(q) for each point q (map frame) whose u may lie in [lo, hi], in point order: all
+// points when w has no u, else those whose float u is within [lo, hi] widened by its rounding.
+// The caller applies its exact test to q, so the points it keeps, and their order, are those of
+// a pass over all points.
+template <class F>
+void ForPointsInU(const WallPoints& w, double lo, double hi, F&& visit) {
+  const auto& pts = *w.in.points;
+  if (w.u.empty()) {
+    for (const auto& pf : pts) visit(pf.cast<double>());
+    return;
+  }
+  const double tol = 1e-3 + 1e-6 * std::max(std::abs(lo), std::abs(hi));
+  const float a = static_cast<float>(lo - tol), b = static_cast<float>(hi + tol);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (w.u[i] >= a && w.u[i] <= b) visit(pts[i].cast<double>());
+}
+
+LeafFit FitLeafNear(const WallPoints& wp, const PatchFrame& frame, double u0, double u1, double v0,
                     double v1, const OpeningParams& p, std::uint64_t index) {
   LeafFit out;
   double w = u1 - u0;
   const double h = v1 - v0;
-  if (in.points == nullptr || !(w > 0) || !(h > 0)) return out;
+  if (wp.in.points == nullptr || !(w > 0) || !(h > 0)) return out;
   std::vector<Vec2> pts;     // (u, depth)
   std::vector<Vec3> lintel;  // (u, v, depth): behind the surface layer near the top
-  for (const auto& pf : *in.points) {
-    const Vec3 q = pf.cast<double>();
+  // The lintel's u range (u0, u1) lies inside the leaf's.
+  ForPointsInU(wp, u0 - p.leaf_u_margin * w, u1 + p.leaf_u_margin * w, [&](const Vec3& q) {
     const Vec2 uv = frame.ToUv(q);
     if (std::abs(uv.y() - v1) <= p.lintel_search && uv.x() > u0 && uv.x() < u1) {
       const double d = frame.Depth(q);
       if (d < -p.flush_depth && d >= -p.max_wall_thickness) lintel.push_back({uv.x(), uv.y(), d});
     }
-    if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) continue;
-    if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) continue;
+    if (uv.y() < v0 + p.leaf_v_low * h || uv.y() > v0 + p.leaf_v_high * h) return;
+    if (uv.x() < u0 - p.leaf_u_margin * w || uv.x() > u1 + p.leaf_u_margin * w) return;
     const double d = frame.Depth(q);
-    if (d < -(w + p.max_wall_thickness) || d > w + p.leaf_hinge_front) continue;
+    if (d < -(w + p.max_wall_thickness) || d > w + p.leaf_hinge_front) return;
     // The wall and its casing beside the opening are not the leaf.
-    if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) continue;
+    if (std::abs(d) <= p.flush_depth && (uv.x() < u0 + 0.02 || uv.x() > u1 - 0.02)) return;
     pts.push_back({uv.x(), d});
-  }
+  });
   // The leaf hinges at a jamb: the reveals where seen (an opened leaf may hide a jamb's edge
   // in the images), else the rectangle's sides.
   const Reveals rv = RemoveReveals(pts, u0, u1, p);
@@ -701,6 +733,13 @@ LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, d
   along.reveal_u = reveals;
   along.lintel_v = lintel_v;
   return along.inliers > 0 ? along : first;
+}
+
+}  // namespace
+
+LeafFit FitDoorLeaf(const OrthoPoints& in, const PatchFrame& frame, double u0, double u1, double v0,
+                    double v1, const OpeningParams& p, std::uint64_t index) {
+  return FitLeafNear(WallPoints{in, {}}, frame, u0, u1, v0, v1, p, index);
 }
 
 // ---- Steps 1-4 for one wall ----
@@ -958,9 +997,9 @@ std::vector<Candidate> KeepHoles(const std::vector<Candidate>& cands, const Mask
 // interior set): its leaf (angle, state, clear width), its sides moved to its reveals where
 // they were seen, widened to the leaf where it is wider. `index` keys the leaf's RANSAC stream.
 LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoimage& img,
-                const OrthoPoints& points, const OpeningParams& p, std::uint64_t index) {
+                const WallPoints& points, const OpeningParams& p, std::uint64_t index) {
   const PatchFrame& f = img.Frame();
-  const LeafFit leaf = FitDoorLeaf(points, f, o.u0, o.u1, o.v0, o.v1, p, index);
+  const LeafFit leaf = FitLeafNear(points, f, o.u0, o.u1, o.v0, o.v1, p, index);
   o.leaf_points = leaf.inliers;
   o.leaf_line_point = leaf.line_point, o.leaf_line_dir = leaf.line_dir;
   // The hole's sides are its reveals where they were seen (an opened leaf or a casing of
@@ -1055,7 +1094,7 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
                                         const std::vector<Line>& vert,
                                         const std::vector<Line>& horz, const Masks& m,
                                         const Orthoimage& img, const std::string& host,
-                                        const OrthoPoints& points, const OpeningParams& p,
+                                        const WallPoints& points, const OpeningParams& p,
                                         double floor_v) {
   std::vector<DetectedOpening> out;
   const PatchFrame& f = img.Frame();
@@ -1136,7 +1175,7 @@ void InsetCasingSides(DetectedOpening& o, const std::vector<Line>& vert, const M
 std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpening> in,
                                                         const std::vector<Line>& vert,
                                                         const Masks& masks, const Orthoimage& img,
-                                                        const OrthoPoints& points,
+                                                        const WallPoints& points,
                                                         const OpeningParams& p) {
   const auto area = [](const DetectedOpening& o) { return o.Width() * o.Height(); };
   bool merged = true;
@@ -1234,7 +1273,7 @@ bool Shown(const HoleHint& h, const std::vector<DetectedOpening>& openings) {
 // unless a leaf opened out of the wall's plane was found (lambda >= closed_below_deg): a
 // closed leaf's fit takes any flat wall's surface layer, which is no evidence of a door here.
 DetectedOpening DoorOnHint(const HoleHint& h, const std::vector<Line>& vert, const Orthoimage& img,
-                           const std::string& host, const OrthoPoints& points,
+                           const std::string& host, const WallPoints& points,
                            const OpeningParams& p, double floor_v) {
   DetectedOpening o;
   o.type = OpeningType::kDoor;
@@ -1296,7 +1335,8 @@ int AddDoorsFromNeighbours(const StructuralModel& sm3, Sm4Model& sm4, const Orth
       }
     for (const HoleHint& h : HoleHints(frame, sm3.room, others, params)) {
       if (Shown(h, on_wall)) continue;
-      DetectedOpening o = DoorOnHint(h, {}, frame_only, wall.id, points, params, 0.0);
+      DetectedOpening o =
+          DoorOnHint(h, {}, frame_only, wall.id, WallPoints{points, {}}, params, 0.0);
       if (o.leaf_points == 0) continue;
       o.id = "opening_" + std::to_string(sm4.openings.size() + 1);
       on_wall.push_back(o);
@@ -1307,32 +1347,33 @@ int AddDoorsFromNeighbours(const StructuralModel& sm3, Sm4Model& sm4, const Orth
   return added;
 }
 
-bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
-                            const OpeningParams& p) {
+namespace {
+
+bool StandsInFront(const DetectedOpening& o, const PatchFrame& f, const WallPoints& in,
+                   const OpeningParams& p) {
   // 2 cm plan bins along u from casing_max + 0.1 m before u0 to as far after u1; a bin is
   // occupied when points of the upper half of the leaf's v band stand in front of the wall
   // there (a door seen behind a low cabinet shows its frame and leaf above it).
-  if (in.points == nullptr || o.type != OpeningType::kDoor || !(o.u1 > o.u0)) return false;
+  if (in.in.points == nullptr || o.type != OpeningType::kDoor || !(o.u1 > o.u0)) return false;
   constexpr double kBin = 0.02;
   const double lo = o.u0 - p.casing_max - 0.1, hi = o.u1 + p.casing_max + 0.1, h = o.Height();
   const int nb = static_cast<int>(std::ceil((hi - lo) / kBin));
   std::vector<int> bins(static_cast<std::size_t>(nb), 0);
   const Vec2 nrm(-o.leaf_line_dir.y(), o.leaf_line_dir.x());
-  for (const auto& pf : *in.points) {
-    const Vec3 q = pf.cast<double>();
+  ForPointsInU(in, lo, hi, [&](const Vec3& q) {
     const double d = f.Depth(q);
-    if (d <= p.flush_depth || d > p.front_depth) continue;
+    if (d <= p.flush_depth || d > p.front_depth) return;
     const Vec2 uv = f.ToUv(q);
-    if (uv.x() < lo || uv.x() >= hi) continue;
+    if (uv.x() < lo || uv.x() >= hi) return;
     if (uv.y() < o.v0 + 0.5 * (p.leaf_v_low + p.leaf_v_high) * h ||
         uv.y() > o.v0 + p.leaf_v_high * h)
-      continue;
+      return;
     // The leaf's own points (either face) are not in front of the doorway: it swung there.
     if (o.leaf_points > 0 &&
         std::abs(nrm.dot(Vec2(uv.x(), d) - o.leaf_line_point)) <= p.leaf_thickness + p.leaf_inlier)
-      continue;
+      return;
     ++bins[std::min(nb - 1, static_cast<int>((uv.x() - lo) / kBin))];
-  }
+  });
   const int b0 = static_cast<int>((o.u0 - lo) / kBin);
   const int b1 = std::min(nb, static_cast<int>((o.u1 - lo) / kBin));
   int occupied = 0;
@@ -1358,14 +1399,22 @@ bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const
   return std::abs(a - o.u0) <= p.casing_max && std::abs(b - o.u1) <= p.casing_max;
 }
 
+}  // namespace
+
+bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
+                            const OpeningParams& p) {
+  return StandsInFront(o, f, WallPoints{in, {}}, p);
+}
+
 std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std::string& host,
-                                                const OrthoPoints& points, const OpeningParams& p,
-                                                double floor_v,
+                                                const OrthoPoints& room_points,
+                                                const OpeningParams& p, double floor_v,
                                                 const std::vector<HoleHint>& hints) {
   p.Validate();
   const int cols = img.Cols(), rows = img.Rows();
   if (cols < 3 || rows < 3) return {};
   const double px = img.Pixel();
+  const WallPoints points = AlongWall(room_points, img.Frame());
   const WallArea area = SegmentWallArea(img, p);
   const WallEdges we = BuildWallEdges(img, area, p);
   const auto [vert, horz] = WallLines(we, px, p);
@@ -1385,10 +1434,9 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   std::stable_sort(out.begin(), out.end(),
                    [](const DetectedOpening& a, const DetectedOpening& b) { return a.u0 < b.u0; });
   // A door whose front is occupied by one object ending at its sides is that object's outline.
-  out.erase(std::remove_if(out.begin(), out.end(),
-                           [&](const DetectedOpening& o) {
-                             return StandsInFrontOfTheWall(o, img.Frame(), points, p);
-                           }),
+  out.erase(std::remove_if(
+                out.begin(), out.end(),
+                [&](const DetectedOpening& o) { return StandsInFront(o, img.Frame(), points, p); }),
             out.end());
   return out;
 }
@@ -1400,7 +1448,8 @@ std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> open
   if (image.Cols() < 3 || image.Rows() < 3) return openings;
   const WallEdges we = BuildWallEdges(image, SegmentWallArea(image, params), params);
   const auto lines = WallLines(we, image.Pixel(), params);
-  return OneOpeningPerHoleWithLines(std::move(openings), lines.first, we.m, image, points, params);
+  return OneOpeningPerHoleWithLines(std::move(openings), lines.first, we.m, image,
+                                    AlongWall(points, image.Frame()), params);
 }
 
 Sm4Model DetectOpenings(const StructuralModel& sm3, const OrthoPoints& points,

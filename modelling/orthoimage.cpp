@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -98,6 +97,24 @@ void Orthoimage::AddPoint(double pu, double pv, double depth,
   front_[i] = k == 1 ? static_cast<float>(depth) : std::max(front_[i], static_cast<float>(depth));
 }
 
+void Orthoimage::AccumulatePoint(std::size_t i, double depth,
+                                 const std::array<std::uint8_t, 3>& rgb) {
+  const std::uint32_t k = ++count_[i];
+  for (int ch = 0; ch < 3; ++ch) rgb_sum_[i][ch] += rgb[ch];
+  depth_sum_[i] += depth;
+  front_[i] = k == 1 ? static_cast<float>(depth) : std::max(front_[i], static_cast<float>(depth));
+}
+
+void Orthoimage::FinishMeans() {
+  for (std::size_t i = 0; i < count_.size(); ++i) {
+    const std::uint32_t k = count_[i];
+    if (k == 0) continue;
+    for (int ch = 0; ch < 3; ++ch)
+      rgb_[i][ch] = static_cast<std::uint8_t>(std::lround(rgb_sum_[i][ch] / k));
+    depth_[i] = static_cast<float>(depth_sum_[i] / k);
+  }
+}
+
 void Orthoimage::AddPassed(double pu, double pv) {
   const auto [c, r] = PixelOf(pu, pv);
   if (Inside(c, r)) ++passed_[Index(c, r)];
@@ -141,29 +158,57 @@ void CheckOrthoPoints(const OrthoPoints& in) {
   }
 }
 
-double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
-                       const OrthoimageParams& params) {
-  params.Validate();
-  CheckOrthoPoints(in);
+namespace {
+
+// ChoosePixelSize on checked input. The density cells are counted in a dense grid over the
+// patch (points outside it are skipped), or, for a patch too large for one, from sorted cell
+// keys: the median count is the same either way.
+double PixelSizeOf(const OrthoPoints& in, const PatchFrame& frame, const OrthoimageParams& params) {
   const double cell = params.density_cell;
-  std::map<std::pair<long, long>, int> cells;  // ordered: deterministic
+  if (!(frame.width >= 0.0) || !(frame.height >= 0.0)) return params.coarsest_pixel;
+  const double nu_d = std::floor(frame.width / cell) + 1,
+               nv_d = std::floor(frame.height / cell) + 1;
+  const bool dense = nu_d * nv_d <= 4e6;
+  const std::size_t nu = dense ? static_cast<std::size_t>(nu_d) : 0;
+  std::vector<std::uint32_t> grid(dense ? nu * static_cast<std::size_t>(nv_d) : 0, 0);
+  std::vector<std::uint64_t> keys;
   for (const auto& pf : *in.points) {
     const Vec3 p = pf.cast<double>();
     if (std::abs(frame.Depth(p)) > params.band) continue;
     const Vec2 uv = frame.ToUv(p);
     if (uv.x() < 0 || uv.y() < 0 || uv.x() > frame.width || uv.y() > frame.height) continue;
-    ++cells[{static_cast<long>(std::floor(uv.x() / cell)),
-             static_cast<long>(std::floor(uv.y() / cell))}];
+    const auto cu = static_cast<std::uint64_t>(std::floor(uv.x() / cell));
+    const auto cv = static_cast<std::uint64_t>(std::floor(uv.y() / cell));
+    if (dense)
+      ++grid[cv * nu + cu];
+    else
+      keys.push_back(cu << 32 | cv);
   }
-  if (cells.empty()) return params.coarsest_pixel;
-  std::vector<int> counts;
-  counts.reserve(cells.size());
-  for (const auto& [k, c] : cells) counts.push_back(c);
+  std::vector<std::uint32_t> counts;
+  for (const std::uint32_t c : grid)
+    if (c > 0) counts.push_back(c);
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t a = 0; a < keys.size();) {
+    std::size_t b = a;
+    while (b < keys.size() && keys[b] == keys[a]) ++b;
+    counts.push_back(static_cast<std::uint32_t>(b - a));
+    a = b;
+  }
+  if (counts.empty()) return params.coarsest_pixel;
   std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
   const double density = counts[counts.size() / 2] / (cell * cell);  // points per m^2
   double px = std::sqrt(params.points_per_pixel / density);
   px = std::clamp(px, params.finest_pixel, params.coarsest_pixel);
   return std::max(params.finest_pixel, std::round(px * 1000.0) / 1000.0);
+}
+
+}  // namespace
+
+double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
+                       const OrthoimageParams& params) {
+  params.Validate();
+  CheckOrthoPoints(in);
+  return PixelSizeOf(in, frame, params);
 }
 
 Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
@@ -173,7 +218,7 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
   if (!(frame.width > 0.0) || !(frame.height > 0.0))
     throw InputError("", "orthoimage patch has no extent",
                      std::to_string(frame.width) + " x " + std::to_string(frame.height), "> 0");
-  if (pixel <= 0.0) pixel = ChoosePixelSize(in, frame, params);
+  if (pixel <= 0.0) pixel = PixelSizeOf(in, frame, params);
   const double m = params.margin;
   const double cols_d = std::ceil((frame.width + 2 * m) / pixel - 1e-9);
   const double rows_d = std::ceil((frame.height + 2 * m) / pixel - 1e-9);
@@ -193,7 +238,8 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
     const double dp = frame.Depth(p);
     if (std::abs(dp) <= params.band) {
       const Vec2 uv = frame.ToUv(p);
-      img.AddPoint(uv.x(), uv.y(), dp, (*in.colours)[i]);
+      const auto [c, r] = img.PixelOf(uv.x(), uv.y());
+      if (img.Inside(c, r)) img.AccumulatePoint(img.Index(c, r), dp, (*in.colours)[i]);
       continue;
     }
     if (in.scan_index == nullptr) continue;
@@ -228,6 +274,7 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
     const Vec2 uv = frame.ToUv(x);
     img.AddPassedNoReturn(uv.x(), uv.y());
   }
+  img.FinishMeans();
   return img;
 }
 

@@ -196,6 +196,13 @@ class Orthoimage {
   double Margin() const { return margin_; }
 
  private:
+  friend Orthoimage BuildOrthoimage(const OrthoPoints&, const PatchFrame&, const OrthoimageParams&,
+                                    double);
+  /// AddPoint's sums at pixel i without its means; FinishMeans() sets the means of every pixel
+  /// to what AddPoint's running means would be (the same sums, one division per pixel).
+  void AccumulatePoint(std::size_t i, double depth, const std::array<std::uint8_t, 3>& rgb);
+  void FinishMeans();
+
   PatchFrame frame_;
   double pixel_ = 0.01, margin_ = 0.0;
   int cols_ = 0, rows_ = 0;

@@ -1,5 +1,8 @@
 #include "modelling/structural_model.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -152,10 +155,14 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       near[i].push_back(p);
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    PlaneFit f;
+  // One task per face, each with its own MLESAC stream: the same fits on any number of threads.
+  std::vector<PlaneFit> fits(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (static_cast<int>(near[i].size()) >= prm.min_points)
-      f = FitPlaneMlesac(near[i], prm, stream + "/" + std::to_string(i));
+      fits[i] = FitPlaneMlesac(near[i], prm, stream + "/" + std::to_string(i));
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    PlaneFit f = fits[i];
     const Eigen::Vector3d in3(in[i].x(), in[i].y(), 0.0);
     if (!f.fitted || std::abs(f.plane.n.dot(in3)) < 0.9) {  // no data or not this wall
       f.plane = VerticalPlaneThrough(loop[i], loop[(i + 1) % n], in[i]);
@@ -340,7 +347,8 @@ PlaneFit FitPlaneMlesac(const std::vector<Eigen::Vector3d>& all, const Sm3Params
   CounterRng rng(prm.seed, "sm3/mlesac/" + stream);
   double best_cost = std::numeric_limits<double>::infinity();
   Plane best;
-  std::vector<double> e2(pts.size());
+  // Per point of a hypothesis: exp(-r^2 / (2 sigma^2)), the unnormalised inlier density.
+  std::vector<double> g(pts.size());
   for (int it = 0; it < prm.mlesac_iterations; ++it) {
     const auto& a = pts[rng.Below(pts.size())];
     const auto& b = pts[rng.Below(pts.size())];
@@ -351,22 +359,21 @@ PlaneFit FitPlaneMlesac(const std::vector<Eigen::Vector3d>& all, const Sm3Params
     const double d = -n.dot(a);
     for (std::size_t k = 0; k < pts.size(); ++k) {
       const double r = n.dot(pts[k]) + d;
-      e2[k] = r * r;
+      g[k] = std::exp(-(r * r) / (2 * s2));
     }
     // Mixing weight by EM (Torr & Zisserman), then the negative log-likelihood.
     double gamma = 0.5;
     for (int em = 0; em < 3; ++em) {
       double sum = 0.0;
-      for (double x : e2) {
-        const double pi = gamma * norm_in * std::exp(-x / (2 * s2));
+      for (double x : g) {
+        const double pi = gamma * norm_in * x;
         const double po = (1 - gamma) / v;
         sum += pi / (pi + po);
       }
-      gamma = sum / static_cast<double>(e2.size());
+      gamma = sum / static_cast<double>(g.size());
     }
     double cost = 0.0;
-    for (double x : e2)
-      cost -= std::log(gamma * norm_in * std::exp(-x / (2 * s2)) + (1 - gamma) / v);
+    for (double x : g) cost -= std::log(gamma * norm_in * x + (1 - gamma) / v);
     if (cost < best_cost) best_cost = cost, best = Plane{n, d};
   }
   if (!std::isfinite(best_cost)) return out;
@@ -435,9 +442,12 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   StructuralModel m;
   m.room = input.room;
   std::tie(m.floor_z, m.ceiling_z) = FloorCeilingFromHistogram(pts, prm.histogram_bin);
-  const PlaneFit floor = FitHorizontal(pts, m.floor_z, /*up=*/true, prm, input.room + "/floor");
-  const PlaneFit ceiling =
-      FitHorizontal(pts, m.ceiling_z, /*up=*/false, prm, input.room + "/ceiling");
+  PlaneFit floor, ceiling;
+  tbb::parallel_invoke(
+      [&] { floor = FitHorizontal(pts, m.floor_z, /*up=*/true, prm, input.room + "/floor"); },
+      [&] {
+        ceiling = FitHorizontal(pts, m.ceiling_z, /*up=*/false, prm, input.room + "/ceiling");
+      });
 
   const std::vector<Eigen::Vector2d> loop = MergeCollinear(input.perimeter, prm.merge_angle_deg);
   const Ring walls = FitRing(loop, /*into_left=*/true, pts, floor.plane, ceiling.plane, m.floor_z,

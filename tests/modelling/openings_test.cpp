@@ -231,6 +231,54 @@ TEST(Orthoimage, PixelSizeFollowsDensityAndIsOneCentimetreWhenDenseEnough) {
   }
 }
 
+TEST(Orthoimage, PixelSizeOfAPatchTooLargeForADenseCountGridIsTheSame) {
+  // Same points, same cell origin (the polygons share their min corner): a 2 m patch counts
+  // its density cells in a dense grid, a 400 m one (16e6 cells) from sorted cell keys.
+  std::vector<Eigen::Vector3f> pts;
+  for (double x = 0.0005; x < 2; x += 0.013)
+    for (double z = 0.0005; z < 2; z += 0.004 + 0.01 * x) pts.push_back({float(x), 0.0f, float(z)});
+  const std::vector<std::array<std::uint8_t, 3>> rgb(pts.size(), {9, 9, 9});
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb;
+  auto square = [](double s) {
+    return PatchFrame::Of(Vec3::UnitY(), {{s, 0, 0}, {0, 0, 0}, {0, 0, s}, {s, 0, s}});
+  };
+  const double small = ChoosePixelSize(in, square(2.0), {});
+  EXPECT_GT(small, 0.01);
+  EXPECT_EQ(ChoosePixelSize(in, square(400.0), {}), small);
+}
+
+TEST(Orthoimage, BuiltImageHasTheMeansOfAddingItsPointsOneByOne) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}});
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<std::array<std::uint8_t, 3>> rgb;
+  for (int k = 0; k < 2000; ++k) {
+    pts.push_back(
+        {float((k % 97) / 97.0), float(0.0001 * (k % 13) - 0.0006), float((k % 89) / 89.0)});
+    rgb.push_back({std::uint8_t(k % 256), std::uint8_t(k * 7 % 256), std::uint8_t(k * 13 % 256)});
+  }
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb;
+  const Orthoimage built = BuildOrthoimage(in, f, {}, 0.05);
+  Orthoimage added(f, 0.05, built.Cols(), built.Rows());
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const Vec3 q = pts[k].cast<double>();
+    added.AddPoint(f.ToUv(q).x(), f.ToUv(q).y(), f.Depth(q), rgb[k]);
+  }
+  int seen = 0, multi = 0;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(built.Cols() * built.Rows()); ++i) {
+    ASSERT_EQ(built.Count(i), added.Count(i));
+    if (added.Count(i) == 0) continue;
+    ++seen;
+    EXPECT_EQ(built.Rgb(i), added.Rgb(i));
+    EXPECT_EQ(built.Depth(i), added.Depth(i));
+    EXPECT_EQ(built.FrontDepth(i), added.FrontDepth(i));
+    multi += added.Count(i) > 1;
+  }
+  EXPECT_GT(seen, 300);
+  EXPECT_GT(multi, 300);
+}
+
 TEST(Orthoimage, MismatchedInputIsAnInputError) {
   const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}});
   std::vector<Eigen::Vector3f> pts = {{0.5f, 0.0f, 0.5f}};
