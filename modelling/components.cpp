@@ -1,6 +1,9 @@
 #include "modelling/components.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <cmath>
@@ -45,12 +48,6 @@ float Median(std::vector<float>& v) {
 // `density_window`), each pixel is filled at the smallest of a ladder of sigmas (ratio sqrt 2)
 // reaching fill_spacing_share of its spacing, and its weight is compared with the local share
 // of pixels holding points (the weight a uniform sampling gives there).
-struct FillScale {
-  cv::Mat w, d, c;  // blurred weight, depth, colour over `roi`
-  cv::Mat closed;   // seen pixels closed by about a sample spacing, over `roi`
-  cv::Rect roi;
-};
-
 void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
             const ComponentParams& p, SeImages& se) {
   const int rows = im.Rows(), cols = im.Cols();
@@ -76,9 +73,10 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
   area.convertTo(area, CV_32F, 1.0 / 255.0);
   const double sw = p.density_window / pixel;
   cv::Mat area_b, n_b, w_b;
-  cv::GaussianBlur(area, area_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
-  cv::GaussianBlur(n, n_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
-  cv::GaussianBlur(w, w_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  tbb::parallel_invoke(
+      [&] { cv::GaussianBlur(area, area_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT); },
+      [&] { cv::GaussianBlur(n, n_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT); },
+      [&] { cv::GaussianBlur(w, w_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT); });
   // Scale of each pixel: index into sigma_0 * sqrt(2)^k (pixels), -1 where nothing is seen.
   const double s0 = p.fill_sigma / pixel, s_max = std::max(s0, p.fill_sigma_max / pixel);
   const int levels = 1 + static_cast<int>(std::ceil(2.0 * std::log2(s_max / s0) - 1e-9));
@@ -89,7 +87,10 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
   cv::Mat level(rows, cols, CV_8S, cv::Scalar(-1));
   se.blur = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   cv::Mat share(rows, cols, CV_32F, cv::Scalar(0));
-  std::vector<cv::Rect> box(static_cast<std::size_t>(levels));
+  // Each pixel's level, and per tile of kTile x kTile pixels the levels it holds (bit lv).
+  constexpr int kTile = 256;
+  const int tiles_c = (cols + kTile - 1) / kTile, tiles_r = (rows + kTile - 1) / kTile;
+  std::vector<std::uint32_t> tile_levels(static_cast<std::size_t>(tiles_c) * tiles_r, 0);
   for (int r = 0; r < rows; ++r)
     for (int k = 0; k < cols; ++k) {
       const float a = area_b.at<float>(r, k);
@@ -102,43 +103,63 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
       while (lv + 1 < levels && sigma_of(lv) < want) ++lv;
       level.at<schar>(r, k) = static_cast<schar>(lv);
       se.blur.at<float>(r, k) = static_cast<float>(sigma_of(lv));
-      box[static_cast<std::size_t>(lv)] |= cv::Rect(k, r, 1, 1);
+      tile_levels[static_cast<std::size_t>(r / kTile) * tiles_c + k / kTile] |= 1u << lv;
     }
-  std::vector<FillScale> scales(static_cast<std::size_t>(levels));
-  for (int lv = 0; lv < levels; ++lv) {
-    cv::Rect b = box[static_cast<std::size_t>(lv)];
-    if (b.area() == 0) continue;
+  // The filling at each pixel's own level: the weight, depth and colour blurred at its sigma and
+  // the seen pixels closed by about its sample spacing. Each level is filtered over the tiles
+  // holding its pixels, each tile grown by more than the filters' reach (4 sigma, and twice the
+  // closing's radius) with nothing beyond it (BORDER_ISOLATED), which at the tile's own pixels
+  // is the filter of the whole image: an unevenly sampled SE interleaves its levels, and a box
+  // per level covered most of the image at every level.
+  cv::Mat fw(rows, cols, CV_32F, cv::Scalar(0)), fd(rows, cols, CV_32F, cv::Scalar(0));
+  cv::Mat fc(rows, cols, CV_32FC3, cv::Scalar(0, 0, 0)), fclosed(rows, cols, CV_8U, cv::Scalar(0));
+  std::vector<std::pair<int, int>> jobs;  // (level, tile)
+  for (int lv = 0; lv < levels; ++lv)
+    for (int t = 0; t < tiles_c * tiles_r; ++t)
+      if (tile_levels[static_cast<std::size_t>(t)] & (1u << lv)) jobs.emplace_back(lv, t);
+  // Jobs write disjoint pixels (one level per pixel, one tile per pixel): any thread order.
+  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
+    const auto [lv, t] = jobs[j];
     const double s = sigma_of(lv);
-    const int m = static_cast<int>(std::ceil(4.0 * s)) + 2;
-    b = cv::Rect(b.x - m, b.y - m, b.width + 2 * m, b.height + 2 * m) & cv::Rect(0, 0, cols, rows);
-    FillScale& f = scales[static_cast<std::size_t>(lv)];
-    f.roi = b;
-    cv::GaussianBlur(w(b), f.w, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
-    cv::GaussianBlur(d(b), f.d, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
-    cv::GaussianBlur(c(b), f.c, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
-    // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
     const int kd =
         std::max(3, 2 * static_cast<int>(std::ceil(0.75 * s / p.fill_spacing_share)) + 1);
-    cv::morphologyEx(seen8(b), f.closed, cv::MORPH_CLOSE,
+    // The closing (a dilation, then an erosion of its result) reads up to 2 (kd / 2) away.
+    const int m = std::max(static_cast<int>(std::ceil(4.0 * s)), 2 * (kd / 2)) + 2;
+    const cv::Rect core = cv::Rect(t % tiles_c * kTile, t / tiles_c * kTile, kTile, kTile) &
+                          cv::Rect(0, 0, cols, rows);
+    const cv::Rect b = cv::Rect(core.x - m, core.y - m, core.width + 2 * m, core.height + 2 * m) &
+                       cv::Rect(0, 0, cols, rows);
+    cv::Mat tw, td, tc, tclosed;
+    cv::GaussianBlur(w(b), tw, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    cv::GaussianBlur(d(b), td, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    cv::GaussianBlur(c(b), tc, cv::Size(0, 0), s, s, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED);
+    // Gaps narrower than about a sample spacing close; a shadow beside a protrusion stays open.
+    cv::morphologyEx(seen8(b), tclosed, cv::MORPH_CLOSE,
                      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kd, kd)),
                      cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-  }
+    for (int r = core.y; r < core.y + core.height; ++r)
+      for (int k = core.x; k < core.x + core.width; ++k) {
+        if (level.at<schar>(r, k) != lv) continue;
+        const int rr = r - b.y, kk = k - b.x;
+        fw.at<float>(r, k) = tw.at<float>(rr, kk);
+        fd.at<float>(r, k) = td.at<float>(rr, kk);
+        fc.at<cv::Vec3f>(r, k) = tc.at<cv::Vec3f>(rr, kk);
+        fclosed.at<uchar>(r, k) = tclosed.at<uchar>(rr, kk);
+      }
+  });
   se.valid = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
   se.measured = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
   se.depth = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   se.rgb = cv::Mat(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0));
   for (int r = 0; r < rows; ++r)
     for (int k = 0; k < cols; ++k) {
-      const int lv = level.at<schar>(r, k);
-      if (lv < 0) continue;
-      const FillScale& f = scales[static_cast<std::size_t>(lv)];
-      const int rr = r - f.roi.y, kk = k - f.roi.x;
-      const float wk = f.w.at<float>(rr, kk);
+      if (level.at<schar>(r, k) < 0) continue;
+      const float wk = fw.at<float>(r, k);
       // Weight threshold relative to the weight a uniform sampling of this density gives: holes
       // between scan lines fill, shadows and unseen areas wider than a sample spacing stay
       // unknown.
       if (wk < static_cast<float>(p.fill_min_weight) * share.at<float>(r, k) || wk <= 0.0f ||
-          !f.closed.at<uchar>(rr, kk))
+          !fclosed.at<uchar>(r, k))
         continue;
       se.valid.at<uchar>(r, k) = 255;
       // A pixel holding points keeps their front depth and mean colour; an empty one takes the
@@ -146,9 +167,9 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
       const bool own = w.at<float>(r, k) > 0.0f;
       if (own) se.measured.at<uchar>(r, k) = 255;
       const std::size_t i = im.Index(k, r);
-      se.depth.at<float>(r, k) = own ? im.FrontDepth(i) : f.d.at<float>(rr, kk) / wk;
+      se.depth.at<float>(r, k) = own ? im.FrontDepth(i) : fd.at<float>(r, k) / wk;
       const auto rgb = im.Rgb(i);
-      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : f.c.at<cv::Vec3f>(rr, kk) / wk;
+      const cv::Vec3f ck = own ? cv::Vec3f(rgb[0], rgb[1], rgb[2]) : fc.at<cv::Vec3f>(r, k) / wk;
       se.rgb.at<cv::Vec3b>(r, k) =
           cv::Vec3b(cv::saturate_cast<uchar>(ck[0]), cv::saturate_cast<uchar>(ck[1]),
                     cv::saturate_cast<uchar>(ck[2]));
@@ -183,9 +204,11 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
   const int gr = (rows + cell - 1) / cell, gc = (cols + cell - 1) / cell;
   cv::Mat bd(gr, gc, CV_32F), bc(gr, gc, CV_32FC3);
   cv::Mat known(gr, gc, CV_8U, cv::Scalar(0));
-  std::vector<float> all_d;
-  std::array<std::vector<float>, 3> all_c;
-  for (int i = 0; i < gr; ++i)
+  // One task per row of cells (disjoint cells; the row's surface samples kept apart and joined
+  // in row order).
+  std::vector<std::vector<float>> row_d(static_cast<std::size_t>(gr));
+  std::vector<std::array<std::vector<float>, 3>> row_c(static_cast<std::size_t>(gr));
+  tbb::parallel_for(0, gr, [&](int i) {
     for (int j = 0; j < gc; ++j) {
       std::vector<float> dv;
       std::array<std::vector<float>, 3> cv3;
@@ -197,14 +220,27 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
           for (int ch = 0; ch < 3; ++ch) cv3[ch].push_back(se.rgb.at<cv::Vec3b>(r, k)[ch]);
         }
       if (dv.size() < 8) continue;
-      all_d.insert(all_d.end(), dv.begin(), dv.end());
+      auto& rd = row_d[static_cast<std::size_t>(i)];
+      rd.insert(rd.end(), dv.begin(), dv.end());
       known.at<uchar>(i, j) = 1;
       bd.at<float>(i, j) = Median(dv);
       for (int ch = 0; ch < 3; ++ch) {
-        all_c[ch].insert(all_c[ch].end(), cv3[ch].begin(), cv3[ch].end());
+        auto& rc = row_c[static_cast<std::size_t>(i)][static_cast<std::size_t>(ch)];
+        rc.insert(rc.end(), cv3[ch].begin(), cv3[ch].end());
         bc.at<cv::Vec3f>(i, j)[ch] = Median(cv3[ch]);
       }
     }
+  });
+  std::vector<float> all_d;
+  std::array<std::vector<float>, 3> all_c;
+  for (int i = 0; i < gr; ++i) {
+    const auto& rd = row_d[static_cast<std::size_t>(i)];
+    all_d.insert(all_d.end(), rd.begin(), rd.end());
+    for (int ch = 0; ch < 3; ++ch) {
+      const auto& rc = row_c[static_cast<std::size_t>(i)][static_cast<std::size_t>(ch)];
+      all_c[ch].insert(all_c[ch].end(), rc.begin(), rc.end());
+    }
+  }
   float gd = 0.0f;
   cv::Vec3f gcol(200, 200, 200);
   if (!all_d.empty()) {
@@ -843,24 +879,40 @@ Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
   }
   // One task per SE (each reads only its own image, the shared points and the trained
   // recogniser), gathered in SE order: the same bytes on any number of threads.
+  // Largest images first (a ceiling's is several times a wall's): started last, it ran alone
+  // at the end.
+  std::vector<std::size_t> order(ses.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto pixels = [&](std::size_t i) {
+    const PatchFrame f = PatchFrame::Of(sm3.patches[ses[i]]);
+    return f.width * f.height;
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return pixels(a) > pixels(b); });
   std::vector<std::vector<DetectedComponent>> found(ses.size());
-  tbb::parallel_for(std::size_t{0}, ses.size(), [&](std::size_t i) {
-    const std::size_t se = ses[i];
-    std::vector<Eigen::Vector3f> own_points;
-    std::vector<std::array<std::uint8_t, 3>> own_colours;
-    for (const std::size_t k : SePointIndices(sm3, se, *points.points, params)) {
-      own_points.push_back((*points.points)[k]);
-      own_colours.push_back((*points.colours)[k]);
-    }
-    OrthoPoints own;
-    own.points = &own_points;
-    own.colours = &own_colours;
-    const Orthoimage image =
-        BuildOrthoimage(own, PatchFrame::Of(sm3.patches[se]), op, params.pixel);
-    const bool ceiling = sm3.patches[se].patch_class == PatchClass::kCeiling;
-    found[i] =
-        DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings, recogniser, params);
-  });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, order.size(), 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t oi = range.begin(); oi != range.end(); ++oi) {
+          const std::size_t i = order[oi];
+          const std::size_t se = ses[i];
+          std::vector<Eigen::Vector3f> own_points;
+          std::vector<std::array<std::uint8_t, 3>> own_colours;
+          for (const std::size_t k : SePointIndices(sm3, se, *points.points, params)) {
+            own_points.push_back((*points.points)[k]);
+            own_colours.push_back((*points.colours)[k]);
+          }
+          OrthoPoints own;
+          own.points = &own_points;
+          own.colours = &own_colours;
+          const Orthoimage image =
+              BuildOrthoimage(own, PatchFrame::Of(sm3.patches[se]), op, params.pixel);
+          const bool ceiling = sm3.patches[se].patch_class == PatchClass::kCeiling;
+          found[i] = DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings,
+                                        recogniser, params);
+        }
+      },
+      tbb::simple_partitioner());
   for (auto& f : found)
     for (DetectedComponent& d : f) out.components.push_back(std::move(d));
   for (std::size_t i = 0; i < out.components.size(); ++i)
