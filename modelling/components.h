@@ -88,7 +88,8 @@ struct ComponentParams {
   double fill_sigma = 0.004;     ///< m, least Gaussian sigma of the hole filling, [0.001, 0.1]
   double fill_sigma_max = 0.03;  ///< m, largest Gaussian sigma of the filling, [0.001, 0.2]
   /// Sigma of the filling as a share of the local sample spacing (at least fill_sigma, at
-  /// most fill_sigma_max, on a ladder of ratio sqrt 2), [0, 5]
+  /// most fill_sigma_max, on a ladder of ratio sqrt 2); it also sizes the closing that keeps
+  /// gaps of about a sample spacing filled (0.75 sigma / share), [0.05, 5]
   double fill_spacing_share = 0.6;
   /// m, Gaussian sigma of the window the local sample spacing is measured in, [0.005, 0.5]
   double density_window = 0.04;
@@ -145,7 +146,7 @@ struct ComponentParams {
     v("band", band, Bounds{0.01, 1.0});
     v("fill_sigma", fill_sigma, Bounds{0.001, 0.1});
     v("fill_sigma_max", fill_sigma_max, Bounds{0.001, 0.2});
-    v("fill_spacing_share", fill_spacing_share, Bounds{0.0, 5.0});
+    v("fill_spacing_share", fill_spacing_share, Bounds{0.05, 5.0});
     v("density_window", density_window, Bounds{0.005, 0.5});
     v("fill_min_weight", fill_min_weight, Bounds{0.001, 1.0});
     v("opening_margin", opening_margin, Bounds{0.0, 0.5});

@@ -705,6 +705,10 @@ TEST(ComponentParams, ValidateNamesTheField) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("pixel"), std::string::npos);
   }
+  // A zero share would make the closing's kernel infinite.
+  ComponentParams q;
+  q.fill_spacing_share = 0.0;
+  EXPECT_THROW(q.Validate(), InputError);
 }
 
 }  // namespace
