@@ -50,9 +50,16 @@ for r in runs:
         print(f"{r:<16} no openings scored"); continue
     rooms = len(e["rooms"])
     st = o["door_states"]
+    # The slowest room's SM4 wall time (summary.json; the wall clock of this run, which shares
+    # the machine when two instances run).
+    try:
+        secs = [x.get("sm4_seconds", 0.0) for x in json.load(open(os.path.join(out, r, "summary.json")))["rooms"]]
+        sm4 = f"{max(secs):6.2f}" if secs else f"{'':>6}"
+    except Exception:
+        sm4 = f"{'':>6}"
     print(f"{r:<16} {rooms:>5} {tot(o):>5} {o['matched']:>5} {o['false_openings']:>5} {o['precision']:6.3f} "
           f"{o['recall']:6.3f} {o['e_abs_m2']['mean']:6.3f} {o['e_r']['mean']:6.3f} {st['right']:>3}/{st['doors']:<3} "
-          f"{o['angle_error_deg']['median'] or 0:7.2f} {o['angle_error_deg']['max'] or 0:7.2f} {'':>6}")
+          f"{o['angle_error_deg']['median'] or 0:7.2f} {o['angle_error_deg']['max'] or 0:7.2f} {sm4}")
     pooled["truth"] += tot(o); pooled["found"] += o["matched"]; pooled["false"] += o["false_openings"]
     pooled["tp"] += o.get("tp_m2", 0.0); pooled["fp"] += o["fp_m2"]; pooled["fn"] += o["fn_m2"]
     pooled["right"] += st["right"]; pooled["doors"] += st["doors"]
