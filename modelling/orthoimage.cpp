@@ -86,15 +86,8 @@ void Orthoimage::AddPoint(double pu, double pv, double depth,
                           const std::array<std::uint8_t, 3>& rgb) {
   const auto [c, r] = PixelOf(pu, pv);
   if (!Inside(c, r)) return;
-  const std::size_t i = Index(c, r);
-  const std::uint32_t k = ++count_[i];
-  for (int ch = 0; ch < 3; ++ch) {
-    rgb_sum_[i][ch] += rgb[ch];
-    rgb_[i][ch] = static_cast<std::uint8_t>(std::lround(rgb_sum_[i][ch] / k));
-  }
-  depth_sum_[i] += depth;
-  depth_[i] = static_cast<float>(depth_sum_[i] / k);
-  front_[i] = k == 1 ? static_cast<float>(depth) : std::max(front_[i], static_cast<float>(depth));
+  AccumulatePoint(Index(c, r), depth, rgb);
+  SetMean(Index(c, r));
 }
 
 void Orthoimage::AccumulatePoint(std::size_t i, double depth,
@@ -105,14 +98,16 @@ void Orthoimage::AccumulatePoint(std::size_t i, double depth,
   front_[i] = k == 1 ? static_cast<float>(depth) : std::max(front_[i], static_cast<float>(depth));
 }
 
+void Orthoimage::SetMean(std::size_t i) {
+  const std::uint32_t k = count_[i];
+  if (k == 0) return;
+  for (int ch = 0; ch < 3; ++ch)
+    rgb_[i][ch] = static_cast<std::uint8_t>(std::lround(rgb_sum_[i][ch] / k));
+  depth_[i] = static_cast<float>(depth_sum_[i] / k);
+}
+
 void Orthoimage::FinishMeans() {
-  for (std::size_t i = 0; i < count_.size(); ++i) {
-    const std::uint32_t k = count_[i];
-    if (k == 0) continue;
-    for (int ch = 0; ch < 3; ++ch)
-      rgb_[i][ch] = static_cast<std::uint8_t>(std::lround(rgb_sum_[i][ch] / k));
-    depth_[i] = static_cast<float>(depth_sum_[i] / k);
-  }
+  for (std::size_t i = 0; i < count_.size(); ++i) SetMean(i);
 }
 
 void Orthoimage::AddPassed(double pu, double pv) {

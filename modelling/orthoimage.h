@@ -198,9 +198,11 @@ class Orthoimage {
  private:
   friend Orthoimage BuildOrthoimage(const OrthoPoints&, const PatchFrame&, const OrthoimageParams&,
                                     double);
-  /// AddPoint's sums at pixel i without its means; FinishMeans() sets the means of every pixel
-  /// to what AddPoint's running means would be (the same sums, one division per pixel).
+  /// AddPoint's sums at pixel i without its means; SetMean(i) sets pixel i's mean colour and
+  /// depth from its sums (AddPoint after each point, BuildOrthoimage once per pixel through
+  /// FinishMeans: the same sums, so the same means).
   void AccumulatePoint(std::size_t i, double depth, const std::array<std::uint8_t, 3>& rgb);
+  void SetMean(std::size_t i);
   void FinishMeans();
 
   PatchFrame frame_;
