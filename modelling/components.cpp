@@ -1,9 +1,6 @@
 #include "modelling/components.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <cmath>
@@ -73,10 +70,9 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
   area.convertTo(area, CV_32F, 1.0 / 255.0);
   const double sw = p.density_window / pixel;
   cv::Mat area_b, n_b, w_b;
-  tbb::parallel_invoke(
-      [&] { cv::GaussianBlur(area, area_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT); },
-      [&] { cv::GaussianBlur(n, n_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT); },
-      [&] { cv::GaussianBlur(w, w_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT); });
+  cv::GaussianBlur(area, area_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(n, n_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(w, w_b, cv::Size(0, 0), sw, sw, cv::BORDER_CONSTANT);
   // Scale of each pixel: index into sigma_0 * sqrt(2)^k (pixels), -1 where nothing is seen.
   const double s0 = p.fill_sigma / pixel, s_max = std::max(s0, p.fill_sigma_max / pixel);
   const int levels = 1 + static_cast<int>(std::ceil(2.0 * std::log2(s_max / s0) - 1e-9));
@@ -204,11 +200,9 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
   const int gr = (rows + cell - 1) / cell, gc = (cols + cell - 1) / cell;
   cv::Mat bd(gr, gc, CV_32F), bc(gr, gc, CV_32FC3);
   cv::Mat known(gr, gc, CV_8U, cv::Scalar(0));
-  // One task per row of cells (disjoint cells; the row's surface samples kept apart and joined
-  // in row order).
-  std::vector<std::vector<float>> row_d(static_cast<std::size_t>(gr));
-  std::vector<std::array<std::vector<float>, 3>> row_c(static_cast<std::size_t>(gr));
-  tbb::parallel_for(0, gr, [&](int i) {
+  std::vector<float> all_d;
+  std::array<std::vector<float>, 3> all_c;
+  for (int i = 0; i < gr; ++i)
     for (int j = 0; j < gc; ++j) {
       std::vector<float> dv;
       std::array<std::vector<float>, 3> cv3;
@@ -220,27 +214,14 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
           for (int ch = 0; ch < 3; ++ch) cv3[ch].push_back(se.rgb.at<cv::Vec3b>(r, k)[ch]);
         }
       if (dv.size() < 8) continue;
-      auto& rd = row_d[static_cast<std::size_t>(i)];
-      rd.insert(rd.end(), dv.begin(), dv.end());
+      all_d.insert(all_d.end(), dv.begin(), dv.end());
       known.at<uchar>(i, j) = 1;
       bd.at<float>(i, j) = Median(dv);
       for (int ch = 0; ch < 3; ++ch) {
-        auto& rc = row_c[static_cast<std::size_t>(i)][static_cast<std::size_t>(ch)];
-        rc.insert(rc.end(), cv3[ch].begin(), cv3[ch].end());
+        all_c[ch].insert(all_c[ch].end(), cv3[ch].begin(), cv3[ch].end());
         bc.at<cv::Vec3f>(i, j)[ch] = Median(cv3[ch]);
       }
     }
-  });
-  std::vector<float> all_d;
-  std::array<std::vector<float>, 3> all_c;
-  for (int i = 0; i < gr; ++i) {
-    const auto& rd = row_d[static_cast<std::size_t>(i)];
-    all_d.insert(all_d.end(), rd.begin(), rd.end());
-    for (int ch = 0; ch < 3; ++ch) {
-      const auto& rc = row_c[static_cast<std::size_t>(i)][static_cast<std::size_t>(ch)];
-      all_c[ch].insert(all_c[ch].end(), rc.begin(), rc.end());
-    }
-  }
   float gd = 0.0f;
   cv::Vec3f gcol(200, 200, 200);
   if (!all_d.empty()) {
@@ -879,40 +860,24 @@ Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
   }
   // One task per SE (each reads only its own image, the shared points and the trained
   // recogniser), gathered in SE order: the same bytes on any number of threads.
-  // Largest images first (a ceiling's is several times a wall's): started last, it ran alone
-  // at the end.
-  std::vector<std::size_t> order(ses.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  const auto pixels = [&](std::size_t i) {
-    const PatchFrame f = PatchFrame::Of(sm3.patches[ses[i]]);
-    return f.width * f.height;
-  };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return pixels(a) > pixels(b); });
   std::vector<std::vector<DetectedComponent>> found(ses.size());
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, order.size(), 1),
-      [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t oi = range.begin(); oi != range.end(); ++oi) {
-          const std::size_t i = order[oi];
-          const std::size_t se = ses[i];
-          std::vector<Eigen::Vector3f> own_points;
-          std::vector<std::array<std::uint8_t, 3>> own_colours;
-          for (const std::size_t k : SePointIndices(sm3, se, *points.points, params)) {
-            own_points.push_back((*points.points)[k]);
-            own_colours.push_back((*points.colours)[k]);
-          }
-          OrthoPoints own;
-          own.points = &own_points;
-          own.colours = &own_colours;
-          const Orthoimage image =
-              BuildOrthoimage(own, PatchFrame::Of(sm3.patches[se]), op, params.pixel);
-          const bool ceiling = sm3.patches[se].patch_class == PatchClass::kCeiling;
-          found[i] = DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings,
-                                        recogniser, params);
-        }
-      },
-      tbb::simple_partitioner());
+  tbb::parallel_for(std::size_t{0}, ses.size(), [&](std::size_t i) {
+    const std::size_t se = ses[i];
+    std::vector<Eigen::Vector3f> own_points;
+    std::vector<std::array<std::uint8_t, 3>> own_colours;
+    for (const std::size_t k : SePointIndices(sm3, se, *points.points, params)) {
+      own_points.push_back((*points.points)[k]);
+      own_colours.push_back((*points.colours)[k]);
+    }
+    OrthoPoints own;
+    own.points = &own_points;
+    own.colours = &own_colours;
+    const Orthoimage image =
+        BuildOrthoimage(own, PatchFrame::Of(sm3.patches[se]), op, params.pixel);
+    const bool ceiling = sm3.patches[se].patch_class == PatchClass::kCeiling;
+    found[i] =
+        DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings, recogniser, params);
+  });
   for (auto& f : found)
     for (DetectedComponent& d : f) out.components.push_back(std::move(d));
   for (std::size_t i = 0; i < out.components.size(); ++i)
