@@ -97,8 +97,8 @@ class FloorMission {
       if (res_.tree.Node(node).door_scan_after < 0 && node != 0)
         res_.tree.Node(node).door_scan_after = index;
       if (hooks_.scan) hooks_.scan(v.room, index, scan);
-      Progress(v.room + ": scan " + std::to_string(model.ScanCount()) + ", coverage " +
-               FormatFixed(model.Coverage().ratio, 3));
+      Progress(v.room + ": scan " + std::to_string(model.ScanCount()) + ", sensed " +
+               FormatFixed(model.Coverage().ratio, 3) + " of the modelled structure");
     };
     try {
       v.scan = RunRoomScan(nav_, rp_, model, on_scan, &target_);
@@ -119,7 +119,7 @@ class FloorMission {
     r.room = v.room;
     r.scans = static_cast<int>(v.scan.scans.size());
     r.stop_reason = v.error.empty() ? v.scan.stop_reason : "failed: " + v.error;
-    if (!v.scan.scans.empty()) r.coverage = v.scan.scans.back().coverage.ratio;
+    if (!v.scan.scans.empty()) r.coverage = v.scan.scans.back().coverage.observable_ratio;
     if (model.ScanCount() > 0) r.perimeter = model.Perimeter();
     r.sm3 = std::move(v.models.sm3);
     r.sm4 = std::move(v.models.sm4);

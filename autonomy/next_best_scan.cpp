@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <utility>
 
 #include "common/error.h"
 
@@ -30,18 +31,23 @@ struct Target {
   Vec3 p = Vec3::Zero();   // patch centroid, moved half a voxel into the room
   Vec3 n = Vec3::UnitZ();  // outward face normal
   double weight = 0.0;     // probability x area (x frontier factor), m^2
+  double area = 0.0;       // unsensed area of the patch, m^2
   int face = -1;
   bool frontier = false;  // on a face without structural data
 };
 
-std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBestScanParams& P) {
+// The unsensed cells of the RoI's faces grouped into square patches of about `patch_size`.
+// Cells flagged in `exclude` (per face, per cell; null = none) are left out.
+std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBestScanParams& P,
+                                double patch_size,
+                                const std::vector<std::vector<std::uint8_t>>* exclude = nullptr) {
   using modelling::FaceCell;
   const modelling::Roi& roi = model.GetRoi();
   const double half_voxel = 0.5 * model.Voxels().Size();
   std::vector<Target> targets;
   for (int fi = 0; fi < static_cast<int>(roi.faces.size()); ++fi) {
     const modelling::RoiFace& f = roi.faces[fi];
-    const int k = std::max(1, static_cast<int>(std::lround(P.patch_size / f.cell)));
+    const int k = std::max(1, static_cast<int>(std::lround(patch_size / f.cell)));
     const double prob = f.structural ? P.probability_structural : P.probability_unclassified;
     const double factor = f.structural ? 1.0 : P.frontier_factor;
     for (int pv = 0; pv < f.nv; pv += k) {
@@ -52,6 +58,7 @@ std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBes
           for (int iu = pu; iu < std::min(f.nu, pu + k); ++iu) {
             const std::size_t idx = static_cast<std::size_t>(iv) * f.nu + iu;
             if (f.cells[idx] != FaceCell::kUnsensed) continue;
+            if (exclude && (*exclude)[fi][idx]) continue;
             area += f.cell_area[idx];
             c += f.cell_area[idx] * f.CellCentre(iu, iv);
           }
@@ -61,6 +68,7 @@ std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBes
         t.p = c / area - half_voxel * f.normal;
         t.n = f.normal;
         t.weight = area * prob * factor;
+        t.area = area;
         t.face = fi;
         t.frontier = !f.structural;
         targets.push_back(t);
@@ -77,6 +85,17 @@ struct Visibility {
   const modelling::VoxelSpace& vox;
   double range_min, range_max, sin_max, sin_min, cos_inc, stop_short;
   double cell, step;  // face cell (m), angular step (rad)
+  // The geometric test alone, without the incidence limit and the point density: the patch
+  // faces the scanner within its range and elevation limits, in a free line of sight.
+  bool InView(const Vec3& sc, const Target& t) const {
+    const Vec3 d = t.p - sc;
+    const double r = d.norm();
+    if (r < range_min || r > range_max) return false;
+    const double sz = d.z() / r;
+    if (sz > sin_max || sz < sin_min) return false;
+    if (d.dot(t.n) <= 0.0) return false;
+    return vox.SegmentFree(sc, t.p, stop_short);
+  }
   double operator()(const Vec3& sc, const Target& t) const {
     const Vec3 d = t.p - sc;
     const double r = d.norm();
@@ -90,6 +109,19 @@ struct Visibility {
     return std::min(1.0, cell / spacing) * std::min(1.0, cell * cos_a / spacing);
   }
 };
+
+Visibility VisibilityOf(const modelling::RoomModel& model, const NextBestScanParams& P,
+                        double scan_step_deg) {
+  return Visibility{model.Voxels(),
+                    P.range_min,
+                    P.range_max,
+                    std::sin(DegToRad(P.elevation_max_deg)),
+                    std::sin(DegToRad(P.elevation_min_deg)),
+                    std::cos(DegToRad(P.max_incidence_deg)),
+                    P.stop_short,
+                    model.Params().face_cell,
+                    DegToRad(scan_step_deg)};
+}
 
 // Plan distance from p to the RoI's walls and columns (the map may miss walls seen only at
 // grazing angles from far away; the perimeter does not).
@@ -105,6 +137,15 @@ double BoundaryDistance(const modelling::Roi& roi, const Vec2& p) {
   loop(roi.perimeter);
   for (const auto& c : roi.columns) loop(c);
   return d;
+}
+
+std::pair<Vec2, Vec2> PlanBounds(const modelling::Roi& roi) {
+  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& v : roi.perimeter) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  return {lo, hi};
 }
 
 // a. The grid cells a candidate may stand on (clearance of the robot radius in the map and
@@ -201,6 +242,7 @@ void EvaluateCandidates(const std::vector<Target>& targets, const Visibility& vi
     const Vec3 sc(cand.position.x(), cand.position.y(), zs);
     std::vector<double>& fg = cand.face_certainty;
     fg.assign(faces, 0.0);
+    double frontier = 0.0;
     for (const Target& t : targets) {
       if (t.weight <= 0.0) continue;
       const double chance = visible(sc, t);
@@ -208,36 +250,48 @@ void EvaluateCandidates(const std::vector<Target>& targets, const Visibility& vi
       // A frontier patch reveals what lies behind it in proportion to how squarely it is seen
       // (not how densely: what lies behind is seen from elsewhere).
       const Vec3 d = t.p - sc;
-      fg[t.face] += t.frontier ? t.weight * d.dot(t.n) / d.norm() : t.weight * chance;
+      const double certainty = t.frontier ? t.weight * d.dot(t.n) / d.norm() : t.weight * chance;
+      fg[t.face] += certainty;
+      if (t.frontier) frontier += certainty;
       ++cand.visible_patches;
     }
     double g = 0.0;
     for (double v : fg) g += v;  // fixed order
     cand.gain = g;
+    cand.frontier_gain = frontier;
   });
 }
 
-// e. The candidate with the largest gain; ties: nearest to the current pose, then grid order.
-// -1 when none has a gain.
-int ChooseCandidate(const std::vector<NbsCandidate>& candidates, const Vec2& cur) {
+}  // namespace
+
+// e. Near-ties: the candidates within `tolerance` x the largest gain G of it. Among them, those
+// whose frontier gain is within tolerance x G of the largest frontier gain F there (frontier
+// differences smaller than the estimate's own error are ties too); of those the largest
+// gain, then the nearest to the current pose, then grid order. -1 when none has a gain.
+int ChooseNextBestScan(const std::vector<NbsCandidate>& candidates, const Vec2& cur,
+                       double tolerance) {
+  double best = 0.0;
+  for (const NbsCandidate& c : candidates) best = std::max(best, c.gain);
+  if (!(best > 0.0)) return -1;
+  const double slack = tolerance * best;
+  auto tied = [&](const NbsCandidate& c) { return c.gain > 0.0 && c.gain >= best - slack; };
+  double frontier = 0.0;
+  for (const NbsCandidate& c : candidates) {
+    if (tied(c)) frontier = std::max(frontier, c.frontier_gain);
+  }
   int chosen = -1;
   for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
-    if (candidates[ci].gain <= 0.0) continue;
-    if (chosen < 0) {
-      chosen = static_cast<int>(ci);
-      continue;
-    }
     const NbsCandidate& a = candidates[ci];
-    const NbsCandidate& b = candidates[chosen];
-    if (a.gain > b.gain ||
-        (a.gain == b.gain && (a.position - cur).norm() < (b.position - cur).norm())) {
-      chosen = static_cast<int>(ci);
+    if (!tied(a) || a.frontier_gain < frontier - slack) continue;
+    if (chosen >= 0) {
+      const NbsCandidate& b = candidates[chosen];
+      if (a.gain < b.gain) continue;
+      if (a.gain == b.gain && (a.position - cur).norm() >= (b.position - cur).norm()) continue;
     }
+    chosen = static_cast<int>(ci);
   }
   return chosen;
 }
-
-}  // namespace
 
 NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
                        const Pose2& current_M, double scan_step_deg, const NextBestScanParams& P) {
@@ -254,26 +308,13 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
   }
   // a. Safe and reachable candidates.
   const perception::DistanceField df(map, P.unknown_is_obstacle);
-  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
-  for (const auto& v : roi.perimeter) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
+  const auto [lo, hi] = PlanBounds(roi);
   const std::vector<std::uint8_t> reach = ReachableCells(roi, map, df, current_M, lo, hi, P);
   AddCandidates(roi, map, df, reach, lo, hi, P, out);
   // b. Targets with their membership probabilities.
-  std::vector<Target> targets = MakeTargets(model, P);
-  const modelling::VoxelSpace& vox = model.Voxels();
+  std::vector<Target> targets = MakeTargets(model, P, P.patch_size);
   const double zs = model.FloorZ() + P.mast_height;
-  const Visibility visible{vox,
-                           P.range_min,
-                           P.range_max,
-                           std::sin(DegToRad(P.elevation_max_deg)),
-                           std::sin(DegToRad(P.elevation_min_deg)),
-                           std::cos(DegToRad(P.max_incidence_deg)),
-                           P.stop_short,
-                           model.Params().face_cell,
-                           DegToRad(scan_step_deg)};
+  const Visibility visible = VisibilityOf(model, P, scan_step_deg);
   // Patches the earlier scan positions should already have sensed are discounted.
   if (P.revisit_factor < 1.0) {
     const std::vector<Pose3>& scans = model.ScanPoses();
@@ -287,7 +328,7 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
   // c/d/e.
   EvaluateCandidates(targets, visible, zs, roi.faces.size(), out.candidates);
   const std::size_t nc = out.candidates.size();
-  out.chosen = ChooseCandidate(out.candidates, Vec2(current_M.x, current_M.y));
+  out.chosen = ChooseNextBestScan(out.candidates, Vec2(current_M.x, current_M.y), P.tie_tolerance);
   char buf[320];
   if (out.chosen < 0) {
     std::snprintf(
@@ -308,6 +349,108 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
                 best.position.x(), best.position.y(), best.gain, best.visible_patches,
                 targets.size(), nc, out.rejected_unsafe, out.rejected_unreachable);
   out.message = buf;
+  return out;
+}
+
+HiddenArea EstimateHiddenArea(const modelling::RoomModel& model,
+                              const perception::OccupancyGrid& map, const Pose2& current_M,
+                              const NextBestScanParams& P,
+                              const modelling::OrthoPoints* no_return) {
+  P.Validate();
+  HiddenArea out;
+  const modelling::Roi& roi = model.GetRoi();
+  if (roi.empty() || model.Voxels().empty()) return out;
+  const perception::DistanceField df(map, P.unknown_is_obstacle);
+  const auto [lo, hi] = PlanBounds(roi);
+  const std::vector<std::uint8_t> reach = ReachableCells(roi, map, df, current_M, lo, hi, P);
+  // Scanner centres: the lattice points of reachable map cells, and the scans taken.
+  const double zs = model.FloorZ() + P.mast_height;
+  const double s = P.observability_spacing;
+  std::vector<Vec3> centres;
+  for (double y = std::ceil(lo.y() / s) * s; y <= hi.y(); y += s) {
+    for (double x = std::ceil(lo.x() / s) * s; x <= hi.x(); x += s) {
+      const perception::Cell c = map.CellOf(Vec2(x, y));
+      if (map.Contains(c) && reach[map.Index(c)]) centres.emplace_back(x, y, zs);
+    }
+  }
+  for (const Pose3& X : model.ScanPoses()) centres.push_back(X.translation());
+  out.positions = static_cast<int>(centres.size());
+  // Unsensed cells with clutter standing within stop_short in front of them (a closed door's
+  // leaf, a radiator): the line of sight ignores voxels that near a target, the points do not.
+  const std::size_t nf = roi.faces.size();
+  std::vector<std::vector<std::uint8_t>> covered(nf);
+  const std::vector<Eigen::Vector3f>& points = model.Points();
+  const std::vector<modelling::PointLabel>& labels = model.Labels();
+  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t fi) {
+    const modelling::RoiFace& f = roi.faces[fi];
+    covered[fi].assign(f.cells.size(), 0);
+    if (!f.structural) return;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (labels[i] != modelling::PointLabel::kClutter) continue;
+      const Vec3 p = points[i].cast<double>();
+      const double depth = (f.origin - p).dot(f.normal);
+      if (depth <= 0.0 || depth > P.stop_short) continue;
+      const int c = f.CellIndexOf(p);
+      if (c >= 0 && f.cells[c] == modelling::FaceCell::kUnsensed) covered[fi][c] = 1;
+    }
+  });
+  // Unsensed wall cells a ray without a return passed (beyond the minimum range: a window to
+  // the outside, a doorway to far space) are openings, not structure: flagged 2.
+  if (no_return != nullptr) {
+    const std::vector<Pose3>& scans = model.ScanPoses();
+    const std::size_t nr =
+        std::min(no_return->no_return_dirs.size(), no_return->no_return_scan.size());
+    for (std::size_t i = 0; i < nr; ++i) {  // serial: each ray flags at most one cell
+      const std::size_t si = no_return->no_return_scan[i];
+      if (si >= scans.size()) continue;
+      const Vec3 o = scans[si].translation();
+      const Vec3 d = no_return->no_return_dirs[i].cast<double>();
+      double best_t = 1e300;
+      int best_f = -1, best_c = -1;
+      for (std::size_t fi = 0; fi < nf; ++fi) {
+        const modelling::RoiFace& f = roi.faces[fi];
+        if (f.kind != modelling::FaceKind::kWall) continue;
+        const double dn = d.dot(f.normal);
+        if (dn <= 1e-9) continue;
+        const double t = (f.origin - o).dot(f.normal) / dn;
+        if (t < P.range_min || t >= best_t) continue;
+        const int c = f.CellIndexOf(o + t * d);
+        if (c < 0 || f.cells[c] == modelling::FaceCell::kOff) continue;
+        best_t = t;
+        best_f = static_cast<int>(fi);
+        best_c = c;
+      }
+      if (best_f >= 0 && roi.faces[best_f].cells[best_c] == modelling::FaceCell::kUnsensed &&
+          !covered[best_f][best_c])
+        covered[best_f][best_c] = 2;
+    }
+  }
+  for (std::size_t fi = 0; fi < nf; ++fi) {  // fixed order
+    const modelling::RoiFace& f = roi.faces[fi];
+    for (std::size_t c = 0; c < f.cells.size(); ++c) {
+      if (covered[fi][c] == 1) out.covered_area += f.cell_area[c];
+      if (covered[fi][c] == 2) out.seen_through_area += f.cell_area[c];
+    }
+  }
+  out.area = out.covered_area + out.seen_through_area;
+  // The other unsensed patches of structural faces (a frontier face is unknown, not hidden).
+  std::vector<Target> patches = MakeTargets(model, P, P.observability_patch, &covered);
+  patches.erase(
+      std::remove_if(patches.begin(), patches.end(), [](const Target& t) { return t.frontier; }),
+      patches.end());
+  const Visibility visible = VisibilityOf(model, P, 1.0);
+  std::vector<std::uint8_t> hidden(patches.size(), 0);
+  tbb::parallel_for(std::size_t{0}, patches.size(), [&](std::size_t i) {
+    for (const Vec3& c : centres)
+      if (visible.InView(c, patches[i])) return;
+    hidden[i] = 1;
+  });
+  for (std::size_t i = 0; i < patches.size(); ++i) {  // fixed order
+    if (hidden[i]) {
+      out.area += patches[i].area;
+      ++out.patches;
+    }
+  }
   return out;
 }
 

@@ -24,8 +24,10 @@
 //     A patch an earlier scan position already passes this test for, yet still unsensed, is
 //     discounted by `revisit_factor` per such scan (what was looked at and not sensed will
 //     not be sensed by looking again from about the same place);
-//  e. the candidate with the largest gain; ties go to the one nearest the current pose, then
-//     the lower index (row-major grid order).
+//  e. the candidate with the largest gain, except in a near-tie (gains within `tie_tolerance`
+//     of the largest): there the one that sees clearly more frontier (its frontier gain more
+//     than tie_tolerance x the largest gain above the others'), then the larger gain, the one
+//     nearest the current pose, the lower index (row-major grid order).
 // Deterministic: candidates are evaluated in parallel (TBB), each writing its own result.
 
 #include <string>
@@ -33,6 +35,7 @@
 
 #include "common/frames.h"
 #include "common/params.h"
+#include "modelling/orthoimage.h"
 #include "modelling/room_model.h"
 #include "perception/occupancy_grid.h"
 
@@ -63,6 +66,18 @@ struct NextBestScanParams {
   /// sensing chance from there, so a candidate at or near an earlier scan position expects
   /// little. 1 = no discount. [0, 1]
   double revisit_factor = 0.2;
+  /// Relative width of a near-tie, [0, 1]: the gain is an estimate from prior probabilities
+  /// and a frontier prior, good to several per cent, so candidates within tie_tolerance x the
+  /// best gain G are tied, and among them the one seeing clearly more frontier (by more than
+  /// tie_tolerance x G) wins. The frontier part is the estimate's lower bound (what lies behind
+  /// an open boundary may be a whole leg of the room) and the only part that can grow the RoI,
+  /// so seeing it first lets every later choice plan with the room's extent. 0 = largest gain.
+  double tie_tolerance = 0.05;
+  /// m, lattice of the positions EstimateHiddenArea looks from (the reachable cells of the
+  /// map), [0.05, 5]
+  double observability_spacing = 0.25;
+  /// m, unsensed cells grouped into patches of this size for EstimateHiddenArea, [0.02, 5]
+  double observability_patch = 0.1;
 
   template <class V>
   void Visit(V& v) {
@@ -82,6 +97,9 @@ struct NextBestScanParams {
     v("frontier_factor", frontier_factor, Bounds{0.0, 100.0});
     v("stop_short", stop_short, Bounds{0.0, 2.0});
     v("revisit_factor", revisit_factor, Bounds{0.0, 1.0});
+    v("tie_tolerance", tie_tolerance, Bounds{0.0, 1.0});
+    v("observability_spacing", observability_spacing, Bounds{0.05, 5.0});
+    v("observability_patch", observability_patch, Bounds{0.02, 5.0});
   }
   /// Bounds plus elevation_min < elevation_max and range_min < range_max; InputError.
   void Validate() const;
@@ -90,6 +108,8 @@ struct NextBestScanParams {
 struct NbsCandidate {
   Vec2 position = Vec2::Zero();  ///< m, map frame
   double gain = 0.0;  ///< expected newly sensed structural area, m^2 (certainty of the RoI)
+  /// m^2, the part of gain from frontier patches (faces without structural data)
+  double frontier_gain = 0.0;
   int visible_patches = 0;
   std::vector<double> face_certainty;  ///< per RoI face (m^2); sums to gain
 };
@@ -105,6 +125,11 @@ struct NbsResult {
   std::string message;                   ///< one line with the figures
 };
 
+/// Step e on evaluated candidates: the index of the chosen one, -1 when none has a gain > 0.
+/// `tolerance` as NextBestScanParams::tie_tolerance.
+int ChooseNextBestScan(const std::vector<NbsCandidate>& candidates, const Vec2& current_position,
+                       double tolerance);
+
 /// Computes the next best scan from the robot's own model and obstacle map. Throws InputError
 /// for invalid params. An empty model or no candidate gives found = false with a message.
 /// `scan_step_deg` is the TLS angular step the next scan will use, (0, 10]: with the model's
@@ -113,5 +138,33 @@ struct NbsResult {
 NbsResult NextBestScan(const modelling::RoomModel& model, const perception::OccupancyGrid& map,
                        const Pose2& current_M, double scan_step_deg,
                        const NextBestScanParams& params = {});
+
+/// The structure the robot can judge unobservable (the stopping rule's denominator): unsensed
+/// patches (observability_patch) of structural RoI faces that no scanner centre sees, where the
+/// centres are the observability_spacing lattice over the map cells a robot_radius disc can
+/// reach from the current pose inside the RoI, plus the scans taken. "Sees" is the next best
+/// scan's geometric test without the incidence limit and the density (range, elevation, facing,
+/// a line of sight free of the voxels the scans found occupied): what hides a patch is clutter
+/// the robot has scanned, or the scanner's elevation limits; voxels never seen do not block, so
+/// the estimate leans to calling a patch observable. The line of sight ignores voxels within
+/// stop_short of the target (the face's own voxels), so a cell with clutter points standing
+/// within stop_short in front of it (a closed door's leaf in its frame, a radiator) is judged
+/// from the points: covered, hence hidden. With `no_return` (the room's rays without a return,
+/// modelling::AddNoReturnRays, scan indices into model.ScanPoses()), an unsensed wall cell that
+/// such a ray crossed beyond range_min (the first wall it crossed) is no structure but an
+/// opening the ray passed (a window to the outside, where nothing returns): seen through, and
+/// left out of the observable structure like a hidden cell. Frontier faces are never hidden.
+/// Parallel (TBB), deterministic. Throws InputError for invalid params; an empty model gives 0.
+struct HiddenArea {
+  double area = 0.0;               ///< m^2, covered and seen-through cells plus hidden patches
+  double covered_area = 0.0;       ///< m^2, unsensed cells with clutter just in front of them
+  double seen_through_area = 0.0;  ///< m^2, unsensed wall cells a ray without a return passed
+  int patches = 0;                 ///< hidden patches
+  int positions = 0;               ///< scanner centres tried
+};
+HiddenArea EstimateHiddenArea(const modelling::RoomModel& model,
+                              const perception::OccupancyGrid& map, const Pose2& current_M,
+                              const NextBestScanParams& params = {},
+                              const modelling::OrthoPoints* no_return = nullptr);
 
 }  // namespace mopad::autonomy

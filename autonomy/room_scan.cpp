@@ -76,6 +76,19 @@ namespace {
 // odometry/AMCL prior and used when the acceptance policy says so (the navigator's pose then
 // takes the registered one). A later scan that is not used stays out of S(t) (it would smear it
 // by the prior's error). Returns whether the scan is used.
+// The model's coverage with the area no reachable position can see (the stopping rule's basis).
+modelling::CoverageFigures CoverageOf(const modelling::RoomModel& model, Navigator& navigator,
+                                      const RoomScanParams& params,
+                                      const modelling::OrthoPoints& no_return) {
+  modelling::CoverageFigures f = model.Coverage();
+  if (model.ScanCount() > 0) {
+    f.SetHiddenArea(EstimateHiddenArea(model, navigator.Map(), navigator.EstimatedPose(),
+                                       params.nbs, &no_return)
+                        .area);
+  }
+  return f;
+}
+
 bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
                       const interfaces::TlsScan& scan, bool first, perception::PointMap& target,
                       RoomScanLog& log) {
@@ -247,7 +260,7 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
       res.registration_failed = true;
     }
     log.registered = kept;
-    log.coverage = model.Coverage();
+    log.coverage = CoverageOf(model, session, params, res.no_return);
     log.stop_message = plan.message;
     res.scans.push_back(std::move(log));
     if (!kept) break;  // the same plan would win again
@@ -323,7 +336,9 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       failed_scans.emplace_back(here.x, here.y);
     }
     // The stopping rule (step (6)).
-    log.coverage = model.Coverage();
+    t0 = Clock::now();
+    log.coverage = CoverageOf(model, session, params, res.no_return);
+    log.t_model += Since(t0);
     const modelling::StopDecision stop = modelling::CheckStopping(log.coverage, params.stopping);
     log.stop_message = stop.message;
     if (stop.stop || k + 1 == params.max_scans) {

@@ -129,8 +129,8 @@ class FloorWorld {
     r.scans = static_cast<int>(v.scan.scans.size());
     r.door_scans = v.door_scan_before.index >= 0 ? 1 : 0;
     for (const autonomy::RoomScanLog& s : v.scan.scans)
-      r.robot_coverage_per_scan.push_back(s.coverage.ratio);
-    if (!v.scan.scans.empty()) r.robot_coverage = v.scan.scans.back().coverage.ratio;
+      r.robot_coverage_per_scan.push_back(s.coverage.observable_ratio);
+    if (!v.scan.scans.empty()) r.robot_coverage = v.scan.scans.back().coverage.observable_ratio;
     r.status = v.error.empty() ? "scanned" : "failed";
     r.reason = v.error.empty() ? v.scan.stop_reason : v.error;
     if (v.error.empty()) Write(v, r);

@@ -98,7 +98,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
       continue;
     }
     const auto& m = job->mission;
-    const double cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.ratio;
+    const double cov = m.scans.empty() ? 0.0 : m.scans.back().coverage.observable_ratio;
     if (o.print)
       o.print("room " + id + ": " + std::to_string(m.scans.size()) + " scans, robot coverage " +
               FormatFixed(cov, 3) + " (" + FormatFixed(SecondsSince(t0), 1) + " s)");
@@ -107,7 +107,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     AddEvaluation(id, *job->evaluation, t, o);
     AddScans(id, job->scan_positions_W, job->plan_points_W, report);
     ReportCoverage rc{id, {}, job->evaluation->coverage_per_scan};
-    for (const RoomScanLog& s : m.scans) rc.robot.push_back(s.coverage.ratio);
+    for (const RoomScanLog& s : m.scans) rc.robot.push_back(s.coverage.observable_ratio);
     report.coverage.push_back(std::move(rc));
     nlohmann::ordered_json rj;
     rj["room"] = id;

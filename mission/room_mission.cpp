@@ -108,6 +108,8 @@ void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& 
                        {"sigma_m", s.range_bias.sigma},
                        {"message", s.range_bias.message}};
     j["coverage"] = {{"ratio", s.coverage.ratio},
+                     {"observable_ratio", s.coverage.observable_ratio},
+                     {"hidden_area", s.coverage.hidden_area},
                      {"increment", s.coverage.increment},
                      {"sensed_area", s.coverage.sensed_area},
                      {"total_area", s.coverage.total_area},

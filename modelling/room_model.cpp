@@ -1238,7 +1238,7 @@ void RoomModel::UpdateFaces() {
   for (const auto& s : scans_) {
     const Vec3 o = s.origin;
     for (std::size_t i = s.begin; i < s.end; ++i) {
-      if (labels_[i] != PointLabel::kOutlier || !(column_index_[i] & kRayCastBit)) continue;
+      if (labels_[i] != PointLabel::kOutlier) continue;
       const Vec3 p = points_[i].cast<double>();
       const Vec2 d = p.head<2>() - o.head<2>();
       double best_t = 2.0;
@@ -1407,7 +1407,14 @@ void RoomModel::UpdateCoverage() {
   f.ratio = on > 0 ? f.sensed_area / on : 0.0;
   const double prev = coverage_.empty() ? 0.0 : coverage_.back().sensed_area;
   f.increment = on > 0 ? (f.sensed_area - prev) / on : 0.0;
+  f.observable_ratio = f.ratio;
   coverage_.push_back(f);
+}
+
+void CoverageFigures::SetHiddenArea(double area) {
+  hidden_area = std::clamp(area, 0.0, std::max(0.0, total_area - sensed_area));
+  const double observable = total_area - hidden_area;
+  observable_ratio = observable > 0.0 ? sensed_area / observable : 0.0;
 }
 
 io::PointCloud RoomModel::Sm1Cloud() const {

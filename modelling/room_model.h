@@ -148,6 +148,15 @@ struct CoverageFigures {
   double ratio = 0.0;         ///< sensed_area / total_area
   /// (sensed_area - previous sensed_area) / total_area; equals ratio for the first scan.
   double increment = 0.0;
+  /// m^2, unsensed area of structural faces that no position the robot can reach sees (hidden
+  /// behind clutter it has scanned, out of the scanner's elevation range); set by the room loop
+  /// (autonomy::EstimateHiddenArea), 0 until then. [0, total_area]
+  double hidden_area = 0.0;
+  /// sensed_area / (total_area - hidden_area): the sensed share of the structure the robot can
+  /// observe, what the stopping rule compares with epsilon1; equals ratio while hidden_area = 0.
+  double observable_ratio = 0.0;
+  /// Sets hidden_area (clamped to [0, total_area - sensed_area]) and observable_ratio.
+  void SetHiddenArea(double area);
 };
 
 /// Per-point label counts.

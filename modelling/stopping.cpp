@@ -8,14 +8,15 @@ StopDecision CheckStopping(const CoverageFigures& f, const StoppingParams& param
   params.Validate();
   char figures[256];
   std::snprintf(figures, sizeof(figures),
-                "scan %d: sensed %.2f m2 of %.2f m2 (coverage %.3f, increment %.3f)", f.scans,
-                f.sensed_area, f.total_area, f.ratio, f.increment);
+                "scan %d: sensed %.2f m2 of %.2f m2, %.2f m2 hidden (coverage %.3f of the total, "
+                "increment %.3f)",
+                f.scans, f.sensed_area, f.total_area, f.hidden_area, f.ratio, f.increment);
   StopDecision d;
   char buf[400];
-  if (f.ratio >= params.epsilon1) {
+  if (f.observable_ratio >= params.epsilon1) {
     d.stop = true;
     d.reason = StopReason::kCoverageReached;
-    std::snprintf(buf, sizeof(buf), "stop: coverage %.3f >= epsilon1 %.3f; %s", f.ratio,
+    std::snprintf(buf, sizeof(buf), "stop: coverage %.3f >= epsilon1 %.3f; %s", f.observable_ratio,
                   params.epsilon1, figures);
   } else if (f.scans >= 2 && f.increment < params.epsilon2) {
     d.stop = true;
@@ -30,7 +31,7 @@ StopDecision CheckStopping(const CoverageFigures& f, const StoppingParams& param
   } else {
     std::snprintf(buf, sizeof(buf),
                   "continue: coverage %.3f < epsilon1 %.3f, increment %.3f >= epsilon2 %.3f; %s",
-                  f.ratio, params.epsilon1, f.increment, params.epsilon2, figures);
+                  f.observable_ratio, params.epsilon1, f.increment, params.epsilon2, figures);
   }
   d.message = buf;
   return d;

@@ -1,7 +1,9 @@
 #pragma once
 // The scanning stopping rule of one room (paper §3.1 step (6), Figure 5): stop when the sensed
-// structural area reaches epsilon1 of the estimated total, or when the last scan added less
-// than epsilon2 of it. The decision carries a one-line reason with the figures for the log.
+// structural area reaches epsilon1 of the estimated observable structure (the estimated total
+// less what no reachable position can see, CoverageFigures::observable_ratio; the paper's
+// total while nothing is estimated hidden), or when the last scan added less than epsilon2 of
+// the total. The decision carries a one-line reason with the figures for the log.
 
 #include <string>
 
@@ -11,7 +13,10 @@
 namespace mopad::modelling {
 
 struct StoppingParams {
-  double epsilon1 = 0.90;  ///< minimum sensed share of the structural area, (0, 1]
+  /// Minimum sensed share of the observable structure (CoverageFigures::observable_ratio), (0, 1].
+  /// The paper's 0.90 was a share of the whole RoI; 0.95 of what can be seen is the mission's
+  /// promise (docs/room-scanning.md, Stopping).
+  double epsilon1 = 0.95;
   double epsilon2 = 0.01;  ///< minimum increment of that share per scan, [0, 1]
   /// Safety net beyond the paper: stop after this many scans of one room (0 = no limit). [0, 1000]
   int max_scans = 0;

@@ -57,8 +57,9 @@ void RegisterRoomCommand(CLI::App& app) {
       std::printf(
           "  scan %d: coverage %.3f (+%.3f), processing %.2f s (registration %.2f, "
           "model %.2f, nbs %.2f)%s\n",
-          s.index, s.coverage.ratio, s.coverage.increment, s.t_registration + s.t_model + s.t_nbs,
-          s.t_registration, s.t_model, s.t_nbs, s.registered ? "" : "  REGISTRATION FAILED");
+          s.index, s.coverage.observable_ratio, s.coverage.increment,
+          s.t_registration + s.t_model + s.t_nbs, s.t_registration, s.t_model, s.t_nbs,
+          s.registered ? "" : "  REGISTRATION FAILED");
     if (res.registration_failed) std::printf("registration failed for at least one scan\n");
     if (job.evaluation) {
       const mission::RoomEvaluation& e = *job.evaluation;

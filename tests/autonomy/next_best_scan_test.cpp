@@ -86,6 +86,60 @@ TEST(NextBestScan, LRoomChoosesAPositionThatSeesTheHiddenLeg) {
       next.Coverage().ratio, next.Coverage().sensed_area);
 }
 
+TEST(NextBestScan, ANearTieGoesToTheCandidateThatSeesMoreFrontier) {
+  // Known answer: A and B are 0.25 % apart (well inside the estimate's error); B sees more of
+  // the open boundary, so B wins; C has the most frontier but 25 % less gain and stays out.
+  auto cand = [](double x, double gain, double frontier) {
+    NbsCandidate c;
+    c.position = Vec2(x, 0.0);
+    c.gain = gain;
+    c.frontier_gain = frontier;
+    return c;
+  };
+  const std::vector<NbsCandidate> cs{cand(1.0, 20.25, 2.0), cand(2.0, 20.20, 8.0),
+                                     cand(3.0, 15.0, 15.0), cand(4.0, 0.0, 0.0)};
+  EXPECT_EQ(ChooseNextBestScan(cs, Vec2::Zero(), 0.05), 1);
+  EXPECT_EQ(ChooseNextBestScan(cs, Vec2::Zero(), 0.0), 0);  // the largest gain only
+  EXPECT_EQ(ChooseNextBestScan(cs, Vec2::Zero(), 0.3), 2);
+  // A frontier difference smaller than the estimate's error (0.5 < 0.05 x 20.25) is a tie too:
+  // the larger gain wins.
+  const std::vector<NbsCandidate> close{cand(1.0, 20.25, 8.5), cand(2.0, 20.0, 9.0)};
+  EXPECT_EQ(ChooseNextBestScan(close, Vec2::Zero(), 0.05), 0);
+  EXPECT_EQ(ChooseNextBestScan(close, Vec2::Zero(), 0.01), 0);  // 20.0 is not within 1 %
+  // Without frontier (a closed room) the largest gain wins; an exact tie goes to the nearer.
+  const std::vector<NbsCandidate> closed{cand(5.0, 10.0, 0.0), cand(1.0, 9.9, 0.0),
+                                         cand(-1.0, 10.0, 0.0)};
+  EXPECT_EQ(ChooseNextBestScan(closed, Vec2::Zero(), 0.05), 2);
+  EXPECT_EQ(ChooseNextBestScan({cand(1.0, 0.0, 0.0)}, Vec2::Zero(), 0.05), -1);
+  EXPECT_EQ(ChooseNextBestScan({}, Vec2::Zero(), 0.05), -1);
+}
+
+TEST(NextBestScan, FrontierGainIsThePartOfTheGainFromFacesWithoutStructuralData) {
+  const RoomModel& model = L().model;
+  const NbsResult r = NextBestScan(model, MapOf(model), Pose2{1.5, 1.5, 0.0}, 0.2);
+  ASSERT_TRUE(r.found) << r.message;
+  const auto& faces = model.GetRoi().faces;
+  double best = 0.0;
+  for (const auto& c : r.candidates) {
+    double frontier = 0.0;
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (!faces[f].structural) frontier += c.face_certainty[f];
+    EXPECT_NEAR(c.frontier_gain, frontier, 1e-9 * std::max(1.0, c.gain));
+    EXPECT_LE(c.frontier_gain, c.gain + 1e-9);
+    best = std::max(best, c.gain);
+  }
+  // The L-room's leg is behind a frontier: the choice sees some of it, and no candidate in
+  // the near-tie sees clearly more.
+  const NbsCandidate& chosen = r.candidates[r.chosen];
+  EXPECT_GT(chosen.frontier_gain, 0.0);
+  const double slack = NextBestScanParams{}.tie_tolerance * best;
+  for (const auto& c : r.candidates) {
+    if (c.gain >= best - slack) {
+      EXPECT_LE(c.frontier_gain, chosen.frontier_gain + slack);
+    }
+  }
+}
+
 TEST(NextBestScan, PatchesAnEarlierScanShouldHaveSensedAreDiscounted) {
   // Known answer: at the first scan position every patch it sees was already looked at, so
   // each keeps 1 - (1 - revisit_factor) x chance of its weight: the candidate there loses a
@@ -151,6 +205,92 @@ TEST(NextBestScan, CandidatesKeepClearOfObstaclesAndMustBeReachable) {
   if (cut.found) {
     EXPECT_LT(cut.goal.x, 5.0);
   }
+}
+
+// The room of RoomWithDoorScene (6 x 4 m, door in the east wall), scanned once from (3, 2),
+// optionally with a panel 4-7 cm in front of the west wall (a closed door's leaf: 1 x 2 m) and
+// a cabinet against the south wall (1 x 0.6 x 1.8 m).
+struct HiddenCase {
+  HiddenArea hidden;
+  modelling::CoverageFigures coverage;
+};
+HiddenCase HiddenOf(bool objects) {
+  using modelling::testing::AddBox;
+  using modelling::testing::V3;
+  scenes::Scene s = modelling::testing::RoomWithDoorScene();
+  if (objects) {
+    AddBox(s, V3(0.04f, 1.5f, 0.0f), V3(0.07f, 2.5f, 2.0f), scenes::ElementClass::kDoorLeaf, "leaf",
+           "R");
+    AddBox(s, V3(1.0f, 0.001f, 0.0f), V3(2.0f, 0.6f, 1.8f), scenes::ElementClass::kFurniture,
+           "cabinet", "R");
+  }
+  const sim::EmbreeWorld world(s);
+  const SimScan scan = TakeScan(world, TestTls(0.2), 3.0, 2.0, 0);
+  RoomModel model;
+  model.AddScan(scan.scan, scan.X_MS);
+  HiddenCase out;
+  out.hidden = EstimateHiddenArea(model, MapOf(model), Pose2{3.0, 2.0, 0.0});
+  out.coverage = model.Coverage();
+  out.coverage.SetHiddenArea(out.hidden.area);
+  return out;
+}
+
+TEST(EstimateHiddenArea, WallBehindALeafOrACabinetIsHiddenTheOpenFloorIsNot) {
+  const HiddenCase bare = HiddenOf(false), with = HiddenOf(true);
+  std::printf(
+      "[figures] hidden: bare %.2f m2 (covered %.2f, %d positions), with leaf and "
+      "cabinet %.2f m2 (covered %.2f); unsensed %.2f m2, observable ratio %.3f\n",
+      bare.hidden.area, bare.hidden.covered_area, bare.hidden.positions, with.hidden.area,
+      with.hidden.covered_area, with.coverage.total_area - with.coverage.sensed_area,
+      with.coverage.observable_ratio);
+  ASSERT_GT(with.hidden.positions, 50);
+  // Known answer: the leaf covers 1 x 2 m of the west wall (seen as clutter 4-7 cm in front of
+  // it). The cabinet hides 1 x 1.8 m of the south wall and 1 x 0.6 m of floor, but its west
+  // side was never scanned and unseen voxels do not block, so part of that counts as visible
+  // through it: between 2.0 (the leaf) + half the cabinet's and 2.0 + 2.4 m^2 more.
+  EXPECT_NEAR(with.hidden.covered_area - bare.hidden.covered_area, 2.0, 0.3);
+  EXPECT_GT(with.hidden.area - bare.hidden.area, 3.2);
+  EXPECT_LT(with.hidden.area - bare.hidden.area, 4.6);
+  // From one position the floor around the scanner (below the lowest beam) is unsensed, but the
+  // robot can drive to where it sees it: not hidden.
+  const double unsensed = with.coverage.total_area - with.coverage.sensed_area;
+  EXPECT_GT(unsensed - with.hidden.area, 4.0);
+  EXPECT_GT(with.coverage.observable_ratio, with.coverage.ratio);
+  EXPECT_LT(with.coverage.observable_ratio, 1.0);
+  // Deterministic with one or two threads.
+  HiddenArea h[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+    h[threads - 1] = EstimateHiddenArea(L().model, MapOf(L().model), Pose2{1.5, 1.5, 0.0});
+  }
+  EXPECT_EQ(h[0].area, h[1].area);
+  EXPECT_EQ(h[0].patches, h[1].patches);
+  EXPECT_EQ(EstimateHiddenArea(RoomModel{}, MapOf(L().model), Pose2{}).area, 0.0);
+}
+
+TEST(EstimateHiddenArea, AWindowToTheOutsideIsSeenThroughNotUnsensedWall) {
+  // A 6 x 4 m room whose east wall has a 1.0 x 1.2 m window (y 1.5-2.5, z 0.9-2.1) with
+  // nothing behind it: its beams return nothing and leave no outlier to mark the opening, so
+  // the model counts the window as unsensed wall until the rays without a return say otherwise.
+  scenes::Scene s;
+  sim::testing::AddRoomWithOpening(s, 6.0f, 4.0f, 2.7f, 1.5f, 2.5f, 0.9f, 2.1f);
+  for (auto& p : s.parts) p.room = "R";
+  const sim::EmbreeWorld world(s);
+  const SimScan scan = TakeScan(world, TestTls(0.2), 3.0, 2.0, 0);
+  RoomModel model;
+  model.AddScan(scan.scan, scan.X_MS);
+  modelling::OrthoPoints rays;
+  modelling::AddNoReturnRays(scan.scan, scan.X_MS, 0, rays);
+  ASSERT_GT(rays.no_return_dirs.size(), 1000u);
+  const perception::OccupancyGrid map = MapOf(model);
+  const HiddenArea without = EstimateHiddenArea(model, map, Pose2{3.0, 2.0, 0.0});
+  const HiddenArea with = EstimateHiddenArea(model, map, Pose2{3.0, 2.0, 0.0}, {}, &rays);
+  std::printf("[figures] window: seen through %.3f m2 (hidden %.3f without the rays, %.3f with)\n",
+              with.seen_through_area, without.area, with.area);
+  EXPECT_EQ(without.seen_through_area, 0.0);
+  // Known answer: the window's 1.2 m^2, less the border cells its frame's points fall in.
+  EXPECT_NEAR(with.seen_through_area, 1.2, 0.15);
+  EXPECT_NEAR(with.area - without.area, with.seen_through_area, 0.05);
 }
 
 TEST(NextBestScan, EmptyModelAndBadParams) {

@@ -585,21 +585,29 @@ TEST(RoomModel, BadInputAndParamsThrow) {
                InputError);
 }
 
-TEST(Stopping, EachCriterionStopsWithItsReason) {
+// Coverage after `scans` scans: `sensed` of `total` m^2, nothing estimated hidden.
+CoverageFigures Figures(int scans, double sensed, double total, double increment) {
   CoverageFigures f;
-  f.scans = 3;
-  f.sensed_area = 93.0;
-  f.total_area = 100.0;
-  f.ratio = 0.93;
-  f.increment = 0.05;
-  StopDecision d = CheckStopping(f, {});
+  f.scans = scans;
+  f.sensed_area = sensed;
+  f.total_area = total;
+  f.ratio = sensed / total;
+  f.increment = increment;
+  f.SetHiddenArea(0.0);
+  return f;
+}
+
+TEST(Stopping, EachCriterionStopsWithItsReason) {
+  CoverageFigures f = Figures(3, 93.0, 100.0, 0.05);
+  StoppingParams paper;
+  paper.epsilon1 = 0.90;
+  StopDecision d = CheckStopping(f, paper);
   EXPECT_TRUE(d.stop);
   EXPECT_EQ(d.reason, StopReason::kCoverageReached);
   EXPECT_NE(d.message.find("coverage 0.930 >= epsilon1 0.900"), std::string::npos) << d.message;
   EXPECT_NE(d.message.find("93.00 m2 of 100.00 m2"), std::string::npos) << d.message;
 
-  f.ratio = 0.80;
-  f.increment = 0.004;
+  f = Figures(3, 80.0, 100.0, 0.004);
   d = CheckStopping(f, {});
   EXPECT_TRUE(d.stop);
   EXPECT_EQ(d.reason, StopReason::kIncrementTooSmall);
@@ -624,6 +632,28 @@ TEST(Stopping, EachCriterionStopsWithItsReason) {
 
   p.epsilon1 = 1.5;
   EXPECT_THROW(CheckStopping(f, p), InputError);
+}
+
+TEST(Stopping, Epsilon1IsAShareOfTheObservableStructure) {
+  // 88 of 100 m^2 sensed; 6 m^2 of what is missing no reachable position can see: 88 / 94.
+  CoverageFigures f = Figures(3, 88.0, 100.0, 0.05);
+  StoppingParams p;
+  p.epsilon1 = 0.93;
+  EXPECT_DOUBLE_EQ(f.observable_ratio, 0.88);
+  EXPECT_FALSE(CheckStopping(f, p).stop);
+  f.SetHiddenArea(6.0);
+  EXPECT_NEAR(f.observable_ratio, 88.0 / 94.0, 1e-12);
+  const StopDecision d = CheckStopping(f, p);
+  EXPECT_TRUE(d.stop);
+  EXPECT_EQ(d.reason, StopReason::kCoverageReached);
+  EXPECT_NE(d.message.find("coverage 0.936 >= epsilon1 0.930"), std::string::npos) << d.message;
+  EXPECT_NE(d.message.find("6.00 m2 hidden"), std::string::npos) << d.message;
+  // Hidden area cannot exceed what is unsensed, nor be negative.
+  f.SetHiddenArea(50.0);
+  EXPECT_DOUBLE_EQ(f.hidden_area, 12.0);
+  EXPECT_DOUBLE_EQ(f.observable_ratio, 1.0);
+  f.SetHiddenArea(-1.0);
+  EXPECT_DOUBLE_EQ(f.hidden_area, 0.0);
 }
 
 }  // namespace

@@ -79,26 +79,29 @@ void RunLoop(const std::vector<std::string>& rooms, int force_scans) {
       const auto t0 = std::chrono::steady_clock::now();
       model.AddScan(scans.back().scan, scans.back().X_MS);
       const double t_model = Seconds(t0);
-      StopDecision stop = CheckStopping(model.Coverage(), {});
+      const auto t1 = std::chrono::steady_clock::now();
+      std::vector<Eigen::Vector3d> pts;
+      pts.reserve(model.PointCount());
+      for (const auto& p : model.Points()) pts.push_back(p.cast<double>());
+      perception::OccupancyGrid map = perception::OccupancyGrid::Covering({}, pts, 1.0);
+      map.InsertPoints(pts);
+      const Pose2 here{pos.x(), pos.y(), 0.0};
+      CoverageFigures coverage = model.Coverage();
+      coverage.SetHiddenArea(autonomy::EstimateHiddenArea(model, map, here).area);
+      StopDecision stop = CheckStopping(coverage, {});
       if (force_scans > 0) stop.stop = k + 1 >= force_scans;
-      double t_nbs = 0.0;
+      double t_nbs = Seconds(t1);
       autonomy::NbsResult nbs;
       if (!stop.stop) {
-        const auto t1 = std::chrono::steady_clock::now();
-        std::vector<Eigen::Vector3d> pts;
-        pts.reserve(model.PointCount());
-        for (const auto& p : model.Points()) pts.push_back(p.cast<double>());
-        perception::OccupancyGrid map = perception::OccupancyGrid::Covering({}, pts, 1.0);
-        map.InsertPoints(pts);
-        nbs = autonomy::NextBestScan(model, map, Pose2{pos.x(), pos.y(), 0.0}, 0.2);
+        nbs = autonomy::NextBestScan(model, map, here, 0.2);
         t_nbs = Seconds(t1);
       }
       std::printf(
           "[figures] %s scan %d at (%.2f, %.2f): %zu pts, model %.2f s + NBS %.2f s = %.2f s; "
-          "coverage %.3f (+%.3f) of %.1f m2; %s\n",
+          "coverage %.3f of the observable (+%.3f) of %.1f m2; %s\n",
           room.id.c_str(), k, pos.x(), pos.y(), scans.back().scan.points.size(), t_model, t_nbs,
-          t_model + t_nbs, model.Coverage().ratio, model.Coverage().increment,
-          model.Coverage().total_area, stop.stop ? stop.message.c_str() : nbs.message.c_str());
+          t_model + t_nbs, coverage.observable_ratio, coverage.increment, coverage.total_area,
+          stop.stop ? stop.message.c_str() : nbs.message.c_str());
       if (stop.stop) {
         stop_message = stop.message;
         break;
