@@ -236,6 +236,7 @@ FloorMissionParams::FloorMissionParams() {
   // A room's first scan registers against the same target, rays through doors included.
   icp.max_free_space_violation = 0.015;
   entry_icp.max_free_space_violation = 0.015;
+  entry_icp.weak_search = 0.3;
 }
 
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,

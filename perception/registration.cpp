@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <unordered_set>
 #include <utility>
@@ -396,6 +397,51 @@ Eigen::Isometry3d GaussNewtonStep(const Accum& a, const Eigen::Vector3d& c, cons
   return step;
 }
 
+// Share of `src` (scanner frame) that, placed by T, has no map point within `dist` and lies
+// where a map scan saw empty space. Only such points can float in observed empty space
+// (matched ones lie on known surfaces; near depth edges they would only add noise).
+double ViolationAt(const Points& src, const Eigen::Isometry3d& T, const PointMap& target,
+                   double dist) {
+  Points unmatched;
+  for (const auto& p : src) {
+    const Eigen::Vector3d q = T * p;
+    if (target.tree().Nearest(q, dist) < 0) unmatched.push_back(q);
+  }
+  return target.FreeSpaceViolation(unmatched) * static_cast<double>(unmatched.size()) /
+         static_cast<double>(src.size());
+}
+
+// The free-space search along a degenerate result's weak direction (IcpParams::weak_search):
+// the violation of the offsets along the unit horizontal `u`; the least violating run of them
+// around the best one, [lo, hi] in m, and whether both its ends lie inside the range (bounded).
+struct WeakEvidence {
+  bool bounded = false;
+  double lo = 0.0, hi = 0.0;
+};
+WeakEvidence WeakDirectionEvidence(const Points& src, const Eigen::Isometry3d& T,
+                                   const PointMap& target, const IcpParams& params,
+                                   const Eigen::Vector3d& u) {
+  WeakEvidence e;
+  const int n = static_cast<int>(std::floor(params.weak_search / params.weak_search_step + 1e-9));
+  if (n < 1) return e;
+  std::vector<double> v(static_cast<std::size_t>(2 * n + 1));
+  for (int k = -n; k <= n; ++k) {
+    Eigen::Isometry3d Ts = T;
+    Ts.translation() += (k * params.weak_search_step) * u;
+    v[static_cast<std::size_t>(k + n)] =
+        ViolationAt(src, Ts, target, params.max_correspondence.back());
+  }
+  const auto best = std::min_element(v.begin(), v.end());
+  const double limit = *best + params.weak_search_tolerance;
+  auto lo = best, hi = best;
+  while (lo != v.begin() && *(lo - 1) <= limit) --lo;
+  while (hi + 1 != v.end() && *(hi + 1) <= limit) ++hi;
+  e.bounded = lo != v.begin() && hi + 1 != v.end();
+  e.lo = (static_cast<int>(lo - v.begin()) - n) * params.weak_search_step;
+  e.hi = (static_cast<int>(hi - v.begin()) - n) * params.weak_search_step;
+  return e;
+}
+
 // Health at the result (res.X_MS), with the last stage's distance and no kernel: fitness,
 // rmse, free-space violation, the information's eigenvalues and degeneracy.
 void AssessRegistration(const Points& src, const Eigen::Vector3d& src_centroid,
@@ -409,14 +455,7 @@ void AssessRegistration(const Points& src, const Eigen::Vector3d& src_centroid,
   // Free space: only points without a map point within the last stage's distance can float
   // in observed empty space (matched ones lie on known surfaces; near depth edges they would
   // only add noise).
-  Points unmatched;
-  for (const auto& p : src) {
-    const Eigen::Vector3d q = T * p;
-    if (target.tree().Nearest(q, last_dist) < 0) unmatched.push_back(q);
-  }
-  res.free_space_violation = target.FreeSpaceViolation(unmatched) *
-                             static_cast<double>(unmatched.size()) /
-                             static_cast<double>(src.size());
+  res.free_space_violation = ViolationAt(src, T, target, last_dist);
   if (fin.planar >= 12 && fin.weight > 0.0) {
     const Reduced red = Reduce(fin, params.dof);
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
@@ -507,42 +546,78 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
   for (const auto& p : src) src_centroid += p;
   src_centroid /= static_cast<double>(src.size());
 
-  // Coarse-to-fine stages of point-to-plane Gauss-Newton.
+  // Coarse-to-fine stages of point-to-plane Gauss-Newton, from `first` on.
   Eigen::Isometry3d T = prior_X_MS;
   const double min_dt = params.min_delta_translation;
   const double min_dr = DegToRad(params.min_delta_rotation_deg);
   double last_dt = 0.0, last_dr = 0.0;
   bool stage_converged = false;
   std::string failure;
-  for (std::size_t stage = 0; stage < params.max_correspondence.size() && failure.empty();
-       ++stage) {
-    const double dist = params.max_correspondence[stage];
-    const double scale = params.kernel_scale_ratio * dist;
-    stage_converged = false;
-    for (int it = 0; it < params.max_iterations; ++it) {
-      const Eigen::Vector3d c = T * src_centroid;
-      const Accum a = Correspond(src, T, c, target, dist, kernel, scale,
-                                 params.max_normal_curvature, params.same_side);
-      if (a.planar < 12 || a.weight <= 0.0) {
-        failure = "only " + std::to_string(a.planar) + " correspondences within " +
-                  FormatNumbers("%.3g", dist) + " m";
-        break;
+  auto run_stages = [&](std::size_t first) {
+    for (std::size_t stage = first; stage < params.max_correspondence.size() && failure.empty();
+         ++stage) {
+      const double dist = params.max_correspondence[stage];
+      const double scale = params.kernel_scale_ratio * dist;
+      stage_converged = false;
+      for (int it = 0; it < params.max_iterations; ++it) {
+        const Eigen::Vector3d c = T * src_centroid;
+        const Accum a = Correspond(src, T, c, target, dist, kernel, scale,
+                                   params.max_normal_curvature, params.same_side);
+        if (a.planar < 12 || a.weight <= 0.0) {
+          failure = "only " + std::to_string(a.planar) + " correspondences within " +
+                    FormatNumbers("%.3g", dist) + " m";
+          break;
+        }
+        T = GaussNewtonStep(a, c, params, &last_dt, &last_dr) * T;
+        T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+        ++res.iterations;
+        if (last_dt < min_dt && last_dr < min_dr) {
+          stage_converged = true;
+          break;
+        }
       }
-      T = GaussNewtonStep(a, c, params, &last_dt, &last_dr) * T;
-      T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
-      ++res.iterations;
-      if (last_dt < min_dt && last_dr < min_dr) {
-        stage_converged = true;
-        break;
+    }
+    res.X_MS = T;
+    res.converged = failure.empty() && stage_converged;
+    res.last_step = last_dt;
+    res.last_step_deg = RadToDeg(last_dr);
+    AssessRegistration(src, src_centroid, target, params, res);
+  };
+  run_stages(0);
+  // A weak horizontal translation: the planes leave it free, the free space may not. The
+  // evidence decides only where it refutes the prior (bounded on both sides, the prior outside
+  // the least violating offsets): a result among them keeps its place (the few points that
+  // constrain the direction, a door's jambs, pulled it there), one outside moves to their
+  // middle. Where the prior fits the evidence too, the acceptance's slide rule judges.
+  if (failure.empty() && res.degenerate && params.weak_search > 0.0) {
+    Eigen::Vector3d w = res.weakest_direction.tail<3>();
+    w.z() = 0.0;
+    if (w.norm() > 0.9) {
+      const Eigen::Vector3d u = w.normalized();
+      const WeakEvidence e = WeakDirectionEvidence(src, T, target, params, u);
+      const double at_prior = (prior_X_MS.translation() - T.translation()).dot(u);
+      const double half = 0.5 * params.weak_search_step;
+      if (e.bounded && (at_prior < e.lo - half || at_prior > e.hi + half)) {
+        res.weak_bounded = true;
+        if (e.lo > 0.0 || e.hi < 0.0) {
+          const double s = 0.5 * (e.lo + e.hi);
+          T.translation() += s * u;
+          const std::size_t n = params.max_correspondence.size();
+          run_stages(n >= 2 ? n - 2 : 0);
+          res.weak_offset = s;
+          res.weak_offset_direction = u;
+        }
       }
     }
   }
-  res.X_MS = T;
-  res.converged = failure.empty() && stage_converged;
-  res.last_step = last_dt;
-  res.last_step_deg = RadToDeg(last_dr);
-  AssessRegistration(src, src_centroid, target, params, res);
   ExplainRegistration(failure, last_dt, last_dr, params, res);
+  if (res.weak_offset != 0.0)
+    res.message += FormatNumbers("; moved %.3f m along its weak direction to the middle of the "
+                                 "free-space evidence",
+                                 res.weak_offset);
+  else if (res.weak_bounded)
+    res.message += "; its place along the weak direction within the free-space evidence, the "
+                   "prior outside it";
   return res;
 }
 
@@ -569,9 +644,10 @@ RegistrationDecision AcceptRegistration(const RegistrationResult& r,
                     r.free_space_violation <= icp.max_free_space_violation;
   d.X_MS = r.X_MS;
   bool slid = false;
-  if (r.degenerate) {
+  if (r.degenerate && !r.weak_bounded) {
     // The weak direction's translation (map frame, as the ICP's steps): how far the result
-    // moved along it from the prior.
+    // moved along it from the prior (with free-space evidence on both sides, where the
+    // evidence put it: no slide).
     const Eigen::Vector3d w = r.weakest_direction.tail<3>();
     if (w.norm() > 0.5) {
       const Eigen::Vector3d u = w.normalized();

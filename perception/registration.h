@@ -76,6 +76,18 @@ struct IcpParams {
   /// the map point's plane (map points from scans added with their origin): the two faces of a
   /// thin wall, seen from the rooms on either side, are two surfaces, not one.
   bool same_side = false;
+  /// m, 0 = off: a degenerate result whose weak direction is a horizontal translation is placed
+  /// along it by the free-space evidence: the offsets within +-weak_search are scored by their
+  /// free-space violation, and when the least violating ones are bounded on both sides within
+  /// the range (points that would float in empty space either way: a door's jambs, furniture
+  /// seen by both scans) and exclude the prior, the result keeps its place if it lies among
+  /// them and otherwise moves to their middle, the last two stages then run again from there;
+  /// otherwise it stays, and the acceptance policy's slide rule applies. [0, 2]
+  double weak_search = 0.0;
+  double weak_search_step = 0.01;  ///< m, spacing of the offsets searched, [0.001, 0.5]
+  /// Offsets whose violation is within this share of the source points of the least one
+  /// count as least violating (noise of a few points). [0, 1]
+  double weak_search_tolerance = 0.0005;
 
   template <class V>
   void Visit(V& v) {
@@ -100,6 +112,9 @@ struct IcpParams {
     v("min_range", min_range, Bounds{0.0, 1000.0});
     v("max_range", max_range, Bounds{1e-3, 1e6});
     v("same_side", same_side);
+    v("weak_search", weak_search, Bounds{0.0, 2.0});
+    v("weak_search_step", weak_search_step, Bounds{0.001, 0.5});
+    v("weak_search_tolerance", weak_search_tolerance, Bounds{0.0, 1.0});
   }
   /// Bounds plus cross-field rules (dof 4 or 6, known kernel, non-empty schedule,
   /// min_range < max_range); throws InputError naming the field.
@@ -125,6 +140,14 @@ struct RegistrationResult {
   std::vector<double> information;
   /// Eigenvector of the smallest one, (rx, ry, rz, tx, ty, tz); in 4 DoF rx = ry = 0.
   Eigen::Matrix<double, 6, 1> weakest_direction = Eigen::Matrix<double, 6, 1>::Zero();
+  /// The free-space search (IcpParams::weak_search) found the least violating offsets along
+  /// the weak direction bounded on both sides, the prior outside them and X_MS among them: its
+  /// place along that direction is evidence, not a slide (AcceptRegistration).
+  bool weak_bounded = false;
+  /// m, the move along the weak direction the search made (0 when the result already lay in
+  /// the evidence or there was none); part of X_MS.
+  double weak_offset = 0.0;
+  Eigen::Vector3d weak_offset_direction = Eigen::Vector3d::Zero();  ///< unit, map frame
   std::size_t source_points = 0;  ///< after downsampling
   std::size_t target_points = 0;
   std::string message;  ///< one line: the outcome with its figures

@@ -427,6 +427,142 @@ TEST(Registration, LongCorridorIsFlaggedDegenerateAndKeepsThePriorAlongItsAxis) 
   EXPECT_NEAR(r.X_MS.translation().z(), X_MS_true.translation().z(), 1e-3);
 }
 
+// ---- a doorway: the planes leave the along-wall offset free, the free space does not ----------
+
+struct Box {
+  Eigen::Vector3d lo, hi;
+};
+
+/// The first hit of every ray from `origin` (0.4 deg in azimuth and elevation, |el| <= 70 deg)
+/// on the boxes, in the frame of `origin` (a scanner without noise, yaw 0).
+Points CastScan(const std::vector<Box>& boxes, const Eigen::Vector3d& origin) {
+  Points pts;
+  const double step = DegToRad(0.4);
+  for (double el = -DegToRad(70.0); el <= DegToRad(70.0); el += step)
+    for (double az = 0.0; az < 2.0 * kPi; az += step) {
+      const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                              std::sin(el));
+      double best = 30.0;
+      for (const Box& b : boxes) {
+        double t0 = 0.0, t1 = best;
+        for (int i = 0; i < 3 && t0 <= t1; ++i) {
+          if (std::abs(d[i]) < 1e-12) {
+            if (origin[i] < b.lo[i] || origin[i] > b.hi[i]) t0 = t1 + 1.0;
+            continue;
+          }
+          double a = (b.lo[i] - origin[i]) / d[i], c = (b.hi[i] - origin[i]) / d[i];
+          if (a > c) std::swap(a, c);
+          t0 = std::max(t0, a);
+          t1 = std::min(t1, c);
+        }
+        if (t0 <= t1 && t0 > 1e-6) best = std::min(best, t0);
+      }
+      if (best < 30.0) pts.push_back(best * d);
+    }
+  return pts;
+}
+
+/// Two 20 m long rooms on either side of a 0.2 m wall at x in [0, 0.2] with a 0.9 m x 2.1 m
+/// door at y in [-0.45, 0.45]: through the door each room sees only planes parallel to the
+/// wall (the far wall, floor, ceiling) and the door's jambs and lintel.
+std::vector<Box> Doorway() {
+  using V = Eigen::Vector3d;
+  return {{V(-6, -10, -0.1), V(6, 10, 0)},        {V(-6, -10, 3), V(6, 10, 3.1)},
+          {V(0, -10, 0), V(0.2, -0.45, 3)},       {V(0, 0.45, 0), V(0.2, 10, 3)},
+          {V(0, -0.45, 2.1), V(0.2, 0.45, 3)},    {V(-6, -10, 0), V(-5.8, 10, 3)},
+          {V(5.8, -10, 0), V(6, 10, 3)},          {V(-6, -10.2, 0), V(6, -10, 3)},
+          {V(-6, 10, 0), V(6, 10.2, 3)}};
+}
+
+TEST(Registration, AWeakDirectionIsPlacedByTheFreeSpaceEvidence) {
+  // The door scan 1.5 m in front of the door (room x > 0.2) is the map; the room's first scan
+  // 1.3 m behind it (x < 0) has a prior 0.2 m off along the wall, as a localiser that drifted
+  // in the passage gives. Point-to-plane leaves y weak at the result (the jambs and lintel are
+  // a few points). The jambs of a scan placed off along y stand in the opening the door scan
+  // looked through: the free space bounds the offset from both sides.
+  const std::vector<Box> boxes = Doorway();
+  const Eigen::Vector3d door_scan(1.5, 0.0, 1.4), entry(-1.3, 0.1, 1.4);
+  IcpParams icp;  // the floor mission's entry-scan registration
+  icp.same_side = true;
+  icp.min_fitness = 0.15;
+  icp.max_free_space_violation = 0.015;
+  icp.max_correspondence = {0.3, 0.15, 0.08};
+  PointMap map(icp);
+  map.Add(Transform(CastScan(boxes, door_scan), Eigen::Isometry3d(Eigen::Translation3d(door_scan))),
+          door_scan);
+  const Points source = CastScan(boxes, entry);
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.translation() = entry;
+  Eigen::Isometry3d prior = truth;
+  prior.translation() += Eigen::Vector3d(0.005, 0.2, 0.0);
+  RegistrationAcceptanceParams policy;  // the floor mission's entry-scan bounds
+  policy.max_correction = 0.3;
+  policy.max_correction_deg = 10.0;
+  policy.gate_sigmas = 0.0;
+
+  // Without the search ICP keeps the prior along the weak y (solution remapping), and the
+  // jambs float in the opening the door scan looked through.
+  const RegistrationResult stuck = RegisterScan(source, map, prior, icp);
+  std::printf("  without the search: %s\n", stuck.message.c_str());
+  EXPECT_TRUE(stuck.degenerate) << stuck.message;
+  EXPECT_GT(std::abs(stuck.weakest_direction[4]), 0.9) << stuck.message;  // along y
+  EXPECT_FALSE(stuck.weak_bounded);
+  EXPECT_NEAR(stuck.X_MS.translation().y(), prior.translation().y(), 0.02) << stuck.message;
+  const RegistrationDecision kept = AcceptRegistration(stuck, prior, icp, policy, 0.01);
+  EXPECT_NEAR(kept.X_MS.translation().y(), prior.translation().y(), 0.02) << kept.message;
+
+  // With the search the free space bounds y on both sides: the scan moves to the middle of the
+  // evidence, and the policy uses the move (no slide rule).
+  icp.weak_search = 0.3;
+  const RegistrationResult moved = RegisterScan(source, map, prior, icp);
+  std::printf("  with the search: %s\n", moved.message.c_str());
+  EXPECT_TRUE(moved.weak_bounded) << moved.message;
+  EXPECT_NEAR(moved.weak_offset * moved.weak_offset_direction.y(), -0.2, 0.03) << moved.message;
+  EXPECT_NE(moved.message.find("moved"), std::string::npos) << moved.message;
+  EXPECT_LT(moved.free_space_violation, stuck.free_space_violation) << moved.message;
+  const RegistrationDecision used = AcceptRegistration(moved, prior, icp, policy, 0.01);
+  EXPECT_TRUE(used.use) << used.message;
+  EXPECT_NEAR(used.X_MS.translation().y(), truth.translation().y(), 0.02) << used.message;
+  EXPECT_NEAR(used.X_MS.translation().x(), truth.translation().x(), 0.01) << used.message;
+
+  // With a 1 m first stage the jambs pull the scan home before y turns weak at the result:
+  // without the search that is a slide the policy undoes; with it, the evidence refutes the
+  // prior and holds the result, which is used where it is.
+  IcpParams wide = icp;
+  wide.max_correspondence = {1.0, 0.5, 0.2, 0.08};
+  wide.weak_search = 0.0;
+  const RegistrationResult slid = RegisterScan(source, map, prior, wide);
+  EXPECT_TRUE(slid.degenerate) << slid.message;
+  EXPECT_NEAR(slid.X_MS.translation().y(), truth.translation().y(), 0.02) << slid.message;
+  EXPECT_NEAR(AcceptRegistration(slid, prior, wide, policy, 0.01).X_MS.translation().y(),
+              prior.translation().y(), 0.02);
+  wide.weak_search = 0.3;
+  const RegistrationResult pulled = RegisterScan(source, map, prior, wide);
+  EXPECT_TRUE(pulled.weak_bounded) << pulled.message;
+  EXPECT_EQ(pulled.weak_offset, 0.0) << pulled.message;
+  const RegistrationDecision kept_pull = AcceptRegistration(pulled, prior, wide, policy, 0.01);
+  EXPECT_TRUE(kept_pull.use) << kept_pull.message;
+  EXPECT_NEAR(kept_pull.X_MS.translation().y(), truth.translation().y(), 0.02)
+      << kept_pull.message;
+
+  // A prior the evidence does not refute: the evidence does not decide, the result is used as
+  // any degenerate one.
+  const RegistrationResult held = RegisterScan(source, map, used.X_MS, icp);
+  EXPECT_FALSE(held.weak_bounded) << held.message;
+  EXPECT_EQ(held.weak_offset, 0.0) << held.message;
+  EXPECT_NEAR(held.X_MS.translation().y(), truth.translation().y(), 0.02) << held.message;
+  EXPECT_TRUE(AcceptRegistration(held, used.X_MS, icp, policy, 0.01).use);
+
+  // No free space known (a map without scan origins): no evidence, no move.
+  icp.weak_search = 0.3;
+  PointMap blind(icp);
+  blind.Add(map.points());
+  const RegistrationResult none = RegisterScan(source, blind, prior, icp);
+  EXPECT_FALSE(none.weak_bounded) << none.message;
+  EXPECT_EQ(none.weak_offset, 0.0) << none.message;
+  EXPECT_NEAR(none.X_MS.translation().y(), prior.translation().y(), 0.02) << none.message;
+}
+
 TEST(Registration, SameBytesWithOneAndTwoThreads) {
   const PointMap map = MapOf({0});
   const SimScan& s1 = Room::Get().Scan(1, kBase[1]);
