@@ -523,6 +523,43 @@ std::vector<std::uint8_t> GlobalPlanner::Component(Cell sc,
   return comp;
 }
 
+// The largest clearance c such that `gc` is reached from `sc` through 8-connected cells of
+// clearance >= c (a widest-path search: cells are settled in decreasing order of the smallest
+// clearance on their best route; ties by cell index, so the result is deterministic). 0 when
+// the goal is cut off from the start by obstacles or unknown cells.
+double GlobalPlanner::WidestRouteClearance(Cell sc, Cell gc) const {
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  const int w = map.Width();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<double> best(static_cast<std::size_t>(w) * map.Height(), -1.0);
+  using Entry = std::pair<double, std::size_t>;  // (bottleneck, cell index)
+  auto lower = [](const Entry& a, const Entry& b) {
+    return a.first < b.first || (a.first == b.first && a.second > b.second);
+  };
+  std::priority_queue<Entry, std::vector<Entry>, decltype(lower)> open(lower);
+  const double s_clear = m.field.ClearanceOfCell(sc);
+  if (s_clear <= 0.0) return 0.0;
+  best[idx(sc)] = s_clear;
+  open.push({s_clear, idx(sc)});
+  while (!open.empty()) {
+    const auto [b, k] = open.top();
+    open.pop();
+    if (b < best[k]) continue;
+    const Cell c{static_cast<int>(k % w), static_cast<int>(k / w)};
+    if (c.i == gc.i && c.j == gc.j) return b;
+    for (int d = 0; d < 8; ++d) {
+      const Cell n{c.i + kDi[d], c.j + kDj[d]};
+      if (!map.Contains(n)) continue;
+      const double nb = std::min(b, m.field.ClearanceOfCell(n));
+      if (nb <= 0.0 || nb <= best[idx(n)]) continue;
+      best[idx(n)] = nb;
+      open.push({nb, idx(n)});
+    }
+  }
+  return 0.0;
+}
+
 // Cost per metre of every cell (index j * width + i), precomputed: the objective samples it
 // millions of times. 1 + clearance_weight x the shortfall of clearance below
 // preferred_clearance.
@@ -737,10 +774,17 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   }
   if (!comp[idx(gc)]) {
     plan.status = PlanStatus::kUnreachable;
+    plan.widest_clearance = WidestRouteClearance(sc, gc);
     plan.message = FormatNumbers(
         "goal (%.2f, %.2f) is not connected to the start in free space with "
-        "%.2f m clearance (closed door or blocked passage?)",
+        "%.2f m clearance",
         g0.x(), g0.y(), P.robot_radius);
+    plan.message +=
+        plan.widest_clearance > 0.0
+            ? FormatNumbers(": the widest route keeps %.2f m (a passage about %.2f m wide)",
+                            plan.widest_clearance, 2.0 * plan.widest_clearance)
+            : std::string(": no route through known free space (a closed door or an unseen "
+                          "passage)");
     return plan;
   }
   // 2. OMPL RRT* in R^2 over the map's extent (or the grid seed path), then 3. shortcuts and

@@ -12,7 +12,9 @@
 //  1. start/goal checks (a start slightly inside the clearance margin is led out to the
 //     nearest valid cell), then a flood fill of valid cells: a goal outside the start's
 //     component is *unreachable* (a closed door, a blocked corridor) — decided exactly and
-//     quickly, before any sampling;
+//     quickly, before any sampling; the message then gives the widest route's clearance
+//     (GlobalPlan::widest_clearance, a maximin path over the cells' clearance): a passage
+//     narrower than the base needs, or none through known free space at all;
 //  2. a grid Dijkstra seed path (`grid_seed`, default) or OMPL RRT* (Karaman & Frazzoli 2011)
 //  minimising a clearance-weighted path length
 //     (StateCostIntegralObjective, cost per metre 1 + w * max(0, 1 - clearance/preferred)),
@@ -132,6 +134,10 @@ struct GlobalPlan {
   std::vector<Passage> passages;  ///< doorways crossed, in path order
   double length = 0.0;            ///< m
   double min_clearance = 0.0;     ///< m, over the path
+  /// kUnreachable: the largest clearance a route of known free cells from the start to the
+  /// goal can keep everywhere (its narrowest passage is about twice as wide); 0 when no such
+  /// route exists. m
+  double widest_clearance = 0.0;
   int iterations = 0;             ///< RRT* iterations spent
   bool ok() const { return status == PlanStatus::kFound; }
 };
@@ -175,6 +181,7 @@ class GlobalPlanner {
                                               const std::vector<std::uint8_t>& valid) const;
   std::vector<std::uint8_t> Component(perception::Cell sc,
                                       const std::vector<std::uint8_t>& valid) const;
+  double WidestRouteClearance(perception::Cell sc, perception::Cell gc) const;
   void FinishPlan(const std::vector<Vec2>& vertices, std::vector<Passage> passages,
                   const Pose2& goal, double goal_clear, const Vec2& s0, const Vec2& s,
                   GlobalPlan& plan) const;

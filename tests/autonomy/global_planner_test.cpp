@@ -126,6 +126,9 @@ TEST(GlobalPlanner, ReportsUnreachableWhenTheDoorIsClosed) {
   const GlobalPlan plan = planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
   EXPECT_EQ(plan.status, PlanStatus::kUnreachable) << plan.message;
   EXPECT_NE(plan.message.find("not connected"), std::string::npos) << plan.message;
+  EXPECT_NE(plan.message.find("no route through known free space"), std::string::npos)
+      << plan.message;
+  EXPECT_EQ(plan.widest_clearance, 0.0);
   EXPECT_TRUE(plan.path.empty());
   EXPECT_EQ(plan.iterations, 0);  // decided before sampling
   // The same map still plans within the room.
@@ -138,6 +141,28 @@ TEST(GlobalPlanner, ObstaclesAddedFromTheLrfCloseTheDoor) {
   for (double y = 2.55; y <= 3.45; y += 0.02) leaf.emplace_back(5.0, y);
   planner.AddObstacles(leaf);
   EXPECT_EQ(planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0}).status, PlanStatus::kUnreachable);
+}
+
+// A leaf that leaves 0.5 m of the 0.9 m door (narrower than the 0.58 m the narrow radius
+// needs): unreachable, and the message says how wide the widest route's passage is, so that a
+// squeeze the base does not fit reads differently from a closed door.
+TEST(GlobalPlanner, ExplainsAnUnreachableGoalByItsWidestRoute) {
+  GlobalPlanner planner(OpenMap(), GlobalPlannerParams{}, 1);
+  std::vector<Vec2> leaf;
+  for (double y = 2.55; y <= 2.951; y += 0.02) leaf.emplace_back(5.0, y);
+  planner.AddObstacles(leaf);
+  const GlobalPlan plan = planner.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
+  ASSERT_EQ(plan.status, PlanStatus::kUnreachable) << plan.message;
+  // The gap between the leaf's end (2.95) and the jamb (3.45): a clearance of about 0.25 m,
+  // less half a cell of the field's rounding at most on each side.
+  EXPECT_GT(plan.widest_clearance, 0.15) << plan.message;
+  EXPECT_LE(plan.widest_clearance, 0.26) << plan.message;
+  EXPECT_NE(plan.message.find("the widest route keeps"), std::string::npos) << plan.message;
+  // Through the open door the goal is reachable: no widest-route figure.
+  GlobalPlanner open(OpenMap(), GlobalPlannerParams{}, 1);
+  const GlobalPlan through = open.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
+  EXPECT_TRUE(through.ok()) << through.message;
+  EXPECT_EQ(through.widest_clearance, 0.0);
 }
 
 // LRF returns of the mapped jambs, a centimetre into the gap through the pose estimate, are
