@@ -29,6 +29,7 @@ constexpr double kOpeningMargin = 0.02;  // m, casing to wall end / other openin
 constexpr double kBscMargin = 0.03;      // m, BSC to BSC / opening frame on a wall
 constexpr double kRobotInflation = 0.4;  // m, half of the 0.8 m free path kept for the robot
 constexpr double kGridRes = 0.1;         // m, free-path grid cell
+constexpr double kSeedReach = 1.2;       // m, farthest free cell taken for a door's seed
 constexpr double kLeafGap = 0.003;       // m, leaf-to-frame clearance
 constexpr double kDoorZoneDepth = 1.0;   // m, furniture-free depth in front of every door
 constexpr int kPlacementAttempts = 400;  // random tries per BSC / furniture item
@@ -239,13 +240,17 @@ class RoomGrid {
   Vector2d Centre(int i, int j) const {
     return {x0_ + (i + 0.5) * kGridRes, y0_ + (j + 0.5) * kGridRes};
   }
+  // The free cell nearest to a door seed, within kSeedReach: a leaf opened into the room
+  // blocks the cells around its own door's seed, and the path then reaches the door past the
+  // leaf's edge.
   int Nearest(const Vector2d& p, const std::vector<std::uint8_t>& cells) const {
     int best = -1;
-    double best_d = 0.35;
+    double best_d = kSeedReach;
     const int ci = static_cast<int>((p.x() - x0_) / kGridRes),
               cj = static_cast<int>((p.y() - y0_) / kGridRes);
-    for (int j = cj - 4; j <= cj + 4; ++j)
-      for (int i = ci - 4; i <= ci + 4; ++i) {
+    const int reach = static_cast<int>(std::ceil(kSeedReach / kGridRes));
+    for (int j = cj - reach; j <= cj + reach; ++j)
+      for (int i = ci - reach; i <= ci + reach; ++i) {
         if (i < 0 || j < 0 || i >= nx_ || j >= ny_ || !cells[Idx(i, j)]) continue;
         const double d = (Centre(i, j) - p).norm();
         if (d < best_d) {
@@ -512,6 +517,41 @@ class Generator {
                                                       "' swings into the leaf of door '" +
                                                       doors_[j].spec->id + "'");
       }
+  }
+
+  /// Door `d`'s leaf at its opening angle. Hinged on the swing-room face: with n the normal
+  /// into the swing room and d the direction from the hinge jamb to the latch jamb, "left"
+  /// (hinge on the left seen from the swing room, facing the door) gives d = z x n. The leaf
+  /// spans a in [0, width] along rd = cos(lambda) d + sin(lambda) n and b in [-thickness, 0]
+  /// along rn = cos(lambda) n - sin(lambda) d; the hinge axis is d x n, so +lambda opens the
+  /// leaf into the swing room. The hinge stands just in front of the casing (at the floor) so
+  /// the opened leaf clears it.
+  struct Leaf {
+    Vector3d hinge, rd, rn, axis;
+    double width = 0.0, thickness = 0.0;  // m
+  };
+  Leaf LeafOf(const DoorData& d) const {
+    const DoorSpec& ds = *d.spec;
+    const Face& f = faces_[d.face];
+    const Vector3d n = d.swing_into_a ? Flat(f.n_in) : Vector3d(-Flat(f.n_in));
+    const Vector3d dd = d.hinge_high_u ? Vector3d(-Flat(f.dir)) : Flat(f.dir);
+    const double fp = std::max(ds.frame_protrusion, 0.002) + 0.001;
+    const double w_plane = d.swing_into_a ? fp : -t_ - fp;
+    const double u_h = d.hinge_high_u ? d.hole.u1 - kLeafGap : d.hole.u0 + kLeafGap;
+    Leaf l;
+    l.hinge = f.P(u_h, 0.0, w_plane);
+    l.axis = dd.cross(n).normalized();
+    l.width = ds.width - 2 * kLeafGap;
+    l.thickness = std::min(ds.leaf_thickness, t_);
+    l.rd = std::cos(d.lambda) * dd + std::sin(d.lambda) * n;
+    l.rn = std::cos(d.lambda) * n - std::sin(d.lambda) * dd;
+    return l;
+  }
+  /// Plan footprint of an opened leaf (in its swing room).
+  Polygon2 LeafFootprint(const DoorData& d) const {
+    const Leaf l = LeafOf(d);
+    const Vector2d h = l.hinge.head<2>(), a = l.rd.head<2>(), b = l.rn.head<2>();
+    return {h, h + l.width * a, h + l.width * a - l.thickness * b, h - l.thickness * b};
   }
 
   int SwingRoom(const DoorData& d) const {
@@ -807,28 +847,12 @@ class Generator {
       AddCasing(pb, f, d.hole, ds.frame_width, -t_ - cp, -t_, 8, true);
       Push(std::move(frame));
 
-      // Leaf: hinged on the swing-room face. With n the normal into the swing room and d the
-      // direction from the hinge jamb to the latch jamb, "left" (hinge on the left seen from
-      // the swing room, facing the door) gives d = z x n. The leaf spans a in [0, W] along
-      // d(lambda) = cos(lambda) d + sin(lambda) n and b in [-t_leaf, 0] along n(lambda); the
-      // hinge axis is d x n, so +lambda opens the leaf into the swing room.
-      const Vector3d n = d.swing_into_a ? Flat(f.n_in) : Vector3d(-Flat(f.n_in));
-      const Vector3d dd = d.hinge_high_u ? Vector3d(-Flat(f.dir)) : Flat(f.dir);
-      // The hinge axis stands just in front of the casing so the opened leaf clears it.
-      const double fp = std::max(ds.frame_protrusion, 0.002) + 0.001;
-      const double w_plane = d.swing_into_a ? fp : -t_ - fp;
-      const double u_h = d.hinge_high_u ? d.hole.u1 - kLeafGap : d.hole.u0 + kLeafGap;
-      const Vector3d hinge = f.P(u_h, 0.0, w_plane);
-      const Vector3d axis = dd.cross(n).normalized();
-      const double lw = ds.width - 2 * kLeafGap;
-      const double lt = std::min(ds.leaf_thickness, t_);
-      const Vector3d rd = std::cos(d.lambda) * dd + std::sin(d.lambda) * n;
-      const Vector3d rn = std::cos(d.lambda) * n - std::sin(d.lambda) * dd;
+      const Leaf l = LeafOf(d);
       MeshPart leaf = NewPart(ds.id + "/leaf", ds.id, ElementClass::kDoorLeaf, "door",
                               d.swing_into_a ? ra.id : room_b, Mat(lm_name, lm));
       PartBuilder lb(&leaf);
-      AddOrientedBox(lb, hinge, rd, rn, Vector3d::UnitZ(), {0.0, -lt, 0.01},
-                     {lw, 0.0, ds.height - kLeafGap});
+      AddOrientedBox(lb, l.hinge, l.rd, l.rn, Vector3d::UnitZ(), {0.0, -l.thickness, 0.01},
+                     {l.width, 0.0, ds.height - kLeafGap});
       Push(std::move(leaf));
 
       Opening o;
@@ -849,9 +873,9 @@ class Generator {
       o.swing_room = d.swing_into_a ? ra.id : room_b;
       o.opening_angle = d.lambda;
       o.state = DoorStateFromAngle(d.lambda);
-      o.hinge_point = hinge;
-      o.hinge_axis = axis;
-      o.leaf_thickness = lt;
+      o.hinge_point = l.hinge;
+      o.hinge_axis = l.axis;
+      o.leaf_thickness = l.thickness;
       out_.truth.openings.push_back(o);
       out_.truth.connections.push_back({ds.id, ra.id, room_b});
     }
@@ -1277,6 +1301,10 @@ class Generator {
       for (int di : DoorsOfRoom(static_cast<int>(r))) {
         zones[r].push_back(DoorZone(doors_[di], static_cast<int>(r)));
         seeds[r].push_back(DoorSeed(doors_[di], static_cast<int>(r)));
+        // An opened leaf stands in the room like furniture: the 0.8 m path between the doors
+        // goes around it (a chair 0.24 m from a leaf's edge cut the only way to a door).
+        if (doors_[di].lambda > 0.0 && SwingRoom(doors_[di]) == static_cast<int>(r))
+          grids[r].Commit(LeafFootprint(doors_[di]));
       }
     }
     std::map<std::string, int> counts;

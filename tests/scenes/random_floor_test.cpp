@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <deque>
 #include <iostream>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "scenes/generator.h"
 #include "scenes/scene_check.h"
 #include "scenes/scene_spec.h"
@@ -50,6 +53,129 @@ TEST(RandomFloor, SeedsAndRoomCountsGiveValidConnectedFloors) {
   EXPECT_GT(columns, 0);
   EXPECT_EQ(min_walls, 0);  // some floors all rectangles, some with L/T rooms
   EXPECT_GT(max_walls, 0);
+}
+
+// The doors of every room are joined by a path at least 2 x kHalfWidth wide around the
+// furniture, the columns and the opened door leaves, measured on the truth alone (a 5 cm
+// raster of the points that far from all of them): the generator's 0.8 m robot path, with
+// its discretisation's slack. An opened leaf stands in its room like furniture; a chair placed
+// 0.24 m from a leaf's free edge cut the only way to a door (random floor 23, 9 rooms).
+TEST(RandomFloor, DoorsOfARoomAreJoinedAroundFurnitureAndOpenedLeaves) {
+  constexpr double kHalfWidth = 0.3, kRes = 0.05;
+  using Vector2d = Eigen::Vector2d;
+  auto boundary_distance = [](const Vector2d& p, const std::vector<Vector2d>& poly) {
+    double d = 1e9;
+    for (std::size_t i = 0; i < poly.size(); ++i)
+      d = std::min(d, DistanceToSegment(p, poly[i], poly[(i + 1) % poly.size()]));
+    return d;
+  };
+  auto segment_distance = [&](const Vector2d& p, const std::vector<Vector2d>& poly) {
+    return poly.size() > 2 && PointInPolygon(p, poly) ? 0.0 : boundary_distance(p, poly);
+  };
+  int rooms_checked = 0;
+  for (const auto& [seed, rooms] : std::vector<std::pair<std::uint64_t, int>>{
+           {23, 9}, {2, 3}, {4, 6}, {5, 4}, {10, 9}, {16, 8}, {32, 7}, {37, 5}}) {
+    const GeneratedScene g = Generate(RandomFloorSpec(seed, rooms));
+    std::vector<std::vector<Vector2d>> obstacles;
+    for (const FurnitureItem& f : g.truth.furniture) {
+      const Vector2d c = f.centre.head<2>();
+      const Vector2d ex(std::cos(f.yaw), std::sin(f.yaw)), ey(-ex.y(), ex.x());
+      const double hw = 0.5 * f.size.x(), hd = 0.5 * f.size.y();
+      obstacles.push_back({c - hw * ex - hd * ey, c + hw * ex - hd * ey, c + hw * ex + hd * ey,
+                           c - hw * ex + hd * ey});
+    }
+    for (const StructuralElement& e : g.truth.elements)
+      if (e.element_class == ElementClass::kColumn)
+        for (const auto& poly : e.polygons) {
+          std::vector<Vector2d> plan;
+          for (const auto& v : poly) plan.push_back(v.head<2>());
+          obstacles.push_back(plan);
+        }
+    for (const Opening& o : g.truth.openings) {
+      if (o.type != OpeningType::kDoor || o.opening_angle <= 0.0) continue;
+      // Closed leaf: from the hinge along the wall towards the far jamb; opened by the angle
+      // about the hinge axis.
+      Eigen::Vector3d d = o.corners[2] - o.corners[0];
+      d.z() = 0.0;
+      const double width = d.norm();
+      const Eigen::Vector3d mid = 0.5 * (o.corners[0] + o.corners[2]);
+      if (d.dot(mid - o.hinge_point) < 0.0) d = -d;
+      const Eigen::Vector3d rd = Eigen::AngleAxisd(o.opening_angle, o.hinge_axis) * d.normalized();
+      const Vector2d h = o.hinge_point.head<2>();
+      obstacles.push_back({h, h + width * rd.head<2>()});
+    }
+    for (const Room& room : g.truth.rooms) {
+      Eigen::AlignedBox2d box;
+      for (const auto& p : room.polygon) box.extend(p);
+      const int nx = static_cast<int>(box.sizes().x() / kRes) + 1;
+      const int ny = static_cast<int>(box.sizes().y() / kRes) + 1;
+      auto centre = [&](int i, int j) -> Vector2d {
+        return box.min() + Vector2d(i + 0.5, j + 0.5) * kRes;
+      };
+      std::vector<std::uint8_t> free(static_cast<std::size_t>(nx * ny), 0);
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const Vector2d p = centre(i, j);
+          bool ok = PointInPolygon(p, room.polygon) &&
+                    boundary_distance(p, room.polygon) >= kHalfWidth;
+          for (std::size_t k = 0; k < obstacles.size() && ok; ++k)
+            ok = segment_distance(p, obstacles[k]) >= kHalfWidth;
+          free[static_cast<std::size_t>(j * nx + i)] = ok;
+        }
+      // Door fronts: 0.5 m into the room from each door's centre, snapped to the nearest free
+      // cell within 1.2 m (a leaf opened into the room stands in front of its own door: the
+      // path reaches the door past the leaf's edge). Semi-open doors are left out: a leaf
+      // opened less than 90 deg stands across its own doorway and leaves a wedge of about
+      // width x sin(angle) (a 0.8 m door at 50 deg: 0.57 m) that a desk beside it may narrow
+      // further; the floor's spanning tree is made of open doors. Closed doors stay in (to be
+      // pushed open).
+      std::vector<int> fronts;
+      for (const Opening& o : g.truth.openings) {
+        if (o.type != OpeningType::kDoor ||
+            std::find(o.rooms.begin(), o.rooms.end(), room.id) == o.rooms.end())
+          continue;
+        if (o.opening_angle > 0.0 && o.opening_angle < 0.5 * M_PI - 1e-6) continue;
+        const Vector2d a = o.corners[0].head<2>(), b = o.corners[2].head<2>();
+        const Vector2d mid = 0.5 * (a + b), t = (b - a).normalized(), n(-t.y(), t.x());
+        const Vector2d front =
+            PointInPolygon(Vector2d(mid + 0.5 * n), room.polygon) ? Vector2d(mid + 0.5 * n)
+                                                                   : Vector2d(mid - 0.5 * n);
+        int best = -1;
+        double best_d = 1.2;
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i)
+            if (free[static_cast<std::size_t>(j * nx + i)] &&
+                (centre(i, j) - front).norm() < best_d)
+              best_d = (centre(i, j) - front).norm(), best = j * nx + i;
+        ASSERT_GE(best, 0) << "seed " << seed << " room " << room.id << " door " << o.id
+                           << ": no free cell in front of it";
+        fronts.push_back(best);
+      }
+      if (fronts.size() < 2) continue;
+      ++rooms_checked;
+      std::vector<std::uint8_t> seen(free.size(), 0);
+      std::deque<int> queue{fronts.front()};
+      seen[static_cast<std::size_t>(fronts.front())] = 1;
+      while (!queue.empty()) {
+        const int c = queue.front();
+        queue.pop_front();
+        const int i = c % nx, j = c / nx;
+        for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+          const int ii = i + di, jj = j + dj, n = jj * nx + ii;
+          if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || !free[static_cast<std::size_t>(n)] ||
+              seen[static_cast<std::size_t>(n)])
+            continue;
+          seen[static_cast<std::size_t>(n)] = 1;
+          queue.push_back(n);
+        }
+      }
+      for (const int f : fronts)
+        EXPECT_TRUE(seen[static_cast<std::size_t>(f)])
+            << "seed " << seed << " rooms " << rooms << ": room " << room.id
+            << " has a door no path of " << 2 * kHalfWidth << " m reaches from its others";
+    }
+  }
+  EXPECT_GT(rooms_checked, 10);
 }
 
 TEST(RandomFloor, SameSeedGivesSameSpecDifferentSeedsDiffer) {
