@@ -132,6 +132,8 @@ Vec2 ToVec(const ob::State* s) {
 struct GlobalPlanner::Impl {
   OccupancyGrid map;
   DistanceField field;
+  /// The planner on map.Refined(narrow_refinement) at the narrow radius, built on first need.
+  std::unique_ptr<GlobalPlanner> refined;
   Impl(const OccupancyGrid& m, bool unknown_is_obstacle) : map(m), field(m, unknown_is_obstacle) {}
 
   bool Valid(const Vec2& p, double radius) const { return field.IsFree(p, radius); }
@@ -759,9 +761,11 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   const Cell gc = map.CellOf(g0);
   if (!comp[idx(gc)] && P.narrow_radius < P.robot_radius &&
       P.narrow_radius >= P.min_start_clearance) {
-    // Once more with the narrow radius (params_ restored on every path out).
+    // Once more with the narrow radius (params_ restored on every path out; the refined map
+    // is tried below, not in there).
     const GlobalPlannerParams saved = params_;
     params_.robot_radius = P.narrow_radius;
+    params_.narrow_refinement = 1;
     GlobalPlan narrow = Plan(start, goal);
     params_ = saved;
     if (narrow.ok()) {
@@ -772,9 +776,35 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       return narrow;
     }
   }
+  double refined_widest = 0.0;
+  if (!comp[idx(gc)] && P.narrow_refinement > 1) {
+    // Once more on the map refined around its returns, at the narrow radius.
+    const double radius = std::min(P.narrow_radius, P.robot_radius);
+    if (!impl_->refined) {
+      GlobalPlannerParams fine = P;
+      fine.robot_radius = fine.narrow_radius = radius;
+      fine.min_start_clearance = std::min(P.min_start_clearance, radius);
+      fine.narrow_refinement = 1;
+      impl_->refined = std::make_unique<GlobalPlanner>(map.Refined(P.narrow_refinement), fine, seed_);
+    }
+    impl_->refined->query_ = query;
+    GlobalPlan fine_plan = impl_->refined->Plan(start, goal);
+    if (fine_plan.ok()) {
+      fine_plan.message += FormatNumbers(
+          " (through a passage narrower than %.2f m on the %.3f m map: planned with a %.2f m "
+          "radius on its returns at %.3f m)",
+          2 * radius, map.Resolution(), radius, map.Resolution() / P.narrow_refinement);
+      return fine_plan;
+    }
+    refined_widest = fine_plan.widest_clearance;
+  }
   if (!comp[idx(gc)]) {
     plan.status = PlanStatus::kUnreachable;
+    // The refined map measures a squeeze closer to its width (where the 5 cm map has a route
+    // at all: inside a solid, behind its returns, the refined map reads free).
     plan.widest_clearance = WidestRouteClearance(sc, gc);
+    if (plan.widest_clearance > 0.0)
+      plan.widest_clearance = std::max(plan.widest_clearance, refined_widest);
     plan.message = FormatNumbers(
         "goal (%.2f, %.2f) is not connected to the start in free space with "
         "%.2f m clearance",

@@ -11,7 +11,9 @@
 // Pipeline of Plan():
 //  1. start/goal checks (a start slightly inside the clearance margin is led out to the
 //     nearest valid cell), then a flood fill of valid cells: a goal outside the start's
-//     component is *unreachable* (a closed door, a blocked corridor) — decided exactly and
+//     component is planned again at `narrow_radius`, then on the map refined around its
+//     returns (`narrow_refinement`); one still outside is *unreachable* (a closed door, a
+//     blocked corridor) — decided exactly and
 //     quickly, before any sampling; the message then gives the widest route's clearance
 //     (GlobalPlan::widest_clearance, a maximin path over the cells' clearance): a passage
 //     narrower than the base needs, or none through known free space at all;
@@ -55,6 +57,12 @@ struct GlobalPlannerParams {
   /// radius (a door whose mapped jambs leave less than 2 robot_radius: the base, narrower than
   /// the disc, still passes aligned with it). >= robot_radius = off. [min_start_clearance, 5]
   double narrow_radius = 0.30;
+  /// A goal still unreachable (at min(narrow_radius, robot_radius)) is planned once more on
+  /// the map at this many times finer cells with its obstacles where the returns are
+  /// (perception::OccupancyGrid::Refined): a 5 cm cell puts a surface up to 5 cm in front of
+  /// where it is, so a 0.65 m squeeze between a chair and a door leaf read as 0.53 m. Only
+  /// goals unreachable on the 5 cm map are affected. 1 = off, [1, 8]
+  int narrow_refinement = 3;
   double min_start_clearance = 0.15;  ///< m, a start with less is invalid, [0, robot_radius]
   double preferred_clearance = 0.7;   ///< m, clearance beyond which there is no penalty, (0, 10]
   double clearance_weight = 3.0;      ///< cost weight of missing clearance, [0, 100]
@@ -80,6 +88,7 @@ struct GlobalPlannerParams {
   void Visit(V& v) {
     v("robot_radius", robot_radius, Bounds{1e-3, 5.0});
     v("narrow_radius", narrow_radius, Bounds{1e-3, 5.0});
+    v("narrow_refinement", narrow_refinement, Bounds{1, 8});
     v("min_start_clearance", min_start_clearance, Bounds{0.0, 5.0});
     v("preferred_clearance", preferred_clearance, Bounds{1e-3, 10.0});
     v("clearance_weight", clearance_weight, Bounds{0.0, 100.0});

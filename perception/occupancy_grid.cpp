@@ -328,6 +328,54 @@ OccupancyGrid OccupancyGrid::Inflated(double radius, bool unknown_is_obstacle) c
   return out;
 }
 
+OccupancyGrid OccupancyGrid::Refined(int factor) const {
+  if (factor < 1 || factor > 8)
+    throw InputError("", "grid refinement factor out of range", std::to_string(factor), "[1, 8]");
+  OccupancyGridParams p = params_;
+  p.resolution = params_.resolution / factor;
+  OccupancyGrid out(p, origin_, width_ * factor, height_ * factor);
+  auto mark = [&](const Vec2& x) {
+    const Cell s = out.CellOf(x);
+    if (out.Contains(s)) out.SetState(s, CellState::kOccupied);
+  };
+  std::vector<Vec2> covered;  // obstacle points, marked after every free sub-cell is set
+  for (int j = 0; j < height_; ++j) {
+    for (int i = 0; i < width_; ++i) {
+      const Cell c{i, j};
+      const CellState st = State(c);
+      if (st == CellState::kUnknown) continue;
+      const std::size_t k = Index(c);
+      const bool solid = st == CellState::kOccupied && return_n_[k] == 0;
+      for (int dj = 0; dj < factor; ++dj)
+        for (int di = 0; di < factor; ++di)
+          out.SetState({i * factor + di, j * factor + dj},
+                       solid ? CellState::kOccupied : CellState::kFree);
+      if (st != CellState::kOccupied || solid) continue;
+      const ReturnSegment seg = ObstacleSegment(c);
+      const double step = 0.5 * p.resolution;
+      if (seg.half_length > 0.0) {
+        const int n = static_cast<int>(std::ceil(seg.half_length / step));
+        for (int t = -n; t <= n; ++t)
+          covered.push_back(seg.centre + seg.direction * (seg.half_length * t / std::max(1, n)));
+        continue;
+      }
+      // Not line-like (a corner, an edge seen end-on): the sub-cells within sqrt(3) standard
+      // deviations of the returns' mean (the half length of a uniform spread).
+      const double m = return_n_[k];
+      const double mx = return_dx_[k] / m, my = return_dy_[k] / m;
+      const double var = std::max(0.0, return_xx_[k] / m - mx * mx + return_yy_[k] / m - my * my);
+      const double r = std::sqrt(3.0 * var);
+      const int n = static_cast<int>(std::ceil(r / step));
+      for (int v = -n; v <= n; ++v)
+        for (int u = -n; u <= n; ++u)
+          if (std::hypot(u * step, v * step) <= r + 1e-12)
+            covered.push_back(seg.centre + Vec2(u * step, v * step));
+    }
+  }
+  for (const Vec2& x : covered) mark(x);
+  return out;
+}
+
 // --- DistanceField ----------------------------------------------------------------------------
 
 DistanceField::DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle,

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -163,6 +164,44 @@ TEST(GlobalPlanner, ExplainsAnUnreachableGoalByItsWidestRoute) {
   const GlobalPlan through = open.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
   EXPECT_TRUE(through.ok()) << through.message;
   EXPECT_EQ(through.widest_clearance, 0.0);
+}
+
+// A 0.64 m squeeze whose faces lie just past 5 cm cell boundaries reads 0.55 m on the 5 cm
+// map, too narrow for the narrow radius (0.29 m); on the map refined around its returns it
+// is planned, and the path keeps the narrow radius from the true faces up to the fine cells'
+// rounding.
+TEST(GlobalPlanner, ASqueezeTheCellsNarrowIsPlannedOnTheReturns) {
+  std::vector<testing::Box2> world = testing::TwoRooms();
+  world[4].hi.y() = 2.655;
+  world[5].lo.y() = 3.295;
+  const OccupancyGrid map = testing::BuildGrid(world);
+  GlobalPlannerParams p;
+  p.robot_radius = 0.33;
+  p.narrow_radius = 0.29;
+  p.narrow_refinement = 1;
+  GlobalPlanner coarse(map, p, 1);
+  const GlobalPlan blocked = coarse.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
+  ASSERT_EQ(blocked.status, PlanStatus::kUnreachable) << blocked.message;
+  p.narrow_refinement = 3;
+  GlobalPlanner refined(map, p, 1);
+  const GlobalPlan plan = refined.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0});
+  ASSERT_TRUE(plan.ok()) << plan.message;
+  std::printf("[ PLANNER  ] %s\n", plan.message.c_str());
+  EXPECT_NE(plan.message.find("on its returns"), std::string::npos);
+  double true_clearance = 1e9;
+  for (const PathPoint& q : plan.path) {
+    const Vec2 x(q.pose.x, q.pose.y);
+    for (const auto& b : world) {
+      const Vec2 d = (b.lo - x).cwiseMax(x - b.hi).cwiseMax(Vec2::Zero());
+      true_clearance = std::min(true_clearance, d.norm());
+    }
+  }
+  EXPECT_GE(true_clearance, 0.29 - 0.5 * std::sqrt(2.0) * 0.05 / 3);
+  ASSERT_FALSE(plan.passages.empty());
+  EXPECT_NEAR(plan.passages.front().centre.y(), 2.975, 0.03);
+  // A goal behind a closed door stays unreachable on the refined map too.
+  GlobalPlanner closed(testing::BuildGrid(testing::TwoRooms(true)), p, 1);
+  EXPECT_EQ(closed.Plan({2.0, 3.8, 0.0}, {8.0, 2.0, 0.0}).status, PlanStatus::kUnreachable);
 }
 
 // LRF returns of the mapped jambs, a centimetre into the gap through the pose estimate, are

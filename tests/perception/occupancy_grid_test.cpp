@@ -165,6 +165,41 @@ TEST(OccupancyGrid, LrfScanWithARangeCapClearsOnlyUpToIt) {
   EXPECT_EQ(g.StateAt({5.52, 1.5}), CellState::kUnknown);  // the wall 3.5 m out: no hit
 }
 
+// A door gap whose jamb faces lie just past a 5 cm cell boundary: on the 5 cm map each jamb
+// reads 4.5 cm into the gap; refined three times around the returns, 1.2 cm.
+TEST(OccupancyGrid, RefinedPutsObstaclesWhereTheReturnsAre) {
+  std::vector<Box2> world = testing::TwoRooms();
+  world[4].hi.y() = 2.655;  // partition south of the gap: face at 2.655, in cell [2.65, 2.70)
+  world[5].lo.y() = 3.295;  // north of it: face at 3.295, in cell [3.25, 3.30)
+  const OccupancyGrid g = testing::BuildGrid(world);
+  const OccupancyGrid fine = g.Refined(3);
+  EXPECT_DOUBLE_EQ(fine.Resolution(), 0.05 / 3);
+  EXPECT_EQ(fine.Width(), 3 * g.Width());
+  EXPECT_EQ(fine.Origin(), g.Origin());
+  EXPECT_TRUE(g.IsOccupied({5.0, 2.69}));       // 3.5 cm into the gap on the 5 cm map
+  EXPECT_TRUE(fine.IsFree({5.0, 2.69}));        // free at 1.7 cm
+  EXPECT_TRUE(fine.IsOccupied({5.0, 2.66}));    // the face's sub-cell
+  EXPECT_TRUE(fine.IsOccupied({5.0, 3.29}));
+  EXPECT_EQ(fine.StateAt({2.0, 0.9}), CellState::kUnknown);  // unknown stays unknown
+  EXPECT_TRUE(fine.IsFree({2.5, 3.0}));
+  // The gap's clearance: 0.275 m on the 5 cm map, 0.308 m refined (true 0.32).
+  const double coarse = DistanceField(g, true).Clearance({5.0, 2.975});
+  const double refined = DistanceField(fine, true).Clearance({5.0, 2.975});
+  EXPECT_LE(coarse, 0.28);
+  EXPECT_GE(refined, 0.30);
+  EXPECT_LE(refined, 0.32);  // never past the true faces
+  // A cell occupied without returns (a map from a PNG, an added obstacle) stays solid.
+  OccupancyGrid marked = g;
+  marked.SetState(marked.CellOf({2.5, 3.0}), CellState::kOccupied);
+  const OccupancyGrid marked_fine = marked.Refined(3);
+  const Vec2 c = marked.CentreOf(marked.CellOf({2.5, 3.0}));
+  for (double dx : {-0.02, 0.0, 0.02})
+    for (double dy : {-0.02, 0.0, 0.02})
+      EXPECT_TRUE(marked_fine.IsOccupied({c.x() + dx, c.y() + dy}));
+  EXPECT_THROW(g.Refined(0), InputError);
+  EXPECT_THROW(g.Refined(9), InputError);
+}
+
 TEST(DistanceField, ClearanceInTheDoorGapAndInflation) {
   const OccupancyGrid g = testing::BuildGrid(testing::TwoRooms());
   const DistanceField f(g, true);
