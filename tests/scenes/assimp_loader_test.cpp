@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "scenes/scene_loader.h"
+#include "tests/process_temp_dir.h"
 
 namespace mopad::scenes {
 namespace {
@@ -17,9 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string WriteFile(const std::string& name, const std::string& text) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("mopad_assimp_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = test_support::ProcessTempDir("mopad_assimp_test_", "", false);
   const std::string path = (dir / name).string();
   std::ofstream(path, std::ios::binary) << text;
   return path;

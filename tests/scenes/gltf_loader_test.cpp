@@ -20,6 +20,7 @@
 #include "common/frames.h"
 #include "scenes/mesh_validation.h"
 #include "scenes/scene_loader.h"
+#include "tests/process_temp_dir.h"
 
 namespace mopad::scenes {
 namespace {
@@ -95,9 +96,7 @@ class GltfBuilder {
     doc_["buffers"] =
         json::array({{{"byteLength", bytes_.size()},
                       {"uri", "data:application/octet-stream;base64," + Base64(bytes_)}}});
-    const fs::path dir =
-        fs::temp_directory_path() / ("mopad_gltf_test_" + std::to_string(getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = test_support::ProcessTempDir("mopad_gltf_test_", "", false);
     const std::string path = (dir / name).string();
     std::ofstream(path) << doc_.dump(1);
     return path;

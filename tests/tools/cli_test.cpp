@@ -15,6 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "tests/process_temp_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -40,11 +42,7 @@ std::string Src(const std::string& rel) { return std::string(MOPAD_SOURCE_DIR) +
 
 std::string TempDir(const std::string& name) {
   // Per process: ctest runs each test case in its own process, possibly in parallel.
-  const fs::path d =
-      fs::path(testing::TempDir()) / ("mopad_cli_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
+  return mopad::test_support::ProcessTempDir("mopad_cli_", "_" + name).string();
 }
 
 // The default scene is generated once and shared by the tests that read it.
