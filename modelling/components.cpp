@@ -586,6 +586,33 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       if (pk.score < p.colour_ncc_min) continue;
       PathDetection d = BoxAt(k, m, pixel, pk);
       if (!DepthAgrees(se, d, m, p)) continue;
+      // Support from the geometry for a colour-only instance (step 4) of a protruding class:
+      // the box's measured protrusion is known (and, above, agrees with the class's depth), is
+      // the object's own, not part of a larger one (a radiator, a box it is painted on: under
+      // a fifth of the measured ring of template_pad around the box protrudes), and at least
+      // half of the box differs from the wall's colour (colour_delta_e: the object's colour
+      // is evidence, not only its pattern). Then the protruding samples are counted.
+      if (m.depth >= 2.0 * p.protrusion_min && std::isfinite(BoxProtrusion(se, d, 0.95))) {
+        const cv::Rect in = BoxRect(se, d);
+        const int g = std::max(1, static_cast<int>(std::lround(p.template_pad / pixel)));
+        const cv::Rect out = cv::Rect(in.x - g, in.y - g, in.width + 2 * g, in.height + 2 * g) &
+                             cv::Rect(0, 0, se.valid.cols, se.valid.rows);
+        int ring = 0, proud = 0, known = 0, coloured = 0;
+        for (int r = out.y; r < out.y + out.height; ++r)
+          for (int c = out.x; c < out.x + out.width; ++c) {
+            if (in.contains({c, r})) {
+              if (!se.valid.at<uchar>(r, c)) continue;
+              ++known;
+              coloured += se.delta_e.at<float>(r, c) > p.colour_delta_e;
+              continue;
+            }
+            if (!se.measured.at<uchar>(r, c)) continue;
+            ++ring;
+            proud += se.highpass.at<float>(r, c) > p.protrusion_min;
+          }
+        if (ring > 0 && proud < 0.2 * ring && coloured >= 0.5 * known)
+          d.samples = ProtrudingSamples(se, d, p);
+      }
       int w = 0, h = 0;
       const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, d, ceiling, &w, &h);
       const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
@@ -725,8 +752,14 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
     };
     for (std::size_t a = 0; a < rows.size(); ++a) {
       const PathDetection& d = colour[static_cast<std::size_t>(rows[a])];
-      if (!row_used[a] && d.score >= p.single_colour_score && d.ncc >= p.single_colour_ncc &&
-          !overlaps_pair(d, true))
+      // A colour detection whose box's protrusion supports its class (ColourPath: the
+      // object's own, of a colour unlike the wall) on min_depth_samples measured samples needs
+      // only the colour path's NCC floor: seen along a corridor an extinguisher leaves depth
+      // fragments its template does not match, and its colour NCC stays under
+      // single_colour_ncc.
+      const bool supported = d.samples >= std::max(1, p.min_depth_samples);
+      if (!row_used[a] && d.score >= p.single_colour_score &&
+          (d.ncc >= p.single_colour_ncc || supported) && !overlaps_pair(d, true))
         out.push_back({k, rows[a], -1, 0.5});
     }
     for (std::size_t b = 0; b < cols.size(); ++b) {

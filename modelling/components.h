@@ -50,7 +50,9 @@
 //     column left over is a single-path instance with alpha = 0.5 when its own path is
 //     confident (depth score >= single_depth_ncc on at least min_depth_samples measured
 //     protruding samples; colour score >= single_colour_score and
-//     NCC >= single_colour_ncc) and
+//     NCC >= single_colour_ncc, or, for a protruding class, any colour detection whose box
+//     protrudes on at least min_depth_samples measured samples as the class does, with wall
+//     around it, and differs from the wall's colour over half its area) and
 //     does not overlap a paired instance of the class. This replaces the paper's "expected
 //     number of instances" (unknown to the robot): the stopping rule is the coherence floor
 //     for pairs and the confidence floor for single-path instances.
@@ -297,7 +299,8 @@ struct PathDetection {
   /// box's best perceptron score; [0, 1]
   double score = 0.0;
   double ncc = 0.0;  ///< NCC peak of the path's model template, [-1, 1]
-  /// depth: measured samples (pixels holding points) in the box protruding > protrusion_min
+  /// depth: measured samples (pixels holding points) in the box protruding > protrusion_min;
+  /// colour: the same where the box's protrusion supports a protruding class (else 0)
   int samples = 0;
 };
 
