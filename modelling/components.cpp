@@ -425,6 +425,37 @@ bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::O
   return !std::isfinite(mid) || std::abs(mid) < flush;
 }
 
+// Support from the geometry for a colour-only instance (step 4) of a protruding class: the
+// measured samples of the box protruding more than protrusion_min, when the box's protrusion
+// is known (DepthAgrees has checked it against the class's depth), is the object's own, not
+// part of a larger one (a radiator, a box it is painted on: under a fifth of the measured ring
+// of template_pad around the box protrudes), and at least half of the box differs from the
+// wall's colour (colour_delta_e: the object's colour is evidence, not only its pattern); else 0.
+int SupportingSamples(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
+                      double pixel, const ComponentParams& p) {
+  if (m.depth < 2.0 * p.protrusion_min || !std::isfinite(BoxProtrusion(se, d, 0.95))) return 0;
+  const cv::Rect in = BoxRect(se, d);
+  const int g = std::max(1, static_cast<int>(std::lround(p.template_pad / pixel)));
+  const cv::Rect out = cv::Rect(in.x - g, in.y - g, in.width + 2 * g, in.height + 2 * g) &
+                       cv::Rect(0, 0, se.valid.cols, se.valid.rows);
+  int ring = 0, proud = 0, known = 0, coloured = 0, samples = 0;
+  for (int r = out.y; r < out.y + out.height; ++r)
+    for (int c = out.x; c < out.x + out.width; ++c) {
+      const bool measured = se.measured.at<uchar>(r, c) != 0;
+      const bool protrudes = se.highpass.at<float>(r, c) > p.protrusion_min;
+      if (in.contains({c, r})) {
+        samples += measured && protrudes;
+        if (!se.valid.at<uchar>(r, c)) continue;
+        ++known;
+        coloured += se.delta_e.at<float>(r, c) > p.colour_delta_e;
+      } else if (measured) {
+        ++ring;
+        proud += protrudes;
+      }
+    }
+  return ring > 0 && proud < 0.2 * ring && coloured >= 0.5 * known ? samples : 0;
+}
+
 // Step 2 on one SE.
 std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceiling,
                                      const interfaces::ObjectModelCatalogue& cat,
@@ -586,33 +617,6 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       if (pk.score < p.colour_ncc_min) continue;
       PathDetection d = BoxAt(k, m, pixel, pk);
       if (!DepthAgrees(se, d, m, p)) continue;
-      // Support from the geometry for a colour-only instance (step 4) of a protruding class:
-      // the box's measured protrusion is known (and, above, agrees with the class's depth), is
-      // the object's own, not part of a larger one (a radiator, a box it is painted on: under
-      // a fifth of the measured ring of template_pad around the box protrudes), and at least
-      // half of the box differs from the wall's colour (colour_delta_e: the object's colour
-      // is evidence, not only its pattern). Then the protruding samples are counted.
-      if (m.depth >= 2.0 * p.protrusion_min && std::isfinite(BoxProtrusion(se, d, 0.95))) {
-        const cv::Rect in = BoxRect(se, d);
-        const int g = std::max(1, static_cast<int>(std::lround(p.template_pad / pixel)));
-        const cv::Rect out = cv::Rect(in.x - g, in.y - g, in.width + 2 * g, in.height + 2 * g) &
-                             cv::Rect(0, 0, se.valid.cols, se.valid.rows);
-        int ring = 0, proud = 0, known = 0, coloured = 0;
-        for (int r = out.y; r < out.y + out.height; ++r)
-          for (int c = out.x; c < out.x + out.width; ++c) {
-            if (in.contains({c, r})) {
-              if (!se.valid.at<uchar>(r, c)) continue;
-              ++known;
-              coloured += se.delta_e.at<float>(r, c) > p.colour_delta_e;
-              continue;
-            }
-            if (!se.measured.at<uchar>(r, c)) continue;
-            ++ring;
-            proud += se.highpass.at<float>(r, c) > p.protrusion_min;
-          }
-        if (ring > 0 && proud < 0.2 * ring && coloured >= 0.5 * known)
-          d.samples = ProtrudingSamples(se, d, p);
-      }
       int w = 0, h = 0;
       const std::vector<std::uint8_t> box = ColourBox(rgb_padded, pad, d, ceiling, &w, &h);
       const std::vector<float> s = rec.Score(box, w, h, m.width, m.height);
@@ -627,6 +631,7 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       if (best <= s.back() || sk < p.colour_score_min * best) continue;
       d.score = best;
       d.ncc = pk.score;
+      d.samples = SupportingSamples(se, d, m, pixel, p);
       out.push_back(d);
     }
   }

@@ -356,7 +356,7 @@ OccupancyGrid OccupancyGrid::Refined(int factor) const {
       if (seg.half_length > 0.0) {
         const int n = static_cast<int>(std::ceil(seg.half_length / step));
         for (int t = -n; t <= n; ++t)
-          covered.push_back(seg.centre + seg.direction * (seg.half_length * t / std::max(1, n)));
+          covered.push_back(seg.centre + seg.direction * (seg.half_length * t / n));
         continue;
       }
       // Not line-like (a corner, an edge seen end-on): the sub-cells within sqrt(3) standard
