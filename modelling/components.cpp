@@ -192,6 +192,118 @@ bool TouchesOpening(const SeImages& se, const cv::Rect& r) {
   return false;
 }
 
+// CIE Lab of one RGB colour (0-255), as cv::cvtColor converts an image's pixels.
+cv::Vec3d LabOf(double r, double g, double b) {
+  cv::Mat px(1, 1, CV_32FC3, cv::Scalar(r / 255.0, g / 255.0, b / 255.0));
+  cv::cvtColor(px, px, cv::COLOR_RGB2Lab);
+  return cv::Vec3d(px.at<cv::Vec3f>(0, 0));
+}
+
+// The casing is cut off, not the region with it: in a candidate mask (connected after a
+// dilation of `grow` pixels, as Regions joins it), a region touching a removed opening loses
+// its pixels within casing_cut of that opening, and what stays apart from it (a sign or a
+// switch beside a door, joined to the casing by the scan's blur) is a candidate of its own.
+// Regions that touch no opening are left as they are.
+void CutCasings(const SeImages& se, const ComponentParams& p, double pixel, int grow,
+                cv::Mat& mask) {
+  const int cut = static_cast<int>(std::lround(p.casing_cut / pixel));
+  if (se.openings.empty() || cut <= 0) return;
+  cv::Mat joined;  // a new buffer: the mask itself stays as it is
+  if (grow > 0)
+    cv::dilate(mask, joined,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
+  else
+    joined = mask.clone();
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(joined, labels, stats, centroids, 8, CV_32S);
+  std::vector<char> touches(static_cast<std::size_t>(n), 0);
+  bool any = false;
+  for (int i = 1; i < n; ++i) {
+    // the region's box as Regions gives it (the dilation taken off again)
+    const bool t = TouchesOpening(
+        se, cv::Rect(stats.at<int>(i, cv::CC_STAT_LEFT) + grow,
+                     stats.at<int>(i, cv::CC_STAT_TOP) + grow,
+                     stats.at<int>(i, cv::CC_STAT_WIDTH) - 2 * grow,
+                     stats.at<int>(i, cv::CC_STAT_HEIGHT) - 2 * grow));
+    touches[static_cast<std::size_t>(i)] = t;
+    any = any || t;
+  }
+  if (!any) return;
+  cv::Mat rest(mask.size(), CV_8U, cv::Scalar(0));  // the touching regions' pixels
+  for (int r = 0; r < mask.rows; ++r)
+    for (int c = 0; c < mask.cols; ++c)
+      if (mask.at<uchar>(r, c) && touches[static_cast<std::size_t>(labels.at<int>(r, c))]) {
+        rest.at<uchar>(r, c) = 255;
+        mask.at<uchar>(r, c) = 0;
+      }
+  const cv::Rect image(0, 0, mask.cols, mask.rows);
+  cv::Mat in_band(mask.size(), CV_8U, cv::Scalar(0));
+  std::vector<cv::Rect> bands;
+  for (const cv::Rect& o : se.openings) {
+    bands.push_back(cv::Rect(o.x - cut, o.y - cut, o.width + 2 * cut, o.height + 2 * cut) & image);
+    in_band(bands.back()).setTo(255);
+  }
+  // The trim's colour: the mean Lab of what the cut takes from each region.
+  std::vector<cv::Vec3d> trim_lab(static_cast<std::size_t>(n), cv::Vec3d(0, 0, 0));
+  std::vector<int> trim_count(static_cast<std::size_t>(n), 0);
+  for (int r = 0; r < mask.rows; ++r)
+    for (int c = 0; c < mask.cols; ++c)
+      if (rest.at<uchar>(r, c) && in_band.at<uchar>(r, c)) {
+        const auto l = static_cast<std::size_t>(labels.at<int>(r, c));
+        trim_lab[l] += cv::Vec3d(se.lab.at<cv::Vec3f>(r, c));
+        ++trim_count[l];
+        rest.at<uchar>(r, c) = 0;
+      }
+  // What the cut leaves of the trim is slivers along it (its edge blurred by the filling),
+  // which would join a neighbour to the cut again: an opening removes what is thinner than
+  // the cut. Where SM4's edge lies farther inside the opening than the margin, wider pieces of
+  // the trim are left beside the cut (the casing, the wall in its shadow filled with its
+  // colour): a piece touching the cut, or of the colour the cut took, is trim too.
+  const int k = 2 * (cut / 2) + 1;
+  cv::morphologyEx(rest, rest, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+  cv::Mat piece_labels, piece_stats, piece_centroids;
+  const int pieces = cv::connectedComponentsWithStats(rest, piece_labels, piece_stats,
+                                                      piece_centroids, 8, CV_32S);
+  std::vector<cv::Vec3d> piece_lab(static_cast<std::size_t>(pieces), cv::Vec3d(0, 0, 0));
+  std::vector<int> piece_count(static_cast<std::size_t>(pieces), 0);
+  std::vector<int> origin(static_cast<std::size_t>(pieces), 0);  // the region it was part of
+  for (int r = 0; r < mask.rows; ++r)
+    for (int c = 0; c < mask.cols; ++c)
+      if (const int q = piece_labels.at<int>(r, c); q > 0) {
+        piece_lab[static_cast<std::size_t>(q)] += cv::Vec3d(se.lab.at<cv::Vec3f>(r, c));
+        ++piece_count[static_cast<std::size_t>(q)];
+        origin[static_cast<std::size_t>(q)] = labels.at<int>(r, c);
+      }
+  std::vector<char> trim(static_cast<std::size_t>(pieces), 0);
+  for (int q = 1; q < pieces; ++q) {
+    const auto i = static_cast<std::size_t>(q);
+    const cv::Rect r(piece_stats.at<int>(q, cv::CC_STAT_LEFT) - 2,
+                     piece_stats.at<int>(q, cv::CC_STAT_TOP) - 2,
+                     piece_stats.at<int>(q, cv::CC_STAT_WIDTH) + 4,
+                     piece_stats.at<int>(q, cv::CC_STAT_HEIGHT) + 4);
+    for (const cv::Rect& b : bands) trim[i] |= (r & b).area() > 0;
+    const auto o = static_cast<std::size_t>(origin[i]);
+    if (trim[i] || trim_count[o] == 0 || piece_count[i] == 0) continue;
+    // Of the trim's colour, the wall's, or a mix of the two (the filling blends them):
+    // within colour_delta_e of the segment joining them in Lab.
+    const cv::Point mid(piece_stats.at<int>(q, cv::CC_STAT_LEFT) +
+                            piece_stats.at<int>(q, cv::CC_STAT_WIDTH) / 2,
+                        piece_stats.at<int>(q, cv::CC_STAT_TOP) +
+                            piece_stats.at<int>(q, cv::CC_STAT_HEIGHT) / 2);
+    const cv::Vec3b w8 = se.wall_rgb.at<cv::Vec3b>(mid);
+    const cv::Vec3d x = piece_lab[i] / piece_count[i], t = trim_lab[o] / trim_count[o];
+    const cv::Vec3d w = LabOf(w8[0], w8[1], w8[2]);
+    const double len2 = (w - t).dot(w - t);
+    const double f = len2 > 0.0 ? std::clamp((x - t).dot(w - t) / len2, 0.0, 1.0) : 0.0;
+    trim[i] = cv::norm(x - (t + f * (w - t))) <= p.colour_delta_e;
+  }
+  for (int r = 0; r < mask.rows; ++r)
+    for (int c = 0; c < mask.cols; ++c)
+      if (rest.at<uchar>(r, c) && !trim[static_cast<std::size_t>(piece_labels.at<int>(r, c))])
+        mask.at<uchar>(r, c) = 255;
+}
+
 // Steps 2-3: the low-frequency wall surface (depth and colour medians of the surface layer per
 // background cell, bilinear), the depth high-pass and the colour distance.
 void Background(const ComponentParams& p, double pixel, SeImages& se) {
@@ -222,6 +334,41 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
         bc.at<cv::Vec3f>(i, j)[ch] = Median(cv3[ch]);
       }
     }
+  // A cell's median is the wall's only where the wall is most of the cell's surface layer: a
+  // flush sign beside a removed door or window can be most of what is left of its cell, and
+  // then the whole neighbourhood read the sign's colour as the wall's (the sign and the plain
+  // wall around it both lost their contrast). So each cell's colour is taken again from its
+  // pixels within colour_delta_e of the median of the known cells around it (3 x 3, per
+  // channel: a minority cell does not move it), when at least 8 are; else that median.
+  if (gr * gc > 1) {
+    cv::Mat rgb_f, lab;
+    se.rgb.convertTo(rgb_f, CV_32FC3, 1.0 / 255.0);
+    cv::cvtColor(rgb_f, lab, cv::COLOR_RGB2Lab);
+    cv::Mat refined = bc.clone();
+    for (int i = 0; i < gr; ++i)
+      for (int j = 0; j < gc; ++j) {
+        if (!known.at<uchar>(i, j)) continue;
+        std::array<std::vector<float>, 3> around;
+        for (int a = std::max(0, i - 1); a <= std::min(gr - 1, i + 1); ++a)
+          for (int b = std::max(0, j - 1); b <= std::min(gc - 1, j + 1); ++b)
+            if (known.at<uchar>(a, b))
+              for (int ch = 0; ch < 3; ++ch) around[ch].push_back(bc.at<cv::Vec3f>(a, b)[ch]);
+        cv::Vec3f ref;
+        for (int ch = 0; ch < 3; ++ch) ref[ch] = Median(around[ch]);
+        const cv::Vec3f ref_lab(LabOf(ref[0], ref[1], ref[2]));
+        std::array<std::vector<float>, 3> agree;
+        for (int r = i * cell; r < std::min(rows, (i + 1) * cell); ++r)
+          for (int k = j * cell; k < std::min(cols, (j + 1) * cell); ++k) {
+            if (!se.valid.at<uchar>(r, k) || std::abs(se.depth.at<float>(r, k)) > p.surface_band)
+              continue;
+            if (cv::norm(lab.at<cv::Vec3f>(r, k) - ref_lab) > p.colour_delta_e) continue;
+            for (int ch = 0; ch < 3; ++ch) agree[ch].push_back(se.rgb.at<cv::Vec3b>(r, k)[ch]);
+          }
+        for (int ch = 0; ch < 3; ++ch)
+          refined.at<cv::Vec3f>(i, j)[ch] = agree[ch].size() >= 8 ? Median(agree[ch]) : ref[ch];
+      }
+    bc = refined;
+  }
   float gd = 0.0f;
   cv::Vec3f gcol(200, 200, 200);
   if (!all_d.empty()) {
@@ -254,10 +401,12 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
 
 // Candidate boxes: connected components of `mask` (CV_8U), as [c0, r0, c1, r1) pixel boxes.
 std::vector<cv::Rect> Regions(const cv::Mat& mask, int grow) {
-  cv::Mat m = mask;
+  cv::Mat m;  // a new buffer when dilated: the caller's mask stays as it is
   if (grow > 0)
     cv::dilate(mask, m,
                cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
+  else
+    m = mask;
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(m, labels, stats, centroids, 8, CV_32S);
   std::vector<cv::Rect> out;
@@ -478,6 +627,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   cv::Mat mask = (hp > p.protrusion_min) & known;
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+  CutCasings(se, p, pixel, 0, mask);
   const std::vector<cv::Rect> regions = Regions(mask, 0);
   const int pad = static_cast<int>(std::ceil((1.2 + p.template_pad * 2 + p.search_margin) / pixel));
   cv::Mat padded;
@@ -576,6 +726,7 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
   const interfaces::ObjectModelCatalogue& cat = rec.Catalogue();
   cv::Mat mask = (se.delta_e > p.colour_delta_e) & se.valid;
   const int grow = static_cast<int>(std::lround(p.colour_merge / pixel));
+  CutCasings(se, p, pixel, grow, mask);
   const std::vector<cv::Rect> blobs = Regions(mask, grow);
   const int pad = static_cast<int>(std::ceil((1.2 + p.template_pad * 2 + p.search_margin) / pixel));
   cv::Mat lab_padded, rgb_padded;
@@ -584,7 +735,7 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
   const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
   std::vector<PathDetection> out;
   for (const cv::Rect& r : blobs) {
-    if (r.area() * pixel * pixel < 0.25 * p.min_region_area || TouchesOpening(se, r)) continue;
+    if (TouchesOpening(se, r)) continue;  // a blob of any size: where to search, not the object
     const cv::Point mid(r.x + r.width / 2, r.y + r.height / 2);
     const cv::Vec3b wall = se.wall_rgb.at<cv::Vec3b>(mid);
     const double sigma = p.template_blur_share * se.blur.at<float>(mid);

@@ -10,11 +10,13 @@
 //     the ceiling or a meeting wall: not this SE's protrusions), holes between samples filled by
 //     normalised convolution (Gaussian sigma from the local sample spacing, which varies
 //     several-fold over one SE; shadows and unseen areas stay unknown, fill_min_weight), the pixels
-//     inside the SE's SM4 openings (grown by `opening_margin`) removed; candidate regions of steps
-//     2-3 touching a removed opening are its casing, not components. It splits into the depth image
-//     J^_D (protrusion, m; per pixel its front-most point's: where an oblique scan saw the wall
-//     behind an object standing off it, a mean mixed the two) and the colour image J^_C (CIE
-//     Lab).
+//     inside the SE's SM4 openings (grown by `opening_margin`) removed; of a candidate region of
+//     steps 2-3 touching a removed opening, the part within `casing_cut` of it (and what that cut
+//     leaves as slivers or pieces near it) is the opening's casing, the rest a candidate of its
+//     own (a sign beside a door, joined to its casing by the scan's blur). It splits into the
+//     depth image J^_D (protrusion, m; per pixel its front-most point's: where an oblique scan
+//     saw the wall behind an object standing off it, a mean mixed the two) and the colour image
+//     J^_C (CIE Lab).
 //  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
 //     surface (the median depth of the surface layer, |depth| < surface_band, in cells of
 //     `background_cell`, bilinearly interpolated); unknown pixels in gaps narrower than
@@ -29,12 +31,15 @@
 //     dropped when the perceptron reads its box as a component of none of the classes of its
 //     size (colour_score_min of the box's best class): its colour contradicts it.
 //  3. Colour path: pixels whose Lab distance to the local wall colour (same background
-//     estimate as 2, from the colour of the surface layer) exceeds `colour_delta_e`, merged by
-//     a dilation of `colour_merge`, are candidate boxes; a class whose size can hold a box is
-//     located by NCC of its colour model (padded with the local wall colour; a flush class
-//     also by its model alone, the inner pattern, when that matches better and reaches
-//     inner_ncc_min: its outline may not show in the scan) and verified by
-//     the perceptron (ComponentRecogniser) on the box of the class size there: a colour
+//     estimate as 2, from the colour of the surface layer, each cell taken again from its pixels
+//     within colour_delta_e of the median of the cells around it: a flush sign can be most of
+//     its cell) exceeds `colour_delta_e`, merged by a dilation of `colour_merge`, are candidate
+//     boxes, of any size (a box is where a class's model is searched, not the object: of a
+//     built-in socket on a light wall only a pixel or two may differ); a class whose size can
+//     hold a box is located by NCC of its colour model (padded with the local wall colour; a
+//     flush class also by its model alone, the inner pattern, when that matches better and
+//     reaches inner_ncc_min: its outline may not show in the scan) and verified by the
+//     perceptron (ComponentRecogniser) on the box of the class size there: a colour
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
 //     beats its "none" score, a class of the same size scores at least colour_score_min of that
 //     best (the pattern holds colour statistics and size, not the pictogram), and the
@@ -99,13 +104,17 @@ struct ComponentParams {
   /// share of pixels holding points (the weight of a uniform sampling there), [0.001, 1]
   double fill_min_weight = 0.3;
   double opening_margin = 0.05;   ///< m, SM4 openings grown by this before removal, [0, 0.5]
+  /// m, a candidate region touching a removed opening loses its pixels within this of the
+  /// removal (the opening's casing or trim, beyond opening_margin); the rest is a candidate of
+  /// its own. 0 = such a region is dropped whole, [0, 0.5]
+  double casing_cut = 0.05;
   double surface_band = 0.015;    ///< m, |depth| of the SE surface layer, [0.001, 0.1]
   double background_cell = 0.4;   ///< m, cell of the low-frequency background, [0.05, 5]
   double protrusion_min = 0.006;  ///< m, high-pass depth of a protruding pixel, [0.001, 0.2]
   /// m, unknown pixels in gaps narrower than this between protruding ones are part of the
   /// protrusion (its own shadow: radiator fins, an extinguisher's side); 0 = off, [0, 0.2]
   double gap_close = 0.03;
-  double min_region_area = 4e-4;  ///< m^2, smallest candidate region or box, [0, 1]
+  double min_region_area = 4e-4;  ///< m^2, smallest candidate region of the depth path, [0, 1]
   /// Relative tolerance between a candidate's extent and a class's size, [0, 2]
   double size_tolerance = 0.3;
   double size_slack = 0.02;     ///< m, absolute slack added to the size test, [0, 0.5]
@@ -152,6 +161,7 @@ struct ComponentParams {
     v("density_window", density_window, Bounds{0.005, 0.5});
     v("fill_min_weight", fill_min_weight, Bounds{0.001, 1.0});
     v("opening_margin", opening_margin, Bounds{0.0, 0.5});
+    v("casing_cut", casing_cut, Bounds{0.0, 0.5});
     v("surface_band", surface_band, Bounds{0.001, 0.1});
     v("background_cell", background_cell, Bounds{0.05, 5.0});
     v("protrusion_min", protrusion_min, Bounds{0.001, 0.2});

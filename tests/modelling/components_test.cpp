@@ -695,6 +695,57 @@ TEST(Components, ACasingLeftBeyondTheOpeningsMarginIsNoComponent) {
   EXPECT_LT(std::abs(m.components[0].u - 1.45), 0.01);
 }
 
+// A location sign 4 cm beside a door's casing (8 cm wide, 2 cm proud, dark): the scan's blur
+// joins the sign's colour region to the casing's, which touches the removed opening. The
+// casing is cut off that region, not the sign with it (casing_cut, here 2 cm for a sign this
+// close: the cut and the trim's pieces reach `casing_cut` and its width again beyond the
+// removal); without the cut, the sign is lost with the casing.
+TEST(Components, ASignJoinedToADoorCasingByTheBlurIsCutFromIt) {
+  using interfaces::Mounting;
+  TestWall w = MakeWall();
+  const auto casing = [](double cw, double ch) {
+    return Draw("casing", Mounting::kWall, cw, ch, 0.02,
+                [](double, double, Rgb& c, float& d) { c = {95, 95, 100}, d = 0.02f; });
+  };
+  w.placed.push_back({casing(0.08, 2.18), 2.0 - 0.04, 1.09});  // left jamb's casing
+  w.placed.push_back({casing(0.08, 2.18), 2.9 + 0.04, 1.09});  // right
+  w.placed.push_back({casing(1.06, 0.08), 2.45, 2.1 + 0.04});  // head
+  const double sign_u = 2.0 - 0.08 - 0.04 - 0.1;
+  w.placed.push_back({ModelOf("fire_sign"), sign_u, 1.9});
+  Sm4Model sm4;
+  DetectedOpening door;
+  door.host = "wall_1";
+  door.u0 = 2.0, door.u1 = 2.9, door.v0 = 0.0, door.v1 = 2.1;
+  sm4.openings.push_back(door);
+  const std::vector<Vec3> at = {Vec3(1.2, 1.2, 2.5), Vec3(3.4, 1.3, 2.8)};
+  ComponentParams p;
+  p.casing_cut = 0.02;
+  const Sm5Model m = DetectFrom(w, at, p, nullptr, sm4);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "fire_sign");
+  EXPECT_LT(std::abs(m.components[0].u - sign_u), 0.01);
+  EXPECT_LT(std::abs(m.components[0].v - 1.9), 0.01);
+  p.casing_cut = 0.0;
+  EXPECT_TRUE(DetectFrom(w, at, p, nullptr, sm4).components.empty());
+}
+
+// The local wall colour is a median per background cell; where a flush sign is most of what
+// its cell holds of the wall's surface (beside a removed door and a protruding casing, or as
+// here with cells the sign's size), that median is the sign's colour, and the sign and the wall
+// around it lose their contrast. Each cell is taken again from its pixels that agree with the
+// cells around it.
+TEST(Components, ASignFillingItsBackgroundCellIsStillSeenAgainstTheWall) {
+  TestWall w = MakeWall();
+  ComponentParams p;
+  p.background_cell = 0.2;  // cells from the image's top left: [1.0, 1.2] x [1.9, 2.1] is one
+  w.placed.push_back({ModelOf("fire_sign"), 1.1, 2.0});
+  const Sm5Model m = Detect(w, p);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "fire_sign");
+  EXPECT_LT(std::abs(m.components[0].u - 1.1), 0.01);
+  EXPECT_LT(std::abs(m.components[0].v - 2.0), 0.01);
+}
+
 // Where the wall meets the floor and a side wall, their surfaces run through the wall's 20 cm
 // band; their points are not the wall's (they read as a protruding strip along its edges).
 TEST(Components, TheFloorAndAMeetingWallAreNotPartOfAWallsImage) {
