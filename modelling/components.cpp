@@ -340,10 +340,10 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
   // wall around it both lost their contrast). So each cell's colour is taken again from its
   // pixels within colour_delta_e of the median of the known cells around it (3 x 3, per
   // channel: a minority cell does not move it), when at least 8 are; else that median.
+  cv::Mat rgb_f;
+  se.rgb.convertTo(rgb_f, CV_32FC3, 1.0 / 255.0);
+  cv::cvtColor(rgb_f, se.lab, cv::COLOR_RGB2Lab);  // unknown pixels: the wall's, below
   if (gr * gc > 1) {
-    cv::Mat rgb_f, lab;
-    se.rgb.convertTo(rgb_f, CV_32FC3, 1.0 / 255.0);
-    cv::cvtColor(rgb_f, lab, cv::COLOR_RGB2Lab);
     cv::Mat refined = bc.clone();
     for (int i = 0; i < gr; ++i)
       for (int j = 0; j < gc; ++j) {
@@ -361,7 +361,7 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
           for (int k = j * cell; k < std::min(cols, (j + 1) * cell); ++k) {
             if (!se.valid.at<uchar>(r, k) || std::abs(se.depth.at<float>(r, k)) > p.surface_band)
               continue;
-            if (cv::norm(lab.at<cv::Vec3f>(r, k) - ref_lab) > p.colour_delta_e) continue;
+            if (cv::norm(se.lab.at<cv::Vec3f>(r, k) - ref_lab) > p.colour_delta_e) continue;
             for (int ch = 0; ch < 3; ++ch) agree[ch].push_back(se.rgb.at<cv::Vec3b>(r, k)[ch]);
           }
         for (int ch = 0; ch < 3; ++ch)
@@ -383,11 +383,10 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
   cv::resize(bc, bc_full, cv::Size(cols, rows), 0, 0, cv::INTER_LINEAR);
   bc_full.convertTo(se.wall_rgb, CV_8UC3);
   se.wall_rgb.copyTo(se.rgb, ~se.valid);  // unknown pixels read as the wall (no contrast)
-  cv::Mat rgb_f, wall_f, wall_lab;
-  se.rgb.convertTo(rgb_f, CV_32FC3, 1.0 / 255.0);
-  cv::cvtColor(rgb_f, se.lab, cv::COLOR_RGB2Lab);
+  cv::Mat wall_f, wall_lab;
   se.wall_rgb.convertTo(wall_f, CV_32FC3, 1.0 / 255.0);
   cv::cvtColor(wall_f, wall_lab, cv::COLOR_RGB2Lab);
+  wall_lab.copyTo(se.lab, ~se.valid);
   se.highpass = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   se.delta_e = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   for (int r = 0; r < rows; ++r)
