@@ -199,6 +199,28 @@ cv::Vec3d LabOf(double r, double g, double b) {
   return cv::Vec3d(px.at<cv::Vec3f>(0, 0));
 }
 
+// The regions of `mask` (CV_8U) joined by a dilation of `grow` pixels: region i's box (the
+// dilation taken off again; empty when the region was thinner than it) at i - 1, and, when
+// `labels` is given, the joined mask's label image (0 = none, region i = i).
+std::vector<cv::Rect> JoinedRegions(const cv::Mat& mask, int grow, cv::Mat* labels) {
+  cv::Mat m;  // a new buffer when dilated: the caller's mask stays as it is
+  if (grow > 0)
+    cv::dilate(mask, m,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
+  else
+    m = mask;
+  cv::Mat own_labels, stats, centroids;
+  cv::Mat& l = labels ? *labels : own_labels;
+  const int n = cv::connectedComponentsWithStats(m, l, stats, centroids, 8, CV_32S);
+  std::vector<cv::Rect> out;
+  for (int i = 1; i < n; ++i)
+    out.emplace_back(stats.at<int>(i, cv::CC_STAT_LEFT) + grow,
+                     stats.at<int>(i, cv::CC_STAT_TOP) + grow,
+                     stats.at<int>(i, cv::CC_STAT_WIDTH) - 2 * grow,
+                     stats.at<int>(i, cv::CC_STAT_HEIGHT) - 2 * grow);
+  return out;
+}
+
 // The casing is cut off, not the region with it: in a candidate mask (connected after a
 // dilation of `grow` pixels, as Regions joins it), a region touching a removed opening loses
 // its pixels within casing_cut of that opening, and what stays apart from it (a sign or a
@@ -208,23 +230,13 @@ void CutCasings(const SeImages& se, const ComponentParams& p, double pixel, int 
                 cv::Mat& mask) {
   const int cut = static_cast<int>(std::lround(p.casing_cut / pixel));
   if (se.openings.empty() || cut <= 0) return;
-  cv::Mat joined;  // a new buffer: the mask itself stays as it is
-  if (grow > 0)
-    cv::dilate(mask, joined,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
-  else
-    joined = mask.clone();
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(joined, labels, stats, centroids, 8, CV_32S);
+  cv::Mat labels;
+  const std::vector<cv::Rect> boxes = JoinedRegions(mask, grow, &labels);
+  const int n = static_cast<int>(boxes.size()) + 1;
   std::vector<char> touches(static_cast<std::size_t>(n), 0);
   bool any = false;
   for (int i = 1; i < n; ++i) {
-    // the region's box as Regions gives it (the dilation taken off again)
-    const bool t = TouchesOpening(
-        se, cv::Rect(stats.at<int>(i, cv::CC_STAT_LEFT) + grow,
-                     stats.at<int>(i, cv::CC_STAT_TOP) + grow,
-                     stats.at<int>(i, cv::CC_STAT_WIDTH) - 2 * grow,
-                     stats.at<int>(i, cv::CC_STAT_HEIGHT) - 2 * grow));
+    const bool t = TouchesOpening(se, boxes[static_cast<std::size_t>(i - 1)]);
     touches[static_cast<std::size_t>(i)] = t;
     any = any || t;
   }
@@ -400,21 +412,10 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
 
 // Candidate boxes: connected components of `mask` (CV_8U), as [c0, r0, c1, r1) pixel boxes.
 std::vector<cv::Rect> Regions(const cv::Mat& mask, int grow) {
-  cv::Mat m;  // a new buffer when dilated: the caller's mask stays as it is
-  if (grow > 0)
-    cv::dilate(mask, m,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
-  else
-    m = mask;
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(m, labels, stats, centroids, 8, CV_32S);
-  std::vector<cv::Rect> out;
-  for (int i = 1; i < n; ++i) {
-    cv::Rect r(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
-               stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
-    r.x += grow, r.y += grow, r.width -= 2 * grow, r.height -= 2 * grow;
-    if (r.width > 0 && r.height > 0) out.push_back(r);
-  }
+  std::vector<cv::Rect> out = JoinedRegions(mask, grow, nullptr);
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [](const cv::Rect& r) { return r.width <= 0 || r.height <= 0; }),
+            out.end());
   return out;
 }
 
