@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
@@ -436,31 +437,25 @@ bool SizeFits(const cv::Rect& r, double pixel, const interfaces::ObjectModel& m,
   return fits(w, m.width) && fits(h, m.height);
 }
 
-// NCC of `templ` over the window around `r` in `image` (both padded by `pad` pixels of
-// `image_padded`): best score and the template's centre in unpadded pixel coordinates.
+// A template match: its score and the template's centre in unpadded pixel coordinates.
 struct Peak {
   double score = -2.0;
   double col = 0.0, row = 0.0;
 };
-Peak MatchAround(const cv::Mat& image_padded, int pad, const cv::Mat& templ, const cv::Rect& r,
-                 int margin) {
-  const int wx = std::max(0, (templ.cols - r.width) / 2) + margin;
-  const int wy = std::max(0, (templ.rows - r.height) / 2) + margin;
-  cv::Rect win(r.x + pad - wx, r.y + pad - wy, r.width + 2 * wx, r.height + 2 * wy);
-  win &= cv::Rect(0, 0, image_padded.cols, image_padded.rows);
+// The best entry of a matchTemplate result over the window `win` (padded coordinates), with
+// its sub-pixel position (a parabola through the maximum and its two neighbours, per axis,
+// where they are scored) as the template's centre in unpadded pixel coordinates.
+Peak PeakOf(const cv::Mat& res, const cv::Rect& win, const cv::Mat& templ, int pad) {
   Peak peak;
-  if (win.width < templ.cols || win.height < templ.rows) return peak;
-  cv::Mat res;
-  cv::matchTemplate(image_padded(win), templ, res, cv::TM_CCOEFF_NORMED);
   double best = 0.0;
   cv::Point at;
   cv::minMaxLoc(res, nullptr, &best, nullptr, &at);
-  if (!std::isfinite(best)) return peak;
+  if (!std::isfinite(best) || best < -1.5) return peak;
   peak.score = best;
-  // Sub-pixel peak: a parabola through the maximum and its two neighbours, per axis.
   auto vertex = [](float l, float c, float r) {
     const double den = l - 2.0 * c + r;
-    return den < -1e-9 ? std::clamp(0.5 * (l - r) / den, -0.5, 0.5) : 0.0;
+    return l > -1.5f && r > -1.5f && den < -1e-9 ? std::clamp(0.5 * (l - r) / den, -0.5, 0.5)
+                                                  : 0.0;
   };
   double dx = 0.0, dy = 0.0;
   if (at.x > 0 && at.x + 1 < res.cols)
@@ -472,6 +467,64 @@ Peak MatchAround(const cv::Mat& image_padded, int pad, const cv::Mat& templ, con
   peak.col = win.x + at.x + dx + 0.5 * templ.cols - pad;
   peak.row = win.y + at.y + dy + 0.5 * templ.rows - pad;
   return peak;
+}
+
+// NCC of `templ` over the window around `r` in `image` (both padded by `pad` pixels of
+// `image_padded`): best score and the template's centre in unpadded pixel coordinates.
+Peak MatchAround(const cv::Mat& image_padded, int pad, const cv::Mat& templ, const cv::Rect& r,
+                 int margin) {
+  const int wx = std::max(0, (templ.cols - r.width) / 2) + margin;
+  const int wy = std::max(0, (templ.rows - r.height) / 2) + margin;
+  cv::Rect win(r.x + pad - wx, r.y + pad - wy, r.width + 2 * wx, r.height + 2 * wy);
+  win &= cv::Rect(0, 0, image_padded.cols, image_padded.rows);
+  Peak peak;
+  if (win.width < templ.cols || win.height < templ.rows) return peak;
+  cv::Mat res;
+  cv::matchTemplate(image_padded(win), templ, res, cv::TM_CCOEFF_NORMED);
+  return PeakOf(res, win, templ, pad);
+}
+
+// NCC of `templ` over the KNOWN pixels only (`known_padded` nonzero), with the template centred
+// at every place in `centres` (unpadded pixels: the template's centre pixel ranges over it);
+// places where less than `min_known` of the template is known score -2. From six plain
+// correlations: with M the mask, I the image and T the template, the sums over the known
+// pixels n = M*1, sI = MI*1, sII = MI^2*1, sT = M*T, sTT = M*T^2, sIT = MI*T give
+// (sIT - sI sT / n) / sqrt((sII - sI^2 / n)(sTT - sT^2 / n)).
+Peak MaskedMatch(const cv::Mat& image_padded, const cv::Mat& known_padded, int pad,
+                 const cv::Mat& templ, const cv::Rect& centres, double min_known) {
+  cv::Rect win(centres.x + pad - templ.cols / 2, centres.y + pad - templ.rows / 2,
+               centres.width + templ.cols - 1, centres.height + templ.rows - 1);
+  win &= cv::Rect(0, 0, image_padded.cols, image_padded.rows);
+  if (win.width < templ.cols || win.height < templ.rows) return Peak{};
+  // Centimetres: the sums of squares keep their precision in float.
+  cv::Mat m, mi, mii, t, tt;
+  known_padded(win).convertTo(m, CV_32F, 1.0 / 255.0);
+  image_padded(win).convertTo(mi, CV_32F, 100.0);
+  mi = mi.mul(m);
+  mii = mi.mul(mi);
+  templ.convertTo(t, CV_32F, 100.0);
+  tt = t.mul(t);
+  const cv::Mat ones = cv::Mat::ones(templ.size(), CV_32F);
+  cv::Mat n, si, sii, st, stt, sit;
+  cv::matchTemplate(m, ones, n, cv::TM_CCORR);
+  cv::matchTemplate(mi, ones, si, cv::TM_CCORR);
+  cv::matchTemplate(mii, ones, sii, cv::TM_CCORR);
+  cv::matchTemplate(m, t, st, cv::TM_CCORR);
+  cv::matchTemplate(m, tt, stt, cv::TM_CCORR);
+  cv::matchTemplate(mi, t, sit, cv::TM_CCORR);
+  cv::Mat res(n.size(), CV_32F, cv::Scalar(-2.0f));
+  const double need = std::max(1.0, min_known * templ.total());
+  for (int r = 0; r < res.rows; ++r)
+    for (int c = 0; c < res.cols; ++c) {
+      const double k = std::round(n.at<float>(r, c));
+      if (k < need) continue;
+      const double vi = sii.at<float>(r, c) - si.at<float>(r, c) * si.at<float>(r, c) / k;
+      const double vt = stt.at<float>(r, c) - st.at<float>(r, c) * st.at<float>(r, c) / k;
+      if (vi <= 1e-6 * k || vt <= 1e-6 * k) continue;
+      const double cov = sit.at<float>(r, c) - si.at<float>(r, c) * st.at<float>(r, c) / k;
+      res.at<float>(r, c) = static_cast<float>(std::clamp(cov / std::sqrt(vi * vt), -1.0, 1.0));
+    }
+  return PeakOf(res, win, templ, pad);
 }
 
 PathDetection BoxAt(int k, const interfaces::ObjectModel& m, double pixel, const Peak& pk) {
@@ -605,6 +658,75 @@ int SupportingSamples(const SeImages& se, const PathDetection& d, const interfac
   return ring > 0 && proud < 0.2 * ring && coloured >= 0.5 * known ? samples : 0;
 }
 
+// Two classes of one outline family, the second a longer version of the first (a four-gang
+// socket of a single one): the same depth (within 25 %) and one side (within 10 %), the other
+// side at least 1.3 times as long.
+bool Extends(const interfaces::ObjectModel& longer, const interfaces::ObjectModel& m) {
+  auto same = [](double a, double b, double tol) { return std::abs(a - b) <= tol * b; };
+  return longer.mounting == m.mounting && same(longer.depth, m.depth, 0.25) &&
+         ((same(longer.height, m.height, 0.1) && longer.width >= 1.3 * m.width) ||
+          (same(longer.width, m.width, 0.1) && longer.height >= 1.3 * m.height));
+}
+
+// A depth detection cut short by a hidden part (furniture before the wall): where the measured
+// protrusion goes on past the detection's box (beyond the filling's blur) and a longer class
+// of its family, placed over the box, matches the KNOWN pixels (MaskedMatch, at least
+// extend_known_min of its template known) at least as well as the detection's own class does
+// there, the detection becomes the longer class (the best such). The unknown part neither
+// refutes nor supports the longer class; the protrusion past the box refutes the shorter one.
+// A single socket in its own shadow has no protrusion past its box and stays as it is. The
+// evidence (score) stays at most the detection's own: a match that ignores the unknown part
+// must not outrank, across classes, one that had to explain it.
+void ExtendTruncated(const SeImages& se, const cv::Mat& hp_padded, const cv::Mat& known_padded,
+                     int pad, double pixel, const interfaces::ObjectModelCatalogue& cat,
+                     const ComponentParams& p, const std::function<const cv::Mat&(int)>& templ,
+                     PathDetection& d) {
+  const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(d.class_index)];
+  std::vector<int> longer;
+  for (int k = 0; k < static_cast<int>(cat.models.size()); ++k)
+    if (Extends(cat.models[static_cast<std::size_t>(k)], m)) longer.push_back(k);
+  const cv::Rect own = BoxRect(se, d);
+  if (longer.empty() || own.area() <= 0) return;
+  const cv::Point mid(own.x + own.width / 2, own.y + own.height / 2);
+  const Peak self = MaskedMatch(hp_padded, known_padded, pad, templ(d.class_index),
+                                cv::Rect(mid.x, mid.y, 1, 1), p.extend_known_min);
+  // Past the box: outside it grown by the filling's blur there (an edge's spread) + 1 pixel.
+  const int blur = static_cast<int>(std::ceil(se.blur.at<float>(mid.y, mid.x))) + 1;
+  const cv::Rect near(own.x - blur, own.y - blur, own.width + 2 * blur, own.height + 2 * blur);
+  const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
+  PathDetection best = d;
+  double best_ncc = self.score;
+  for (const int k : longer) {
+    const interfaces::ObjectModel& l = cat.models[static_cast<std::size_t>(k)];
+    // Centres of the longer box that keep the detection's box inside it (and the margin).
+    const int ex = static_cast<int>(std::ceil(0.5 * (l.width - m.width) / pixel)) + margin;
+    const int ey = static_cast<int>(std::ceil(0.5 * (l.height - m.height) / pixel)) + margin;
+    const Peak pk = MaskedMatch(hp_padded, known_padded, pad, templ(k),
+                                cv::Rect(mid.x - ex, mid.y - ey, 2 * ex + 1, 2 * ey + 1),
+                                p.extend_known_min);
+    if (pk.score < std::max(p.depth_ncc_min, best_ncc)) continue;
+    const PathDetection e = BoxAt(k, l, pixel, pk);
+    if (OverlapOfSmaller(d, e) <= p.max_class_overlap) continue;  // not the same object
+    const cv::Rect box = BoxRect(se, e);
+    int past = 0;
+    for (int r = box.y; r < box.y + box.height; ++r)
+      for (int c = box.x; c < box.x + box.width; ++c)
+        past += !near.contains({c, r}) && se.measured.at<uchar>(r, c) &&
+                se.highpass.at<float>(r, c) > p.protrusion_min;
+    if (past < p.extend_samples) continue;
+    best = e, best_ncc = pk.score;
+  }
+  if (best.class_index == d.class_index) return;
+  const interfaces::ObjectModel& l = cat.models[static_cast<std::size_t>(best.class_index)];
+  best.ncc = best_ncc;
+  const double top = BoxProtrusion(se, best);
+  const double agree =
+      std::isfinite(top) && top > 0.0 ? std::min(top, l.depth) / std::max(top, l.depth) : 0.5;
+  best.score = std::min(d.score, best_ncc * agree);
+  best.samples = ProtrudingSamples(se, best, p);
+  d = best;
+}
+
 // Step 2 on one SE.
 std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceiling,
                                      const interfaces::ObjectModelCatalogue& cat,
@@ -633,6 +755,16 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   cv::Mat padded;
   cv::copyMakeBorder(hp, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
   std::map<int, cv::Mat> templates;
+  auto templ = [&](int k) -> const cv::Mat& {
+    auto it = templates.find(k);
+    if (it == templates.end())
+      it = templates
+               .emplace(k, MaybeFlip(ModelDepthOnWall(cat.models[static_cast<std::size_t>(k)],
+                                                      p.template_pad, pixel),
+                                     ceiling))
+               .first;
+    return it->second;
+  };
   std::vector<PathDetection> out;
   const int margin = static_cast<int>(std::ceil(p.search_margin / pixel));
   for (const cv::Rect& r : regions) {
@@ -646,11 +778,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
       const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(k)];
       if (!MountsOn(m, ceiling) || m.depth < 1.5 * p.protrusion_min) continue;
       if (!SizeFits(r, pixel, m, p, 1.0 - p.size_tolerance, spread)) continue;
-      auto it = templates.find(k);
-      if (it == templates.end())
-        it = templates.emplace(k, MaybeFlip(ModelDepthOnWall(m, p.template_pad, pixel), ceiling))
-                 .first;
-      const Peak pk = MatchAround(padded, pad, it->second, r, margin);
+      const Peak pk = MatchAround(padded, pad, templ(k), r, margin);
       if (pk.score < p.depth_ncc_min) continue;
       PathDetection d = BoxAt(k, m, pixel, pk);
       d.ncc = pk.score;
@@ -663,6 +791,13 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
       d.samples = ProtrudingSamples(se, d, p);
       out.push_back(d);
     }
+  }
+  if (p.extend_known_min > 0.0) {
+    cv::Mat known_padded;
+    cv::copyMakeBorder(known, known_padded, pad, pad, pad, pad, cv::BORDER_CONSTANT,
+                       cv::Scalar(0));
+    for (PathDetection& d : out)
+      ExtendTruncated(se, padded, known_padded, pad, pixel, cat, p, templ, d);
   }
   Dedupe(out);
   return out;
