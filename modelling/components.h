@@ -31,7 +31,10 @@
 //     measured protrusion goes on past its box (extend_samples) becomes a longer class of its
 //     family (same depth and height, wider; or taller) when that class, placed over it, matches
 //     the known pixels at least as well as its own (NCC over the known pixels only, at least
-//     extend_known_min of the template known): furniture hid the rest. A depth detection is
+//     masked_known_min of the template known): furniture hid the rest. Each depth detection
+//     of a class less deep than wide and tall (its depth model a front face) is then placed at
+//     the peak of that known-pixel NCC within search_margin of its own: read as wall, a shadow
+//     or a hidden part pulls the plain NCC's peak away from it. A depth detection is
 //     dropped when the perceptron reads its box as a component of none of the classes of its
 //     size (colour_score_min of the box's best class): its colour contradicts it.
 //  3. Colour path: pixels whose Lab distance to the local wall colour (same background
@@ -153,10 +156,11 @@ struct ComponentParams {
   double single_colour_score = 0.3;  ///< least score of a colour-only instance, [0, 1]
   double single_colour_ncc = 0.6;    ///< least colour NCC of a colour-only instance, [-1, 1]
   double max_class_overlap = 0.3;    ///< overlap (of the smaller box) across classes, [0, 1]
-  /// A depth detection whose measured protrusion goes on past its box becomes a longer class
-  /// of its family (a four-gang socket half hidden by a desk, seen as a two-gang one) matched
-  /// over the known pixels, at least this share of its template known; 0 = off, [0, 1]
-  double extend_known_min = 0.3;
+  /// Least share of a template known for its NCC over the known pixels only, which places
+  /// every depth detection (within search_margin of the plain NCC's peak) and makes one whose
+  /// measured protrusion goes on past its box a longer class of its family (a four-gang socket
+  /// half hidden by a desk, seen as a two-gang one); 0 = neither, [0, 1]
+  double masked_known_min = 0.3;
   /// Least measured samples protruding past the box (beyond the filling's blur) for that, [1, 1e4]
   int extend_samples = 3;
   int max_image_pixels = 8'000'000;  ///< SEs with larger images are skipped, [1, 1e9]
@@ -196,7 +200,7 @@ struct ComponentParams {
     v("single_colour_score", single_colour_score, Bounds{0.0, 1.0});
     v("single_colour_ncc", single_colour_ncc, Bounds{-1.0, 1.0});
     v("max_class_overlap", max_class_overlap, Bounds{0.0, 1.0});
-    v("extend_known_min", extend_known_min, Bounds{0.0, 1.0});
+    v("masked_known_min", masked_known_min, Bounds{0.0, 1.0});
     v("extend_samples", extend_samples, Bounds{1, 10000});
     v("max_image_pixels", max_image_pixels, Bounds{1, 1e9});
   }
