@@ -596,15 +596,19 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile
   return *q;
 }
 
-// Measured samples (pixels holding points, not filled) in the box protruding more than
-// protrusion_min.
-int ProtrudingSamples(const SeImages& se, const PathDetection& d, const ComponentParams& p) {
-  const cv::Rect box = BoxRect(se, d);
+// Measured samples (pixels holding points, not filled) in `box` (within the image)
+// protruding more than protrusion_min.
+int ProtrudingSamplesIn(const SeImages& se, const cv::Rect& box, const ComponentParams& p) {
   int n = 0;
   for (int r = box.y; r < box.y + box.height; ++r)
     for (int c = box.x; c < box.x + box.width; ++c)
       n += se.measured.at<uchar>(r, c) && se.highpass.at<float>(r, c) > p.protrusion_min;
   return n;
+}
+
+// The same in a detection's box.
+int ProtrudingSamples(const SeImages& se, const PathDetection& d, const ComponentParams& p) {
+  return ProtrudingSamplesIn(se, BoxRect(se, d), p);
 }
 
 // The measured protrusion inside a box agrees with the class (ComponentParams::
@@ -708,11 +712,7 @@ void ExtendTruncated(const SeImages& se, const cv::Mat& hp_padded, const cv::Mat
     const PathDetection e = BoxAt(k, l, pixel, pk);
     if (OverlapOfSmaller(d, e) <= p.max_class_overlap) continue;  // not the same object
     const cv::Rect box = BoxRect(se, e);
-    int past = 0;
-    for (int r = box.y; r < box.y + box.height; ++r)
-      for (int c = box.x; c < box.x + box.width; ++c)
-        past += !near.contains({c, r}) && se.measured.at<uchar>(r, c) &&
-                se.highpass.at<float>(r, c) > p.protrusion_min;
+    const int past = ProtrudingSamplesIn(se, box, p) - ProtrudingSamplesIn(se, box & near, p);
     if (past < p.extend_samples) continue;
     best = e, best_ncc = pk.score;
   }
@@ -821,7 +821,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
       out.push_back(d);
     }
   }
-  if (p.masked_known_min > 0.0) {
+  if (p.masked_known_min > 0.0 && !out.empty()) {
     cv::Mat known_padded;
     cv::copyMakeBorder(known, known_padded, pad, pad, pad, pad, cv::BORDER_CONSTANT,
                        cv::Scalar(0));
