@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/srgb.h"
 
 namespace mopad::modelling {
 namespace {
@@ -150,9 +151,20 @@ cv::Mat ModelMissMask(const interfaces::ObjectModel& m) {
   return mask;
 }
 
+cv::Mat Relit(const cv::Mat& rgb, double light) {
+  if (light == 1.0) return rgb.clone();
+  cv::Mat lut(1, 256, CV_8U);
+  for (int v = 0; v < 256; ++v)
+    lut.at<uchar>(v) =
+        cv::saturate_cast<uchar>(255.0 * LinearToSrgb(light * SrgbToLinear(v / 255.0)));
+  cv::Mat out;
+  cv::LUT(rgb, lut, out);
+  return out;
+}
+
 cv::Mat ModelColourOnWall(const interfaces::ObjectModel& m, const cv::Vec3b& wall_rgb, double pad,
-                          double pixel) {
-  cv::Mat c = ModelColour(m);
+                          double pixel, double light) {
+  cv::Mat c = Relit(ModelColour(m), light);
   c.setTo(wall_rgb, ModelMissMask(m));
   const int p = static_cast<int>(std::lround(pad / m.pixel_size));
   cv::Mat canvas;

@@ -33,11 +33,17 @@ cv::Mat ModelColour(const interfaces::ObjectModel& m);
 cv::Mat ModelDepth(const interfaces::ObjectModel& m);
 cv::Mat ModelMissMask(const interfaces::ObjectModel& m);
 
+/// `rgb` (CV_8UC3) as lit by `light` times the light it was taken in: each channel's linear
+/// value scaled, clipped at white.
+cv::Mat Relit(const cv::Mat& rgb, double light);
+
 /// A model's colour image on a wall of colour `wall_rgb` (missed pixels and a `pad` metres
 /// margin), resampled to `pixel` metres (INTER_AREA): CV_8UC3 RGB. The model occupies the
-/// centre; its box in the result starts at pad / pixel.
+/// centre; its box in the result starts at pad / pixel. `light` relights the model's own
+/// pixels (Relit), not the wall's: the catalogue's colours are as photographed, the wall's as
+/// the scan measured it.
 cv::Mat ModelColourOnWall(const interfaces::ObjectModel& m, const cv::Vec3b& wall_rgb, double pad,
-                          double pixel);
+                          double pixel, double light = 1.0);
 /// The model's depth image with a `pad` metres margin of 0, resampled to `pixel`: CV_32F.
 cv::Mat ModelDepthOnWall(const interfaces::ObjectModel& m, double pad, double pixel);
 

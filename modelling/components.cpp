@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/srgb.h"
 #include "modelling/component_features.h"
 
 namespace mopad::modelling {
@@ -887,8 +888,61 @@ bool ColourContradicts(const SeImages& se, double pixel, bool ceiling, const Pat
   return sk < p.colour_score_min * best;
 }
 
+// The light the SE's colours were measured in, as a factor of the light of the catalogue's
+// colour images (linear RGB): the median ratio of measured to model colour over the measured
+// pixels of the front faces of the SE's confident depth detections (depth-only instance
+// floors: score and measured samples; FrontFaceModel classes), inside their boxes by the
+// filling's blur + 1 pixel and away from the model's own colour edges (its 3 x 3 neighbourhood
+// within 8 levels per channel), where the model is not dark (mean linear >= 0.1: a ratio of
+// small numbers).
+// 1 (the catalogue's colours as they are) with fewer than light_min_pixels. The composite
+// template puts a model beside the wall colour the scan measured: in the scanner's light (0.6
+// of full on the vertical faces of the default scenes) a white socket on a white wall shows
+// no outline, while the unlit model's plate stood out and its NCC sat on the socket's lit top
+// edge, 5 cm high.
+double SeLight(const SeImages& se, const std::vector<PathDetection>& depth, bool ceiling,
+               const interfaces::ObjectModelCatalogue& cat, const ComponentParams& p) {
+  if (p.light_min_pixels <= 0) return 1.0;
+  std::vector<float> ratios;
+  for (const PathDetection& d : depth) {
+    const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(d.class_index)];
+    if (d.score < p.single_depth_ncc || d.samples < p.min_depth_samples || !FrontFaceModel(m))
+      continue;
+    const int w = static_cast<int>(std::lround(d.col1 - d.col0));
+    const int h = static_cast<int>(std::lround(d.row1 - d.row0));
+    const int c0 = static_cast<int>(std::lround(d.col0)),
+              r0 = static_cast<int>(std::lround(d.row0));
+    if (w < 3 || h < 3) continue;
+    cv::Mat model;
+    cv::resize(MaybeFlip(ModelColour(m), ceiling), model, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    // Pixels whose 3 x 3 neighbourhood has their colour: no colour edge of the model.
+    cv::Mat lo, hi;
+    cv::erode(model, lo, cv::Mat());
+    cv::dilate(model, hi, cv::Mat());
+    const cv::Point mid(std::clamp(c0 + w / 2, 0, se.blur.cols - 1),
+                        std::clamp(r0 + h / 2, 0, se.blur.rows - 1));
+    const int edge = static_cast<int>(std::ceil(se.blur.at<float>(mid))) + 1;
+    for (int r = edge; r < h - edge; ++r)
+      for (int c = edge; c < w - edge; ++c) {
+        const int rr = r0 + r, cc = c0 + c;
+        if (rr < 0 || cc < 0 || rr >= se.rgb.rows || cc >= se.rgb.cols ||
+            !se.measured.at<uchar>(rr, cc))
+          continue;
+        const cv::Vec3b a = lo.at<cv::Vec3b>(r, c), b = hi.at<cv::Vec3b>(r, c);
+        if (std::max({b[0] - a[0], b[1] - a[1], b[2] - a[2]}) > 8) continue;
+        const cv::Vec3b mc = model.at<cv::Vec3b>(r, c), sc = se.rgb.at<cv::Vec3b>(rr, cc);
+        double lm = 0.0, ls = 0.0;
+        for (int k = 0; k < 3; ++k)
+          lm += SrgbToLinear(mc[k] / 255.0), ls += SrgbToLinear(sc[k] / 255.0);
+        if (lm >= 0.3) ratios.push_back(static_cast<float>(ls / lm));
+      }
+  }
+  if (ratios.size() < static_cast<std::size_t>(p.light_min_pixels)) return 1.0;
+  return Median(ratios);
+}
+
 // Step 3 on one SE.
-std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool ceiling,
+std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool ceiling, double light,
                                       const ComponentRecogniser& rec, const ComponentParams& p) {
   const interfaces::ObjectModelCatalogue& cat = rec.Catalogue();
   cv::Mat mask = (se.delta_e > p.colour_delta_e) & se.valid;
@@ -911,16 +965,17 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       if (!MountsOn(m, ceiling) || !SizeFits(r, pixel, m, p, p.colour_min_extent)) continue;
       // Matched filter: the template degraded as the scan degraded the blob (the filling's
       // sigma there), so that a small, faint model is compared with what a scan makes of it.
-      auto match = [&](double template_pad) {
-        cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, template_pad, pixel), ceiling), t_f,
-                t_lab;
+      auto match = [&](double template_pad, double lit) {
+        cv::Mat t_rgb = MaybeFlip(ModelColourOnWall(m, wall, template_pad, pixel, lit), ceiling),
+                t_f, t_lab;
         t_rgb.convertTo(t_f, CV_32FC3, 1.0 / 255.0);
         if (sigma > 0.0)
           cv::GaussianBlur(t_f, t_f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
         cv::cvtColor(t_f, t_lab, cv::COLOR_RGB2Lab);
         return MatchAround(lab_padded, pad, t_lab, r, margin);
       };
-      Peak pk = match(p.template_pad);
+      Peak pk = match(p.template_pad, 1.0);
+      bool inner_used = false;
       // The padded template holds the model's colours (the catalogue's) beside the wall's
       // measured colour, so its outline is only as right as the two agree. A flush plate whose
       // colour the scan renders as its wall's (a white built-in socket on a light wall) shows
@@ -929,10 +984,18 @@ std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool cei
       // counts when it is higher and reaches inner_ncc_min (fewer pixels and no outline: a
       // higher floor for the same rate of chance matches).
       if (m.depth < 2.0 * p.protrusion_min) {
-        const Peak inner = match(0.0);
-        if (inner.score > pk.score && inner.score >= p.inner_ncc_min) pk = inner;
+        const Peak inner = match(0.0, 1.0);
+        if (inner.score > pk.score && inner.score >= p.inner_ncc_min) pk = inner, inner_used = true;
       }
       if (pk.score < p.colour_ncc_min) continue;
+      // The place is the peak of the model relit by the SE's light (SeLight). The floors stay
+      // those of the catalogue's colours: relit, a white model on a white wall is its inner
+      // pattern alone, and as a detector it took chance matches at shelf edges and radiator
+      // fins (office seeds 1-5: FP 11 -> 18).
+      if (light != 1.0) {
+        const Peak at = match(inner_used ? 0.0 : p.template_pad, light);
+        if (at.score >= p.colour_ncc_min) pk.col = at.col, pk.row = at.row;
+      }
       PathDetection d = BoxAt(k, m, pixel, pk);
       if (!DepthAgrees(se, d, m, p)) continue;
       int w = 0, h = 0;
@@ -1142,8 +1205,9 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
                                                         params);
                              }),
               depth.end());
+  const double light = SeLight(se, depth, ceiling, cat, params);
   const std::vector<PathDetection> colour =
-      ColourPath(se, image.Pixel(), ceiling, recogniser, params);
+      ColourPath(se, image.Pixel(), ceiling, light, recogniser, params);
   std::vector<ConsensusInstance> instances = Consensus(colour, depth, params);
   if (!ceiling) ApplyMarks(colour, depth, cat, instances);
   for (const ConsensusInstance& c : instances) {

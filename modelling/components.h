@@ -45,7 +45,8 @@
 //     built-in socket on a light wall only a pixel or two may differ); a class whose size can
 //     hold a box is located by NCC of its colour model (padded with the local wall colour; a
 //     flush class also by its model alone, the inner pattern, when that matches better and
-//     reaches inner_ncc_min: its outline may not show in the scan) and verified by the
+//     reaches inner_ncc_min: its outline may not show in the scan; placed by the peak of the
+//     model relit by the SE's light, SeLight in components.cpp) and verified by the
 //     perceptron (ComponentRecogniser) on the box of the class size there: a colour
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
 //     beats its "none" score, a class of the same size scores at least colour_score_min of that
@@ -163,6 +164,10 @@ struct ComponentParams {
   double masked_known_min = 0.3;
   /// Least measured samples protruding past the box (beyond the filling's blur) for that, [1, 1e4]
   int extend_samples = 3;
+  /// Least pixels for the SE's light estimate (SeLight: the scan's colours over the
+  /// catalogue's on the front faces of the SE's confident depth detections); with fewer the
+  /// colour models keep their catalogue colours; 0 = never relit, [0, 1e6]
+  int light_min_pixels = 8;
   int max_image_pixels = 8'000'000;  ///< SEs with larger images are skipped, [1, 1e9]
 
   template <class V>
@@ -201,6 +206,7 @@ struct ComponentParams {
     v("single_colour_ncc", single_colour_ncc, Bounds{-1.0, 1.0});
     v("max_class_overlap", max_class_overlap, Bounds{0.0, 1.0});
     v("masked_known_min", masked_known_min, Bounds{0.0, 1.0});
+    v("light_min_pixels", light_min_pixels, Bounds{0, 1000000});
     v("extend_samples", extend_samples, Bounds{1, 10000});
     v("max_image_pixels", max_image_pixels, Bounds{1, 1e9});
   }

@@ -13,6 +13,7 @@
 
 #include "common/error.h"
 #include "common/polygon.h"
+#include "common/srgb.h"
 
 // Building service components (the paper's §3.4, Table 3). Every class is built from a few
 // convex prisms (boxes, polygonal cylinders, a triangular plate) in its local frame:
@@ -49,14 +50,6 @@ constexpr Rgb kSignalRed{200, 30, 32};      // RAL 3001 (ISO 7010 fire signs, ex
 constexpr Rgb kSafetyGreen{0, 135, 80};     // RAL 6032 (escape route signs)
 constexpr Rgb kWarningYellow{250, 200, 0};  // RAL 1003 (ISO 7010 W012)
 constexpr Rgb kTextGrey{55, 58, 66};
-
-double SrgbToLinear(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-double LinearToSrgb(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-}
 
 Eigen::Vector4f LinearColour(Rgb c) {
   return {static_cast<float>(SrgbToLinear(c.r / 255.0)),

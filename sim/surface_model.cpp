@@ -2,16 +2,13 @@
 
 #include <algorithm>
 
+#include "common/srgb.h"
+
 namespace mopad::sim {
 
-double SrgbTables::EncodeExact(double l) {
-  l = std::clamp(l, 0.0, 1.0);
-  return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
-}
+double SrgbTables::EncodeExact(double l) { return LinearToSrgb(l); }
 
-double SrgbTables::DecodeExact(double s) {
-  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-}
+double SrgbTables::DecodeExact(double s) { return SrgbToLinear(s); }
 
 SrgbTables::SrgbTables() : encode_(kEncodeSize) {
   for (int i = 0; i < 256; ++i) decode_[i] = static_cast<float>(DecodeExact(i / 255.0));
