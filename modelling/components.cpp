@@ -757,6 +757,58 @@ void PlaceByKnownPixels(const cv::Mat& hp_padded, const cv::Mat& known_padded, i
   d.col0 += dc, d.col1 += dc, d.row0 += dr, d.row1 += dr;
 }
 
+// An unknown area whose rim is protruding pixels alone (no wall pixel on it, not at the image
+// border, not in a removed opening) lies inside an object: samples too sparse there for the filling (the gaps between a
+// radiator's fins, seen from close by at a slant, hold a point in several centimetres while its
+// fins' sides hold many), wider than gap_close. It takes the mean protrusion of its rim and
+// counts as known. Read as wall it perforated the object, and the NCC fell below its floor.
+void FillEnclosedHoles(const std::vector<cv::Rect>& openings, double protrusion_min, cv::Mat& hp,
+                       cv::Mat& known) {
+  cv::Mat labels;
+  const int n = cv::connectedComponents(~known, labels, 8, CV_32S);
+  if (n <= 1) return;
+  std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+  std::vector<int> count(static_cast<std::size_t>(n), 0);
+  std::vector<char> open(static_cast<std::size_t>(n), 0);
+  for (const cv::Rect& o : openings) {
+    const cv::Rect in = o & cv::Rect(0, 0, hp.cols, hp.rows);
+    for (int r = in.y; r < in.y + in.height; ++r)
+      for (int c = in.x; c < in.x + in.width; ++c)
+        open[static_cast<std::size_t>(labels.at<int>(r, c))] = 1;
+  }
+  const int rows = hp.rows, cols = hp.cols;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int l = labels.at<int>(r, c);
+      if (l > 0) {
+        if (r == 0 || c == 0 || r == rows - 1 || c == cols - 1) open[static_cast<std::size_t>(l)] = 1;
+        continue;
+      }
+      // A known pixel: the unknown areas beside it have it on their rim.
+      const float h = hp.at<float>(r, c);
+      const bool proud = h > protrusion_min;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
+          const int k = labels.at<int>(rr, cc);
+          if (k <= 0) continue;
+          if (!proud) open[static_cast<std::size_t>(k)] = 1;
+          sum[static_cast<std::size_t>(k)] += h;
+          ++count[static_cast<std::size_t>(k)];
+        }
+    }
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int l = labels.at<int>(r, c);
+      if (l <= 0 || open[static_cast<std::size_t>(l)] || count[static_cast<std::size_t>(l)] == 0)
+        continue;
+      hp.at<float>(r, c) =
+          static_cast<float>(sum[static_cast<std::size_t>(l)] / count[static_cast<std::size_t>(l)]);
+      known.at<uchar>(r, c) = 255;
+    }
+}
+
 // Step 2 on one SE.
 std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceiling,
                                      const interfaces::ObjectModelCatalogue& cat,
@@ -766,7 +818,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   // behind a radiator's fins or in an extinguisher's own shadow is hidden by the object, not a
   // hole in it, and read as wall it broke the object into fragments no class fitted and pulled
   // the NCC down. A shadow wider than gap_close stays unknown.
-  cv::Mat hp = se.highpass, known = se.valid;
+  cv::Mat hp = se.highpass.clone(), known = se.valid.clone();
   const int gap = 2 * static_cast<int>(std::lround(0.5 * p.gap_close / pixel)) + 1;
   if (gap >= 3) {
     cv::Mat closed;
@@ -776,6 +828,7 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
     closed.copyTo(hp, ~se.valid);
     known = se.valid | (hp > p.protrusion_min);
   }
+  FillEnclosedHoles(se.openings, p.protrusion_min, hp, known);
   cv::Mat mask = (hp > p.protrusion_min) & known;
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));

@@ -20,7 +20,9 @@
 //  2. Geometry path: the high-frequency part of J^_D, i.e. J^_D minus its low-frequency wall
 //     surface (the median depth of the surface layer, |depth| < surface_band, in cells of
 //     `background_cell`, bilinearly interpolated); unknown pixels in gaps narrower than
-//     `gap_close` between protruding ones take their protrusion (the object's own shadow);
+//     `gap_close` between protruding ones take their protrusion (the object's own shadow), and
+//     so does an unknown area of any size whose rim is protruding pixels alone (inside an
+//     object: too few samples there to fill, e.g. between a radiator's fins seen at a slant);
 //     pixels protruding more than `protrusion_min` form candidate regions (connected components);
 //     each region of a size a catalogue class can have (the filling's sigma there added on each
 //     side: the filling spreads a protrusion's edges) is matched by normalised cross-correlation

@@ -464,6 +464,27 @@ TEST(Components, ARadiatorWhoseFinsShadowTheWallBehindIsOneObject) {
   EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.03);
 }
 
+// A radiator whose front holds no samples in patches 5 cm across, every 8 cm (as between the
+// fins of a radiator seen from close by at a slant: its fins' sides take the points, the gaps
+// hold one in several centimetres): the patches are wider than gap_close and, read as wall,
+// perforated it below the NCC floor (here and as office_5rooms' radiator_6, missed on 7 of 10
+// seeds). An unknown area whose rim is the object's protruding pixels alone is inside it.
+TEST(Components, ARadiatorWithUnsampledPatchesInsideItIsOneObject) {
+  TestWall w = MakeWall();
+  w.colour = kWhite;
+  w.placed.push_back({ModelOf("radiator"), 2.0, 0.45});
+  const auto hole = [](double u, double v) {
+    if (u < 1.56 || u > 2.44 || v < 0.2 || v > 0.7) return false;
+    return std::fmod(u - 1.56, 0.08) < 0.05 && std::fmod(v - 0.2, 0.08) < 0.05;
+  };
+  const Sm5Model m = DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, {}, nullptr, {},
+                                hole);
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "radiator");
+  EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.02);
+  EXPECT_LT(std::abs(m.components[0].v - 0.45), 0.02);
+}
+
 // A red extinguisher seen along a corridor leaves depth fragments its template does not
 // match, and its colour NCC stays under the colour-only floor (office_5rooms: fire_extinguisher_8
 // on 9 of 10 seeds). Its box is mostly of a colour unlike the wall, and protrudes by about the
