@@ -758,10 +758,11 @@ void PlaceByKnownPixels(const cv::Mat& hp_padded, const cv::Mat& known_padded, i
 }
 
 // An unknown area whose rim is protruding pixels alone (no wall pixel on it, not at the image
-// border, not in a removed opening) lies inside an object: samples too sparse there for the filling (the gaps between a
-// radiator's fins, seen from close by at a slant, hold a point in several centimetres while its
-// fins' sides hold many), wider than gap_close. It takes the mean protrusion of its rim and
-// counts as known. Read as wall it perforated the object, and the NCC fell below its floor.
+// border, not in a removed opening) lies inside an object: samples too sparse there for the filling
+// (the gaps between a radiator's fins, seen from close by at a slant, hold a point in several
+// centimetres while its fins' sides hold many), wider than gap_close. It takes the mean protrusion
+// of its rim and counts as known. Read as wall it perforated the object, and the NCC fell below its
+// floor.
 void FillEnclosedHoles(const std::vector<cv::Rect>& openings, double protrusion_min, cv::Mat& hp,
                        cv::Mat& known) {
   cv::Mat labels;
@@ -781,7 +782,8 @@ void FillEnclosedHoles(const std::vector<cv::Rect>& openings, double protrusion_
     for (int c = 0; c < cols; ++c) {
       const int l = labels.at<int>(r, c);
       if (l > 0) {
-        if (r == 0 || c == 0 || r == rows - 1 || c == cols - 1) open[static_cast<std::size_t>(l)] = 1;
+        if (r == 0 || c == 0 || r == rows - 1 || c == cols - 1)
+          open[static_cast<std::size_t>(l)] = 1;
         continue;
       }
       // A known pixel: the unknown areas beside it have it on their rim.

@@ -477,8 +477,8 @@ TEST(Components, ARadiatorWithUnsampledPatchesInsideItIsOneObject) {
     if (u < 1.56 || u > 2.44 || v < 0.2 || v > 0.7) return false;
     return std::fmod(u - 1.56, 0.08) < 0.05 && std::fmod(v - 0.2, 0.08) < 0.05;
   };
-  const Sm5Model m = DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, {}, nullptr, {},
-                                hole);
+  const Sm5Model m =
+      DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, {}, nullptr, {}, hole);
   ASSERT_EQ(m.components.size(), 1u);
   EXPECT_EQ(m.components[0].class_name, "radiator");
   EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.02);
