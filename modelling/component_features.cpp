@@ -164,7 +164,8 @@ cv::Mat Relit(const cv::Mat& rgb, double light) {
 
 cv::Mat ModelColourOnWall(const interfaces::ObjectModel& m, const cv::Vec3b& wall_rgb, double pad,
                           double pixel, double light) {
-  cv::Mat c = Relit(ModelColour(m), light);
+  cv::Mat c = ModelColour(m);
+  if (light != 1.0) c = Relit(c, light);
   c.setTo(wall_rgb, ModelMissMask(m));
   const int p = static_cast<int>(std::lround(pad / m.pixel_size));
   cv::Mat canvas;

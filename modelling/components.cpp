@@ -820,15 +820,16 @@ std::vector<PathDetection> DepthPath(const SeImages& se, double pixel, bool ceil
   // behind a radiator's fins or in an extinguisher's own shadow is hidden by the object, not a
   // hole in it, and read as wall it broke the object into fragments no class fitted and pulled
   // the NCC down. A shadow wider than gap_close stays unknown.
-  cv::Mat hp = se.highpass.clone(), known = se.valid.clone();
+  cv::Mat hp = se.highpass.clone(), known;
   const int gap = 2 * static_cast<int>(std::lround(0.5 * p.gap_close / pixel)) + 1;
   if (gap >= 3) {
     cv::Mat closed;
     cv::morphologyEx(se.highpass, closed, cv::MORPH_CLOSE,
                      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(gap, gap)));
-    hp = se.highpass.clone();
     closed.copyTo(hp, ~se.valid);
     known = se.valid | (hp > p.protrusion_min);
+  } else {
+    known = se.valid.clone();
   }
   FillEnclosedHoles(se.openings, p.protrusion_min, hp, known);
   cv::Mat mask = (hp > p.protrusion_min) & known;
