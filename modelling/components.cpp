@@ -636,13 +636,18 @@ bool DepthAgrees(const SeImages& se, const PathDetection& d, const interfaces::O
 // measured samples of the box protruding more than protrusion_min, when the box's protrusion
 // is known (DepthAgrees has checked it against the class's depth), is the object's own, not
 // part of a larger one (a radiator, a box it is painted on: under a fifth of the measured ring
-// of template_pad around the box protrudes), and at least half of the box differs from the
-// wall's colour (colour_delta_e: the object's colour is evidence, not only its pattern); else 0.
+// of template_pad around the box protrudes; the ring begins two filling sigmas out, past the
+// spread of the object's own edges, which reach 2 sigma for a 19 cm deep extinguisher), and
+// at least half of the box differs from the wall's colour (colour_delta_e: the object's colour
+// is evidence, not only its pattern); else 0.
 int SupportingSamples(const SeImages& se, const PathDetection& d, const interfaces::ObjectModel& m,
                       double pixel, const ComponentParams& p) {
   if (m.depth < 2.0 * p.protrusion_min || !std::isfinite(BoxProtrusion(se, d, 0.95))) return 0;
   const cv::Rect in = BoxRect(se, d);
-  const int g = std::max(1, static_cast<int>(std::lround(p.template_pad / pixel)));
+  const int e = static_cast<int>(
+      std::ceil(2.0 * se.blur.at<float>(in.y + in.height / 2, in.x + in.width / 2)));
+  const cv::Rect spread(in.x - e, in.y - e, in.width + 2 * e, in.height + 2 * e);
+  const int g = std::max(1, static_cast<int>(std::lround(p.template_pad / pixel))) + e;
   const cv::Rect out = cv::Rect(in.x - g, in.y - g, in.width + 2 * g, in.height + 2 * g) &
                        cv::Rect(0, 0, se.valid.cols, se.valid.rows);
   int ring = 0, proud = 0, known = 0, coloured = 0, samples = 0;
@@ -655,7 +660,7 @@ int SupportingSamples(const SeImages& se, const PathDetection& d, const interfac
         if (!se.valid.at<uchar>(r, c)) continue;
         ++known;
         coloured += se.delta_e.at<float>(r, c) > p.colour_delta_e;
-      } else if (measured) {
+      } else if (measured && !spread.contains({c, r})) {
         ++ring;
         proud += protrudes;
       }
@@ -1083,6 +1088,41 @@ bool OverExtent(const PatchFrame& f, const Vec3& x, double margin) {
          uv.y() <= f.height + margin;
 }
 
+// An instance of the equipment `sign`'s class marks lies below it on the SE (overlapping it
+// along u).
+bool MarkedBelow(const PathDetection& sign, const std::vector<PathDetection>& colour,
+                 const std::vector<PathDetection>& depth,
+                 const interfaces::ObjectModelCatalogue& cat,
+                 const std::vector<ConsensusInstance>& instances) {
+  const std::string& marks = cat.models[static_cast<std::size_t>(sign.class_index)].marks;
+  if (marks.empty()) return false;
+  for (const ConsensusInstance& q : instances) {
+    if (cat.models[static_cast<std::size_t>(q.class_index)].class_name != marks) continue;
+    const PathDetection& b = q.depth >= 0 ? depth[static_cast<std::size_t>(q.depth)]
+                                          : colour[static_cast<std::size_t>(q.colour)];
+    const bool along = std::min(b.col1, sign.col1) > std::max(b.col0, sign.col0);
+    if (along && 0.5 * (b.row0 + b.row1) > sign.row1) return true;  // rows run downwards
+  }
+  return false;
+}
+
+// Step 6's support: flags the colour detections of marking classes left out of `instances`
+// whose marked equipment is an instance below them; true when it flagged any.
+bool MarkSupport(const std::vector<PathDetection>& depth,
+                 const interfaces::ObjectModelCatalogue& cat,
+                 const std::vector<ConsensusInstance>& instances,
+                 std::vector<PathDetection>& colour) {
+  std::vector<bool> used(colour.size(), false);
+  for (const ConsensusInstance& c : instances)
+    if (c.colour >= 0) used[static_cast<std::size_t>(c.colour)] = true;
+  bool any = false;
+  for (std::size_t i = 0; i < colour.size(); ++i) {
+    if (used[i] || colour[i].marked) continue;
+    if (MarkedBelow(colour[i], colour, depth, cat, instances)) colour[i].marked = any = true;
+  }
+  return any;
+}
+
 // Location signs of one size and colours differ only in their pictograms, which a scan a few
 // metres away does not resolve (the colour NCCs of the look-alike classes then differ by
 // chance). What a sign marks does: a colour-only instance whose class marks no equipment found
@@ -1092,20 +1132,8 @@ bool OverExtent(const PatchFrame& f, const Vec3& x, double margin) {
 void ApplyMarks(const std::vector<PathDetection>& colour, const std::vector<PathDetection>& depth,
                 const interfaces::ObjectModelCatalogue& cat,
                 std::vector<ConsensusInstance>& instances) {
-  auto box = [&](const ConsensusInstance& c) -> const PathDetection& {
-    return c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
-                        : colour[static_cast<std::size_t>(c.colour)];
-  };
   auto marked_below = [&](const PathDetection& sign) {
-    const std::string& marks = cat.models[static_cast<std::size_t>(sign.class_index)].marks;
-    if (marks.empty()) return false;
-    for (const ConsensusInstance& q : instances) {
-      if (cat.models[static_cast<std::size_t>(q.class_index)].class_name != marks) continue;
-      const PathDetection& b = box(q);
-      const bool along = std::min(b.col1, sign.col1) > std::max(b.col0, sign.col0);
-      if (along && 0.5 * (b.row0 + b.row1) > sign.row1) return true;  // rows run downwards
-    }
-    return false;
+    return MarkedBelow(sign, colour, depth, cat, instances);
   };
   for (ConsensusInstance& c : instances) {
     if (c.colour < 0 || c.depth >= 0) continue;
@@ -1199,7 +1227,7 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
       // only the colour path's NCC floor: seen along a corridor an extinguisher leaves depth
       // fragments its template does not match, and its colour NCC stays under
       // single_colour_ncc.
-      const bool supported = d.samples >= std::max(1, p.min_depth_samples);
+      const bool supported = d.samples >= std::max(1, p.min_depth_samples) || d.marked;
       if (!row_used[a] && d.score >= p.single_colour_score &&
           (d.ncc >= p.single_colour_ncc || supported) && !overlaps_pair(d, true))
         out.push_back({k, rows[a], -1, 0.5});
@@ -1262,9 +1290,11 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
                              }),
               depth.end());
   const double light = SeLight(se, depth, ceiling, cat, params);
-  const std::vector<PathDetection> colour =
+  std::vector<PathDetection> colour =
       ColourPath(se, image.Pixel(), ceiling, light, recogniser, params);
   std::vector<ConsensusInstance> instances = Consensus(colour, depth, params);
+  if (!ceiling && MarkSupport(depth, cat, instances, colour))
+    instances = Consensus(colour, depth, params);
   if (!ceiling) ApplyMarks(colour, depth, cat, instances);
   for (const ConsensusInstance& c : instances) {
     const PathDetection& b = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]

@@ -78,6 +78,10 @@
 //     location sign) that was not found below it on the SE takes a look-alike class (same
 //     size, detected by the colour path on the same box) whose marked equipment was: signs of
 //     one size and colours differ only in pictograms a scan a few metres away does not resolve.
+//     And a colour detection of a marking class that step 4 left out (its NCC under
+//     single_colour_ncc: a sign seen far off or at a slant) whose marked equipment is an
+//     instance below it is supported by it, as a protruding class by its protrusion, and step 4
+//     runs again: the equipment is evidence for the sign that marks it.
 // Centre: the depth peak's box when depth found the instance, else the colour peak's box, on
 // the SE plane (depth 0); map frame.
 //
@@ -336,6 +340,10 @@ struct PathDetection {
   /// depth: measured samples (pixels holding points) in the box protruding > protrusion_min;
   /// colour: the same where the box's protrusion supports a protruding class (else 0)
   int samples = 0;
+  /// colour, of a class that marks equipment (ObjectModel::marks): that equipment was found
+  /// below it on the SE (step 6), which supports it as protruding samples support a
+  /// protruding class
+  bool marked = false;
 };
 
 /// Equation (1): area of the boxes' intersection over the area of the box enclosing both; 0

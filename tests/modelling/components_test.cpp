@@ -101,13 +101,16 @@ interfaces::ObjectModelCatalogue TestCatalogue() {
   return cat;
 }
 
+// A recogniser of `cat` trained in seconds (the tests' small training).
+ComponentRecogniser TrainSmall(const interfaces::ObjectModelCatalogue& cat) {
+  ComponentTrainingParams p;
+  p.samples_per_class = 120;
+  p.iterations = 200;
+  return ComponentRecogniser::Train(cat, p);
+}
+
 const ComponentRecogniser& Recogniser() {
-  static const ComponentRecogniser r = [] {
-    ComponentTrainingParams p;
-    p.samples_per_class = 120;
-    p.iterations = 200;
-    return ComponentRecogniser::Train(TestCatalogue(), p);
-  }();
+  static const ComponentRecogniser r = TrainSmall(TestCatalogue());
   return r;
 }
 
@@ -238,6 +241,15 @@ Sm5Model DetectFrom(const TestWall& w, const std::vector<Vec3>& positions,
 Sm5Model Detect(const TestWall& w, ComponentParams params = {},
                 const ComponentRecogniser* rec = nullptr) {
   return DetectFrom(w, {Vec3(1.4, 1.2, 2.5), Vec3(2.8, 1.3, 3.0)}, params, rec);
+}
+
+// Class of each component by its place on the test wall: "left " or "right " of u = 2 m, then
+// "high" or "low" of v = 1 m.
+std::map<std::string, std::string> ClassByPlace(const Sm5Model& m) {
+  std::map<std::string, std::string> at;
+  for (const auto& c : m.components)
+    at[(c.u < 2.0 ? "left " : "right ") + std::string(c.v > 1.0 ? "high" : "low")] = c.class_name;
+  return at;
 }
 
 const interfaces::ObjectModel& ModelOf(const std::string& name) {
@@ -491,12 +503,12 @@ TEST(Components, ARadiatorWithUnsampledPatchesInsideItIsOneObject) {
 // class's depth with wall around it: colour and the measured protrusion together keep it, at
 // alpha 0.5. Here the depth path and the plain colour-only floor are switched off to isolate
 // that rule.
-TEST(Components, AColouredComponentWhoseBoxProtrudesAsItsClassIsKeptByColour) {
-  using interfaces::Mounting;
+// The test catalogue and a fire extinguisher: a red cylinder with a white label and a black
+// valve on top; and its recogniser.
+const interfaces::ObjectModelCatalogue& ExtinguisherCatalogue() {
   static const interfaces::ObjectModelCatalogue cat = [] {
     interfaces::ObjectModelCatalogue c = TestCatalogue();
-    // A red cylinder with a white label and a black valve on top.
-    c.models.push_back(Draw("fire_extinguisher", Mounting::kWall, 0.16, 0.55, 0.16,
+    c.models.push_back(Draw("fire_extinguisher", interfaces::Mounting::kWall, 0.16, 0.55, 0.16,
                             [](double x, double y, Rgb& col, float& d) {
                               col = {190, 25, 28};
                               if (std::abs(x) < 0.05 && std::abs(y) < 0.09) col = {240, 240, 235};
@@ -506,12 +518,18 @@ TEST(Components, AColouredComponentWhoseBoxProtrudesAsItsClassIsKeptByColour) {
                             }));
     return c;
   }();
-  static const ComponentRecogniser rec = [] {
-    ComponentTrainingParams p;
-    p.samples_per_class = 120;
-    p.iterations = 200;
-    return ComponentRecogniser::Train(cat, p);
-  }();
+  return cat;
+}
+
+const ComponentRecogniser& ExtinguisherRecogniser() {
+  static const ComponentRecogniser rec = TrainSmall(ExtinguisherCatalogue());
+  return rec;
+}
+
+TEST(Components, AColouredComponentWhoseBoxProtrudesAsItsClassIsKeptByColour) {
+  using interfaces::Mounting;
+  const interfaces::ObjectModelCatalogue& cat = ExtinguisherCatalogue();
+  const ComponentRecogniser& rec = ExtinguisherRecogniser();
   ComponentParams p;
   p.depth_ncc_min = 1.0;      // no depth detection
   p.single_colour_ncc = 1.0;  // no colour-only instance on its NCC alone
@@ -536,6 +554,31 @@ TEST(Components, AColouredComponentWhoseBoxProtrudesAsItsClassIsKeptByColour) {
                            2.0, 0.9});
   on_box.placed.push_back({*cat.Find("fire_extinguisher"), 2.0, 0.9});
   EXPECT_TRUE(Detect(on_box, p, &rec).components.empty());
+}
+
+// Seen from one place farther off, the wall is filled with a wider sigma, which spreads the
+// extinguisher's 16 cm protrusion a few pixels past its box into the ring that must show wall
+// around it; that spread is the object's own edge, not a larger object.
+TEST(Components, AnExtinguisherOnASparselySampledWallKeepsItsColourSupport) {
+  ComponentParams p;
+  p.depth_ncc_min = 1.0;      // no depth detection
+  p.single_colour_ncc = 1.0;  // no colour-only instance on its NCC alone
+  TestWall w = MakeWall();
+  w.placed.push_back({*ExtinguisherCatalogue().Find("fire_extinguisher"), 2.0, 0.9});
+  const Vec3 from(3.0, 1.3, 4.0);  // 4 m off the wall, 1 m to the side
+  const Sm5Model m = DetectFrom(w, {from}, p, &ExtinguisherRecogniser());
+  ASSERT_EQ(m.components.size(), 1u);
+  EXPECT_EQ(m.components[0].class_name, "fire_extinguisher");
+  EXPECT_EQ(m.components[0].found_by, FoundBy::kColour);
+  EXPECT_LT(std::abs(m.components[0].u - 2.0), 0.01);
+  EXPECT_LT(std::abs(m.components[0].v - 0.9), 0.01);
+  // A larger object around it still takes the support away.
+  TestWall on_box = MakeWall();
+  on_box.placed.push_back({Draw("box", interfaces::Mounting::kWall, 0.7, 1.0, 0.05,
+                                [](double, double, Rgb& c, float& d) { c = kWall, d = 0.05f; }),
+                           2.0, 0.9});
+  on_box.placed.push_back({*ExtinguisherCatalogue().Find("fire_extinguisher"), 2.0, 0.9});
+  EXPECT_TRUE(DetectFrom(on_box, {from}, p, &ExtinguisherRecogniser()).components.empty());
 }
 
 TEST(Components, TwoInstancesOfAClassOnOneWallAreBothFound) {
@@ -568,10 +611,7 @@ TEST(Components, AFourGangSocketHalfHiddenByADeskIsNotReadAsAShorterOne) {
     };
     cat.models.push_back(Draw("socket_x2", Mounting::kWall, 0.15, 0.08, 0.04, gangs(2)));
     cat.models.push_back(Draw("socket_x4", Mounting::kWall, 0.29, 0.08, 0.04, gangs(4)));
-    ComponentTrainingParams p;
-    p.samples_per_class = 120;
-    p.iterations = 200;
-    return ComponentRecogniser::Train(cat, p);
+    return TrainSmall(cat);
   }();
   TestWall w = MakeWall();
   w.placed.push_back({*rec.Catalogue().Find("socket_x4"), 2.0, 0.3});
@@ -698,10 +738,7 @@ TEST(Components, SignsOfOneSizeAndColoursAreToldApartByTheirPictograms) {
                                 c = {252, 252, 252};
                             }));
   cat.models.push_back(*TestCatalogue().Find("socket_x1"));
-  ComponentTrainingParams tp;
-  tp.samples_per_class = 120;
-  tp.iterations = 200;
-  const ComponentRecogniser rec = ComponentRecogniser::Train(cat, tp);
+  const ComponentRecogniser rec = TrainSmall(cat);
   TestWall w = MakeWall();
   w.placed.push_back({*cat.Find("fire_sign"), 1.0, 1.9});
   w.placed.push_back({*cat.Find("arrow_sign"), 3.0, 1.9});
@@ -733,22 +770,46 @@ TEST(Components, LookAlikeSignsAreToldApartByTheEquipmentTheyMark) {
   marking.class_name = "socket_sign";
   marking.marks = "socket_x1";
   cat.models = {plain, marking, *TestCatalogue().Find("socket_x1")};
-  ComponentTrainingParams tp;
-  tp.samples_per_class = 120;
-  tp.iterations = 200;
-  const ComponentRecogniser rec = ComponentRecogniser::Train(cat, tp);
+  const ComponentRecogniser rec = TrainSmall(cat);
   TestWall w = MakeWall();
   w.placed.push_back({marking, 1.0, 1.9});
   w.placed.push_back({*cat.Find("socket_x1"), 1.0, 0.3});
   w.placed.push_back({plain, 3.0, 1.9});
   const Sm5Model m = Detect(w, {}, &rec);
-  std::map<std::string, std::string> at;  // class by place
-  for (const auto& c : m.components)
-    at[(c.u < 2.0 ? "left " : "right ") + std::string(c.v > 1.0 ? "high" : "low")] = c.class_name;
+  std::map<std::string, std::string> at = ClassByPlace(m);
   EXPECT_EQ(at["left high"], "socket_sign");
   EXPECT_EQ(at["left low"], "socket_x1");
   EXPECT_EQ(at["right high"], "exit_route_sign");
   EXPECT_EQ(m.components.size(), 3u);
+}
+
+// A sign whose colour NCC is too weak to stand alone (here: no NCC is enough) is kept when
+// the equipment it marks was found below it; the same sign over bare wall is not.
+TEST(Components, ASignIsSupportedByTheEquipmentItMarks) {
+  interfaces::ObjectModelCatalogue cat;
+  interfaces::ObjectModel sign = *TestCatalogue().Find("fire_sign");
+  sign.class_name = "socket_sign";
+  sign.marks = "socket_x1";
+  cat.models = {sign, *TestCatalogue().Find("socket_x1")};
+  const ComponentRecogniser rec = TrainSmall(cat);
+  TestWall w = MakeWall();
+  w.placed.push_back({sign, 1.0, 1.9});
+  w.placed.push_back({*cat.Find("socket_x1"), 1.0, 0.3});
+  w.placed.push_back({sign, 3.0, 1.9});
+  ComponentParams p;
+  p.single_colour_ncc = 1.0;  // no colour-only instance on its NCC alone
+  const Sm5Model m = Detect(w, p, &rec);
+  std::map<std::string, std::string> at = ClassByPlace(m);
+  EXPECT_EQ(at["left high"], "socket_sign");
+  EXPECT_EQ(at["left low"], "socket_x1");
+  EXPECT_EQ(at.count("right high"), 0u);
+  EXPECT_EQ(m.components.size(), 2u);
+  for (const auto& c : m.components)
+    if (c.class_name == "socket_sign") {
+      EXPECT_EQ(c.found_by, FoundBy::kColour);
+      EXPECT_LT(std::abs(c.u - 1.0), 0.01);
+      EXPECT_LT(std::abs(c.v - 1.9), 0.01);
+    }
 }
 
 TEST(Components, FlushSignBesideACableDuctIsStillFlush) {
@@ -774,10 +835,7 @@ TEST(Components, DepthDetectionContradictedByColourIsDropped) {
         SocketFace(x * 0.08 / 0.09, y * 0.08 / 0.09, c, d, 0.045f);
         c = {200, 30, 32};
       }));
-  ComponentTrainingParams tp;
-  tp.samples_per_class = 120;
-  tp.iterations = 200;
-  const ComponentRecogniser rec = ComponentRecogniser::Train(cat, tp);
+  const ComponentRecogniser rec = TrainSmall(cat);
   TestWall w = MakeWall();
   interfaces::ObjectModel deep = *cat.Find("socket_x1");  // scanned 5 mm proud of its model
   for (float& d : deep.depth_m)
