@@ -235,13 +235,16 @@ TEST(ObjectModelCatalogue, LocationSignsMarkTheEquipmentBelowThem) {
   const interfaces::ObjectModelCatalogue cat = MakeObjectModelCatalogue(0.004);
   for (const auto& m : cat.models) {
     SCOPED_TRACE(m.class_name);
-    if (m.class_name == "extinguisher_sign")
+    if (m.class_name == "extinguisher_sign") {
       EXPECT_EQ(m.marks, "fire_extinguisher");
-    else if (m.class_name == "fire_alarm_switch_sign")
+    } else if (m.class_name == "fire_alarm_switch_sign") {
       EXPECT_EQ(m.marks, "fire_alarm_switch");
-    else
+    } else {
       EXPECT_EQ(m.marks, "");
-    if (!m.marks.empty()) EXPECT_NE(cat.Find(m.marks), nullptr);
+    }
+    if (!m.marks.empty()) {
+      EXPECT_NE(cat.Find(m.marks), nullptr);
+    }
   }
 }
 
