@@ -1088,6 +1088,15 @@ bool OverExtent(const PatchFrame& f, const Vec3& x, double margin) {
          uv.y() <= f.height + margin;
 }
 
+// The box that places an instance: its depth detection's when depth found it, else its
+// colour detection's.
+const PathDetection& InstanceBox(const ConsensusInstance& c,
+                                 const std::vector<PathDetection>& colour,
+                                 const std::vector<PathDetection>& depth) {
+  return c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
+                      : colour[static_cast<std::size_t>(c.colour)];
+}
+
 // An instance of the equipment `sign`'s class marks lies below it on the SE (overlapping it
 // along u).
 bool MarkedBelow(const PathDetection& sign, const std::vector<PathDetection>& colour,
@@ -1098,8 +1107,7 @@ bool MarkedBelow(const PathDetection& sign, const std::vector<PathDetection>& co
   if (marks.empty()) return false;
   for (const ConsensusInstance& q : instances) {
     if (cat.models[static_cast<std::size_t>(q.class_index)].class_name != marks) continue;
-    const PathDetection& b = q.depth >= 0 ? depth[static_cast<std::size_t>(q.depth)]
-                                          : colour[static_cast<std::size_t>(q.colour)];
+    const PathDetection& b = InstanceBox(q, colour, depth);
     const bool along = std::min(b.col1, sign.col1) > std::max(b.col0, sign.col0);
     if (along && 0.5 * (b.row0 + b.row1) > sign.row1) return true;  // rows run downwards
   }
@@ -1132,19 +1140,16 @@ bool MarkSupport(const std::vector<PathDetection>& depth,
 void ApplyMarks(const std::vector<PathDetection>& colour, const std::vector<PathDetection>& depth,
                 const interfaces::ObjectModelCatalogue& cat,
                 std::vector<ConsensusInstance>& instances) {
-  auto marked_below = [&](const PathDetection& sign) {
-    return MarkedBelow(sign, colour, depth, cat, instances);
-  };
   for (ConsensusInstance& c : instances) {
     if (c.colour < 0 || c.depth >= 0) continue;
     const PathDetection& sign = colour[static_cast<std::size_t>(c.colour)];
-    if (marked_below(sign)) continue;
+    if (MarkedBelow(sign, colour, depth, cat, instances)) continue;
     for (std::size_t j = 0; j < colour.size(); ++j) {
       const PathDetection& alt = colour[j];
       if (alt.class_index == c.class_index ||
           !SameSize(cat.models[static_cast<std::size_t>(alt.class_index)],
                     cat.models[static_cast<std::size_t>(c.class_index)]) ||
-          OverlapOfSmaller(alt, sign) < 0.5 || !marked_below(alt))
+          OverlapOfSmaller(alt, sign) < 0.5 || !MarkedBelow(alt, colour, depth, cat, instances))
         continue;
       c.class_index = alt.class_index;
       c.colour = static_cast<int>(j);
@@ -1244,10 +1249,6 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
   // the colour of small white components hardly tells them apart), else the colour NCC (the
   // perceptron's score says "a component", the model template says which). A pair ranks at
   // least as a single path: two boxes that disagree still both saw the object.
-  auto box = [&](const ConsensusInstance& c) -> const PathDetection& {
-    return c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
-                        : colour[static_cast<std::size_t>(c.colour)];
-  };
   auto rank = [&](const ConsensusInstance& c) {
     const double evidence = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)].score
                                          : colour[static_cast<std::size_t>(c.colour)].ncc;
@@ -1257,9 +1258,10 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
                    [&](const auto& a, const auto& b) { return rank(a) > rank(b); });
   std::vector<ConsensusInstance> kept;
   for (const auto& c : out) {
+    const PathDetection& bc = InstanceBox(c, colour, depth);
     bool clash = false;
     for (const auto& q : kept)
-      clash = clash || OverlapOfSmaller(box(c), box(q)) > p.max_class_overlap;
+      clash = clash || OverlapOfSmaller(bc, InstanceBox(q, colour, depth)) > p.max_class_overlap;
     if (!clash) kept.push_back(c);
   }
   return kept;
@@ -1297,8 +1299,7 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
     instances = Consensus(colour, depth, params);
   if (!ceiling) ApplyMarks(colour, depth, cat, instances);
   for (const ConsensusInstance& c : instances) {
-    const PathDetection& b = c.depth >= 0 ? depth[static_cast<std::size_t>(c.depth)]
-                                          : colour[static_cast<std::size_t>(c.colour)];
+    const PathDetection& b = InstanceBox(c, colour, depth);
     const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(c.class_index)];
     DetectedComponent d;
     d.class_name = m.class_name;

@@ -497,12 +497,6 @@ TEST(Components, ARadiatorWithUnsampledPatchesInsideItIsOneObject) {
   EXPECT_LT(std::abs(m.components[0].v - 0.45), 0.02);
 }
 
-// A red extinguisher seen along a corridor leaves depth fragments its template does not
-// match, and its colour NCC stays under the colour-only floor (office_5rooms: fire_extinguisher_8
-// on 9 of 10 seeds). Its box is mostly of a colour unlike the wall, and protrudes by about the
-// class's depth with wall around it: colour and the measured protrusion together keep it, at
-// alpha 0.5. Here the depth path and the plain colour-only floor are switched off to isolate
-// that rule.
 // The test catalogue and a fire extinguisher: a red cylinder with a white label and a black
 // valve on top; and its recogniser.
 const interfaces::ObjectModelCatalogue& ExtinguisherCatalogue() {
@@ -526,6 +520,12 @@ const ComponentRecogniser& ExtinguisherRecogniser() {
   return rec;
 }
 
+// A red extinguisher seen along a corridor leaves depth fragments its template does not
+// match, and its colour NCC stays under the colour-only floor (office_5rooms: fire_extinguisher_8
+// on 9 of 10 seeds). Its box is mostly of a colour unlike the wall, and protrudes by about the
+// class's depth with wall around it: colour and the measured protrusion together keep it, at
+// alpha 0.5. Here the depth path and the plain colour-only floor are switched off to isolate
+// that rule.
 TEST(Components, AColouredComponentWhoseBoxProtrudesAsItsClassIsKeptByColour) {
   using interfaces::Mounting;
   const interfaces::ObjectModelCatalogue& cat = ExtinguisherCatalogue();
