@@ -124,12 +124,18 @@ std::vector<Eigen::Vector2d> DropShortEdges(std::vector<Eigen::Vector2d> loop, d
   return loop;
 }
 
+// One face per loop edge, fitted to the points near it; corners where neighbouring faces meet
+// the floor and ceiling planes. A face whose fitted corners leave it shorter than `min_edge`
+// along its loop edge (or reversed: neighbours fitted across it) is no face: its two loop
+// vertices become one and the ring is fitted again.
 Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
              const std::vector<Eigen::Vector3d>& points, const Plane& floor, const Plane& ceiling,
-             double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream);
+             double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream,
+             double min_edge);
 Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
              const std::vector<Eigen::Vector3d>& points, const Plane& floor, const Plane& ceiling,
-             double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream) {
+             double floor_z, double ceiling_z, const Sm3Params& prm, const std::string& stream,
+             double min_edge) {
   Ring ring;
   const std::size_t n = loop.size();
   // Points per edge.
@@ -183,7 +189,8 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       if (a.n.dot(b.n) > cos_max && std::abs(a.Distance(mid) - b.Distance(mid)) < prm.plane_band) {
         std::vector<Eigen::Vector2d> fewer = loop;
         fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(i));
-        return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream);
+        return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
+                       min_edge);
       }
     }
   }
@@ -196,6 +203,21 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       u = Eigen::Vector3d(loop[i].x(), loop[i].y(), ceiling_z);
     ring.bottom.push_back(b);
     ring.top.push_back(u);
+  }
+  if (n > 3) {
+    const double least = std::max(min_edge, 1e-3);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = (i + 1) % n;
+      const double along = std::min((ring.bottom[j] - ring.bottom[i]).head<2>().dot(t[i]),
+                                    (ring.top[j] - ring.top[i]).head<2>().dot(t[i]));
+      if (along < least) {
+        std::vector<Eigen::Vector2d> fewer = loop;
+        fewer[i] = 0.5 * (loop[i] + loop[j]);
+        fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(j));
+        return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
+                       min_edge);
+      }
+    }
   }
   return ring;
 }
@@ -451,7 +473,7 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
 
   const std::vector<Eigen::Vector2d> loop = MergeCollinear(input.perimeter, prm.merge_angle_deg);
   const Ring walls = FitRing(loop, /*into_left=*/true, pts, floor.plane, ceiling.plane, m.floor_z,
-                             m.ceiling_z, prm, input.room + "/walls");
+                             m.ceiling_z, prm, input.room + "/walls", 0.0);
   auto add = [&](StructuralPatch p) {
     if (Newell(p.polygon).dot(p.plane.n) < 0) std::reverse(p.polygon.begin(), p.polygon.end());
     m.patches.push_back(std::move(p));
@@ -530,7 +552,8 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
       }
     } else {
       ring = FitRing(footprint, /*into_left=*/false, pts, floor.plane, ceiling.plane, m.floor_z,
-                     m.ceiling_z, prm, input.room + "/column_" + std::to_string(k + 1));
+                     m.ceiling_z, prm, input.room + "/column_" + std::to_string(k + 1),
+                     prm.min_column_edge);
     }
     const auto ids =
         add_ring(ring, PatchClass::kColumn, "column_" + std::to_string(k + 1) + "_face_");
