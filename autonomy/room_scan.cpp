@@ -171,6 +171,11 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
   std::vector<double> steps{room_step};
   if (P.fine_step_deg > 0.0 && std::abs(P.fine_step_deg - params.scan_step_deg) > 1e-9)
     steps.push_back(DegToRad(P.fine_step_deg));
+  // The structure the stopping rule accepted stays: a detail scan adds data (points, labels,
+  // SE samples for SM5), never structure. It may see through a door or into a corner no
+  // structural scan saw, and a perimeter moved by data-quality scans would change SM3, the
+  // floor model and the route.
+  model.FreezeStructure();
   for (int d = 0; d < P.max_scans && model.ScanCount() > 0; ++d) {
     RoomScanLog log;
     log.index = static_cast<int>(res.scans.size());
@@ -235,26 +240,12 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     bool kept = false;
     if (used) {
       t0 = Clock::now();
-      // The structure the stopping rule accepted stays: a scan that moves it is left out.
-      modelling::RoomModel before = model;
-      const double area0 = model.Coverage().total_area;
-      model.AddScan(scan, log.X_MS);
-      const double area1 = model.Coverage().total_area;
-      const double change = std::abs(area1 - area0) / std::max(area0, 1e-9);
-      if (change > P.max_structure_change) {
-        model = std::move(before);
-        res.detail_log.push_back(
-            FormatNumbers("detail: the scan changed the estimated structural area %.2f -> %.2f "
-                          "m2 (%.3f > max_structure_change %.3f): left out of the model",
-                          area0, area1, change, P.max_structure_change));
-      } else {
-        kept = true;
-        steps_rad.push_back(c.step_rad);
-        modelling::AddNoReturnRays(scan, log.X_MS,
-                                   static_cast<std::uint16_t>(model.ScanCount() - 1), res.no_return,
-                                   params.sm4.orthoimage);
-        if (on_scan) on_scan(log.session_scan, scan);
-      }
+      model.AddScan(scan, log.X_MS);  // data only: the structure is frozen (above)
+      kept = true;
+      steps_rad.push_back(c.step_rad);
+      modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
+                                 res.no_return, params.sm4.orthoimage);
+      if (on_scan) on_scan(log.session_scan, scan);
       log.t_model = Since(t0);
     } else {
       res.registration_failed = true;

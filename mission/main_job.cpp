@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <string>
 
 #include "common/error.h"
 #include "common/format.h"
@@ -130,6 +132,13 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
       "from positions it chooses itself (next best scan, paper §3.1).";
 }
 
+// The detail pass's scans of the mission (of its `scans`; autonomy/detail_pass.h).
+int DetailScans(const FloorJob& job) {
+  int n = 0;
+  for (const FloorRoomJob& r : job.rooms) n += r.detail_scans;
+  return n;
+}
+
 nlohmann::ordered_json MissionJson(const FloorJob& job) {
   const auto& m = job.mission;
   const DriveResult& d = job.drive;
@@ -139,6 +148,7 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
   j["rooms_known"] = m.tree.Nodes().size();
   j["scans"] = m.scans;
   j["door_scans"] = m.door_scans.size();
+  j["detail_scans"] = DetailScans(job);
   j["end_reason"] = m.end_reason;
   j["events"] = m.events;
   j["path_length_m"] = d.path_length;
@@ -258,7 +268,8 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
   if (o.print) {
     const auto& m = job.mission;
     o.print("mission: " + m.tree.Summary() + ", " + std::to_string(m.scans) + " scans (" +
-            std::to_string(m.door_scans.size()) + " door scans), " +
+            std::to_string(m.door_scans.size()) + " door scans, " +
+            std::to_string(DetailScans(job)) + " detail scans), " +
             FormatNumbers("path %.1f m, contacts %.0f, localisation RMS %.1f cm max %.1f cm, ",
                           job.drive.path_length, job.drive.contacts, 100 * job.drive.loc_rms,
                           100 * job.drive.loc_max) +
@@ -289,16 +300,33 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
 
   // The models against the truth (`mopad eval` over every room): eval/.
   auto t0 = WallClock::now();
+  // The robot's model files are this job's own output: one the evaluator or an exporter refuses
+  // is a defect of this program, not bad input. The job still writes the summary and the report
+  // (with the reason) and then ends with an internal error.
+  std::string defect;
   if (o.print) o.print("models against the truth (mopad eval):");
-  const evaluation::RunEvaluation run_eval =
-      evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string());
-  if (o.print) o.print(run_eval.tables);
+  evaluation::RunEvaluation run_eval;
+  try {
+    run_eval = evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string());
+    if (o.print) o.print(run_eval.tables);
+  } catch (const std::exception& e) {
+    defect = std::string("the models could not be evaluated: ") + e.what();
+    run_eval.summary = {{"error", defect}};
+    if (o.print) o.print(defect);
+  }
   const double t_eval = SecondsSince(t0);
 
   // The deliverables (docs/exports.md): export/model.ifc, model.glb, sm1.las.
   t0 = WallClock::now();
-  const exports::ExportResult exported = exports::WriteAllExports(dir.string());
-  if (o.print) o.print(exported.summary);
+  std::string exports_error;
+  try {
+    const exports::ExportResult exported = exports::WriteAllExports(dir.string());
+    if (o.print) o.print(exported.summary);
+  } catch (const std::exception& e) {
+    exports_error = std::string("the deliverables could not be written: ") + e.what();
+    if (defect.empty()) defect = exports_error;
+    if (o.print) o.print(exports_error);
+  }
   const double t_export = SecondsSince(t0);
 
   nlohmann::ordered_json j;
@@ -310,7 +338,11 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (o.rooms.empty()) j["mission"] = t.mission_json;
   j["rooms"] = t.rooms_json;
   j["rooms_failed"] = t.rooms_failed;
-  j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", run_eval.summary}};
+  if (run_eval.summary.contains("error"))
+    j["models_evaluation"] = {{"error", run_eval.summary["error"]}};
+  else
+    j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", run_eval.summary}};
+  if (!exports_error.empty()) j["exports_error"] = exports_error;
   j["seconds"] = {{"generate", o.t_generate},
                   {"mission", t_mission},
                   {"eval", t_eval},
@@ -325,7 +357,10 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   report.tables.push_back(std::move(t.rooms));
   if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));
   report.tables.push_back(std::move(t.eval));
-  report.tables.push_back(ModelScoresTable(run_eval.summary));
+  if (run_eval.summary.contains("error"))
+    report.tables.push_back({"Models against the truth", {"error"}, {{defect}}, ""});
+  else
+    report.tables.push_back(ModelScoresTable(run_eval.summary));
   if (run_eval.components) {
     const evaluation::ComponentTableText c = evaluation::ComponentsTable(*run_eval.components);
     report.tables.push_back({"SM5 service components against the truth (paper Table 3, all rooms)",
@@ -342,6 +377,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   WriteHtmlReport(report, (dir / "report.html").string());
   WriteMarkdownReport(report, (dir / "report.md").string());
   if (o.checkpoint) o.checkpoint->MarkComplete();
+  if (!defect.empty())
+    throw std::runtime_error(defect + " (summary.json and the report were written)");
 }
 
 }  // namespace mopad::mission

@@ -373,15 +373,17 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   scan_poses_.push_back(X_MS);
 
   UpdateWorkingCloud(rec.begin, rec.end);
-  const double old_ceiling = roi_.ceiling_z;
-  EstimateHeights();
-  const bool retrace = scans_.size() == 1 || std::abs(roi_.ceiling_z - old_ceiling) > 0.01;
-  for (std::size_t s = retrace ? 0 : scans_.size() - 1; s < scans_.size(); ++s) {
-    TraceOutline(scans_[s]);
+  if (!structure_frozen_) {
+    const double old_ceiling = roi_.ceiling_z;
+    EstimateHeights();
+    const bool retrace = scans_.size() == 1 || std::abs(roi_.ceiling_z - old_ceiling) > 0.01;
+    for (std::size_t s = retrace ? 0 : scans_.size() - 1; s < scans_.size(); ++s) {
+      TraceOutline(scans_[s]);
+    }
+    BuildPerimeter();
+    DetectColumns();
+    BuildRoi();
   }
-  BuildPerimeter();
-  DetectColumns();
-  BuildRoi();
   LabelAll();
   UpdateFaces();
   UpdateVoxels(true);

@@ -177,6 +177,11 @@ class RoomModel {
   /// Throws InputError if the scan's grid is inconsistent (points != rows * columns) or it
   /// has no valid return, or X_MS is not finite.
   void AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS);
+  /// From now on AddScan adds points, labels, face sensing, voxels and coverage but keeps the
+  /// structure as it is: heights, perimeter, columns, RoI (for scans taken for data quality
+  /// after the structural stopping rule, autonomy/detail_pass.h). Not undone.
+  void FreezeStructure() { structure_frozen_ = true; }
+  bool StructureFrozen() const { return structure_frozen_; }
 
   const RoomModelParams& Params() const { return params_; }
   int ScanCount() const { return static_cast<int>(scans_.size()); }
@@ -261,6 +266,7 @@ class RoomModel {
   std::vector<std::int32_t> work_face_;
   // Model.
   Roi roi_;
+  bool structure_frozen_ = false;             // FreezeStructure()
   std::shared_ptr<const Boundary> boundary_;  // of roi_, rebuilt with it
   VoxelSpace voxels_;
   std::vector<CoverageFigures> coverage_;

@@ -194,7 +194,7 @@ TEST(DetailPass, TheRoomLoopLoadsItsParamsUnderDetailAndRejectsTypos) {
   EXPECT_TRUE(p.detail.enabled);
   EXPECT_EQ(p.detail.fine_step_deg, 0.05);
   EXPECT_EQ(p.detail.max_scans, 1);
-  EXPECT_FALSE(RoomScanParams{}.detail.enabled);  // off unless asked for (docs/room-scanning.md)
+  EXPECT_TRUE(RoomScanParams{}.detail.enabled);  // on by default (docs/room-scanning.md)
   EXPECT_THROW(
       LoadParams<RoomScanParams>(LoadYamlString("detail: {max_scan: 1}", "t.yaml"), "t.yaml"),
       InputError);

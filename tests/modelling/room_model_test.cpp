@@ -344,6 +344,37 @@ TEST(RoomModel, LRoomPerimeterHasTheSixCornersOfTheL) {
   }
 }
 
+// A frozen structure (the detail pass's scans: data quality, never structure) keeps heights,
+// perimeter, columns and faces when a scan sees a part of the room no earlier scan saw; the
+// scan's points still join the cloud and are labelled against the frozen RoI (and its rays
+// still mark where a face is an opening: a face cell's state is data). The same scan
+// moves the perimeter of a model that is not frozen (so the check can fail).
+TEST(RoomModel, AFrozenStructureTakesAScansPointsButKeepsItsPerimeter) {
+  const sim::EmbreeWorld world(testing::LRoomScene());
+  RoomModel frozen, open;
+  for (RoomModel* m : {&frozen, &open}) {
+    const SimScan s = TakeScan(world, TestTls(), 2.0, 1.5, 1);
+    m->AddScan(s.scan, s.X_MS);
+  }
+  const std::vector<Vec2> perimeter = frozen.Perimeter();
+  const double ceiling = frozen.CeilingZ();
+  const std::size_t points = frozen.PointCount(), faces = frozen.GetRoi().faces.size();
+  frozen.FreezeStructure();
+  EXPECT_TRUE(frozen.StructureFrozen());
+  EXPECT_FALSE(open.StructureFrozen());
+  const SimScan s = TakeScan(world, TestTls(), 8.5, 7.0, 2);  // up the L's leg
+  frozen.AddScan(s.scan, s.X_MS);
+  open.AddScan(s.scan, s.X_MS);
+  EXPECT_GT(OutlineDistance(open.Perimeter(), perimeter), 0.5) << open.FiguresJson();
+  EXPECT_EQ(frozen.Perimeter(), perimeter) << frozen.FiguresJson();
+  EXPECT_EQ(frozen.GetRoi().faces.size(), faces);
+  EXPECT_EQ(frozen.CeilingZ(), ceiling);
+  EXPECT_EQ(frozen.ScanCount(), 2);
+  EXPECT_GT(frozen.PointCount(), points);
+  EXPECT_EQ(frozen.Labels().size(), frozen.PointCount());
+  EXPECT_GT(frozen.Coverage().sensed_area, 0.0);
+}
+
 // An exterior door 2.55 m high under a 2.7 m ceiling in a 0.3 m wall, nothing beyond (FZK-Haus'
 // front door): its head soffit is within the trace's hanging tolerance of the ceiling, so the
 // trace walks into the reveal up to the wall's outer face. That notch is a view through an
