@@ -193,6 +193,28 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
                        min_edge);
       }
     }
+    // A face its own points do not fit (too few, or they belong to another face), between two
+    // fitted faces that turn (not parallel) and meet within its length of its middle, is no
+    // face: the perimeter cut across a corner no scan saw well (the inner corner of an L-shaped
+    // hall, seen only past its edge). Its two loop vertices become the neighbours' corner and
+    // the ring is fitted again.
+    const double cos_parallel = std::cos(DegToRad(prm.corner_min_angle_deg));
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t h = (i + n - 1) % n, j = (i + 1) % n;
+      if (ring.fits[i].fitted || !ring.fits[h].fitted || !ring.fits[j].fitted) continue;
+      const Eigen::Vector2d a = ring.planes[h].n.head<2>(), b = ring.planes[j].n.head<2>();
+      if (std::abs(a.normalized().dot(b.normalized())) > cos_parallel) continue;
+      Eigen::Matrix2d A;
+      A << a.x(), a.y(), b.x(), b.y();
+      const Eigen::Vector2d corner =
+          A.inverse() * Eigen::Vector2d(-ring.planes[h].d, -ring.planes[j].d);
+      if ((corner - 0.5 * (loop[i] + loop[j])).norm() > len[i]) continue;
+      std::vector<Eigen::Vector2d> fewer = loop;
+      fewer[i] = corner;
+      fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(j));
+      return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
+                     min_edge);
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Plane& prev = ring.planes[(i + n - 1) % n];

@@ -32,6 +32,9 @@ struct Sm3Params {
   int mlesac_iterations = 300;  ///< hypotheses per plane, [1, 100000]
   int min_points = 50;  ///< points needed to fit a plane (else the edge line is used), [3, 1e7]
   double merge_angle_deg = 2.0;  ///< consecutive walls closer than this in direction merge, [0, 45]
+  /// deg, an unsupported face between two fitted faces that turn at least this much is a cut
+  /// corner and collapses into their corner, [1, 90]
+  double corner_min_angle_deg = 30.0;
   int max_fit_points =
       2000;                ///< points scoring each MLESAC hypothesis (even subsample), [100, 1e8]
   std::uint64_t seed = 1;  ///< MLESAC sampling
@@ -63,6 +66,7 @@ struct Sm3Params {
     v("mlesac_iterations", mlesac_iterations, Bounds{1, 100000});
     v("min_points", min_points, Bounds{3, 10000000});
     v("merge_angle_deg", merge_angle_deg, Bounds{0.0, 45.0});
+    v("corner_min_angle_deg", corner_min_angle_deg, Bounds{1.0, 90.0});
     v("max_fit_points", max_fit_points, Bounds{100, 100000000});
     v("seed", seed);
     v("round_min_vertices", round_min_vertices, Bounds{3, 1000});

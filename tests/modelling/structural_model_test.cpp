@@ -134,6 +134,31 @@ TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
   EXPECT_EQ(m.adjacency.size(), 6u + 12u);
 }
 
+// A perimeter that cuts the L's inner corner with a 43 cm chamfer (office seed 4's hall: the
+// trace ran across a corner no scan saw well): the chamfer's own points do not fit it, its
+// neighbours do and turn 90 deg, so it collapses into their corner and the 6 true walls stay.
+// A chamfer whose neighbours are parallel (a step in a wall) would be kept.
+TEST(StructuralModel, AnUnsupportedChamferAcrossAnInnerCornerCollapsesIntoTheCorner) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  in.perimeter = {{0, 0}, {6, 0}, {6, 3}, {3.25, 3}, {3, 3.35}, {3, 5}, {0, 5}};
+  const StructuralModel m = BuildStructuralModel(in, {});
+  int walls = 0;
+  for (const auto& p : m.patches) {
+    if (p.patch_class != PatchClass::kWall) continue;
+    ++walls;
+    EXPECT_TRUE(p.fitted) << p.id;
+    for (const auto& v : p.polygon) {
+      double best = 1e9;
+      for (const auto& c : room.outline) best = std::min(best, (v.head<2>() - c).norm());
+      EXPECT_LT(best, 0.01) << p.id << " vertex " << v.transpose();
+    }
+  }
+  EXPECT_EQ(walls, 6);
+}
+
 // The map frame is levelled: a ceiling whose points tilt 0.1 deg (range noise, clutter) is
 // horizontal, so every wall's vertical edges are the room's height; a ceiling sloped 3 deg
 // (beyond level_tolerance_deg) keeps its slope.
