@@ -45,9 +45,9 @@
 namespace mopad::autonomy {
 
 struct DetailPassParams {
-  /// On (the default): SM5 needs it (office_5rooms: 95 % of the components found with it, 89 %
-  /// without) at about two scans per room. Off: the room loop ends at the structural stopping
-  /// rule (the paper's behaviour; the floor mission's 20-scan budget, docs/room-scanning.md).
+  /// On (the default): the structural scans leave walls too sparse or grazing for SM5's small
+  /// components; the pass costs about two scans per room. Off: the room loop ends at the
+  /// structural stopping rule (the paper's behaviour). Figures: docs/room-scanning.md.
   bool enabled = true;
   double cell = 0.25;  ///< m, SE cell whose data quality is judged, [0.05, 2]
   /// m, largest acceptable sample spacing on an SE: the smallest catalogue component (an 8 cm

@@ -237,11 +237,9 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     const bool used = RegisterRoomScan(session, params, scan, false, target, log);
     log.t_registration = Since(t0);
     ++res.detail_scans;
-    bool kept = false;
     if (used) {
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);  // data only: the structure is frozen (above)
-      kept = true;
       steps_rad.push_back(c.step_rad);
       modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
                                  res.no_return, params.sm4.orthoimage);
@@ -250,11 +248,11 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     } else {
       res.registration_failed = true;
     }
-    log.registered = kept;
+    log.registered = used;
     log.coverage = CoverageOf(model, session, params, res.no_return);
     log.stop_message = plan.message;
     res.scans.push_back(std::move(log));
-    if (!kept) break;  // the same plan would win again
+    if (!used) break;  // the same plan would win again
   }
   res.detail_sim_time = session.Time() - sim0;
   res.detail_wall_time = Since(wall0);

@@ -338,7 +338,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (o.rooms.empty()) j["mission"] = t.mission_json;
   j["rooms"] = t.rooms_json;
   j["rooms_failed"] = t.rooms_failed;
-  if (run_eval.summary.contains("error"))
+  const bool evaluated = !run_eval.summary.contains("error");
+  if (!evaluated)
     j["models_evaluation"] = {{"error", run_eval.summary["error"]}};
   else
     j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", run_eval.summary}};
@@ -357,7 +358,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   report.tables.push_back(std::move(t.rooms));
   if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));
   report.tables.push_back(std::move(t.eval));
-  if (run_eval.summary.contains("error"))
+  if (!evaluated)
     report.tables.push_back({"Models against the truth", {"error"}, {{defect}}, ""});
   else
     report.tables.push_back(ModelScoresTable(run_eval.summary));

@@ -138,6 +138,14 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
              double min_edge) {
   Ring ring;
   const std::size_t n = loop.size();
+  // The ring again without loop vertex `drop`, `keep` put in place of vertex `at`.
+  auto refit = [&](std::size_t drop, std::size_t at, const Eigen::Vector2d& keep) {
+    std::vector<Eigen::Vector2d> fewer = loop;
+    fewer[at] = keep;
+    fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
+    return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
+                   min_edge);
+  };
   // Points per edge.
   std::vector<std::vector<Eigen::Vector3d>> near(n);
   const double z_lo = floor_z + 0.15, z_hi = ceiling_z - 0.15;
@@ -187,10 +195,7 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       const Plane& b = ring.planes[i];
       const Eigen::Vector3d mid(loop[i].x(), loop[i].y(), 0.5 * (floor_z + ceiling_z));
       if (a.n.dot(b.n) > cos_max && std::abs(a.Distance(mid) - b.Distance(mid)) < prm.plane_band) {
-        std::vector<Eigen::Vector2d> fewer = loop;
-        fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(i));
-        return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
-                       min_edge);
+        return refit(i, i, loop[i]);
       }
     }
     // A face its own points do not fit (too few, or they belong to another face), between two
@@ -204,16 +209,10 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       if (ring.fits[i].fitted || !ring.fits[h].fitted || !ring.fits[j].fitted) continue;
       const Eigen::Vector2d a = ring.planes[h].n.head<2>(), b = ring.planes[j].n.head<2>();
       if (std::abs(a.normalized().dot(b.normalized())) > cos_parallel) continue;
-      Eigen::Matrix2d A;
-      A << a.x(), a.y(), b.x(), b.y();
-      const Eigen::Vector2d corner =
-          A.inverse() * Eigen::Vector2d(-ring.planes[h].d, -ring.planes[j].d);
-      if ((corner - 0.5 * (loop[i] + loop[j])).norm() > len[i]) continue;
-      std::vector<Eigen::Vector2d> fewer = loop;
-      fewer[i] = corner;
-      fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(j));
-      return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
-                     min_edge);
+      Eigen::Vector3d corner;
+      if (!ThreePlanes(ring.planes[h], ring.planes[j], floor, &corner)) continue;
+      if ((corner.head<2>() - 0.5 * (loop[i] + loop[j])).norm() > len[i]) continue;
+      return refit(j, i, corner.head<2>());
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -232,13 +231,7 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       const std::size_t j = (i + 1) % n;
       const double along = std::min((ring.bottom[j] - ring.bottom[i]).head<2>().dot(t[i]),
                                     (ring.top[j] - ring.top[i]).head<2>().dot(t[i]));
-      if (along < least) {
-        std::vector<Eigen::Vector2d> fewer = loop;
-        fewer[i] = 0.5 * (loop[i] + loop[j]);
-        fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(j));
-        return FitRing(fewer, into_left, points, floor, ceiling, floor_z, ceiling_z, prm, stream,
-                       min_edge);
-      }
+      if (along < least) return refit(j, i, 0.5 * (loop[i] + loop[j]));
     }
   }
   return ring;

@@ -47,8 +47,7 @@ struct Sm3Params {
       0.05;                 ///< circle fit residual RMS / radius accepted as round, (0, 1]
   int round_segments = 16;  ///< faces of the prism that models a round column, [3, 360]
   /// m, column footprint edges shorter than this collapse into a corner, and so do column faces
-  /// the plane fit leaves shorter (or reversed) (a traced chamfer gave a sliver face with a
-  /// clockwise polygon), [0, 1]
+  /// the plane fit leaves shorter or reversed: no sliver face, no clockwise polygon, [0, 1]
   double min_column_edge = 0.05;
   /// deg, a fitted floor or ceiling tilted less than this from horizontal is taken horizontal
   /// through the fit's height at its points' centroid: the map frame is levelled (the

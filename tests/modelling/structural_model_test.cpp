@@ -134,8 +134,8 @@ TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
   EXPECT_EQ(m.adjacency.size(), 6u + 12u);
 }
 
-// A perimeter that cuts the L's inner corner with a 43 cm chamfer (office seed 4's hall: the
-// trace ran across a corner no scan saw well): the chamfer's own points do not fit it, its
+// A perimeter that cuts the L's inner corner with a 43 cm chamfer (the trace ran across a
+// corner no scan saw well): the chamfer's own points do not fit it, its
 // neighbours do and turn 90 deg, so it collapses into their corner and the 6 true walls stay.
 // A chamfer whose neighbours are parallel (a step in a wall) would be kept.
 TEST(StructuralModel, AnUnsupportedChamferAcrossAnInnerCornerCollapsesIntoTheCorner) {
@@ -243,9 +243,8 @@ TEST(StructuralModel, ColumnFootprintChamferCollapsesIntoACorner) {
 
 // A traced chamfer long enough to survive min_column_edge (8.5 cm) but lying 1.4 cm outside the
 // true corner (the trace ran wide there): its own plane (too few points: the loop edge) meets
-// the neighbours' fitted faces beyond each other, so its face came out reversed (office seed 1,
-// R4, with more detail scans: mopad eval rejected the clockwise polygon). It is no face: the 4
-// real faces stay.
+// the neighbours' fitted faces beyond each other, so its face would come out reversed (a
+// clockwise polygon, which mopad eval refuses). It is no face: the 4 real faces stay.
 TEST(StructuralModel, AColumnFaceTheFitLeavesReversedIsDropped) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(5, "column-wide-chamfer");
