@@ -15,6 +15,7 @@
 #include "common/error.h"
 #include "common/srgb.h"
 #include "modelling/component_features.h"
+#include "modelling/sample_fit.h"
 
 namespace mopad::modelling {
 namespace {
@@ -29,6 +30,7 @@ struct SeImages {
   cv::Mat wall_rgb;  // CV_8UC3, local wall colour
   cv::Mat delta_e;   // CV_32F, Lab distance to the local wall colour (0 where not valid)
   cv::Mat blur;      // CV_32F, pixels, sigma of the filling at each pixel (0 where unseen)
+  cv::Mat spacing;   // CV_32F, m, local sample spacing (pixel / sqrt(points per pixel); 0 unseen)
   cv::Mat measured;  // CV_8U, 255 = the pixel holds points (not filled)
   std::vector<cv::Rect> openings;  // the removed openings (grown by opening_margin), pixels
 };
@@ -84,6 +86,7 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
   auto sigma_of = [&](int k) { return sigmas[static_cast<std::size_t>(k)]; };
   cv::Mat level(rows, cols, CV_8S, cv::Scalar(-1));
   se.blur = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
+  se.spacing = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
   cv::Mat share(rows, cols, CV_32F, cv::Scalar(0));
   // Each pixel's level, and per tile of kTile x kTile pixels the levels it holds (bit lv).
   constexpr int kTile = 256;
@@ -96,6 +99,7 @@ void FillSe(const Orthoimage& im, const std::vector<DetectedOpening>& openings,
       const double density = n_b.at<float>(r, k) / a;  // points per pixel
       if (density <= 0.0) continue;
       share.at<float>(r, k) = std::min(1.0f, w_b.at<float>(r, k) / a);
+      se.spacing.at<float>(r, k) = static_cast<float>(pixel / std::sqrt(density));
       const double want = p.fill_spacing_share / std::sqrt(density);  // pixels
       int lv = 0;
       while (lv + 1 < levels && sigma_of(lv) < want) ++lv;
@@ -1002,6 +1006,56 @@ double SeLight(const SeImages& se, const std::vector<PathDetection>& depth, bool
   return Median(ratios);
 }
 
+// The points an SE image was built from (map frame) as samples in its pixels
+// (modelling/sample_fit.h).
+SeSamples SeSamplesOf(const Orthoimage& image, const OrthoPoints& points) {
+  CheckOrthoPoints(points);
+  const PatchFrame& f = image.Frame();
+  std::vector<Eigen::Vector3f> uvd;
+  uvd.reserve(points.points->size());
+  for (const Eigen::Vector3f& q : *points.points) {
+    const Vec3 x = q.cast<double>();
+    const Vec2 uv = f.ToUv(x);
+    uvd.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                     static_cast<float>(f.Depth(x)));
+  }
+  return SeSamples(image, uvd, *points.colours);
+}
+
+// Step 7: an instance's box moved to where its class's model best explains the SE's samples
+// (FitOnSamples): a protruding class by its depth model (its height map), a flush one by its
+// colour face, relit by the SE's light (SeLight), on the local wall colour.
+void PlaceOnSamples(const SeSamples& samples, const SeImages& se, const interfaces::ObjectModel& m,
+                    bool ceiling, double pixel, double light, const ComponentParams& p,
+                    PathDetection& b) {
+  const double col = 0.5 * (b.col0 + b.col1), row = 0.5 * (b.row0 + b.row1);
+  const cv::Point mid(std::clamp(static_cast<int>(col), 0, se.spacing.cols - 1),
+                      std::clamp(static_cast<int>(row), 0, se.spacing.rows - 1));
+  const double spacing = se.spacing.at<float>(mid);
+  if (!(spacing > 0.0)) return;  // nothing seen there
+  SampleModel model;
+  model.pixel = m.pixel_size;
+  model.width = m.width;
+  model.height = m.height;
+  model.protrusion = m.depth;
+  if (m.depth >= 2.0 * p.protrusion_min) {
+    model.depth = MaybeFlip(ModelDepth(m), ceiling);
+  } else {
+    model.wall_rgb = se.wall_rgb.at<cv::Vec3b>(mid);
+    model.colour_rgb =
+        MaybeFlip(ModelColourOnWall(m, model.wall_rgb, 0.0, m.pixel_size, light), ceiling);
+  }
+  SampleFitParams fp;
+  fp.radius = p.place_radius;
+  fp.edge_share = p.place_edge_share;
+  fp.cauchy_k = p.place_cauchy_k;
+  fp.surface_band = p.surface_band;
+  const SampleFit fit = FitOnSamples(samples, model, col, row, pixel, spacing, fp);
+  if (!fit.fitted) return;
+  b.col0 += fit.dcol, b.col1 += fit.dcol;
+  b.row0 += fit.drow, b.row1 += fit.drow;
+}
+
 // Step 3 on one SE.
 std::vector<PathDetection> ColourPath(const SeImages& se, double pixel, bool ceiling, double light,
                                       const ComponentRecogniser& rec, const ComponentParams& p) {
@@ -1271,7 +1325,8 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
                                                   bool ceiling,
                                                   const std::vector<DetectedOpening>& openings,
                                                   const ComponentRecogniser& recogniser,
-                                                  const ComponentParams& params) {
+                                                  const ComponentParams& params,
+                                                  const OrthoPoints* samples) {
   params.Validate();
   if (!recogniser.Trained())
     throw InputError("", "component recogniser is not trained", "untrained", "a trained one");
@@ -1298,9 +1353,13 @@ std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const
   if (!ceiling && MarkSupport(depth, cat, instances, colour))
     instances = Consensus(colour, depth, params);
   if (!ceiling) ApplyMarks(colour, depth, cat, instances);
+  const SeSamples placing = params.place_on_samples && samples && !instances.empty()
+                                ? SeSamplesOf(image, *samples)
+                                : SeSamples();
   for (const ConsensusInstance& c : instances) {
-    const PathDetection& b = InstanceBox(c, colour, depth);
     const interfaces::ObjectModel& m = cat.models[static_cast<std::size_t>(c.class_index)];
+    PathDetection b = InstanceBox(c, colour, depth);
+    if (!placing.Empty()) PlaceOnSamples(placing, se, m, ceiling, image.Pixel(), light, params, b);
     DetectedComponent d;
     d.class_name = m.class_name;
     d.host = host;
@@ -1382,8 +1441,8 @@ Sm5Model DetectComponents(const StructuralModel& sm3, const Sm4Model& sm4,
     const Orthoimage image =
         BuildOrthoimage(own, PatchFrame::Of(sm3.patches[se]), op, params.pixel);
     const bool ceiling = sm3.patches[se].patch_class == PatchClass::kCeiling;
-    found[i] =
-        DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings, recogniser, params);
+    found[i] = DetectSeComponents(image, sm3.patches[se].id, ceiling, sm4.openings, recogniser,
+                                  params, &own);
   });
   for (auto& f : found)
     for (DetectedComponent& d : f) out.components.push_back(std::move(d));

@@ -82,8 +82,14 @@
 //     single_colour_ncc: a sign seen far off or at a slant) whose marked equipment is an
 //     instance below it is supported by it, as a protruding class by its protrusion, and step 4
 //     runs again: the equipment is evidence for the sign that marks it.
-// Centre: the depth peak's box when depth found the instance, else the colour peak's box, on
-// the SE plane (depth 0); map frame.
+//  7. Placement on the samples (modelling/sample_fit.h): the instance's box (the depth
+//     detection's when depth found it, else the colour detection's) is moved to where its
+//     class's model best explains the SE's own points near it, not the filled 5 mm image: a
+//     protruding class by its depth model, a flush one by its colour face (relit by the SE's
+//     light) on the local wall colour; robust to the object's shadow, which holds no point.
+//     Within place_radius; a best place at the edge of that search is no minimum the data
+//     show, and the box stays.
+// Centre: the placed box's centre on the SE plane (depth 0); map frame.
 //
 // Robot side only (no truth). Deterministic: ordered loops, OpenCV calls on fixed inputs; the
 // perceptron is trained from a CounterRng stream (ComponentTrainingParams). DetectComponents
@@ -175,6 +181,18 @@ struct ComponentParams {
   /// colour models keep their catalogue colours; 0 = never relit, [0, 1e6]
   int light_min_pixels = 8;
   int max_image_pixels = 8'000'000;  ///< SEs with larger images are skipped, [1, 1e9]
+  /// Step 7: each component placed where its model best explains the SE's own samples
+  /// (modelling/sample_fit.h); false: at its box on the image
+  bool place_on_samples = true;
+  /// m, largest move of step 7: beyond the image's placement error (the NCC's search_margin
+  /// window, a shadow's pull), [0.001, 0.5]; a best place at its edge is none (no move)
+  double place_radius = 0.06;
+  /// Edge uncertainty of step 7 as a share of the local sample spacing (1 / sqrt 12: an edge
+  /// anywhere between two samples), [0, 2]
+  double place_edge_share = 0.2887;
+  /// Scale of step 7's Cauchy loss in robust sigmas of the noise measured on the wall around
+  /// the component (2.385: 95 % efficiency at Gaussian noise), [0.5, 20]
+  double place_cauchy_k = 2.385;
 
   template <class V>
   void Visit(V& v) {
@@ -215,6 +233,10 @@ struct ComponentParams {
     v("light_min_pixels", light_min_pixels, Bounds{0, 1000000});
     v("extend_samples", extend_samples, Bounds{1, 10000});
     v("max_image_pixels", max_image_pixels, Bounds{1, 1e9});
+    v("place_on_samples", place_on_samples);
+    v("place_radius", place_radius, Bounds{0.001, 0.5});
+    v("place_edge_share", place_edge_share, Bounds{0.0, 2.0});
+    v("place_cauchy_k", place_cauchy_k, Bounds{0.5, 20.0});
   }
   void Validate() const;  ///< InputError naming the field
 };
@@ -363,12 +385,15 @@ std::vector<ConsensusInstance> Consensus(const std::vector<PathDetection>& colou
 
 /// The components of one SE from its orthoimage (built at params.pixel, see BuildOrthoimage),
 /// the SE's openings (their u, v rectangles) and whether it is a ceiling (the model's height
-/// axis runs along world y there). Ids are left empty.
+/// axis runs along world y there). `samples`: the points the image was built from (map frame);
+/// with them (and params.place_on_samples) each component is placed on them (step 7), without
+/// them on the image. Ids are left empty.
 std::vector<DetectedComponent> DetectSeComponents(const Orthoimage& image, const std::string& host,
                                                   bool ceiling,
                                                   const std::vector<DetectedOpening>& openings,
                                                   const ComponentRecogniser& recogniser,
-                                                  const ComponentParams& params);
+                                                  const ComponentParams& params,
+                                                  const OrthoPoints* samples = nullptr);
 
 /// Step 1's points of patch `se` of `sm3` (indices into `points`, ascending): those within
 /// `band` of its plane over its extent, less those lying on another patch (within
