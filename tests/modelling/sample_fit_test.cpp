@@ -112,6 +112,23 @@ TEST(FitOnSamples, FindsTheBoxOfASocketFromItsSamples) {
   EXPECT_GT(f.samples, 100);
 }
 
+// Depth and colour together (the sum of both losses) place it as well.
+TEST(FitOnSamples, DepthAndColourTogetherPlaceTheSocket) {
+  const double u0 = 1.0024, v0 = 0.5031;
+  const Drawn d = Draw(0.008, 0.002, [&](double u, double v, double* z, cv::Vec3b* c) {
+    Socket(u0, v0, u, v, z, c);
+  });
+  const SeSamples s(WallImage(), d.uvd, d.rgb);
+  SampleModel m = SocketModel();
+  m.wall_rgb = kWallRgb;
+  m.colour_rgb = cv::Mat(40, 40, CV_8UC3, cv::Scalar(245, 245, 242));
+  const double col = ColOf(u0 - 0.006), row = RowOf(v0 + 0.005);
+  const SampleFit f = FitOnSamples(s, m, col, row, kPixel, 0.008, {});
+  ASSERT_TRUE(f.fitted);
+  EXPECT_NEAR((col + f.dcol) * kPixel, u0, 0.001);
+  EXPECT_NEAR(200 * kPixel - (row + f.drow) * kPixel, v0, 0.001);
+}
+
 // Seen from the left at a slant, the socket hides 3 cm of the wall to its right: no sample
 // there. The shadow pulls nothing: the place is still within a millimetre.
 TEST(FitOnSamples, AShadowBesideTheObjectPullsNothing) {
