@@ -107,8 +107,8 @@ class FloorMission {
       std::vector<modelling::Sm4Model> neighbours;
       for (const FloorRoom& r : res_.rooms)
         if (r.error.empty()) neighbours.push_back(r.sm4);
-      v.models = BuildRoomModels(model, std::move(v.scan.no_return), rp_, v.room, &v.images,
-                                 recogniser_, neighbours);
+      v.models = modelling::BuildRoomModels(model, std::move(v.scan.no_return), rp_.sm3, rp_.sm4,
+                                            rp_.sm5, v.room, &v.images, recogniser_, neighbours);
     } catch (const std::exception& e) {
       v.error = e.what();
     }

@@ -29,6 +29,7 @@
 #include "autonomy/traversal_tree.h"
 #include "autonomy/wall_gaps.h"
 #include "common/params.h"
+#include "modelling/room_models.h"
 
 namespace mopad::autonomy {
 
@@ -83,7 +84,7 @@ struct RoomVisit {
   DoorScan door_scan_before;  ///< index -1 for the start room
   RoomScanResult scan;        ///< the room loop's log (its first scan is door scan 2)
   const modelling::RoomModel* model = nullptr;
-  RoomModels models;                                                  ///< SM3, SM4
+  modelling::RoomModels models;                                       ///< SM3, SM4, SM5, DSM3
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;  ///< wall orthoimages
   std::string error;  ///< non-empty: modelling failed; the room has no models
 };
@@ -115,7 +116,7 @@ struct FloorRoom {
   modelling::Sm5Model sm5;  ///< empty without a recogniser
   std::string error;
   /// Doors added to sm4 at the mission's end from rooms modelled after this one
-  /// (modelling::AddDoorsFromNeighbours): its files are to be written again when > 0.
+  /// (modelling::AddDoorsFromNeighbours).
   int doors_from_later_rooms = 0;
   /// SM1 points in the height band of door leaves and lintels (floor + leaf_v_low *
   /// door_min_height to floor + door_max_height + lintel_search), kept for that pass only.

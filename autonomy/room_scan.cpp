@@ -373,43 +373,4 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
   return res;
 }
 
-RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
-                           const RoomScanParams& params, const std::string& room,
-                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images,
-                           const modelling::ComponentRecogniser* recogniser,
-                           const std::vector<modelling::Sm4Model>& neighbours) {
-  RoomModels out;
-  out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room);
-  modelling::OrthoPoints ortho = std::move(no_return);
-  ortho.points = &model.Points();
-  ortho.colours = &model.Colours();
-  ortho.scan_index = &model.ScanIndices();
-  ortho.scan_origins.clear();
-  for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
-  const auto t0 = Clock::now();
-  modelling::DropNoReturnRaysThroughSeenSurfaces(ortho, params.sm4.orthoimage);
-  out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images, neighbours);
-  // A closed door's leaf and casing are not its wall: when SM4 found one, SM3 is fitted again
-  // without their points, and SM4 again on that SM3.
-  bool closed_door = false;
-  for (const auto& o : out.sm4.openings)
-    closed_door = closed_door || (o.type == modelling::OpeningType::kDoor &&
-                                  o.state == modelling::DoorState::kClosed);
-  if (closed_door) {
-    const std::vector<std::uint8_t> mask =
-        modelling::ClosedDoorPointMask(model.Points(), out.sm3.patches, out.sm4.openings);
-    out.sm3 = modelling::BuildRoomSm3(model, params.sm3, room, &mask);
-    if (images) images->clear();
-    out.sm4 = modelling::DetectOpenings(out.sm3, ortho, params.sm4, images, neighbours);
-  }
-  out.sm4_seconds = Since(t0);
-  out.sm5.room = room;
-  if (recogniser) {
-    const auto t1 = Clock::now();
-    out.sm5 = modelling::DetectComponents(out.sm3, out.sm4, ortho, *recogniser, params.sm5);
-    out.sm5_seconds = Since(t1);
-  }
-  return out;
-}
-
 }  // namespace mopad::autonomy

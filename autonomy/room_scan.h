@@ -140,22 +140,4 @@ bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::RegistrationAcceptanceParams& acceptance,
                       perception::RegistrationResult& r);
 
-/// SM3, SM4 and SM5 of a scanned room (paper §3.2-3.4): the structural model, the openings in
-/// its walls from their colour + depth orthoimages (the accepted scans' points and `no_return`
-/// rays; with a closed door found, SM3 and SM4 once more without its leaf and casing), then, with a
-/// `recogniser` (trained from the robot's catalogue of object models), the service components on
-/// its walls and ceiling. `images` receives each wall's orthoimage when given.
-struct RoomModels {
-  modelling::StructuralModel sm3;
-  modelling::Sm4Model sm4;
-  modelling::Sm5Model sm5;   ///< empty without a recogniser
-  double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
-  double sm5_seconds = 0.0;  ///< s of wall time of SM5 (reporting only)
-};
-RoomModels BuildRoomModels(const modelling::RoomModel& model, modelling::OrthoPoints no_return,
-                           const RoomScanParams& params, const std::string& room,
-                           std::vector<std::pair<std::string, modelling::Orthoimage>>* images,
-                           const modelling::ComponentRecogniser* recogniser = nullptr,
-                           const std::vector<modelling::Sm4Model>& neighbours = {});
-
 }  // namespace mopad::autonomy

@@ -122,7 +122,7 @@ CoverageReport ComputeCoverageFromPly(const StructuralSurfaces& surfaces,
   return ComputeCoverage(surfaces, observable, cloud.points, X_WM, params);
 }
 
-std::string CoverageToJson(const CoverageReport& report) {
+nlohmann::ordered_json CoverageJson(const CoverageReport& report) {
   Json j;
   j["room"] = FiguresJson(report.room);
   j["per_class"] = Json::array();
@@ -131,7 +131,11 @@ std::string CoverageToJson(const CoverageReport& report) {
   for (const auto& f : report.per_element) j["per_element"].push_back(FiguresJson(f));
   j["points"] = report.points;
   j["points_on_cells"] = report.points_on_cells;
-  return j.dump(2) + "\n";
+  return j;
+}
+
+std::string CoverageToJson(const CoverageReport& report) {
+  return CoverageJson(report).dump(2) + "\n";
 }
 
 }  // namespace mopad::evaluation

@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
@@ -81,6 +82,8 @@ CoverageReport ComputeCoverageFromPly(const StructuralSurfaces& surfaces,
 /// Deterministic pretty JSON: {"room": {...}, "per_class": [...], "per_element": [...],
 /// "points": n, "points_on_cells": n}; each figure has name, total_area_m2, observable_area_m2,
 /// sensed_area_m2, sensed_observable_area_m2, share_of_observable, share_of_total.
+nlohmann::ordered_json CoverageJson(const CoverageReport& report);
+/// CoverageJson's text (2-space indent, a final newline).
 std::string CoverageToJson(const CoverageReport& report);
 
 }  // namespace mopad::evaluation

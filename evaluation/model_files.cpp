@@ -81,58 +81,6 @@ bool ParseClass(const std::string& name, SurfaceClass* cls) {
 
 }  // namespace
 
-RunInfo ReadRunInfo(const std::string& run_json_path) {
-  const Reader r{run_json_path};
-  const json j = ParseJsonFile(run_json_path);
-  r.Header(j, "mopad-room-run");
-  RunInfo info;
-  info.dir = fs::path(run_json_path).parent_path().string();
-  if (info.dir.empty()) info.dir = ".";
-  info.scene = r.String(r.Get(j, "scene", "scene"), "scene");
-  if (auto it = j.find("doors"); it != j.end() && !it->is_null()) {
-    if (!it->is_array()) r.Fail("doors", "not an array", it->dump(), "[\"ID=DEG\", ...]");
-    for (std::size_t i = 0; i < it->size(); ++i)
-      info.doors.push_back(r.String((*it)[i], "doors[" + std::to_string(i) + "]"));
-  }
-  info.room = r.String(r.Get(j, "room", "room"), "room");
-  if (info.room.empty()) r.Fail("room", "empty room id");
-  if (auto it = j.find("seed"); it != j.end()) {
-    if (!it->is_number_integer()) r.Fail("seed", "not an integer", it->dump(), "an integer");
-    info.seed = it->get<std::uint64_t>();
-  }
-  const json& X = r.Get(j, "X_WM", "X_WM");
-  if (!X.is_array() || X.size() != 4) r.Fail("X_WM", "not a 4x4 matrix", X.dump(), "4 rows of 4");
-  Eigen::Matrix4d m;
-  for (int i = 0; i < 4; ++i) {
-    if (!X[i].is_array() || X[i].size() != 4)
-      r.Fail("X_WM", "not a 4x4 matrix", X.dump(), "4 rows of 4");
-    for (int k = 0; k < 4; ++k)
-      m(i, k) = r.Number(X[i][k], "X_WM[" + std::to_string(i) + "][" + std::to_string(k) + "]");
-  }
-  const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-5 ||
-      R.determinant() < 0.0 || m.row(3).cwiseAbs().sum() != 1.0 || m(3, 3) != 1.0)
-    r.Fail("X_WM", "not a rigid transform", "", "a rotation, a translation and a last row 0 0 0 1");
-  info.X_WM.linear() = R;
-  info.X_WM.translation() = m.block<3, 1>(0, 3);
-  const json& files = r.Get(j, "files", "files");
-  if (!files.is_object()) r.Fail("files", "not an object", files.dump(), "an object");
-  auto resolve = [&](const char* key) -> std::string {
-    auto it = files.find(key);
-    if (it == files.end() || it->is_null()) return "";
-    const std::string f = r.String(*it, std::string("files.") + key);
-    if (f.empty()) return "";
-    const fs::path p(f);
-    return p.is_absolute() ? p.string() : (fs::path(info.dir) / p).string();
-  };
-  info.sm1 = resolve("sm1");
-  info.sm2 = resolve("sm2");
-  info.sm3 = resolve("sm3");
-  info.sm4 = resolve("sm4");
-  info.dsm3 = resolve("dsm3");
-  return info;
-}
-
 std::vector<Patch> Sm3Model::Patches() const {
   std::vector<Patch> out;
   out.reserve(patches.size());

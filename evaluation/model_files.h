@@ -1,8 +1,8 @@
 #pragma once
 // Readers of the robot's model files (docs/models.md, format version 1) into evaluation types:
-// run.json (where the run's map frame sits in the world), sm3.json (SM3 patches), dsm3.ply
-// (DSM3 voxels) and scan_poses.tum (the scanner poses the robot used). Written from the spec,
-// independently of the writers (modelling/model_io.h), so a writer bug shows up as a failure.
+// sm3.json (SM3 patches), dsm3.ply (DSM3 voxels) and scan_poses.tum (the scanner poses the
+// robot used). Written from the spec, independently of the writers (modelling/model_io.h), so a
+// writer bug shows up as a failure.
 //
 // Frames: everything these files hold is in the robot's map frame M; RunInfo::X_WM maps it into
 // the world W. Metres. Malformed or missing input throws mopad::InputError naming the file and
@@ -15,23 +15,15 @@
 
 #include "common/frames.h"
 #include "evaluation/metrics.h"
+#include "runfolder/run_record.h"
 
 namespace mopad::evaluation {
 
 inline constexpr int kModelFormatVersion = 1;
 
-/// run.json of one room run. File paths are resolved against the run directory; a model whose
-/// key is absent from "files" is left empty (not evaluated).
-struct RunInfo {
-  std::string dir;    ///< directory holding run.json
-  std::string scene;  ///< scene folder, scene file or spec (.yaml), as written by the run
-  std::vector<std::string> doors;  ///< door-angle overrides "ID=DEG" the run used (optional)
-  std::string room;
-  std::uint64_t seed = 0;
-  Pose3 X_WM = Pose3::Identity();        ///< map -> world (the true start pose of the base)
-  std::string sm1, sm2, sm3, sm4, dsm3;  ///< absolute or dir-relative resolved paths; "" = absent
-};
-RunInfo ReadRunInfo(const std::string& run_json_path);
+/// run.json of one room run (runfolder/run_record.h reads it): model paths resolved against
+/// its folder, "" for a model the run did not write.
+using RunInfo = runfolder::RunRecord;
 
 /// One SM3 patch: an evaluation Patch (map frame, CCW seen from the normal, normal into the
 /// room) plus the fit figures of the file.

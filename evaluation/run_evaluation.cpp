@@ -1,6 +1,6 @@
 // `mopad eval RUN_DIR [--truth FILE] [--config YAML] -o DIR`: scores the robot's structural
 // models of one room run (RUN_DIR/run.json) or of every room of a main-job folder
-// (RUN_DIR/rooms/*/run.json) against the scene's truth (issue 6, item 5):
+// (RUN_DIR/rooms/*/run.json) against the scene's truth:
 //   SM3     - walls, floors, ceilings: detection TP/FP/FN per class, d_v, d_h, Phi
 //             (EvaluatePatches); columns as objects (EvaluateColumns: plan IoU > 0.5, centre,
 //             footprint and height errors, face metrics of polygonal columns only); ISPRS
@@ -47,6 +47,8 @@
 #include "evaluation/truth_models.h"
 #include "modelling/model_io.h"
 #include "modelling/sm5_io.h"
+#include "runfolder/layout.h"
+#include "runfolder/run_record.h"
 #include "scenes/ground_truth.h"
 #include "sim/scene_world.h"
 
@@ -91,19 +93,14 @@ struct EvalParams {
 ojson Ord(const nlohmann::json& j) { return ojson::parse(j.dump()); }
 ojson Num(double x) { return std::isfinite(x) ? ojson(x) : ojson(nullptr); }
 
-// The run directories: RUN_DIR itself, or RUN_DIR/rooms/* in name order.
-std::vector<std::string> FindRuns(const std::string& run_dir) {
-  const fs::path root(run_dir);
-  if (!fs::is_directory(root))
+// The run.json of every room the run folder holds (runfolder::RoomFolders), in name order.
+std::vector<RunInfo> ReadRuns(const std::string& run_dir) {
+  if (!fs::is_directory(run_dir))
     throw InputError(run_dir, "run directory not found", "",
                      "a room run (run.json) or a folder with rooms/*/run.json");
-  if (fs::exists(root / "run.json")) return {(root / "run.json").string()};
-  std::vector<std::string> runs;
-  if (fs::is_directory(root / "rooms"))
-    for (const auto& e : fs::directory_iterator(root / "rooms"))
-      if (e.is_directory() && fs::exists(e.path() / "run.json"))
-        runs.push_back((e.path() / "run.json").string());
-  std::sort(runs.begin(), runs.end());
+  std::vector<RunInfo> runs;
+  for (const std::string& room : runfolder::RoomFolders(run_dir, runfolder::kRunJson))
+    runs.push_back(runfolder::ReadRunJson(runfolder::Join(room, runfolder::kRunJson)));
   if (runs.empty())
     throw InputError(run_dir, "not a run directory", "no run.json",
                      "RUN_DIR/run.json or RUN_DIR/rooms/*/run.json");
@@ -273,9 +270,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   EvalParams params;
   if (!config.empty()) params = LoadParamsFile<EvalParams>(config);
   ValidateParams(params, "eval.");
-  const std::vector<std::string> run_files = FindRuns(run_dir);
-  std::vector<RunInfo> runs;
-  for (const auto& f : run_files) runs.push_back(ReadRunInfo(f));
+  const std::vector<RunInfo> runs = ReadRuns(run_dir);
   std::optional<scenes::GroundTruth> truth_override;
   if (!truth_file.empty()) truth_override = scenes::ReadGroundTruth(truth_file);
 
@@ -284,7 +279,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   std::vector<std::string> truth_notes;
   std::vector<RoomResult> results;
   for (const auto& run : runs) {
-    const std::string where = (fs::path(run.dir) / "run.json").string();
+    const std::string where = runfolder::Join(run.dir, runfolder::kRunJson);
     std::string scene = run.scene;
     if (!fs::exists(scene) && fs::exists(fs::path(run.dir) / scene))
       scene = (fs::path(run.dir) / scene).string();
@@ -354,7 +349,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       }
     if (!run.dsm3.empty()) {
       const Dsm3Voxels dsm = ReadDsm3(run.dsm3);
-      const std::string poses = (fs::path(run.dir) / "scan_poses.tum").string();
+      const std::string poses = runfolder::Join(run.dir, runfolder::kScanPoses);
       if (!fs::exists(poses))
         throw InputError(where, "scan_poses.tum missing beside run.json", "",
                          "the scanner poses for the truth DSM3");
@@ -368,7 +363,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       r.dsm3 = ComputeDsm3Confusion(r.dsm3_truth, r.dsm3_pred);
       r.has_dsm3 = true;
     }
-    const fs::path mission = fs::path(run.dir) / "evaluation.json";
+    const fs::path mission = runfolder::Join(run.dir, runfolder::kRoomEvaluation);
     if (fs::exists(mission)) {
       std::ifstream f(mission);
       try {
@@ -385,7 +380,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
       r.openings = EvaluateOpenings(ModelOpenings(sm4, run.X_WM), TruthOpenings(*truth, truth_room),
                                     params.openings);
     }
-    const fs::path sm5 = fs::path(run.dir) / "sm5.json";
+    const fs::path sm5 = runfolder::Join(run.dir, runfolder::kSm5);
     if (fs::exists(sm5))
       r.components = EvaluateComponents(ModelComponents(modelling::ReadSm5(sm5.string()), run.X_WM),
                                         TruthComponents(*truth, truth_room), params.components);
@@ -408,7 +403,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
 
   // The floor model (RUN_DIR/floor/, the floor mission's), against the evaluated rooms' truth.
   std::optional<FloorEvaluation> floor;
-  const fs::path floor_dir = fs::path(run_dir) / "floor";
+  const fs::path floor_dir = runfolder::Join(run_dir, runfolder::kFloorDir);
   if (!results.empty() && fs::exists(floor_dir / "sm3.json")) {
     std::map<std::string, std::string> truth_room;
     std::vector<std::string> rooms;
@@ -574,7 +569,7 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   j["dsm3_all_rooms"] = any_dsm3 ? Ord(ToJson(pooled_dsm3)) : ojson(nullptr);
   j["floor"] = floor ? ToJson(*floor) : ojson(nullptr);
 
-  const fs::path dir = out.empty() ? fs::path(run_dir) / "eval" : fs::path(out);
+  const fs::path dir = out.empty() ? fs::path(runfolder::Join(run_dir, runfolder::kEvalDir)) : fs::path(out);
   fs::create_directories(dir);
   std::ofstream(dir / "evaluation.json") << j.dump(2) << "\n";
   std::ofstream(dir / "eval.effective.yaml") << YAML::Dump(SaveParams(params)) << "\n";

@@ -10,6 +10,8 @@
 #include "common/error.h"
 #include "common/rng.h"
 #include "modelling/model_io.h"
+#include "runfolder/layout.h"
+#include "runfolder/run_record.h"
 
 namespace mopad::exports {
 namespace {
@@ -56,24 +58,11 @@ Eigen::Vector3d Vector(const Json& v, const std::string& where, const std::strin
   return out;
 }
 
-// X_WM of run.json (identity when the file or the field is absent).
-std::optional<Eigen::Isometry3d> ReadXwm(const fs::path& run_json) {
-  if (!fs::exists(run_json)) return std::nullopt;
-  const std::string where = run_json.string();
-  const Json j = ParseJson(ReadText(run_json), where);
-  if (!j.is_object() || !j.contains("X_WM")) return std::nullopt;
-  const Json& m = j.at("X_WM");
-  if (!m.is_array() || m.size() != 4)
-    throw InputError(where, "X_WM: wrong shape", m.dump(), "4 rows of 4 numbers");
-  Eigen::Matrix4d T;
-  for (int r = 0; r < 4; ++r) {
-    if (!m[r].is_array() || m[r].size() != 4)
-      throw InputError(where, "X_WM: wrong shape", m[r].dump(), "4 numbers");
-    for (int c = 0; c < 4; ++c) T(r, c) = Number(m[r][c], where, "X_WM");
-  }
-  Eigen::Isometry3d X;
-  X.matrix() = T;
-  return X;
+// X_WM of the room's run.json; none when the room has no run.json.
+std::optional<Eigen::Isometry3d> ReadXwm(const fs::path& room_dir) {
+  const std::string path = runfolder::Join(room_dir.string(), runfolder::kRunJson);
+  if (!fs::exists(path)) return std::nullopt;
+  return runfolder::ReadRunJson(path).X_WM;
 }
 
 std::vector<double> ReadScanTimes(const fs::path& scans_json) {
@@ -101,18 +90,18 @@ ModelSet ReadModelSet(const fs::path& dir, const std::string& id, std::uint64_t&
     key = DeriveKey(key, HashName(text));
     return text;
   };
-  const std::string sm3_text = absorb(ReadText(dir / "sm3.json"));
-  s.sm3 = modelling::ParseSm3(sm3_text, (dir / "sm3.json").string());
-  for (const Json& p : ParseJson(sm3_text, (dir / "sm3.json").string()).value("patches", Json()))
+  const std::string sm3_text = absorb(ReadText(dir / runfolder::kSm3));
+  s.sm3 = modelling::ParseSm3(sm3_text, (dir / runfolder::kSm3).string());
+  for (const Json& p : ParseJson(sm3_text, (dir / runfolder::kSm3).string()).value("patches", Json()))
     if (p.is_object() && p.contains("thickness_m") && p["thickness_m"].is_number() &&
         p.contains("id") && p["id"].is_string())
       s.wall_thickness[p["id"].get<std::string>()] = p["thickness_m"].get<double>();
-  if (fs::exists(dir / "sm4.json"))
-    s.sm4 = modelling::ParseSm4(absorb(ReadText(dir / "sm4.json")), (dir / "sm4.json").string());
-  if (fs::exists(dir / "sm5.json"))
-    s.sm5 = ParseSm5(absorb(ReadText(dir / "sm5.json")), (dir / "sm5.json").string());
-  if (fs::exists(dir / "sm1.ply")) s.sm1_path = (dir / "sm1.ply").string();
-  s.scan_times = ReadScanTimes(dir / "scans.json");
+  if (fs::exists(dir / runfolder::kSm4))
+    s.sm4 = modelling::ParseSm4(absorb(ReadText(dir / runfolder::kSm4)), (dir / runfolder::kSm4).string());
+  if (fs::exists(dir / runfolder::kSm5))
+    s.sm5 = ParseSm5(absorb(ReadText(dir / runfolder::kSm5)), (dir / runfolder::kSm5).string());
+  if (fs::exists(dir / runfolder::kSm1)) s.sm1_path = (dir / runfolder::kSm1).string();
+  s.scan_times = ReadScanTimes(dir / runfolder::kScansLog);
   return s;
 }
 
@@ -156,22 +145,23 @@ RunFolder ReadRunFolder(const std::string& dir) {
   run.dir = dir;
   std::uint64_t key = HashName("mopad-exports/1");
   std::vector<std::pair<std::string, fs::path>> room_dirs;
-  if (fs::is_directory(root / "rooms")) {
-    for (const auto& e : fs::directory_iterator(root / "rooms"))
-      if (e.is_directory() && fs::exists(e.path() / "sm3.json"))
-        room_dirs.emplace_back(e.path().filename().string(), e.path());
-  } else if (fs::exists(root / "sm3.json")) {  // one room's folder
-    const std::string text = ReadText(root / "sm3.json");
-    room_dirs.emplace_back(modelling::ParseSm3(text, (root / "sm3.json").string()).room, root);
+  for (const std::string& room : runfolder::RoomFolders(dir, runfolder::kSm3)) {
+    const fs::path path(room);
+    if (path == root) {  // one room's folder: its id is its model's
+      const std::string sm3 = runfolder::Join(room, runfolder::kSm3);
+      room_dirs.emplace_back(modelling::ParseSm3(ReadText(sm3), sm3).room, path);
+    } else {
+      room_dirs.emplace_back(path.filename().string(), path);
+    }
   }
   std::sort(room_dirs.begin(), room_dirs.end());
-  if (room_dirs.empty() && !fs::exists(root / "floor" / "sm3.json"))
+  if (room_dirs.empty() && !fs::exists(root / runfolder::kFloorDir / runfolder::kSm3))
     throw InputError(dir, "no model to export", "no rooms/<ID>/sm3.json or floor/sm3.json",
                      "a run folder of `mopad run` or `mopad room`");
   std::optional<Eigen::Isometry3d> X_WM_first;
   for (const auto& [id, path] : room_dirs) {
     ModelSet s = ReadModelSet(path, id, key);
-    const auto X_WM = ReadXwm(path / "run.json");
+    const auto X_WM = ReadXwm(path);
     if (X_WM && !X_WM_first) X_WM_first = X_WM;
     if (X_WM && X_WM_first) {
       s.X_EM = X_WM_first->inverse() * *X_WM;
@@ -180,8 +170,8 @@ RunFolder ReadRunFolder(const std::string& dir) {
     run.rooms.push_back(std::move(s));
   }
   run.X_WE = X_WM_first;
-  if (fs::exists(root / "floor" / "sm3.json"))
-    run.floor = ReadModelSet(root / "floor", "floor", key);
+  if (fs::exists(root / runfolder::kFloorDir / runfolder::kSm3))
+    run.floor = ReadModelSet(root / runfolder::kFloorDir, "floor", key);
   run.content_key = std::to_string(key);
   return run;
 }

@@ -13,12 +13,10 @@
 #include "evaluation/truth_models.h"
 #include "io/text_file.h"
 #include "mission/floor_model_job.h"
-#include "mission/model_export.h"
 #include "mission/robot_catalogue.h"
 #include "mission/run_checkpoint.h"
-#include "modelling/model_io.h"
-#include "modelling/openings.h"
-#include "modelling/sm5_io.h"
+#include "runfolder/layout.h"
+#include "runfolder/room_files.h"
 
 namespace mopad::mission {
 namespace {
@@ -164,23 +162,24 @@ class FloorWorld {
     std::string name = room_;
     while (used_.count(name)) name += "_" + v.room;  // the same scene room entered twice
     used_.insert(name);
-    r.dir = "rooms/" + name;
+    r.dir = std::string(runfolder::kRoomsDir) + "/" + name;
     const std::string dir = (fs::path(dir_) / r.dir).string();
     const modelling::RoomModel& model = *v.model;
-    modelling::VoxelSpace dsm3 = model.Voxels();
-    modelling::MarkOpeningVoxels(v.models.sm4.openings, dsm3);
-    RoomOutputExtras extras;
+    RoomWindow window;
     if (v.door_scan_before.index >= 0)
-      extras.door_scans.emplace_back(v.door_scan_before.sim_time, v.door_scan_before.X_MS);
-    extras.t_begin = t_begin_;
-    extras.t_end = session_.SimTime();
-    WriteRoomOutputs(v.scan, params_, session_, model, v.models.sm3, dsm3, dir, extras);
-    modelling::WriteSm4Files(dir, v.models.sm4, v.images);
-    modelling::WriteSm5File(dir, v.models.sm5);
+      window.door_scans.emplace_back(v.door_scan_before.sim_time, v.door_scan_before.X_MS);
+    window.t_begin = t_begin_;
+    window.t_end = session_.SimTime();
     const Pose3 X_WM = session_.X_MW().To3d().inverse();
-    WriteRunJson(dir, mw_, room_, params_.drive.seed, X_WM);
-    modelling::WriteModelsGlb(v.models.sm3, &v.models.sm4, room_,
-                              (fs::path(dir) / "models.glb").string(), &v.models.sm5);
+    if (evaluate_)
+      r.evaluation = evaluation::EvaluateRoom(
+          *mw_.world, open_plan_->truth, open_plan_->room_of.at(room_), X_WM, LoggedScans(v.scan),
+          session_.ScanTruths(), model, labels_->Labels());
+    // The models follow once the floor has settled each door's state (RunFloorJob).
+    runfolder::WriteRoomScanFiles(
+        dir,
+        ScanFilesOf(mw_, session_, params_, v.scan, model, v.models, v.images, room_, window,
+                    r.evaluation ? evaluation::ToJson(*r.evaluation) : nlohmann::ordered_json()));
     r.openings = v.models.sm4.openings.size();
     r.components = v.models.sm5.components.size();
     r.sm4_seconds = v.models.sm4_seconds;
@@ -192,19 +191,7 @@ class FloorWorld {
     for (const auto& s : v.scan.scans)
       r.scan_positions_W.push_back(
           truths.at(static_cast<std::size_t>(s.session_scan)).X_WS.translation());
-    const auto& pts = model.Points();
-    const double z_lo = model.FloorZ() + 1.2, z_hi = model.FloorZ() + 1.6;
-    for (std::size_t i = 0; i < pts.size(); i += 13) {
-      if (pts[i].z() < z_lo || pts[i].z() > z_hi) continue;
-      const Eigen::Vector3d w = X_WM * pts[i].cast<double>();
-      r.plan_points_W.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
-    }
-    if (evaluate_) {
-      r.evaluation = EvaluateRoom(*mw_.world, open_plan_->truth, open_plan_->room_of.at(room_),
-                                  session_, v.scan, model, labels_->Labels());
-      io::WriteTextFile((fs::path(dir) / "evaluation.json").string(),
-                        ToJson(*r.evaluation).dump(2) + "\n");
-    }
+    r.plan_points_W = PlanPoints(model, X_WM);
   }
 
   const sim::SceneWorld& mw_;
@@ -277,16 +264,14 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   io::WriteTextFile((d / "trajectory_true.tum").string(), ToTum(job.drive.truth));
   job.dtt = DttJson(job.mission, job.rooms);
   io::WriteTextFile((d / "dtt.json").string(), job.dtt.dump(2) + "\n");
-  // A door's state shared from the room that saw it better: that room's files again.
-  auto rewrite = [&](const autonomy::FloorRoom& r) {
-    for (const FloorRoomJob& rj : job.rooms) {
-      if (rj.robot_room != r.room || rj.dir.empty()) continue;
-      const fs::path room_dir = d / rj.dir;
-      io::WriteTextFile((room_dir / "sm4.json").string(), modelling::Sm4Json(r.sm4));
-      modelling::WriteModelsGlb(r.sm3, &r.sm4, rj.room, (room_dir / "models.glb").string(), &r.sm5);
-    }
-  };
-  WriteFloorModel(job.mission, params.floor_model, dir, progress, rewrite);
+  // Each room's models once the floor has settled its doors' states (one door, one state).
+  WriteFloorModel(job.mission, params.floor_model, dir, progress);
+  for (const FloorRoomJob& rj : job.rooms) {
+    if (rj.dir.empty()) continue;
+    for (const autonomy::FloorRoom& r : job.mission.rooms)
+      if (r.room == rj.robot_room)
+        runfolder::WriteRoomModelFiles((d / rj.dir).string(), {rj.room, &r.sm3, &r.sm4, &r.sm5});
+  }
   return job;
 }
 

@@ -53,7 +53,7 @@ struct FloorRoomJob {
   std::size_t openings = 0;                     ///< SM4: doors and windows found
   std::size_t components = 0;                   ///< SM5: service components found
   double sm4_seconds = 0.0, sm5_seconds = 0.0;  ///< wall time (reporting only)
-  std::optional<RoomEvaluation> evaluation;
+  std::optional<evaluation::RoomEvaluation> evaluation;
   std::vector<Eigen::Vector3d> scan_positions_W;       ///< true scanner centres (world), for plots
   std::vector<Eigen::Vector3d> door_scan_positions_W;  ///< the room's door scan 1 (world)
   std::vector<Eigen::Vector2f> plan_points_W;          ///< subsample of SM1 near scanner height

@@ -11,8 +11,7 @@ namespace mopad::mission {
 
 bool WriteFloorModel(autonomy::FloorScanResult& mission, const modelling::FloorModelParams& params,
                      const std::string& dir,
-                     const std::function<void(const std::string&)>& progress,
-                     const std::function<void(const autonomy::FloorRoom&)>& sm4_changed) {
+                     const std::function<void(const std::string&)>& progress) {
   std::vector<modelling::StructuralModel> sm3;
   std::vector<modelling::Sm4Model> sm4;
   for (const autonomy::FloorRoom& r : mission.rooms) {
@@ -34,12 +33,10 @@ bool WriteFloorModel(autonomy::FloorScanResult& mission, const modelling::FloorM
     const std::vector<std::string> changed = modelling::ShareDoors(model, sm4);
     for (autonomy::FloorRoom& r : mission.rooms) {
       if (!r.error.empty() ||
-          (r.doors_from_later_rooms == 0 &&
-           std::find(changed.begin(), changed.end(), r.sm4.room) == changed.end()))
+          std::find(changed.begin(), changed.end(), r.sm4.room) == changed.end())
         continue;
       for (const modelling::Sm4Model& m : sm4)
         if (m.room == r.sm4.room) r.sm4 = m;
-      if (sm4_changed) sm4_changed(r);
     }
     return true;
   } catch (const InputError& e) {

@@ -39,7 +39,7 @@ struct JobTables {
   std::string subtitle;
 };
 
-void AddEvaluation(const std::string& room, const RoomEvaluation& e, JobTables& t,
+void AddEvaluation(const std::string& room, const evaluation::RoomEvaluation& e, JobTables& t,
                    const MainJobOptions& o) {
   if (o.print)
     o.print(FormatNumbers("  evaluation: %.3f of observable, %.3f of total, ",
@@ -122,7 +122,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     rj["sm4_seconds"] = job->sm4_seconds;
     rj["sm5_seconds"] = job->sm5_seconds;
     rj["components"] = job->components;
-    rj["evaluation"] = ToJson(*job->evaluation);
+    rj["evaluation"] = evaluation::ToJson(*job->evaluation);
     rj["seconds"] = SecondsSince(t0);
     t.rooms_json.push_back(std::move(rj));
     if (o.checkpoint) o.checkpoint->RoomDone(PerRoomBoundary(id, &*job));
@@ -226,7 +226,7 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
     rj["sm5_seconds"] = r.sm5_seconds;
     if (r.evaluation) {
       AddEvaluation(r.room, *r.evaluation, t, o);
-      rj["evaluation"] = ToJson(*r.evaluation);
+      rj["evaluation"] = evaluation::ToJson(*r.evaluation);
     }
     rj["seconds"] = r.seconds;
     rj["sim_seconds"] = r.sim_seconds;

@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "exports/building_model.h"
 #include "exports/gltf_export.h"
+#include "runfolder/layout.h"
 
 namespace mopad::mission {
 namespace {
@@ -225,13 +226,9 @@ double Mm(double v) {
 
 // A run folder, a room folder or a floor model: what exports::ReadRunFolder reads.
 bool HasModel(const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::exists(dir / "sm3.json", ec) || fs::exists(dir / "floor" / "sm3.json", ec)) return true;
-  if (!fs::is_directory(dir / "rooms", ec)) return false;
-  for (const auto& e : fs::directory_iterator(dir / "rooms", ec))
-    if (fs::exists(e.path() / "sm3.json", ec)) return true;
-  return false;
+  return !runfolder::RoomFolders(dir.string(), runfolder::kSm3).empty() ||
+         std::filesystem::exists(dir / runfolder::kFloorDir / runfolder::kSm3, ec);
 }
 
 // The truth's outlines in the export frame E: structural faces (no ceilings: they would hide

@@ -14,6 +14,7 @@
 #include "modelling/model_io.h"
 #include "modelling/orthoimage.h"
 #include "modelling/sm5_io.h"
+#include "runfolder/layout.h"
 
 namespace mopad::mission {
 namespace {
@@ -58,19 +59,6 @@ double PixelOf(double width, double height, int cols, int rows) {
     if (std::ceil(width / p - 1e-9) == cols && std::ceil(height / p - 1e-9) == rows) return p;
   }
   return std::max(width / std::max(cols, 1), height / std::max(rows, 1));
-}
-
-// The room folders of a run folder: the folder itself when it holds sm3.json, else
-// rooms/<ID>/ with an sm3.json, by name.
-std::vector<fs::path> RoomFolders(const fs::path& dir) {
-  std::error_code ec;
-  if (fs::exists(dir / "sm3.json", ec)) return {dir};
-  std::vector<fs::path> out;
-  if (!fs::is_directory(dir / "rooms", ec)) return out;
-  for (const auto& e : fs::directory_iterator(dir / "rooms", ec))
-    if (fs::exists(e.path() / "sm3.json", ec)) out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 // One wall's figure; "" when it has no readable colour image.
@@ -148,16 +136,16 @@ std::string WallFigure(const std::string& room, const modelling::StructuralPatch
 std::string WallImagesHtml(const std::string& run_dir) {
   std::ostringstream body;
   std::size_t bytes = 0, walls = 0;
-  for (const fs::path& dir : RoomFolders(run_dir.empty() ? "." : run_dir)) {
+  for (const fs::path dir : runfolder::RoomFolders(run_dir.empty() ? "." : run_dir, runfolder::kSm3)) {
     const std::string name = dir.filename().string();
     try {
-      const modelling::StructuralModel sm3 = modelling::ReadSm3((dir / "sm3.json").string());
+      const modelling::StructuralModel sm3 = modelling::ReadSm3((dir / runfolder::kSm3).string());
       std::error_code ec;
-      const modelling::Sm4Model sm4 = fs::exists(dir / "sm4.json", ec)
-                                          ? modelling::ReadSm4((dir / "sm4.json").string())
+      const modelling::Sm4Model sm4 = fs::exists(dir / runfolder::kSm4, ec)
+                                          ? modelling::ReadSm4((dir / runfolder::kSm4).string())
                                           : modelling::Sm4Model{};
-      const modelling::Sm5Model sm5 = fs::exists(dir / "sm5.json", ec)
-                                          ? modelling::ReadSm5((dir / "sm5.json").string())
+      const modelling::Sm5Model sm5 = fs::exists(dir / runfolder::kSm5, ec)
+                                          ? modelling::ReadSm5((dir / runfolder::kSm5).string())
                                           : modelling::Sm5Model{};
       // The folder's name (the truth room in a main-job run) and the robot's name when it differs.
       const std::string label =
@@ -165,7 +153,7 @@ std::string WallImagesHtml(const std::string& run_dir) {
       for (const auto& p : sm3.patches) {
         if (p.patch_class != modelling::PatchClass::kWall) continue;
         const std::string fig =
-            WallFigure(label, p, dir / "orthoimages" / (p.id + "_colour.png"), sm4, sm5, bytes);
+            WallFigure(label, p, dir / runfolder::kOrthoimages / (p.id + "_colour.png"), sm4, sm5, bytes);
         if (!fig.empty()) ++walls;
         body << fig;
       }

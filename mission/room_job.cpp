@@ -1,18 +1,12 @@
 #include "mission/room_job.h"
 
-#include <algorithm>
-#include <chrono>
-#include <filesystem>
-#include <fstream>
-#include <span>
+#include <yaml-cpp/yaml.h>
 
 #include "common/error.h"
+#include "common/params.h"
 #include "evaluation/truth_models.h"
-#include "mission/model_export.h"
 #include "mission/robot_catalogue.h"
-#include "modelling/model_io.h"
-#include "modelling/openings.h"
-#include "modelling/sm5_io.h"
+#include "runfolder/layout.h"
 
 namespace mopad::mission {
 
@@ -29,99 +23,58 @@ autonomy::ScanHook Sm1TruthCollector::Hook() {
   };
 }
 
-namespace {
+std::vector<evaluation::LoggedScan> LoggedScans(const RoomMissionResult& log) {
+  std::vector<evaluation::LoggedScan> out;
+  for (const RoomScanLog& s : log.scans)
+    out.push_back({s.X_MS, s.registered, static_cast<std::size_t>(s.session_scan)});
+  return out;
+}
 
-// The share of the observable area sensed after each scan of the log: the cells of the model's
-// scans so far (a scan ICP refused is not in the model and adds none). SM1 is in scan order, so
-// each scan's points are one run of ScanIndices. Empty when the log and the model disagree.
-std::vector<double> CoveragePerScan(const evaluation::StructuralSurfaces& surfaces,
-                                    const std::vector<std::uint8_t>& observable,
-                                    const RoomMissionResult& result,
-                                    const modelling::RoomModel& model, const Pose3& X_WM) {
-  const auto& points = model.Points();
-  const auto& scan = model.ScanIndices();
-  std::size_t registered = 0;
-  for (const RoomScanLog& s : result.scans) registered += s.registered ? 1 : 0;
-  if (registered != static_cast<std::size_t>(model.ScanCount()) || scan.size() != points.size())
-    return {};
-  std::vector<std::uint8_t> sensed;
-  std::vector<double> out;
-  std::size_t begin = 0;
-  for (const RoomScanLog& s : result.scans) {
-    if (s.registered && begin < scan.size()) {
-      std::size_t end = begin;
-      while (end < scan.size() && scan[end] == scan[begin]) ++end;
-      const std::vector<std::uint8_t> cells = evaluation::SensedCells(
-          surfaces, std::span<const Eigen::Vector3f>(points.data() + begin, end - begin), X_WM);
-      if (sensed.empty()) sensed.assign(cells.size(), 0);
-      for (std::size_t i = 0; i < cells.size(); ++i) sensed[i] |= cells[i];
-      begin = end;
-    }
-    out.push_back(
-        sensed.empty()
-            ? 0.0
-            : evaluation::SummariseCoverage(surfaces, observable, sensed).room.ShareOfObservable());
+std::vector<Eigen::Vector2f> PlanPoints(const modelling::RoomModel& model, const Pose3& X_WM) {
+  std::vector<Eigen::Vector2f> out;
+  const auto& pts = model.Points();
+  const double z_lo = model.FloorZ() + kPlanBandLow, z_hi = model.FloorZ() + kPlanBandHigh;
+  for (std::size_t i = 0; i < pts.size(); i += kPlanPointStride) {
+    if (pts[i].z() < z_lo || pts[i].z() > z_hi) continue;
+    const Eigen::Vector3d w = X_WM * pts[i].cast<double>();
+    out.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
   }
   return out;
 }
 
-}  // namespace
-
-RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
-                            const std::string& room, const RobotSession& session,
-                            const RoomMissionResult& result, const modelling::RoomModel& model,
-                            const std::vector<evaluation::Sm1Label>& truth_labels) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RoomEvaluation e;
-  e.room = room;
-  const Pose3 X_WM = session.X_MW().To3d().inverse();
-  const evaluation::RoomTruth rt = evaluation::ComputeRoomTruth(world, truth, room);
-  const evaluation::Observability& obs = rt.observability;
-  e.coverage = evaluation::ComputeCoverage(rt.surfaces, obs.observable, model.Points(), X_WM);
-  e.coverage_per_scan = CoveragePerScan(rt.surfaces, obs.observable, result, model, X_WM);
-  e.observable_area = obs.observable_area;
-  e.total_area = obs.total_area;
-  const auto& truths = session.ScanTruths();
-  for (const RoomScanLog& s : result.scans) {
-    // Every scan is scored, also those ICP refused (their pose is the prior).
-    const evaluation::PoseError pe = evaluation::ScanRegistrationError(
-        s.X_MS, X_WM, truths.at(static_cast<std::size_t>(s.session_scan)));
-    e.max_translation_error = std::max(e.max_translation_error, pe.translation);
-    e.max_rotation_error_deg = std::max(e.max_rotation_error_deg, pe.rotation_deg);
-    e.registration.push_back(pe);
-  }
-  std::vector<std::uint8_t> est(model.Labels().size());
-  for (std::size_t i = 0; i < est.size(); ++i)
-    est[i] = static_cast<std::uint8_t>(model.Labels()[i]);
-  if (truth_labels.size() != est.size())
-    throw std::runtime_error("room eval: " + std::to_string(truth_labels.size()) +
-                             " truth labels for " + std::to_string(est.size()) + " SM1 points");
-  e.labels = evaluation::CompareLabels(truth_labels, est);
-  e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return e;
-}
-
-nlohmann::ordered_json ToJson(const RoomEvaluation& e) {
-  nlohmann::ordered_json j;
-  j["room"] = e.room;
-  j["coverage"] = nlohmann::ordered_json::parse(evaluation::CoverageToJson(e.coverage));
-  j["coverage_of_observable"] = e.coverage.room.ShareOfObservable();
-  j["coverage_of_total"] = e.coverage.room.ShareOfTotal();
-  j["coverage_of_observable_per_scan"] = e.coverage_per_scan;
-  j["observable_area"] = e.observable_area;
-  j["total_area"] = e.total_area;
-  nlohmann::ordered_json reg = nlohmann::json::array();
-  for (const auto& p : e.registration)
-    reg.push_back({{"translation_m", p.translation}, {"rotation_deg", p.rotation_deg}});
-  j["registration_error"] = reg;
-  j["registration_error_max"] = {{"translation_m", e.max_translation_error},
-                                 {"rotation_deg", e.max_rotation_error_deg}};
-  j["sm1_labels"] = {{"points", e.labels.points},
-                     {"correct", e.labels.correct},
-                     {"accuracy", e.labels.Accuracy()},
-                     {"confusion_truth_by_estimate", e.labels.confusion}};
-  j["seconds"] = e.seconds;
-  return j;
+runfolder::RoomScanFiles ScanFilesOf(
+    const sim::SceneWorld& mw, const RobotSession& session, const RoomMissionParams& params,
+    const RoomMissionResult& log, const modelling::RoomModel& model,
+    const modelling::RoomModels& models,
+    const std::vector<std::pair<std::string, modelling::Orthoimage>>& images,
+    const std::string& scene_room, const RoomWindow& window,
+    const nlohmann::ordered_json& evaluation) {
+  const DriveResult drive = session.Result();
+  auto in_window = [&](const std::vector<TrajectorySample>& all) {
+    std::vector<TrajectorySample> out;
+    for (const auto& x : all)
+      if (x.t >= window.t_begin && x.t <= window.t_end) out.push_back(x);
+    return ToTum(out);
+  };
+  runfolder::RoomScanFiles f;
+  f.model = &model;
+  f.room = models.sm3.room;
+  f.dsm3 = &models.dsm3;
+  f.images = &images;
+  f.log = &log;
+  f.door_scans = window.door_scans;
+  f.drive = {drive.path_length, drive.contacts, drive.loc_rms, drive.loc_max};
+  f.trajectory_estimated_tum = in_window(drive.estimated);
+  f.trajectory_true_tum = in_window(drive.truth);
+  f.map = &session.Map();
+  f.effective_config_yaml = YAML::Dump(SaveParams(params)) + "\n";
+  f.run.scene = mw.source;
+  f.run.doors = mw.door_overrides;
+  f.run.room = scene_room;
+  f.run.seed = params.drive.seed;
+  f.run.X_WM = session.X_MW().To3d().inverse();
+  if (!evaluation.is_null()) f.evaluation_json = evaluation.dump(2);
+  return f;
 }
 
 RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
@@ -157,40 +110,28 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
       RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;
   // SM5 (paper §3.4) with the recogniser trained from the robot's catalogue (once a process).
-  const autonomy::RoomModels models = autonomy::BuildRoomModels(
-      model, std::move(job.mission.no_return), params, room, &images, &RobotComponentRecogniser());
-  const modelling::StructuralModel& sm3 = models.sm3;
-  const modelling::Sm4Model& sm4 = models.sm4;
+  const modelling::RoomModels models =
+      modelling::BuildRoomModels(model, std::move(job.mission.no_return), params.sm3, params.sm4,
+                                 params.sm5, room, &images, &RobotComponentRecogniser());
   job.sm4_seconds = models.sm4_seconds;
-  job.openings = sm4.openings.size();
-  modelling::VoxelSpace dsm3 = model.Voxels();
-  modelling::MarkOpeningVoxels(sm4.openings, dsm3);
-  WriteRoomOutputs(job.mission, params, session, model, sm3, dsm3, dir);
-  modelling::WriteSm4Files(dir, sm4, images);
+  job.openings = models.sm4.openings.size();
   job.sm5_seconds = models.sm5_seconds;
   job.components = models.sm5.components.size();
-  modelling::WriteSm5File(dir, models.sm5);
-  WriteRunJson(dir, mw, room, params.drive.seed, session.X_MW().To3d().inverse());
-  modelling::WriteModelsGlb(sm3, &sm4, room, (std::filesystem::path(dir) / "models.glb").string(),
-                            &models.sm5);
-  for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
   const Pose3 X_WM = session.X_MW().To3d().inverse();
-  const auto& pts = model.Points();
-  const double z_lo = model.FloorZ() + 1.2, z_hi = model.FloorZ() + 1.6;
-  for (std::size_t i = 0; i < pts.size(); i += 13) {
-    if (pts[i].z() < z_lo || pts[i].z() > z_hi) continue;
-    const Eigen::Vector3d w = X_WM * pts[i].cast<double>();
-    job.plan_points_W.emplace_back(static_cast<float>(w.x()), static_cast<float>(w.y()));
-  }
+  if (evaluate)
+    job.evaluation = evaluation::EvaluateRoom(*mw.world, open_plan.truth, truth_room, X_WM,
+                                              LoggedScans(job.mission), session.ScanTruths(), model,
+                                              labels.Labels());
+  runfolder::WriteRoomFiles(
+      dir,
+      ScanFilesOf(mw, session, params, job.mission, model, models, images, room, RoomWindow{},
+                  job.evaluation ? evaluation::ToJson(*job.evaluation) : nlohmann::ordered_json()),
+      {room, &models.sm3, &models.sm4, &models.sm5});
+  for (const auto& t : session.ScanTruths()) job.scan_positions_W.push_back(t.X_WS.translation());
+  job.plan_points_W = PlanPoints(model, X_WM);
   job.labels = model.CountLabels();
   job.path_length = session.Result().path_length;
   job.points = model.PointCount();
-  if (evaluate) {
-    job.evaluation = EvaluateRoom(*mw.world, open_plan.truth, truth_room, session, job.mission,
-                                  model, labels.Labels());
-    std::ofstream(std::filesystem::path(dir) / "evaluation.json")
-        << ToJson(*job.evaluation).dump(2) << "\n";
-  }
   return job;
 }
 

@@ -1,23 +1,20 @@
 #pragma once
-// The evaluator's view of one room mission (issue 5 acceptance): structural coverage against
-// the truth's observable and total area, per-scan registration error, SM1 label agreement.
-// Truth side only (tools): the robot's mission never sees any of this.
+// One room of a mission on the world side: the truth labels of its scans, its files in the run
+// folder (through runfolder/), its evaluation (evaluation/room_scores.h), and the room job of
+// `mopad room` and `mopad run --room` (a fresh robot placed in one room).
 
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "evaluation/coverage.h"
-#include "evaluation/observability.h"
-#include "evaluation/scan_eval.h"
-#include "evaluation/truth_eval.h"
-#include "evaluation/truth_surfaces.h"
+#include "evaluation/room_scores.h"
 #include "mission/robot_session.h"
 #include "mission/room_mission.h"
 #include "modelling/room_model.h"
+#include "modelling/room_models.h"
+#include "runfolder/room_files.h"
 #include "scenes/ground_truth.h"
-#include "sim/embree_world.h"
 #include "sim/scene_world.h"
 
 namespace mopad::mission {
@@ -38,36 +35,43 @@ class Sm1TruthCollector {
   std::vector<evaluation::Sm1Label> labels_;
 };
 
-struct RoomEvaluation {
-  std::string room;
-  evaluation::CoverageReport coverage;
-  /// Share of the observable area sensed after each scan of the room's log, [0, 1]; empty
-  /// when the log and the model's scans disagree.
-  std::vector<double> coverage_per_scan;
-  double observable_area = 0.0, total_area = 0.0;
-  std::vector<evaluation::PoseError> registration;  ///< per scan (the first scan included)
-  double max_translation_error = 0.0, max_rotation_error_deg = 0.0;
-  evaluation::LabelAccuracy labels;
-  double seconds = 0.0;  ///< evaluation wall time
+/// The room's scans as the evaluator scores them.
+std::vector<evaluation::LoggedScan> LoggedScans(const RoomMissionResult& log);
+
+/// The report's plan view of a room: a subsample of its SM1 points near scanner height, in the
+/// world (every kPlanPointStride-th point between kPlanBand metres above the model's floor).
+inline constexpr double kPlanBandLow = 1.2, kPlanBandHigh = 1.6;  ///< m above the floor
+inline constexpr std::size_t kPlanPointStride = 13;
+std::vector<Eigen::Vector2f> PlanPoints(const modelling::RoomModel& model, const Pose3& X_WM);
+
+/// What a room's scan files hold beyond the room loop's own: in a floor mission, the door scan
+/// listed with the room (first in scan_poses.tum) and the time window of its trajectory files.
+struct RoomWindow {
+  std::vector<std::pair<double, Pose3>> door_scans;  ///< (sim time s, X_MS)
+  double t_begin = -1e300, t_end = 1e300;            ///< s
 };
 
-RoomEvaluation EvaluateRoom(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
-                            const std::string& room, const RobotSession& session,
-                            const RoomMissionResult& result, const modelling::RoomModel& model,
-                            const std::vector<evaluation::Sm1Label>& truth_labels);
-
-nlohmann::ordered_json ToJson(const RoomEvaluation& e);
+/// The run folder's files of one room as the simulated session leaves them (runfolder/).
+/// `scene_room`: the scene's id of the room (run.json); `evaluation`: evaluation.json's
+/// document, or null for none.
+runfolder::RoomScanFiles ScanFilesOf(
+    const sim::SceneWorld& mw, const RobotSession& session, const RoomMissionParams& params,
+    const RoomMissionResult& log, const modelling::RoomModel& model,
+    const modelling::RoomModels& models,
+    const std::vector<std::pair<std::string, modelling::Orthoimage>>& images,
+    const std::string& scene_room, const RoomWindow& window,
+    const nlohmann::ordered_json& evaluation);
 
 /// One room job as `mopad room` and `mopad run` do it: a fresh robot at `start` (default: the
-/// harness's free spot), the room mission, its outputs in `dir`, and (with `evaluate`) the
+/// harness's free spot), the room mission, its files in `dir`, and (with `evaluate`) the
 /// evaluation written to dir/evaluation.json.
 struct RoomJob {
   std::string room;
   Pose2 start_W;  ///< where the harness put the robot (world)
   RoomMissionResult mission;
-  std::optional<RoomEvaluation> evaluation;
+  std::optional<evaluation::RoomEvaluation> evaluation;
   std::vector<Eigen::Vector3d> scan_positions_W;  ///< true scanner centres (world), for plots
-  std::vector<Eigen::Vector2f> plan_points_W;     ///< subsample of SM1 near scanner height (world)
+  std::vector<Eigen::Vector2f> plan_points_W;     ///< PlanPoints (world)
   modelling::LabelCounts labels;
   std::size_t points = 0;
   double path_length = 0.0;    ///< m, true distance driven in the room

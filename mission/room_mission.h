@@ -37,18 +37,4 @@ inline RoomMissionResult RunRoomMission(RobotSession& session, const RoomMission
   return autonomy::RunRoomScan(session.Robot(), params, model, on_scan);
 }
 
-/// Writes into `dir`: sm1.ply, sm2.json, sm3.json, dsm3.ply (docs/models.md), scans.json
-/// (per-scan log), scan_poses.tum, trajectory_estimated.tum, trajectory_true.tum, map.png +
-/// map.yaml, model.json, summary.json (driving figures) and room.effective.yaml.
-/// In a floor mission: the door scans listed with the room (first in scan_poses.tum) and the
-/// time window of its trajectory files.
-struct RoomOutputExtras {
-  std::vector<std::pair<double, Pose3>> door_scans;  ///< (sim time, X_MS)
-  double t_begin = -1e300, t_end = 1e300;            ///< s
-};
-void WriteRoomOutputs(const RoomMissionResult& result, const RoomMissionParams& params,
-                      const RobotSession& session, const modelling::RoomModel& model,
-                      const modelling::StructuralModel& sm3, const modelling::VoxelSpace& dsm3,
-                      const std::string& dir, const RoomOutputExtras& extras = {});
-
 }  // namespace mopad::mission

@@ -62,7 +62,7 @@ void RegisterRoomCommand(CLI::App& app) {
           s.registered ? "" : "  REGISTRATION FAILED");
     if (res.registration_failed) std::printf("registration failed for at least one scan\n");
     if (job.evaluation) {
-      const mission::RoomEvaluation& e = *job.evaluation;
+      const evaluation::RoomEvaluation& e = *job.evaluation;
       std::printf(
           "evaluation: coverage %.3f of observable (%.1f m2), %.3f of total (%.1f m2); "
           "registration error max %.4f m / %.4f deg; SM1 labels %.4f agree (%llu points)\n",

@@ -18,10 +18,11 @@ namespace {
 namespace fs = std::filesystem;
 using Graph = std::map<std::string, std::vector<std::string>>;
 
-const std::vector<std::string> kRobotTargets = {"mopad_io", "mopad_perception", "mopad_modelling",
-                                                "mopad_autonomy", "mopad_exports"};
-const std::vector<std::string> kRobotDirs = {"io", "perception", "modelling", "autonomy",
-                                             "exports"};
+const std::vector<std::string> kRobotTargets = {"mopad_io",        "mopad_perception",
+                                                "mopad_modelling", "mopad_autonomy",
+                                                "mopad_runfolder", "mopad_exports"};
+const std::vector<std::string> kRobotDirs = {"io",       "perception", "modelling",
+                                             "autonomy", "runfolder",  "exports"};
 // Targets and third-party libraries that carry or read the truth, and the mission library
 // (the simulated robot and its truth log): the robot's brain reaches none of them.
 const std::set<std::string> kTruthTargets = {"mopad_scenes",  "mopad_sim", "mopad_evaluation",

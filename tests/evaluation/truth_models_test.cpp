@@ -519,32 +519,6 @@ std::string ErrorOf(const std::function<void()>& f) {
   return "";
 }
 
-TEST(ModelFiles, RunJsonIsReadAndMalformedOnesRejected) {
-  const fs::path d = TempDir("run");
-  WriteText(d / "run.json", kRunJson);
-  const RunInfo r = ReadRunInfo((d / "run.json").string());
-  EXPECT_EQ(r.room, "R1");
-  EXPECT_EQ(r.seed, 3u);
-  EXPECT_NEAR(r.X_WM.translation().x(), 0.5, 1e-12);
-  EXPECT_NEAR(r.X_WM.translation().y(), -0.25, 1e-12);
-  EXPECT_EQ(r.sm3, (d / "sm3.json").string());
-  WriteText(d / "run.json", Replace(kRunJson, R"("X_WM")", R"("X_MW")"));
-  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "run.json").string()); }).find("X_WM: missing field"),
-            std::string::npos);
-  WriteText(d / "run.json", Replace(kRunJson, R"("version": 1)", R"("version": 2)"));
-  const std::string v = ErrorOf([&] { ReadRunInfo((d / "run.json").string()); });
-  EXPECT_NE(v.find("run.json: error: version"), std::string::npos) << v;
-  WriteText(d / "run.json", Replace(kRunJson, "[0,0,1,0]", "[0,0,2,0]"));
-  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "run.json").string()); }).find("rigid"),
-            std::string::npos);
-  WriteText(d / "run.json", "{\"format\": ");
-  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "run.json").string()); }).find("malformed JSON"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { ReadRunInfo((d / "nothing.json").string()); }).find("cannot open"),
-            std::string::npos);
-  fs::remove_all(d);
-}
-
 const char* kSm3Json =
     R"({"format": "mopad-sm3", "version": 1, "room": "R1", "floor_z": 0.0, "ceiling_z": 2.5,
   "patches": [
@@ -738,7 +712,7 @@ HandRun WriteHandRun(const std::string& name) {
 #ifndef MOPAD_BINARY
 TEST(EvalEndToEnd, HandWrittenRunEqualToTheTruthScoresPerfectly) {
   const HandRun h = WriteHandRun("lib");
-  const RunInfo run = ReadRunInfo((h.dir / "run.json").string());
+  const RunInfo run = runfolder::ReadRunJson((h.dir / "run.json").string());
   const auto g = scenes::Generate(scenes::LoadSceneSpec(run.scene));
   std::vector<Patch> model;
   for (const auto& p : ReadSm3(run.sm3).Patches()) {

@@ -134,8 +134,8 @@ std::string MakeRun(const std::string& name, bool with_sm1 = true) {
   WriteText(r / "sm5.json", kSm5);
   WriteText(r / "scans.json",
             R"({"scans": [{"index": 0, "sim_time": 3.0}, {"index": 1, "sim_time": 36.5}]})");
-  WriteText(r / "run.json", R"({"format": "mopad-room-run", "version": 1, "room": "R1",
-    "X_WM": [[1,0,0,3.15],[0,1,0,5.25],[0,0,1,0],[0,0,0,1]]})");
+  WriteText(r / "run.json", R"({"format": "mopad-room-run", "version": 1, "scene": "s",
+    "room": "R1", "X_WM": [[1,0,0,3.15],[0,1,0,5.25],[0,0,1,0],[0,0,0,1]], "files": {}})");
   if (with_sm1) WriteSm1(r / "sm1.ply");
   return dir.string();
 }
@@ -311,7 +311,8 @@ TEST(ExportsFrames, ASecondRoomWithItsOwnMapIsPlacedByTheRunPoses) {
   room2.room = "R2";
   WriteText(r2 / "sm3.json", modelling::Sm3Json(room2));
   // R2's map sits 10 m further along x in the world than R1's.
-  WriteText(r2 / "run.json", R"({"X_WM": [[1,0,0,13.15],[0,1,0,5.25],[0,0,1,0],[0,0,0,1]]})");
+  WriteText(r2 / "run.json", R"({"format": "mopad-room-run", "version": 1, "scene": "s",
+    "room": "R2", "X_WM": [[1,0,0,13.15],[0,1,0,5.25],[0,0,1,0],[0,0,0,1]], "files": {}})");
   const RunFolder run = ReadRunFolder(dir);
   ASSERT_EQ(run.rooms.size(), 2u);
   EXPECT_TRUE(run.placed_by_run_json);

@@ -80,7 +80,8 @@ TEST(ReportViewer, TheTruthIsDrawnInTheExportFrameOfTheFirstRoom) {
   const std::string dir = BoxRun("viewer_truth");
   // The room's map frame sits at x = 10 m in the world.
   std::ofstream(fs::path(dir) / "rooms" / "R1" / "run.json")
-      << R"({"X_WM": [[1,0,0,10],[0,1,0,0],[0,0,1,0],[0,0,0,1]]})";
+      << R"({"format": "mopad-room-run", "version": 1, "scene": "s", "room": "R1",
+             "X_WM": [[1,0,0,10],[0,1,0,0],[0,0,1,0],[0,0,0,1]], "files": {}})";
   scenes::GroundTruth truth;
   scenes::StructuralElement wall;
   wall.id = "wall_1A";
