@@ -2,9 +2,9 @@
 #   mopad_perception: mopad_interfaces
 # tests/architecture reads it and checks that the robot's libraries never reach the truth.
 function(mopad_write_link_graph out_file)
-  set(targets mopad_common mopad_interfaces mopad_io mopad_scenes mopad_sim mopad_perception
-              mopad_modelling mopad_autonomy mopad_runfolder mopad_exports mopad_mission mopad_evaluation
-              mopad)
+  # Every library that has an include root (cmake/IncludeRoots.cmake), and the CLI.
+  get_property(targets GLOBAL PROPERTY MOPAD_LIBRARIES)
+  list(APPEND targets mopad)
   set(content "")
   foreach(t IN LISTS targets)
     if(NOT TARGET ${t})
