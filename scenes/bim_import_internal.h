@@ -188,6 +188,15 @@ class Importer {
     double u0, u1, v0, v1;  // in the face's edge frame (u from f.a, v = z)
     double dist;
   };
+  /// Where a generated door leaf hangs: hinge on face `f` at a jamb of hole `h`, opening from
+  /// `dd` (hinge -> latch) towards `n` (into the swing room); `lw` the leaf width, m.
+  struct Swing {
+    const Face* f;
+    const Hole* h;
+    bool left;
+    Vector3d n, dd, hinge;
+    double lw;
+  };
 
   // --- loading (bim_reading.cpp) ---
   void Load();
@@ -227,6 +236,13 @@ class Importer {
   double DoorAngleDeg(const std::string& id, const Element& e) const;
   int LeafMaterial();
   void Openings();
+  void ReportHoleShape(const Element& e, const Hole& h);
+  void AddWindow(const Element& e, const Face& f0, Opening* o);
+  void AddDoor(const Element& e, const std::vector<Hole>& holes, Opening* o);
+  Swing MakeSwing(const std::vector<Hole>& holes, std::size_t k, bool left) const;
+  bool SwingFits(const Swing& sw) const;
+  Swing ChooseSwing(const Element& e, const std::vector<Hole>& holes, std::size_t hole_b);
+  void AddLeaf(const Opening& o, const Swing& sw, double lambda, const std::string& swing_room);
   // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.
   void Passages();
 

@@ -136,7 +136,7 @@ void Importer::Openings() {
     const Element& e = elements_[ei];
     if (!e.in_storey || (e.role != Role::kDoor && e.role != Role::kWindow)) continue;
     const bool door = e.role == Role::kDoor;
-    std::vector<Hole> holes = HolesAround(e);
+    const std::vector<Hole> holes = HolesAround(e);
     if (holes.empty()) {
       for (std::size_t pi : e.parts) AllToLeftover(ei, pi);
       out_.report.push_back(NiceName(e.node) +
@@ -144,34 +144,7 @@ void Importer::Openings() {
                             "around it; kept as other");
       continue;
     }
-    {
-      // The format's openings are rectangles: say so when the hole is not one (round window).
-      const Hole& h = holes[0];
-      const Face& f = faces_[h.face];
-      const std::vector<HalfSpace> rect{{-f.dir, -f.dir.dot(f.a) - h.u0},
-                                        {f.dir, f.dir.dot(f.a) + h.u1},
-                                        {-Vector3d::UnitZ(), -h.v0},
-                                        {Vector3d::UnitZ(), h.v1}};
-      double covered = 0.0;
-      for (const auto& [el, piece] : f.pieces) {
-        Poly3 in;
-        std::vector<Poly3> outside;
-        Split(piece, rect, &in, &outside);
-        covered += Area(in);
-      }
-      // An element that fills only part of its hole leaves the rest open (a window in an
-      // opening cut down to the floor).
-      if (e.box.min().z() > h.v0 + 0.05 || e.box.max().z() < h.v1 - 0.05)
-        out_.report.push_back(NiceName(e.node) + ": fills z " + Fmt(e.box.min().z(), 2) + " to " +
-                              Fmt(e.box.max().z(), 2) + " m of its hole's " + Fmt(h.v0, 2) +
-                              " to " + Fmt(h.v1, 2) + " m; the rest of the hole is open");
-      const double share = covered / ((h.u1 - h.u0) * (h.v1 - h.v0));
-      if (share > 0.001)
-        out_.report.push_back(NiceName(e.node) + ": its hole is not a rectangle (" +
-                              Fmt(100.0 * share, 1) +
-                              " % of its bounding rectangle is wall); "
-                              "the truth keeps the rectangle and validate will say so");
-    }
+    ReportHoleShape(e, holes[0]);
     Opening o;
     o.id = door ? "D" + std::to_string(++doors) : "W" + std::to_string(++windows);
     o.type = door ? OpeningType::kDoor : OpeningType::kWindow;
@@ -181,132 +154,181 @@ void Importer::Openings() {
     o.rooms = {r0.room.id};
     FillRect(&o, holes[0]);
     for (const Hole& h : holes) holes_.push_back(h);
-    std::string room_b;
-    std::size_t hole_b = holes.size();
     if (door)
-      for (std::size_t k = 1; k < holes.size(); ++k) {
-        const Face& fk = faces_[holes[k].face];
-        if (fk.n.dot(f0.n) < -kFacingCos && fk.room != f0.room) {
-          o.host_walls.push_back(fk.id);
-          room_b = rooms_[fk.room].room.id;
-          o.rooms.push_back(room_b);
-          hole_b = k;
-          break;
-        }
-      }
-    if (!door) {
-      o.sill_height = o.v0 + (WallOf(f0).origin.z() - r0.room.floor_z);
-      for (std::size_t pi : e.parts) {
-        const MeshPart& part = scene_.parts[pi];
-        const bool glass = part.material >= 0 && scene_.materials[part.material].transmission > 0;
-        Bucket& b =
-            out_bucket_.Get(o.id, glass ? ElementClass::kWindowGlass : ElementClass::kWindowFrame,
-                            "window", r0.room.id, part.material);
-        for (const auto& t : part.triangles)
-          b.pieces.push_back({part.positions[t[0]].cast<double>(),
-                              part.positions[t[1]].cast<double>(),
-                              part.positions[t[2]].cast<double>()});
-      }
-      out_.report.push_back("window " + o.id + " = " + NiceName(e.node) + " in " + f0.id + ", " +
-                            Fmt(o.u1 - o.u0, 2) + " x " + Fmt(o.v1 - o.v0, 2) + " m");
-      out_.truth.openings.push_back(o);
-      continue;
-    }
-    // Door: the BIM leaf and frame are replaced by a leaf hinged at a jamb of the hole
-    // (docs/scene-import.md). Where it swings: the first of (larger room, smaller room) x
-    // (left, right hinge) whose swept square fits in that room; else the nearest room, left.
-    const double deg = DoorAngleDeg(o.id, e);
-    const double lambda = DegToRad(deg);
-    const double lt = p_.leaf_thickness;
-    std::vector<std::size_t> sides{0};
-    if (hole_b < holes.size()) {
-      sides.push_back(hole_b);
-      if (SignedArea(rooms_[faces_[holes[hole_b].face].room].poly) > SignedArea(r0.poly))
-        std::swap(sides[0], sides[1]);
-    }
-    struct Swing {
-      const Face* f;
-      const Hole* h;
-      bool left;
-      Vector3d n, dd, hinge;
-      double lw;
-    };
-    auto make = [&](std::size_t k, bool left) {
-      const Hole& h = holes[k];
-      const Face& f = faces_[h.face];
-      Swing sw{&f, &h, left, f.n, Vector3d::Zero(), Vector3d::Zero(), 0.0};
-      // Left hinge seen from the swing room: hinge -> latch = z x n = -dir, hinge at u1.
-      sw.dd =
-          left ? Vector3d(Vector3d::UnitZ().cross(f.n)) : Vector3d(f.n.cross(Vector3d::UnitZ()));
-      const double u_h = left ? h.u1 - kLeafGap : h.u0 + kLeafGap;
-      sw.hinge = f.a + u_h * f.dir + 0.001 * f.n + Vector3d(0, 0, h.v0 - f.a.z());
-      sw.lw = h.u1 - h.u0 - 2 * kLeafGap;
-      return sw;
-    };
-    auto fits = [&](const Swing& sw) {
-      const Polygon2& poly = rooms_[sw.f->room].poly;
-      for (const auto& [a, b] : {std::pair{0.02, 1.0}, std::pair{1.0, 1.0}, std::pair{0.5, 0.5}})
-        if (!PointInPolygon((sw.hinge + sw.lw * (a * sw.dd + b * sw.n)).head<2>(), poly))
-          return false;
-      return true;
-    };
-    Swing sw = make(0, true);
-    bool fitted = false;
-    for (std::size_t k : sides) {
-      for (bool left : {true, false}) {
-        const Swing c = make(k, left);
-        if (fits(c)) {
-          sw = c;
-          fitted = true;
-          break;
-        }
-      }
-      if (fitted) break;
-    }
-    if (!fitted)
-      out_.report.push_back(NiceName(e.node) +
-                            ": its leaf fits in neither room when open; "
-                            "it swings into " +
-                            r0.room.id);
-    const Vector3d n = sw.n, dd = sw.dd;
-    const Vector3d axis = dd.cross(n).normalized();
-    const Vector3d rd = std::cos(lambda) * dd + std::sin(lambda) * n;
-    const Vector3d rn = std::cos(lambda) * n - std::sin(lambda) * dd;
-    const std::string swing_room = rooms_[sw.f->room].room.id;
-    Bucket& leaf = out_bucket_.Get(o.id, ElementClass::kDoorLeaf, "door", swing_room,
-                                   LeafMaterial(), o.id + "/leaf");
-    MeshPart box;
-    PartBuilder pb(&box);
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    // A left hinge makes (rd, rn, z) left-handed (rd x rn = dd x n = -z): mirror x then.
-    const bool mirror = rd.cross(rn).z() < 0.0;
-    X.linear().col(0) = mirror ? Vector3d(-rd) : rd;
-    X.linear().col(1) = rn;
-    X.linear().col(2) = Vector3d::UnitZ();
-    X.translation() = sw.hinge;
-    const double top = sw.h->v1 - sw.h->v0 - kLeafGap;
-    if (mirror)
-      pb.AddBox(X, {-sw.lw, -lt, 0.01}, {0.0, 0.0, top});
+      AddDoor(e, holes, &o);
     else
-      pb.AddBox(X, {0.0, -lt, 0.01}, {sw.lw, 0.0, top});
-    for (const auto& t : box.triangles)
-      leaf.pieces.push_back({box.positions[t[0]].cast<double>(), box.positions[t[1]].cast<double>(),
-                             box.positions[t[2]].cast<double>()});
-    o.hinge_side = sw.left ? "left" : "right";
-    o.swing_room = swing_room;
-    o.hinge_point = sw.hinge;
-    o.hinge_axis = axis;
-    o.opening_angle = lambda;
-    o.state = DoorStateFromAngle(lambda);
-    o.leaf_thickness = lt;
-    out_.truth.openings.push_back(o);
-    out_.truth.connections.push_back({o.id, r0.room.id, room_b});
-    out_.report.push_back("door " + o.id + " = " + NiceName(e.node) + " between " + r0.room.id +
-                          " and " + (room_b.empty() ? "outside" : room_b) + ", " +
-                          Fmt(o.u1 - o.u0, 2) + " x " + Fmt(o.v1 - o.v0, 2) + " m, at " +
-                          Fmt(deg, 1) + " deg, hinged " + o.hinge_side + " into " + swing_room +
-                          " (BIM leaf replaced)");
+      AddWindow(e, f0, &o);
   }
+}
+
+// The format's openings are rectangles: say so when the hole is not one (round window).
+void Importer::ReportHoleShape(const Element& e, const Hole& h) {
+  const Face& f = faces_[h.face];
+  const std::vector<HalfSpace> rect{{-f.dir, -f.dir.dot(f.a) - h.u0},
+                                    {f.dir, f.dir.dot(f.a) + h.u1},
+                                    {-Vector3d::UnitZ(), -h.v0},
+                                    {Vector3d::UnitZ(), h.v1}};
+  double covered = 0.0;
+  for (const auto& [el, piece] : f.pieces) {
+    Poly3 in;
+    std::vector<Poly3> outside;
+    Split(piece, rect, &in, &outside);
+    covered += Area(in);
+  }
+  // An element that fills only part of its hole leaves the rest open (a window in an
+  // opening cut down to the floor).
+  if (e.box.min().z() > h.v0 + 0.05 || e.box.max().z() < h.v1 - 0.05)
+    out_.report.push_back(NiceName(e.node) + ": fills z " + Fmt(e.box.min().z(), 2) + " to " +
+                          Fmt(e.box.max().z(), 2) + " m of its hole's " + Fmt(h.v0, 2) + " to " +
+                          Fmt(h.v1, 2) + " m; the rest of the hole is open");
+  const double share = covered / ((h.u1 - h.u0) * (h.v1 - h.v0));
+  if (share > 0.001)
+    out_.report.push_back(NiceName(e.node) + ": its hole is not a rectangle (" +
+                          Fmt(100.0 * share, 1) +
+                          " % of its bounding rectangle is wall); "
+                          "the truth keeps the rectangle and validate will say so");
+}
+
+// A window keeps its BIM geometry: glass parts (transmissive materials) and frame.
+void Importer::AddWindow(const Element& e, const Face& f0, Opening* o) {
+  const RoomData& r0 = rooms_[f0.room];
+  o->sill_height = o->v0 + (WallOf(f0).origin.z() - r0.room.floor_z);
+  for (std::size_t pi : e.parts) {
+    const MeshPart& part = scene_.parts[pi];
+    const bool glass = part.material >= 0 && scene_.materials[part.material].transmission > 0;
+    Bucket& b =
+        out_bucket_.Get(o->id, glass ? ElementClass::kWindowGlass : ElementClass::kWindowFrame,
+                        "window", r0.room.id, part.material);
+    for (const auto& t : part.triangles)
+      b.pieces.push_back({part.positions[t[0]].cast<double>(), part.positions[t[1]].cast<double>(),
+                          part.positions[t[2]].cast<double>()});
+  }
+  out_.report.push_back("window " + o->id + " = " + NiceName(e.node) + " in " + f0.id + ", " +
+                        Fmt(o->u1 - o->u0, 2) + " x " + Fmt(o->v1 - o->v0, 2) + " m");
+  out_.truth.openings.push_back(*o);
+}
+
+// Door: the BIM leaf and frame are replaced by a leaf hinged at a jamb of the hole
+// (docs/scene-import.md). holes[0] is on the first room's side; the nearest hole facing it from
+// another room, if any, is the second room's side.
+void Importer::AddDoor(const Element& e, const std::vector<Hole>& holes, Opening* o) {
+  const Face& f0 = faces_[holes[0].face];
+  const RoomData& r0 = rooms_[f0.room];
+  std::string room_b;
+  std::size_t hole_b = holes.size();
+  for (std::size_t k = 1; k < holes.size(); ++k) {
+    const Face& fk = faces_[holes[k].face];
+    if (fk.n.dot(f0.n) < -kFacingCos && fk.room != f0.room) {
+      o->host_walls.push_back(fk.id);
+      room_b = rooms_[fk.room].room.id;
+      o->rooms.push_back(room_b);
+      hole_b = k;
+      break;
+    }
+  }
+  const double deg = DoorAngleDeg(o->id, e);
+  const double lambda = DegToRad(deg);
+  const Swing sw = ChooseSwing(e, holes, hole_b);
+  const Vector3d axis = sw.dd.cross(sw.n).normalized();
+  const std::string swing_room = rooms_[sw.f->room].room.id;
+  AddLeaf(*o, sw, lambda, swing_room);
+  o->hinge_side = sw.left ? "left" : "right";
+  o->swing_room = swing_room;
+  o->hinge_point = sw.hinge;
+  o->hinge_axis = axis;
+  o->opening_angle = lambda;
+  o->state = DoorStateFromAngle(lambda);
+  o->leaf_thickness = p_.leaf_thickness;
+  out_.truth.openings.push_back(*o);
+  out_.truth.connections.push_back({o->id, r0.room.id, room_b});
+  out_.report.push_back("door " + o->id + " = " + NiceName(e.node) + " between " + r0.room.id +
+                        " and " + (room_b.empty() ? "outside" : room_b) + ", " +
+                        Fmt(o->u1 - o->u0, 2) + " x " + Fmt(o->v1 - o->v0, 2) + " m, at " +
+                        Fmt(deg, 1) + " deg, hinged " + o->hinge_side + " into " + swing_room +
+                        " (BIM leaf replaced)");
+}
+
+// The leaf on side `k` (an index into `holes`) with a left or right hinge.
+Importer::Swing Importer::MakeSwing(const std::vector<Hole>& holes, std::size_t k,
+                                    bool left) const {
+  const Hole& h = holes[k];
+  const Face& f = faces_[h.face];
+  Swing sw{&f, &h, left, f.n, Vector3d::Zero(), Vector3d::Zero(), 0.0};
+  // Left hinge seen from the swing room: hinge -> latch = z x n = -dir, hinge at u1.
+  sw.dd = left ? Vector3d(Vector3d::UnitZ().cross(f.n)) : Vector3d(f.n.cross(Vector3d::UnitZ()));
+  const double u_h = left ? h.u1 - kLeafGap : h.u0 + kLeafGap;
+  sw.hinge = f.a + u_h * f.dir + 0.001 * f.n + Vector3d(0, 0, h.v0 - f.a.z());
+  sw.lw = h.u1 - h.u0 - 2 * kLeafGap;
+  return sw;
+}
+
+// The opened leaf's swept square (three sample points) lies in its swing room.
+bool Importer::SwingFits(const Swing& sw) const {
+  const Polygon2& poly = rooms_[sw.f->room].poly;
+  for (const auto& [a, b] : {std::pair{0.02, 1.0}, std::pair{1.0, 1.0}, std::pair{0.5, 0.5}})
+    if (!PointInPolygon((sw.hinge + sw.lw * (a * sw.dd + b * sw.n)).head<2>(), poly)) return false;
+  return true;
+}
+
+// Where the leaf swings: the first of (larger room, smaller room) x (left, right hinge) whose
+// swept square fits in that room; else the nearest room, hinged left.
+Importer::Swing Importer::ChooseSwing(const Element& e, const std::vector<Hole>& holes,
+                                      std::size_t hole_b) {
+  const RoomData& r0 = rooms_[faces_[holes[0].face].room];
+  std::vector<std::size_t> sides{0};
+  if (hole_b < holes.size()) {
+    sides.push_back(hole_b);
+    if (SignedArea(rooms_[faces_[holes[hole_b].face].room].poly) > SignedArea(r0.poly))
+      std::swap(sides[0], sides[1]);
+  }
+  Swing sw = MakeSwing(holes, 0, true);
+  bool fitted = false;
+  for (std::size_t k : sides) {
+    for (bool left : {true, false}) {
+      const Swing c = MakeSwing(holes, k, left);
+      if (SwingFits(c)) {
+        sw = c;
+        fitted = true;
+        break;
+      }
+    }
+    if (fitted) break;
+  }
+  if (!fitted)
+    out_.report.push_back(NiceName(e.node) +
+                          ": its leaf fits in neither room when open; "
+                          "it swings into " +
+                          r0.room.id);
+  return sw;
+}
+
+// The generated leaf: a box leaf_thickness thick, from 1 cm above the hole's sill to kLeafGap
+// below its head, turned by `lambda` about the hinge.
+void Importer::AddLeaf(const Opening& o, const Swing& sw, double lambda,
+                       const std::string& swing_room) {
+  const double lt = p_.leaf_thickness;
+  const Vector3d n = sw.n, dd = sw.dd;
+  const Vector3d rd = std::cos(lambda) * dd + std::sin(lambda) * n;
+  const Vector3d rn = std::cos(lambda) * n - std::sin(lambda) * dd;
+  Bucket& leaf = out_bucket_.Get(o.id, ElementClass::kDoorLeaf, "door", swing_room, LeafMaterial(),
+                                 o.id + "/leaf");
+  MeshPart box;
+  PartBuilder pb(&box);
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  // A left hinge makes (rd, rn, z) left-handed (rd x rn = dd x n = -z): mirror x then.
+  const bool mirror = rd.cross(rn).z() < 0.0;
+  X.linear().col(0) = mirror ? Vector3d(-rd) : rd;
+  X.linear().col(1) = rn;
+  X.linear().col(2) = Vector3d::UnitZ();
+  X.translation() = sw.hinge;
+  const double top = sw.h->v1 - sw.h->v0 - kLeafGap;
+  if (mirror)
+    pb.AddBox(X, {-sw.lw, -lt, 0.01}, {0.0, 0.0, top});
+  else
+    pb.AddBox(X, {0.0, -lt, 0.01}, {sw.lw, 0.0, top});
+  for (const auto& t : box.triangles)
+    leaf.pieces.push_back({box.positions[t[0]].cast<double>(), box.positions[t[1]].cast<double>(),
+                           box.positions[t[2]].cast<double>()});
 }
 
 // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.
