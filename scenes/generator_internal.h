@@ -142,6 +142,12 @@ class Generator {
     Vector3d hinge, rd, rn, axis;
     double width = 0.0, thickness = 0.0;  // m
   };
+  /// A candidate wall spot of a rule-placed BSC (beside_door, above_door, under_window, above).
+  struct Spot {
+    int face;
+    double u, v;
+    int target;  // wall_bscs_ index for "above"
+  };
   struct FurnitureShape {
     double w, d, h;
   };
@@ -222,6 +228,19 @@ class Generator {
   std::vector<int> CandidateRooms(const BscSpecEntry& e) const;
   [[noreturn]] void CannotPlace(const BscSpecEntry& e, int k, const std::string& why) const;
   void PlaceBscs();
+  void PlaceExplicitBsc(const BscSpecEntry& e, const BscSpec& cat, double v_default);
+  void PlaceRandomBscs(std::size_t ei, const BscSpecEntry& e, const BscSpec& cat,
+                       const std::vector<int>& rooms, const std::string& placement,
+                       double v_default);
+  bool TryCeilingBsc(CounterRng& rng, const BscSpec& cat, const std::vector<int>& rooms);
+  bool TryWallBsc(CounterRng& rng, const BscSpec& cat, const std::vector<int>& rooms,
+                  double v_default, const BscSpecEntry* stack);
+  void PlaceRuleBscs(std::size_t ei, const BscSpecEntry& e, const BscSpec& cat,
+                     const std::vector<int>& rooms, const std::string& placement, double v_default);
+  void RuleSpots(const BscSpecEntry& e, const BscSpec& cat, const std::vector<int>& rooms,
+                 const std::string& placement, double v_default, std::vector<Spot>* spots,
+                 std::vector<Spot>* second) const;
+  bool TakeRuleSpot(const BscSpec& cat, const Spot& s);
 
   // ---- furniture (generator_furniture.cpp) ----
   static FurnitureShape ShapeOf(const std::string& type, CounterRng& rng);
