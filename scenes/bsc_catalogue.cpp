@@ -491,147 +491,178 @@ ModelDef DefineGeometry(const BscSpec& s) {
   return m;
 }
 
+Texture DrawElectricalPanel(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kPanelGrey);
+  cv.RectOutline(0, 0, w - 0.02, h - 0.02, 0.003, kDarkGrey);  // door gap
+  WarningTriangle(cv, P2(0, 0.20), 0.14);
+  cv.Rect(0, 0.02, 0.16, 0.05, kPureWhite);  // circuit label
+  TextBars(cv, -0.07, 0.035, 0.14, 0.006, 2, kTextGrey, 1);
+  cv.Rect(0.20, 0, 0.035, 0.11, kDarkGrey);  // handle escutcheon
+  cv.Circle(0.20, 0.03, 0.006, kBlack);      // lock cylinder
+  return cv.ToTexture(c);
+}
+
+Texture DrawSocket(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWhite);
+  const int gangs = c == "socket_x2" ? 2 : c == "socket_x4" ? 4 : 1;
+  const double pitch = 0.071;
+  if (c != "built_in_socket") cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.001, kCupGrey);
+  for (int g = 0; g < gangs; ++g) SchukoFace(cv, (g - (gangs - 1) / 2.0) * pitch, 0);
+  return cv.ToTexture(c);
+}
+
+Texture DrawSwitch(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWhite);
+  cv.RectOutline(0, 0, 0.057, 0.057, 0.0015, kCupGrey);  // gap around the rocker
+  cv.Rect(0, 0, 0.052, 0.052, kPureWhite);
+  cv.Rect(0, 0.018, 0.010, 0.002, kClipGrey);  // "on" mark
+  cv.Rect(0, -0.018, 0.010, 0.002, kClipGrey);
+  return cv.ToTexture(c);
+}
+
+Texture DrawFireExtinguisher(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kSignalRed);
+  cv.Rect(0, h / 2 - 0.05, 0.06, 0.10, kBlack);    // valve head (seen from the front)
+  cv.Rect(-0.008, -0.02, 0.10, 0.20, kPureWhite);  // instruction label
+  TextBars(cv, -0.05, 0.065, 0.085, 0.006, 4, kTextGrey, 2);
+  cv.Rect(-0.03, -0.09, 0.025, 0.025, kSignalRed);  // fire-class pictograms
+  cv.Rect(0.0, -0.09, 0.025, 0.025, kSafetyGreen);
+  cv.Polyline({P2(0.02, 0.17), P2(0.058, 0.12), P2(0.058, -0.16)}, 0.012, kBlack);  // hose
+  return cv.ToTexture(c);
+}
+
+Texture DrawRadiator(const std::string& c, double w, double h) {
+  Canvas cv(w, h, Rgb{228, 228, 226});  // panel between fins, in the fins' shadow
+  constexpr int kFins = 20;
+  for (int i = 0; i < kFins; ++i)
+    cv.Rect(-w / 2 + (i + 0.5) * w / kFins, 0, 0.02, h - 0.04, kWhite);
+  cv.Rect(0, h / 2 - 0.01, w, 0.02, kWhite);
+  cv.Rect(0, -h / 2 + 0.01, w, 0.02, kWhite);
+  return cv.ToTexture(c);
+}
+
+Texture DrawFireAlarmSwitch(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kSignalRed);
+  cv.Rect(0, 0, 0.05, 0.05, kPureWhite);  // frangible element
+  cv.RectOutline(0, 0, 0.05, 0.05, 0.002, kBlack);
+  // house with a flame (the EN 54-11 symbol)
+  cv.Polygon({{-0.012, -0.014}, {0.012, -0.014}, {0.012, 0.004}, {0.0, 0.016}, {-0.012, 0.004}},
+             kBlack);
+  cv.Polygon(Place(UnitFlame(), P2(0, -0.005), 0.007), kPureWhite);
+  return cv.ToTexture(c);
+}
+
+Texture DrawSmokeDetector(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWhite);
+  cv.Ring(0, 0, 0.041, 0.049, Rgb{175, 175, 172});  // smoke inlet vents
+  for (int i = 0; i < 24; ++i) {                    // vent ribs
+    const double a = 2 * kPi * i / 24;
+    cv.Line(P2(0.041 * std::cos(a), 0.041 * std::sin(a)),
+            P2(0.049 * std::cos(a), 0.049 * std::sin(a)), 0.002, kWhite);
+  }
+  cv.Ring(0, 0, 0.030, 0.032, Rgb{215, 215, 212});
+  cv.Circle(0.022, 0.0, 0.0025, kSignalRed);  // status LED
+  return cv.ToTexture(c);
+}
+
+Texture DrawExitLight(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWhite);
+  cv.Rect(0, 0, w - 0.02, h - 0.02, kSafetyGreen);
+  Arrow(cv, P2(-0.10, 0), 0.045, -1.0, kPureWhite);
+  RunningFigure(cv, P2(0.02, -0.005), 0.05, kPureWhite);
+  cv.RectOutline(0.11, 0, 0.07, 0.11, 0.008, kPureWhite);  // door
+  return cv.ToTexture(c);
+}
+
+Texture DrawEmergencyLight(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWhite);
+  cv.RectOutline(0, 0, w - 0.03, h - 0.03, 0.002, kCupGrey);
+  cv.Rect(0, 0, w - 0.034, h - 0.034, kPureWhite);               // diffuser
+  cv.Rect(0, -0.03, w - 0.05, 0.012, kSafetyGreen);              // green stripe
+  cv.Circle(w / 2 - 0.025, h / 2 - 0.008, 0.002, kSafetyGreen);  // charge LED
+  return cv.ToTexture(c);
+}
+
+Texture DrawExtinguisherSign(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kSignalRed);
+  cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
+  ExtinguisherSilhouette(cv, P2(0.005, -0.01), 0.07, kPureWhite);
+  cv.Polygon(Place(UnitFlame(), P2(0.06, 0.05), 0.025), kPureWhite);
+  return cv.ToTexture(c);
+}
+
+Texture DrawFireAlarmSwitchSign(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kSignalRed);
+  cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
+  cv.RectOutline(-0.02, -0.01, 0.09, 0.09, 0.01, kPureWhite);  // call point
+  cv.Circle(-0.02, -0.01, 0.018, kPureWhite);
+  for (int i = -1; i <= 1; ++i) {  // sounding waves
+    const double a = i * 0.45;
+    cv.Line(P2(0.04 + 0.01 * std::cos(a), 0.05 + 0.01 * std::sin(a)),
+            P2(0.04 + 0.04 * std::cos(a), 0.05 + 0.04 * std::sin(a)), 0.008, kPureWhite);
+  }
+  cv.Polygon(Place(UnitFlame(), P2(0.05, -0.05), 0.022), kPureWhite);
+  return cv.ToTexture(c);
+}
+
+Texture DrawFireSign(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kSignalRed);
+  cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
+  cv.Polygon(Place(UnitFlame(), P2(0, 0.01), 0.07), kPureWhite);
+  cv.Rect(0, -0.07, 0.12, 0.01, kPureWhite);
+  return cv.ToTexture(c);
+}
+
+Texture DrawExitSign(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kSafetyGreen);
+  cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.003, kPureWhite);
+  Arrow(cv, P2(-0.095, 0), 0.04, -1.0, kPureWhite);
+  RunningFigure(cv, P2(0.01, -0.005), 0.05, kPureWhite);
+  cv.RectOutline(0.095, 0, 0.065, 0.11, 0.008, kPureWhite);  // door
+  return cv.ToTexture(c);
+}
+
+Texture DrawElectricSign(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWarningYellow);
+  // Triangle filling the plate: black border 12% of the side, yellow field, black bolt.
+  cv.Polygon({{-w / 2, -h / 2}, {w / 2, -h / 2}, {0, h / 2}}, kBlack);
+  const double s = 0.76;
+  const P2 g(0, -h / 2 + h / 3);
+  cv.Polygon({g + s * (P2(-w / 2, -h / 2) - g), g + s * (P2(w / 2, -h / 2) - g),
+              g + s * (P2(0, h / 2) - g)},
+             kWarningYellow);
+  cv.Polygon(Place(UnitBolt(), g + P2(0, -0.004), 0.042), kBlack);
+  return cv.ToTexture(c);
+}
+
+Texture DrawDoorSign(const std::string& c, double w, double h) {
+  Canvas cv(w, h, kWhite);
+  cv.RectOutline(0, 0, w, h, 0.003, Rgb{190, 190, 188});
+  cv.Rect(-0.035, 0.025, 0.05, 0.022, kTextGrey);  // room number
+  TextBars(cv, -0.06, -0.005, 0.12, 0.007, 3, kTextGrey, 3);
+  return cv.ToTexture(c);
+}
+
 // Pictogram of each class, drawn in the model's (x, y) frame over its whole bounding box.
 Texture DrawTexture(const BscSpec& s) {
   const std::string& c = s.class_name;
   const double w = s.width, h = s.height;
-  if (c == "electrical_panel") {
-    Canvas cv(w, h, kPanelGrey);
-    cv.RectOutline(0, 0, w - 0.02, h - 0.02, 0.003, kDarkGrey);  // door gap
-    WarningTriangle(cv, P2(0, 0.20), 0.14);
-    cv.Rect(0, 0.02, 0.16, 0.05, kPureWhite);  // circuit label
-    TextBars(cv, -0.07, 0.035, 0.14, 0.006, 2, kTextGrey, 1);
-    cv.Rect(0.20, 0, 0.035, 0.11, kDarkGrey);  // handle escutcheon
-    cv.Circle(0.20, 0.03, 0.006, kBlack);      // lock cylinder
-    return cv.ToTexture(c);
-  }
-  if (c == "socket_x1" || c == "socket_x2" || c == "socket_x4" || c == "built_in_socket") {
-    Canvas cv(w, h, kWhite);
-    const int gangs = c == "socket_x2" ? 2 : c == "socket_x4" ? 4 : 1;
-    const double pitch = 0.071;
-    if (c != "built_in_socket") cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.001, kCupGrey);
-    for (int g = 0; g < gangs; ++g) SchukoFace(cv, (g - (gangs - 1) / 2.0) * pitch, 0);
-    return cv.ToTexture(c);
-  }
-  if (c == "switch") {
-    Canvas cv(w, h, kWhite);
-    cv.RectOutline(0, 0, 0.057, 0.057, 0.0015, kCupGrey);  // gap around the rocker
-    cv.Rect(0, 0, 0.052, 0.052, kPureWhite);
-    cv.Rect(0, 0.018, 0.010, 0.002, kClipGrey);  // "on" mark
-    cv.Rect(0, -0.018, 0.010, 0.002, kClipGrey);
-    return cv.ToTexture(c);
-  }
-  if (c == "fire_extinguisher") {
-    Canvas cv(w, h, kSignalRed);
-    cv.Rect(0, h / 2 - 0.05, 0.06, 0.10, kBlack);    // valve head (seen from the front)
-    cv.Rect(-0.008, -0.02, 0.10, 0.20, kPureWhite);  // instruction label
-    TextBars(cv, -0.05, 0.065, 0.085, 0.006, 4, kTextGrey, 2);
-    cv.Rect(-0.03, -0.09, 0.025, 0.025, kSignalRed);  // fire-class pictograms
-    cv.Rect(0.0, -0.09, 0.025, 0.025, kSafetyGreen);
-    cv.Polyline({P2(0.02, 0.17), P2(0.058, 0.12), P2(0.058, -0.16)}, 0.012, kBlack);  // hose
-    return cv.ToTexture(c);
-  }
-  if (c == "radiator") {
-    Canvas cv(w, h, Rgb{228, 228, 226});  // panel between fins, in the fins' shadow
-    constexpr int kFins = 20;
-    for (int i = 0; i < kFins; ++i)
-      cv.Rect(-w / 2 + (i + 0.5) * w / kFins, 0, 0.02, h - 0.04, kWhite);
-    cv.Rect(0, h / 2 - 0.01, w, 0.02, kWhite);
-    cv.Rect(0, -h / 2 + 0.01, w, 0.02, kWhite);
-    return cv.ToTexture(c);
-  }
-  if (c == "fire_alarm_switch") {
-    Canvas cv(w, h, kSignalRed);
-    cv.Rect(0, 0, 0.05, 0.05, kPureWhite);  // frangible element
-    cv.RectOutline(0, 0, 0.05, 0.05, 0.002, kBlack);
-    // house with a flame (the EN 54-11 symbol)
-    cv.Polygon({{-0.012, -0.014}, {0.012, -0.014}, {0.012, 0.004}, {0.0, 0.016}, {-0.012, 0.004}},
-               kBlack);
-    cv.Polygon(Place(UnitFlame(), P2(0, -0.005), 0.007), kPureWhite);
-    return cv.ToTexture(c);
-  }
-  if (c == "smoke_detector") {
-    Canvas cv(w, h, kWhite);
-    cv.Ring(0, 0, 0.041, 0.049, Rgb{175, 175, 172});  // smoke inlet vents
-    for (int i = 0; i < 24; ++i) {                    // vent ribs
-      const double a = 2 * kPi * i / 24;
-      cv.Line(P2(0.041 * std::cos(a), 0.041 * std::sin(a)),
-              P2(0.049 * std::cos(a), 0.049 * std::sin(a)), 0.002, kWhite);
-    }
-    cv.Ring(0, 0, 0.030, 0.032, Rgb{215, 215, 212});
-    cv.Circle(0.022, 0.0, 0.0025, kSignalRed);  // status LED
-    return cv.ToTexture(c);
-  }
-  if (c == "exit_light") {
-    Canvas cv(w, h, kWhite);
-    cv.Rect(0, 0, w - 0.02, h - 0.02, kSafetyGreen);
-    Arrow(cv, P2(-0.10, 0), 0.045, -1.0, kPureWhite);
-    RunningFigure(cv, P2(0.02, -0.005), 0.05, kPureWhite);
-    cv.RectOutline(0.11, 0, 0.07, 0.11, 0.008, kPureWhite);  // door
-    return cv.ToTexture(c);
-  }
-  if (c == "emergency_light") {
-    Canvas cv(w, h, kWhite);
-    cv.RectOutline(0, 0, w - 0.03, h - 0.03, 0.002, kCupGrey);
-    cv.Rect(0, 0, w - 0.034, h - 0.034, kPureWhite);               // diffuser
-    cv.Rect(0, -0.03, w - 0.05, 0.012, kSafetyGreen);              // green stripe
-    cv.Circle(w / 2 - 0.025, h / 2 - 0.008, 0.002, kSafetyGreen);  // charge LED
-    return cv.ToTexture(c);
-  }
-  if (c == "extinguisher_sign") {
-    Canvas cv(w, h, kSignalRed);
-    cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
-    ExtinguisherSilhouette(cv, P2(0.005, -0.01), 0.07, kPureWhite);
-    cv.Polygon(Place(UnitFlame(), P2(0.06, 0.05), 0.025), kPureWhite);
-    return cv.ToTexture(c);
-  }
-  if (c == "fire_alarm_switch_sign") {
-    Canvas cv(w, h, kSignalRed);
-    cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
-    cv.RectOutline(-0.02, -0.01, 0.09, 0.09, 0.01, kPureWhite);  // call point
-    cv.Circle(-0.02, -0.01, 0.018, kPureWhite);
-    for (int i = -1; i <= 1; ++i) {  // sounding waves
-      const double a = i * 0.45;
-      cv.Line(P2(0.04 + 0.01 * std::cos(a), 0.05 + 0.01 * std::sin(a)),
-              P2(0.04 + 0.04 * std::cos(a), 0.05 + 0.04 * std::sin(a)), 0.008, kPureWhite);
-    }
-    cv.Polygon(Place(UnitFlame(), P2(0.05, -0.05), 0.022), kPureWhite);
-    return cv.ToTexture(c);
-  }
-  if (c == "fire_sign") {
-    Canvas cv(w, h, kSignalRed);
-    cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.004, kPureWhite);
-    cv.Polygon(Place(UnitFlame(), P2(0, 0.01), 0.07), kPureWhite);
-    cv.Rect(0, -0.07, 0.12, 0.01, kPureWhite);
-    return cv.ToTexture(c);
-  }
-  if (c == "exit_sign") {
-    Canvas cv(w, h, kSafetyGreen);
-    cv.RectOutline(0, 0, w - 0.008, h - 0.008, 0.003, kPureWhite);
-    Arrow(cv, P2(-0.095, 0), 0.04, -1.0, kPureWhite);
-    RunningFigure(cv, P2(0.01, -0.005), 0.05, kPureWhite);
-    cv.RectOutline(0.095, 0, 0.065, 0.11, 0.008, kPureWhite);  // door
-    return cv.ToTexture(c);
-  }
-  if (c == "electric_sign") {
-    Canvas cv(w, h, kWarningYellow);
-    // Triangle filling the plate: black border 12% of the side, yellow field, black bolt.
-    cv.Polygon({{-w / 2, -h / 2}, {w / 2, -h / 2}, {0, h / 2}}, kBlack);
-    const double s = 0.76;
-    const P2 g(0, -h / 2 + h / 3);
-    cv.Polygon({g + s * (P2(-w / 2, -h / 2) - g), g + s * (P2(w / 2, -h / 2) - g),
-                g + s * (P2(0, h / 2) - g)},
-               kWarningYellow);
-    cv.Polygon(Place(UnitBolt(), g + P2(0, -0.004), 0.042), kBlack);
-    return cv.ToTexture(c);
-  }
-  if (c == "door_sign") {
-    Canvas cv(w, h, kWhite);
-    cv.RectOutline(0, 0, w, h, 0.003, Rgb{190, 190, 188});
-    cv.Rect(-0.035, 0.025, 0.05, 0.022, kTextGrey);  // room number
-    TextBars(cv, -0.06, -0.005, 0.12, 0.007, 3, kTextGrey, 3);
-    return cv.ToTexture(c);
-  }
+  if (c == "electrical_panel") return DrawElectricalPanel(c, w, h);
+  if (c == "socket_x1" || c == "socket_x2" || c == "socket_x4" || c == "built_in_socket")
+    return DrawSocket(c, w, h);
+  if (c == "switch") return DrawSwitch(c, w, h);
+  if (c == "fire_extinguisher") return DrawFireExtinguisher(c, w, h);
+  if (c == "radiator") return DrawRadiator(c, w, h);
+  if (c == "fire_alarm_switch") return DrawFireAlarmSwitch(c, w, h);
+  if (c == "smoke_detector") return DrawSmokeDetector(c, w, h);
+  if (c == "exit_light") return DrawExitLight(c, w, h);
+  if (c == "emergency_light") return DrawEmergencyLight(c, w, h);
+  if (c == "extinguisher_sign") return DrawExtinguisherSign(c, w, h);
+  if (c == "fire_alarm_switch_sign") return DrawFireAlarmSwitchSign(c, w, h);
+  if (c == "fire_sign") return DrawFireSign(c, w, h);
+  if (c == "exit_sign") return DrawExitSign(c, w, h);
+  if (c == "electric_sign") return DrawElectricSign(c, w, h);
+  if (c == "door_sign") return DrawDoorSign(c, w, h);
   assert(false && "class without texture");
   return {};
 }

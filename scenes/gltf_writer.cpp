@@ -42,6 +42,184 @@ void PutChunk(std::vector<std::uint8_t>* out, const char type[4],
 
 tinygltf::Value Str(const std::string& s) { return tinygltf::Value(s); }
 
+// Appends `n` bytes to buffer 0 (4-byte aligned) as a new buffer view; returns its index.
+int AddView(const void* bytes, std::size_t n, int target, tinygltf::Model* m) {
+  std::vector<unsigned char>& data = m->buffers[0].data;
+  while (data.size() % 4) data.push_back(0);
+  tinygltf::BufferView v;
+  v.buffer = 0;
+  v.byteOffset = data.size();
+  v.byteLength = n;
+  v.target = target;
+  const auto* p = static_cast<const unsigned char*>(bytes);
+  data.insert(data.end(), p, p + n);
+  m->bufferViews.push_back(v);
+  return static_cast<int>(m->bufferViews.size()) - 1;
+}
+
+// Textures: one PNG image, sampler and texture each.
+void AddTextures(const Scene& scene, tinygltf::Model* m) {
+  for (const Texture& t : scene.textures) {
+    const std::vector<std::uint8_t> png = EncodePng(t);
+    tinygltf::Image img;
+    img.name = t.name;
+    img.mimeType = "image/png";
+    img.bufferView = AddView(png.data(), png.size(), 0, m);
+    m->images.push_back(img);
+    tinygltf::Sampler s;
+    s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    s.wrapS = s.wrapT =
+        t.repeat ? TINYGLTF_TEXTURE_WRAP_REPEAT : TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+    m->samplers.push_back(s);
+    tinygltf::Texture tex;
+    tex.name = t.name;
+    tex.source = static_cast<int>(m->images.size()) - 1;
+    tex.sampler = static_cast<int>(m->samplers.size()) - 1;
+    m->textures.push_back(tex);
+  }
+}
+
+// PBR metallic-roughness material; sets *transmission_used when it uses
+// KHR_materials_transmission. The NIR reflectance goes to extras.
+tinygltf::Material ToGltfMaterial(const Material& mat, const Scene& scene,
+                                  bool* transmission_used) {
+  tinygltf::Material g;
+  g.name = mat.name;
+  g.pbrMetallicRoughness.baseColorFactor = {mat.base_color[0], mat.base_color[1], mat.base_color[2],
+                                            mat.base_color[3]};
+  g.pbrMetallicRoughness.metallicFactor = mat.metallic;
+  g.pbrMetallicRoughness.roughnessFactor = mat.roughness;
+  if (mat.base_color_texture >= 0) {
+    if (mat.base_color_texture >= static_cast<int>(scene.textures.size()))
+      throw std::invalid_argument("WriteGlb: material '" + mat.name + "' texture out of range");
+    g.pbrMetallicRoughness.baseColorTexture.index = mat.base_color_texture;
+  }
+  g.doubleSided = mat.double_sided;
+  if (mat.transmission > 0.0f) {
+    tinygltf::Value::Object ext;
+    ext["transmissionFactor"] = tinygltf::Value(static_cast<double>(mat.transmission));
+    g.extensions["KHR_materials_transmission"] = tinygltf::Value(ext);
+    *transmission_used = true;
+  }
+  if (mat.nir_reflectance >= 0.0f) {
+    tinygltf::Value::Object extras;
+    extras["nir_reflectance"] = tinygltf::Value(static_cast<double>(mat.nir_reflectance));
+    g.extras = tinygltf::Value(extras);
+  }
+  return g;
+}
+
+// Per-axis min and max of the part's positions (glTF requires them on POSITION); throws on a
+// non-finite vertex.
+void PositionBounds(const MeshPart& part, std::vector<double>* lo, std::vector<double>* hi) {
+  const std::size_t nv = part.positions.size();
+  for (std::size_t i = 0; i < nv; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double v = part.positions[i][k];
+      if (!std::isfinite(v))
+        throw std::invalid_argument("WriteGlb: part '" + part.name + "' has a non-finite vertex");
+      (*lo)[k] = i == 0 ? v : std::min((*lo)[k], v);
+      (*hi)[k] = i == 0 ? v : std::max((*hi)[k], v);
+    }
+}
+
+int AddPositions(const MeshPart& part, const std::vector<double>& lo, const std::vector<double>& hi,
+                 tinygltf::Model* m) {
+  const std::size_t nv = part.positions.size();
+  const int view =
+      AddView(part.positions.data(), nv * 3 * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER, m);
+  tinygltf::Accessor a;
+  a.bufferView = view;
+  a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.type = TINYGLTF_TYPE_VEC3;
+  a.count = nv;
+  a.minValues = lo;
+  a.maxValues = hi;
+  m->accessors.push_back(a);
+  return static_cast<int>(m->accessors.size()) - 1;
+}
+
+// TEXCOORD_0: the part's uvs, or zeros for a textured part without them.
+int AddTexcoords(const MeshPart& part, tinygltf::Model* m) {
+  const std::size_t nv = part.positions.size();
+  std::vector<float> uv(nv * 2, 0.0f);
+  if (!part.uvs.empty()) {
+    if (part.uvs.size() != nv)
+      throw std::invalid_argument("WriteGlb: part '" + part.name + "' uv count mismatch");
+    for (std::size_t i = 0; i < nv; ++i) {
+      uv[2 * i] = part.uvs[i].x();
+      uv[2 * i + 1] = part.uvs[i].y();
+    }
+  }
+  const int view = AddView(uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER, m);
+  tinygltf::Accessor a;
+  a.bufferView = view;
+  a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.type = TINYGLTF_TYPE_VEC2;
+  a.count = nv;
+  m->accessors.push_back(a);
+  return static_cast<int>(m->accessors.size()) - 1;
+}
+
+// Triangle indices, 16-bit when the part has at most 65535 vertices, else 32-bit.
+int AddIndices(const MeshPart& part, tinygltf::Model* m) {
+  const std::size_t nv = part.positions.size();
+  const bool small = nv <= 65535;
+  std::vector<std::uint16_t> i16;
+  std::vector<std::uint32_t> i32;
+  for (const auto& t : part.triangles)
+    for (int k = 0; k < 3; ++k) {
+      if (t[k] < 0 || static_cast<std::size_t>(t[k]) >= nv)
+        throw std::invalid_argument("WriteGlb: part '" + part.name + "' index out of range");
+      if (small)
+        i16.push_back(static_cast<std::uint16_t>(t[k]));
+      else
+        i32.push_back(static_cast<std::uint32_t>(t[k]));
+    }
+  const int view =
+      small ? AddView(i16.data(), i16.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, m)
+            : AddView(i32.data(), i32.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, m);
+  tinygltf::Accessor a;
+  a.bufferView = view;
+  a.componentType =
+      small ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  a.type = TINYGLTF_TYPE_SCALAR;
+  a.count = part.triangles.size() * 3;
+  m->accessors.push_back(a);
+  return static_cast<int>(m->accessors.size()) - 1;
+}
+
+// One mesh and one node per part, the node a child of the root (node 0) carrying the part's
+// labels in extras.mopad (id, class, subclass, room).
+void AddPartNode(const MeshPart& part, int material, bool textured, const std::vector<double>& lo,
+                 const std::vector<double>& hi, tinygltf::Model* m) {
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.material = material;
+  prim.attributes["POSITION"] = AddPositions(part, lo, hi, m);
+  if (!part.uvs.empty() || textured) prim.attributes["TEXCOORD_0"] = AddTexcoords(part, m);
+  prim.indices = AddIndices(part, m);
+  tinygltf::Mesh mesh;
+  mesh.name = part.name;
+  mesh.primitives.push_back(prim);
+  m->meshes.push_back(mesh);
+
+  tinygltf::Node node;
+  node.name = part.name;
+  node.mesh = static_cast<int>(m->meshes.size()) - 1;
+  tinygltf::Value::Object mopad;
+  mopad["id"] = Str(part.element_id);
+  mopad["class"] = Str(std::string(ToString(part.element_class)));
+  mopad["subclass"] = Str(part.subclass);
+  mopad["room"] = Str(part.room);
+  tinygltf::Value::Object extras;
+  extras["mopad"] = tinygltf::Value(mopad);
+  node.extras = tinygltf::Value(extras);
+  m->nodes.push_back(node);
+  m->nodes[0].children.push_back(static_cast<int>(m->nodes.size()) - 1);
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> EncodePng(const Texture& t) {
@@ -97,71 +275,12 @@ void WriteGlb(const Scene& scene, const std::string& path) {
   m.asset.version = "2.0";
   m.asset.generator = "OpenMoPAD scene writer";
   m.buffers.emplace_back();
-  std::vector<unsigned char>& data = m.buffers[0].data;
-
-  auto add_view = [&](const void* bytes, std::size_t n, int target) {
-    while (data.size() % 4) data.push_back(0);
-    tinygltf::BufferView v;
-    v.buffer = 0;
-    v.byteOffset = data.size();
-    v.byteLength = n;
-    v.target = target;
-    const auto* p = static_cast<const unsigned char*>(bytes);
-    data.insert(data.end(), p, p + n);
-    m.bufferViews.push_back(v);
-    return static_cast<int>(m.bufferViews.size()) - 1;
-  };
-
-  // Textures: one image, sampler and texture each.
-  for (const Texture& t : scene.textures) {
-    const std::vector<std::uint8_t> png = EncodePng(t);
-    tinygltf::Image img;
-    img.name = t.name;
-    img.mimeType = "image/png";
-    img.bufferView = add_view(png.data(), png.size(), 0);
-    m.images.push_back(img);
-    tinygltf::Sampler s;
-    s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    s.wrapS = s.wrapT =
-        t.repeat ? TINYGLTF_TEXTURE_WRAP_REPEAT : TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
-    m.samplers.push_back(s);
-    tinygltf::Texture tex;
-    tex.name = t.name;
-    tex.source = static_cast<int>(m.images.size()) - 1;
-    tex.sampler = static_cast<int>(m.samplers.size()) - 1;
-    m.textures.push_back(tex);
-  }
+  AddTextures(scene, &m);
 
   // Materials (plus a default grey one for parts without a material).
   bool transmission_used = false;
-  auto to_gltf = [&](const Material& mat) {
-    tinygltf::Material g;
-    g.name = mat.name;
-    g.pbrMetallicRoughness.baseColorFactor = {mat.base_color[0], mat.base_color[1],
-                                              mat.base_color[2], mat.base_color[3]};
-    g.pbrMetallicRoughness.metallicFactor = mat.metallic;
-    g.pbrMetallicRoughness.roughnessFactor = mat.roughness;
-    if (mat.base_color_texture >= 0) {
-      if (mat.base_color_texture >= static_cast<int>(scene.textures.size()))
-        throw std::invalid_argument("WriteGlb: material '" + mat.name + "' texture out of range");
-      g.pbrMetallicRoughness.baseColorTexture.index = mat.base_color_texture;
-    }
-    g.doubleSided = mat.double_sided;
-    if (mat.transmission > 0.0f) {
-      tinygltf::Value::Object ext;
-      ext["transmissionFactor"] = tinygltf::Value(static_cast<double>(mat.transmission));
-      g.extensions["KHR_materials_transmission"] = tinygltf::Value(ext);
-      transmission_used = true;
-    }
-    if (mat.nir_reflectance >= 0.0f) {
-      tinygltf::Value::Object extras;
-      extras["nir_reflectance"] = tinygltf::Value(static_cast<double>(mat.nir_reflectance));
-      g.extras = tinygltf::Value(extras);
-    }
-    return g;
-  };
-  for (const Material& mat : scene.materials) m.materials.push_back(to_gltf(mat));
+  for (const Material& mat : scene.materials)
+    m.materials.push_back(ToGltfMaterial(mat, scene, &transmission_used));
   int default_material = -1;
 
   tinygltf::Node root;
@@ -171,16 +290,8 @@ void WriteGlb(const Scene& scene, const std::string& path) {
 
   for (const MeshPart& part : scene.parts) {
     if (part.triangles.empty()) continue;
-    const std::size_t nv = part.positions.size();
     std::vector<double> lo(3, 0.0), hi(3, 0.0);
-    for (std::size_t i = 0; i < nv; ++i)
-      for (int k = 0; k < 3; ++k) {
-        const double v = part.positions[i][k];
-        if (!std::isfinite(v))
-          throw std::invalid_argument("WriteGlb: part '" + part.name + "' has a non-finite vertex");
-        lo[k] = i == 0 ? v : std::min(lo[k], v);
-        hi[k] = i == 0 ? v : std::max(hi[k], v);
-      }
+    PositionBounds(part, &lo, &hi);
     int material = part.material;
     if (material >= static_cast<int>(scene.materials.size()))
       throw std::invalid_argument("WriteGlb: part '" + part.name + "' material out of range");
@@ -188,93 +299,16 @@ void WriteGlb(const Scene& scene, const std::string& path) {
       if (default_material < 0) {
         Material grey;
         grey.name = "default";
-        m.materials.push_back(to_gltf(grey));
+        m.materials.push_back(ToGltfMaterial(grey, scene, &transmission_used));
         default_material = static_cast<int>(m.materials.size()) - 1;
       }
       material = default_material;
     }
     const bool textured = material < static_cast<int>(scene.materials.size()) &&
                           scene.materials[material].base_color_texture >= 0;
-
-    tinygltf::Primitive prim;
-    prim.mode = TINYGLTF_MODE_TRIANGLES;
-    prim.material = material;
-    {
-      const int view =
-          add_view(part.positions.data(), nv * 3 * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-      tinygltf::Accessor a;
-      a.bufferView = view;
-      a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-      a.type = TINYGLTF_TYPE_VEC3;
-      a.count = nv;
-      a.minValues = lo;
-      a.maxValues = hi;
-      m.accessors.push_back(a);
-      prim.attributes["POSITION"] = static_cast<int>(m.accessors.size()) - 1;
-    }
-    if (!part.uvs.empty() || textured) {
-      std::vector<float> uv(nv * 2, 0.0f);
-      if (!part.uvs.empty()) {
-        if (part.uvs.size() != nv)
-          throw std::invalid_argument("WriteGlb: part '" + part.name + "' uv count mismatch");
-        for (std::size_t i = 0; i < nv; ++i) {
-          uv[2 * i] = part.uvs[i].x();
-          uv[2 * i + 1] = part.uvs[i].y();
-        }
-      }
-      const int view = add_view(uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-      tinygltf::Accessor a;
-      a.bufferView = view;
-      a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-      a.type = TINYGLTF_TYPE_VEC2;
-      a.count = nv;
-      m.accessors.push_back(a);
-      prim.attributes["TEXCOORD_0"] = static_cast<int>(m.accessors.size()) - 1;
-    }
-    {
-      const bool small = nv <= 65535;
-      std::vector<std::uint16_t> i16;
-      std::vector<std::uint32_t> i32;
-      for (const auto& t : part.triangles)
-        for (int k = 0; k < 3; ++k) {
-          if (t[k] < 0 || static_cast<std::size_t>(t[k]) >= nv)
-            throw std::invalid_argument("WriteGlb: part '" + part.name + "' index out of range");
-          if (small)
-            i16.push_back(static_cast<std::uint16_t>(t[k]));
-          else
-            i32.push_back(static_cast<std::uint32_t>(t[k]));
-        }
-      const int view =
-          small ? add_view(i16.data(), i16.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER)
-                : add_view(i32.data(), i32.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-      tinygltf::Accessor a;
-      a.bufferView = view;
-      a.componentType =
-          small ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-      a.type = TINYGLTF_TYPE_SCALAR;
-      a.count = part.triangles.size() * 3;
-      m.accessors.push_back(a);
-      prim.indices = static_cast<int>(m.accessors.size()) - 1;
-    }
-    tinygltf::Mesh mesh;
-    mesh.name = part.name;
-    mesh.primitives.push_back(prim);
-    m.meshes.push_back(mesh);
-
-    tinygltf::Node node;
-    node.name = part.name;
-    node.mesh = static_cast<int>(m.meshes.size()) - 1;
-    tinygltf::Value::Object mopad;
-    mopad["id"] = Str(part.element_id);
-    mopad["class"] = Str(std::string(ToString(part.element_class)));
-    mopad["subclass"] = Str(part.subclass);
-    mopad["room"] = Str(part.room);
-    tinygltf::Value::Object extras;
-    extras["mopad"] = tinygltf::Value(mopad);
-    node.extras = tinygltf::Value(extras);
-    m.nodes.push_back(node);
-    m.nodes[0].children.push_back(static_cast<int>(m.nodes.size()) - 1);
+    AddPartNode(part, material, textured, lo, hi, &m);
   }
+  std::vector<unsigned char>& data = m.buffers[0].data;
   while (data.size() % 4) data.push_back(0);
   if (transmission_used) m.extensionsUsed.push_back("KHR_materials_transmission");
 

@@ -213,49 +213,34 @@ std::string At(const std::string& list, std::size_t i) {
   return list + "[" + std::to_string(i) + "]";
 }
 
-GroundTruth FromJson(const Json& j, const Reader& r) {
-  GroundTruth t;
-  r.Known(j, "",
-          {"format_version", "scene_name", "units", "up_axis", "storeys", "rooms", "elements",
-           "openings", "service_components", "furniture", "connections"});
-  const Json& ver = r.Field(j, "", "format_version");
-  if (!ver.is_number_integer() ||
-      (ver.get<int>() != kTruthFormatVersion && ver.get<int>() != kTruthFormatVersionPassages)) {
-    r.Fail(
-        "", "unsupported format_version", ver.dump(),
-        std::to_string(kTruthFormatVersion) + " or " + std::to_string(kTruthFormatVersionPassages));
-  }
-  t.format_version = ver.get<int>();
-  t.scene_name = r.Str(j, "", "scene_name");
-  if (j.contains("units") && j["units"] != "m")
-    r.Fail("units", "unsupported", j["units"].dump(), "\"m\"");
-  if (j.contains("up_axis") && j["up_axis"] != "z")
-    r.Fail("up_axis", "unsupported", j["up_axis"].dump(), "\"z\"");
+void CheckUnique(const Reader& r, std::set<std::string>* ids, const std::string& ctx,
+                 const std::string& id) {
+  if (id.empty()) r.Fail(ctx + ".id", "empty id");
+  if (!ids->insert(id).second) r.Fail(ctx + ".id", "duplicate id '" + id + "'");
+}
 
-  std::set<std::string> ids;
-  auto unique = [&](const std::string& ctx, const std::string& id) {
-    if (id.empty()) r.Fail(ctx + ".id", "empty id");
-    if (!ids.insert(id).second) r.Fail(ctx + ".id", "duplicate id '" + id + "'");
-  };
-
+void ReadStoreys(const Json& j, const Reader& r, std::set<std::string>* ids, GroundTruth* t) {
   const Json& storeys = r.Arr(j, "", "storeys");
   for (std::size_t i = 0; i < storeys.size(); ++i) {
     const std::string c = At("storeys", i);
     r.Known(storeys[i], c, {"id", "elevation", "height"});
     Storey s;
     s.id = r.Str(storeys[i], c, "id");
-    unique(c, s.id);
+    CheckUnique(r, ids, c, s.id);
     s.elevation = r.Num(storeys[i], c, "elevation");
     s.height = r.Num(storeys[i], c, "height");
-    t.storeys.push_back(s);
+    t->storeys.push_back(s);
   }
+}
+
+void ReadRooms(const Json& j, const Reader& r, std::set<std::string>* ids, GroundTruth* t) {
   const Json& rooms = r.Arr(j, "", "rooms");
   for (std::size_t i = 0; i < rooms.size(); ++i) {
     const std::string c = At("rooms", i);
     r.Known(rooms[i], c, {"id", "storey", "polygon", "floor_z", "ceiling_z"});
     Room room;
     room.id = r.Str(rooms[i], c, "id");
-    unique(c, room.id);
+    CheckUnique(r, ids, c, room.id);
     room.storey = r.Str(rooms[i], c, "storey");
     const Json& poly = r.Arr(rooms[i], c, "polygon");
     for (std::size_t k = 0; k < poly.size(); ++k)
@@ -264,8 +249,11 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
       r.Fail(c + ".polygon", "too few vertices", std::to_string(room.polygon.size()), ">= 3");
     room.floor_z = r.Num(rooms[i], c, "floor_z");
     room.ceiling_z = r.Num(rooms[i], c, "ceiling_z");
-    t.rooms.push_back(room);
+    t->rooms.push_back(room);
   }
+}
+
+void ReadElements(const Json& j, const Reader& r, std::set<std::string>* ids, GroundTruth* t) {
   const Json& elements = r.Arr(j, "", "elements");
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const std::string c = At("elements", i);
@@ -274,7 +262,7 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
             {"id", "class", "rooms", "polygons", "normal", "origin", "u_axis", "length", "height"});
     StructuralElement e;
     e.id = r.Str(je, c, "id");
-    unique(c, e.id);
+    CheckUnique(r, ids, c, e.id);
     const std::string cls = r.Str(je, c, "class");
     if (!ParseElementClass(cls, &e.element_class)) r.Fail(c + ".class", "unknown class", cls);
     e.rooms = r.StrList(je, c, "rooms");
@@ -288,102 +276,119 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
       e.length = r.Num(je, c, "length");
       e.height = r.Num(je, c, "height");
     }
-    t.elements.push_back(e);
+    t->elements.push_back(e);
   }
+}
+
+Opening ReadOpening(const Json& jo, const std::string& c, const Reader& r,
+                    std::set<std::string>* ids) {
+  Opening o;
+  o.id = r.Str(jo, c, "id");
+  CheckUnique(r, ids, c, o.id);
+  const std::string type = r.Str(jo, c, "type");
+  if (type == "door") {
+    o.type = OpeningType::kDoor;
+    r.Known(jo, c,
+            {"id", "type", "host_walls", "rooms", "rect", "corners", "hinge_side", "swing_room",
+             "opening_angle_deg", "state", "hinge_point", "hinge_axis", "leaf_thickness"});
+  } else if (type == "window") {
+    o.type = OpeningType::kWindow;
+    r.Known(jo, c, {"id", "type", "host_walls", "rooms", "rect", "corners", "sill_height"});
+  } else {
+    r.Fail(c + ".type", "unknown opening type", "'" + type + "'", "door or window");
+  }
+  o.host_walls = r.StrList(jo, c, "host_walls");
+  if (o.host_walls.empty() || o.host_walls.size() > 2)
+    r.Fail(c + ".host_walls", "wrong number of host walls", std::to_string(o.host_walls.size()),
+           "1 or 2");
+  o.rooms = r.StrList(jo, c, "rooms");
+  const Json& rect = r.Field(jo, c, "rect");
+  r.Known(rect, c + ".rect", {"u0", "u1", "v0", "v1"});
+  o.u0 = r.Num(rect, c + ".rect", "u0");
+  o.u1 = r.Num(rect, c + ".rect", "u1");
+  o.v0 = r.Num(rect, c + ".rect", "v0");
+  o.v1 = r.Num(rect, c + ".rect", "v1");
+  if (!(o.u0 < o.u1 && o.v0 < o.v1)) r.Fail(c + ".rect", "empty rectangle");
+  o.corners = r.Vec3List(r.Field(jo, c, "corners"), c + ".corners");
+  if (o.corners.size() != 4)
+    r.Fail(c + ".corners", "wrong number of corners", std::to_string(o.corners.size()), "4");
+  if (o.type == OpeningType::kDoor) {
+    o.hinge_side = r.Str(jo, c, "hinge_side");
+    if (o.hinge_side != "left" && o.hinge_side != "right")
+      r.Fail(c + ".hinge_side", "invalid value", "'" + o.hinge_side + "'", "left or right");
+    o.swing_room = r.Str(jo, c, "swing_room");
+    const double deg = r.Num(jo, c, "opening_angle_deg");
+    if (deg < 0.0 || deg > 180.0)
+      r.Fail(c + ".opening_angle_deg", "out of range", std::to_string(deg), "[0, 180]");
+    o.opening_angle = DegToRad(deg);
+    const std::string state = r.Str(jo, c, "state");
+    o.state = DoorStateFromAngle(o.opening_angle);
+    if (state != ToString(o.state))
+      r.Fail(c + ".state", "state does not match opening_angle_deg " + std::to_string(deg),
+             "'" + state + "'", "'" + std::string(ToString(o.state)) + "'");
+    o.hinge_point = r.Vec3(jo, c, "hinge_point");
+    o.hinge_axis = r.Unit(jo, c, "hinge_axis");
+    o.leaf_thickness = r.Num(jo, c, "leaf_thickness");
+  } else {
+    o.sill_height = r.Num(jo, c, "sill_height");
+  }
+  return o;
+}
+
+void ReadOpenings(const Json& j, const Reader& r, std::set<std::string>* ids, GroundTruth* t) {
   const Json& openings = r.Arr(j, "", "openings");
-  for (std::size_t i = 0; i < openings.size(); ++i) {
-    const std::string c = At("openings", i);
-    const Json& jo = openings[i];
-    Opening o;
-    o.id = r.Str(jo, c, "id");
-    unique(c, o.id);
-    const std::string type = r.Str(jo, c, "type");
-    if (type == "door") {
-      o.type = OpeningType::kDoor;
-      r.Known(jo, c,
-              {"id", "type", "host_walls", "rooms", "rect", "corners", "hinge_side", "swing_room",
-               "opening_angle_deg", "state", "hinge_point", "hinge_axis", "leaf_thickness"});
-    } else if (type == "window") {
-      o.type = OpeningType::kWindow;
-      r.Known(jo, c, {"id", "type", "host_walls", "rooms", "rect", "corners", "sill_height"});
-    } else {
-      r.Fail(c + ".type", "unknown opening type", "'" + type + "'", "door or window");
-    }
-    o.host_walls = r.StrList(jo, c, "host_walls");
-    if (o.host_walls.empty() || o.host_walls.size() > 2)
-      r.Fail(c + ".host_walls", "wrong number of host walls", std::to_string(o.host_walls.size()),
-             "1 or 2");
-    o.rooms = r.StrList(jo, c, "rooms");
-    const Json& rect = r.Field(jo, c, "rect");
-    r.Known(rect, c + ".rect", {"u0", "u1", "v0", "v1"});
-    o.u0 = r.Num(rect, c + ".rect", "u0");
-    o.u1 = r.Num(rect, c + ".rect", "u1");
-    o.v0 = r.Num(rect, c + ".rect", "v0");
-    o.v1 = r.Num(rect, c + ".rect", "v1");
-    if (!(o.u0 < o.u1 && o.v0 < o.v1)) r.Fail(c + ".rect", "empty rectangle");
-    o.corners = r.Vec3List(r.Field(jo, c, "corners"), c + ".corners");
-    if (o.corners.size() != 4)
-      r.Fail(c + ".corners", "wrong number of corners", std::to_string(o.corners.size()), "4");
-    if (o.type == OpeningType::kDoor) {
-      o.hinge_side = r.Str(jo, c, "hinge_side");
-      if (o.hinge_side != "left" && o.hinge_side != "right")
-        r.Fail(c + ".hinge_side", "invalid value", "'" + o.hinge_side + "'", "left or right");
-      o.swing_room = r.Str(jo, c, "swing_room");
-      const double deg = r.Num(jo, c, "opening_angle_deg");
-      if (deg < 0.0 || deg > 180.0)
-        r.Fail(c + ".opening_angle_deg", "out of range", std::to_string(deg), "[0, 180]");
-      o.opening_angle = DegToRad(deg);
-      const std::string state = r.Str(jo, c, "state");
-      o.state = DoorStateFromAngle(o.opening_angle);
-      if (state != ToString(o.state))
-        r.Fail(c + ".state", "state does not match opening_angle_deg " + std::to_string(deg),
-               "'" + state + "'", "'" + std::string(ToString(o.state)) + "'");
-      o.hinge_point = r.Vec3(jo, c, "hinge_point");
-      o.hinge_axis = r.Unit(jo, c, "hinge_axis");
-      o.leaf_thickness = r.Num(jo, c, "leaf_thickness");
-    } else {
-      o.sill_height = r.Num(jo, c, "sill_height");
-    }
-    t.openings.push_back(o);
-  }
+  for (std::size_t i = 0; i < openings.size(); ++i)
+    t->openings.push_back(ReadOpening(openings[i], At("openings", i), r, ids));
+}
+
+void ReadServiceComponents(const Json& j, const Reader& r, std::set<std::string>* ids,
+                           GroundTruth* t) {
   const Json& bscs = r.Arr(j, "", "service_components");
   for (std::size_t i = 0; i < bscs.size(); ++i) {
     const std::string c = At("service_components", i);
     r.Known(bscs[i], c, {"id", "class", "host", "room", "centre", "normal", "size"});
     ServiceComponent b;
     b.id = r.Str(bscs[i], c, "id");
-    unique(c, b.id);
+    CheckUnique(r, ids, c, b.id);
     b.bsc_class = r.Str(bscs[i], c, "class");
     b.host = r.Str(bscs[i], c, "host");
     b.room = r.Str(bscs[i], c, "room");
     b.centre = r.Vec3(bscs[i], c, "centre");
     b.normal = r.Unit(bscs[i], c, "normal");
     b.size = r.Vec3(bscs[i], c, "size");
-    t.service_components.push_back(b);
+    t->service_components.push_back(b);
   }
+}
+
+void ReadFurniture(const Json& j, const Reader& r, std::set<std::string>* ids, GroundTruth* t) {
   const Json& furniture = r.Arr(j, "", "furniture");
   for (std::size_t i = 0; i < furniture.size(); ++i) {
     const std::string c = At("furniture", i);
     r.Known(furniture[i], c, {"id", "type", "room", "centre", "yaw_deg", "size"});
     FurnitureItem f;
     f.id = r.Str(furniture[i], c, "id");
-    unique(c, f.id);
+    CheckUnique(r, ids, c, f.id);
     f.type = r.Str(furniture[i], c, "type");
     f.room = r.Str(furniture[i], c, "room");
     f.centre = r.Vec3(furniture[i], c, "centre");
     f.yaw = DegToRad(r.Num(furniture[i], c, "yaw_deg"));
     f.size = r.Vec3(furniture[i], c, "size");
-    t.furniture.push_back(f);
+    t->furniture.push_back(f);
   }
+}
+
+void ReadConnections(const Json& j, const Reader& r, GroundTruth* t) {
   const Json& conns = r.Arr(j, "", "connections");
   for (std::size_t i = 0; i < conns.size(); ++i) {
     const std::string c = At("connections", i);
     r.Known(conns[i], c, {"door", "room_a", "room_b"});
-    t.connections.push_back(
+    t->connections.push_back(
         {r.Str(conns[i], c, "door"), r.Str(conns[i], c, "room_a"), r.Str(conns[i], c, "room_b")});
   }
+}
 
-  // Cross references: every id mentioned must exist (and be of the right kind).
+// Cross references: every id mentioned must exist (and be of the right kind).
+void CheckReferences(const GroundTruth& t, const Reader& r) {
   auto need_room = [&](const std::string& ctx, const std::string& id, bool allow_empty) {
     if (id.empty() && allow_empty) return;
     if (!t.FindRoom(id)) r.Fail(ctx, "dangling room id '" + id + "'");
@@ -427,6 +432,36 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
     need_room(At("connections", i) + ".room_a", cn.room_a, false);
     need_room(At("connections", i) + ".room_b", cn.room_b, true);
   }
+}
+
+GroundTruth FromJson(const Json& j, const Reader& r) {
+  GroundTruth t;
+  r.Known(j, "",
+          {"format_version", "scene_name", "units", "up_axis", "storeys", "rooms", "elements",
+           "openings", "service_components", "furniture", "connections"});
+  const Json& ver = r.Field(j, "", "format_version");
+  if (!ver.is_number_integer() ||
+      (ver.get<int>() != kTruthFormatVersion && ver.get<int>() != kTruthFormatVersionPassages)) {
+    r.Fail(
+        "", "unsupported format_version", ver.dump(),
+        std::to_string(kTruthFormatVersion) + " or " + std::to_string(kTruthFormatVersionPassages));
+  }
+  t.format_version = ver.get<int>();
+  t.scene_name = r.Str(j, "", "scene_name");
+  if (j.contains("units") && j["units"] != "m")
+    r.Fail("units", "unsupported", j["units"].dump(), "\"m\"");
+  if (j.contains("up_axis") && j["up_axis"] != "z")
+    r.Fail("up_axis", "unsupported", j["up_axis"].dump(), "\"z\"");
+
+  std::set<std::string> ids;
+  ReadStoreys(j, r, &ids, &t);
+  ReadRooms(j, r, &ids, &t);
+  ReadElements(j, r, &ids, &t);
+  ReadOpenings(j, r, &ids, &t);
+  ReadServiceComponents(j, r, &ids, &t);
+  ReadFurniture(j, r, &ids, &t);
+  ReadConnections(j, r, &t);
+  CheckReferences(t, r);
   return t;
 }
 

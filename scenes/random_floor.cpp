@@ -246,31 +246,25 @@ Layout MakeLayout(CounterRng& rng, int rooms, bool merge) {
   return L;
 }
 
-SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
-  CounterRng rng(seed, "random_floor/layout", static_cast<std::uint64_t>(rooms * 1000 + attempt));
-  const bool merge = rooms >= 2 && attempt < kMaxAttempts / 2 && rng.Bernoulli(0.6);
-  Layout L = MakeLayout(rng, rooms, merge);
-  if (static_cast<int>(L.blocks.size()) != rooms) return {};
-
-  SceneSpec s;
-  s.name = "random_s" + std::to_string(seed) + "_r" + std::to_string(rooms);
-  s.seed = seed;
-  s.source = "random_floor(seed=" + std::to_string(seed) + ", rooms=" + std::to_string(rooms) + ")";
-  s.wall_thickness = kWall;
-  s.storey_height = 3.0;
-  s.ceiling_height = Round(rng.Uniform(2.6, 2.9));
+// One room per block, its outline the block shrunk by half a wall: R1, R2, ... in block order.
+std::vector<std::string> AddRooms(const Layout& L, SceneSpec* s) {
   const double t2 = 0.5 * kWall;
   std::vector<std::string> ids;
   for (std::size_t i = 0; i < L.blocks.size(); ++i) {
     RoomSpec r;
     r.id = "R" + std::to_string(i + 1);
     r.polygon = Shrink(L.blocks[i].poly, t2);
-    r.where = s.source;
-    s.rooms.push_back(r);
+    r.where = s->source;
+    s->rooms.push_back(r);
     ids.push_back(r.id);
   }
+  return ids;
+}
 
-  // Doors: a random spanning tree of open doors from R1, extra doors in mixed states.
+// Doors: a random spanning tree of open doors from R1, extra doors in mixed states. False if
+// the blocks are not connected. `doors` counts the doors made (ids D1, D2, ...).
+bool AddDoors(CounterRng& rng, const Layout& L, int rooms, const std::vector<std::string>& ids,
+              SceneSpec* s, int* doors) {
   struct Pair {
     int a, b;
     Shared seg;
@@ -283,10 +277,9 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
     }
   std::vector<bool> in_tree(static_cast<std::size_t>(rooms), false), pair_used(pairs.size(), false);
   in_tree[0] = true;
-  int doors = 0;
   auto add_door = [&](const Pair& p, bool open) {
     DoorSpec d;
-    d.id = "D" + std::to_string(++doors);
+    d.id = "D" + std::to_string(++*doors);
     // The non-corridor room, or a random one, gets the leaf.
     int swing = L.blocks[p.a].corridor
                     ? p.b
@@ -306,14 +299,14 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
     const double pos = rng.Uniform(m, p.seg.length - m);
     d.position.has_at = true;
     d.position.at = p.seg.a + (p.seg.b - p.seg.a).normalized() * Round(pos);
-    d.where = s.source;
-    s.doors.push_back(d);
+    d.where = s->source;
+    s->doors.push_back(d);
   };
   for (int added = 1; added < rooms;) {
     std::vector<std::size_t> frontier;
     for (std::size_t k = 0; k < pairs.size(); ++k)
       if (in_tree[pairs[k].a] != in_tree[pairs[k].b]) frontier.push_back(k);
-    if (frontier.empty()) return {};  // not connected: retry
+    if (frontier.empty()) return false;  // not connected: retry
     const std::size_t k = frontier[rng.Below(frontier.size())];
     pair_used[k] = true;
     in_tree[pairs[k].a] = in_tree[pairs[k].b] = true;
@@ -322,8 +315,12 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
   }
   for (std::size_t k = 0; k < pairs.size(); ++k)
     if (!pair_used[k] && rng.Bernoulli(0.45)) add_door(pairs[k], false);
+  return true;
+}
 
-  // Outer walls: an exit from R1 (closed), windows on offices.
+// Outer walls: an exit from R1 (closed), windows on offices. Returns the windows per room.
+std::map<int, int> AddOuterOpenings(CounterRng& rng, const Layout& L, int rooms,
+                                    const std::vector<std::string>& ids, SceneSpec* s, int* doors) {
   int windows = 0;
   std::map<int, int> windows_of;
   for (int i = 0; i < rooms; ++i) {
@@ -334,7 +331,7 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
       const Vector2d dir = (b - a) / len;
       if (!exit_done && len >= 2.4) {
         DoorSpec d;
-        d.id = "D" + std::to_string(++doors);
+        d.id = "D" + std::to_string(++*doors);
         d.room_a = ids[i];
         d.room_b = "outside";
         d.swing_into = ids[i];
@@ -342,8 +339,8 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
         d.angle_deg = 0.0;
         d.position.has_at = true;
         d.position.at = a + dir * Round(0.5 * len);
-        d.where = s.source;
-        s.doors.push_back(d);
+        d.where = s->source;
+        s->doors.push_back(d);
         exit_done = true;
         continue;
       }
@@ -358,32 +355,40 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
         w.sill_height = 0.9;
         w.position.has_at = true;
         w.position.at = a + dir * Round((k + 0.5) * len / n);
-        w.where = s.source;
-        s.windows.push_back(w);
+        w.where = s->source;
+        s->windows.push_back(w);
         ++windows_of[i];
       }
     }
   }
+  return windows_of;
+}
 
-  // Columns: sometimes one in a big office.
+// Columns: sometimes one in a big office.
+void AddColumns(CounterRng& rng, const Layout& L, int rooms, const std::vector<std::string>& ids,
+                SceneSpec* s) {
   for (int i = 0; i < rooms; ++i) {
-    const double area = SignedArea(s.rooms[i].polygon);
+    const double area = SignedArea(s->rooms[i].polygon);
     if (L.blocks[i].corridor || area < 30.0 || !rng.Bernoulli(0.3)) continue;
     Eigen::AlignedBox2d box;
-    for (const auto& p : s.rooms[i].polygon) box.extend(p);
+    for (const auto& p : s->rooms[i].polygon) box.extend(p);
     ColumnSpec c;
-    c.id = "C" + std::to_string(s.columns.size() + 1);
+    c.id = "C" + std::to_string(s->columns.size() + 1);
     c.room = ids[i];
     c.shape = rng.Bernoulli(0.5) ? "round" : "rect";
     c.position = box.center();
-    if (!PointInPolygon(c.position, s.rooms[i].polygon) ||
-        DistanceToBoundary(c.position, s.rooms[i].polygon) < 1.5)
+    if (!PointInPolygon(c.position, s->rooms[i].polygon) ||
+        DistanceToBoundary(c.position, s->rooms[i].polygon) < 1.5)
       continue;
-    c.where = s.source;
-    s.columns.push_back(c);
+    c.where = s->source;
+    s->columns.push_back(c);
   }
+}
 
-  // Service components and furniture.
+// Service components: counts from the rooms, doors and windows.
+void AddServiceComponents(CounterRng& rng, const Layout& L, int rooms,
+                          const std::vector<std::string>& ids, int doors,
+                          const std::map<int, int>& windows_of, SceneSpec* s) {
   auto bsc = [&](const std::string& cls, int count, const std::vector<std::string>& in,
                  const std::string& placement = "", const std::string& above = "") {
     if (count <= 0) return;
@@ -393,8 +398,8 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
     e.rooms = in;
     e.placement = placement;
     e.above = above;
-    e.where = s.source;
-    s.bscs.push_back(e);
+    e.where = s->source;
+    s->bscs.push_back(e);
   };
   std::vector<std::string> offices;
   for (int i = 0; i < rooms; ++i)
@@ -415,9 +420,14 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
   bsc("radiator", radiators, {}, "under_window");
   bsc("smoke_detector", rooms, {});
   bsc("exit_light", 1, {ids[0]}, "above_door");
+}
+
+// Furniture of every office: desks and chairs by floor area, maybe a cabinet and a shelf.
+void AddFurniture(CounterRng& rng, const Layout& L, int rooms, const std::vector<std::string>& ids,
+                  SceneSpec* s) {
   for (int i = 0; i < rooms; ++i) {
     if (L.blocks[i].corridor) continue;
-    const double area = SignedArea(s.rooms[i].polygon);
+    const double area = SignedArea(s->rooms[i].polygon);
     const int desks = std::clamp(static_cast<int>(area / 14.0), 1, 4);
     auto furn = [&](const std::string& type, int count) {
       if (count <= 0) return;
@@ -425,14 +435,36 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
       f.room = ids[i];
       f.type = type;
       f.count = count;
-      f.where = s.source;
-      s.furniture.push_back(f);
+      f.where = s->source;
+      s->furniture.push_back(f);
     };
     furn("desk", desks);
     furn("chair", desks);
     furn("cabinet", static_cast<int>(rng.Below(2)));
     furn("shelf", static_cast<int>(rng.Below(2)));
   }
+}
+
+SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
+  CounterRng rng(seed, "random_floor/layout", static_cast<std::uint64_t>(rooms * 1000 + attempt));
+  const bool merge = rooms >= 2 && attempt < kMaxAttempts / 2 && rng.Bernoulli(0.6);
+  Layout L = MakeLayout(rng, rooms, merge);
+  if (static_cast<int>(L.blocks.size()) != rooms) return {};
+
+  SceneSpec s;
+  s.name = "random_s" + std::to_string(seed) + "_r" + std::to_string(rooms);
+  s.seed = seed;
+  s.source = "random_floor(seed=" + std::to_string(seed) + ", rooms=" + std::to_string(rooms) + ")";
+  s.wall_thickness = kWall;
+  s.storey_height = 3.0;
+  s.ceiling_height = Round(rng.Uniform(2.6, 2.9));
+  const std::vector<std::string> ids = AddRooms(L, &s);
+  int doors = 0;
+  if (!AddDoors(rng, L, rooms, ids, &s, &doors)) return {};
+  const std::map<int, int> windows_of = AddOuterOpenings(rng, L, rooms, ids, &s, &doors);
+  AddColumns(rng, L, rooms, ids, &s);
+  AddServiceComponents(rng, L, rooms, ids, doors, windows_of, &s);
+  AddFurniture(rng, L, rooms, ids, &s);
   return s;
 }
 

@@ -56,48 +56,34 @@ double InteriorOverlapArea(const Polygon2& a_in, const Polygon2& b_in) {
   return area;
 }
 
-}  // namespace
+using PartsOf = std::map<std::string, std::vector<const MeshPart*>>;
 
-std::string CheckReport::Summary() const {
-  std::ostringstream s;
-  s << "rooms " << rooms << ", walls " << walls << ", floors " << floors << ", ceilings "
-    << ceilings << ", columns " << columns << "\n"
-    << "doors " << doors << " (open " << doors_open << ", semi-open " << doors_semi_open
-    << ", closed " << doors_closed << "), windows " << windows << "\n"
-    << "service components " << service_components << ", furniture " << furniture << ", triangles "
-    << triangles << "\n";
-  for (const auto& e : errors) s << "error: " << e << "\n";
-  for (const auto& w : warnings) s << "warning: " << w << "\n";
-  s << (errors.empty() ? "valid" : "INVALID: " + std::to_string(errors.size()) + " error(s)")
-    << "\n";
-  return s.str();
-}
-
-CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
-  CheckReport rep;
-  rep.triangles = scene.TriangleCount();
-  rep.rooms = static_cast<int>(t.rooms.size());
+void CountTruth(const Scene& scene, const GroundTruth& t, CheckReport* rep) {
+  rep->triangles = scene.TriangleCount();
+  rep->rooms = static_cast<int>(t.rooms.size());
   for (const auto& e : t.elements) {
-    rep.walls += e.element_class == ElementClass::kWall;
-    rep.floors += e.element_class == ElementClass::kFloor;
-    rep.ceilings += e.element_class == ElementClass::kCeiling;
-    rep.columns += e.element_class == ElementClass::kColumn;
+    rep->walls += e.element_class == ElementClass::kWall;
+    rep->floors += e.element_class == ElementClass::kFloor;
+    rep->ceilings += e.element_class == ElementClass::kCeiling;
+    rep->columns += e.element_class == ElementClass::kColumn;
   }
   for (const auto& o : t.openings) {
     if (o.type == OpeningType::kWindow) {
-      ++rep.windows;
+      ++rep->windows;
       continue;
     }
-    ++rep.doors;
-    rep.doors_open += o.state == DoorState::kOpen;
-    rep.doors_semi_open += o.state == DoorState::kSemiOpen;
-    rep.doors_closed += o.state == DoorState::kClosed;
+    ++rep->doors;
+    rep->doors_open += o.state == DoorState::kOpen;
+    rep->doors_semi_open += o.state == DoorState::kSemiOpen;
+    rep->doors_closed += o.state == DoorState::kClosed;
   }
-  rep.service_components = static_cast<int>(t.service_components.size());
-  rep.furniture = static_cast<int>(t.furniture.size());
-  auto err = [&](const std::string& m) { rep.errors.push_back(m); };
+  rep->service_components = static_cast<int>(t.service_components.size());
+  rep->furniture = static_cast<int>(t.furniture.size());
+}
 
-  // 1. Ids both ways, and classes.
+// 1. Ids both ways, and classes. Fills `parts_of` (truth id -> its parts).
+void CheckIds(const Scene& scene, const GroundTruth& t, PartsOf* parts_of,
+              std::vector<std::string>* errors) {
   enum class Kind { kElement, kOpening, kBsc, kFurniture };
   std::map<std::string, std::pair<Kind, std::size_t>> truth_ids;
   for (std::size_t i = 0; i < t.elements.size(); ++i)
@@ -108,19 +94,19 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     truth_ids[t.service_components[i].id] = {Kind::kBsc, i};
   for (std::size_t i = 0; i < t.furniture.size(); ++i)
     truth_ids[t.furniture[i].id] = {Kind::kFurniture, i};
-  std::map<std::string, std::vector<const MeshPart*>> parts_of;
   for (const MeshPart& p : scene.parts) {
     if (p.triangles.empty()) continue;
     if (p.element_id.empty()) {
-      err("part '" + p.name + "' has no truth id");
+      errors->push_back("part '" + p.name + "' has no truth id");
       continue;
     }
     auto it = truth_ids.find(p.element_id);
     if (it == truth_ids.end()) {
-      err("part '" + p.name + "' has id '" + p.element_id + "' that is not in the truth");
+      errors->push_back("part '" + p.name + "' has id '" + p.element_id +
+                        "' that is not in the truth");
       continue;
     }
-    parts_of[p.element_id].push_back(&p);
+    (*parts_of)[p.element_id].push_back(&p);
     const auto [kind, idx] = it->second;
     const ElementClass c = p.element_class;
     bool ok = true;
@@ -142,18 +128,20 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
         break;
     }
     if (!ok)
-      err("part '" + p.name + "' class '" + std::string(ToString(c)) + "/" + p.subclass +
-          "' disagrees with the truth of '" + p.element_id + "'");
+      errors->push_back("part '" + p.name + "' class '" + std::string(ToString(c)) + "/" +
+                        p.subclass + "' disagrees with the truth of '" + p.element_id + "'");
   }
   for (const auto& [id, kind] : truth_ids)
-    if (!parts_of.count(id)) err("truth id '" + id + "' has no triangles");
+    if (!parts_of->count(id)) errors->push_back("truth id '" + id + "' has no triangles");
+}
 
-  // 2. Openings cut into their walls.
+// 2. Openings cut into their walls.
+void CheckOpeningsCut(const GroundTruth& t, PartsOf* parts_of, std::vector<std::string>* errors) {
   for (const Opening& o : t.openings) {
     for (const std::string& wid : o.host_walls) {
       const StructuralElement* w = t.FindElement(wid);
       if (!w) {
-        err("opening '" + o.id + "' host wall '" + wid + "' missing");
+        errors->push_back("opening '" + o.id + "' host wall '" + wid + "' missing");
         continue;
       }
       auto uv = [&](const Vector3d& p) {
@@ -166,7 +154,7 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
                            {rect.max().x() - kSurfaceTol, rect.max().y() - kSurfaceTol},
                            {rect.min().x() + kSurfaceTol, rect.max().y() - kSurfaceTol}};
       int covering = 0;
-      for (const MeshPart* p : parts_of[wid]) {
+      for (const MeshPart* p : (*parts_of)[wid]) {
         for (const auto& tri : p->triangles) {
           Polygon2 q;
           for (int k = 0; k < 3; ++k) q.push_back(uv(p->positions[tri[k]].cast<double>()));
@@ -175,16 +163,19 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
         }
       }
       if (covering > 0)
-        err("opening '" + o.id + "' is not cut into wall '" + wid +
-            "': " + std::to_string(covering) + " wall triangle(s) cover it");
+        errors->push_back("opening '" + o.id + "' is not cut into wall '" + wid +
+                          "': " + std::to_string(covering) + " wall triangle(s) cover it");
     }
   }
+}
 
-  // 3. BSCs on their host surface, inside its extent, not over an opening.
+// 3. BSCs on their host surface, inside its extent, not over an opening.
+void CheckServiceComponents(const GroundTruth& t, const PartsOf& parts_of,
+                            std::vector<std::string>* errors) {
   for (const ServiceComponent& b : t.service_components) {
     const StructuralElement* h = t.FindElement(b.host);
     if (!h) {
-      err("bsc '" + b.id + "' host '" + b.host + "' missing");
+      errors->push_back("bsc '" + b.id + "' host '" + b.host + "' missing");
       continue;
     }
     const auto it = parts_of.find(b.id);
@@ -203,13 +194,14 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
                     uv.y() < -kSurfaceTol || uv.y() > h->height + kSurfaceTol;
         }
       if (std::abs((b.centre - h->origin).dot(h->normal)) > kSurfaceTol)
-        err("bsc '" + b.id + "' truth centre is not on wall '" + h->id + "'");
+        errors->push_back("bsc '" + b.id + "' truth centre is not on wall '" + h->id + "'");
       // The geometry sits where the truth says: footprint centre and size in the wall's (u, v).
       const Vector2d c_uv((b.centre - h->origin).dot(h->u_axis), b.centre.z() - h->origin.z());
       if (!footprint.isEmpty() && ((footprint.center() - c_uv).norm() > kPlacementTol ||
                                    std::abs(footprint.sizes().x() - b.size.x()) > kPlacementTol ||
                                    std::abs(footprint.sizes().y() - b.size.y()) > kPlacementTol))
-        err("bsc '" + b.id + "' geometry does not match its truth centre/size on wall '" + h->id +
+        errors->push_back(
+            "bsc '" + b.id + "' geometry does not match its truth centre/size on wall '" + h->id +
             "'; got centre offset " +
             FormatNumbers("%.4g", (footprint.center() - c_uv).norm() * 1000.0) + " mm");
       for (const Opening& o : t.openings) {
@@ -221,7 +213,7 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
         for (const auto& c : o.corners)
           r.extend(Vector2d((c - h->origin).dot(h->u_axis), c.z() - h->origin.z()));
         if (!r.intersection(footprint).isEmpty() && r.intersection(footprint).volume() > 1e-8)
-          err("bsc '" + b.id + "' overlaps opening '" + o.id + "'");
+          errors->push_back("bsc '" + b.id + "' overlaps opening '" + o.id + "'");
       }
     } else if (h->element_class == ElementClass::kCeiling && !h->polygons.empty()) {
       const double zc = h->polygons[0][0].z();
@@ -239,23 +231,26 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
       for (const MeshPart* p : it->second)
         for (const auto& v : p->positions) xy_box.extend(Vector2d(v.x(), v.y()));
       if (!xy_box.isEmpty() && (xy_box.center() - b.centre.head<2>()).norm() > kPlacementTol)
-        err("bsc '" + b.id + "' geometry does not match its truth centre on ceiling '" + h->id +
+        errors->push_back(
+            "bsc '" + b.id + "' geometry does not match its truth centre on ceiling '" + h->id +
             "'; got centre offset " +
             FormatNumbers("%.4g", (xy_box.center() - b.centre.head<2>()).norm() * 1000.0) + " mm");
       if (std::abs(b.centre.z() - zc) > kSurfaceTol)
-        err("bsc '" + b.id + "' truth centre is not on ceiling '" + h->id + "'");
+        errors->push_back("bsc '" + b.id + "' truth centre is not on ceiling '" + h->id + "'");
     } else {
-      err("bsc '" + b.id + "' host '" + h->id + "' is neither a wall nor a ceiling");
+      errors->push_back("bsc '" + b.id + "' host '" + h->id + "' is neither a wall nor a ceiling");
       continue;
     }
     if (std::abs(dmin) > kSurfaceTol)
-      err("bsc '" + b.id + "' back is " + FormatNumbers("%.4g", dmin * 1000.0) +
-          " mm from its host '" + h->id + "'");
-    if (outside) err("bsc '" + b.id + "' extends outside its host '" + h->id + "'");
+      errors->push_back("bsc '" + b.id + "' back is " + FormatNumbers("%.4g", dmin * 1000.0) +
+                        " mm from its host '" + h->id + "'");
+    if (outside) errors->push_back("bsc '" + b.id + "' extends outside its host '" + h->id + "'");
   }
+}
 
-  // 4. Rooms do not overlap. Version 1 (walls between all rooms): not even touch. Version 2
-  // (open passages): rooms may share a boundary, their interiors must not overlap.
+// 4. Rooms do not overlap. Version 1 (walls between all rooms): not even touch. Version 2
+// (open passages): rooms may share a boundary, their interiors must not overlap.
+void CheckRoomsApart(const GroundTruth& t, std::vector<std::string>* errors) {
   for (std::size_t i = 0; i < t.rooms.size(); ++i)
     for (std::size_t j = 0; j < i; ++j) {
       const Polygon2& a = t.rooms[i].polygon;
@@ -268,10 +263,13 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
         } catch (const std::invalid_argument&) {  // not simple: keep the strict answer
         }
       }
-      if (overlap) err("rooms '" + t.rooms[i].id + "' and '" + t.rooms[j].id + "' overlap");
+      if (overlap)
+        errors->push_back("rooms '" + t.rooms[i].id + "' and '" + t.rooms[j].id + "' overlap");
     }
+}
 
-  // 5. Reachability through open doors wide enough for the robot.
+// 5. Reachability through open doors wide enough for the robot.
+void CheckReachable(const GroundTruth& t, std::vector<std::string>* errors) {
   if (!t.rooms.empty()) {
     std::map<std::string, std::vector<std::string>> graph;
     for (const RoomConnection& c : t.connections) {
@@ -297,18 +295,21 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     }
     for (const Room& r : t.rooms)
       if (!seen.count(r.id))
-        err("room '" + r.id + "' is not reachable from '" + t.rooms[0].id +
-            "' through open doors of clear width >= " + FormatNumbers("%.4g", kMinClearDoorWidth) +
-            " m");
+        errors->push_back("room '" + r.id + "' is not reachable from '" + t.rooms[0].id +
+                          "' through open doors of clear width >= " +
+                          FormatNumbers("%.4g", kMinClearDoorWidth) + " m");
   }
+}
 
-  // 6. Door leaves at their angle; states consistent.
+// 6. Door leaves at their angle; states consistent.
+void CheckDoorLeaves(const GroundTruth& t, const PartsOf& parts_of,
+                     std::vector<std::string>* errors) {
   for (const Opening& o : t.openings) {
     if (o.type != OpeningType::kDoor) continue;
     if (o.state != DoorStateFromAngle(o.opening_angle))
-      err("door '" + o.id + "' state '" + std::string(ToString(o.state)) +
-          "' does not match its angle " + FormatNumbers("%.4g", RadToDeg(o.opening_angle)) +
-          " deg");
+      errors->push_back("door '" + o.id + "' state '" + std::string(ToString(o.state)) +
+                        "' does not match its angle " +
+                        FormatNumbers("%.4g", RadToDeg(o.opening_angle)) + " deg");
     const StructuralElement* w = o.host_walls.empty() ? nullptr : t.FindElement(o.host_walls[0]);
     if (!w) continue;
     Vector3d sum = Vector3d::Zero();
@@ -323,7 +324,7 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
       }
     }
     if (n == 0) {
-      err("door '" + o.id + "' has no leaf");
+      errors->push_back("door '" + o.id + "' has no leaf");
       continue;
     }
     const Vector3d c = sum / static_cast<double>(n);
@@ -335,10 +336,40 @@ CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
     const double measured = std::atan2(rel.dot(nn), rel.dot(d));
     const double expected = o.opening_angle - std::atan2(o.leaf_thickness, o.u1 - o.u0);
     if (std::abs(WrapAngle(measured - expected)) > DegToRad(0.5))
-      err("door '" + o.id + "' leaf is at " + FormatNumbers("%.4g", RadToDeg(measured)) +
-          " deg, expected " + FormatNumbers("%.4g", RadToDeg(expected)) + " deg for lambda " +
-          FormatNumbers("%.4g", RadToDeg(o.opening_angle)));
+      errors->push_back("door '" + o.id + "' leaf is at " +
+                        FormatNumbers("%.4g", RadToDeg(measured)) + " deg, expected " +
+                        FormatNumbers("%.4g", RadToDeg(expected)) + " deg for lambda " +
+                        FormatNumbers("%.4g", RadToDeg(o.opening_angle)));
   }
+}
+
+}  // namespace
+
+std::string CheckReport::Summary() const {
+  std::ostringstream s;
+  s << "rooms " << rooms << ", walls " << walls << ", floors " << floors << ", ceilings "
+    << ceilings << ", columns " << columns << "\n"
+    << "doors " << doors << " (open " << doors_open << ", semi-open " << doors_semi_open
+    << ", closed " << doors_closed << "), windows " << windows << "\n"
+    << "service components " << service_components << ", furniture " << furniture << ", triangles "
+    << triangles << "\n";
+  for (const auto& e : errors) s << "error: " << e << "\n";
+  for (const auto& w : warnings) s << "warning: " << w << "\n";
+  s << (errors.empty() ? "valid" : "INVALID: " + std::to_string(errors.size()) + " error(s)")
+    << "\n";
+  return s.str();
+}
+
+CheckReport CheckScene(const Scene& scene, const GroundTruth& t) {
+  CheckReport rep;
+  CountTruth(scene, t, &rep);
+  PartsOf parts_of;
+  CheckIds(scene, t, &parts_of, &rep.errors);
+  CheckOpeningsCut(t, &parts_of, &rep.errors);
+  CheckServiceComponents(t, parts_of, &rep.errors);
+  CheckRoomsApart(t, &rep.errors);
+  CheckReachable(t, &rep.errors);
+  CheckDoorLeaves(t, parts_of, &rep.errors);
   return rep;
 }
 

@@ -167,138 +167,159 @@ void ForEachItem(const YAML::Node& root, const char* key, const std::string& fil
   }
 }
 
+void ReadMaterials(MapReader& top, MaterialsSpec* out) {
+  const YAML::Node m = top.Node("materials");
+  if (!m) return;
+  MapReader r(m, top.file(), "materials");
+  ReadMaterial(r, "wall", &out->wall);
+  ReadMaterial(r, "floor", &out->floor);
+  ReadMaterial(r, "ceiling", &out->ceiling);
+  ReadMaterial(r, "column", &out->column);
+  ReadMaterial(r, "facade", &out->facade);
+  ReadMaterial(r, "door_frame", &out->door_frame);
+  ReadMaterial(r, "door_leaf", &out->door_leaf);
+  ReadMaterial(r, "window_frame", &out->window_frame);
+  ReadMaterial(r, "glass", &out->glass);
+  ReadMaterial(r, "desk", &out->desk);
+  ReadMaterial(r, "cabinet", &out->cabinet);
+  ReadMaterial(r, "shelf", &out->shelf);
+  ReadMaterial(r, "chair", &out->chair);
+  r.Finish();
+}
+
+// The top-level keys (name, seed, heights, materials); the item lists are read after.
+void ReadTop(const YAML::Node& root, const std::string& file, SceneSpec* s) {
+  MapReader top(root, file, "");
+  top.Str("name", &s->name);
+  top.Scalar("seed", &s->seed, "a non-negative integer");
+  top.Num("storey_height", &s->storey_height, 2.0, 10.0);
+  top.Num("ceiling_height", &s->ceiling_height, 2.0, 10.0);
+  top.Num("wall_thickness", &s->wall_thickness, 0.05, 1.0);
+  ReadMaterials(top, &s->materials);
+  for (const char* k : {"rooms", "doors", "windows", "columns", "furniture", "bscs"}) top.Node(k);
+  top.Finish();
+}
+
+RoomSpec ReadRoom(MapReader& r, const std::string& file) {
+  RoomSpec room;
+  room.where = r.Where();
+  if (!r.Str("id", &room.id)) throw InputError(r.Where(), "room without 'id'");
+  const YAML::Node poly = r.Node("polygon");
+  if (!poly || !poly.IsSequence())
+    throw InputError(poly ? YamlWhere(file, poly) : r.Where(),
+                     "room '" + room.id + "' needs 'polygon': a list of [x, y]", Describe(poly));
+  for (const auto& p : poly) {
+    const auto v = r.Numbers(p, r.Name("polygon"), 2, "[x, y]");
+    room.polygon.emplace_back(v[0], v[1]);
+  }
+  room.where = YamlWhere(file, poly);
+  r.Num("ceiling_height", &room.ceiling_height, 0.0, 10.0);
+  return room;
+}
+
+DoorSpec ReadDoor(MapReader& r) {
+  DoorSpec d;
+  d.where = r.Where();
+  if (!r.Str("id", &d.id)) throw InputError(r.Where(), "door without 'id'");
+  std::vector<std::string> between;
+  if (!r.StrList("between", &between) || between.size() != 2)
+    throw InputError(r.Where(), "door '" + d.id + "' needs 'between: [ROOM, ROOM|outside]'");
+  d.room_a = between[0];
+  d.room_b = between[1];
+  ReadPosition(r, &d.position);
+  r.Num("width", &d.width, 0.5, 3.0);
+  r.Num("height", &d.height, 1.5, 5.0);
+  r.Num("frame_width", &d.frame_width, 0.01, 0.3);
+  r.Num("frame_protrusion", &d.frame_protrusion, 0.002, 0.1);
+  r.Num("leaf_thickness", &d.leaf_thickness, 0.01, 0.1);
+  d.has_frame_colour = r.Colour("frame_colour", &d.frame_colour);
+  d.has_leaf_colour = r.Colour("leaf_colour", &d.leaf_colour);
+  if (r.Str("hinge", &d.hinge) && d.hinge != "left" && d.hinge != "right")
+    throw InputError(r.Where("hinge"), "invalid 'hinge'", "'" + d.hinge + "'", "left or right");
+  r.Str("swing_into", &d.swing_into);
+  r.Num("angle_deg", &d.angle_deg, 0.0, 110.0);
+  return d;
+}
+
+WindowSpec ReadWindow(MapReader& r) {
+  WindowSpec w;
+  w.where = r.Where();
+  if (!r.Str("id", &w.id)) throw InputError(r.Where(), "window without 'id'");
+  if (!r.Str("room", &w.room)) throw InputError(r.Where(), "window '" + w.id + "' needs 'room'");
+  ReadPosition(r, &w.position);
+  r.Num("width", &w.width, 0.3, 6.0);
+  r.Num("height", &w.height, 0.3, 3.0);
+  r.Num("sill_height", &w.sill_height, 0.0, 2.5);
+  r.Num("frame_width", &w.frame_width, 0.01, 0.2);
+  r.Num("frame_protrusion", &w.frame_protrusion, 0.002, 0.1);
+  r.Num("transmission", &w.transmission, -1.0, 1.0);
+  return w;
+}
+
+ColumnSpec ReadColumn(MapReader& r) {
+  ColumnSpec c;
+  c.where = r.Where();
+  if (!r.Str("id", &c.id)) throw InputError(r.Where(), "column without 'id'");
+  if (!r.Str("room", &c.room)) throw InputError(r.Where(), "column '" + c.id + "' needs 'room'");
+  if (r.Str("shape", &c.shape) && c.shape != "rect" && c.shape != "round")
+    throw InputError(r.Where("shape"), "invalid 'shape'", "'" + c.shape + "'", "rect or round");
+  if (!r.Vec2("position", &c.position))
+    throw InputError(r.Where(), "column '" + c.id + "' needs 'position'");
+  if (r.Vec2("size", &c.size) && (c.size.x() <= 0.0 || c.size.y() <= 0.0))
+    throw InputError(r.Where("size"), "column size must be positive");
+  r.Num("radius", &c.radius, 0.02, 2.0);
+  r.Int("segments", &c.segments, 6, 64);
+  r.Num("yaw_deg", &c.yaw_deg, -360.0, 360.0);
+  return c;
+}
+
+FurnitureSpec ReadFurnitureItem(MapReader& r) {
+  FurnitureSpec f;
+  f.where = r.Where();
+  if (!r.Str("room", &f.room)) throw InputError(r.Where(), "furniture entry needs 'room'");
+  if (!r.Str("type", &f.type)) throw InputError(r.Where(), "furniture entry needs 'type'");
+  r.Int("count", &f.count, 1, 200);
+  f.has_position = r.Vec2("position", &f.position);
+  r.Num("yaw_deg", &f.yaw_deg, -360.0, 360.0);
+  if (f.has_position && f.count != 1)
+    throw InputError(r.Where(), "furniture with 'position' must have count 1");
+  return f;
+}
+
+BscSpecEntry ReadBsc(MapReader& r) {
+  BscSpecEntry b;
+  b.where = r.Where();
+  if (!r.Str("class", &b.class_name)) throw InputError(r.Where(), "bsc entry needs 'class'");
+  r.Int("count", &b.count, 1, 500);
+  r.StrList("rooms", &b.rooms);
+  r.Str("placement", &b.placement);
+  r.Str("above", &b.above);
+  r.Num("height", &b.height, -1.0, 10.0);
+  r.Str("room", &b.room);
+  const bool has_wall = r.Int("wall", &b.wall, 0, 1000);
+  r.Num("u", &b.u, 0.0, 1000.0);
+  const bool has_pos = r.Vec2("position", &b.position);
+  b.is_explicit = has_wall || has_pos;
+  if (b.is_explicit && (b.room.empty() || b.count != 1 || (has_wall && has_pos)))
+    throw InputError(r.Where(),
+                     "explicit bsc needs 'room' and either 'wall'+'u' or 'position', count 1");
+  if (!b.is_explicit && !b.room.empty())
+    throw InputError(r.Where("room"), "'room' is for explicit placement; use 'rooms' for rules");
+  return b;
+}
+
 SceneSpec Parse(const YAML::Node& root, const std::string& file) {
   SceneSpec s;
   s.source = file;
   if (!root || root.IsNull()) throw InputError(file, "empty scene spec");
-  MapReader top(root, file, "");
-  top.Str("name", &s.name);
-  top.Scalar("seed", &s.seed, "a non-negative integer");
-  top.Num("storey_height", &s.storey_height, 2.0, 10.0);
-  top.Num("ceiling_height", &s.ceiling_height, 2.0, 10.0);
-  top.Num("wall_thickness", &s.wall_thickness, 0.05, 1.0);
-  if (const YAML::Node m = top.Node("materials")) {
-    MapReader r(m, file, "materials");
-    ReadMaterial(r, "wall", &s.materials.wall);
-    ReadMaterial(r, "floor", &s.materials.floor);
-    ReadMaterial(r, "ceiling", &s.materials.ceiling);
-    ReadMaterial(r, "column", &s.materials.column);
-    ReadMaterial(r, "facade", &s.materials.facade);
-    ReadMaterial(r, "door_frame", &s.materials.door_frame);
-    ReadMaterial(r, "door_leaf", &s.materials.door_leaf);
-    ReadMaterial(r, "window_frame", &s.materials.window_frame);
-    ReadMaterial(r, "glass", &s.materials.glass);
-    ReadMaterial(r, "desk", &s.materials.desk);
-    ReadMaterial(r, "cabinet", &s.materials.cabinet);
-    ReadMaterial(r, "shelf", &s.materials.shelf);
-    ReadMaterial(r, "chair", &s.materials.chair);
-    r.Finish();
-  }
-  for (const char* k : {"rooms", "doors", "windows", "columns", "furniture", "bscs"}) top.Node(k);
-  top.Finish();
-
-  ForEachItem(root, "rooms", file, [&](MapReader& r) {
-    RoomSpec room;
-    room.where = r.Where();
-    if (!r.Str("id", &room.id)) throw InputError(r.Where(), "room without 'id'");
-    const YAML::Node poly = r.Node("polygon");
-    if (!poly || !poly.IsSequence())
-      throw InputError(poly ? YamlWhere(file, poly) : r.Where(),
-                       "room '" + room.id + "' needs 'polygon': a list of [x, y]", Describe(poly));
-    for (const auto& p : poly) {
-      const auto v = r.Numbers(p, r.Name("polygon"), 2, "[x, y]");
-      room.polygon.emplace_back(v[0], v[1]);
-    }
-    room.where = YamlWhere(file, poly);
-    r.Num("ceiling_height", &room.ceiling_height, 0.0, 10.0);
-    s.rooms.push_back(room);
-  });
-  ForEachItem(root, "doors", file, [&](MapReader& r) {
-    DoorSpec d;
-    d.where = r.Where();
-    if (!r.Str("id", &d.id)) throw InputError(r.Where(), "door without 'id'");
-    std::vector<std::string> between;
-    if (!r.StrList("between", &between) || between.size() != 2)
-      throw InputError(r.Where(), "door '" + d.id + "' needs 'between: [ROOM, ROOM|outside]'");
-    d.room_a = between[0];
-    d.room_b = between[1];
-    ReadPosition(r, &d.position);
-    r.Num("width", &d.width, 0.5, 3.0);
-    r.Num("height", &d.height, 1.5, 5.0);
-    r.Num("frame_width", &d.frame_width, 0.01, 0.3);
-    r.Num("frame_protrusion", &d.frame_protrusion, 0.002, 0.1);
-    r.Num("leaf_thickness", &d.leaf_thickness, 0.01, 0.1);
-    d.has_frame_colour = r.Colour("frame_colour", &d.frame_colour);
-    d.has_leaf_colour = r.Colour("leaf_colour", &d.leaf_colour);
-    if (r.Str("hinge", &d.hinge) && d.hinge != "left" && d.hinge != "right")
-      throw InputError(r.Where("hinge"), "invalid 'hinge'", "'" + d.hinge + "'", "left or right");
-    r.Str("swing_into", &d.swing_into);
-    r.Num("angle_deg", &d.angle_deg, 0.0, 110.0);
-    s.doors.push_back(d);
-  });
-  ForEachItem(root, "windows", file, [&](MapReader& r) {
-    WindowSpec w;
-    w.where = r.Where();
-    if (!r.Str("id", &w.id)) throw InputError(r.Where(), "window without 'id'");
-    if (!r.Str("room", &w.room)) throw InputError(r.Where(), "window '" + w.id + "' needs 'room'");
-    ReadPosition(r, &w.position);
-    r.Num("width", &w.width, 0.3, 6.0);
-    r.Num("height", &w.height, 0.3, 3.0);
-    r.Num("sill_height", &w.sill_height, 0.0, 2.5);
-    r.Num("frame_width", &w.frame_width, 0.01, 0.2);
-    r.Num("frame_protrusion", &w.frame_protrusion, 0.002, 0.1);
-    r.Num("transmission", &w.transmission, -1.0, 1.0);
-    s.windows.push_back(w);
-  });
-  ForEachItem(root, "columns", file, [&](MapReader& r) {
-    ColumnSpec c;
-    c.where = r.Where();
-    if (!r.Str("id", &c.id)) throw InputError(r.Where(), "column without 'id'");
-    if (!r.Str("room", &c.room)) throw InputError(r.Where(), "column '" + c.id + "' needs 'room'");
-    if (r.Str("shape", &c.shape) && c.shape != "rect" && c.shape != "round")
-      throw InputError(r.Where("shape"), "invalid 'shape'", "'" + c.shape + "'", "rect or round");
-    if (!r.Vec2("position", &c.position))
-      throw InputError(r.Where(), "column '" + c.id + "' needs 'position'");
-    if (r.Vec2("size", &c.size) && (c.size.x() <= 0.0 || c.size.y() <= 0.0))
-      throw InputError(r.Where("size"), "column size must be positive");
-    r.Num("radius", &c.radius, 0.02, 2.0);
-    r.Int("segments", &c.segments, 6, 64);
-    r.Num("yaw_deg", &c.yaw_deg, -360.0, 360.0);
-    s.columns.push_back(c);
-  });
-  ForEachItem(root, "furniture", file, [&](MapReader& r) {
-    FurnitureSpec f;
-    f.where = r.Where();
-    if (!r.Str("room", &f.room)) throw InputError(r.Where(), "furniture entry needs 'room'");
-    if (!r.Str("type", &f.type)) throw InputError(r.Where(), "furniture entry needs 'type'");
-    r.Int("count", &f.count, 1, 200);
-    f.has_position = r.Vec2("position", &f.position);
-    r.Num("yaw_deg", &f.yaw_deg, -360.0, 360.0);
-    if (f.has_position && f.count != 1)
-      throw InputError(r.Where(), "furniture with 'position' must have count 1");
-    s.furniture.push_back(f);
-  });
-  ForEachItem(root, "bscs", file, [&](MapReader& r) {
-    BscSpecEntry b;
-    b.where = r.Where();
-    if (!r.Str("class", &b.class_name)) throw InputError(r.Where(), "bsc entry needs 'class'");
-    r.Int("count", &b.count, 1, 500);
-    r.StrList("rooms", &b.rooms);
-    r.Str("placement", &b.placement);
-    r.Str("above", &b.above);
-    r.Num("height", &b.height, -1.0, 10.0);
-    r.Str("room", &b.room);
-    const bool has_wall = r.Int("wall", &b.wall, 0, 1000);
-    r.Num("u", &b.u, 0.0, 1000.0);
-    const bool has_pos = r.Vec2("position", &b.position);
-    b.is_explicit = has_wall || has_pos;
-    if (b.is_explicit && (b.room.empty() || b.count != 1 || (has_wall && has_pos)))
-      throw InputError(r.Where(),
-                       "explicit bsc needs 'room' and either 'wall'+'u' or 'position', count 1");
-    if (!b.is_explicit && !b.room.empty())
-      throw InputError(r.Where("room"), "'room' is for explicit placement; use 'rooms' for rules");
-    s.bscs.push_back(b);
-  });
+  ReadTop(root, file, &s);
+  ForEachItem(root, "rooms", file, [&](MapReader& r) { s.rooms.push_back(ReadRoom(r, file)); });
+  ForEachItem(root, "doors", file, [&](MapReader& r) { s.doors.push_back(ReadDoor(r)); });
+  ForEachItem(root, "windows", file, [&](MapReader& r) { s.windows.push_back(ReadWindow(r)); });
+  ForEachItem(root, "columns", file, [&](MapReader& r) { s.columns.push_back(ReadColumn(r)); });
+  ForEachItem(root, "furniture", file,
+              [&](MapReader& r) { s.furniture.push_back(ReadFurnitureItem(r)); });
+  ForEachItem(root, "bscs", file, [&](MapReader& r) { s.bscs.push_back(ReadBsc(r)); });
   ValidateSceneSpec(s);
   return s;
 }
@@ -338,29 +359,27 @@ const RoomSpec* SceneSpec::FindRoom(const std::string& id) const {
   return nullptr;
 }
 
-void ValidateSceneSpec(const SceneSpec& s) {
-  const std::string& src = s.source;
-  if (s.name.empty()) throw InputError(src, "scene 'name' is empty");
-  if (s.ceiling_height > s.storey_height)
-    throw InputError(src, "ceiling_height above storey_height", FormatShortest(s.ceiling_height),
-                     "<= " + FormatShortest(s.storey_height));
-  if (s.rooms.empty()) throw InputError(src, "scene has no rooms", "0", ">= 1");
-  std::set<std::string> ids;
-  auto unique = [&](const std::string& where, const std::string& id) {
-    if (id.empty() || id == "outside")
-      throw InputError(where, "invalid id", "'" + id + "'", "a non-empty id other than 'outside'");
-    if (!ids.insert(id).second) throw InputError(where, "duplicate id '" + id + "'");
-  };
-  auto room_of = [&](const std::string& where, const std::string& id) -> const RoomSpec& {
-    const RoomSpec* r = s.FindRoom(id);
-    if (!r) throw InputError(where, "unknown room '" + id + "'");
-    return *r;
-  };
-  auto ceiling = [&](const RoomSpec& r) {
-    return r.ceiling_height > 0.0 ? r.ceiling_height : s.ceiling_height;
-  };
+namespace {
+
+void CheckUniqueId(std::set<std::string>* ids, const std::string& where, const std::string& id) {
+  if (id.empty() || id == "outside")
+    throw InputError(where, "invalid id", "'" + id + "'", "a non-empty id other than 'outside'");
+  if (!ids->insert(id).second) throw InputError(where, "duplicate id '" + id + "'");
+}
+
+const RoomSpec& RoomOf(const SceneSpec& s, const std::string& where, const std::string& id) {
+  const RoomSpec* r = s.FindRoom(id);
+  if (!r) throw InputError(where, "unknown room '" + id + "'");
+  return *r;
+}
+
+double CeilingOf(const SceneSpec& s, const RoomSpec& r) {
+  return r.ceiling_height > 0.0 ? r.ceiling_height : s.ceiling_height;
+}
+
+void ValidateRooms(const SceneSpec& s, std::set<std::string>* ids) {
   for (const auto& r : s.rooms) {
-    unique(r.where, r.id);
+    CheckUniqueId(ids, r.where, r.id);
     std::string why;
     if (!IsSimplePolygon(r.polygon, &why))
       throw InputError(r.where, "room '" + r.id + "' polygon is not simple: " + why);
@@ -371,6 +390,10 @@ void ValidateSceneSpec(const SceneSpec& s) {
       throw InputError(r.where, "room '" + r.id + "' ceiling_height out of range",
                        FormatShortest(r.ceiling_height), "[2, storey_height]");
   }
+}
+
+// Rooms neither overlap nor come closer than one wall thickness.
+void ValidateRoomsApart(const SceneSpec& s) {
   for (std::size_t i = 0; i < s.rooms.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       const auto &a = s.rooms[i], &b = s.rooms[j];
@@ -383,15 +406,18 @@ void ValidateSceneSpec(const SceneSpec& s) {
             FormatShortest(d) + " m", ">= " + FormatShortest(s.wall_thickness) + " m");
     }
   }
+}
+
+void ValidateDoors(const SceneSpec& s, std::set<std::string>* ids) {
   for (const auto& d : s.doors) {
-    unique(d.where, d.id);
-    const RoomSpec& a = room_of(d.where, d.room_a);
-    double ch = ceiling(a);
+    CheckUniqueId(ids, d.where, d.id);
+    const RoomSpec& a = RoomOf(s, d.where, d.room_a);
+    double ch = CeilingOf(s, a);
     if (d.room_b != "outside") {
-      const RoomSpec& b = room_of(d.where, d.room_b);
+      const RoomSpec& b = RoomOf(s, d.where, d.room_b);
       if (d.room_b == d.room_a)
         throw InputError(d.where, "door '" + d.id + "' joins a room to itself");
-      ch = std::min(ch, ceiling(b));
+      ch = std::min(ch, CeilingOf(s, b));
     }
     if (d.height + d.frame_width > ch - 0.01)
       throw InputError(
@@ -406,13 +432,16 @@ void ValidateSceneSpec(const SceneSpec& s) {
       throw InputError(d.where, "door '" + d.id + "' wall index out of range",
                        std::to_string(d.position.wall), "< " + std::to_string(a.polygon.size()));
   }
+}
+
+void ValidateWindows(const SceneSpec& s, std::set<std::string>* ids) {
   for (const auto& w : s.windows) {
-    unique(w.where, w.id);
-    const RoomSpec& r = room_of(w.where, w.room);
+    CheckUniqueId(ids, w.where, w.id);
+    const RoomSpec& r = RoomOf(s, w.where, w.room);
     if (w.sill_height < w.frame_width + 0.01)
       throw InputError(w.where, "window '" + w.id + "' sill too low for its frame",
                        FormatShortest(w.sill_height), ">= frame_width + 0.01");
-    if (w.sill_height + w.height + w.frame_width > ceiling(r) - 0.01)
+    if (w.sill_height + w.height + w.frame_width > CeilingOf(s, r) - 0.01)
       throw InputError(w.where, "window '" + w.id + "' reaches the ceiling",
                        FormatShortest(w.sill_height + w.height) + " m",
                        "<= ceiling - frame_width - 0.01");
@@ -420,23 +449,32 @@ void ValidateSceneSpec(const SceneSpec& s) {
       throw InputError(w.where, "window '" + w.id + "' wall index out of range",
                        std::to_string(w.position.wall), "< " + std::to_string(r.polygon.size()));
   }
+}
+
+void ValidateColumns(const SceneSpec& s, std::set<std::string>* ids) {
   for (const auto& c : s.columns) {
-    unique(c.where, c.id);
-    const RoomSpec& r = room_of(c.where, c.room);
+    CheckUniqueId(ids, c.where, c.id);
+    const RoomSpec& r = RoomOf(s, c.where, c.room);
     if (!PolygonInside(ColumnFootprint(c), r.polygon))
       throw InputError(c.where, "column '" + c.id + "' is not inside room '" + c.room + "'");
   }
+}
+
+void ValidateFurniture(const SceneSpec& s) {
   for (const auto& f : s.furniture) {
-    room_of(f.where, f.room);
+    RoomOf(s, f.where, f.room);
     if (f.type != "desk" && f.type != "cabinet" && f.type != "shelf" && f.type != "chair")
       throw InputError(f.where, "unknown furniture type", "'" + f.type + "'",
                        "desk, cabinet, shelf or chair");
   }
+}
+
+void ValidateBscs(const SceneSpec& s) {
   std::set<std::string> placed_classes;
   for (const auto& b : s.bscs) {
     const BscSpec* cat = FindBsc(b.class_name);
     if (!cat) throw InputError(b.where, "unknown bsc class", "'" + b.class_name + "'");
-    for (const auto& r : b.rooms) room_of(b.where, r);
+    for (const auto& r : b.rooms) RoomOf(s, b.where, r);
     const bool ceiling_class = cat->mounting == interfaces::Mounting::kCeiling;
     static const std::set<std::string> kPlacements{
         "", "wall", "ceiling", "beside_door", "under_window", "above_door", "above"};
@@ -455,7 +493,7 @@ void ValidateSceneSpec(const SceneSpec& s) {
       throw InputError(b.where, "'above' is only for placement 'above'");
     }
     if (b.is_explicit) {
-      const RoomSpec& r = room_of(b.where, b.room);
+      const RoomSpec& r = RoomOf(s, b.where, b.room);
       if (ceiling_class != (b.wall < 0))
         throw InputError(b.where, ceiling_class ? "ceiling bsc needs 'position', not 'wall'"
                                                 : "wall bsc needs 'wall' and 'u'");
@@ -467,6 +505,25 @@ void ValidateSceneSpec(const SceneSpec& s) {
     }
     placed_classes.insert(b.class_name);
   }
+}
+
+}  // namespace
+
+void ValidateSceneSpec(const SceneSpec& s) {
+  const std::string& src = s.source;
+  if (s.name.empty()) throw InputError(src, "scene 'name' is empty");
+  if (s.ceiling_height > s.storey_height)
+    throw InputError(src, "ceiling_height above storey_height", FormatShortest(s.ceiling_height),
+                     "<= " + FormatShortest(s.storey_height));
+  if (s.rooms.empty()) throw InputError(src, "scene has no rooms", "0", ">= 1");
+  std::set<std::string> ids;
+  ValidateRooms(s, &ids);
+  ValidateRoomsApart(s);
+  ValidateDoors(s, &ids);
+  ValidateWindows(s, &ids);
+  ValidateColumns(s, &ids);
+  ValidateFurniture(s);
+  ValidateBscs(s);
 }
 
 SceneSpec LoadSceneSpec(const std::string& path) { return Parse(LoadYamlFile(path), path); }
@@ -505,18 +562,8 @@ void EmitPosition(YAML::Emitter& e, const WallPosition& p) {
   }
 }
 
-}  // namespace
-
-std::string SceneSpecToYaml(const SceneSpec& s) {
-  YAML::Emitter e;
-  e << YAML::BeginMap;
-  e << YAML::Key << "name" << YAML::Value << s.name;
-  e << YAML::Key << "seed" << YAML::Value << s.seed;
-  EmitNum(e, "storey_height", s.storey_height);
-  EmitNum(e, "ceiling_height", s.ceiling_height);
-  EmitNum(e, "wall_thickness", s.wall_thickness);
+void EmitMaterials(YAML::Emitter& e, const MaterialsSpec& m) {
   e << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
-  const MaterialsSpec& m = s.materials;
   EmitMaterial(e, "wall", m.wall);
   EmitMaterial(e, "floor", m.floor);
   EmitMaterial(e, "ceiling", m.ceiling);
@@ -531,7 +578,9 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
   EmitMaterial(e, "shelf", m.shelf);
   EmitMaterial(e, "chair", m.chair);
   e << YAML::EndMap;
+}
 
+void EmitRooms(YAML::Emitter& e, const SceneSpec& s) {
   e << YAML::Key << "rooms" << YAML::Value << YAML::BeginSeq;
   for (const auto& r : s.rooms) {
     e << YAML::BeginMap << YAML::Key << "id" << YAML::Value << r.id;
@@ -544,8 +593,11 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+}
+
+void EmitDoors(YAML::Emitter& e, const std::vector<DoorSpec>& doors) {
   e << YAML::Key << "doors" << YAML::Value << YAML::BeginSeq;
-  for (const auto& d : s.doors) {
+  for (const auto& d : doors) {
     e << YAML::BeginMap << YAML::Key << "id" << YAML::Value << d.id;
     e << YAML::Key << "between" << YAML::Value << YAML::Flow << YAML::BeginSeq << d.room_a
       << d.room_b << YAML::EndSeq;
@@ -566,8 +618,11 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+}
+
+void EmitWindows(YAML::Emitter& e, const std::vector<WindowSpec>& windows) {
   e << YAML::Key << "windows" << YAML::Value << YAML::BeginSeq;
-  for (const auto& w : s.windows) {
+  for (const auto& w : windows) {
     e << YAML::BeginMap << YAML::Key << "id" << YAML::Value << w.id;
     e << YAML::Key << "room" << YAML::Value << w.room;
     EmitPosition(e, w.position);
@@ -580,8 +635,11 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+}
+
+void EmitColumns(YAML::Emitter& e, const std::vector<ColumnSpec>& columns) {
   e << YAML::Key << "columns" << YAML::Value << YAML::BeginSeq;
-  for (const auto& c : s.columns) {
+  for (const auto& c : columns) {
     e << YAML::BeginMap << YAML::Key << "id" << YAML::Value << c.id;
     e << YAML::Key << "room" << YAML::Value << c.room;
     e << YAML::Key << "shape" << YAML::Value << c.shape;
@@ -593,8 +651,11 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+}
+
+void EmitFurniture(YAML::Emitter& e, const std::vector<FurnitureSpec>& furniture) {
   e << YAML::Key << "furniture" << YAML::Value << YAML::BeginSeq;
-  for (const auto& f : s.furniture) {
+  for (const auto& f : furniture) {
     e << YAML::Flow << YAML::BeginMap << YAML::Key << "room" << YAML::Value << f.room;
     e << YAML::Key << "type" << YAML::Value << f.type;
     e << YAML::Key << "count" << YAML::Value << f.count;
@@ -605,8 +666,11 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+}
+
+void EmitBscs(YAML::Emitter& e, const std::vector<BscSpecEntry>& bscs) {
   e << YAML::Key << "bscs" << YAML::Value << YAML::BeginSeq;
-  for (const auto& b : s.bscs) {
+  for (const auto& b : bscs) {
     e << YAML::Flow << YAML::BeginMap << YAML::Key << "class" << YAML::Value << b.class_name;
     e << YAML::Key << "count" << YAML::Value << b.count;
     if (!b.rooms.empty()) {
@@ -629,6 +693,25 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+}
+
+}  // namespace
+
+std::string SceneSpecToYaml(const SceneSpec& s) {
+  YAML::Emitter e;
+  e << YAML::BeginMap;
+  e << YAML::Key << "name" << YAML::Value << s.name;
+  e << YAML::Key << "seed" << YAML::Value << s.seed;
+  EmitNum(e, "storey_height", s.storey_height);
+  EmitNum(e, "ceiling_height", s.ceiling_height);
+  EmitNum(e, "wall_thickness", s.wall_thickness);
+  EmitMaterials(e, s.materials);
+  EmitRooms(e, s);
+  EmitDoors(e, s.doors);
+  EmitWindows(e, s.windows);
+  EmitColumns(e, s.columns);
+  EmitFurniture(e, s.furniture);
+  EmitBscs(e, s.bscs);
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

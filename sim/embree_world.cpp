@@ -130,57 +130,65 @@ void EmbreeWorld::Impl::UpdateDoorTransform(DoorInstance& d) {
   rtcCommitGeometry(d.instance);
 }
 
-EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth,
-                         WorldOptions options)
-    : impl_(std::make_unique<Impl>()) {
-  Impl& w = *impl_;
-  w.scene = std::move(scene);
-  const auto& parts = w.scene.parts;
-  for (std::size_t i = 0; i < parts.size(); ++i) ValidatePart(w.scene, i);
+namespace {
 
-  // Element table in first-appearance order (deterministic).
+// Element table in first-appearance order (deterministic).
+void IndexElements(EmbreeWorld::Impl* w) {
+  const auto& parts = w->scene.parts;
   std::unordered_map<std::string, std::int32_t> element_index;
-  w.part_element.assign(parts.size(), -1);
+  w->part_element.assign(parts.size(), -1);
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const std::string& id = parts[i].element_id;
     if (id.empty()) continue;
     auto [it, inserted] =
-        element_index.emplace(id, static_cast<std::int32_t>(w.element_ids.size()));
-    if (inserted) w.element_ids.push_back(id);
-    w.part_element[i] = it->second;
+        element_index.emplace(id, static_cast<std::int32_t>(w->element_ids.size()));
+    if (inserted) w->element_ids.push_back(id);
+    w->part_element[i] = it->second;
   }
+}
 
-  w.first_triangle.resize(parts.size());
+// Unit normal of every triangle (+z for a degenerate one), flattened part by part.
+void ComputeNormals(EmbreeWorld::Impl* w) {
+  const auto& parts = w->scene.parts;
+  w->first_triangle.resize(parts.size());
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const auto& p = parts[i];
-    w.first_triangle[i] = static_cast<std::uint32_t>(w.normals.size());
+    w->first_triangle[i] = static_cast<std::uint32_t>(w->normals.size());
     for (const auto& tri : p.triangles) {
       const Eigen::Vector3f& a = p.positions[tri[0]];
       const Eigen::Vector3f& b = p.positions[tri[1]];
       const Eigen::Vector3f& c = p.positions[tri[2]];
       const Eigen::Vector3d n = (b - a).cast<double>().cross((c - a).cast<double>());
       const double len = n.norm();
-      w.normals.push_back(len > 0 ? Eigen::Vector3f((n / len).cast<float>())
-                                  : Eigen::Vector3f::UnitZ());
+      w->normals.push_back(len > 0 ? Eigen::Vector3f((n / len).cast<float>())
+                                   : Eigen::Vector3f::UnitZ());
     }
   }
+}
 
-  w.device = rtcNewDevice(nullptr);
-  if (!w.device) {
+// The device (errors recorded by ErrorCallback), the top scene and, when misses are re-traced,
+// the watertight scene.
+void CreateScenes(const WorldOptions& options, EmbreeWorld::Impl* w) {
+  w->device = rtcNewDevice(nullptr);
+  if (!w->device) {
     throw std::runtime_error("cannot create Embree device (error " +
                              std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   }
-  rtcSetDeviceErrorFunction(w.device, ErrorCallback, &w);
-  w.top = rtcNewScene(w.device);
-  rtcSetSceneFlags(w.top, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  rtcSetSceneBuildQuality(w.top, RTC_BUILD_QUALITY_HIGH);
+  rtcSetDeviceErrorFunction(w->device, ErrorCallback, w);
+  w->top = rtcNewScene(w->device);
+  rtcSetSceneFlags(w->top, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  rtcSetSceneBuildQuality(w->top, RTC_BUILD_QUALITY_HIGH);
   if (options.watertight_misses && !options.robust) {
-    w.robust = rtcNewScene(w.device);
-    rtcSetSceneFlags(w.robust, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(w.robust, RTC_BUILD_QUALITY_HIGH);
+    w->robust = rtcNewScene(w->device);
+    rtcSetSceneFlags(w->robust, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(w->robust, RTC_BUILD_QUALITY_HIGH);
   }
+}
 
-  // Which parts are swinging door leaves?
+// Which parts are swinging door leaves: per part its door index, -1 for static parts. Fills
+// w->doors and w->door_ids from the truth's openings.
+std::vector<std::int32_t> FindDoorLeaves(const scenes::GroundTruth* truth, EmbreeWorld::Impl* w) {
+  const auto& parts = w->scene.parts;
   std::vector<std::int32_t> part_door(parts.size(), -1);
   if (truth) {
     std::unordered_map<std::string, std::int32_t> door_index;
@@ -190,64 +198,88 @@ EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth,
       const scenes::Opening* o = truth->FindOpening(p.element_id);
       if (!o || o->type != scenes::OpeningType::kDoor) continue;
       auto [it, inserted] =
-          door_index.emplace(p.element_id, static_cast<std::int32_t>(w.doors.size()));
+          door_index.emplace(p.element_id, static_cast<std::int32_t>(w->doors.size()));
       if (inserted) {
         DoorInstance d;
         d.id = o->id;
         d.hinge_point = o->hinge_point;
         const double axis_norm = o->hinge_axis.norm();
         if (!(axis_norm > 0) || !o->hinge_point.allFinite() || !std::isfinite(o->opening_angle)) {
-          throw InputError(w.scene.source, "door '" + o->id + "' has an invalid hinge");
+          throw InputError(w->scene.source, "door '" + o->id + "' has an invalid hinge");
         }
         d.hinge_axis = o->hinge_axis / axis_norm;
         d.modelled_angle = d.angle = o->opening_angle;
-        w.doors.push_back(std::move(d));
-        w.door_ids.push_back(o->id);
+        w->doors.push_back(std::move(d));
+        w->door_ids.push_back(o->id);
       }
       part_door[i] = it->second;
     }
   }
+  return part_door;
+}
 
-  // Static geometry, one Embree geometry per part (geomID -> part).
+// Static geometry, one Embree geometry per part (geomID -> part).
+void AttachStaticParts(const std::vector<std::int32_t>& part_door, EmbreeWorld::Impl* w) {
+  const auto& parts = w->scene.parts;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     if (parts[i].triangles.empty() || part_door[i] >= 0) continue;
-    RTCGeometry g = MakeTriangleGeometry(w.device, parts[i]);
-    const unsigned id = rtcAttachGeometry(w.top, g);
-    if (w.robust) rtcAttachGeometryByID(w.robust, g, id);  // same ids: same lookup tables
+    RTCGeometry g = MakeTriangleGeometry(w->device, parts[i]);
+    const unsigned id = rtcAttachGeometry(w->top, g);
+    if (w->robust) rtcAttachGeometryByID(w->robust, g, id);  // same ids: same lookup tables
     rtcReleaseGeometry(g);
-    if (id >= w.geom_to_part.size()) {
-      w.geom_to_part.resize(id + 1, -1);
-      w.geom_to_door.resize(id + 1, -1);
+    if (id >= w->geom_to_part.size()) {
+      w->geom_to_part.resize(id + 1, -1);
+      w->geom_to_door.resize(id + 1, -1);
     }
-    w.geom_to_part[id] = static_cast<std::int32_t>(i);
+    w->geom_to_part[id] = static_cast<std::int32_t>(i);
   }
-  // Door leaves: a child scene per door, instanced into the top scene.
-  for (std::size_t d = 0; d < w.doors.size(); ++d) {
-    DoorInstance& door = w.doors[d];
-    door.child = rtcNewScene(w.device);
+}
+
+// Door leaves: a child scene per door, instanced into the top scene.
+void AttachDoorLeaves(const std::vector<std::int32_t>& part_door, EmbreeWorld::Impl* w) {
+  const auto& parts = w->scene.parts;
+  for (std::size_t d = 0; d < w->doors.size(); ++d) {
+    DoorInstance& door = w->doors[d];
+    door.child = rtcNewScene(w->device);
     rtcSetSceneBuildQuality(door.child, RTC_BUILD_QUALITY_HIGH);
     for (std::size_t i = 0; i < parts.size(); ++i) {
       if (part_door[i] != static_cast<std::int32_t>(d)) continue;
-      RTCGeometry g = MakeTriangleGeometry(w.device, parts[i]);
+      RTCGeometry g = MakeTriangleGeometry(w->device, parts[i]);
       const unsigned id = rtcAttachGeometry(door.child, g);
       rtcReleaseGeometry(g);
       if (id >= door.child_geom_to_part.size()) door.child_geom_to_part.resize(id + 1, -1);
       door.child_geom_to_part[id] = static_cast<std::int32_t>(i);
     }
     rtcCommitScene(door.child);
-    door.instance = rtcNewGeometry(w.device, RTC_GEOMETRY_TYPE_INSTANCE);
+    door.instance = rtcNewGeometry(w->device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(door.instance, door.child);
     rtcSetGeometryTimeStepCount(door.instance, 1);
-    w.UpdateDoorTransform(door);
-    door.instance_geom_id = rtcAttachGeometry(w.top, door.instance);
-    if (w.robust) rtcAttachGeometryByID(w.robust, door.instance, door.instance_geom_id);
+    w->UpdateDoorTransform(door);
+    door.instance_geom_id = rtcAttachGeometry(w->top, door.instance);
+    if (w->robust) rtcAttachGeometryByID(w->robust, door.instance, door.instance_geom_id);
     rtcReleaseGeometry(door.instance);  // the scene holds it; the handle stays valid
-    if (door.instance_geom_id >= w.geom_to_part.size()) {
-      w.geom_to_part.resize(door.instance_geom_id + 1, -1);
-      w.geom_to_door.resize(door.instance_geom_id + 1, -1);
+    if (door.instance_geom_id >= w->geom_to_part.size()) {
+      w->geom_to_part.resize(door.instance_geom_id + 1, -1);
+      w->geom_to_door.resize(door.instance_geom_id + 1, -1);
     }
-    w.geom_to_door[door.instance_geom_id] = static_cast<std::int32_t>(d);
+    w->geom_to_door[door.instance_geom_id] = static_cast<std::int32_t>(d);
   }
+}
+
+}  // namespace
+
+EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth,
+                         WorldOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& w = *impl_;
+  w.scene = std::move(scene);
+  for (std::size_t i = 0; i < w.scene.parts.size(); ++i) ValidatePart(w.scene, i);
+  IndexElements(&w);
+  ComputeNormals(&w);
+  CreateScenes(options, &w);
+  const std::vector<std::int32_t> part_door = FindDoorLeaves(truth, &w);
+  AttachStaticParts(part_door, &w);
+  AttachDoorLeaves(part_door, &w);
   rtcCommitScene(w.top);
   if (w.robust) rtcCommitScene(w.robust);
   w.ThrowIfError("scene build");

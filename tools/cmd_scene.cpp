@@ -40,171 +40,195 @@ void GenerateAndWrite(const scenes::SceneSpec& spec, const std::string& out_dir)
   std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out_dir.c_str(), out_dir.c_str());
 }
 
+// `scene generate SPEC -o DIR`: a scene folder from a YAML spec.
+void AddGenerateCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("generate",
+                                    "Generate scene.glb + scene.truth.json from a "
+                                    "YAML spec (docs/scene-spec.md)");
+  auto spec = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto seed = std::make_shared<std::int64_t>(-1);
+  cmd->add_option("spec", *spec, "Scene spec YAML (e.g. scenes/office_5rooms.yaml)")->required();
+  cmd->add_option("-o,--output", *out, "Output folder")->required();
+  cmd->add_option("--seed", *seed, "Override the spec's seed (furniture, rule-based BSCs)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->footer(
+      "Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, "
+      "spec.effective.yaml.");
+  cmd->callback([=] {
+    scenes::SceneSpec s = scenes::LoadSceneSpec(*spec);
+    if (*seed >= 0) s.seed = static_cast<std::uint64_t>(*seed);
+    GenerateAndWrite(s, *out);
+  });
+}
+
+// `scene random --seed S -o DIR`: a random connected office floor.
+void AddRandomCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("random", "Generate a random connected office floor");
+  auto out = std::make_shared<std::string>();
+  auto seed = std::make_shared<std::uint64_t>(1);
+  auto rooms = std::make_shared<int>(5);
+  cmd->add_option("--seed", *seed, "Seed of the layout")->required();
+  cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10")->default_val(5);
+  cmd->add_option("-o,--output", *out, "Output folder")->required();
+  cmd->footer(
+      "Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, "
+      "spec.effective.yaml.");
+  cmd->callback([=] { GenerateAndWrite(scenes::RandomFloorSpec(*seed, *rooms), *out); });
+}
+
+// `scene info SCENE`: counts, bounds and rooms of a scene folder or file.
+void AddInfoCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("info", "Counts per class, bounding box, triangles, rooms");
+  auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  cmd->add_option("scene", *path,
+                  "Scene folder (scene.glb + scene.truth.json) or file (.glb, "
+                  ".gltf, .obj, .ply, .fbx, .ifc)")
+      ->required();
+  cmd->add_flag("--json", *json, "Print JSON instead of a table");
+  cmd->callback([=] {
+    const scenes::ScenePaths p = scenes::ResolveScene(*path);
+    const scenes::Scene sc = scenes::LoadScene(p.geometry);
+    std::optional<scenes::GroundTruth> truth;
+    if (p.truth) truth = scenes::ReadGroundTruth(*p.truth);
+    const SceneSummary s = Summarise(sc, truth ? &*truth : nullptr, p.geometry);
+    if (*json) {
+      std::printf("%s\n", SceneSummaryJson(s).c_str());
+      return;
+    }
+    PrintSummary(s);
+    if (std::filesystem::path(p.geometry).extension() == ".ifc")
+      for (const scenes::BimStorey& st : scenes::ListIfcStoreys(p.geometry))
+        std::printf("storey '%s' (%s): elevation %s\n", st.name.c_str(), st.global_id.c_str(),
+                    st.has_elevation ? (FormatMetres(st.elevation) + " m").c_str() : "not given");
+  });
+}
+
+// `scene import MODEL -o DIR`: a scene folder with exact truth from a BIM model.
+void AddImportCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("import",
+                                    "Make a scene folder with exact truth from a BIM "
+                                    "model (IFC 2x3, docs/scene-import.md)");
+  auto path = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto doors = std::make_shared<std::vector<std::string>>();
+  auto p = std::make_shared<scenes::BimImportParams>();
+  cmd->add_option("model", *path, "IFC 2x3 file (or glTF converted from IFC with its spaces)")
+      ->required();
+  cmd->add_option("-o,--output", *out, "Output folder")->required();
+  cmd->add_option("--storey", p->storey, "Storey Name, node name or GlobalId (default: lowest)");
+  auto* angle = cmd->add_option("--door-angle", p->door_angle_deg,
+                                "Opening angle of every door, deg [0, 180]")
+                    ->default_val(90.0);
+  cmd->add_option("--doors", *doors, "Per-door angles ID=DEG (ID: D1, GlobalId or IFC Name)")
+      ->delimiter(',')
+      ->excludes(angle);
+  cmd->add_flag("--floor-from-spaces", p->floor_from_spaces,
+                "Make missing floors from the space footprints");
+  cmd->add_flag("--ceiling-from-spaces", p->ceiling_from_spaces,
+                "Make missing ceilings from the space footprints");
+  cmd->add_option("--merge", p->merge, "Further model whose components are added (repeatable)");
+  cmd->add_flag("--keep-site", p->keep_site, "Keep the IfcSite terrain geometry");
+  cmd->add_option("--plane-tolerance", p->plane_tolerance,
+                  "Largest distance of a wall/floor/ceiling face from the space boundary, m")
+      ->default_val(0.003);
+  cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md).");
+  cmd->callback([=] {
+    scenes::BimImportParams params = *p;
+    params.door_angles_deg = scenes::ParseDoorAngles(*doors);
+    const scenes::BimImport imported = scenes::ImportBim(*path, params);
+    scenes::WriteBimImport(imported, *out);
+    for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
+    PrintSummary(Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
+    std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out->c_str(), out->c_str());
+  });
+}
+
+// `scene plan DIR -o PNG`: a plan view of a scene folder and its truth.
+void AddPlanCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("plan",
+                                    "Draw a plan-view PNG of a scene folder and its "
+                                    "truth (walls red, doors green, windows blue)");
+  auto path = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto p = std::make_shared<scenes::PlanViewParams>();
+  cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
+  cmd->add_option("-o,--output", *out, "PNG file to write")->required();
+  cmd->add_option("--pixel-size", p->pixel_size, "Metres per pixel")->default_val(0.02);
+  cmd->add_option("--cut-height", p->cut_height, "Section height above the floor, m")
+      ->default_val(1.2);
+  cmd->callback([=] {
+    const scenes::ScenePaths sp = scenes::ResolveScene(*path);
+    if (!sp.truth)
+      throw InputError(*path, "no ground truth next to the scene", "",
+                       "scene.truth.json beside scene.glb");
+    const scenes::Texture t = scenes::RenderPlanView(scenes::LoadScene(sp.geometry),
+                                                     scenes::ReadGroundTruth(*sp.truth), *p);
+    const std::vector<std::uint8_t> png = scenes::EncodePng(t);
+    std::ofstream f(*out, std::ios::binary | std::ios::trunc);
+    f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+    if (!f) throw InputError(*out, "cannot write file");
+    std::printf("wrote %s (%d x %d)\n", out->c_str(), t.width, t.height);
+  });
+}
+
+// `scene validate DIR`: the truth checked against the geometry.
+void AddValidateCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("validate",
+                                    "Check a generated scene's truth against its "
+                                    "geometry (exit 1 if it finds errors)");
+  auto path = std::make_shared<std::string>();
+  cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
+  cmd->callback([=] {
+    const scenes::ScenePaths p = scenes::ResolveScene(*path);
+    if (!p.truth)
+      throw InputError(*path, "no ground truth next to the scene", "",
+                       "scene.truth.json beside scene.glb");
+    const scenes::Scene sc = scenes::LoadScene(p.geometry);
+    const scenes::GroundTruth truth = scenes::ReadGroundTruth(*p.truth);
+    const scenes::CheckReport report = scenes::CheckScene(sc, truth);
+    for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
+    for (const auto& e : report.errors) std::printf("error: %s\n", e.c_str());
+    std::printf("%s: %zu errors, %zu warnings\n", p.geometry.c_str(), report.errors.size(),
+                report.warnings.size());
+    if (!report.errors.empty()) throw CLI::RuntimeError(1);
+  });
+}
+
+// `scene catalogue -o DIR`: the BSC object-model catalogue.
+void AddCatalogueCommand(CLI::App* scene) {
+  auto* cmd = scene->add_subcommand("catalogue",
+                                    "Write the BSC object-model catalogue (sizes, "
+                                    "colour and depth images): what a robot may "
+                                    "know, never where objects are");
+  auto out = std::make_shared<std::string>();
+  auto pixel = std::make_shared<double>(0.002);
+  cmd->add_option("-o,--output", *out, "Output folder")->required();
+  cmd->add_option("--pixel-size", *pixel, "Metres per image pixel")
+      ->check(CLI::Range(0.0002, 0.05))
+      ->default_val(0.002);
+  cmd->footer("Writes DIR/catalogue.yaml and per model <class>_colour.ppm and <class>_depth.pfm.");
+  cmd->callback([=] {
+    const auto catalogue = scenes::MakeObjectModelCatalogue(*pixel);
+    interfaces::WriteCatalogue(catalogue, *out);
+    std::printf("wrote %zu object models to %s/catalogue.yaml\n", catalogue.models.size(),
+                out->c_str());
+  });
+}
+
 }  // namespace
 
 void RegisterSceneCommands(CLI::App& app) {
   auto* scene = app.add_subcommand("scene", "Generate, inspect and validate scenes");
   scene->require_subcommand(1);
-
-  {
-    auto* cmd = scene->add_subcommand("generate",
-                                      "Generate scene.glb + scene.truth.json from a "
-                                      "YAML spec (docs/scene-spec.md)");
-    auto spec = std::make_shared<std::string>();
-    auto out = std::make_shared<std::string>();
-    auto seed = std::make_shared<std::int64_t>(-1);
-    cmd->add_option("spec", *spec, "Scene spec YAML (e.g. scenes/office_5rooms.yaml)")->required();
-    cmd->add_option("-o,--output", *out, "Output folder")->required();
-    cmd->add_option("--seed", *seed, "Override the spec's seed (furniture, rule-based BSCs)")
-        ->check(CLI::NonNegativeNumber);
-    cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, spec.effective.yaml.");
-    cmd->callback([=] {
-      scenes::SceneSpec s = scenes::LoadSceneSpec(*spec);
-      if (*seed >= 0) s.seed = static_cast<std::uint64_t>(*seed);
-      GenerateAndWrite(s, *out);
-    });
-  }
-  {
-    auto* cmd = scene->add_subcommand("random", "Generate a random connected office floor");
-    auto out = std::make_shared<std::string>();
-    auto seed = std::make_shared<std::uint64_t>(1);
-    auto rooms = std::make_shared<int>(5);
-    cmd->add_option("--seed", *seed, "Seed of the layout")->required();
-    cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10")->default_val(5);
-    cmd->add_option("-o,--output", *out, "Output folder")->required();
-    cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, spec.effective.yaml.");
-    cmd->callback([=] { GenerateAndWrite(scenes::RandomFloorSpec(*seed, *rooms), *out); });
-  }
-  {
-    auto* cmd = scene->add_subcommand("info", "Counts per class, bounding box, triangles, rooms");
-    auto path = std::make_shared<std::string>();
-    auto json = std::make_shared<bool>(false);
-    cmd->add_option("scene", *path,
-                    "Scene folder (scene.glb + scene.truth.json) or file (.glb, "
-                    ".gltf, .obj, .ply, .fbx, .ifc)")
-        ->required();
-    cmd->add_flag("--json", *json, "Print JSON instead of a table");
-    cmd->callback([=] {
-      const scenes::ScenePaths p = scenes::ResolveScene(*path);
-      const scenes::Scene sc = scenes::LoadScene(p.geometry);
-      std::optional<scenes::GroundTruth> truth;
-      if (p.truth) truth = scenes::ReadGroundTruth(*p.truth);
-      const SceneSummary s = Summarise(sc, truth ? &*truth : nullptr, p.geometry);
-      if (*json) {
-        std::printf("%s\n", SceneSummaryJson(s).c_str());
-        return;
-      }
-      PrintSummary(s);
-      if (std::filesystem::path(p.geometry).extension() == ".ifc")
-        for (const scenes::BimStorey& st : scenes::ListIfcStoreys(p.geometry))
-          std::printf("storey '%s' (%s): elevation %s\n", st.name.c_str(), st.global_id.c_str(),
-                      st.has_elevation ? (FormatMetres(st.elevation) + " m").c_str() : "not given");
-    });
-  }
-  {
-    auto* cmd = scene->add_subcommand("import",
-                                      "Make a scene folder with exact truth from a BIM "
-                                      "model (IFC 2x3, docs/scene-import.md)");
-    auto path = std::make_shared<std::string>();
-    auto out = std::make_shared<std::string>();
-    auto doors = std::make_shared<std::vector<std::string>>();
-    auto p = std::make_shared<scenes::BimImportParams>();
-    cmd->add_option("model", *path, "IFC 2x3 file (or glTF converted from IFC with its spaces)")
-        ->required();
-    cmd->add_option("-o,--output", *out, "Output folder")->required();
-    cmd->add_option("--storey", p->storey, "Storey Name, node name or GlobalId (default: lowest)");
-    auto* angle = cmd->add_option("--door-angle", p->door_angle_deg,
-                                  "Opening angle of every door, deg [0, 180]")
-                      ->default_val(90.0);
-    cmd->add_option("--doors", *doors, "Per-door angles ID=DEG (ID: D1, GlobalId or IFC Name)")
-        ->delimiter(',')
-        ->excludes(angle);
-    cmd->add_flag("--floor-from-spaces", p->floor_from_spaces,
-                  "Make missing floors from the space footprints");
-    cmd->add_flag("--ceiling-from-spaces", p->ceiling_from_spaces,
-                  "Make missing ceilings from the space footprints");
-    cmd->add_option("--merge", p->merge, "Further model whose components are added (repeatable)");
-    cmd->add_flag("--keep-site", p->keep_site, "Keep the IfcSite terrain geometry");
-    cmd->add_option("--plane-tolerance", p->plane_tolerance,
-                    "Largest distance of a wall/floor/ceiling face from the space boundary, m")
-        ->default_val(0.003);
-    cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md).");
-    cmd->callback([=] {
-      scenes::BimImportParams params = *p;
-      params.door_angles_deg = scenes::ParseDoorAngles(*doors);
-      const scenes::BimImport imported = scenes::ImportBim(*path, params);
-      scenes::WriteBimImport(imported, *out);
-      for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
-      PrintSummary(Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
-      std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out->c_str(), out->c_str());
-    });
-  }
-  {
-    auto* cmd = scene->add_subcommand("plan",
-                                      "Draw a plan-view PNG of a scene folder and its "
-                                      "truth (walls red, doors green, windows blue)");
-    auto path = std::make_shared<std::string>();
-    auto out = std::make_shared<std::string>();
-    auto p = std::make_shared<scenes::PlanViewParams>();
-    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
-    cmd->add_option("-o,--output", *out, "PNG file to write")->required();
-    cmd->add_option("--pixel-size", p->pixel_size, "Metres per pixel")->default_val(0.02);
-    cmd->add_option("--cut-height", p->cut_height, "Section height above the floor, m")
-        ->default_val(1.2);
-    cmd->callback([=] {
-      const scenes::ScenePaths sp = scenes::ResolveScene(*path);
-      if (!sp.truth)
-        throw InputError(*path, "no ground truth next to the scene", "",
-                         "scene.truth.json beside scene.glb");
-      const scenes::Texture t = scenes::RenderPlanView(scenes::LoadScene(sp.geometry),
-                                                       scenes::ReadGroundTruth(*sp.truth), *p);
-      const std::vector<std::uint8_t> png = scenes::EncodePng(t);
-      std::ofstream f(*out, std::ios::binary | std::ios::trunc);
-      f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-      if (!f) throw InputError(*out, "cannot write file");
-      std::printf("wrote %s (%d x %d)\n", out->c_str(), t.width, t.height);
-    });
-  }
-  {
-    auto* cmd = scene->add_subcommand("validate",
-                                      "Check a generated scene's truth against its "
-                                      "geometry (exit 1 if it finds errors)");
-    auto path = std::make_shared<std::string>();
-    cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
-    cmd->callback([=] {
-      const scenes::ScenePaths p = scenes::ResolveScene(*path);
-      if (!p.truth)
-        throw InputError(*path, "no ground truth next to the scene", "",
-                         "scene.truth.json beside scene.glb");
-      const scenes::Scene sc = scenes::LoadScene(p.geometry);
-      const scenes::GroundTruth truth = scenes::ReadGroundTruth(*p.truth);
-      const scenes::CheckReport report = scenes::CheckScene(sc, truth);
-      for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
-      for (const auto& e : report.errors) std::printf("error: %s\n", e.c_str());
-      std::printf("%s: %zu errors, %zu warnings\n", p.geometry.c_str(), report.errors.size(),
-                  report.warnings.size());
-      if (!report.errors.empty()) throw CLI::RuntimeError(1);
-    });
-  }
-  {
-    auto* cmd = scene->add_subcommand("catalogue",
-                                      "Write the BSC object-model catalogue (sizes, "
-                                      "colour and depth images): what a robot may "
-                                      "know, never where objects are");
-    auto out = std::make_shared<std::string>();
-    auto pixel = std::make_shared<double>(0.002);
-    cmd->add_option("-o,--output", *out, "Output folder")->required();
-    cmd->add_option("--pixel-size", *pixel, "Metres per image pixel")
-        ->check(CLI::Range(0.0002, 0.05))
-        ->default_val(0.002);
-    cmd->footer("Writes DIR/catalogue.yaml and per model <class>_colour.ppm and <class>_depth.pfm.");
-    cmd->callback([=] {
-      const auto catalogue = scenes::MakeObjectModelCatalogue(*pixel);
-      interfaces::WriteCatalogue(catalogue, *out);
-      std::printf("wrote %zu object models to %s/catalogue.yaml\n", catalogue.models.size(),
-                  out->c_str());
-    });
-  }
+  AddGenerateCommand(scene);
+  AddRandomCommand(scene);
+  AddInfoCommand(scene);
+  AddImportCommand(scene);
+  AddPlanCommand(scene);
+  AddValidateCommand(scene);
+  AddCatalogueCommand(scene);
 }
 
 }  // namespace mopad::tools

@@ -1,0 +1,371 @@
+// Doors, windows and open passages of a BIM import: each opening's hole in the room-side wall
+// faces, the window kept as modelled, the door's BIM leaf replaced by a generated leaf hinged at
+// a jamb and opened to the requested angle, and the wall-less stretches rooms share
+// (scenes/bim_import_internal.h).
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "common/frames.h"
+#include "scenes/bim_import_internal.h"
+#include "scenes/scene_check.h"
+
+namespace mopad::scenes::bim {
+
+std::vector<std::pair<double, double>> Coverage(const Face& f, bool vertical, double at) {
+  std::vector<std::pair<double, double>> iv;
+  for (const auto& [e, poly] : f.pieces) {
+    double lo = 1e300, hi = -1e300;
+    const std::size_t k = poly.size();
+    for (std::size_t i = 0; i < k; ++i) {
+      const Vector3d& p = poly[i];
+      const Vector3d& q = poly[(i + 1) % k];
+      const double sp = vertical ? f.U(p) : p.z(), sq = vertical ? f.U(q) : q.z();
+      const double op = vertical ? p.z() : f.U(p), oq = vertical ? q.z() : f.U(q);
+      if ((sp - at) * (sq - at) > 0.0) continue;
+      if (sp == sq) {
+        lo = std::min({lo, op, oq});
+        hi = std::max({hi, op, oq});
+        continue;
+      }
+      const double t = (at - sp) / (sq - sp);
+      const double o = op + t * (oq - op);
+      lo = std::min(lo, o);
+      hi = std::max(hi, o);
+    }
+    if (lo < hi) iv.emplace_back(lo, hi);
+  }
+  std::sort(iv.begin(), iv.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& i : iv) {
+    if (!merged.empty() && i.first <= merged.back().second + 1e-5)
+      merged.back().second = std::max(merged.back().second, i.second);
+    else
+      merged.push_back(i);
+  }
+  return merged;
+}
+
+bool GapAround(const std::vector<std::pair<double, double>>& cov, double x, double lo, double hi,
+               double* g0, double* g1) {
+  *g0 = lo;
+  *g1 = hi;
+  for (const auto& [a, b] : cov) {
+    if (a <= x && x <= b) return false;
+    if (b < x) *g0 = std::max(*g0, b);
+    if (a > x) *g1 = std::min(*g1, a);
+  }
+  return *g1 > *g0;
+}
+
+std::vector<Importer::Hole> Importer::HolesAround(const Element& e) const {
+  const Vector3d c = e.box.center();
+  std::vector<Hole> holes;
+  for (std::size_t fi = 0; fi < faces_.size(); ++fi) {
+    const Face& f = faces_[fi];
+    if (!f.kept) continue;
+    const double w = f.W(c), u = f.U(c);
+    if (w > 0.3 || w < -kOpeningReach || u < 0.0 || u > f.length) continue;
+    const double v = std::clamp(c.z(), f.vmin + 0.05, f.vmax - 0.05);
+    Hole h{fi, 0, 0, 0, 0, std::abs(w)};
+    // The element's own extent along the face bounds the hole (an opening at an open edge).
+    double eu0 = 1e300, eu1 = -1e300;
+    for (int k = 0; k < 8; ++k) {
+      const Vector3d corner = e.box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k));
+      eu0 = std::min(eu0, f.U(corner));
+      eu1 = std::max(eu1, f.U(corner));
+    }
+    if (!GapAround(Coverage(f, false, v), u, std::max(0.0, eu0 - 0.1),
+                   std::min(f.length, eu1 + 0.1), &h.u0, &h.u1))
+      continue;
+    if (!GapAround(Coverage(f, true, 0.5 * (h.u0 + h.u1)), v, f.vmin, f.vmax, &h.v0, &h.v1))
+      continue;
+    if (h.u1 - h.u0 < 0.05 || h.v1 - h.v0 < 0.05) continue;
+    holes.push_back(h);
+  }
+  std::stable_sort(holes.begin(), holes.end(),
+                   [](const Hole& a, const Hole& b) { return a.dist < b.dist; });
+  return holes;
+}
+
+const StructuralElement& Importer::WallOf(const Face& f) const {
+  for (const auto& w : walls_)
+    if (w.id == f.id) return w;
+  throw std::logic_error("face without wall");
+}
+
+void Importer::FillRect(Opening* o, const Hole& h) const {
+  const Face& f = faces_[h.face];
+  const StructuralElement& w = WallOf(f);
+  o->u0 = h.u0 - f.umin;
+  o->u1 = h.u1 - f.umin;
+  o->v0 = h.v0 - w.origin.z();
+  o->v1 = h.v1 - w.origin.z();
+  auto P = [&](double u, double v) {
+    return Vector3d(w.origin + u * w.u_axis + Vector3d(0, 0, v));
+  };
+  o->corners = {P(o->u0, o->v0), P(o->u0, o->v1), P(o->u1, o->v1), P(o->u1, o->v0)};
+}
+
+double Importer::DoorAngleDeg(const std::string& id, const Element& e) const {
+  for (const std::string& key :
+       {id, NodeGuid(e.node), NodeLabel(e.node), e.node, NiceNameOnly(e.node)}) {
+    const auto it = p_.door_angles_deg.find(key);
+    if (!key.empty() && it != p_.door_angles_deg.end()) {
+      used_door_keys_.insert(it->first);
+      return it->second;
+    }
+  }
+  return p_.door_angle_deg;
+}
+
+int Importer::LeafMaterial() {
+  for (std::size_t i = 0; i < scene_.materials.size(); ++i)
+    if (scene_.materials[i].name == "door_leaf") return static_cast<int>(i);
+  Material m;
+  m.name = "door_leaf";
+  m.base_color = Eigen::Vector4f(0.55f, 0.40f, 0.25f, 1.0f);
+  scene_.materials.push_back(m);
+  return static_cast<int>(scene_.materials.size()) - 1;
+}
+
+void Importer::Openings() {
+  int doors = 0, windows = 0;
+  for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
+    const Element& e = elements_[ei];
+    if (!e.in_storey || (e.role != Role::kDoor && e.role != Role::kWindow)) continue;
+    const bool door = e.role == Role::kDoor;
+    const std::vector<Hole> holes = HolesAround(e);
+    if (holes.empty()) {
+      for (std::size_t pi : e.parts) AllToLeftover(ei, pi);
+      out_.report.push_back(NiceName(e.node) +
+                            ": no hole in a room wall of this storey "
+                            "around it; kept as other");
+      continue;
+    }
+    ReportHoleShape(e, holes[0]);
+    Opening o;
+    o.id = door ? "D" + std::to_string(++doors) : "W" + std::to_string(++windows);
+    o.type = door ? OpeningType::kDoor : OpeningType::kWindow;
+    const Face& f0 = faces_[holes[0].face];
+    const RoomData& r0 = rooms_[f0.room];
+    o.host_walls = {f0.id};
+    o.rooms = {r0.room.id};
+    FillRect(&o, holes[0]);
+    for (const Hole& h : holes) holes_.push_back(h);
+    if (door)
+      AddDoor(e, holes, &o);
+    else
+      AddWindow(e, f0, &o);
+  }
+}
+
+// The format's openings are rectangles: say so when the hole is not one (round window).
+void Importer::ReportHoleShape(const Element& e, const Hole& h) {
+  const Face& f = faces_[h.face];
+  const std::vector<HalfSpace> rect{{-f.dir, -f.dir.dot(f.a) - h.u0},
+                                    {f.dir, f.dir.dot(f.a) + h.u1},
+                                    {-Vector3d::UnitZ(), -h.v0},
+                                    {Vector3d::UnitZ(), h.v1}};
+  double covered = 0.0;
+  for (const auto& [el, piece] : f.pieces) {
+    Poly3 in;
+    std::vector<Poly3> outside;
+    Split(piece, rect, &in, &outside);
+    covered += Area(in);
+  }
+  // An element that fills only part of its hole leaves the rest open (a window in an
+  // opening cut down to the floor).
+  if (e.box.min().z() > h.v0 + 0.05 || e.box.max().z() < h.v1 - 0.05)
+    out_.report.push_back(NiceName(e.node) + ": fills z " + Fmt(e.box.min().z(), 2) + " to " +
+                          Fmt(e.box.max().z(), 2) + " m of its hole's " + Fmt(h.v0, 2) + " to " +
+                          Fmt(h.v1, 2) + " m; the rest of the hole is open");
+  const double share = covered / ((h.u1 - h.u0) * (h.v1 - h.v0));
+  if (share > 0.001)
+    out_.report.push_back(NiceName(e.node) + ": its hole is not a rectangle (" +
+                          Fmt(100.0 * share, 1) +
+                          " % of its bounding rectangle is wall); "
+                          "the truth keeps the rectangle and validate will say so");
+}
+
+// A window keeps its BIM geometry: glass parts (transmissive materials) and frame.
+void Importer::AddWindow(const Element& e, const Face& f0, Opening* o) {
+  const RoomData& r0 = rooms_[f0.room];
+  o->sill_height = o->v0 + (WallOf(f0).origin.z() - r0.room.floor_z);
+  for (std::size_t pi : e.parts) {
+    const MeshPart& part = scene_.parts[pi];
+    const bool glass = part.material >= 0 && scene_.materials[part.material].transmission > 0;
+    Bucket& b =
+        out_bucket_.Get(o->id, glass ? ElementClass::kWindowGlass : ElementClass::kWindowFrame,
+                        "window", r0.room.id, part.material);
+    for (const auto& t : part.triangles)
+      b.pieces.push_back({part.positions[t[0]].cast<double>(), part.positions[t[1]].cast<double>(),
+                          part.positions[t[2]].cast<double>()});
+  }
+  out_.report.push_back("window " + o->id + " = " + NiceName(e.node) + " in " + f0.id + ", " +
+                        Fmt(o->u1 - o->u0, 2) + " x " + Fmt(o->v1 - o->v0, 2) + " m");
+  out_.truth.openings.push_back(*o);
+}
+
+// Door: the BIM leaf and frame are replaced by a leaf hinged at a jamb of the hole
+// (docs/scene-import.md). holes[0] is on the first room's side; the nearest hole facing it from
+// another room, if any, is the second room's side.
+void Importer::AddDoor(const Element& e, const std::vector<Hole>& holes, Opening* o) {
+  const Face& f0 = faces_[holes[0].face];
+  const RoomData& r0 = rooms_[f0.room];
+  std::string room_b;
+  std::size_t hole_b = holes.size();
+  for (std::size_t k = 1; k < holes.size(); ++k) {
+    const Face& fk = faces_[holes[k].face];
+    if (fk.n.dot(f0.n) < -kFacingCos && fk.room != f0.room) {
+      o->host_walls.push_back(fk.id);
+      room_b = rooms_[fk.room].room.id;
+      o->rooms.push_back(room_b);
+      hole_b = k;
+      break;
+    }
+  }
+  const double deg = DoorAngleDeg(o->id, e);
+  const double lambda = DegToRad(deg);
+  const Swing sw = ChooseSwing(e, holes, hole_b);
+  const Vector3d axis = sw.dd.cross(sw.n).normalized();
+  const std::string swing_room = rooms_[sw.f->room].room.id;
+  AddLeaf(*o, sw, lambda, swing_room);
+  o->hinge_side = sw.left ? "left" : "right";
+  o->swing_room = swing_room;
+  o->hinge_point = sw.hinge;
+  o->hinge_axis = axis;
+  o->opening_angle = lambda;
+  o->state = DoorStateFromAngle(lambda);
+  o->leaf_thickness = p_.leaf_thickness;
+  out_.truth.openings.push_back(*o);
+  out_.truth.connections.push_back({o->id, r0.room.id, room_b});
+  out_.report.push_back("door " + o->id + " = " + NiceName(e.node) + " between " + r0.room.id +
+                        " and " + (room_b.empty() ? "outside" : room_b) + ", " +
+                        Fmt(o->u1 - o->u0, 2) + " x " + Fmt(o->v1 - o->v0, 2) + " m, at " +
+                        Fmt(deg, 1) + " deg, hinged " + o->hinge_side + " into " + swing_room +
+                        " (BIM leaf replaced)");
+}
+
+// The leaf on side `k` (an index into `holes`) with a left or right hinge.
+Importer::Swing Importer::MakeSwing(const std::vector<Hole>& holes, std::size_t k,
+                                    bool left) const {
+  const Hole& h = holes[k];
+  const Face& f = faces_[h.face];
+  Swing sw{&f, &h, left, f.n, Vector3d::Zero(), Vector3d::Zero(), 0.0};
+  // Left hinge seen from the swing room: hinge -> latch = z x n = -dir, hinge at u1.
+  sw.dd = left ? Vector3d(Vector3d::UnitZ().cross(f.n)) : Vector3d(f.n.cross(Vector3d::UnitZ()));
+  const double u_h = left ? h.u1 - kLeafGap : h.u0 + kLeafGap;
+  sw.hinge = f.a + u_h * f.dir + 0.001 * f.n + Vector3d(0, 0, h.v0 - f.a.z());
+  sw.lw = h.u1 - h.u0 - 2 * kLeafGap;
+  return sw;
+}
+
+// The opened leaf's swept square (three sample points) lies in its swing room.
+bool Importer::SwingFits(const Swing& sw) const {
+  const Polygon2& poly = rooms_[sw.f->room].poly;
+  for (const auto& [a, b] : {std::pair{0.02, 1.0}, std::pair{1.0, 1.0}, std::pair{0.5, 0.5}})
+    if (!PointInPolygon((sw.hinge + sw.lw * (a * sw.dd + b * sw.n)).head<2>(), poly)) return false;
+  return true;
+}
+
+// Where the leaf swings: the first of (larger room, smaller room) x (left, right hinge) whose
+// swept square fits in that room; else the nearest room, hinged left.
+Importer::Swing Importer::ChooseSwing(const Element& e, const std::vector<Hole>& holes,
+                                      std::size_t hole_b) {
+  const RoomData& r0 = rooms_[faces_[holes[0].face].room];
+  std::vector<std::size_t> sides{0};
+  if (hole_b < holes.size()) {
+    sides.push_back(hole_b);
+    if (SignedArea(rooms_[faces_[holes[hole_b].face].room].poly) > SignedArea(r0.poly))
+      std::swap(sides[0], sides[1]);
+  }
+  Swing sw = MakeSwing(holes, 0, true);
+  bool fitted = false;
+  for (std::size_t k : sides) {
+    for (bool left : {true, false}) {
+      const Swing c = MakeSwing(holes, k, left);
+      if (SwingFits(c)) {
+        sw = c;
+        fitted = true;
+        break;
+      }
+    }
+    if (fitted) break;
+  }
+  if (!fitted)
+    out_.report.push_back(NiceName(e.node) +
+                          ": its leaf fits in neither room when open; "
+                          "it swings into " +
+                          r0.room.id);
+  return sw;
+}
+
+// The generated leaf: a box leaf_thickness thick, from 1 cm above the hole's sill to kLeafGap
+// below its head, turned by `lambda` about the hinge.
+void Importer::AddLeaf(const Opening& o, const Swing& sw, double lambda,
+                       const std::string& swing_room) {
+  const double lt = p_.leaf_thickness;
+  const Vector3d n = sw.n, dd = sw.dd;
+  const Vector3d rd = std::cos(lambda) * dd + std::sin(lambda) * n;
+  const Vector3d rn = std::cos(lambda) * n - std::sin(lambda) * dd;
+  Bucket& leaf = out_bucket_.Get(o.id, ElementClass::kDoorLeaf, "door", swing_room, LeafMaterial(),
+                                 o.id + "/leaf");
+  MeshPart box;
+  PartBuilder pb(&box);
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  // A left hinge makes (rd, rn, z) left-handed (rd x rn = dd x n = -z): mirror x then.
+  const bool mirror = rd.cross(rn).z() < 0.0;
+  X.linear().col(0) = mirror ? Vector3d(-rd) : rd;
+  X.linear().col(1) = rn;
+  X.linear().col(2) = Vector3d::UnitZ();
+  X.translation() = sw.hinge;
+  const double top = sw.h->v1 - sw.h->v0 - kLeafGap;
+  if (mirror)
+    pb.AddBox(X, {-sw.lw, -lt, 0.01}, {0.0, 0.0, top});
+  else
+    pb.AddBox(X, {0.0, -lt, 0.01}, {sw.lw, 0.0, top});
+  for (const auto& t : box.triangles)
+    leaf.pieces.push_back({box.positions[t[0]].cast<double>(), box.positions[t[1]].cast<double>(),
+                           box.positions[t[2]].cast<double>()});
+}
+
+// Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.
+void Importer::Passages() {
+  std::set<std::pair<int, int>> done;
+  for (std::size_t fi = 0; fi < faces_.size(); ++fi)
+    for (std::size_t gi = fi + 1; gi < faces_.size(); ++gi) {
+      const Face& f = faces_[fi];
+      const Face& g = faces_[gi];
+      if (f.room == g.room || f.n.dot(g.n) > -kFacingCos ||
+          std::abs(f.W(g.a)) > kPassageTolerance || done.count({f.room, g.room}))
+        continue;
+      const double g0 = f.U(g.a), g1 = f.U(g.a + g.length * g.dir);
+      const double s0 = std::max(0.0, std::min(g0, g1)), s1 = std::min(f.length, std::max(g0, g1));
+      if (s1 - s0 < kMinClearDoorWidth) continue;
+      const double v = f.z0 + 0.5 * (std::min(f.z1, g.z1) - f.z0);
+      std::vector<std::pair<double, double>> cov = Coverage(f, false, v);
+      for (const Hole& h : holes_)
+        if (h.face == fi) cov.emplace_back(h.u0, h.u1);  // doors and windows are not passages
+      std::sort(cov.begin(), cov.end());
+      double widest = 0.0, at = s0;
+      for (const auto& [a, b] : cov) {
+        if (b <= at) continue;
+        widest = std::max(widest, std::min(a, s1) - at);
+        at = std::max(at, b);
+        if (at >= s1) break;
+      }
+      widest = std::max(widest, s1 - at);
+      if (widest < kMinClearDoorWidth) continue;
+      done.insert({f.room, g.room});
+      done.insert({g.room, f.room});
+      out_.truth.connections.push_back({"", rooms_[f.room].room.id, rooms_[g.room].room.id});
+      out_.truth.format_version = kTruthFormatVersionPassages;
+      out_.report.push_back("open passage between " + rooms_[f.room].room.id + " and " +
+                            rooms_[g.room].room.id + ": " + Fmt(widest, 2) +
+                            " m of shared boundary without a wall");
+    }
+}
+
+}  // namespace mopad::scenes::bim
