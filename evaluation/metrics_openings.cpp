@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdio>
 #include <tuple>
+#include <utility>
 
 #include "common/error.h"
+#include "common/statistics.h"
 
 namespace mopad::evaluation {
 namespace {
@@ -141,12 +143,7 @@ OpeningEvaluation EvaluateOpenings(const std::vector<OpeningRecord>& model,
   }
   e.precision = e.tp + e.fp > 0 ? e.tp / (e.tp + e.fp) : 1.0;
   e.recall = e.tp + e.fn > 0 ? e.tp / (e.tp + e.fn) : 1.0;
-  if (!angle_errors.empty()) {
-    std::sort(angle_errors.begin(), angle_errors.end());
-    const std::size_t n = angle_errors.size();
-    e.angle_error_median =
-        n % 2 ? angle_errors[n / 2] : 0.5 * (angle_errors[n / 2 - 1] + angle_errors[n / 2]);
-  }
+  if (!angle_errors.empty()) e.angle_error_median = Median(std::move(angle_errors));
   return e;
 }
 
@@ -174,12 +171,7 @@ OpeningEvaluation PoolOpenings(const std::vector<OpeningEvaluation>& parts) {
   }
   e.precision = e.tp + e.fp > 0 ? e.tp / (e.tp + e.fp) : 1.0;
   e.recall = e.tp + e.fn > 0 ? e.tp / (e.tp + e.fn) : 1.0;
-  if (!angle_errors.empty()) {
-    std::sort(angle_errors.begin(), angle_errors.end());
-    const std::size_t n = angle_errors.size();
-    e.angle_error_median =
-        n % 2 ? angle_errors[n / 2] : 0.5 * (angle_errors[n / 2 - 1] + angle_errors[n / 2]);
-  }
+  if (!angle_errors.empty()) e.angle_error_median = Median(std::move(angle_errors));
   return e;
 }
 
