@@ -72,17 +72,12 @@ struct PlaneFrame {
 
 // ---- 2D polygon helpers (simple polygons, any winding unless stated) ----
 
-// SignedArea: common/polygon.h.
-/// Area of a planar 3D polygon (Newell's method).
-double PolygonArea3d(const std::vector<Vec3>& polygon);
+// SignedArea, PolygonArea3d, DistanceToBoundary and ConvexHull: common/polygon.h.
 /// Exact area of the intersection of two simple polygons (convex or not, either winding):
 /// both are ear-clipped into triangles and the triangle pairs clipped (Sutherland-Hodgman).
 double IntersectionArea(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
 /// Intersection over union of two simple polygons (0 when both are degenerate).
 double PolygonIoU(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
-
-/// Euclidean distance from p to the polygon's boundary.
-double DistanceToBoundary(const Vec2& p, const std::vector<Vec2>& polygon);
 /// Drops repeated vertices and vertices whose two edges turn by less than `angle_tol` (rad):
 /// a wall split into collinear pieces keeps one edge per side.
 std::vector<Vec2> SimplifyPolygon(const std::vector<Vec2>& polygon, double angle_tol);

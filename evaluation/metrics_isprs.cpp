@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "common/statistics.h"
 
 namespace mopad::evaluation {

@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "common/frames.h"
+#include "common/polygon.h"
 #include "scenes/geometry.h"
 
 namespace mopad::evaluation {
@@ -29,15 +30,6 @@ std::vector<Eigen::Vector3d> ClipZ(const std::vector<Eigen::Vector3d>& in, doubl
     if ((da < 0 && db > 0) || (da > 0 && db < 0)) out.push_back(a + (b - a) * (da / (da - db)));
   }
   return out;
-}
-
-double SegmentDistance2(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double l2 = ab.squaredNorm();
-  double t = l2 > 0 ? (p - a).dot(ab) / l2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (a + t * ab - p).squaredNorm();
 }
 
 // 1D squared Euclidean distance transform (Felzenszwalb & Huttenlocher 2012).
@@ -148,7 +140,8 @@ ReachableArea ComputeReachable(const scenes::Scene& scene, const scenes::GroundT
             }
           }
           for (std::size_t e = 0; e < p2.size() && !hit; ++e) {
-            if (SegmentDistance2(c, p2[e], p2[(e + 1) % p2.size()]) <= reach * reach) hit = true;
+            if (SquaredDistanceToSegment(c, p2[e], p2[(e + 1) % p2.size()]) <= reach * reach)
+              hit = true;
           }
           if (hit) occupied[k] = 1;
         }

@@ -15,15 +15,9 @@ namespace {
 
 using scenes::ElementClass;
 
-Vec3 NewellNormal(const std::vector<Vec3>& poly) {
-  Vec3 n = Vec3::Zero();
-  for (std::size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
-  return n;
-}
-
-// Orients `poly` CCW seen from `n` (reverses it when its Newell normal disagrees).
+// Orients `poly` CCW seen from `n` (reverses it when its Newell vector disagrees).
 void OrientTo(std::vector<Vec3>& poly, const Vec3& n) {
-  if (NewellNormal(poly).dot(n) < 0.0) std::reverse(poly.begin(), poly.end());
+  if (NewellVector(poly).dot(n) < 0.0) std::reverse(poly.begin(), poly.end());
 }
 
 const scenes::Room& FindRoomOrThrow(const scenes::GroundTruth& truth, const std::string& room) {
@@ -131,7 +125,7 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
           s.patch.id = e.id + "_" + std::to_string(k);
           s.patch.cls = SurfaceClass::kColumn;
           s.patch.polygon = e.polygons[k];
-          Vec3 n = NewellNormal(s.patch.polygon);
+          Vec3 n = NewellVector(s.patch.polygon);
           if (n.norm() < 1e-12) continue;
           Vec3 fc = Vec3::Zero();
           for (const auto& v : s.patch.polygon) fc += v;
