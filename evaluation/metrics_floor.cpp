@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/format.h"
+#include "evaluation/json_number.h"
 #include "evaluation/report_tables.h"
 #include "evaluation/truth_models.h"
 
@@ -41,7 +42,6 @@ double Overlap(const std::vector<Vec3>& a, const std::vector<Vec3>& b, const Vec
   return std::min(a1, b1) - std::max(a0, b0);
 }
 
-ojson Num(double x) { return std::isfinite(x) ? ojson(x) : ojson(nullptr); }
 ojson Stats(const ErrorStats& s) { return ojson::parse(ToJson(s).dump()); }
 
 }  // namespace
@@ -278,8 +278,8 @@ ojson ToJson(const FloorEvaluation& e) {
     pairs.push_back({{"wall", p.wall},
                      {"faces", {p.face_a, p.face_b}},
                      {"truth", {p.truth_a, p.truth_b}},
-                     {"thickness_m", Num(p.thickness)},
-                     {"truth_thickness_m", Num(p.truth_thickness)},
+                     {"thickness_m", Num<ojson>(p.thickness)},
+                     {"truth_thickness_m", Num<ojson>(p.truth_thickness)},
                      {"correct", p.correct}});
   j["pairs"] = pairs;
   ojson doors = ojson::array();
@@ -289,7 +289,7 @@ ojson ToJson(const FloorEvaluation& e) {
                      {"truth", d.truth},
                      {"merged", d.merged},
                      {"correct", d.correct},
-                     {"side_offset_m", d.merged ? Num(d.side_offset) : ojson(nullptr)}});
+                     {"side_offset_m", d.merged ? Num<ojson>(d.side_offset) : ojson(nullptr)}});
   j["door_list"] = doors;
   return j;
 }

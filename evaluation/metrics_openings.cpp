@@ -8,14 +8,13 @@
 
 #include "common/error.h"
 #include "common/statistics.h"
+#include "evaluation/json_number.h"
 
 namespace mopad::evaluation {
 namespace {
 
 using nlohmann::json;
 constexpr double kPi = 3.14159265358979323846;
-
-json Num(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 void Check(const OpeningRecord& r, const std::string& side, std::size_t i) {
   const std::string what = side + " opening " + std::to_string(i) + " '" + r.id + "'";

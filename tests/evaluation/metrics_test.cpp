@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "evaluation/hungarian.h"
+#include "evaluation/json_number.h"
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_patches.h"
@@ -351,6 +352,15 @@ TEST(LabelMetrics, ConfusionOfAKnownLabelling) {
   EXPECT_NEAR(p.accuracy, 2.0 / 3.0, 1e-12);
   EXPECT_THROW(ComputeConfusion({0, 7}, {0, 0}, {"a", "b"}), InputError);
   EXPECT_THROW(ComputeConfusion({0}, {0, 0}, {"a", "b"}), InputError);
+}
+
+TEST(JsonNumber, NonFiniteNumbersBecomeNullInEitherDocumentType) {
+  EXPECT_EQ(Num(0.25).dump(), "0.25");
+  EXPECT_TRUE(Num(std::nan("")).is_null());
+  EXPECT_TRUE(Num(-INFINITY).is_null());
+  const nlohmann::ordered_json j = {{"b", Num<nlohmann::ordered_json>(1.5)},
+                                    {"a", Num<nlohmann::ordered_json>(NAN)}};
+  EXPECT_EQ(j.dump(), R"({"b":1.5,"a":null})");
 }
 
 TEST(MetricParams, YamlRoundTripAndBounds) {
