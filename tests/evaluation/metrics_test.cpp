@@ -23,8 +23,7 @@ constexpr double kX = 4.0, kY = 5.0, kZ = 2.5;  // box room [0,4] x [0,5] x [0,2
 
 // Normal from the polygon (Newell), so it always agrees with the winding.
 Patch Make(const std::string& id, SurfaceClass cls, std::vector<Vec3> poly) {
-  Vec3 n = Vec3::Zero();
-  for (size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
+  const Vec3 n = NewellVector(poly);
   return Patch{id, cls, std::move(poly), n.normalized()};
 }
 
