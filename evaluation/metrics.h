@@ -82,7 +82,14 @@ double PolygonIoU(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
 /// a wall split into collinear pieces keeps one edge per side.
 std::vector<Vec2> SimplifyPolygon(const std::vector<Vec2>& polygon, double angle_tol);
 std::vector<Vec3> SimplifyPolygon3d(const std::vector<Vec3>& polygon, double angle_tol);
-/// Ear-clipping triangulation of a simple polygon (made CCW first); triangles as vertex triples.
+/// Ear-clipping triangulation (Meisters 1975) for the area metrics; triangles as vertex triples.
+/// Repeated and straight vertices are dropped first (SimplifyPolygon) and the polygon made CCW;
+/// a vertex that a clipped ear leaves straight stays and is clipped later. Any winding, and
+/// never throws: what is left of a polygon that is not simple (a robot's outline may touch
+/// itself) is finished as a fan. Not common's TriangulatePolygon, which drops vertices left
+/// straight and throws on such polygons: the two make different triangles, so the intersection
+/// areas (and every IoU the reports print) would change in their last bits, and a metric would
+/// throw where it now scores.
 std::vector<std::array<Vec2, 3>> Triangulate(const std::vector<Vec2>& polygon);
 
 /// Mean, maximum and count of a set of non-negative errors (mean = max = 0 when n = 0).
