@@ -150,13 +150,19 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
 
 }  // namespace
 
-OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_faces) {
-  OpenPlanTruth out;
-  out.truth = truth;
+namespace {
+
+bool IsFlat(const scenes::StructuralElement& e) {
+  return e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
+}
+
+// The rooms joined by open passages (connections without a door), as groups of indices into
+// truth.rooms: union-find, each group's root its first room in sidecar order; groups in the
+// order of their first room, members in sidecar order.
+std::vector<std::vector<std::size_t>> OpenPassageGroups(const scenes::GroundTruth& truth) {
   const std::size_t n = truth.rooms.size();
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < n; ++i) index[truth.rooms[i].id] = i;
-  // Union-find over the open passages; the root is the group's first room in sidecar order.
   std::vector<std::size_t> parent(n);
   for (std::size_t i = 0; i < n; ++i) parent[i] = i;
   auto find = [&](std::size_t i) {
@@ -168,13 +174,27 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
     const std::size_t a = find(index[c.room_a]), b = find(index[c.room_b]);
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
-  for (std::size_t i = 0; i < n; ++i) out.room_of[truth.rooms[i].id] = truth.rooms[i].id;
-  std::vector<scenes::Room> rooms;
+  std::vector<std::vector<std::size_t>> groups;
   for (std::size_t g = 0; g < n; ++g) {
     if (find(g) != g) continue;
     std::vector<std::size_t> group;
     for (std::size_t i = 0; i < n; ++i)
       if (find(i) == g) group.push_back(i);
+    groups.push_back(std::move(group));
+  }
+  return groups;
+}
+
+// The rooms of `truth` with each group merged into its first room (plan the union of the
+// group's plans, floor the lowest, ceiling the highest); fills out.room_of, out.members and,
+// for a group whose plans are not one simple outline (kept as separate rooms), out.notes.
+std::vector<scenes::Room> MergeRoomGroups(const scenes::GroundTruth& truth,
+                                          const std::vector<std::vector<std::size_t>>& groups,
+                                          OpenPlanTruth& out) {
+  for (const scenes::Room& r : truth.rooms) out.room_of[r.id] = r.id;
+  std::vector<scenes::Room> rooms;
+  for (const std::vector<std::size_t>& group : groups) {
+    const std::size_t g = group[0];
     if (group.size() == 1) {
       rooms.push_back(truth.rooms[g]);
       continue;
@@ -203,27 +223,34 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
     }
     rooms.push_back(std::move(merged));
   }
-  if (out.members.empty()) return out;
-  out.truth.rooms = std::move(rooms);
-  auto map_room = [&](std::string& id) {
-    const auto it = out.room_of.find(id);
-    if (it != out.room_of.end()) id = it->second;
-  };
-  auto map_rooms = [&](std::vector<std::string>& ids) {
-    for (auto& id : ids) map_room(id);
-    std::vector<std::string> unique;
-    for (const auto& id : ids)
-      if (std::find(unique.begin(), unique.end(), id) == unique.end()) unique.push_back(id);
-    ids = std::move(unique);
-  };
-  // Floors and ceilings of a merged room: one element per class and height.
+  return rooms;
+}
+
+// `id` replaced by its merged room (unchanged when it names no sidecar room).
+void MapRoom(const std::map<std::string, std::string>& room_of, std::string& id) {
+  const auto it = room_of.find(id);
+  if (it != room_of.end()) id = it->second;
+}
+
+// Every id mapped to its merged room, repeats dropped (first occurrence kept).
+void MapRooms(const std::map<std::string, std::string>& room_of, std::vector<std::string>& ids) {
+  for (auto& id : ids) MapRoom(room_of, id);
+  std::vector<std::string> unique;
+  for (const auto& id : ids)
+    if (std::find(unique.begin(), unique.end(), id) == unique.end()) unique.push_back(id);
+  ids = std::move(unique);
+}
+
+// The elements with their rooms mapped. A floor or ceiling without polygons gets its room's
+// plan at its height (as RoomSurfaces does); with `join_faces`, the floors (ceilings) of one
+// merged room and one height become the first one, holding all their polygons.
+std::vector<scenes::StructuralElement> MapElements(const scenes::GroundTruth& truth,
+                                                   const OpenPlanTruth& out, bool join_faces) {
   std::vector<scenes::StructuralElement> elements;
   for (const auto& e0 : truth.elements) {
     scenes::StructuralElement e = e0;
-    const bool flat =
-        e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
+    const bool flat = IsFlat(e);
     if (flat && e.polygons.empty() && e.rooms.size() == 1) {
-      // The room's plan at its floor or ceiling height (as RoomSurfaces does).
       const scenes::Room* r = truth.FindRoom(e.rooms[0]);
       if (r) {
         std::vector<Vec3> p;
@@ -232,7 +259,7 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
         e.polygons.push_back(std::move(p));
       }
     }
-    map_rooms(e.rooms);
+    MapRooms(out.room_of, e.rooms);
     if (join_faces && flat && e.rooms.size() == 1 && out.members.count(e.rooms[0]) &&
         !e.polygons.empty()) {
       const double z = e.polygons[0][0].z();
@@ -247,10 +274,14 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
     }
     elements.push_back(std::move(e));
   }
+  return elements;
+}
+
+// A joined floor or ceiling of a merged room whose pieces tile one simple outline becomes that
+// outline (one polygon); pieces that do not stay as they are, one patch each.
+void UnitePieces(std::vector<scenes::StructuralElement>& elements, const OpenPlanTruth& out) {
   for (auto& e : elements) {
-    const bool flat =
-        e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
-    if (!join_faces || !flat || e.polygons.size() < 2 || e.rooms.size() != 1 ||
+    if (!IsFlat(e) || e.polygons.size() < 2 || e.rooms.size() != 1 ||
         !out.members.count(e.rooms[0]))
       continue;
     std::vector<std::vector<Vec2>> plans;
@@ -260,17 +291,27 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
       plans.push_back(std::move(q));
     }
     const auto outline = UnionOfTiledPolygons(plans);
-    if (!outline) continue;  // kept as pieces: one patch each
+    if (!outline) continue;
     const double z = e.polygons[0][0].z();
     std::vector<Vec3> p;
     for (const auto& q : *outline) p.emplace_back(q.x(), q.y(), z);
     e.polygons = {std::move(p)};
   }
-  // Walls of a merged room that continue one another across a boundary without a wall (the
-  // same plane, the same height band, one ending where the next begins) are one wall face.
+}
+
+// Where the walls a join removed went: the wall each joined, and its origin's u along it.
+struct JoinedWalls {
   std::map<std::string, std::string> wall_of;  // merged-away wall id -> the wall it joined
-  std::map<std::string, double> u_shift;       // and its origin's u along that wall
-  for (bool joined = join_faces; joined;) {
+  std::map<std::string, double> u_shift;       // m, its origin's u along that wall
+};
+
+// Walls of a merged room that continue one another across a boundary without a wall (the same
+// plane, the same height band, one ending where the next begins) become one wall face, until
+// no two join.
+JoinedWalls JoinContinuingWalls(std::vector<scenes::StructuralElement>& elements,
+                                const OpenPlanTruth& out) {
+  JoinedWalls j;
+  for (bool joined = true; joined;) {
     joined = false;
     for (auto& w : elements) {
       if (w.element_class != ElementClass::kWall || w.rooms.size() != 1 ||
@@ -288,40 +329,65 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
       const double shift = w.length;
       w.length += next->length;
       w.polygons = {WallRect(w.origin, u, 0.0, w.length, 0.0, w.height)};
-      wall_of[gone] = w.id;
-      u_shift[gone] = shift;
-      for (auto& [from, to] : wall_of)
-        if (to == gone) to = w.id, u_shift[from] += shift;
+      j.wall_of[gone] = w.id;
+      j.u_shift[gone] = shift;
+      for (auto& [from, to] : j.wall_of)
+        if (to == gone) to = w.id, j.u_shift[from] += shift;
       elements.erase(next);
       joined = true;
       break;
     }
   }
-  out.truth.elements = std::move(elements);
+  return j;
+}
+
+// Openings, service components, furniture and connections of out.truth moved to the merged
+// rooms and joined walls (an opening's u shifted along its new wall); the open passages inside
+// a merged room are dropped. `connections` are the sidecar's.
+void MapRoomAndWallReferences(const std::vector<scenes::RoomConnection>& connections,
+                              const JoinedWalls& walls, OpenPlanTruth& out) {
   for (auto& o : out.truth.openings) {
-    map_rooms(o.rooms);
-    map_room(o.swing_room);
-    if (!o.host_walls.empty() && wall_of.count(o.host_walls[0])) {
-      const double shift = u_shift.at(o.host_walls[0]);
+    MapRooms(out.room_of, o.rooms);
+    MapRoom(out.room_of, o.swing_room);
+    if (!o.host_walls.empty() && walls.wall_of.count(o.host_walls[0])) {
+      const double shift = walls.u_shift.at(o.host_walls[0]);
       o.u0 += shift;
       o.u1 += shift;
     }
     for (auto& h : o.host_walls)
-      if (wall_of.count(h)) h = wall_of.at(h);
+      if (walls.wall_of.count(h)) h = walls.wall_of.at(h);
   }
   for (auto& c : out.truth.service_components) {
-    map_room(c.room);
-    if (wall_of.count(c.host)) c.host = wall_of.at(c.host);
+    MapRoom(out.room_of, c.room);
+    if (walls.wall_of.count(c.host)) c.host = walls.wall_of.at(c.host);
   }
-  for (auto& f : out.truth.furniture) map_room(f.room);
-  std::vector<scenes::RoomConnection> connections;
-  for (auto c : truth.connections) {
-    map_room(c.room_a);
-    map_room(c.room_b);
+  for (auto& f : out.truth.furniture) MapRoom(out.room_of, f.room);
+  std::vector<scenes::RoomConnection> kept;
+  for (auto c : connections) {
+    MapRoom(out.room_of, c.room_a);
+    MapRoom(out.room_of, c.room_b);
     if (c.door.empty() && c.room_a == c.room_b) continue;
-    connections.push_back(std::move(c));
+    kept.push_back(std::move(c));
   }
-  out.truth.connections = std::move(connections);
+  out.truth.connections = std::move(kept);
+}
+
+}  // namespace
+
+OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_faces) {
+  OpenPlanTruth out;
+  out.truth = truth;
+  std::vector<scenes::Room> rooms = MergeRoomGroups(truth, OpenPassageGroups(truth), out);
+  if (out.members.empty()) return out;
+  out.truth.rooms = std::move(rooms);
+  std::vector<scenes::StructuralElement> elements = MapElements(truth, out, join_faces);
+  JoinedWalls walls;
+  if (join_faces) {
+    UnitePieces(elements, out);
+    walls = JoinContinuingWalls(elements, out);
+  }
+  out.truth.elements = std::move(elements);
+  MapRoomAndWallReferences(truth.connections, walls, out);
   return out;
 }
 
