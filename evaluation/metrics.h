@@ -1,5 +1,5 @@
 #pragma once
-// Plain geometric types shared by the evaluation metrics (issue 6, item 5), and the polygon
+// Plain geometric types shared by the evaluation metrics, and the polygon
 // helpers they rest on. The metrics themselves live in metrics_patches.h (SM3 detection,
 // d_v, d_h, Phi), metrics_isprs.h (ISPRS completeness/correctness/accuracy),
 // metrics_floorplan.h (room IoU, corners, angles) and metrics_voxels.h (DSM3 / SM1 confusion);

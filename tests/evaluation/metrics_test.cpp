@@ -1,4 +1,4 @@
-// Issue 6, item 5: every metric on hand-built cases with known answers.
+// Every metric on hand-built cases with known answers.
 #include "evaluation/metrics.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// SM4 end to end on simulated scans (issue 15): rooms of the committed scenes scanned with
+// SM4 end to end on simulated scans: rooms of the committed scenes scanned with
 // sim::TlsScanner at the true poses (map = world), SM1 (RoomModel) -> SM3 -> SM4 on the robot
 // side, then scored against the scene's truth openings. Prints the openings table of each room
 // and the SM4 time; asserts what the detector achieves on these rooms today (scan positions

@@ -1,4 +1,4 @@
-// Truth-side figures of issue 5 on rooms built in code with known answers: structural surface
+// Truth-side figures on rooms built in code with known answers: structural surface
 // cells, reachable positions, observable area, coverage, registration error, SM1 label truth.
 
 #include "evaluation/truth_eval.h"
