@@ -1,5 +1,6 @@
 #include "common/polygon.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -75,6 +76,41 @@ double SignedArea(const std::vector<Eigen::Vector2d>& poly) {
     a += p.x() * q.y() - q.x() * p.y();
   }
   return 0.5 * a;
+}
+
+Eigen::Vector3d NewellVector(const std::vector<Eigen::Vector3d>& poly) {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0; i < n; ++i) s += poly[i].cross(poly[(i + 1) % n]);
+  return s;
+}
+
+double PolygonArea3d(const std::vector<Eigen::Vector3d>& poly) {
+  return 0.5 * NewellVector(poly).norm();
+}
+
+std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> p, double tolerance) {
+  using V2 = Eigen::Vector2d;
+  std::sort(p.begin(), p.end(), [](const V2& a, const V2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  p.erase(std::unique(p.begin(), p.end(),
+                      [](const V2& a, const V2& b) { return (a - b).norm() < 1e-12; }),
+          p.end());
+  if (p.size() < 3) return p;
+  // Lower chain left to right, then upper chain back; the last point repeats the first.
+  std::vector<V2> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && Cross(h[k - 2], h[k - 1], p[i]) <= tolerance) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && Cross(h[k - 2], h[k - 1], p[i - 1]) <= tolerance) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
 }
 
 void RemoveShallowVertices(std::vector<Eigen::Vector2d>& poly, double tolerance) {

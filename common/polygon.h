@@ -1,9 +1,12 @@
 #pragma once
-// Plane polygons, robot and world side alike: the one point-in-polygon test, the one
-// point-to-segment distance, the one triangulation and the one union of tiled polygons of the tree.
+// Polygons, robot and world side alike: the one point-in-polygon test, the one point-to-segment
+// and point-to-boundary distance, the one triangulation, the one convex hull, the one union of
+// tiled polygons and the one area of a 3-D polygon of the tree.
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -24,12 +27,31 @@ inline bool PointInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Ve
   return inside;
 }
 
-/// Distance (m) from `p` to the segment [a, b] (a point when a == b).
+/// Squared distance (m^2) from `p` to the segment [a, b]: to the orthogonal projection of `p`
+/// clamped to the segment, to `a` when a == b. For comparisons against a squared radius.
+inline double SquaredDistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                                       const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).squaredNorm();
+}
+
+/// Distance (m) from `p` to the segment [a, b] (to `a` when a == b).
 inline double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                                 const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
-  return (a + t * ab - p).norm();
+  return std::sqrt(SquaredDistanceToSegment(p, a, b));
+}
+
+/// Distance (m) from `p` to the boundary of the closed polygon `polygon` (its edges, the last
+/// vertex joined to the first), inside or outside alike; infinity for an empty polygon.
+inline double DistanceToBoundary(const Eigen::Vector2d& p,
+                                 const std::vector<Eigen::Vector2d>& polygon) {
+  double best = std::numeric_limits<double>::infinity();
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0; i < n; ++i)
+    best = std::min(best, SquaredDistanceToSegment(p, polygon[i], polygon[(i + 1) % n]));
+  return std::sqrt(best);
 }
 
 /// Triangles (vertex indices) of the simple counter-clockwise polygon `poly` by ear clipping
@@ -39,6 +61,25 @@ std::vector<Eigen::Vector3i> TriangulatePolygon(const std::vector<Eigen::Vector2
 
 /// Signed area (m^2) of `poly`: positive when counter-clockwise.
 double SignedArea(const std::vector<Eigen::Vector2d>& poly);
+
+/// Newell's vector of the 3-D polygon `poly`: the sum over its edges of p_i x p_(i+1). For a
+/// planar polygon it is normal to the plane, points to the side the polygon is seen
+/// counter-clockwise from, and its length is twice the area (m^2). Zero for fewer than 3
+/// vertices. Robust to non-convex and slightly non-planar polygons (Sutherland, Sproull &
+/// Schumacker 1974, crediting M. Newell).
+Eigen::Vector3d NewellVector(const std::vector<Eigen::Vector3d>& poly);
+
+/// Area (m^2) of the planar 3-D polygon `poly`, any winding: half the length of its Newell
+/// vector. 0 for fewer than 3 vertices.
+double PolygonArea3d(const std::vector<Eigen::Vector3d>& poly);
+
+/// Convex hull of plan points (Andrew's monotone chain, 1979): counter-clockwise, starting at the
+/// lowest-x (then lowest-y) point. A point where the hull turns by a cross product
+/// (b - a) x (c - a) <= `tolerance` (m^2) is dropped, so collinear points are never hull
+/// vertices; points within 1e-12 m of the previous one in (x, y) order are one point. Fewer
+/// than 3 distinct points come back as they are (sorted, distinct).
+std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points,
+                                        double tolerance = 0.0);
 
 /// Removes, one at a time (the shallowest first) and keeping at least 3 vertices, every
 /// vertex of the closed polygon `poly` that lies within `tolerance` (m) of the segment joining

@@ -1,5 +1,5 @@
 #pragma once
-// Coverage of a room's structural surfaces by the robot's points (issue 5, Acceptance): a cell
+// Coverage of a room's structural surfaces by the robot's points: a cell
 // (evaluation/truth_surfaces.h) is *sensed* when some robot point, mapped to the world with
 // X_WM, lies within `distance_tolerance` of the cell's plane and its projection falls in the
 // cell's square. Reported as the sensed share of the observable area

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "common/error.h"
 #include "common/polygon.h"
@@ -108,13 +107,6 @@ void ValidatePatch(const Patch& patch, const PatchValidationParams& params,
 }
 
 // ---------------------------------------------------------------------------------------------
-
-double PolygonArea3d(const std::vector<Vec3>& p) {
-  Vec3 s = Vec3::Zero();
-  const size_t n = p.size();
-  for (size_t i = 0; i < n; ++i) s += p[i].cross(p[(i + 1) % n]);
-  return 0.5 * s.norm();
-}
 
 namespace {
 
@@ -263,20 +255,6 @@ double PolygonIoU(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   const double inter = IntersectionArea(a, b);
   const double uni = std::abs(SignedArea(a)) + std::abs(SignedArea(b)) - inter;
   return uni > 0.0 ? inter / uni : 0.0;
-}
-
-double DistanceToBoundary(const Vec2& p, const std::vector<Vec2>& poly) {
-  double best = std::numeric_limits<double>::infinity();
-  const size_t n = poly.size();
-  for (size_t i = 0; i < n; ++i) {
-    const Vec2& a = poly[i];
-    const Vec2& b = poly[(i + 1) % n];
-    const Vec2 d = b - a;
-    const double len2 = d.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (p - (a + t * d)).squaredNorm());
-  }
-  return std::sqrt(best);
 }
 
 }  // namespace mopad::evaluation

@@ -1,5 +1,5 @@
 #pragma once
-// Plain geometric types shared by the evaluation metrics (issue 6, item 5), and the polygon
+// Plain geometric types shared by the evaluation metrics, and the polygon
 // helpers they rest on. The metrics themselves live in metrics_patches.h (SM3 detection,
 // d_v, d_h, Phi), metrics_isprs.h (ISPRS completeness/correctness/accuracy),
 // metrics_floorplan.h (room IoU, corners, angles) and metrics_voxels.h (DSM3 / SM1 confusion);
@@ -72,22 +72,24 @@ struct PlaneFrame {
 
 // ---- 2D polygon helpers (simple polygons, any winding unless stated) ----
 
-// SignedArea: common/polygon.h.
-/// Area of a planar 3D polygon (Newell's method).
-double PolygonArea3d(const std::vector<Vec3>& polygon);
+// SignedArea, PolygonArea3d, DistanceToBoundary and ConvexHull: common/polygon.h.
 /// Exact area of the intersection of two simple polygons (convex or not, either winding):
 /// both are ear-clipped into triangles and the triangle pairs clipped (Sutherland-Hodgman).
 double IntersectionArea(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
 /// Intersection over union of two simple polygons (0 when both are degenerate).
 double PolygonIoU(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
-
-/// Euclidean distance from p to the polygon's boundary.
-double DistanceToBoundary(const Vec2& p, const std::vector<Vec2>& polygon);
 /// Drops repeated vertices and vertices whose two edges turn by less than `angle_tol` (rad):
 /// a wall split into collinear pieces keeps one edge per side.
 std::vector<Vec2> SimplifyPolygon(const std::vector<Vec2>& polygon, double angle_tol);
 std::vector<Vec3> SimplifyPolygon3d(const std::vector<Vec3>& polygon, double angle_tol);
-/// Ear-clipping triangulation of a simple polygon (made CCW first); triangles as vertex triples.
+/// Ear-clipping triangulation (Meisters 1975) for the area metrics; triangles as vertex triples.
+/// Repeated and straight vertices are dropped first (SimplifyPolygon) and the polygon made CCW;
+/// a vertex that a clipped ear leaves straight stays and is clipped later. Any winding, and
+/// never throws: what is left of a polygon that is not simple (a robot's outline may touch
+/// itself) is finished as a fan. Not common's TriangulatePolygon, which drops vertices left
+/// straight and throws on such polygons: the two make different triangles, so the intersection
+/// areas (and every IoU the reports print) would change in their last bits, and a metric would
+/// throw where it now scores.
 std::vector<std::array<Vec2, 3>> Triangulate(const std::vector<Vec2>& polygon);
 
 /// Mean, maximum and count of a set of non-negative errors (mean = max = 0 when n = 0).

@@ -8,16 +8,10 @@
 
 #include "common/error.h"
 #include "common/format.h"
+#include "common/statistics.h"
 
 namespace mopad::evaluation {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Horizontal and vertical unit axes of a host plane with normal n (see the file comment).
 std::pair<Vec3, Vec3> PlaneAxes(const Vec3& normal) {
@@ -33,8 +27,9 @@ void Stats(ComponentEvaluation& e) {
   e.vertical_stats = {};
   for (double x : e.horizontal) e.horizontal_stats.Add(x);
   for (double x : e.vertical) e.vertical_stats.Add(x);
-  e.horizontal_median = Median(e.horizontal);
-  e.vertical_median = Median(e.vertical);
+  // No matched pair: 0, as the mean and max of an empty ErrorStats.
+  e.horizontal_median = e.horizontal.empty() ? 0.0 : Median(e.horizontal);
+  e.vertical_median = e.vertical.empty() ? 0.0 : Median(e.vertical);
 }
 
 void Check(const ComponentRecord& r, const char* side) {

@@ -64,7 +64,7 @@ struct ComponentEvaluation {
   std::vector<ComponentPair> pairs;          ///< matched (truth order), missed, then false
   std::vector<double> horizontal, vertical;  ///< m, |errors| of the TP (pair order)
   ErrorStats horizontal_stats, vertical_stats;
-  double horizontal_median = 0.0, vertical_median = 0.0;
+  double horizontal_median = 0.0, vertical_median = 0.0;  ///< m (0 when no pair matched)
 };
 
 /// Matches and scores (see the file comment). InputError for a non-finite centre or bad params.

@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/format.h"
+#include "evaluation/json_number.h"
 #include "evaluation/report_tables.h"
 #include "evaluation/truth_models.h"
 
@@ -41,8 +42,229 @@ double Overlap(const std::vector<Vec3>& a, const std::vector<Vec3>& b, const Vec
   return std::min(a1, b1) - std::max(a0, b0);
 }
 
-ojson Num(double x) { return std::isfinite(x) ? ojson(x) : ojson(nullptr); }
 ojson Stats(const ErrorStats& s) { return ojson::parse(ToJson(s).dump()); }
+
+// The truth room of a robot room; InputError when the run has none.
+const std::string& TruthRoomOf(const std::map<std::string, std::string>& truth_room,
+                               const std::string& robot_room) {
+  const auto it = truth_room.find(robot_room);
+  if (it == truth_room.end())
+    throw InputError("floor/sm3.json", "room '" + robot_room + "' has no run among rooms/*");
+  return it->second;
+}
+
+// The floor walls' faces in the world as patches ("<robot room>/<patch>"), wall by wall, face
+// by face; first_face[w] indexes wall w's first face. Counts the walls and two-sided walls.
+std::vector<Patch> WorldFaces(const modelling::FloorModel& model, const Pose3& X_WM,
+                              std::vector<int>& first_face, FloorEvaluation& e) {
+  std::vector<Patch> faces;
+  for (const modelling::FloorWall& w : model.walls) {
+    ++e.walls;
+    if (w.TwoSided()) ++e.two_sided_walls;
+    first_face.push_back(static_cast<int>(faces.size()));
+    for (const modelling::WallFace& f : w.faces) {
+      Patch p;
+      p.id = f.room + "/" + f.patch.id;
+      p.cls = SurfaceClass::kWall;
+      for (const Vec3& v : f.patch.polygon) p.polygon.push_back(X_WM * v);
+      p.normal = X_WM.linear() * f.patch.plane.n;
+      faces.push_back(std::move(p));
+    }
+  }
+  return faces;
+}
+
+// Truth pairs: antiparallel faces of two rooms (within 1 deg), back to back at most
+// max_truth_thickness apart, overlapping along the wall. [i][j] is the pair's thickness (m),
+// NaN for two faces that are not a pair; counts the pairs.
+std::vector<std::vector<double>> TruthPairThickness(const FloorTruth& truth,
+                                                    double max_truth_thickness,
+                                                    FloorEvaluation& e) {
+  const int nt = static_cast<int>(truth.faces.size());
+  std::vector<std::vector<double>> truth_t(nt, std::vector<double>(nt, NAN));
+  const double cos1 = std::cos(3.14159265358979323846 / 180.0);
+  for (int i = 0; i < nt; ++i)
+    for (int j = i + 1; j < nt; ++j) {
+      const Patch& a = truth.faces[i];
+      const Patch& b = truth.faces[j];
+      const Vec3 na = a.normal.normalized(), nb = b.normal.normalized();
+      if (truth.face_rooms[i] == truth.face_rooms[j] || na.dot(nb) > -cos1) continue;
+      const Vec3 ca = Centroid(a.polygon), cb = Centroid(b.polygon);
+      const double t = -na.dot(cb - ca);  // b behind a
+      const double t2 = -nb.dot(ca - cb);
+      if (t <= 0 || t2 <= 0 || std::max(t, t2) > max_truth_thickness ||
+          Overlap(a.polygon, b.polygon, AlongWall(na)) <= 0)
+        continue;
+      truth_t[i][j] = truth_t[j][i] = 0.5 * (t + t2);
+      ++e.truth_pairs;
+    }
+  return truth_t;
+}
+
+// Every face pair of the floor model, correct when its faces match the two faces of a truth
+// pair (e.faces must hold the face matching), with its thickness error.
+void ScoreFacePairs(const modelling::FloorModel& model, const std::vector<Patch>& faces,
+                    const std::vector<int>& first_face, const FloorTruth& truth,
+                    const std::vector<std::vector<double>>& truth_t, FloorEvaluation& e) {
+  std::vector<int> truth_of(faces.size(), -1);
+  for (const PatchPair& p : e.faces.pairs) truth_of[p.model_index] = p.truth_index;
+  const std::size_t nt = truth.faces.size();
+  std::vector<std::vector<char>> found(nt, std::vector<char>(nt, 0));
+  for (std::size_t w = 0; w < model.walls.size(); ++w)
+    for (const modelling::WallFacePair& p : model.walls[w].pairs) {
+      const int a = first_face[w] + p.a, b = first_face[w] + p.b;
+      FloorPairResult r;
+      r.wall = model.walls[w].id;
+      r.face_a = faces[a].id;
+      r.face_b = faces[b].id;
+      r.thickness = p.thickness;
+      r.truth_thickness = NAN;
+      const int ta = truth_of[a], tb = truth_of[b];
+      if (ta >= 0) r.truth_a = truth.faces[ta].id;
+      if (tb >= 0) r.truth_b = truth.faces[tb].id;
+      if (ta >= 0 && tb >= 0 && std::isfinite(truth_t[ta][tb])) {
+        r.truth_thickness = truth_t[ta][tb];
+        r.correct = true;
+        ++e.correct_pairs;
+        e.thickness_error.Add(std::abs(r.thickness - r.truth_thickness));
+        if (!found[ta][tb]) ++e.truth_pairs_found;
+        found[ta][tb] = found[tb][ta] = 1;
+      }
+      ++e.model_pairs;
+      e.pairs.push_back(std::move(r));
+    }
+}
+
+// Each room's offset against the truth: the least-squares plan translation from its matched
+// wall faces (e.faces), solvable when they span two directions.
+void SolveRoomOffsets(const modelling::FloorModel& model, const std::vector<Patch>& faces,
+                      const FloorTruth& truth, const std::map<std::string, std::string>& truth_room,
+                      FloorEvaluation& e) {
+  std::vector<std::string> face_room;
+  for (const modelling::FloorWall& w : model.walls)
+    for (const modelling::WallFace& f : w.faces) face_room.push_back(f.room);
+  for (const StructuralModel& r : model.rooms) {
+    FloorRoomOffset o;
+    o.room = r.room;
+    o.truth_room = TruthRoomOf(truth_room, r.room);
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Vec2 b = Vec2::Zero();
+    for (const PatchPair& p : e.faces.pairs) {
+      if (face_room[p.model_index] != r.room) continue;
+      const Patch& t = truth.faces[p.truth_index];
+      const Vec2 n = t.normal.head<2>().normalized();
+      const double d = n.dot((Centroid(faces[p.model_index].polygon) - t.polygon[0]).head<2>());
+      A += n * n.transpose();
+      b += n * d;
+      ++o.faces;
+    }
+    // Solvable when the faces span two directions (the smaller eigenvalue clearly non-zero).
+    o.solved = o.faces >= 2 && A.determinant() > 1e-3 * A.trace() * A.trace();
+    if (o.solved) o.offset = A.ldlt().solve(b);
+    e.room_offsets.push_back(o);
+  }
+}
+
+// |t_a - t_b| for every two solved rooms that share a wall (a correct pair), each pair of rooms
+// once, in the order of their first correct pair.
+void AddRoomAlignment(FloorEvaluation& e) {
+  std::vector<std::pair<std::string, std::string>> neighbours;
+  for (const FloorPairResult& p : e.pairs) {
+    if (!p.correct) continue;
+    std::string a = p.face_a.substr(0, p.face_a.find('/'));
+    std::string b = p.face_b.substr(0, p.face_b.find('/'));
+    if (b < a) std::swap(a, b);
+    if (std::find(neighbours.begin(), neighbours.end(), std::pair{a, b}) == neighbours.end())
+      neighbours.emplace_back(a, b);
+  }
+  auto offset_of = [&](const std::string& room) -> const FloorRoomOffset* {
+    for (const FloorRoomOffset& o : e.room_offsets)
+      if (o.room == room && o.solved) return &o;
+    return nullptr;
+  };
+  for (const auto& [a, b] : neighbours) {
+    const FloorRoomOffset* oa = offset_of(a);
+    const FloorRoomOffset* ob = offset_of(b);
+    if (oa && ob) e.room_alignment.Add((oa->offset - ob->offset).norm());
+  }
+}
+
+// The floor model's doors (indices into model.openings) and the truth door each matches (-1
+// none): the nearest truth door in plan within max_door_distance, one model door per truth
+// door, closest pairs first.
+struct DoorMatch {
+  std::vector<int> openings;
+  std::vector<int> truth_door;
+};
+
+DoorMatch MatchDoors(const modelling::FloorModel& model, const Pose3& X_WM, const FloorTruth& truth,
+                     double max_door_distance) {
+  struct Cand {
+    double d;
+    int model, truth;
+  };
+  std::vector<Cand> cands;
+  DoorMatch m;
+  for (std::size_t k = 0; k < model.openings.size(); ++k) {
+    const modelling::DetectedOpening& o = model.openings[k].opening;
+    if (o.type != modelling::OpeningType::kDoor) continue;
+    const int i = static_cast<int>(m.openings.size());
+    m.openings.push_back(static_cast<int>(k));
+    const Vec3 c = Centre(o.corners, X_WM);
+    for (std::size_t t = 0; t < truth.doors.size(); ++t) {
+      const double d = (c - truth.doors[t].centre).head<2>().norm();
+      if (d <= max_door_distance) cands.push_back({d, i, static_cast<int>(t)});
+    }
+  }
+  std::stable_sort(cands.begin(), cands.end(),
+                   [](const Cand& x, const Cand& y) { return x.d < y.d; });
+  m.truth_door.assign(m.openings.size(), -1);
+  std::vector<int> taken(truth.doors.size(), 0);
+  for (const Cand& c : cands)
+    if (m.truth_door[c.model] < 0 && !taken[c.truth])
+      m.truth_door[c.model] = c.truth, taken[c.truth] = 1;
+  return m;
+}
+
+// One result per matched-or-not floor door: merged (two sides) correctly when its rooms are
+// its truth door's, with the along-wall offset between its sides; then the truth doors found
+// from one side only.
+void ScoreDoors(const modelling::FloorModel& model, const Pose3& X_WM, const FloorTruth& truth,
+                const std::map<std::string, std::string>& truth_room, const DoorMatch& match,
+                FloorEvaluation& e) {
+  e.truth_doors = static_cast<int>(truth.doors.size());
+  std::vector<int> truth_merged(truth.doors.size(), 0);
+  for (std::size_t m = 0; m < match.openings.size(); ++m) {
+    const modelling::FloorOpening& fo = model.openings[match.openings[m]];
+    const int td = match.truth_door[m];
+    FloorDoorResult r;
+    r.opening = fo.opening.id;
+    for (const std::string& room : fo.rooms) r.rooms.push_back(TruthRoomOf(truth_room, room));
+    r.merged = fo.sides.size() == 2;
+    if (td >= 0) r.truth = truth.doors[td].id;
+    if (r.merged) {
+      ++e.merged_doors;
+      std::vector<std::string> rooms = r.rooms;
+      std::sort(rooms.begin(), rooms.end());
+      r.correct = td >= 0 && rooms == truth.doors[td].rooms;
+      // The wall's direction: the door's bottom edge, (u0, v0) -> (u1, v0).
+      Vec3 along = X_WM.linear() * (fo.opening.corners[1] - fo.opening.corners[0]);
+      along.z() = 0;
+      along = along.norm() > 0 ? along.normalized() : Vec3::UnitX();
+      r.side_offset = std::abs(
+          along.dot(Centre(fo.sides[0].corners, X_WM) - Centre(fo.sides[1].corners, X_WM)));
+      if (r.correct) {
+        ++e.merged_correct;
+        e.door_side_offset.Add(r.side_offset);
+        truth_merged[td] = 1;
+      }
+    }
+    e.doors.push_back(std::move(r));
+  }
+  for (std::size_t m = 0; m < match.openings.size(); ++m)
+    if (match.truth_door[m] >= 0 && !e.doors[m].merged && !truth_merged[match.truth_door[m]])
+      ++e.one_sided_doors;
+}
 
 }  // namespace
 
@@ -76,176 +298,16 @@ FloorEvaluation EvaluateFloor(const modelling::FloorModel& model, const Pose3& X
                               const std::map<std::string, std::string>& truth_room,
                               const FloorTruth& truth, const FloorEvalParams& params) {
   ValidateParams(params, "floor.");
-  auto room_of = [&](const std::string& robot_room) {
-    const auto it = truth_room.find(robot_room);
-    if (it == truth_room.end())
-      throw InputError("floor/sm3.json", "room '" + robot_room + "' has no run among rooms/*");
-    return it->second;
-  };
   FloorEvaluation e;
-  // Faces, in wall then face order; first_face[w] indexes the wall's first face.
-  std::vector<Patch> faces;
   std::vector<int> first_face;
-  for (const modelling::FloorWall& w : model.walls) {
-    ++e.walls;
-    if (w.TwoSided()) ++e.two_sided_walls;
-    first_face.push_back(static_cast<int>(faces.size()));
-    for (const modelling::WallFace& f : w.faces) {
-      Patch p;
-      p.id = f.room + "/" + f.patch.id;
-      p.cls = SurfaceClass::kWall;
-      for (const Vec3& v : f.patch.polygon) p.polygon.push_back(X_WM * v);
-      p.normal = X_WM.linear() * f.patch.plane.n;
-      faces.push_back(std::move(p));
-    }
-  }
+  const std::vector<Patch> faces = WorldFaces(model, X_WM, first_face, e);
   e.faces = EvaluatePatches(faces, truth.faces, params.faces);
-  std::vector<int> truth_of(faces.size(), -1);
-  for (const PatchPair& p : e.faces.pairs) truth_of[p.model_index] = p.truth_index;
-
-  // Truth pairs: antiparallel faces of two rooms, back to back, overlapping along the wall.
-  const int nt = static_cast<int>(truth.faces.size());
-  std::vector<std::vector<double>> truth_t(nt, std::vector<double>(nt, NAN));
-  const double cos1 = std::cos(3.14159265358979323846 / 180.0);
-  for (int i = 0; i < nt; ++i)
-    for (int j = i + 1; j < nt; ++j) {
-      const Patch& a = truth.faces[i];
-      const Patch& b = truth.faces[j];
-      const Vec3 na = a.normal.normalized(), nb = b.normal.normalized();
-      if (truth.face_rooms[i] == truth.face_rooms[j] || na.dot(nb) > -cos1) continue;
-      const Vec3 ca = Centroid(a.polygon), cb = Centroid(b.polygon);
-      const double t = -na.dot(cb - ca);  // b behind a
-      const double t2 = -nb.dot(ca - cb);
-      if (t <= 0 || t2 <= 0 || std::max(t, t2) > params.max_truth_thickness ||
-          Overlap(a.polygon, b.polygon, AlongWall(na)) <= 0)
-        continue;
-      truth_t[i][j] = truth_t[j][i] = 0.5 * (t + t2);
-      ++e.truth_pairs;
-    }
-  std::vector<std::vector<char>> found(nt, std::vector<char>(nt, 0));
-  for (std::size_t w = 0; w < model.walls.size(); ++w)
-    for (const modelling::WallFacePair& p : model.walls[w].pairs) {
-      const int a = first_face[w] + p.a, b = first_face[w] + p.b;
-      FloorPairResult r;
-      r.wall = model.walls[w].id;
-      r.face_a = faces[a].id;
-      r.face_b = faces[b].id;
-      r.thickness = p.thickness;
-      r.truth_thickness = NAN;
-      const int ta = truth_of[a], tb = truth_of[b];
-      if (ta >= 0) r.truth_a = truth.faces[ta].id;
-      if (tb >= 0) r.truth_b = truth.faces[tb].id;
-      if (ta >= 0 && tb >= 0 && std::isfinite(truth_t[ta][tb])) {
-        r.truth_thickness = truth_t[ta][tb];
-        r.correct = true;
-        ++e.correct_pairs;
-        e.thickness_error.Add(std::abs(r.thickness - r.truth_thickness));
-        if (!found[ta][tb]) ++e.truth_pairs_found;
-        found[ta][tb] = found[tb][ta] = 1;
-      }
-      ++e.model_pairs;
-      e.pairs.push_back(std::move(r));
-    }
-
-  // Each room's offset against the truth from its matched wall faces.
-  std::vector<std::string> face_room;
-  for (const modelling::FloorWall& w : model.walls)
-    for (const modelling::WallFace& f : w.faces) face_room.push_back(f.room);
-  for (const StructuralModel& r : model.rooms) {
-    FloorRoomOffset o;
-    o.room = r.room;
-    o.truth_room = room_of(r.room);
-    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
-    Vec2 b = Vec2::Zero();
-    for (const PatchPair& p : e.faces.pairs) {
-      if (face_room[p.model_index] != r.room) continue;
-      const Patch& t = truth.faces[p.truth_index];
-      const Vec2 n = t.normal.head<2>().normalized();
-      const double d = n.dot((Centroid(faces[p.model_index].polygon) - t.polygon[0]).head<2>());
-      A += n * n.transpose();
-      b += n * d;
-      ++o.faces;
-    }
-    // Solvable when the faces span two directions (the smaller eigenvalue clearly non-zero).
-    o.solved = o.faces >= 2 && A.determinant() > 1e-3 * A.trace() * A.trace();
-    if (o.solved) o.offset = A.ldlt().solve(b);
-    e.room_offsets.push_back(o);
-  }
-  std::vector<std::pair<std::string, std::string>> neighbours;
-  for (const FloorPairResult& p : e.pairs) {
-    if (!p.correct) continue;
-    std::string a = p.face_a.substr(0, p.face_a.find('/'));
-    std::string b = p.face_b.substr(0, p.face_b.find('/'));
-    if (b < a) std::swap(a, b);
-    if (std::find(neighbours.begin(), neighbours.end(), std::pair{a, b}) == neighbours.end())
-      neighbours.emplace_back(a, b);
-  }
-  auto offset_of = [&](const std::string& room) -> const FloorRoomOffset* {
-    for (const FloorRoomOffset& o : e.room_offsets)
-      if (o.room == room && o.solved) return &o;
-    return nullptr;
-  };
-  for (const auto& [a, b] : neighbours) {
-    const FloorRoomOffset* oa = offset_of(a);
-    const FloorRoomOffset* ob = offset_of(b);
-    if (oa && ob) e.room_alignment.Add((oa->offset - ob->offset).norm());
-  }
-
-  // Doors: nearest truth door in plan, one model door per truth door (closest first).
-  struct Cand {
-    double d;
-    int model, truth;
-  };
-  std::vector<Cand> cands;
-  std::vector<int> door_openings;
-  for (std::size_t k = 0; k < model.openings.size(); ++k) {
-    const modelling::DetectedOpening& o = model.openings[k].opening;
-    if (o.type != modelling::OpeningType::kDoor) continue;
-    const int m = static_cast<int>(door_openings.size());
-    door_openings.push_back(static_cast<int>(k));
-    const Vec3 c = Centre(o.corners, X_WM);
-    for (std::size_t t = 0; t < truth.doors.size(); ++t) {
-      const double d = (c - truth.doors[t].centre).head<2>().norm();
-      if (d <= params.max_door_distance) cands.push_back({d, m, static_cast<int>(t)});
-    }
-  }
-  std::stable_sort(cands.begin(), cands.end(),
-                   [](const Cand& x, const Cand& y) { return x.d < y.d; });
-  std::vector<int> truth_door(door_openings.size(), -1), taken(truth.doors.size(), 0);
-  for (const Cand& c : cands)
-    if (truth_door[c.model] < 0 && !taken[c.truth])
-      truth_door[c.model] = c.truth, taken[c.truth] = 1;
-  e.truth_doors = static_cast<int>(truth.doors.size());
-  std::vector<int> truth_merged(truth.doors.size(), 0);
-  for (std::size_t m = 0; m < door_openings.size(); ++m) {
-    const modelling::FloorOpening& fo = model.openings[door_openings[m]];
-    FloorDoorResult r;
-    r.opening = fo.opening.id;
-    for (const std::string& room : fo.rooms) r.rooms.push_back(room_of(room));
-    r.merged = fo.sides.size() == 2;
-    if (truth_door[m] >= 0) r.truth = truth.doors[truth_door[m]].id;
-    if (r.merged) {
-      ++e.merged_doors;
-      std::vector<std::string> rooms = r.rooms;
-      std::sort(rooms.begin(), rooms.end());
-      r.correct = truth_door[m] >= 0 && rooms == truth.doors[truth_door[m]].rooms;
-      // The wall's direction: the door's bottom edge, (u0, v0) -> (u1, v0).
-      Vec3 along = X_WM.linear() * (fo.opening.corners[1] - fo.opening.corners[0]);
-      along.z() = 0;
-      along = along.norm() > 0 ? along.normalized() : Vec3::UnitX();
-      r.side_offset = std::abs(
-          along.dot(Centre(fo.sides[0].corners, X_WM) - Centre(fo.sides[1].corners, X_WM)));
-      if (r.correct) {
-        ++e.merged_correct;
-        e.door_side_offset.Add(r.side_offset);
-        truth_merged[truth_door[m]] = 1;
-      }
-    }
-    e.doors.push_back(std::move(r));
-  }
-  for (std::size_t m = 0; m < door_openings.size(); ++m)
-    if (truth_door[m] >= 0 && !e.doors[m].merged && !truth_merged[truth_door[m]])
-      ++e.one_sided_doors;
+  const auto truth_t = TruthPairThickness(truth, params.max_truth_thickness, e);
+  ScoreFacePairs(model, faces, first_face, truth, truth_t, e);
+  SolveRoomOffsets(model, faces, truth, truth_room, e);
+  AddRoomAlignment(e);
+  ScoreDoors(model, X_WM, truth, truth_room,
+             MatchDoors(model, X_WM, truth, params.max_door_distance), e);
   return e;
 }
 
@@ -278,8 +340,8 @@ ojson ToJson(const FloorEvaluation& e) {
     pairs.push_back({{"wall", p.wall},
                      {"faces", {p.face_a, p.face_b}},
                      {"truth", {p.truth_a, p.truth_b}},
-                     {"thickness_m", Num(p.thickness)},
-                     {"truth_thickness_m", Num(p.truth_thickness)},
+                     {"thickness_m", Num<ojson>(p.thickness)},
+                     {"truth_thickness_m", Num<ojson>(p.truth_thickness)},
                      {"correct", p.correct}});
   j["pairs"] = pairs;
   ojson doors = ojson::array();
@@ -289,7 +351,7 @@ ojson ToJson(const FloorEvaluation& e) {
                      {"truth", d.truth},
                      {"merged", d.merged},
                      {"correct", d.correct},
-                     {"side_offset_m", d.merged ? Num(d.side_offset) : ojson(nullptr)}});
+                     {"side_offset_m", d.merged ? Num<ojson>(d.side_offset) : ojson(nullptr)}});
   j["door_list"] = doors;
   return j;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The floor model (floor/sm3.json, floor/sm4.json; modelling/floor_model.h) against the truth
-// (issue 17, item 4; docs/evaluation.md "floor model").
+// (docs/evaluation.md "floor model").
 //
 // Truth walls are the sidecar's wall elements: one planar interior face of one room each (the
 // paper's wall_1A), so office_5rooms has 24 wall faces; a physical wall between two rooms is

@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "common/error.h"
+#include "common/polygon.h"
+#include "common/statistics.h"
 
 namespace mopad::evaluation {
 namespace {
@@ -88,13 +90,6 @@ std::vector<double> NearestDistances(const SampleSet& s, const std::vector<Patch
                       }
                     });
   return d;
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace
@@ -207,7 +202,7 @@ IsprsResult EvaluateIsprs(const std::vector<Patch>& source, const std::vector<Pa
       c->completeness[k] = c->reference_area > 0.0 ? rin[k] / c->reference_area : kNaN;
       c->correctness[k] = c->source_area > 0.0 ? sin[k] / c->source_area : kNaN;
     }
-    c->accuracy = Median(acc);
+    c->accuracy = acc.empty() ? kNaN : Median(acc);
     c->accuracy_samples = static_cast<long>(acc.size());
   };
   for (int ci = 0; ci < kNumSurfaceClasses; ++ci) {

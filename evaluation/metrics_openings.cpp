@@ -4,16 +4,17 @@
 #include <cmath>
 #include <cstdio>
 #include <tuple>
+#include <utility>
 
 #include "common/error.h"
+#include "common/statistics.h"
+#include "evaluation/json_number.h"
 
 namespace mopad::evaluation {
 namespace {
 
 using nlohmann::json;
 constexpr double kPi = 3.14159265358979323846;
-
-json Num(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 void Check(const OpeningRecord& r, const std::string& side, std::size_t i) {
   const std::string what = side + " opening " + std::to_string(i) + " '" + r.id + "'";
@@ -141,12 +142,7 @@ OpeningEvaluation EvaluateOpenings(const std::vector<OpeningRecord>& model,
   }
   e.precision = e.tp + e.fp > 0 ? e.tp / (e.tp + e.fp) : 1.0;
   e.recall = e.tp + e.fn > 0 ? e.tp / (e.tp + e.fn) : 1.0;
-  if (!angle_errors.empty()) {
-    std::sort(angle_errors.begin(), angle_errors.end());
-    const std::size_t n = angle_errors.size();
-    e.angle_error_median =
-        n % 2 ? angle_errors[n / 2] : 0.5 * (angle_errors[n / 2 - 1] + angle_errors[n / 2]);
-  }
+  if (!angle_errors.empty()) e.angle_error_median = Median(std::move(angle_errors));
   return e;
 }
 
@@ -174,12 +170,7 @@ OpeningEvaluation PoolOpenings(const std::vector<OpeningEvaluation>& parts) {
   }
   e.precision = e.tp + e.fp > 0 ? e.tp / (e.tp + e.fp) : 1.0;
   e.recall = e.tp + e.fn > 0 ? e.tp / (e.tp + e.fn) : 1.0;
-  if (!angle_errors.empty()) {
-    std::sort(angle_errors.begin(), angle_errors.end());
-    const std::size_t n = angle_errors.size();
-    e.angle_error_median =
-        n % 2 ? angle_errors[n / 2] : 0.5 * (angle_errors[n / 2 - 1] + angle_errors[n / 2]);
-  }
+  if (!angle_errors.empty()) e.angle_error_median = Median(std::move(angle_errors));
   return e;
 }
 

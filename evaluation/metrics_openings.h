@@ -1,5 +1,5 @@
 #pragma once
-// SM4 openings against the truth (paper §4, Figure 15b, equations (2)-(3); issue 15, item 7).
+// SM4 openings against the truth (paper §4, Figure 15b, equations (2)-(3)).
 //
 // Matching: a recognised opening and a truth opening can match when their planes agree (normals
 // within max_normal_angle_deg, the recognised rectangle's centroid within max_plane_distance of

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "evaluation/hungarian.h"
 
 namespace mopad::evaluation {
@@ -174,36 +175,6 @@ PatchEvaluation EvaluatePatches(const std::vector<Patch>& model, const std::vect
 }
 
 // ---- Columns as objects ----
-
-namespace {
-
-// Andrew's monotone chain: CCW convex hull without collinear points.
-std::vector<Vec2> ConvexHull(std::vector<Vec2> p) {
-  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  p.erase(std::unique(p.begin(), p.end(),
-                      [](const Vec2& a, const Vec2& b) { return (a - b).norm() < 1e-12; }),
-          p.end());
-  if (p.size() < 3) return p;
-  auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Vec2> h(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
-    h[k++] = p[i - 1];
-  }
-  h.resize(k - 1);
-  return h;
-}
-
-}  // namespace
 
 Vec2 ColumnObject::Centre() const {
   // Area centroid of a simple polygon (shoelace); vertex mean when degenerate.

@@ -101,7 +101,7 @@ PatchEvaluation EvaluatePatches(const std::vector<Patch>& model, const std::vect
 /// Orientation error in degrees between two normals (not necessarily unit).
 double NormalAngleDeg(const Vec3& a, const Vec3& b, bool oriented);
 
-// ---- Columns as objects (issue 6, lead's decision; as BIM scores columns) ----
+// ---- Columns as objects (as BIM scores columns) ----
 //
 // A column is one object, not a set of faces: a round column's truth has 16 narrow facets that a
 // model need not reproduce one by one. A column object is its vertical faces, its plan footprint

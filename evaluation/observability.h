@@ -1,5 +1,5 @@
 #pragma once
-// The observable structural area of a room (issue 5, Acceptance): the part of the room's
+// The observable structural area of a room: the part of the room's
 // walls, floor, ceiling and columns that a scanner at mast height can see from some position
 // the robot's footprint can reach in that room, by dense ray casting in the truth scene.
 //

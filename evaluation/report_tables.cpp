@@ -5,13 +5,12 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "evaluation/json_number.h"
 
 namespace mopad::evaluation {
 namespace {
 
 using nlohmann::json;
-
-json Num(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 json NumVec(const std::vector<double>& v) {
   json a = json::array();

@@ -1,5 +1,5 @@
 #pragma once
-// Per-scan figures against the truth (issue 5, Acceptance): the registration error of each
+// Per-scan figures against the truth: the registration error of each
 // scan's estimated pose, and the truth of the SM1 per-point labels with their accuracy.
 //
 // SM1 labels (the robot side uses the same numbers; they are written as `scalar_label`):

@@ -1,5 +1,5 @@
 #pragma once
-// One-call truth-side figures of a room (issue 5): its structural surface cells, the robot's
+// One-call truth-side figures of a room: its structural surface cells, the robot's
 // reachable positions and the observable cells, plus the parameters of every truth-side
 // evaluator in one YAML-loadable struct. See truth_surfaces.h, observability.h, coverage.h and
 // scan_eval.h for the definitions.

@@ -15,15 +15,9 @@ namespace {
 
 using scenes::ElementClass;
 
-Vec3 NewellNormal(const std::vector<Vec3>& poly) {
-  Vec3 n = Vec3::Zero();
-  for (std::size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
-  return n;
-}
-
-// Orients `poly` CCW seen from `n` (reverses it when its Newell normal disagrees).
+// Orients `poly` CCW seen from `n` (reverses it when its Newell vector disagrees).
 void OrientTo(std::vector<Vec3>& poly, const Vec3& n) {
-  if (NewellNormal(poly).dot(n) < 0.0) std::reverse(poly.begin(), poly.end());
+  if (NewellVector(poly).dot(n) < 0.0) std::reverse(poly.begin(), poly.end());
 }
 
 const scenes::Room& FindRoomOrThrow(const scenes::GroundTruth& truth, const std::string& room) {
@@ -131,7 +125,7 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
           s.patch.id = e.id + "_" + std::to_string(k);
           s.patch.cls = SurfaceClass::kColumn;
           s.patch.polygon = e.polygons[k];
-          Vec3 n = NewellNormal(s.patch.polygon);
+          Vec3 n = NewellVector(s.patch.polygon);
           if (n.norm() < 1e-12) continue;
           Vec3 fc = Vec3::Zero();
           for (const auto& v : s.patch.polygon) fc += v;
@@ -156,13 +150,19 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
 
 }  // namespace
 
-OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_faces) {
-  OpenPlanTruth out;
-  out.truth = truth;
+namespace {
+
+bool IsFlat(const scenes::StructuralElement& e) {
+  return e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
+}
+
+// The rooms joined by open passages (connections without a door), as groups of indices into
+// truth.rooms: union-find, each group's root its first room in sidecar order; groups in the
+// order of their first room, members in sidecar order.
+std::vector<std::vector<std::size_t>> OpenPassageGroups(const scenes::GroundTruth& truth) {
   const std::size_t n = truth.rooms.size();
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < n; ++i) index[truth.rooms[i].id] = i;
-  // Union-find over the open passages; the root is the group's first room in sidecar order.
   std::vector<std::size_t> parent(n);
   for (std::size_t i = 0; i < n; ++i) parent[i] = i;
   auto find = [&](std::size_t i) {
@@ -174,13 +174,27 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
     const std::size_t a = find(index[c.room_a]), b = find(index[c.room_b]);
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
-  for (std::size_t i = 0; i < n; ++i) out.room_of[truth.rooms[i].id] = truth.rooms[i].id;
-  std::vector<scenes::Room> rooms;
+  std::vector<std::vector<std::size_t>> groups;
   for (std::size_t g = 0; g < n; ++g) {
     if (find(g) != g) continue;
     std::vector<std::size_t> group;
     for (std::size_t i = 0; i < n; ++i)
       if (find(i) == g) group.push_back(i);
+    groups.push_back(std::move(group));
+  }
+  return groups;
+}
+
+// The rooms of `truth` with each group merged into its first room (plan the union of the
+// group's plans, floor the lowest, ceiling the highest); fills out.room_of, out.members and,
+// for a group whose plans are not one simple outline (kept as separate rooms), out.notes.
+std::vector<scenes::Room> MergeRoomGroups(const scenes::GroundTruth& truth,
+                                          const std::vector<std::vector<std::size_t>>& groups,
+                                          OpenPlanTruth& out) {
+  for (const scenes::Room& r : truth.rooms) out.room_of[r.id] = r.id;
+  std::vector<scenes::Room> rooms;
+  for (const std::vector<std::size_t>& group : groups) {
+    const std::size_t g = group[0];
     if (group.size() == 1) {
       rooms.push_back(truth.rooms[g]);
       continue;
@@ -209,27 +223,34 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
     }
     rooms.push_back(std::move(merged));
   }
-  if (out.members.empty()) return out;
-  out.truth.rooms = std::move(rooms);
-  auto map_room = [&](std::string& id) {
-    const auto it = out.room_of.find(id);
-    if (it != out.room_of.end()) id = it->second;
-  };
-  auto map_rooms = [&](std::vector<std::string>& ids) {
-    for (auto& id : ids) map_room(id);
-    std::vector<std::string> unique;
-    for (const auto& id : ids)
-      if (std::find(unique.begin(), unique.end(), id) == unique.end()) unique.push_back(id);
-    ids = std::move(unique);
-  };
-  // Floors and ceilings of a merged room: one element per class and height.
+  return rooms;
+}
+
+// `id` replaced by its merged room (unchanged when it names no sidecar room).
+void MapRoom(const std::map<std::string, std::string>& room_of, std::string& id) {
+  const auto it = room_of.find(id);
+  if (it != room_of.end()) id = it->second;
+}
+
+// Every id mapped to its merged room, repeats dropped (first occurrence kept).
+void MapRooms(const std::map<std::string, std::string>& room_of, std::vector<std::string>& ids) {
+  for (auto& id : ids) MapRoom(room_of, id);
+  std::vector<std::string> unique;
+  for (const auto& id : ids)
+    if (std::find(unique.begin(), unique.end(), id) == unique.end()) unique.push_back(id);
+  ids = std::move(unique);
+}
+
+// The elements with their rooms mapped. A floor or ceiling without polygons gets its room's
+// plan at its height (as RoomSurfaces does); with `join_faces`, the floors (ceilings) of one
+// merged room and one height become the first one, holding all their polygons.
+std::vector<scenes::StructuralElement> MapElements(const scenes::GroundTruth& truth,
+                                                   const OpenPlanTruth& out, bool join_faces) {
   std::vector<scenes::StructuralElement> elements;
   for (const auto& e0 : truth.elements) {
     scenes::StructuralElement e = e0;
-    const bool flat =
-        e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
+    const bool flat = IsFlat(e);
     if (flat && e.polygons.empty() && e.rooms.size() == 1) {
-      // The room's plan at its floor or ceiling height (as RoomSurfaces does).
       const scenes::Room* r = truth.FindRoom(e.rooms[0]);
       if (r) {
         std::vector<Vec3> p;
@@ -238,7 +259,7 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
         e.polygons.push_back(std::move(p));
       }
     }
-    map_rooms(e.rooms);
+    MapRooms(out.room_of, e.rooms);
     if (join_faces && flat && e.rooms.size() == 1 && out.members.count(e.rooms[0]) &&
         !e.polygons.empty()) {
       const double z = e.polygons[0][0].z();
@@ -253,10 +274,14 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
     }
     elements.push_back(std::move(e));
   }
+  return elements;
+}
+
+// A joined floor or ceiling of a merged room whose pieces tile one simple outline becomes that
+// outline (one polygon); pieces that do not stay as they are, one patch each.
+void UnitePieces(std::vector<scenes::StructuralElement>& elements, const OpenPlanTruth& out) {
   for (auto& e : elements) {
-    const bool flat =
-        e.element_class == ElementClass::kFloor || e.element_class == ElementClass::kCeiling;
-    if (!join_faces || !flat || e.polygons.size() < 2 || e.rooms.size() != 1 ||
+    if (!IsFlat(e) || e.polygons.size() < 2 || e.rooms.size() != 1 ||
         !out.members.count(e.rooms[0]))
       continue;
     std::vector<std::vector<Vec2>> plans;
@@ -266,17 +291,27 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
       plans.push_back(std::move(q));
     }
     const auto outline = UnionOfTiledPolygons(plans);
-    if (!outline) continue;  // kept as pieces: one patch each
+    if (!outline) continue;
     const double z = e.polygons[0][0].z();
     std::vector<Vec3> p;
     for (const auto& q : *outline) p.emplace_back(q.x(), q.y(), z);
     e.polygons = {std::move(p)};
   }
-  // Walls of a merged room that continue one another across a boundary without a wall (the
-  // same plane, the same height band, one ending where the next begins) are one wall face.
+}
+
+// Where the walls a join removed went: the wall each joined, and its origin's u along it.
+struct JoinedWalls {
   std::map<std::string, std::string> wall_of;  // merged-away wall id -> the wall it joined
-  std::map<std::string, double> u_shift;       // and its origin's u along that wall
-  for (bool joined = join_faces; joined;) {
+  std::map<std::string, double> u_shift;       // m, its origin's u along that wall
+};
+
+// Walls of a merged room that continue one another across a boundary without a wall (the same
+// plane, the same height band, one ending where the next begins) become one wall face, until
+// no two join.
+JoinedWalls JoinContinuingWalls(std::vector<scenes::StructuralElement>& elements,
+                                const OpenPlanTruth& out) {
+  JoinedWalls j;
+  for (bool joined = true; joined;) {
     joined = false;
     for (auto& w : elements) {
       if (w.element_class != ElementClass::kWall || w.rooms.size() != 1 ||
@@ -294,40 +329,65 @@ OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_fac
       const double shift = w.length;
       w.length += next->length;
       w.polygons = {WallRect(w.origin, u, 0.0, w.length, 0.0, w.height)};
-      wall_of[gone] = w.id;
-      u_shift[gone] = shift;
-      for (auto& [from, to] : wall_of)
-        if (to == gone) to = w.id, u_shift[from] += shift;
+      j.wall_of[gone] = w.id;
+      j.u_shift[gone] = shift;
+      for (auto& [from, to] : j.wall_of)
+        if (to == gone) to = w.id, j.u_shift[from] += shift;
       elements.erase(next);
       joined = true;
       break;
     }
   }
-  out.truth.elements = std::move(elements);
+  return j;
+}
+
+// Openings, service components, furniture and connections of out.truth moved to the merged
+// rooms and joined walls (an opening's u shifted along its new wall); the open passages inside
+// a merged room are dropped. `connections` are the sidecar's.
+void MapRoomAndWallReferences(const std::vector<scenes::RoomConnection>& connections,
+                              const JoinedWalls& walls, OpenPlanTruth& out) {
   for (auto& o : out.truth.openings) {
-    map_rooms(o.rooms);
-    map_room(o.swing_room);
-    if (!o.host_walls.empty() && wall_of.count(o.host_walls[0])) {
-      const double shift = u_shift.at(o.host_walls[0]);
+    MapRooms(out.room_of, o.rooms);
+    MapRoom(out.room_of, o.swing_room);
+    if (!o.host_walls.empty() && walls.wall_of.count(o.host_walls[0])) {
+      const double shift = walls.u_shift.at(o.host_walls[0]);
       o.u0 += shift;
       o.u1 += shift;
     }
     for (auto& h : o.host_walls)
-      if (wall_of.count(h)) h = wall_of.at(h);
+      if (walls.wall_of.count(h)) h = walls.wall_of.at(h);
   }
   for (auto& c : out.truth.service_components) {
-    map_room(c.room);
-    if (wall_of.count(c.host)) c.host = wall_of.at(c.host);
+    MapRoom(out.room_of, c.room);
+    if (walls.wall_of.count(c.host)) c.host = walls.wall_of.at(c.host);
   }
-  for (auto& f : out.truth.furniture) map_room(f.room);
-  std::vector<scenes::RoomConnection> connections;
-  for (auto c : truth.connections) {
-    map_room(c.room_a);
-    map_room(c.room_b);
+  for (auto& f : out.truth.furniture) MapRoom(out.room_of, f.room);
+  std::vector<scenes::RoomConnection> kept;
+  for (auto c : connections) {
+    MapRoom(out.room_of, c.room_a);
+    MapRoom(out.room_of, c.room_b);
     if (c.door.empty() && c.room_a == c.room_b) continue;
-    connections.push_back(std::move(c));
+    kept.push_back(std::move(c));
   }
-  out.truth.connections = std::move(connections);
+  out.truth.connections = std::move(kept);
+}
+
+}  // namespace
+
+OpenPlanTruth MergeOpenPlanRooms(const scenes::GroundTruth& truth, bool join_faces) {
+  OpenPlanTruth out;
+  out.truth = truth;
+  std::vector<scenes::Room> rooms = MergeRoomGroups(truth, OpenPassageGroups(truth), out);
+  if (out.members.empty()) return out;
+  out.truth.rooms = std::move(rooms);
+  std::vector<scenes::StructuralElement> elements = MapElements(truth, out, join_faces);
+  JoinedWalls walls;
+  if (join_faces) {
+    UnitePieces(elements, out);
+    walls = JoinContinuingWalls(elements, out);
+  }
+  out.truth.elements = std::move(elements);
+  MapRoomAndWallReferences(truth.connections, walls, out);
   return out;
 }
 
@@ -417,61 +477,81 @@ std::vector<Vec3> SampleTriangle(const Vec3& a, const Vec3& b, const Vec3& c, do
   return out;
 }
 
-}  // namespace
-
-std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
-                                    const std::string& room_id, const VoxelGrid& grid,
-                                    const std::vector<std::array<int, 3>>& voxels,
-                                    const Pose3& X_WM, const std::vector<Vec3>& scanners_W,
-                                    const TruthDsm3Params& params) {
-  ValidateParams(params, "truth_dsm3.");
-  const scenes::Room& room = FindRoomOrThrow(truth, room_id);
-  const std::vector<TruthSurface> surfaces = RoomSurfaces(truth, room_id);
-  const auto& d = grid.dims;
-  if (!(grid.voxel_size > 0.0) || d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
-    throw InputError("dsm3 grid", "empty grid or non-positive voxel size");
-  const std::int64_t total = std::int64_t{d[0]} * d[1] * d[2];
-  if (total > params.max_grid_voxels)
-    throw InputError("dsm3 grid", "grid too large for the truth DSM3",
-                     std::to_string(total) + " voxels",
-                     "<= " + std::to_string(params.max_grid_voxels));
-  // Dense index: grid cell -> first listed voxel.
-  std::vector<std::int32_t> slot(static_cast<std::size_t>(total), -1);
-  auto lin = [&](const std::array<int, 3>& v) {
-    return (static_cast<std::size_t>(v[2]) * d[1] + v[1]) * d[0] + v[0];
-  };
-  for (std::size_t i = 0; i < voxels.size(); ++i) {
-    const auto& v = voxels[i];
-    for (int a = 0; a < 3; ++a)
-      if (v[a] < 0 || v[a] >= d[a]) throw InputError("dsm3 voxels", "voxel index outside the grid");
-    auto& s = slot[lin(v)];
-    if (s < 0) s = static_cast<std::int32_t>(i);
+// The listed voxels on a dense index of their grid (map frame): every grid cell holds its first
+// listed voxel, -1 when none is listed. Several listed entries of one cell share its state.
+class VoxelIndex {
+ public:
+  VoxelIndex(const VoxelGrid& grid, const std::vector<std::array<int, 3>>& voxels,
+             std::int64_t max_grid_voxels)
+      : grid_(grid) {
+    const auto& d = grid.dims;
+    if (!(grid.voxel_size > 0.0) || d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
+      throw InputError("dsm3 grid", "empty grid or non-positive voxel size");
+    const std::int64_t total = std::int64_t{d[0]} * d[1] * d[2];
+    if (total > max_grid_voxels)
+      throw InputError("dsm3 grid", "grid too large for the truth DSM3",
+                       std::to_string(total) + " voxels", "<= " + std::to_string(max_grid_voxels));
+    slot_.assign(static_cast<std::size_t>(total), -1);
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+      const auto& v = voxels[i];
+      for (int a = 0; a < 3; ++a)
+        if (v[a] < 0 || v[a] >= d[a])
+          throw InputError("dsm3 voxels", "voxel index outside the grid");
+      auto& s = slot_[Linear(v)];
+      if (s < 0) s = static_cast<std::int32_t>(i);
+    }
   }
-  const Pose3 X_MW = X_WM.inverse();
-  const double s = grid.voxel_size;
-  const double h = s / params.samples_per_voxel;
-  auto voxel_of = [&](const Vec3& p_M) -> std::int32_t {
-    const Vec3 q = (p_M - grid.origin) / s;
+  /// The first listed voxel of the cell of `v`, -1 when none is listed.
+  std::int32_t First(const std::array<int, 3>& v) const { return slot_[Linear(v)]; }
+  /// The first listed voxel of the cell holding `p_M`, -1 outside the grid or when none is.
+  std::int32_t At(const Vec3& p_M) const {
+    const auto& d = grid_.dims;
+    const Vec3 q = (p_M - grid_.origin) / grid_.voxel_size;
     const double fi = std::floor(q.x()), fj = std::floor(q.y()), fk = std::floor(q.z());
     if (fi < 0 || fj < 0 || fk < 0 || fi >= d[0] || fj >= d[1] || fk >= d[2]) return -1;
-    return slot[lin({int(fi), int(fj), int(fk)})];
-  };
+    return First({int(fi), int(fj), int(fk)});
+  }
 
-  const std::size_t n = voxels.size();
-  std::vector<std::uint8_t> has_struct(n, 0), struct_visible(n, 0), has_opening(n, 0),
-      has_clutter(n, 0);
+ private:
+  std::size_t Linear(const std::array<int, 3>& v) const {
+    const auto& d = grid_.dims;
+    return (static_cast<std::size_t>(v[2]) * d[1] + v[1]) * d[0] + v[0];
+  }
+  const VoxelGrid& grid_;
+  std::vector<std::int32_t> slot_;
+};
 
-  // 1-2. Structural and opening samples.
-  struct Sample {
-    Vec3 p_W, n_W;
-    std::int32_t voxel;
-  };
-  std::vector<Sample> samples;
+// What the truth puts in each listed voxel (indexed like `voxels`; 0 or 1).
+struct VoxelFlags {
+  explicit VoxelFlags(std::size_t n)
+      : has_struct(n, 0),
+        struct_visible(n, 0),
+        has_opening(n, 0),
+        has_clutter(n, 0),
+        inside(n, 0),
+        visible(n, 0) {}
+  std::vector<std::uint8_t> has_struct, struct_visible, has_opening, has_clutter;
+  std::vector<std::uint8_t> inside;   // centre inside the room prism
+  std::vector<std::uint8_t> visible;  // centre seen from a scanner (checked for empty only)
+};
+
+// A structural surface sample (world frame) and its voxel.
+struct SurfaceSample {
+  Vec3 p_W, n_W;
+  std::int32_t voxel;
+};
+
+// Rules 1-2: samples the room's surfaces at spacing h, flags the voxels holding a structural or
+// an opening sample, and returns the structural samples.
+std::vector<SurfaceSample> SampleSurfaces(const std::vector<TruthSurface>& surfaces,
+                                          const VoxelIndex& index, const Pose3& X_MW,
+                                          double voxel_size, double h, VoxelFlags& flags) {
+  std::vector<SurfaceSample> samples;
   for (const auto& surf : surfaces) {
     double area = 0.0;
     const std::vector<Vec3> pts = SamplePatch(surf.patch, h, &area);
     const Vec3 n_W = surf.patch.normal.normalized();
-    const Vec3 nudge_M = X_MW.linear() * n_W * (1e-6 * s);
+    const Vec3 nudge_M = X_MW.linear() * n_W * (1e-6 * voxel_size);
     for (const Vec3& p : pts) {
       bool in_opening = false;
       if (surf.wall) {
@@ -479,24 +559,31 @@ std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes:
         for (const auto& r : surf.openings)
           if (u >= r.u0 && u <= r.u1 && v >= r.v0 && v <= r.v1) in_opening = true;
       }
-      const std::int32_t vox = voxel_of(X_MW * p + nudge_M);
+      const std::int32_t vox = index.At(X_MW * p + nudge_M);
       if (vox < 0) continue;
       if (in_opening) {
-        has_opening[vox] = 1;
+        flags.has_opening[vox] = 1;
       } else {
-        has_struct[vox] = 1;
+        flags.has_struct[vox] = 1;
         samples.push_back({p, n_W, vox});
       }
     }
   }
+  return samples;
+}
+
+// Structure against occluded structure: a structural voxel is seen when one of its samples is,
+// scanner by scanner (samples of voxels already seen are skipped).
+void MarkSeenStructure(const sim::EmbreeWorld& world, const std::vector<Vec3>& scanners_W,
+                       const std::vector<SurfaceSample>& samples, const TruthDsm3Params& params,
+                       VoxelFlags& flags) {
   const double el_lo = std::sin(DegToRad(params.elevation_min_deg));
   const double el_hi = std::sin(DegToRad(params.elevation_max_deg));
-  // Visibility of structural samples, scanner by scanner (samples of voxels already seen skip).
   for (const Vec3& c : scanners_W) {
     std::vector<Vec3> targets;
     std::vector<std::int32_t> owner;
     for (const auto& smp : samples) {
-      if (struct_visible[smp.voxel]) continue;
+      if (flags.struct_visible[smp.voxel]) continue;
       const Vec3 v = smp.p_W - c;
       const double dist = v.norm();
       if (dist < params.range_min || dist > params.range_max || dist < 1e-9) continue;
@@ -508,25 +595,32 @@ std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes:
     }
     const auto vis = CastVisible(world, c, targets, params.hit_tolerance);
     for (std::size_t i = 0; i < vis.size(); ++i)
-      if (vis[i]) struct_visible[owner[i]] = 1;
+      if (vis[i]) flags.struct_visible[owner[i]] = 1;
   }
+}
 
-  // Inside test: voxel centre in the room prism (world).
-  std::vector<std::uint8_t> inside(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
+// Flags the voxels whose centre lies in the room prism (plan polygon, floor_z..ceiling_z).
+void MarkInside(const scenes::Room& room, const VoxelGrid& grid,
+                const std::vector<std::array<int, 3>>& voxels, const Pose3& X_WM,
+                VoxelFlags& flags) {
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
     const Vec3 c = X_WM * grid.Centre(voxels[i]);
-    inside[i] = c.z() >= room.floor_z && c.z() <= room.ceiling_z &&
-                PointInPolygon(Vec2(c.x(), c.y()), room.polygon);
+    flags.inside[i] = c.z() >= room.floor_z && c.z() <= room.ceiling_z &&
+                      PointInPolygon(Vec2(c.x(), c.y()), room.polygon);
   }
+}
 
-  // 3. Clutter: non-structural scene geometry near the room.
+// Rule 3: flags the voxels holding a sample of non-structural scene geometry within two voxels
+// of the room's box.
+void MarkClutter(const sim::EmbreeWorld& world, const scenes::Room& room, const VoxelIndex& index,
+                 const Pose3& X_MW, double voxel_size, double h, VoxelFlags& flags) {
   Eigen::AlignedBox3d box;
   for (const auto& q : room.polygon) {
     box.extend(Vec3(q.x(), q.y(), room.floor_z));
     box.extend(Vec3(q.x(), q.y(), room.ceiling_z));
   }
-  box.min() -= Vec3::Constant(2.0 * s);
-  box.max() += Vec3::Constant(2.0 * s);
+  box.min() -= Vec3::Constant(2.0 * voxel_size);
+  box.max() += Vec3::Constant(2.0 * voxel_size);
   for (const auto& part : world.scene().parts) {
     if (scenes::IsStructural(part.element_class)) continue;
     for (const auto& t : part.triangles) {
@@ -536,20 +630,28 @@ std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes:
       tb.extend(b), tb.extend(c);
       if (!tb.intersects(box)) continue;
       for (const Vec3& p : SampleTriangle(a, b, c, h)) {
-        const std::int32_t vox = voxel_of(X_MW * p);
-        if (vox >= 0) has_clutter[vox] = 1;
+        const std::int32_t vox = index.At(X_MW * p);
+        if (vox >= 0) flags.has_clutter[vox] = 1;
       }
     }
   }
+}
 
-  // 4. Empty: visible centres of the remaining inside voxels.
-  std::vector<std::uint8_t> visible(n, 0);
+// Rule 4: flags the inside voxels holding nothing whose centre a scanner sees.
+void MarkSeenEmpty(const sim::EmbreeWorld& world, const std::vector<Vec3>& scanners_W,
+                   const VoxelGrid& grid, const std::vector<std::array<int, 3>>& voxels,
+                   const VoxelIndex& index, const Pose3& X_WM, const TruthDsm3Params& params,
+                   VoxelFlags& flags) {
+  const double el_lo = std::sin(DegToRad(params.elevation_min_deg));
+  const double el_hi = std::sin(DegToRad(params.elevation_max_deg));
   for (const Vec3& c : scanners_W) {
     std::vector<Vec3> targets;
     std::vector<std::int32_t> owner;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!inside[i] || visible[i] || has_struct[i] || has_opening[i] || has_clutter[i]) continue;
-      if (slot[lin(voxels[i])] != static_cast<std::int32_t>(i)) continue;  // duplicate entry
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+      if (!flags.inside[i] || flags.visible[i] || flags.has_struct[i] || flags.has_opening[i] ||
+          flags.has_clutter[i])
+        continue;
+      if (index.First(voxels[i]) != static_cast<std::int32_t>(i)) continue;  // duplicate entry
       const Vec3 p = X_WM * grid.Centre(voxels[i]);
       const Vec3 v = p - c;
       const double dist = v.norm();
@@ -563,24 +665,52 @@ std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes:
     }
     const auto vis = CastVisible(world, c, targets, 0.0);
     for (std::size_t i = 0; i < vis.size(); ++i)
-      if (vis[i]) visible[owner[i]] = 1;
+      if (vis[i]) flags.visible[owner[i]] = 1;
   }
+}
 
-  std::vector<std::uint8_t> labels(n, static_cast<std::uint8_t>(VoxelLabel::kUnseen));
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::int32_t k = slot[lin(voxels[i])];  // duplicates share the first entry's state
+// The first rule that holds (file comment), for every listed voxel; duplicates share the first
+// entry's state.
+std::vector<std::uint8_t> Labels(const std::vector<std::array<int, 3>>& voxels,
+                                 const VoxelIndex& index, const VoxelFlags& flags) {
+  std::vector<std::uint8_t> labels(voxels.size(), static_cast<std::uint8_t>(VoxelLabel::kUnseen));
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    const std::int32_t k = index.First(voxels[i]);
     VoxelLabel l = VoxelLabel::kUnseen;
-    if (has_struct[k])
-      l = struct_visible[k] ? VoxelLabel::kStructure : VoxelLabel::kOccludedStructure;
-    else if (has_opening[k])
+    if (flags.has_struct[k])
+      l = flags.struct_visible[k] ? VoxelLabel::kStructure : VoxelLabel::kOccludedStructure;
+    else if (flags.has_opening[k])
       l = VoxelLabel::kOpening;
-    else if (inside[k] && has_clutter[k])
+    else if (flags.inside[k] && flags.has_clutter[k])
       l = VoxelLabel::kClutter;
-    else if (inside[k] && visible[k])
+    else if (flags.inside[k] && flags.visible[k])
       l = VoxelLabel::kEmpty;
     labels[i] = static_cast<std::uint8_t>(l);
   }
   return labels;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes::GroundTruth& truth,
+                                    const std::string& room_id, const VoxelGrid& grid,
+                                    const std::vector<std::array<int, 3>>& voxels,
+                                    const Pose3& X_WM, const std::vector<Vec3>& scanners_W,
+                                    const TruthDsm3Params& params) {
+  ValidateParams(params, "truth_dsm3.");
+  const scenes::Room& room = FindRoomOrThrow(truth, room_id);
+  const std::vector<TruthSurface> surfaces = RoomSurfaces(truth, room_id);
+  const VoxelIndex index(grid, voxels, params.max_grid_voxels);
+  const Pose3 X_MW = X_WM.inverse();
+  const double s = grid.voxel_size;
+  const double h = s / params.samples_per_voxel;
+  VoxelFlags flags(voxels.size());
+  const std::vector<SurfaceSample> samples = SampleSurfaces(surfaces, index, X_MW, s, h, flags);
+  MarkSeenStructure(world, scanners_W, samples, params, flags);
+  MarkInside(room, grid, voxels, X_WM, flags);
+  MarkClutter(world, room, index, X_MW, s, h, flags);
+  MarkSeenEmpty(world, scanners_W, grid, voxels, index, X_WM, params, flags);
+  return Labels(voxels, index, flags);
 }
 
 }  // namespace mopad::evaluation

@@ -1,5 +1,5 @@
 #pragma once
-// The truth side of the structural models (issue 6, item 5): the truth SM3 patches of a room,
+// The truth side of the structural models: the truth SM3 patches of a room,
 // the truth floorplan, and the truth DSM3 labels on the robot's own voxel grid.
 //
 // Truth patches come from the ground-truth sidecar (scenes/ground_truth.h), never from mesh

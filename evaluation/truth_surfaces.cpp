@@ -69,6 +69,171 @@ struct PlaneBuild {
   std::vector<std::array<Eigen::Vector2d, 3>> triangles;  // plane coordinates
 };
 
+// The plane build of `element` that the plane n . p = d (n unit) lies on (normals within about
+// 0.8 deg, offsets within 1 mm), added with its (u, v) axes when there is none yet.
+PlaneBuild& PlaneOf(std::vector<PlaneBuild>& builds, int element, const Eigen::Vector3d& n,
+                    double d) {
+  for (PlaneBuild& q : builds) {
+    if (q.plane.element == element && q.plane.normal.dot(n) > 1.0 - 1e-4 &&
+        std::abs(q.plane.offset - d) < 1e-3) {
+      return q;
+    }
+  }
+  PlaneBuild q;
+  q.plane.element = element;
+  q.plane.normal = n;
+  q.plane.offset = d;
+  if (std::abs(n.z()) > 0.9) {
+    q.plane.u_axis = Eigen::Vector3d::UnitX();
+  } else {
+    q.plane.u_axis = Eigen::Vector3d::UnitZ().cross(n).normalized();
+  }
+  q.plane.u_axis = (q.plane.u_axis - n * n.dot(q.plane.u_axis)).normalized();
+  q.plane.v_axis = n.cross(q.plane.u_axis);
+  builds.push_back(std::move(q));
+  return builds.back();
+}
+
+// The front-facing triangles of the room's structural elements (element_of: element id ->
+// index into `elements`), grouped by element and plane, in plane coordinates; adds each
+// triangle's area to its element.
+std::vector<PlaneBuild> GroupByPlane(const scenes::Scene& scene,
+                                     const std::map<std::string, int>& element_of,
+                                     std::vector<SurfaceElement>& elements) {
+  std::vector<PlaneBuild> builds;
+  for (const scenes::MeshPart& part : scene.parts) {
+    const auto it = element_of.find(part.element_id);
+    if (it == element_of.end() || !scenes::IsStructural(part.element_class)) continue;
+    const int element = it->second;
+    for (const Eigen::Vector3i& t : part.triangles) {
+      const Eigen::Vector3d a = part.positions[t[0]].cast<double>();
+      const Eigen::Vector3d b = part.positions[t[1]].cast<double>();
+      const Eigen::Vector3d c = part.positions[t[2]].cast<double>();
+      const Eigen::Vector3d cr = (b - a).cross(c - a);
+      const double area2 = cr.norm();
+      if (area2 < 1e-12) continue;
+      elements[element].area += 0.5 * area2;
+      const Eigen::Vector3d n = cr / area2;
+      PlaneBuild& pb = PlaneOf(builds, element, n, n.dot(a));
+      const auto P = [&](const Eigen::Vector3d& x) {
+        return Eigen::Vector2d(pb.plane.u_axis.dot(x), pb.plane.v_axis.dot(x));
+      };
+      pb.triangles.push_back({P(a), P(b), P(c)});
+    }
+  }
+  return builds;
+}
+
+// What a plane's triangles cover of each square of its grid: area and first moment per square
+// (row-major, ni x nj), and the pieces of the squares they cover only in part (square index,
+// clipped polygon), by square.
+struct Coverage {
+  std::vector<double> area;
+  std::vector<Eigen::Vector2d> moment;
+  std::vector<std::pair<std::size_t, Poly2>> pieces;
+};
+
+// Sets the plane's grid window (i0, j0, ni, nj) to its triangles' bounding box and clips every
+// triangle into the squares of side s.
+Coverage CoverGrid(const std::vector<std::array<Eigen::Vector2d, 3>>& triangles, double s,
+                   SurfacePlane& pl) {
+  const double full = s * s;
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& t : triangles)
+    for (const auto& q : t) {
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+  pl.i0 = static_cast<int>(std::floor(lo.x() / s));
+  pl.j0 = static_cast<int>(std::floor(lo.y() / s));
+  pl.ni = static_cast<int>(std::floor(hi.x() / s)) - pl.i0 + 1;
+  pl.nj = static_cast<int>(std::floor(hi.y() / s)) - pl.j0 + 1;
+  const std::size_t n = static_cast<std::size_t>(pl.ni) * pl.nj;
+  Coverage cov;
+  cov.area.assign(n, 0.0);
+  cov.moment.assign(n, Eigen::Vector2d::Zero());
+  for (const auto& t : triangles) {
+    Eigen::Vector2d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+    Eigen::Vector2d thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+    const int ia = std::max(0, static_cast<int>(std::floor(tlo.x() / s)) - pl.i0);
+    const int ib = std::min(pl.ni - 1, static_cast<int>(std::floor(thi.x() / s)) - pl.i0);
+    const int ja = std::max(0, static_cast<int>(std::floor(tlo.y() / s)) - pl.j0);
+    const int jb = std::min(pl.nj - 1, static_cast<int>(std::floor(thi.y() / s)) - pl.j0);
+    const Poly2 tri(t.begin(), t.end());
+    for (int j = ja; j <= jb; ++j) {
+      const double v0 = (pl.j0 + j) * s, v1 = v0 + s;
+      Poly2 strip = ClipHalf(ClipHalf(tri, 1, v0, -1.0), 1, v1, 1.0);
+      if (strip.size() < 3) continue;
+      for (int i = ia; i <= ib; ++i) {
+        const double u0 = (pl.i0 + i) * s, u1 = u0 + s;
+        const Poly2 piece = ClipHalf(ClipHalf(strip, 0, u0, -1.0), 0, u1, 1.0);
+        if (piece.size() < 3) continue;
+        double a;
+        Eigen::Vector2d m;
+        AreaMoment(piece, &a, &m);
+        if (a <= 1e-14) continue;
+        const std::size_t k = static_cast<std::size_t>(j) * pl.ni + i;
+        cov.area[k] += a;
+        cov.moment[k] += m;
+        if (a < full * (1 - 1e-9)) cov.pieces.emplace_back(k, piece);
+      }
+    }
+  }
+  std::stable_sort(cov.pieces.begin(), cov.pieces.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  return cov;
+}
+
+// The centre of a partly covered square: the area centroid `c` of what covers it when that lies
+// on one of its pieces, else the centroid of its largest piece (an opening or room edge can
+// leave the centroid of an L-shaped or split cover off the surface). `pieces` are the square's.
+Eigen::Vector2d CentreOnSurface(const Eigen::Vector2d& c,
+                                const std::vector<std::pair<std::size_t, Poly2>>& pieces,
+                                std::size_t first, std::size_t k) {
+  bool inside = false;
+  double best_a = -1;
+  Eigen::Vector2d best_c = c;
+  for (std::size_t q = first; q < pieces.size() && pieces[q].first == k; ++q) {
+    if (InsideConvex(pieces[q].second, c)) inside = true;
+    double a;
+    Eigen::Vector2d m;
+    AreaMoment(pieces[q].second, &a, &m);
+    if (a > best_a) {
+      best_a = a;
+      best_c = m / a;
+    }
+  }
+  return inside ? c : best_c;
+}
+
+// Cuts one plane's triangles into cells of side s (appended to out.cells, indexed in the
+// plane's grid) and appends the plane to out.planes.
+void CutIntoCells(PlaneBuild& pb, double s, StructuralSurfaces& out) {
+  SurfacePlane& pl = pb.plane;
+  const double full = s * s;
+  const Coverage cov = CoverGrid(pb.triangles, s, pl);
+  const std::size_t n = cov.area.size();
+  pl.index.assign(n, -1);
+  const int plane_index = static_cast<int>(out.planes.size());
+  std::size_t pi = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (pi < cov.pieces.size() && cov.pieces[pi].first < k) ++pi;
+    if (cov.area[k] < full * 1e-4) continue;  // float slivers along hole edges
+    Eigen::Vector2d c = cov.moment[k] / cov.area[k];
+    if (cov.area[k] < full * (1 - 1e-9)) c = CentreOnSurface(c, cov.pieces, pi, k);
+    SurfaceCell cell;
+    cell.centre = pl.u_axis * c.x() + pl.v_axis * c.y() + pl.normal * pl.offset;
+    cell.normal = pl.normal;
+    cell.area = cov.area[k];
+    cell.element = pl.element;
+    cell.plane = plane_index;
+    cell.element_class = out.elements[pl.element].element_class;
+    pl.index[k] = static_cast<std::int32_t>(out.cells.size());
+    out.cells.push_back(cell);
+  }
+  out.planes.push_back(std::move(pl));
+}
+
 }  // namespace
 
 double StructuralSurfaces::TotalArea() const {
@@ -113,140 +278,12 @@ StructuralSurfaces SampleStructuralSurfaces(const scenes::Scene& scene,
     element_of[e.id] = static_cast<int>(out.elements.size());
     out.elements.push_back({e.id, e.element_class, 0.0});
   }
-
-  // Group the front-facing triangles of each element by plane.
-  std::vector<PlaneBuild> builds;
-  for (const scenes::MeshPart& part : scene.parts) {
-    const auto it = element_of.find(part.element_id);
-    if (it == element_of.end() || !scenes::IsStructural(part.element_class)) continue;
-    const int element = it->second;
-    for (const Eigen::Vector3i& t : part.triangles) {
-      const Eigen::Vector3d a = part.positions[t[0]].cast<double>();
-      const Eigen::Vector3d b = part.positions[t[1]].cast<double>();
-      const Eigen::Vector3d c = part.positions[t[2]].cast<double>();
-      const Eigen::Vector3d cr = (b - a).cross(c - a);
-      const double area2 = cr.norm();
-      if (area2 < 1e-12) continue;
-      out.elements[element].area += 0.5 * area2;
-      const Eigen::Vector3d n = cr / area2;
-      const double d = n.dot(a);
-      PlaneBuild* pb = nullptr;
-      for (PlaneBuild& q : builds) {
-        if (q.plane.element == element && q.plane.normal.dot(n) > 1.0 - 1e-4 &&
-            std::abs(q.plane.offset - d) < 1e-3) {
-          pb = &q;
-          break;
-        }
-      }
-      if (!pb) {
-        PlaneBuild q;
-        q.plane.element = element;
-        q.plane.normal = n;
-        q.plane.offset = d;
-        if (std::abs(n.z()) > 0.9) {
-          q.plane.u_axis = Eigen::Vector3d::UnitX();
-        } else {
-          q.plane.u_axis = Eigen::Vector3d::UnitZ().cross(n).normalized();
-        }
-        q.plane.u_axis = (q.plane.u_axis - n * n.dot(q.plane.u_axis)).normalized();
-        q.plane.v_axis = n.cross(q.plane.u_axis);
-        builds.push_back(std::move(q));
-        pb = &builds.back();
-      }
-      const auto P = [&](const Eigen::Vector3d& x) {
-        return Eigen::Vector2d(pb->plane.u_axis.dot(x), pb->plane.v_axis.dot(x));
-      };
-      pb->triangles.push_back({P(a), P(b), P(c)});
-    }
-  }
+  std::vector<PlaneBuild> builds = GroupByPlane(scene, element_of, out.elements);
   if (builds.empty()) {
     throw InputError(scene.source, "room has no structural geometry", "'" + room + "'",
                      "wall, floor, ceiling or column triangles of elements listing the room");
   }
-
-  const double s = params.cell_size;
-  const double full = s * s;
-  for (PlaneBuild& pb : builds) {
-    SurfacePlane& pl = pb.plane;
-    Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
-    for (const auto& t : pb.triangles)
-      for (const auto& q : t) {
-        lo = lo.cwiseMin(q);
-        hi = hi.cwiseMax(q);
-      }
-    pl.i0 = static_cast<int>(std::floor(lo.x() / s));
-    pl.j0 = static_cast<int>(std::floor(lo.y() / s));
-    pl.ni = static_cast<int>(std::floor(hi.x() / s)) - pl.i0 + 1;
-    pl.nj = static_cast<int>(std::floor(hi.y() / s)) - pl.j0 + 1;
-    const std::size_t n = static_cast<std::size_t>(pl.ni) * pl.nj;
-    std::vector<double> area(n, 0.0);
-    std::vector<Eigen::Vector2d> moment(n, Eigen::Vector2d::Zero());
-    std::vector<std::pair<std::size_t, Poly2>> pieces;  // partial pieces, for the centroid check
-    for (const auto& t : pb.triangles) {
-      Eigen::Vector2d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
-      Eigen::Vector2d thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
-      const int ia = std::max(0, static_cast<int>(std::floor(tlo.x() / s)) - pl.i0);
-      const int ib = std::min(pl.ni - 1, static_cast<int>(std::floor(thi.x() / s)) - pl.i0);
-      const int ja = std::max(0, static_cast<int>(std::floor(tlo.y() / s)) - pl.j0);
-      const int jb = std::min(pl.nj - 1, static_cast<int>(std::floor(thi.y() / s)) - pl.j0);
-      const Poly2 tri(t.begin(), t.end());
-      for (int j = ja; j <= jb; ++j) {
-        const double v0 = (pl.j0 + j) * s, v1 = v0 + s;
-        Poly2 strip = ClipHalf(ClipHalf(tri, 1, v0, -1.0), 1, v1, 1.0);
-        if (strip.size() < 3) continue;
-        for (int i = ia; i <= ib; ++i) {
-          const double u0 = (pl.i0 + i) * s, u1 = u0 + s;
-          const Poly2 piece = ClipHalf(ClipHalf(strip, 0, u0, -1.0), 0, u1, 1.0);
-          if (piece.size() < 3) continue;
-          double a;
-          Eigen::Vector2d m;
-          AreaMoment(piece, &a, &m);
-          if (a <= 1e-14) continue;
-          const std::size_t k = static_cast<std::size_t>(j) * pl.ni + i;
-          area[k] += a;
-          moment[k] += m;
-          if (a < full * (1 - 1e-9)) pieces.emplace_back(k, piece);
-        }
-      }
-    }
-    std::stable_sort(pieces.begin(), pieces.end(),
-                     [](const auto& x, const auto& y) { return x.first < y.first; });
-    pl.index.assign(n, -1);
-    const int plane_index = static_cast<int>(out.planes.size());
-    std::size_t pi = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      while (pi < pieces.size() && pieces[pi].first < k) ++pi;
-      if (area[k] < full * 1e-4) continue;  // float slivers along hole edges
-      Eigen::Vector2d c = moment[k] / area[k];
-      if (area[k] < full * (1 - 1e-9)) {
-        // A partial cell (an opening or room edge crosses it): keep the centroid on the surface.
-        bool inside = false;
-        double best_a = -1;
-        Eigen::Vector2d best_c = c;
-        for (std::size_t q = pi; q < pieces.size() && pieces[q].first == k; ++q) {
-          if (InsideConvex(pieces[q].second, c)) inside = true;
-          double a;
-          Eigen::Vector2d m;
-          AreaMoment(pieces[q].second, &a, &m);
-          if (a > best_a) {
-            best_a = a;
-            best_c = m / a;
-          }
-        }
-        if (!inside) c = best_c;
-      }
-      SurfaceCell cell;
-      cell.centre = pl.u_axis * c.x() + pl.v_axis * c.y() + pl.normal * pl.offset;
-      cell.normal = pl.normal;
-      cell.area = area[k];
-      cell.element = pl.element;
-      cell.plane = plane_index;
-      cell.element_class = out.elements[pl.element].element_class;
-      pl.index[k] = static_cast<std::int32_t>(out.cells.size());
-      out.cells.push_back(cell);
-    }
-    out.planes.push_back(std::move(pl));
-  }
+  for (PlaneBuild& pb : builds) CutIntoCells(pb, params.cell_size, out);
   return out;
 }
 

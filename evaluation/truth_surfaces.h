@@ -3,7 +3,7 @@
 // wall, floor, ceiling and column triangle of the room (openings are already holes in the wall
 // meshes) is clipped against a square grid laid in its plane. A cell is the part of one grid
 // square covered by one planar face of one element. The evaluator's coverage and observability
-// figures (issue 5) count these cells' areas.
+// figures count these cells' areas.
 //
 // Which geometry: scene parts whose element_id names a GroundTruth element of a structural class
 // (IsStructural) that lists the room; triangles are taken front side only (CCW = the visible

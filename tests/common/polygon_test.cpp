@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace mopad {
 namespace {
@@ -109,6 +110,63 @@ TEST(RemoveShallowVertices, RemovesJogsInAStraightWallAndKeepsCornersStepsAndSpi
   Poly triangle = {{0, 0}, {1, 0}, {0.5, 0.01}};
   RemoveShallowVertices(triangle, 0.04);
   EXPECT_EQ(triangle.size(), 3u);
+}
+
+TEST(DistanceToSegment, ProjectsOntoTheSegmentAndClampsToItsEnds) {
+  const V2 a(0, 0), b(4, 0);
+  EXPECT_DOUBLE_EQ(DistanceToSegment(V2(1, 2), a, b), 2.0);
+  EXPECT_DOUBLE_EQ(DistanceToSegment(V2(7, 4), a, b), 5.0);   // beyond b: to b
+  EXPECT_DOUBLE_EQ(DistanceToSegment(V2(-3, 4), a, b), 5.0);  // before a: to a
+  EXPECT_DOUBLE_EQ(SquaredDistanceToSegment(V2(1, 2), a, b), 4.0);
+  EXPECT_DOUBLE_EQ(DistanceToSegment(V2(3, 4), a, a), 5.0);  // a point
+  // A segment far shorter than a micrometre is still a segment, not its first end.
+  const V2 c(1e-7, 0);
+  EXPECT_DOUBLE_EQ(SquaredDistanceToSegment(V2(2e-7, 0), a, c), 1e-14);
+}
+
+TEST(DistanceToBoundary, IsTheNearestEdgeInsideAndOutside) {
+  const Poly r = Rect(0, 0, 4, 2);
+  EXPECT_DOUBLE_EQ(DistanceToBoundary(V2(1, 1.5), r), 0.5);  // inside, nearest the top edge
+  EXPECT_DOUBLE_EQ(DistanceToBoundary(V2(7, 6), r), 5.0);    // outside, nearest corner (4, 2)
+  EXPECT_DOUBLE_EQ(DistanceToBoundary(V2(0.5, 0), r), 0.0);  // on an edge
+  EXPECT_EQ(DistanceToBoundary(V2(0, 0), {}), std::numeric_limits<double>::infinity());
+}
+
+TEST(PolygonArea3d, IsTheAreaOfAPlanarPolygonInAnyPlaneAndWinding) {
+  // A 2 x 3 rectangle in the plane x = 1, and an L (area 3) tilted out of the x-y plane.
+  std::vector<Eigen::Vector3d> wall = {{1, 0, 0}, {1, 2, 0}, {1, 2, 3}, {1, 0, 3}};
+  EXPECT_DOUBLE_EQ(PolygonArea3d(wall), 6.0);
+  EXPECT_TRUE(NewellVector(wall).isApprox(Eigen::Vector3d(12, 0, 0)));  // twice the area, +x
+  std::reverse(wall.begin(), wall.end());
+  EXPECT_DOUBLE_EQ(PolygonArea3d(wall), 6.0);
+  EXPECT_TRUE(NewellVector(wall).isApprox(Eigen::Vector3d(-12, 0, 0)));
+  const double s = std::sqrt(0.5);
+  std::vector<Eigen::Vector3d> ell;
+  for (const V2& q : Poly{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}})
+    ell.emplace_back(q.x(), s * q.y(), s * q.y());
+  EXPECT_NEAR(PolygonArea3d(ell), 3.0, 1e-12);
+  EXPECT_EQ(PolygonArea3d({{0, 0, 0}, {1, 1, 1}}), 0.0);
+  EXPECT_EQ(PolygonArea3d({}), 0.0);
+}
+
+TEST(ConvexHull, IsCounterClockwiseFromTheLowestXWithoutInnerCollinearOrRepeatedPoints) {
+  const Poly points = {{1, 1}, {2, 0}, {0, 0}, {2, 2}, {1, 0}, {0, 2}, {2, 0}, {0.5, 1.5}};
+  const Poly hull = ConvexHull(points);
+  ASSERT_EQ(hull.size(), 4u);
+  EXPECT_EQ(hull[0], V2(0, 0));
+  EXPECT_EQ(hull[1], V2(2, 0));
+  EXPECT_EQ(hull[2], V2(2, 2));
+  EXPECT_EQ(hull[3], V2(0, 2));
+  EXPECT_GT(SignedArea(hull), 0.0);
+  // Fewer than 3 distinct points come back sorted and distinct.
+  EXPECT_EQ(ConvexHull({{1, 1}, {0, 0}, {1, 1}}), (Poly{{0, 0}, {1, 1}}));
+  EXPECT_TRUE(ConvexHull({}).empty());
+}
+
+TEST(ConvexHull, ToleranceDropsNearlyStraightTurns) {
+  const Poly points = {{0, 0}, {1, -1e-9}, {2, 0}, {2, 1}, {0, 1}};
+  EXPECT_EQ(ConvexHull(points).size(), 5u);
+  EXPECT_EQ(ConvexHull(points, 1e-6).size(), 4u);
 }
 
 }  // namespace

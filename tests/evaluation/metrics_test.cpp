@@ -1,4 +1,4 @@
-// Issue 6, item 5: every metric on hand-built cases with known answers.
+// Every metric on hand-built cases with known answers.
 #include "evaluation/metrics.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "evaluation/hungarian.h"
+#include "evaluation/json_number.h"
 #include "evaluation/metrics_floorplan.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_patches.h"
@@ -22,8 +23,7 @@ constexpr double kX = 4.0, kY = 5.0, kZ = 2.5;  // box room [0,4] x [0,5] x [0,2
 
 // Normal from the polygon (Newell), so it always agrees with the winding.
 Patch Make(const std::string& id, SurfaceClass cls, std::vector<Vec3> poly) {
-  Vec3 n = Vec3::Zero();
-  for (size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
+  const Vec3 n = NewellVector(poly);
   return Patch{id, cls, std::move(poly), n.normalized()};
 }
 
@@ -351,6 +351,15 @@ TEST(LabelMetrics, ConfusionOfAKnownLabelling) {
   EXPECT_NEAR(p.accuracy, 2.0 / 3.0, 1e-12);
   EXPECT_THROW(ComputeConfusion({0, 7}, {0, 0}, {"a", "b"}), InputError);
   EXPECT_THROW(ComputeConfusion({0}, {0, 0}, {"a", "b"}), InputError);
+}
+
+TEST(JsonNumber, NonFiniteNumbersBecomeNullInEitherDocumentType) {
+  EXPECT_EQ(Num(0.25).dump(), "0.25");
+  EXPECT_TRUE(Num(std::nan("")).is_null());
+  EXPECT_TRUE(Num(-INFINITY).is_null());
+  const nlohmann::ordered_json j = {{"b", Num<nlohmann::ordered_json>(1.5)},
+                                    {"a", Num<nlohmann::ordered_json>(NAN)}};
+  EXPECT_EQ(j.dump(), R"({"b":1.5,"a":null})");
 }
 
 TEST(MetricParams, YamlRoundTripAndBounds) {

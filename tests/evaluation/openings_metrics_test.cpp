@@ -1,4 +1,4 @@
-// SM4 openings against the truth (issue 15, item 7): Precision and Recall of areas, e_abs, e_r,
+// SM4 openings against the truth: Precision and Recall of areas, e_abs, e_r,
 // door states and angles on hand-built cases whose answers are computed by hand in comments.
 #include <gtest/gtest.h>
 

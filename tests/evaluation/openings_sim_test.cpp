@@ -1,4 +1,4 @@
-// SM4 end to end on simulated scans (issue 15): rooms of the committed scenes scanned with
+// SM4 end to end on simulated scans: rooms of the committed scenes scanned with
 // sim::TlsScanner at the true poses (map = world), SM1 (RoomModel) -> SM3 -> SM4 on the robot
 // side, then scored against the scene's truth openings. Prints the openings table of each room
 // and the SM4 time; asserts what the detector achieves on these rooms today (scan positions
@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "evaluation/metrics_openings.h"
 #include "modelling/model_io.h"
 #include "modelling/openings.h"
@@ -177,25 +178,6 @@ std::vector<Vec2> GridPositions(const scenes::GroundTruth& t, const scenes::Room
   Vec2 lo = room.polygon[0], hi = room.polygon[0], c = Vec2::Zero();
   for (const auto& p : room.polygon) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p), c += p;
   c /= static_cast<double>(room.polygon.size());
-  auto inside = [&](const Vec2& q) {
-    bool in = false;
-    for (std::size_t i = 0, j = room.polygon.size() - 1; i < room.polygon.size(); j = i++) {
-      const Vec2 &a = room.polygon[i], &b = room.polygon[j];
-      if ((a.y() > q.y()) != (b.y() > q.y()) &&
-          q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x())
-        in = !in;
-    }
-    return in;
-  };
-  auto wall_distance = [&](const Vec2& q) {
-    double d = 1e300;
-    for (std::size_t i = 0; i < room.polygon.size(); ++i) {
-      const Vec2 a = room.polygon[i], b = room.polygon[(i + 1) % room.polygon.size()];
-      const double tt = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-      d = std::min(d, (a + tt * (b - a) - q).norm());
-    }
-    return d;
-  };
   auto clear = [&](const Vec2& q) {
     for (const auto& f : t.furniture) {
       if (f.room != room.id) continue;
@@ -211,7 +193,8 @@ std::vector<Vec2> GridPositions(const scenes::GroundTruth& t, const scenes::Room
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < ny; ++j) {
       const Vec2 q = lo + Vec2((i + 0.5) * size.x() / nx, (j + 0.5) * size.y() / ny);
-      if (inside(q) && wall_distance(q) >= 1.2 && clear(q)) out.push_back(q);
+      if (PointInPolygon(q, room.polygon) && DistanceToBoundary(q, room.polygon) >= 1.2 && clear(q))
+        out.push_back(q);
     }
   if (out.empty()) out.push_back(c);
   return out;

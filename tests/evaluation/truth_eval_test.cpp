@@ -1,4 +1,4 @@
-// Truth-side figures of issue 5 on rooms built in code with known answers: structural surface
+// Truth-side figures on rooms built in code with known answers: structural surface
 // cells, reachable positions, observable area, coverage, registration error, SM1 label truth.
 
 #include "evaluation/truth_eval.h"
@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "evaluation/coverage.h"
 #include "evaluation/observability.h"
 #include "evaluation/scan_eval.h"
@@ -533,11 +534,7 @@ double AnalyticStructuralArea(const scenes::GroundTruth& t, const std::string& r
     if (!scenes::IsStructural(e.element_class) ||
         std::find(e.rooms.begin(), e.rooms.end(), room) == e.rooms.end())
       continue;
-    for (const auto& poly : e.polygons) {
-      Eigen::Vector3d n = Eigen::Vector3d::Zero();
-      for (std::size_t k = 0; k < poly.size(); ++k) n += poly[k].cross(poly[(k + 1) % poly.size()]);
-      a += 0.5 * n.norm();
-    }
+    for (const auto& poly : e.polygons) a += PolygonArea3d(poly);
     for (const scenes::Opening& o : t.openings)
       if (std::find(o.host_walls.begin(), o.host_walls.end(), e.id) != o.host_walls.end())
         a -= (o.u1 - o.u0) * (o.v1 - o.v0);

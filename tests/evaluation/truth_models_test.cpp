@@ -1,5 +1,5 @@
 // Truth models (evaluation/truth_models.h), model file readers (evaluation/model_files.h) and,
-// with MOPAD_EVAL_CLI, the `mopad eval` command end to end (issue 6, item 5).
+// with MOPAD_EVAL_CLI, the `mopad eval` command end to end.
 #include "evaluation/truth_models.h"
 
 #include <gtest/gtest.h>
