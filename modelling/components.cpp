@@ -1045,12 +1045,7 @@ void PlaceOnSamples(const SeSamples& samples, const SeImages& se, const interfac
     model.colour_rgb =
         MaybeFlip(ModelColourOnWall(m, model.wall_rgb, 0.0, m.pixel_size, light), ceiling);
   }
-  SampleFitParams fp;
-  fp.radius = p.place_radius;
-  fp.edge_share = p.place_edge_share;
-  fp.cauchy_k = p.place_cauchy_k;
-  fp.surface_band = p.surface_band;
-  const SampleFit fit = FitOnSamples(samples, model, col, row, pixel, spacing, fp);
+  const SampleFit fit = FitOnSamples(samples, model, col, row, pixel, spacing, p);
   if (!fit.fitted) return;
   b.col0 += fit.dcol, b.col1 += fit.dcol;
   b.row0 += fit.drow, b.row1 += fit.drow;
