@@ -14,8 +14,8 @@
 // and so pulls nothing. The shift is searched coarse to fine over +-radius (the model blurred
 // by at least each level's step), then refined by a parabola per axis.
 //
-// Internal to the modelling library (OpenCV types); components.cpp is its user. Deterministic:
-// samples in storage order, fixed search pattern.
+// Internal to the modelling library (OpenCV types); components_placement.cpp is its user.
+// Deterministic: samples in storage order, fixed search pattern.
 
 #include <array>
 #include <cstdint>
