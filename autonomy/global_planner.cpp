@@ -702,6 +702,42 @@ bool GlobalPlanner::SearchPath(const Vec2& s, const Vec2& g0, Cell sc, Cell gc,
   return true;
 }
 
+std::vector<std::uint8_t> GlobalPlanner::ValidCells() const {
+  const GlobalPlannerParams& P = params_;
+  const Impl& m = *impl_;
+  const OccupancyGrid& map = m.map;
+  const int w = map.Width(), h = map.Height();
+  auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
+  std::vector<std::uint8_t> valid(static_cast<std::size_t>(w) * h, 0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      valid[idx({i, j})] = m.field.ClearanceOfCell({i, j}) >= P.robot_radius &&
+                           m.field.IsFree(map.CentreOf({i, j}), P.robot_radius);
+  return valid;
+}
+
+void GlobalPlanner::ReportUnreachable(perception::Cell sc, perception::Cell gc, const Vec2& g0,
+                                      double refined_widest, GlobalPlan& plan) const {
+  const GlobalPlannerParams& P = params_;
+  plan.status = PlanStatus::kUnreachable;
+  // The refined map measures a squeeze closer to its width (where the 5 cm map has a route
+  // at all: inside a solid, behind its returns, the refined map reads free).
+  plan.widest_clearance = WidestRouteClearance(sc, gc);
+  if (plan.widest_clearance > 0.0)
+    plan.widest_clearance = std::max(plan.widest_clearance, refined_widest);
+  plan.message = FormatNumbers(
+      "goal (%.2f, %.2f) is not connected to the start in free space with "
+      "%.2f m clearance",
+      g0.x(), g0.y(), P.robot_radius);
+  plan.message +=
+      plan.widest_clearance > 0.0
+          ? FormatNumbers(": the widest route keeps %.2f m (a passage about %.2f m wide)",
+                          plan.widest_clearance, 2.0 * plan.widest_clearance)
+          : std::string(
+                ": no route through known free space (a closed door or an unseen "
+                "passage)");
+}
+
 GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
   const std::uint64_t query = query_++;
   const GlobalPlannerParams& P = params_;
@@ -732,13 +768,9 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
                    FormatNumbers(", needs >= %.2f m (robot radius)", P.robot_radius);
     return plan;
   }
-  const int w = map.Width(), h = map.Height();
+  const int w = map.Width();
   auto idx = [&](const Cell& c) { return static_cast<std::size_t>(c.j) * w + c.i; };
-  std::vector<std::uint8_t> valid(static_cast<std::size_t>(w) * h, 0);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i)
-      valid[idx({i, j})] = m.field.ClearanceOfCell({i, j}) >= P.robot_radius &&
-                           m.field.IsFree(map.CentreOf({i, j}), P.robot_radius);
+  const std::vector<std::uint8_t> valid = ValidCells();
   // A start inside the clearance margin is led out along cells with min_start_clearance.
   Vec2 s = s0;
   Cell sc = map.CellOf(s0);
@@ -785,7 +817,8 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
       fine.robot_radius = fine.narrow_radius = radius;
       fine.min_start_clearance = std::min(P.min_start_clearance, radius);
       fine.narrow_refinement = 1;
-      impl_->refined = std::make_unique<GlobalPlanner>(map.Refined(P.narrow_refinement), fine, seed_);
+      impl_->refined =
+          std::make_unique<GlobalPlanner>(map.Refined(P.narrow_refinement), fine, seed_);
     }
     impl_->refined->query_ = query;
     GlobalPlan fine_plan = impl_->refined->Plan(start, goal);
@@ -799,22 +832,7 @@ GlobalPlan GlobalPlanner::Plan(const Pose2& start, const Pose2& goal) {
     refined_widest = fine_plan.widest_clearance;
   }
   if (!comp[idx(gc)]) {
-    plan.status = PlanStatus::kUnreachable;
-    // The refined map measures a squeeze closer to its width (where the 5 cm map has a route
-    // at all: inside a solid, behind its returns, the refined map reads free).
-    plan.widest_clearance = WidestRouteClearance(sc, gc);
-    if (plan.widest_clearance > 0.0)
-      plan.widest_clearance = std::max(plan.widest_clearance, refined_widest);
-    plan.message = FormatNumbers(
-        "goal (%.2f, %.2f) is not connected to the start in free space with "
-        "%.2f m clearance",
-        g0.x(), g0.y(), P.robot_radius);
-    plan.message +=
-        plan.widest_clearance > 0.0
-            ? FormatNumbers(": the widest route keeps %.2f m (a passage about %.2f m wide)",
-                            plan.widest_clearance, 2.0 * plan.widest_clearance)
-            : std::string(": no route through known free space (a closed door or an unseen "
-                          "passage)");
+    ReportUnreachable(sc, gc, g0, refined_widest, plan);
     return plan;
   }
   // 2. OMPL RRT* in R^2 over the map's extent (or the grid seed path), then 3. shortcuts and

@@ -147,7 +147,7 @@ struct GlobalPlan {
   /// goal can keep everywhere (its narrowest passage is about twice as wide); 0 when no such
   /// route exists. m
   double widest_clearance = 0.0;
-  int iterations = 0;             ///< RRT* iterations spent
+  int iterations = 0;  ///< RRT* iterations spent
   bool ok() const { return status == PlanStatus::kFound; }
 };
 
@@ -191,6 +191,13 @@ class GlobalPlanner {
   std::vector<std::uint8_t> Component(perception::Cell sc,
                                       const std::vector<std::uint8_t>& valid) const;
   double WidestRouteClearance(perception::Cell sc, perception::Cell gc) const;
+  /// Per map cell (row-major): its centre keeps the robot radius from obstacles and is known free.
+  std::vector<std::uint8_t> ValidCells() const;
+  /// Plan's outcome when the goal is not connected to the start: the status, the widest route's
+  /// clearance (at least `refined_widest`, that of the refined map, where there is a route) and
+  /// the message.
+  void ReportUnreachable(perception::Cell sc, perception::Cell gc, const Vec2& g0,
+                         double refined_widest, GlobalPlan& plan) const;
   void FinishPlan(const std::vector<Vec2>& vertices, std::vector<Passage> passages,
                   const Pose2& goal, double goal_clear, const Vec2& s0, const Vec2& s,
                   GlobalPlan& plan) const;

@@ -1,5 +1,5 @@
 #pragma once
-// Internals of SM5 (modelling/components.h) shared by components.cpp, the recogniser's
+// Internals of SM5 (modelling/components.h) shared by components*.cpp, the recogniser's
 // training and the tests: catalogue models as OpenCV images, the colour pattern fed to the
 // perceptron, and the augmentation that degrades a model as a scan does. OpenCV types; not
 // part of the robot's public API.

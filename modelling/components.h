@@ -48,7 +48,7 @@
 //     hold a box is located by NCC of its colour model (padded with the local wall colour; a
 //     flush class also by its model alone, the inner pattern, when that matches better and
 //     reaches inner_ncc_min: its outline may not show in the scan; placed by the peak of the
-//     model relit by the SE's light, SeLight in components.cpp) and verified by the
+//     model relit by the SE's light, SeLight in components_se_images.cpp) and verified by the
 //     perceptron (ComponentRecogniser) on the box of the class size there: a colour
 //     detection when the NCC peak is >= colour_ncc_min, the perceptron's best class score
 //     beats its "none" score, a class of the same size scores at least colour_score_min of that
@@ -123,7 +123,7 @@ struct ComponentParams {
   /// A filled pixel is known when its filter weight is at least this share of the local
   /// share of pixels holding points (the weight of a uniform sampling there), [0.001, 1]
   double fill_min_weight = 0.3;
-  double opening_margin = 0.05;   ///< m, SM4 openings grown by this before removal, [0, 0.5]
+  double opening_margin = 0.05;  ///< m, SM4 openings grown by this before removal, [0, 0.5]
   /// m, a candidate region touching a removed opening loses its pixels within this of the
   /// removal (the opening's casing or trim, beyond opening_margin); the rest is a candidate of
   /// its own. 0 = such a region is dropped whole, [0, 0.5]

@@ -56,34 +56,15 @@ bool Better(const DetectedOpening& a, int room_a, const DetectedOpening& b, int 
 
 Vec3 OntoPlane(const Vec3& p, const Plane& plane) { return p - plane.Distance(p) * plane.n; }
 
-}  // namespace
-
-void FloorModelParams::Validate() const {
-  ValidateParams(*this, "floor_model.");
-  if (min_thickness > max_thickness)
-    throw InputError("", "parameter 'floor_model.min_thickness' exceeds 'max_thickness'",
-                     std::to_string(min_thickness), "<= " + std::to_string(max_thickness));
+// The wall patch a face stands for.
+const StructuralPatch& PatchOf(const std::vector<StructuralModel>& sm3, const Face& f) {
+  return sm3[f.room].patches[f.patch];
 }
 
-FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
-                           const std::vector<Sm4Model>& sm4, const FloorModelParams& params) {
-  params.Validate();
-  const std::string where = "floor model";
-  for (std::size_t r = 0; r < sm3.size(); ++r) {
-    if (sm3[r].room.empty())
-      throw InputError(where, "room " + std::to_string(r) + " has no name", "", "a room name");
-    for (std::size_t q = 0; q < r; ++q)
-      if (sm3[q].room == sm3[r].room)
-        throw InputError(where, "room '" + sm3[r].room + "' listed twice");
-  }
-  auto room_index = [&](const std::string& name) {
-    for (std::size_t r = 0; r < sm3.size(); ++r)
-      if (sm3[r].room == name) return static_cast<int>(r);
-    return -1;
-  };
-
-  FloorModel out;
-  // Faces, in room then patch order; the other patches stay with their room.
+// Faces, in room then patch order (their walls checked: a polygon, a vertical finite plane);
+// the other patches stay with their room in `out`.
+std::vector<Face> CollectFaces(const std::vector<StructuralModel>& sm3, const std::string& where,
+                               FloorModel& out) {
   std::vector<Face> faces;
   for (std::size_t r = 0; r < sm3.size(); ++r) {
     StructuralModel keep;
@@ -117,66 +98,14 @@ FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
     }
     out.rooms.push_back(std::move(keep));
   }
-  auto patch_of = [&](const Face& f) -> const StructuralPatch& {
-    return sm3[f.room].patches[f.patch];
-  };
+  return faces;
+}
 
-  // Pairs of faces of one wall, and the walls as connected groups of faces.
+// Each wall's plane, thickness and extent from its faces (`wall_of` each face's wall).
+void FitWallPlanes(const std::vector<StructuralModel>& sm3, const std::vector<Face>& faces,
+                   const std::vector<int>& wall_of, FloorModel& out) {
+  auto patch_of = [&](const Face& f) -> const StructuralPatch& { return PatchOf(sm3, f); };
   const int nf = static_cast<int>(faces.size());
-  const double cos_max = std::cos(params.max_angle_deg * kPi / 180.0);
-  std::vector<int> parent(nf);
-  std::iota(parent.begin(), parent.end(), 0);
-  struct Pair {
-    int a, b;
-    double thickness, overlap;
-  };
-  std::vector<Pair> pairs;
-  for (int i = 0; i < nf; ++i)
-    for (int j = i + 1; j < nf; ++j) {
-      const Face& fi = faces[i];
-      const Face& fj = faces[j];
-      if (fi.room == fj.room || fi.h.dot(fj.h) > -cos_max) continue;
-      const StructuralPatch& pi = patch_of(fi);
-      const StructuralPatch& pj = patch_of(fj);
-      const Vec3 u = AlongWall(fi.h);
-      const auto ui = Interval(pi.polygon, u), uj = Interval(pj.polygon, u);
-      const double along = Overlap(ui, uj);
-      const double high = std::min(fi.z1, fj.z1) - std::max(fi.z0, fj.z0);
-      if (along < params.min_overlap || high < params.min_overlap) continue;
-      // Each face's centroid slid along the wall to the middle of the overlap.
-      const double um = 0.5 * (std::max(ui.first, uj.first) + std::min(ui.second, uj.second));
-      const Vec3 ci = fi.centroid + (um - u.dot(fi.centroid)) * u;
-      const Vec3 cj = fj.centroid + (um - u.dot(fj.centroid)) * u;
-      // Back to back: each lies behind the other's plane (the normals point into the rooms).
-      const double t_ij = -pj.plane.Distance(ci) / pj.plane.n.norm();
-      const double t_ji = -pi.plane.Distance(cj) / pi.plane.n.norm();
-      if (std::min(t_ij, t_ji) < params.min_thickness ||
-          std::max(t_ij, t_ji) > params.max_thickness)
-        continue;
-      pairs.push_back({i, j, 0.5 * (t_ij + t_ji), along});
-      const int ri = Find(parent, i), rj = Find(parent, j);
-      if (ri != rj) parent[std::max(ri, rj)] = std::min(ri, rj);
-    }
-
-  std::vector<int> wall_of(nf, -1), index_in_wall(nf, -1);
-  for (int i = 0; i < nf; ++i) {
-    const int root = Find(parent, i);
-    if (wall_of[root] < 0) {  // roots are each group's lowest face index: groups in face order
-      wall_of[root] = static_cast<int>(out.walls.size());
-      out.walls.emplace_back();
-      out.walls.back().id = "wall_" + std::to_string(out.walls.size());
-    }
-    wall_of[i] = wall_of[root];
-    FloorWall& w = out.walls[wall_of[i]];
-    index_in_wall[i] = static_cast<int>(w.faces.size());
-    w.faces.push_back({sm3[faces[i].room].room, patch_of(faces[i]), 1});
-  }
-  for (const Pair& p : pairs) {
-    FloorWall& w = out.walls[wall_of[p.a]];
-    w.pairs.push_back({index_in_wall[p.a], index_in_wall[p.b], p.thickness, p.overlap});
-  }
-
-  // Each wall's plane, thickness and extent.
   std::vector<std::vector<int>> members(out.walls.size());
   for (int i = 0; i < nf; ++i) members[wall_of[i]].push_back(i);
   for (std::size_t w = 0; w < out.walls.size(); ++w) {
@@ -218,8 +147,21 @@ FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
     for (const auto& [pu, pz] : {std::pair{u0, z0}, {u1, z0}, {u1, z1}, {u0, z1}})
       wall.polygon.push_back(o + pu * u + pz * Vec3::UnitZ());
   }
+}
 
-  // Openings: each on its host face's wall, doors seen from both sides merged.
+// Openings: each on its host face's wall, doors seen from both sides merged (the better-observed
+// side first), in wall order then along the wall.
+void PlaceOpenings(const std::vector<StructuralModel>& sm3, const std::vector<Sm4Model>& sm4,
+                   const FloorModelParams& params, const std::vector<Face>& faces,
+                   const std::vector<int>& wall_of, const std::vector<int>& index_in_wall,
+                   const std::string& where, FloorModel& out) {
+  auto room_index = [&](const std::string& name) {
+    for (std::size_t r = 0; r < sm3.size(); ++r)
+      if (sm3[r].room == name) return static_cast<int>(r);
+    return -1;
+  };
+  auto patch_of = [&](const Face& f) -> const StructuralPatch& { return PatchOf(sm3, f); };
+  const int nf = static_cast<int>(faces.size());
   struct Seen {
     int room, wall, side;
     const DetectedOpening* o;
@@ -305,6 +247,90 @@ FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
     }
     out.openings.push_back(std::move(fo));
   }
+}
+
+}  // namespace
+
+void FloorModelParams::Validate() const {
+  ValidateParams(*this, "floor_model.");
+  if (min_thickness > max_thickness)
+    throw InputError("", "parameter 'floor_model.min_thickness' exceeds 'max_thickness'",
+                     std::to_string(min_thickness), "<= " + std::to_string(max_thickness));
+}
+
+FloorModel BuildFloorModel(const std::vector<StructuralModel>& sm3,
+                           const std::vector<Sm4Model>& sm4, const FloorModelParams& params) {
+  params.Validate();
+  const std::string where = "floor model";
+  for (std::size_t r = 0; r < sm3.size(); ++r) {
+    if (sm3[r].room.empty())
+      throw InputError(where, "room " + std::to_string(r) + " has no name", "", "a room name");
+    for (std::size_t q = 0; q < r; ++q)
+      if (sm3[q].room == sm3[r].room)
+        throw InputError(where, "room '" + sm3[r].room + "' listed twice");
+  }
+
+  FloorModel out;
+  const std::vector<Face> faces = CollectFaces(sm3, where, out);
+  auto patch_of = [&](const Face& f) -> const StructuralPatch& { return PatchOf(sm3, f); };
+
+  // Pairs of faces of one wall, and the walls as connected groups of faces.
+  const int nf = static_cast<int>(faces.size());
+  const double cos_max = std::cos(params.max_angle_deg * kPi / 180.0);
+  std::vector<int> parent(nf);
+  std::iota(parent.begin(), parent.end(), 0);
+  struct Pair {
+    int a, b;
+    double thickness, overlap;
+  };
+  std::vector<Pair> pairs;
+  for (int i = 0; i < nf; ++i)
+    for (int j = i + 1; j < nf; ++j) {
+      const Face& fi = faces[i];
+      const Face& fj = faces[j];
+      if (fi.room == fj.room || fi.h.dot(fj.h) > -cos_max) continue;
+      const StructuralPatch& pi = patch_of(fi);
+      const StructuralPatch& pj = patch_of(fj);
+      const Vec3 u = AlongWall(fi.h);
+      const auto ui = Interval(pi.polygon, u), uj = Interval(pj.polygon, u);
+      const double along = Overlap(ui, uj);
+      const double high = std::min(fi.z1, fj.z1) - std::max(fi.z0, fj.z0);
+      if (along < params.min_overlap || high < params.min_overlap) continue;
+      // Each face's centroid slid along the wall to the middle of the overlap.
+      const double um = 0.5 * (std::max(ui.first, uj.first) + std::min(ui.second, uj.second));
+      const Vec3 ci = fi.centroid + (um - u.dot(fi.centroid)) * u;
+      const Vec3 cj = fj.centroid + (um - u.dot(fj.centroid)) * u;
+      // Back to back: each lies behind the other's plane (the normals point into the rooms).
+      const double t_ij = -pj.plane.Distance(ci) / pj.plane.n.norm();
+      const double t_ji = -pi.plane.Distance(cj) / pi.plane.n.norm();
+      if (std::min(t_ij, t_ji) < params.min_thickness ||
+          std::max(t_ij, t_ji) > params.max_thickness)
+        continue;
+      pairs.push_back({i, j, 0.5 * (t_ij + t_ji), along});
+      const int ri = Find(parent, i), rj = Find(parent, j);
+      if (ri != rj) parent[std::max(ri, rj)] = std::min(ri, rj);
+    }
+
+  std::vector<int> wall_of(nf, -1), index_in_wall(nf, -1);
+  for (int i = 0; i < nf; ++i) {
+    const int root = Find(parent, i);
+    if (wall_of[root] < 0) {  // roots are each group's lowest face index: groups in face order
+      wall_of[root] = static_cast<int>(out.walls.size());
+      out.walls.emplace_back();
+      out.walls.back().id = "wall_" + std::to_string(out.walls.size());
+    }
+    wall_of[i] = wall_of[root];
+    FloorWall& w = out.walls[wall_of[i]];
+    index_in_wall[i] = static_cast<int>(w.faces.size());
+    w.faces.push_back({sm3[faces[i].room].room, patch_of(faces[i]), 1});
+  }
+  for (const Pair& p : pairs) {
+    FloorWall& w = out.walls[wall_of[p.a]];
+    w.pairs.push_back({index_in_wall[p.a], index_in_wall[p.b], p.thickness, p.overlap});
+  }
+
+  FitWallPlanes(sm3, faces, wall_of, out);
+  PlaceOpenings(sm3, sm4, params, faces, wall_of, index_in_wall, where, out);
   return out;
 }
 

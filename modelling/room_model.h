@@ -40,6 +40,210 @@ namespace mopad::modelling {
 enum class PointLabel : std::uint8_t { kNone = 0, kInlier = 1, kOutlier = 2, kClutter = 3 };
 const char* ToString(PointLabel label);
 
+/// The floor and ceiling heights (paper §3.2): the strong peaks of the working cloud's
+/// Z-histogram below and above the scanners' mean height.
+struct HeightSearchParams {
+  /// m, the histogram spans the scanners' mean height +- this, [1, 100]
+  double search_range = 10.0;
+  /// m, no floor or ceiling peak is looked for closer than this to the scanners' mean height,
+  /// [0, 5]
+  double scanner_guard = 0.3;
+  double peak_share = 0.3;  ///< a peak counts at this share of the highest one, [0.01, 1]
+  /// bins, a peak's height is the mean z of the working points within this many bins of it,
+  /// [0.5, 10]
+  double refine_bins = 1.5;
+  /// m, the floor (ceiling) lies this far below (above) the scanners where no peak is found,
+  /// [0, 10]
+  double fallback_offset = 1.4;
+
+  template <class V>
+  void Visit(V& v) {
+    v("search_range", search_range, Bounds{1.0, 100.0});
+    v("scanner_guard", scanner_guard, Bounds{0.0, 5.0});
+    v("peak_share", peak_share, Bounds{0.01, 1.0});
+    v("refine_bins", refine_bins, Bounds{0.5, 10.0});
+    v("fallback_offset", fallback_offset, Bounds{0.0, 10.0});
+  }
+};
+
+/// One scan's outline of its ceiling view (RoomModel::TraceOutline): per azimuth column the
+/// walk down from the top row over the ceiling up to the wall that stops it.
+struct CeilingOutlineParams {
+  /// m, a change of the ceiling height beyond this retraces every scan's outline (else only the
+  /// new scan's), [0, 1]
+  double retrace_change = 0.01;
+  /// rows without a return before a point that make a gap in its column (a single dropout of
+  /// a dark or specular surface is none; a wall closer than the minimum range is), [1, 1000]
+  int gap_rows = 2;
+  /// m, things hanging this far below the ceiling continue the walk, [0, 2]
+  double hang_depth = 0.25;
+  /// m, a point below the ceiling this much nearer than the farthest ceiling seen so far in its
+  /// column occludes the ceiling and is stepped over, [0, 1]
+  double occluder_margin = 0.05;
+  /// m, 3D range under which a return may be followed by surfaces too close to return
+  /// (scanners' minimum ranges are 0.5-1.5 m), [0, 10]
+  double near_range = 2.0;
+  /// m, a return this close to the scan's shortest one lies at the scanner's minimum range,
+  /// [0, 1]
+  double min_range_slack = 0.1;
+  /// m, the outline's reach in a direction the scan saw nothing in: about the robot's own
+  /// half-width around the scanner, the only space known to be free there, [0, 2]
+  double blind_radius = 0.25;
+  /// m, a jump in the ceiling's reach between neighbouring azimuths beyond this is stepped
+  /// around radially (above the reach's noise along a wall), [0, 1]
+  double shadow_step = 0.05;
+
+  template <class V>
+  void Visit(V& v) {
+    v("retrace_change", retrace_change, Bounds{0.0, 1.0});
+    v("gap_rows", gap_rows, Bounds{1, 1000});
+    v("hang_depth", hang_depth, Bounds{0.0, 2.0});
+    v("occluder_margin", occluder_margin, Bounds{0.0, 1.0});
+    v("near_range", near_range, Bounds{0.0, 10.0});
+    v("min_range_slack", min_range_slack, Bounds{0.0, 1.0});
+    v("blind_radius", blind_radius, Bounds{0.0, 2.0});
+    v("shadow_step", shadow_step, Bounds{0.0, 1.0});
+  }
+};
+
+/// Each perimeter edge moved onto its wall (RoomModel::RefitPerimeter): the outermost strong
+/// peak of the offsets across the edge of the working points between the floor and ceiling
+/// bands, then a total least-squares line through the points near that offset.
+struct WallRefitParams {
+  /// m, each end of an edge longer than three times this is left out of its refit (the
+  /// corners), [0, 1]
+  double end_guard = 0.1;
+  double floor_clearance = 0.2;    ///< m, refit points lie above floor + this, [0, 2]
+  double ceiling_clearance = 0.1;  ///< m, and below ceiling - this, [0, 2]
+  /// m above the floor: points higher are above door heads (2.0-2.1 m), where only the wall
+  /// itself reaches (a lintel, the wall over a cabinet); its offset is looked for there first,
+  /// [0, 10]
+  double high_band = 2.2;
+  double offset_bin = 0.005;  ///< m, bin of the histogram of offsets across an edge, [0.001, 0.1]
+  double peak_share = 0.5;    ///< the wall's peak has at least this share of the highest, [0.01, 1]
+  /// m, stretch of an edge that counts as covered when one of the wall's points lies in it,
+  /// [0.01, 1]
+  double support_bin = 0.1;
+  /// share of an edge's stretches its wall's points must cover (and at least two), [0, 1]
+  double min_coverage = 0.2;
+  /// the points above door heads alone give the line where they cover this share of the
+  /// stretches all points cover, [0, 1]
+  double high_coverage = 0.5;
+  /// deg, a fitted line turned more than this off the traced edge keeps the edge's direction,
+  /// only shifted, [0, 90]
+  double max_turn_deg = 10.0;
+  /// the line is refit about the wall's peak on the points within this share of
+  /// wall_tolerance of it, [0, 1]
+  double tighten_first = 0.6;
+  double tighten_second = 0.4;  ///< then within this share of wall_tolerance, [0, 1]
+  /// a tightened refit is taken while at least this share of the band's points (and
+  /// refit_min_points) remain, [0, 1]
+  double tighten_keep_share = 0.2;
+
+  template <class V>
+  void Visit(V& v) {
+    v("end_guard", end_guard, Bounds{0.0, 1.0});
+    v("floor_clearance", floor_clearance, Bounds{0.0, 2.0});
+    v("ceiling_clearance", ceiling_clearance, Bounds{0.0, 2.0});
+    v("high_band", high_band, Bounds{0.0, 10.0});
+    v("offset_bin", offset_bin, Bounds{0.001, 0.1});
+    v("peak_share", peak_share, Bounds{0.01, 1.0});
+    v("support_bin", support_bin, Bounds{0.01, 1.0});
+    v("min_coverage", min_coverage, Bounds{0.0, 1.0});
+    v("high_coverage", high_coverage, Bounds{0.0, 1.0});
+    v("max_turn_deg", max_turn_deg, Bounds{0.0, 90.0});
+    v("tighten_first", tighten_first, Bounds{0.0, 1.0});
+    v("tighten_second", tighten_second, Bounds{0.0, 1.0});
+    v("tighten_keep_share", tighten_keep_share, Bounds{0.0, 1.0});
+  }
+};
+
+/// The refit perimeter's corners from its edges' lines (JoinPerimeterLines).
+struct PerimeterCornerParams {
+  /// deg, lines nearer than this to parallel are not intersected, [0.1, 45]
+  double parallel_deg = 5.0;
+  /// m, an edge shorter than this between two fitted walls, left unfitted, is the tracer
+  /// cutting their corner: the walls meet in one corner instead, [0, 2]
+  double chamfer_max = 0.3;
+  double wall_end_max = 0.6;  ///< m, a wall's end face is at most this wide (thick walls), [0, 5]
+  /// deg, two walls within this of antiparallel hold the end face of a wall standing into the
+  /// room between them, [0, 45]
+  double antiparallel_deg = 5.0;
+  /// deg, the walls at a corner are at least this far from parallel, [0, 90]
+  double corner_min_deg = 45.0;
+  /// deg, a short fitted edge whose points run within this of a neighbour's wall line (and lie
+  /// on it) carries that wall's own points, [0, 45]
+  double on_wall_deg = 10.0;
+  /// m, a corner moves at most this far to its lines' intersection; farther (or nearly
+  /// parallel lines) it is projected onto both lines, [0, 5]
+  double max_corner_shift = 0.5;
+  /// m, both projections are kept when further apart than this, [0, 1]
+  double split_corner = 0.02;
+
+  template <class V>
+  void Visit(V& v) {
+    v("parallel_deg", parallel_deg, Bounds{0.1, 45.0});
+    v("chamfer_max", chamfer_max, Bounds{0.0, 2.0});
+    v("wall_end_max", wall_end_max, Bounds{0.0, 5.0});
+    v("antiparallel_deg", antiparallel_deg, Bounds{0.0, 45.0});
+    v("corner_min_deg", corner_min_deg, Bounds{0.0, 90.0});
+    v("on_wall_deg", on_wall_deg, Bounds{0.0, 45.0});
+    v("max_corner_shift", max_corner_shift, Bounds{0.0, 5.0});
+    v("split_corner", split_corner, Bounds{0.0, 1.0});
+  }
+};
+
+/// The shape of a detour of the perimeter that is a view through an opening in a wall
+/// (RoomModelParams::seal_depth, seal_width and seal_inward give its size).
+struct OpeningSealParams {
+  double min_wall = 0.3;  ///< m, the wall edges either side of the detour are this long, [0, 5]
+  double on_line = 0.03;  ///< m, the detour ends this close to the wall's line, [0, 0.5]
+  /// m, the detour passes this far behind the wall's line (or jog_tolerance, if smaller):
+  /// beyond the wall's own noise, [0, 1]
+  double min_depth = 0.05;
+  int max_vertices = 12;  ///< vertices of the detour, [1, 1000]
+  /// deg, the wall edge after the detour runs within this of the wall's direction, [0, 45]
+  double parallel_deg = 5.0;
+
+  template <class V>
+  void Visit(V& v) {
+    v("min_wall", min_wall, Bounds{0.0, 5.0});
+    v("on_line", on_line, Bounds{0.0, 0.5});
+    v("min_depth", min_depth, Bounds{0.0, 1.0});
+    v("max_vertices", max_vertices, Bounds{1, 1000});
+    v("parallel_deg", parallel_deg, Bounds{0.0, 45.0});
+  }
+};
+
+/// Columns (RoomModel::DetectColumns): plan cells with working points in the top height slice,
+/// grouped; a group small enough and seen over most of the height is a column.
+struct ColumnSearchParams {
+  double cell = 0.05;  ///< m, plan cell, [0.01, 0.5]
+  /// height slices between floor_clearance and ceiling_clearance (column_min_height_share of
+  /// them must hold points), [1, 16]
+  int slices = 8;
+  double floor_clearance = 0.1;     ///< m, the slices begin this far above the floor, [0, 2]
+  double ceiling_clearance = 0.05;  ///< m, and end this far below the ceiling, [0, 2]
+  /// m, cells nearer than this to the perimeter are wall (a column touching a wall is a
+  /// pilaster, part of the perimeter), [0, 2]
+  double wall_clearance = 0.15;
+  int min_points = 20;              ///< working points of a column, [3, 100000]
+  double outline_tolerance = 0.01;  ///< m, simplification of the footprint's hull, [0, 0.5]
+  double min_area = 0.01;           ///< m^2, smallest footprint, [0, 10]
+
+  template <class V>
+  void Visit(V& v) {
+    v("cell", cell, Bounds{0.01, 0.5});
+    v("slices", slices, Bounds{1, 16});
+    v("floor_clearance", floor_clearance, Bounds{0.0, 2.0});
+    v("ceiling_clearance", ceiling_clearance, Bounds{0.0, 2.0});
+    v("wall_clearance", wall_clearance, Bounds{0.0, 2.0});
+    v("min_points", min_points, Bounds{3, 100000});
+    v("outline_tolerance", outline_tolerance, Bounds{0.0, 0.5});
+    v("min_area", min_area, Bounds{0.0, 10.0});
+  }
+};
+
 struct RoomModelParams {
   double working_voxel = 0.02;  ///< m, working-cloud downsampling, [0.005, 0.2]
   double histogram_bin = 0.01;  ///< m, Z-histogram bin, [0.002, 0.1]
@@ -59,6 +263,8 @@ struct RoomModelParams {
   /// [0, 0.5]
   double jog_tolerance = 0.04;
   double min_edge_length = 0.1;  ///< m, shorter simplified edges are merged, [0, 2]
+  /// deg, a vertex whose edges turn less than this is dropped, [0, 45]
+  double collinear_deg = 3.0;
   /// m, a perimeter detour that leaves a wall line, passes up to this far behind it and comes
   /// back onto the same line is a view through an opening in that wall (the trace walked into
   /// a door's or window's reveal under a head close to the ceiling) and is cut off by the
@@ -69,21 +275,30 @@ struct RoomModelParams {
   /// m, how far such a detour may also reach into the room (the leaf of a door opened inwards,
   /// which hides the wall beside the doorway), [0, 5]
   double seal_inward = 1.2;
+  OpeningSealParams seal;     ///< the detour's shape
   double refit_band = 0.1;    ///< m, wall points gathered around an edge for its refit, [0.01, 1]
   int refit_min_points = 30;  ///< points an edge needs to be refit, [3, 100000]
+  WallRefitParams refit;      ///< each edge moved onto its wall
+  PerimeterCornerParams corners;         ///< the refit edges' corners
   double column_max_size = 1.5;          ///< m, largest column footprint side, [0.1, 10]
   double column_min_height_share = 0.7;  ///< share of the floor-ceiling height seen, [0.1, 1]
+  ColumnSearchParams columns;            ///< the column search
   /// m, RoI face raster cell, [0.02, 1]. 5 cm: a cell counts as sensed from one point, so
   /// larger cells overstate sparse far coverage (the evaluator scores 5 cm cells).
   double face_cell = 0.05;
   double structural_share = 0.05;  ///< sensed share that makes a face structural, [0, 1]
   double voxel_size = 0.1;         ///< m, voxel space edge, [0.02, 1]
   double voxel_margin = 0.5;       ///< m, grid margin around the RoI, [0, 5]
+  /// m, the grid reaches this beyond the margin, so that the next scans, which grow the RoI a
+  /// little, reuse it instead of casting every scan's rays again, [0, 10]
+  double voxel_growth = 1.0;
   /// m, a RoI face is taken this far into the room when picking its voxel layer, so a face the
   /// robot places a few mm behind a voxel boundary still lands on the room side as the truth's
   /// does (DSM3: one structural layer per face), [0, 0.45 * voxel_size]
   double structure_tolerance = 0.01;
-  int ray_stride = 2;  ///< every n-th row and column is ray-cast into voxels, [1, 64]
+  int ray_stride = 2;            ///< every n-th row and column is ray-cast into voxels, [1, 64]
+  HeightSearchParams heights;    ///< the floor and ceiling heights
+  CeilingOutlineParams outline;  ///< each scan's ceiling outline
 
   template <class V>
   void Visit(V& v) {
@@ -97,19 +312,27 @@ struct RoomModelParams {
     v("perimeter_epsilon", perimeter_epsilon, Bounds{0.005, 0.5});
     v("jog_tolerance", jog_tolerance, Bounds{0.0, 0.5});
     v("min_edge_length", min_edge_length, Bounds{0.0, 2.0});
+    v("collinear_deg", collinear_deg, Bounds{0.0, 45.0});
     v("seal_depth", seal_depth, Bounds{0.0, 2.0});
     v("seal_width", seal_width, Bounds{0.0, 10.0});
     v("seal_inward", seal_inward, Bounds{0.0, 5.0});
+    v("seal", seal);
     v("refit_band", refit_band, Bounds{0.01, 1.0});
     v("refit_min_points", refit_min_points, Bounds{3, 100000});
+    v("refit", refit);
+    v("corners", corners);
     v("column_max_size", column_max_size, Bounds{0.1, 10.0});
     v("column_min_height_share", column_min_height_share, Bounds{0.1, 1.0});
+    v("columns", columns);
     v("face_cell", face_cell, Bounds{0.02, 1.0});
     v("structural_share", structural_share, Bounds{0.0, 1.0});
     v("voxel_size", voxel_size, Bounds{0.02, 1.0});
     v("voxel_margin", voxel_margin, Bounds{0.0, 5.0});
+    v("voxel_growth", voxel_growth, Bounds{0.0, 10.0});
     v("structure_tolerance", structure_tolerance, Bounds{0.0, 0.45});
     v("ray_stride", ray_stride, Bounds{1, 64});
+    v("heights", heights);
+    v("outline", outline);
   }
   void Validate() const { ValidateParams(*this, "room_model."); }
 };
@@ -123,7 +346,7 @@ void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params);
 /// One perimeter edge's wall line after the refit (plan, map frame): a point `p` of it, its unit
 /// direction `t`, `fitted` false where no wall's points carried the edge (it keeps the traced
 /// line), and `support` the principal direction of the points that carried it (`t` keeps the
-/// traced direction, only shifted, where they run more than 10 deg off the edge).
+/// traced direction, only shifted, where they run more than refit.max_turn_deg off the edge).
 struct PerimeterLine {
   Vec2 p = Vec2::Zero();
   Vec2 t = Vec2::UnitX();
@@ -220,7 +443,8 @@ class RoomModel {
   /// label counts) as a JSON object, for the mission log.
   std::string FiguresJson() const;
 
-  /// Implementation detail (room_model.cpp): plan boundary for the signed-distance lookups.
+  /// Implementation detail (room_model_internal.h): plan boundary for the signed-distance
+  /// lookups.
   struct Boundary;
 
  private:

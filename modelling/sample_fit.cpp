@@ -35,6 +35,85 @@ cv::Mat Blurred(const cv::Mat& m, double sigma_px) {
   return out;
 }
 
+// The wall around a component: the samples of `near` beyond `ring0` (image pixels) off its
+// footprint (half sizes hw, hh about col, row) and within surface_band of the SE plane (`wall`,
+// ascending), their depth offset `b` (m, their median; 0 with fewer than 5) and depth noise
+// `sigma_d` (m).
+struct WallAround {
+  std::vector<int> wall;
+  double b = 0.0, sigma_d = 0.0;
+};
+
+WallAround WallOf(const SeSamples& samples, const std::vector<int>& near, double col, double row,
+                  double hw, double hh, double ring0, double surface_band) {
+  std::vector<float> wall_depth;
+  std::vector<int> wall;
+  for (int i : near)
+    if ((std::abs(samples.Col(i) - col) > hw + ring0 ||
+         std::abs(samples.Row(i) - row) > hh + ring0) &&
+        std::abs(samples.Depth(i)) < surface_band) {
+      wall.push_back(i);
+      wall_depth.push_back(samples.Depth(i));
+    }
+  const double b = wall.size() >= 5 ? MedianOf(wall_depth) : 0.0;
+  double sigma_d = surface_band / 3.0;  // too little wall to measure: the band as 3 sigma
+  if (wall.size() >= 20) {
+    std::vector<float> dev;
+    for (float z : wall_depth) dev.push_back(std::abs(z - static_cast<float>(b)));
+    sigma_d = std::max(1e-3, 1.4826 * MedianOf(dev));
+  }
+  return {wall, b, sigma_d};
+}
+
+// The used samples' colours in CIE Lab (`lab`, one row) and the colour noise of the wall among
+// them (Lab units): the Lab distances of the wall samples to their median colour are the norm
+// of a 3D Gaussian, whose median is 1.538 sigma.
+double UsedColours(const SeSamples& samples, const std::vector<int>& use,
+                   const std::vector<int>& wall, cv::Mat& lab) {
+  cv::Mat rgb(1, static_cast<int>(use.size()), CV_32FC3);
+  for (std::size_t k = 0; k < use.size(); ++k) {
+    const cv::Vec3b c = samples.Rgb(use[k]);
+    rgb.at<cv::Vec3f>(0, static_cast<int>(k)) = cv::Vec3f(c[0], c[1], c[2]) / 255.0f;
+  }
+  cv::cvtColor(rgb, lab, cv::COLOR_RGB2Lab);
+  std::array<std::vector<float>, 3> ch;
+  std::vector<int> wall_k;
+  for (std::size_t k = 0; k < use.size(); ++k)
+    if (std::binary_search(wall.begin(), wall.end(), use[k])) {
+      wall_k.push_back(static_cast<int>(k));
+      for (int c = 0; c < 3; ++c) ch[c].push_back(lab.at<cv::Vec3f>(0, static_cast<int>(k))[c]);
+    }
+  // Too little wall to measure: the colour path's noise, half colour_delta_e.
+  double sigma_c = 4.0;
+  if (wall_k.size() >= 20) {
+    const cv::Vec3f centre(MedianOf(ch[0]), MedianOf(ch[1]), MedianOf(ch[2]));
+    std::vector<float> dist;
+    for (int k : wall_k)
+      dist.push_back(static_cast<float>(cv::norm(lab.at<cv::Vec3f>(0, k) - centre)));
+    sigma_c = std::max(1.0, MedianOf(dist) / 1.538);
+  }
+  return sigma_c;
+}
+
+// The model's images (`depth0` where it has a depth model, `lab0`, in CIE Lab, where it has a
+// colour one) padded with the wall by the reach of the widest blur (4 sigma: OpenCV's kernel),
+// so that blurring blends the model's edge with the wall; a lookup beyond the padding takes its
+// border, the wall (At clamps).
+void PaddedModel(const SampleModel& model, double edge, double radius, cv::Mat& depth0,
+                 cv::Mat& lab0) {
+  const int pad = static_cast<int>(std::ceil(4.0 * std::max(edge, radius / 4.0) / model.pixel)) + 2;
+  if (!model.depth.empty())
+    cv::copyMakeBorder(model.depth, depth0, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
+  if (!model.colour_rgb.empty()) {
+    cv::Mat padded, f;
+    const cv::Vec3b w = model.wall_rgb;
+    cv::copyMakeBorder(model.colour_rgb, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT,
+                       cv::Scalar(w[0], w[1], w[2]));
+    padded.convertTo(f, CV_32FC3, 1.0 / 255.0);
+    cv::cvtColor(f, lab0, cv::COLOR_RGB2Lab);
+  }
+}
+
 }  // namespace
 
 SeSamples::SeSamples(const Orthoimage& image, const std::vector<Eigen::Vector3f>& uvd,
@@ -86,35 +165,23 @@ std::vector<int> SeSamples::In(double c0, double r0, double c1, double r1) const
 }
 
 SampleFit FitOnSamples(const SeSamples& samples, const SampleModel& model, double col, double row,
-                       double image_pixel, double spacing, const SampleFitParams& p) {
+                       double image_pixel, double spacing, const ComponentParams& params) {
+  constexpr int kMinSamples = 10;  // least samples in the window to fit at all
+  const double radius = params.place_radius;
   SampleFit fit;
   const bool use_depth = !model.depth.empty(), use_colour = !model.colour_rgb.empty();
   if (samples.Empty() || (!use_depth && !use_colour)) return fit;
-  const double edge = std::max(0.25e-3, p.edge_share * spacing);  // m
+  const double edge = std::max(0.25e-3, params.place_edge_share * spacing);  // m
   const double hw = 0.5 * model.width / image_pixel, hh = 0.5 * model.height / image_pixel;
-  const double ring0 = (p.radius + 2.0 * edge) / image_pixel;         // the wall ring begins
-  const double reach = (p.radius + 4.0 * edge + 0.01) / image_pixel;  // and ends
+  const double ring0 = (radius + 2.0 * edge) / image_pixel;         // the wall ring begins
+  const double reach = (radius + 4.0 * edge + 0.01) / image_pixel;  // and ends
   const std::vector<int> near =
       samples.In(col - hw - reach, row - hh - reach, col + hw + reach, row + hh + reach);
-  if (static_cast<int>(near.size()) < p.min_samples) return fit;
+  if (static_cast<int>(near.size()) < kMinSamples) return fit;
 
-  // The wall around it: its depth offset, depth noise, colour and colour noise.
-  std::vector<float> wall_depth;
-  std::vector<int> wall;
-  for (int i : near)
-    if ((std::abs(samples.Col(i) - col) > hw + ring0 ||
-         std::abs(samples.Row(i) - row) > hh + ring0) &&
-        std::abs(samples.Depth(i)) < p.surface_band) {
-      wall.push_back(i);
-      wall_depth.push_back(samples.Depth(i));
-    }
-  const double b = wall.size() >= 5 ? MedianOf(wall_depth) : 0.0;
-  double sigma_d = p.surface_band / 3.0;
-  if (wall.size() >= 20) {
-    std::vector<float> dev;
-    for (float z : wall_depth) dev.push_back(std::abs(z - static_cast<float>(b)));
-    sigma_d = std::max(1e-3, 1.4826 * MedianOf(dev));
-  }
+  const WallAround around = WallOf(samples, near, col, row, hw, hh, ring0, params.surface_band);
+  const std::vector<int>& wall = around.wall;
+  const double b = around.b, sigma_d = around.sigma_d;
   // Samples that can be the model or the wall beside it (not behind the wall, not in front of
   // the object).
   std::vector<int> use;
@@ -122,59 +189,20 @@ SampleFit FitOnSamples(const SeSamples& samples, const SampleModel& model, doubl
     const double z = samples.Depth(i) - b;
     if (z > -3.0 * sigma_d && z < model.protrusion + 3.0 * sigma_d) use.push_back(i);
   }
-  if (static_cast<int>(use.size()) < p.min_samples) return fit;
+  if (static_cast<int>(use.size()) < kMinSamples) return fit;
   cv::Mat lab;  // the used samples' colours, CIE Lab (one row)
-  double sigma_c = 0.0;
-  if (use_colour) {
-    cv::Mat rgb(1, static_cast<int>(use.size()), CV_32FC3);
-    for (std::size_t k = 0; k < use.size(); ++k) {
-      const cv::Vec3b c = samples.Rgb(use[k]);
-      rgb.at<cv::Vec3f>(0, static_cast<int>(k)) = cv::Vec3f(c[0], c[1], c[2]) / 255.0f;
-    }
-    cv::cvtColor(rgb, lab, cv::COLOR_RGB2Lab);
-    // The colour noise: the Lab distances of the wall samples to their median colour are the
-    // norm of a 3D Gaussian, whose median is 1.538 sigma.
-    std::array<std::vector<float>, 3> ch;
-    std::vector<int> wall_k;
-    for (std::size_t k = 0; k < use.size(); ++k)
-      if (std::binary_search(wall.begin(), wall.end(), use[k])) {
-        wall_k.push_back(static_cast<int>(k));
-        for (int c = 0; c < 3; ++c) ch[c].push_back(lab.at<cv::Vec3f>(0, static_cast<int>(k))[c]);
-      }
-    sigma_c = 4.0;
-    if (wall_k.size() >= 20) {
-      const cv::Vec3f centre(MedianOf(ch[0]), MedianOf(ch[1]), MedianOf(ch[2]));
-      std::vector<float> dist;
-      for (int k : wall_k)
-        dist.push_back(static_cast<float>(cv::norm(lab.at<cv::Vec3f>(0, k) - centre)));
-      sigma_c = std::max(1.0, MedianOf(dist) / 1.538);
-    }
-  }
-  const double inv_d2 = 1.0 / std::pow(p.cauchy_k * sigma_d, 2);
-  const double inv_c2 = sigma_c > 0.0 ? 1.0 / std::pow(p.cauchy_k * sigma_c, 2) : 0.0;
+  const double sigma_c = use_colour ? UsedColours(samples, use, wall, lab) : 0.0;
+  const double inv_d2 = 1.0 / std::pow(params.place_cauchy_k * sigma_d, 2);
+  const double inv_c2 = sigma_c > 0.0 ? 1.0 / std::pow(params.place_cauchy_k * sigma_c, 2) : 0.0;
 
-  // The model images padded with the wall so that every shifted lookup stays on them.
-  const int pad =
-      static_cast<int>(std::ceil(
-          (p.radius + 4.0 * std::max(edge, p.radius / 4.0) + reach * image_pixel) / model.pixel)) +
-      2;
   cv::Mat depth0, lab0;
-  if (use_depth)
-    cv::copyMakeBorder(model.depth, depth0, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
-  if (use_colour) {
-    cv::Mat padded, f;
-    const cv::Vec3b w = model.wall_rgb;
-    cv::copyMakeBorder(model.colour_rgb, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT,
-                       cv::Scalar(w[0], w[1], w[2]));
-    padded.convertTo(f, CV_32FC3, 1.0 / 255.0);
-    cv::cvtColor(f, lab0, cv::COLOR_RGB2Lab);
-  }
+  PaddedModel(model, edge, radius, depth0, lab0);
   const cv::Size size = use_depth ? depth0.size() : lab0.size();
   const double f = image_pixel / model.pixel;  // model pixels per image pixel
   const double x0 = 0.5 * size.width - 0.5, y0 = 0.5 * size.height - 0.5;
 
   double best_c = 0.0, best_r = 0.0;  // current best shift, image pixels
-  double step = p.radius / 4.0;       // m
+  double step = radius / 4.0;         // m
   constexpr int kHalf = 4;            // each level: (2 kHalf + 1)^2 shifts around the best
   std::vector<double> cost(static_cast<std::size_t>((2 * kHalf + 1) * (2 * kHalf + 1)));
   while (true) {
@@ -216,7 +244,7 @@ SampleFit FitOnSamples(const SeSamples& samples, const SampleModel& model, doubl
       for (int i = -kHalf; i <= kHalf; ++i) {
         const double dc = best_c + i * s, dr = best_r + j * s;
         double e = std::numeric_limits<double>::infinity();
-        if (std::hypot(dc, dr) * image_pixel <= p.radius + 1e-9) e = eval(dc, dr);
+        if (std::hypot(dc, dr) * image_pixel <= radius + 1e-9) e = eval(dc, dr);
         cost[static_cast<std::size_t>((j + kHalf) * (2 * kHalf + 1) + i + kHalf)] = e;
         if (e < best) best = e, bi = i, bj = j;
       }
@@ -240,7 +268,7 @@ SampleFit FitOnSamples(const SeSamples& samples, const SampleModel& model, doubl
   }
   // A best shift at the edge of the search is no minimum the data show (a model that does not
   // describe them slides as far as it may): the component keeps its place.
-  if (std::hypot(best_c, best_r) * image_pixel > p.radius - p.radius / 8.0) return fit;
+  if (std::hypot(best_c, best_r) * image_pixel > radius - radius / 8.0) return fit;
   fit.fitted = true;
   fit.dcol = best_c;
   fit.drow = best_r;

@@ -14,8 +14,8 @@
 // and so pulls nothing. The shift is searched coarse to fine over +-radius (the model blurred
 // by at least each level's step), then refined by a parabola per axis.
 //
-// Internal to the modelling library (OpenCV types); components.cpp is its user. Deterministic:
-// samples in storage order, fixed search pattern.
+// Internal to the modelling library (OpenCV types); components_placement.cpp is its user.
+// Deterministic: samples in storage order, fixed search pattern.
 
 #include <array>
 #include <cstdint>
@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/frames.h"
+#include "modelling/components.h"
 #include "modelling/orthoimage.h"
 
 namespace mopad::modelling {
@@ -65,14 +66,6 @@ struct SampleModel {
   double protrusion = 0.0;           ///< m, the model's depth
 };
 
-struct SampleFitParams {
-  double radius = 0.04;         ///< m, largest shift searched
-  double edge_share = 0.2887;   ///< edge uncertainty as a share of the local sample spacing
-  double cauchy_k = 2.385;      ///< Cauchy scale in robust sigmas of the wall's noise
-  double surface_band = 0.015;  ///< m, |depth| of a wall sample (the wall's noise, its colour)
-  int min_samples = 10;         ///< least samples in the window to fit at all
-};
-
 /// The fitted shift of a component (pixels of the SE image) and what it rests on.
 struct SampleFit {
   bool fitted = false;  ///< false: too few samples (shift 0)
@@ -81,8 +74,9 @@ struct SampleFit {
 };
 
 /// Best shift of `model`, centred at (col, row) of an image of `image_pixel` metres, over the
-/// samples near it; `spacing` is the local sample spacing there (m).
+/// samples near it; `spacing` is the local sample spacing there (m). Reads the place_* keys
+/// and surface_band of `params` (modelling/components.h).
 SampleFit FitOnSamples(const SeSamples& samples, const SampleModel& model, double col, double row,
-                       double image_pixel, double spacing, const SampleFitParams& params);
+                       double image_pixel, double spacing, const ComponentParams& params);
 
 }  // namespace mopad::modelling

@@ -578,6 +578,32 @@ void Amcl::Resample(std::uint64_t u, double p_inject) {
   particles_.swap(next);
 }
 
+void Amcl::RefineEstimate(const interfaces::LrfScan& scan, bool have_beams, Pose2* X_MB_io,
+                          Eigen::Matrix3d* cov) {
+  estimate_.refined = false;
+  estimate_.refinement = Pose2{};
+  if (params_.refine && !impl_->relocalising && have_beams) {
+    Pose2 refined = *X_MB_io;
+    if (Refine(scan, &refined)) {
+      const Pose2 D = Compose(refined, Inverse(*X_MB_io));
+      for (Particle& q : particles_) {
+        const Pose2 moved = Compose(D, Pose2{q.x, q.y, q.yaw});
+        q.x = moved.x;
+        q.y = moved.y;
+        q.yaw = moved.yaw;
+      }
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      R.topLeftCorner<2, 2>() << std::cos(D.yaw), -std::sin(D.yaw), std::sin(D.yaw),
+          std::cos(D.yaw);
+      *cov = R * *cov * R.transpose();
+      estimate_.refined = true;
+      estimate_.refinement = Pose2{refined.x - X_MB_io->x, refined.y - X_MB_io->y,
+                                   WrapAngle(refined.yaw - X_MB_io->yaw)};
+      *X_MB_io = refined;
+    }
+  }
+}
+
 AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces::LrfScan& scan,
                               bool force) {
   AmclUpdateResult result;
@@ -617,28 +643,7 @@ AmclUpdateResult Amcl::Update(const interfaces::Odometry& odom, const interfaces
   Eigen::Matrix3d cov;
   Pose2 X_MB = ClusterEstimate(&cov);
   // 4b. Refinement while tracking: the whole set moves rigidly by the correction.
-  estimate_.refined = false;
-  estimate_.refinement = Pose2{};
-  if (p.refine && !m.relocalising && !beams.empty()) {
-    Pose2 refined = X_MB;
-    if (Refine(scan, &refined)) {
-      const Pose2 D = Compose(refined, Inverse(X_MB));
-      for (Particle& q : particles_) {
-        const Pose2 moved = Compose(D, Pose2{q.x, q.y, q.yaw});
-        q.x = moved.x;
-        q.y = moved.y;
-        q.yaw = moved.yaw;
-      }
-      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-      R.topLeftCorner<2, 2>() << std::cos(D.yaw), -std::sin(D.yaw), std::sin(D.yaw),
-          std::cos(D.yaw);
-      cov = R * cov * R.transpose();
-      estimate_.refined = true;
-      estimate_.refinement =
-          Pose2{refined.x - X_MB.x, refined.y - X_MB.y, WrapAngle(refined.yaw - X_MB.yaw)};
-      X_MB = refined;
-    }
-  }
+  RefineEstimate(scan, !beams.empty(), &X_MB, &cov);
   int inliers = 0, mapped_beams = 0;
   CountInliers(beams, X_MB, &inliers, &mapped_beams);
   const double inlier_ratio = mapped_beams == 0 ? 0.0 : static_cast<double>(inliers) / mapped_beams;

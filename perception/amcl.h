@@ -274,6 +274,11 @@ class Amcl {
   /// Scan-matching refinement of `X_MB` (see the class comment); returns false, leaving it,
   /// when the match is refused.
   bool Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const;
+  /// Update's step 4b: while tracking (refine on, not re-localising, beams in the scan), moves
+  /// `X_MB` and the whole set rigidly by Refine's correction and rotates `cov` with it; records
+  /// the correction in the estimate.
+  void RefineEstimate(const interfaces::LrfScan& scan, bool have_beams, Pose2* X_MB,
+                      Eigen::Matrix3d* cov);
   std::unique_ptr<Impl> impl_;
   AmclParams params_;
   std::uint64_t seed_;

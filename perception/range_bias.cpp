@@ -44,30 +44,15 @@ bool OutermostPeak(const std::vector<int>& hist, bool below, double& z_peak) {
   return false;
 }
 
-}  // namespace
-
-RangeBiasEstimate EstimateRangeBias(const interfaces::TlsScan& scan,
-                                    const RangeBiasParams& params) {
-  ValidateParams(params, "range_bias.");
-  RangeBiasEstimate e;
-  if (scan.points.size() != static_cast<std::size_t>(scan.rows) * scan.columns) {
-    e.message = "range bias not estimated: the scan's grid is inconsistent";
-    return e;
-  }
-  const int nbins = static_cast<int>(kMaxHeight / kBin);
-  std::array<std::vector<int>, 2> hist{std::vector<int>(nbins, 0), std::vector<int>(nbins, 0)};
-  for (const auto& p : scan.points) {
-    if (!p.valid()) continue;
-    const double z = p.z;
-    if (std::abs(z) < params.min_height || std::abs(z) >= kMaxHeight) continue;
-    ++hist[z > 0 ? 1 : 0][static_cast<int>(std::abs(z) / kBin)];
-  }
-  std::array<double, 2> peak{0.0, 0.0};
-  std::array<bool, 2> has{OutermostPeak(hist[0], true, peak[0]),
-                          OutermostPeak(hist[1], false, peak[1])};
-  // A point counts when its neighbours a few rows up and down (0.4 deg or more apart) lie on a
-  // horizontal surface with it: the bottoms and tops of walls inside the band would otherwise
-  // lean the fit (they sit on one side of the plane only, at grazing rays).
+// The points of the floor and ceiling bands (`has` a plane, its height `peak`), with the
+// regressors of the fit.
+// A point counts when its neighbours a few rows up and down (0.4 deg or more apart) lie on a
+// horizontal surface with it: the bottoms and tops of walls inside the band would otherwise
+// lean the fit (they sit on one side of the plane only, at grazing rays).
+std::vector<PlanePoint> FlatPlanePoints(const interfaces::TlsScan& scan,
+                                        const RangeBiasParams& params,
+                                        const std::array<bool, 2>& has,
+                                        const std::array<double, 2>& peak) {
   const int k_rows =
       scan.elevation_step > 0.0
           ? std::max(1, static_cast<int>(std::ceil(kNeighbourAngle / scan.elevation_step - 1e-9)))
@@ -96,6 +81,31 @@ RangeBiasEstimate EstimateRangeBias(const interfaces::TlsScan& scan,
     const double reach = peak[plane] / z;  // R / r: the plane's range over the measured one
     pts.push_back({z, z / r, reach * p.x, reach * p.y, plane});
   }
+  return pts;
+}
+
+}  // namespace
+
+RangeBiasEstimate EstimateRangeBias(const interfaces::TlsScan& scan,
+                                    const RangeBiasParams& params) {
+  ValidateParams(params, "range_bias.");
+  RangeBiasEstimate e;
+  if (scan.points.size() != static_cast<std::size_t>(scan.rows) * scan.columns) {
+    e.message = "range bias not estimated: the scan's grid is inconsistent";
+    return e;
+  }
+  const int nbins = static_cast<int>(kMaxHeight / kBin);
+  std::array<std::vector<int>, 2> hist{std::vector<int>(nbins, 0), std::vector<int>(nbins, 0)};
+  for (const auto& p : scan.points) {
+    if (!p.valid()) continue;
+    const double z = p.z;
+    if (std::abs(z) < params.min_height || std::abs(z) >= kMaxHeight) continue;
+    ++hist[z > 0 ? 1 : 0][static_cast<int>(std::abs(z) / kBin)];
+  }
+  std::array<double, 2> peak{0.0, 0.0};
+  std::array<bool, 2> has{OutermostPeak(hist[0], true, peak[0]),
+                          OutermostPeak(hist[1], false, peak[1])};
+  const std::vector<PlanePoint> pts = FlatPlanePoints(scan, params, has, peak);
   // Unknowns: the present planes' heights, then b, s_x, s_y.
   std::array<int, 2> col{-1, -1};
   int nc = 0;

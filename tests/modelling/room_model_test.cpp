@@ -616,6 +616,26 @@ TEST(RoomModel, BadInputAndParamsThrow) {
                InputError);
 }
 
+TEST(RoomModelParams, VisitReachesEveryFieldAndNestedKeysRoundTrip) {
+  for (const auto& m : FieldsMissingFromVisit(RoomModelParams{}, "room_model.")) ADD_FAILURE() << m;
+  const RoomModelParams q = LoadParams<RoomModelParams>(
+      LoadYamlString("refit:\n  high_band: 2.4\ncolumns:\n  slices: 6\nvoxel_growth: 0.5\n",
+                     "t.yaml"),
+      "t.yaml");
+  EXPECT_EQ(q.refit.high_band, 2.4);
+  EXPECT_EQ(q.columns.slices, 6);
+  EXPECT_EQ(q.voxel_growth, 0.5);
+  EXPECT_EQ(q.refit.offset_bin, RoomModelParams{}.refit.offset_bin);  // the rest keep defaults
+  const RoomModelParams r = LoadParams<RoomModelParams>(SaveParams(q), "saved");
+  EXPECT_EQ(YAML::Dump(SaveParams(r)), YAML::Dump(SaveParams(q)));
+  EXPECT_THROW(
+      LoadParams<RoomModelParams>(LoadYamlString("outline:\n  gap_row: 3\n", "t.yaml"), "t.yaml"),
+      InputError);
+  RoomModelParams bad;
+  bad.columns.slices = 17;  // the column mask holds 16 slices
+  EXPECT_THROW(RoomModel{bad}, InputError);
+}
+
 // Coverage after `scans` scans: `sensed` of `total` m^2, nothing estimated hidden.
 CoverageFigures Figures(int scans, double sensed, double total, double increment) {
   CoverageFigures f;

@@ -76,6 +76,10 @@ SampleModel SocketModel() {
 double ColOf(double u) { return u / kPixel; }
 double RowOf(double v) { return 200 - v / kPixel; }
 
+// The place a fit gives, (u, v) in metres, from its start (col, row).
+double UOf(const SampleFit& f, double col) { return (col + f.dcol) * kPixel; }
+double VOf(const SampleFit& f, double row) { return 200 * kPixel - (row + f.drow) * kPixel; }
+
 TEST(SeSamples, InReturnsExactlyTheSamplesInTheBox) {
   const Orthoimage im = WallImage();
   const Drawn d = Draw(
@@ -107,8 +111,8 @@ TEST(FitOnSamples, FindsTheBoxOfASocketFromItsSamples) {
   const double col = ColOf(u0 + 0.007), row = RowOf(v0 - 0.004);
   const SampleFit f = FitOnSamples(s, SocketModel(), col, row, kPixel, 0.008, {});
   ASSERT_TRUE(f.fitted);
-  EXPECT_NEAR((col + f.dcol) * kPixel, u0, 0.001);
-  EXPECT_NEAR(200 * kPixel - (row + f.drow) * kPixel, v0, 0.001);
+  EXPECT_NEAR(UOf(f, col), u0, 0.001);
+  EXPECT_NEAR(VOf(f, row), v0, 0.001);
   EXPECT_GT(f.samples, 100);
 }
 
@@ -125,8 +129,8 @@ TEST(FitOnSamples, DepthAndColourTogetherPlaceTheSocket) {
   const double col = ColOf(u0 - 0.006), row = RowOf(v0 + 0.005);
   const SampleFit f = FitOnSamples(s, m, col, row, kPixel, 0.008, {});
   ASSERT_TRUE(f.fitted);
-  EXPECT_NEAR((col + f.dcol) * kPixel, u0, 0.001);
-  EXPECT_NEAR(200 * kPixel - (row + f.drow) * kPixel, v0, 0.001);
+  EXPECT_NEAR(UOf(f, col), u0, 0.001);
+  EXPECT_NEAR(VOf(f, row), v0, 0.001);
 }
 
 // Seen from the left at a slant, the socket hides 3 cm of the wall to its right: no sample
@@ -142,7 +146,7 @@ TEST(FitOnSamples, AShadowBesideTheObjectPullsNothing) {
   const double col = ColOf(u0 + 0.012), row = RowOf(v0);  // where a filled image puts it
   const SampleFit f = FitOnSamples(s, SocketModel(), col, row, kPixel, 0.008, {});
   ASSERT_TRUE(f.fitted);
-  EXPECT_NEAR((col + f.dcol) * kPixel, u0, 0.001);
+  EXPECT_NEAR(UOf(f, col), u0, 0.001);
 }
 
 // A flush sign (a red plate with a white square on it) is placed by its colour alone.
@@ -164,8 +168,8 @@ TEST(FitOnSamples, AFlushSignIsPlacedByItsColour) {
   const double col = ColOf(u0 - 0.009), row = RowOf(v0 + 0.006);
   const SampleFit f = FitOnSamples(s, m, col, row, kPixel, 0.01, {});
   ASSERT_TRUE(f.fitted);
-  EXPECT_NEAR((col + f.dcol) * kPixel, u0, 0.001);
-  EXPECT_NEAR(200 * kPixel - (row + f.drow) * kPixel, v0, 0.001);
+  EXPECT_NEAR(UOf(f, col), u0, 0.001);
+  EXPECT_NEAR(VOf(f, row), v0, 0.001);
 }
 
 // A model that does not describe the samples slides as far as the search lets it (here a
@@ -179,14 +183,14 @@ TEST(FitOnSamples, ABestPlaceAtTheEdgeOfTheSearchIsNone) {
   };
   const Drawn d = Draw(0.008, 0.002, surface);
   const SeSamples s(WallImage(), d.uvd, d.rgb);
-  SampleFitParams p;
-  p.radius = 0.03;
+  ComponentParams p;
+  p.place_radius = 0.03;
   EXPECT_FALSE(FitOnSamples(s, SocketModel(), ColOf(0.9), RowOf(0.5), kPixel, 0.008, p).fitted);
-  p.radius = 0.2;
+  p.place_radius = 0.2;
   const SampleFit g = FitOnSamples(s, SocketModel(), ColOf(0.9), RowOf(0.5), kPixel, 0.008, p);
   ASSERT_TRUE(g.fitted);
-  EXPECT_GT((ColOf(0.9) + g.dcol) * kPixel, 0.935);
-  EXPECT_LT((ColOf(0.9) + g.dcol) * kPixel, 0.985);
+  EXPECT_GT(UOf(g, ColOf(0.9)), 0.935);
+  EXPECT_LT(UOf(g, ColOf(0.9)), 0.985);
 }
 
 TEST(FitOnSamples, TooFewSamplesGiveNoFit) {

@@ -1,0 +1,439 @@
+// The room's perimeter (RoomModel::BuildPerimeter): the union of the scans' ceiling outlines
+// (room_outline.cpp) rasterised and simplified, each edge refit onto its wall's points, the
+// corners re-joined, then tidied (jogs, views through openings, short and collinear edges).
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "modelling/room_model.h"
+#include "modelling/room_model_internal.h"
+
+namespace mopad::modelling {
+
+using detail::Plan;
+
+namespace {
+
+// Intersection of lines p + s*t and q + r*u; false if within parallel_deg of parallel.
+bool IntersectLines(const Vec2& p, const Vec2& t, const Vec2& q, const Vec2& u, double parallel_deg,
+                    Vec2* out) {
+  const double den = t.x() * u.y() - t.y() * u.x();
+  if (std::abs(den) < std::sin(DegToRad(parallel_deg))) return false;
+  const Vec2 d = q - p;
+  const double s = (d.x() * u.y() - d.y() * u.x()) / den;
+  *out = p + s * t;
+  return true;
+}
+
+// Drops vertices whose edges turn less than `collinear_deg` or that close edges shorter than
+// `min_len`; with `max_offset` > 0 first the jogs shallower than it (the refit moves edges onto
+// their walls, and a short edge fitted across a doorway, where there is no wall, can land a few
+// cm off the line and split one wall into pieces in SM3).
+void Clean(std::vector<Vec2>& poly, double collinear_deg, double min_len, double max_offset = 0.0) {
+  if (max_offset > 0.0) RemoveShallowVertices(poly, max_offset);
+  bool changed = true;
+  while (changed && poly.size() > 3) {
+    changed = false;
+    for (std::size_t i = 0; i < poly.size() && poly.size() > 3; ++i) {
+      const std::size_t n = poly.size();
+      const Vec2& a = poly[(i + n - 1) % n];
+      const Vec2& b = poly[i];
+      const Vec2& c = poly[(i + 1) % n];
+      const Vec2 ab = b - a, bc = c - b;
+      const double cross = ab.x() * bc.y() - ab.y() * bc.x();
+      const bool collinear =
+          std::abs(cross) < std::sin(DegToRad(collinear_deg)) * ab.norm() * bc.norm();
+      if (collinear || bc.norm() < min_len) {
+        poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        break;
+      }
+    }
+  }
+}
+
+// Views through openings (RoomModelParams::seal_depth): a run of at most seal.max_vertices
+// vertices after a wall edge (at least seal.min_wall long) that passes behind the wall's line by
+// more than seal.min_depth (or jog_tolerance, if smaller) and at most seal_depth, never further
+// into the room than seal_inward, spans at most seal_width along the line and comes back onto it
+// (within seal.on_line) ahead of the edge, where a parallel wall edge goes on, is replaced by the
+// straight wall. A detour that stays in the room (a pilaster, a cabinet) is kept: it never
+// passes behind.
+
+void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
+  if (P.seal_depth <= 0.0) return;
+  // Shallower detours are the jog rule's (Clean with jog_tolerance): the two rules meet, so no
+  // vertex a few cm behind a wall line falls between them (it would split the wall in SM3).
+  const OpeningSealParams& S = P.seal;
+  const double min_depth =
+      P.jog_tolerance > 0.0 ? std::min(S.min_depth, P.jog_tolerance) : S.min_depth;
+  bool changed = true;
+  while (changed && poly.size() > 4) {
+    changed = false;
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n && !changed; ++i) {
+      const Vec2& a = poly[(i + n - 1) % n];
+      const Vec2& b = poly[i];
+      const double la = (b - a).norm();
+      if (la < S.min_wall) continue;
+      const Vec2 t = (b - a) / la, out(t.y(), -t.x());  // CCW: `out` leaves the room
+      double behind = 0.0, u_min = 0.0;
+      const std::size_t max_vertices = static_cast<std::size_t>(S.max_vertices);
+      for (std::size_t s = 1; s < std::min(n - 2, max_vertices + 1); ++s) {
+        const Vec2& v = poly[(i + s) % n];
+        const double u = (v - b).dot(t), d = (v - b).dot(out);
+        u_min = std::min(u_min, u);  // a reveal seen obliquely reaches back under the wall
+        if (u - u_min > P.seal_width + S.on_line || d > P.seal_depth || d < -P.seal_inward) break;
+        if (s >= 2 && std::abs(d) <= S.on_line && u > 0.0 && behind > min_depth) {
+          const Vec2& w = poly[(i + s + 1) % n];
+          const double lw = (w - v).norm();
+          if (lw >= S.min_wall && (w - v).dot(t) >= lw * std::cos(DegToRad(S.parallel_deg))) {
+            const std::size_t first = i + 1, last = i + s;  // erase [first, last)
+            if (last <= n) {
+              poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(first),
+                         poly.begin() + static_cast<std::ptrdiff_t>(last));
+            } else {
+              poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(first), poly.end());
+              poly.erase(poly.begin(), poly.begin() + static_cast<std::ptrdiff_t>(last - n));
+            }
+            Clean(poly, P.collinear_deg, P.min_edge_length);  // the wall's pieces become one edge
+            changed = true;
+            break;
+          }
+        }
+        behind = std::max(behind, d);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params) {
+  Clean(poly, params.collinear_deg, params.min_edge_length, params.jog_tolerance);
+  SealOpenings(poly, params);
+  Clean(poly, params.collinear_deg, params.min_edge_length, params.jog_tolerance);
+}
+
+void RoomModel::BuildPerimeter() {
+  const double r = params_.perimeter_raster;
+  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& s : scans_) {
+    for (const auto& v : s.outline) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+  }
+  std::vector<Vec2> poly;
+  if (lo.x() > hi.x()) {
+    roi_.perimeter.clear();
+    return;
+  }
+  lo -= Vec2(4 * r, 4 * r);
+  hi += Vec2(4 * r, 4 * r);
+  const int w = static_cast<int>(std::ceil((hi.x() - lo.x()) / r));
+  const int h = static_cast<int>(std::ceil((hi.y() - lo.y()) / r));
+  cv::Mat img = cv::Mat::zeros(h, w, CV_8U);
+  constexpr int kShift = 4;
+  for (const auto& s : scans_) {
+    if (s.outline.size() < 3) continue;
+    std::vector<cv::Point> pts;
+    pts.reserve(s.outline.size());
+    for (const auto& v : s.outline) {
+      const Vec2 q = ((v - lo) / r - Vec2(0.5, 0.5)) * (1 << kShift);
+      pts.emplace_back(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())));
+    }
+    const cv::Point* pp = pts.data();
+    const int np = static_cast<int>(pts.size());
+    cv::fillPoly(img, &pp, &np, 1, cv::Scalar(255), cv::LINE_8, kShift);
+  }
+  cv::morphologyEx(img, img, cv::MORPH_CLOSE,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(img, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  int best = -1;
+  double best_area = 0.0;
+  for (int k = 0; k < static_cast<int>(contours.size()); ++k) {
+    const double a = cv::contourArea(contours[k]);
+    if (a > best_area) {
+      best_area = a;
+      best = k;
+    }
+  }
+  if (best < 0) {
+    roi_.perimeter.clear();
+    return;
+  }
+  std::vector<cv::Point> approx;
+  cv::approxPolyDP(contours[best], approx, params_.perimeter_epsilon / r, true);
+  for (const auto& p : approx) poly.push_back(lo + r * Vec2(p.x + 0.5, p.y + 0.5));
+  if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
+  Clean(poly, params_.collinear_deg, params_.min_edge_length);
+  RefitPerimeter(poly);
+  TidyPerimeter(poly, params_);
+  if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
+  roi_.perimeter = poly;
+}
+
+namespace {
+
+// One perimeter edge a -> b moved onto its wall (RoomModel::RefitPerimeter): `band` are the
+// plan points between the floor and ceiling bands, `high` flags those above door heads.
+PerimeterLine FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>& band,
+                          const std::vector<std::uint8_t>& high, const RoomModelParams& P) {
+  const WallRefitParams& R = P.refit;
+  const double bandw = P.refit_band, tol = P.wall_tolerance;
+  const double len = (b - a).norm();
+  const Vec2 t = (b - a) / std::max(len, 1e-12), nrm(t.y(), -t.x());
+  PerimeterLine fit{a, t, false, t};
+  const double guard = len > 3 * R.end_guard ? R.end_guard : 0.0;
+  const int nb = static_cast<int>(std::ceil(2 * bandw / R.offset_bin)) + 1;
+  std::vector<int> hist(nb, 0), hist_high(nb, 0);
+  int n_high = 0;
+  std::vector<Vec2> near;
+  std::vector<std::uint8_t> near_high;
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    const Vec2 ap = band[k] - a;
+    const double u = ap.dot(t), s = ap.dot(nrm);
+    if (u < guard || u > len - guard || std::abs(s) > bandw) continue;
+    near.push_back(band[k]);
+    near_high.push_back(high[k]);
+    const int bin = static_cast<int>((s + bandw) / R.offset_bin);
+    ++hist[bin];
+    if (high[k]) ++hist_high[bin], ++n_high;
+  }
+  if (static_cast<int>(near.size()) < P.refit_min_points) return fit;
+  // The wall is the outermost strong peak: a closed door leaf or a cabinet flush against the
+  // wall can be nearly as dense as the wall itself but lies in front of it, and where it
+  // covers most of the wall below its head it outnumbers the wall (a short end wall behind a
+  // closed door can hold less than half the points of the leaf). Above door heads
+  // (refit.high_band) only the wall remains: its peak there is the anchor when it has enough
+  // points.
+  if (n_high >= P.refit_min_points) hist.swap(hist_high);
+  std::vector<double> sm(nb, 0.0);
+  double hmax = 0.0;
+  for (int k = 0; k < nb; ++k) {
+    sm[k] = hist[k] + (k > 0 ? 0.5 * hist[k - 1] : 0) + (k + 1 < nb ? 0.5 * hist[k + 1] : 0);
+    hmax = std::max(hmax, sm[k]);
+  }
+  int hb = 0;
+  for (int k = 0; k < nb; ++k) {
+    const bool peak = (k == 0 || sm[k] >= sm[k - 1]) && (k + 1 == nb || sm[k] >= sm[k + 1]);
+    if (peak && sm[k] >= R.peak_share * hmax) hb = k;
+  }
+  const double s0 = (hb + 0.5) * R.offset_bin - bandw;
+  // Points within tol of the offset line; support must span part of the edge.
+  Vec2 mean = Vec2::Zero();
+  std::vector<Vec2> sel, sel_high;
+  std::vector<std::uint8_t> bins(static_cast<std::size_t>(len / R.support_bin) + 1, 0);
+  std::vector<std::uint8_t> bins_high(bins.size(), 0);
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const Vec2& p = near[k];
+    const double s = (p - a).dot(nrm);
+    if (std::abs(s - s0) <= tol) {
+      sel.push_back(p);
+      mean += p;
+      const std::size_t b =
+          std::min(bins.size() - 1, static_cast<std::size_t>((p - a).dot(t) / R.support_bin));
+      bins[b] = 1;
+      if (near_high[k]) sel_high.push_back(p), bins_high[b] = 1;
+    }
+  }
+  const int covered = std::accumulate(bins.begin(), bins.end(), 0);
+  if (static_cast<int>(sel.size()) < P.refit_min_points ||
+      covered < std::max<int>(2, static_cast<int>(R.min_coverage * bins.size()))) {
+    return fit;
+  }
+  // The line itself from the points above door heads where they cover most of the edge:
+  // below, window reveals and furniture flush against the wall tilt it (on a long wall with
+  // windows and desks along it, by more than a centimetre over its length).
+  const int covered_high = std::accumulate(bins_high.begin(), bins_high.end(), 0);
+  if (static_cast<int>(sel_high.size()) >= P.refit_min_points &&
+      covered_high >= static_cast<int>(R.high_coverage * covered)) {
+    sel.swap(sel_high);
+    mean = Vec2::Zero();
+    for (const auto& p : sel) mean += p;
+  }
+  mean /= static_cast<double>(sel.size());
+  Vec2 support = t;  // the principal direction of the points of the last fit
+  auto pca_dir = [&](const std::vector<Vec2>& pts, const Vec2& c) {
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    Vec2 dir = es.eigenvectors().col(1);
+    if (dir.dot(t) < 0) dir = -dir;
+    support = dir;
+    return dir.dot(t) < std::cos(DegToRad(R.max_turn_deg)) ? t : dir;  // else only shift
+  };
+  Vec2 dir = pca_dir(sel, mean);
+  // Tighten about the wall peak: clutter flush against part of a wall (a closed door leaf or
+  // casing 2 cm proud over half of a 2 m end wall, a whiteboard row) lies inside the band and
+  // pulls a least-squares line towards it, up to onto it where it has more points than the
+  // wall (a long wall tilts; an end wall behind a closed door moves onto the door, its wall
+  // points then outliers; docs/room-scanning.md has the cases). Refit from the line at
+  // the outermost strong peak s0 on the points within tighten_first and then tighten_second of
+  // the band about the current line, while at least tighten_keep_share of its points remain.
+  {
+    Vec2 lp = a + s0 * nrm + 0.5 * len * t, ld = t;
+    bool refit = false;
+    for (double f : {R.tighten_first, R.tighten_second}) {
+      std::vector<Vec2> tight;
+      Vec2 m2 = Vec2::Zero();
+      const Vec2 nn(ld.y(), -ld.x());
+      for (const auto& p : sel)
+        if (std::abs((p - lp).dot(nn)) <= f * tol) tight.push_back(p), m2 += p;
+      if (static_cast<int>(tight.size()) <
+          std::max(P.refit_min_points, static_cast<int>(R.tighten_keep_share * sel.size())))
+        break;
+      lp = m2 / static_cast<double>(tight.size());
+      ld = pca_dir(tight, lp);
+      refit = true;
+    }
+    if (refit) mean = lp, dir = ld;
+  }
+  return {mean, dir, true, support};
+}
+
+}  // namespace
+
+void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
+  // Each edge is moved onto its wall: the densest offset of the wall points near it (walls are
+  // the farthest dense surface; clutter in front only thins the histogram), then a total
+  // least-squares line through the points close to that offset. Corners are re-intersected.
+  const std::size_t n = poly.size();
+  if (n < 3) return;
+  const WallRefitParams& R = params_.refit;
+  const double z0 = roi_.floor_z + R.floor_clearance, z1 = roi_.ceiling_z - R.ceiling_clearance;
+  // Above door heads only the wall itself reaches (a lintel, the wall over a cabinet): the
+  // wall's offset is looked for there first.
+  const double z_high = roi_.floor_z + R.high_band;
+  std::vector<Vec2> band;
+  std::vector<std::uint8_t> high;
+  band.reserve(work_points_.size() / 2);
+  for (const auto& p : work_points_) {
+    if (p.z() > z0 && p.z() < z1) {
+      band.push_back(Plan(p));
+      high.push_back(p.z() > z_high ? 1 : 0);
+    }
+  }
+  std::vector<PerimeterLine> fits(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    fits[i] = FitWallEdge(poly[i], poly[(i + 1) % n], band, high, params_);
+  });
+  poly = JoinPerimeterLines(poly, fits, params_);
+}
+
+std::vector<Vec2> JoinPerimeterLines(const std::vector<Vec2>& poly,
+                                     const std::vector<PerimeterLine>& lines,
+                                     const RoomModelParams& params) {
+  const std::size_t n = poly.size();
+  if (n < 3 || lines.size() != n) return poly;
+  const PerimeterCornerParams& C = params.corners;
+  const double wall_end_max = C.wall_end_max, chamfer_max = C.chamfer_max;
+  std::vector<Vec2> line_p(n), line_t(n);
+  std::vector<bool> fitted(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    line_p[i] = lines[i].p;
+    line_t[i] = lines[i].t;
+    fitted[i] = lines[i].fitted;
+  }
+  // A short fitted edge between two antiparallel fitted walls is the end face of a wall that
+  // stands into the room: walls are prisms, so it is square to them. Its traced direction is
+  // poor (each end moved by up to perimeter_epsilon: tens of degrees on a 0.2 m edge) and tilts
+  // its fit. The trace may also have cut one of its corners (a second short edge): of the two
+  // the squarer is the end face, the other is left unfitted and collapses below.
+  auto length = [&](std::size_t k) { return (poly[(k + 1) % n] - poly[k]).norm(); };
+  for (std::size_t i = 0; i < n && n >= 6; ++i) {
+    if (!fitted[i] || length(i) >= wall_end_max) continue;
+    std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n, other = n;
+    if (length(pi) < chamfer_max)
+      other = pi, pi = (pi + n - 1) % n;
+    else if (length(ni) < chamfer_max)
+      other = ni, ni = (ni + 1) % n;
+    if (!fitted[pi] || !fitted[ni] || pi == ni) continue;
+    if (line_t[pi].dot(line_t[ni]) > -std::cos(DegToRad(C.antiparallel_deg))) continue;
+    const Vec2 side = (line_t[pi] - line_t[ni]).normalized();
+    if (other < n && other != i && fitted[other] &&
+        std::abs(line_t[other].dot(side)) < std::abs(line_t[i].dot(side)))
+      continue;  // the other is the end face
+    if (other < n && length(i) + length(other) >= wall_end_max) continue;
+    const Vec2 square(-side.y(), side.x());
+    const Vec2 traced = poly[(i + 1) % n] - poly[i];
+    line_t[i] = square.dot(traced) >= 0.0 ? square : Vec2(-square);
+    if (other < n) fitted[other] = false;
+  }
+  // A short fitted edge whose points run within on_wall_deg of a fitted neighbour's line and lie
+  // on it (their mean within twice the wall tolerance: the band one wall's points fill) carries
+  // that wall's own points: the tracer cut the corner at the wall's end (along the wall, up to
+  // a wall end's width) and the refit moved the cut onto the wall's face. It is no face of its
+  // own (SM3 would get a wall a few degrees off beside the real one): it collapses below with
+  // the unfitted cuts, its neighbours extended to their corner. Only at a corner: the other
+  // neighbour is a fitted wall at least corner_min_deg off.
+  std::vector<bool> on_neighbour(n, false);
+  for (std::size_t i = 0; i < n && n >= 5; ++i) {
+    if (!fitted[i] || length(i) >= wall_end_max) continue;
+    const std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n;
+    if (!fitted[pi] || !fitted[ni] ||
+        std::abs(line_t[pi].dot(line_t[ni])) > std::cos(DegToRad(C.corner_min_deg)))
+      continue;
+    for (const std::size_t k : {pi, ni}) {
+      const Vec2 nk(-line_t[k].y(), line_t[k].x());
+      if (std::abs(lines[i].support.dot(line_t[k])) > std::cos(DegToRad(C.on_wall_deg)) &&
+          std::abs((line_p[i] - line_p[k]).dot(nk)) <= 2.0 * params.wall_tolerance) {
+        fitted[i] = false;
+        on_neighbour[i] = true;
+        break;
+      }
+    }
+  }
+  // A short edge left unfitted between two fitted walls is the tracer cutting their corner
+  // (a re-entrant corner seen obliquely leaves a chamfer of a dozen centimetres, a false 'wall'
+  // in SM3): the two walls meet in one corner instead.
+  std::vector<bool> collapse(n, false);
+  std::vector<Vec2> corner(n, Vec2::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n;
+    if (fitted[i] || !fitted[pi] || !fitted[ni] || (pi > 0 && collapse[pi]) || n < 5) continue;
+    const double reach = on_neighbour[i] ? wall_end_max : chamfer_max;
+    if ((poly[ni] - poly[i]).norm() >= reach) continue;
+    Vec2 x;
+    if (IntersectLines(line_p[pi], line_t[pi], line_p[ni], line_t[ni], C.parallel_deg, &x) &&
+        (x - poly[i]).norm() < reach && (x - poly[ni]).norm() < reach) {
+      collapse[i] = true;
+      corner[i] = x;
+    }
+  }
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t pi = (i + n - 1) % n;
+    if (collapse[i]) {
+      out.push_back(corner[i]);
+      continue;
+    }
+    if (collapse[pi]) continue;  // the collapsed edge's end: its corner is out already
+    if (!fitted[i] && !fitted[pi]) {
+      out.push_back(poly[i]);
+      continue;
+    }
+    Vec2 x;
+    if (IntersectLines(line_p[pi], line_t[pi], line_p[i], line_t[i], C.parallel_deg, &x) &&
+        (x - poly[i]).norm() < C.max_corner_shift) {
+      out.push_back(x);
+    } else {
+      // Nearly parallel neighbours (a jog) or a far intersection: the old corner projected on
+      // both lines.
+      const Vec2 a = line_p[pi] + (poly[i] - line_p[pi]).dot(line_t[pi]) * line_t[pi];
+      const Vec2 b = line_p[i] + (poly[i] - line_p[i]).dot(line_t[i]) * line_t[i];
+      out.push_back(a);
+      if ((a - b).norm() > C.split_corner) out.push_back(b);
+    }
+  }
+  return out;
+}
+
+}  // namespace mopad::modelling
