@@ -1,5 +1,5 @@
 #pragma once
-// The detail pass (issue 16, item 6; the paper's §6 future work: "the NBS algorithm should take
+// The detail pass (the paper's §6 future work: "the NBS algorithm should take
 // into account the quality and density of the data in the SEs"): after the structural stopping
 // rule, extra scans where the structural elements' (SE: walls, column faces, ceiling) data are
 // too sparse or too grazing for SM5 to recognise small service components on them.

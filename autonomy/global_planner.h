@@ -1,6 +1,6 @@
 #pragma once
 // Global path planning over the robot's obstacle map (paper §3.1 step (2): MoPAD used ROS
-// Navfn; issue 4, item 5 asks for OMPL).
+// Navfn; here OMPL).
 //
 // The base is planned as a disc of radius `robot_radius` in R^2 (map frame, REP-105 `map`):
 // a state is valid when its cell is known free and its clearance (DistanceField) is at least

@@ -182,7 +182,7 @@ double LocalController::FreeTravel(const std::vector<Vec2>& points_B, double v, 
   // A point already within the margin (the base stopped close beside a cabinet, or was
   // pushed there) blocks only motions that bring it closer still: otherwise every motion,
   // backing straight out included, would count as blocked and the base would be wedged where
-  // it stands (office_5rooms, seed 3: a scan stop in a 0.8 m niche between two cabinets).
+  // it stands (a scan stop in a niche between two cabinets, 0.8 m wide, is such a place).
   std::vector<Vec2> near;
   std::vector<double> start;  // box distance at the start pose
   for (const Vec2& p : points_B)

@@ -1,6 +1,6 @@
 #pragma once
 // Local control along a global path (paper §3.1 step (2): MoPAD used a TEB local planner;
-// issue 4, item 5). A pure-pursuit follower (Coulter 1992) with:
+// here a pure-pursuit follower instead). A pure-pursuit follower (Coulter 1992) with:
 //  - speed limits, acceleration limits on speeding up, slow approach and final rotation to the
 //    goal yaw;
 //  - a forward collision check of the rectangular footprint (plus a margin) swept along the

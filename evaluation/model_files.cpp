@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -219,31 +220,68 @@ struct PlyProperty {
   int offset = 0;
 };
 
-}  // namespace
-
-Dsm3Voxels ReadDsm3(const std::string& path) {
-  const std::string data = ReadWholeFile(path);
-  auto fail = [&](const std::string& what, const std::string& got = "",
-                  const std::string& expected = "") {
-    throw InputError(path, what, got, expected);
-  };
-  const std::size_t header_end = data.find("end_header");
-  if (data.rfind("ply", 0) != 0 || header_end == std::string::npos)
-    fail("not a PLY file (no 'ply' magic or no 'end_header')");
-  std::size_t body = data.find('\n', header_end);
-  if (body == std::string::npos) fail("truncated header");
-  ++body;
-  std::istringstream header(data.substr(0, header_end));
-  std::string line;
+// What dsm3.ply's header says: the vertex layout, the grid and the label names.
+struct Dsm3Header {
   std::string format;
   long n_vertex = -1;
-  bool in_vertex = false;
   std::vector<PlyProperty> props;
-  int record = 0;
+  int record = 0;  // bytes per binary vertex
+  std::size_t body = 0;  // offset of the vertex data
   bool have_size = false, have_origin = false, have_dims = false;
-  Dsm3Voxels out;
+  VoxelGrid grid;
   std::map<int, std::uint8_t> file_to_label;  // file value -> VoxelLabel
-  const auto& names = Dsm3LabelNames();
+};
+
+using Dsm3Fail = std::function<void(const std::string&, const std::string&, const std::string&)>;
+
+// One "comment mopad_dsm3_*" line of the header (other comments are ignored).
+void ReadDsm3Comment(std::istringstream& ls, const std::string& line, Dsm3Header& h,
+                     const Dsm3Fail& fail) {
+  std::string key;
+  ls >> key;
+  if (key == "mopad_dsm3_voxel_size") {
+    if (!(ls >> h.grid.voxel_size) || !(h.grid.voxel_size > 0.0) ||
+        !std::isfinite(h.grid.voxel_size))
+      fail("mopad_dsm3_voxel_size: bad value", line, "a positive size in metres");
+    h.have_size = true;
+  } else if (key == "mopad_dsm3_origin") {
+    if (!(ls >> h.grid.origin.x() >> h.grid.origin.y() >> h.grid.origin.z()) ||
+        !h.grid.origin.allFinite())
+      fail("mopad_dsm3_origin: bad value", line, "X Y Z");
+    h.have_origin = true;
+  } else if (key == "mopad_dsm3_dims") {
+    auto& d = h.grid.dims;
+    if (!(ls >> d[0] >> d[1] >> d[2]) || d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
+      fail("mopad_dsm3_dims: bad value", line, "NX NY NZ > 0");
+    h.have_dims = true;
+  } else if (key == "mopad_dsm3_label") {
+    int value = -1;
+    std::string name;
+    if (!(ls >> value >> name) || value < 0 || value > 255)
+      fail("mopad_dsm3_label: bad entry", line, "VALUE NAME");
+    const auto& names = Dsm3LabelNames();
+    int code = -1;
+    for (std::size_t c = 0; c < names.size(); ++c)
+      if (names[c] == name) code = static_cast<int>(c);
+    if (code < 0)
+      fail("mopad_dsm3_label: unknown label name", "'" + name + "'",
+           "unseen|empty|structure|occluded_structure|clutter|opening");
+    h.file_to_label[value] = static_cast<std::uint8_t>(code);
+  }
+}
+
+// The header up to end_header, every required comment and element checked.
+Dsm3Header ReadDsm3Header(const std::string& data, const Dsm3Fail& fail) {
+  Dsm3Header h;
+  const std::size_t header_end = data.find("end_header");
+  if (data.rfind("ply", 0) != 0 || header_end == std::string::npos)
+    fail("not a PLY file (no 'ply' magic or no 'end_header')", "", "");
+  h.body = data.find('\n', header_end);
+  if (h.body == std::string::npos) fail("truncated header", "", "");
+  ++h.body;
+  std::istringstream header(data.substr(0, header_end));
+  std::string line;
+  bool in_vertex = false;
   int line_no = 0;
   while (std::getline(header, line)) {
     ++line_no;
@@ -253,15 +291,15 @@ Dsm3Voxels ReadDsm3(const std::string& path) {
     ls >> kw;
     const std::string where = "header line " + std::to_string(line_no);
     if (kw == "format") {
-      ls >> format;
+      ls >> h.format;
     } else if (kw == "element") {
       std::string name;
       long n = -1;
       ls >> name >> n;
       in_vertex = name == "vertex";
       if (in_vertex) {
-        if (n < 0) fail(where + ": bad vertex count", line);
-        n_vertex = n;
+        if (n < 0) fail(where + ": bad vertex count", line, "");
+        h.n_vertex = n;
       } else if (n != 0) {
         fail(where + ": unexpected element", "'" + name + "'", "only 'vertex'");
       }
@@ -269,83 +307,63 @@ Dsm3Voxels ReadDsm3(const std::string& path) {
       if (!in_vertex) continue;
       std::string type, name;
       ls >> type >> name;
-      if (type == "list") fail(where + ": list property in the vertex element", line);
+      if (type == "list") fail(where + ": list property in the vertex element", line, "");
       PlyProperty p;
       p.name = name;
       if (!ParsePlyType(type, &p.type, &p.size))
-        fail(where + ": unknown property type", "'" + type + "'");
-      p.offset = record;
-      record += p.size;
-      props.push_back(p);
+        fail(where + ": unknown property type", "'" + type + "'", "");
+      p.offset = h.record;
+      h.record += p.size;
+      h.props.push_back(p);
     } else if (kw == "comment") {
-      std::string key;
-      ls >> key;
-      if (key == "mopad_dsm3_voxel_size") {
-        if (!(ls >> out.grid.voxel_size) || !(out.grid.voxel_size > 0.0) ||
-            !std::isfinite(out.grid.voxel_size))
-          fail("mopad_dsm3_voxel_size: bad value", line, "a positive size in metres");
-        have_size = true;
-      } else if (key == "mopad_dsm3_origin") {
-        if (!(ls >> out.grid.origin.x() >> out.grid.origin.y() >> out.grid.origin.z()) ||
-            !out.grid.origin.allFinite())
-          fail("mopad_dsm3_origin: bad value", line, "X Y Z");
-        have_origin = true;
-      } else if (key == "mopad_dsm3_dims") {
-        auto& d = out.grid.dims;
-        if (!(ls >> d[0] >> d[1] >> d[2]) || d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
-          fail("mopad_dsm3_dims: bad value", line, "NX NY NZ > 0");
-        have_dims = true;
-      } else if (key == "mopad_dsm3_label") {
-        int value = -1;
-        std::string name;
-        if (!(ls >> value >> name) || value < 0 || value > 255)
-          fail("mopad_dsm3_label: bad entry", line, "VALUE NAME");
-        int code = -1;
-        for (std::size_t c = 0; c < names.size(); ++c)
-          if (names[c] == name) code = static_cast<int>(c);
-        if (code < 0)
-          fail("mopad_dsm3_label: unknown label name", "'" + name + "'",
-               "unseen|empty|structure|occluded_structure|clutter|opening");
-        file_to_label[value] = static_cast<std::uint8_t>(code);
-      }
+      ReadDsm3Comment(ls, line, h, fail);
     }
   }
-  if (!have_size) fail("missing header comment mopad_dsm3_voxel_size");
-  if (!have_origin) fail("missing header comment mopad_dsm3_origin");
-  if (!have_dims) fail("missing header comment mopad_dsm3_dims");
-  if (file_to_label.empty()) fail("missing header comments mopad_dsm3_label");
-  if (n_vertex < 0) fail("missing 'element vertex N'");
-  const bool ascii = format == "ascii";
-  if (!ascii && format != "binary_little_endian")
-    fail("unsupported PLY format", "'" + format + "'", "binary_little_endian or ascii");
-  auto find = [&](const std::string& name) -> const PlyProperty& {
-    for (const auto& p : props)
-      if (p.name == name) return p;
-    fail("missing vertex property '" + name + "'");
-    return props.front();  // unreachable
+  if (!h.have_size) fail("missing header comment mopad_dsm3_voxel_size", "", "");
+  if (!h.have_origin) fail("missing header comment mopad_dsm3_origin", "", "");
+  if (!h.have_dims) fail("missing header comment mopad_dsm3_dims", "", "");
+  if (h.file_to_label.empty()) fail("missing header comments mopad_dsm3_label", "", "");
+  if (h.n_vertex < 0) fail("missing 'element vertex N'", "", "");
+  if (h.format != "ascii" && h.format != "binary_little_endian")
+    fail("unsupported PLY format", "'" + h.format + "'", "binary_little_endian or ascii");
+  return h;
+}
+
+// Index in h.props of the property `name`.
+int PropertyIndex(const Dsm3Header& h, const std::string& name, const Dsm3Fail& fail) {
+  for (std::size_t q = 0; q < h.props.size(); ++q)
+    if (h.props[q].name == name) return static_cast<int>(q);
+  fail("missing vertex property '" + name + "'", "", "");
+  return 0;  // unreachable: fail throws
+}
+
+}  // namespace
+
+Dsm3Voxels ReadDsm3(const std::string& path) {
+  const std::string data = ReadWholeFile(path);
+  const Dsm3Fail fail = [&](const std::string& what, const std::string& got,
+                            const std::string& expected) {
+    throw InputError(path, what, got, expected);
   };
-  const PlyProperty* pl = &find("scalar_label");
-  const PlyProperty* pi = &find("scalar_i");
-  const PlyProperty* pj = &find("scalar_j");
-  const PlyProperty* pk = &find("scalar_k");
-  int idx_l = 0, idx_i = 0, idx_j = 0, idx_k = 0;
-  for (std::size_t q = 0; q < props.size(); ++q) {
-    if (&props[q] == pl) idx_l = static_cast<int>(q);
-    if (&props[q] == pi) idx_i = static_cast<int>(q);
-    if (&props[q] == pj) idx_j = static_cast<int>(q);
-    if (&props[q] == pk) idx_k = static_cast<int>(q);
-  }
-  const std::size_t n = static_cast<std::size_t>(n_vertex);
+  const Dsm3Header h = ReadDsm3Header(data, fail);
+  const bool ascii = h.format == "ascii";
+  const int idx_l = PropertyIndex(h, "scalar_label", fail);
+  const int idx_i = PropertyIndex(h, "scalar_i", fail);
+  const int idx_j = PropertyIndex(h, "scalar_j", fail);
+  const int idx_k = PropertyIndex(h, "scalar_k", fail);
+  Dsm3Voxels out;
+  out.grid = h.grid;
+  const std::size_t n = static_cast<std::size_t>(h.n_vertex);
+  const std::size_t record = static_cast<std::size_t>(h.record);
   out.ijk.resize(n);
   out.labels.resize(n);
-  std::vector<double> values(props.size());
+  std::vector<double> values(h.props.size());
   std::istringstream ascii_body;
   if (ascii)
-    ascii_body.str(data.substr(body));
-  else if (data.size() - body < n * static_cast<std::size_t>(record))
-    fail("truncated vertex data", std::to_string(data.size() - body) + " bytes",
-         std::to_string(n * static_cast<std::size_t>(record)) + " bytes for " + std::to_string(n) +
-             " voxels");
+    ascii_body.str(data.substr(h.body));
+  else if (data.size() - h.body < n * record)
+    fail("truncated vertex data", std::to_string(data.size() - h.body) + " bytes",
+         std::to_string(n * record) + " bytes for " + std::to_string(n) + " voxels");
   const auto& d = out.grid.dims;
   for (std::size_t v = 0; v < n; ++v) {
     if (ascii) {
@@ -354,9 +372,9 @@ Dsm3Voxels ReadDsm3(const std::string& path) {
           fail("truncated vertex data", "voxel " + std::to_string(v),
                std::to_string(n) + " voxels");
     } else {
-      const char* rec = data.data() + body + v * static_cast<std::size_t>(record);
-      for (std::size_t q = 0; q < props.size(); ++q)
-        values[q] = ReadBinary(rec + props[q].offset, props[q].type);
+      const char* rec = data.data() + h.body + v * record;
+      for (std::size_t q = 0; q < h.props.size(); ++q)
+        values[q] = ReadBinary(rec + h.props[q].offset, h.props[q].type);
     }
     const std::array<int, 3> ijk{static_cast<int>(values[idx_i]), static_cast<int>(values[idx_j]),
                                  static_cast<int>(values[idx_k])};
@@ -367,10 +385,10 @@ Dsm3Voxels ReadDsm3(const std::string& path) {
              "0 <= i,j,k < " + std::to_string(d[0]) + " " + std::to_string(d[1]) + " " +
                  std::to_string(d[2]));
     const int lv = static_cast<int>(values[idx_l]);
-    auto it = file_to_label.find(lv);
-    if (it == file_to_label.end())
+    auto it = h.file_to_label.find(lv);
+    if (it == h.file_to_label.end())
       fail("voxel " + std::to_string(v) + ": label value not declared in the header",
-           std::to_string(lv));
+           std::to_string(lv), "");
     out.ijk[v] = ijk;
     out.labels[v] = it->second;
   }

@@ -1,7 +1,7 @@
 #pragma once
-// The closed loop of `mopad drive` (issue 4): the one place where the world (scenes, sim) and
-// the robot (perception, autonomy) meet (STYLE.md §1). Only plain interface values cross:
-// TlsScan, LrfScan, Odometry, VelocityCommand.
+// The closed loop of `mopad drive`: one simulated robot (mission::RobotSession: the world's
+// SimRobot and the robot's Navigator) driven to a goal. Only plain interface values cross the
+// robot boundary: TlsScan, LrfScan, Odometry, VelocityCommand.
 //
 // Loop (simulation time, fixed `control_dt` steps; no algorithm reads the wall clock):
 //  1. TLS scan at the start. map frame := the robot's start pose (base_link at t = 0), so the

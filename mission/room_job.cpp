@@ -67,7 +67,7 @@ runfolder::RoomScanFiles ScanFilesOf(
   f.trajectory_estimated_tum = in_window(drive.estimated);
   f.trajectory_true_tum = in_window(drive.truth);
   f.map = &session.Map();
-  f.effective_config_yaml = YAML::Dump(SaveParams(params)) + "\n";
+  f.effective_config_yaml = YAML::Dump(SaveParams(params));
   f.run.scene = mw.source;
   f.run.doors = mw.door_overrides;
   f.run.room = scene_room;

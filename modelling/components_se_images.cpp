@@ -11,16 +11,11 @@
 #include "common/srgb.h"
 #include "modelling/component_features.h"
 #include "modelling/components.h"
+#include "common/statistics.h"
 #include "modelling/components_internal.h"
 
 namespace mopad::modelling::detail {
 namespace {
-
-float Median(std::vector<float>& v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 // CIE Lab of one RGB colour (0-255), as cv::cvtColor converts an image's pixels.
 cv::Vec3d LabOf(double r, double g, double b) {
@@ -344,10 +339,10 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
       if (dv.size() < 8) continue;
       all_d.insert(all_d.end(), dv.begin(), dv.end());
       known.at<uchar>(i, j) = 1;
-      bd.at<float>(i, j) = Median(dv);
+      bd.at<float>(i, j) = UpperMedian(dv);
       for (int ch = 0; ch < 3; ++ch) {
         all_c[ch].insert(all_c[ch].end(), cv3[ch].begin(), cv3[ch].end());
-        bc.at<cv::Vec3f>(i, j)[ch] = Median(cv3[ch]);
+        bc.at<cv::Vec3f>(i, j)[ch] = UpperMedian(cv3[ch]);
       }
     }
   // A cell's median is the wall's only where the wall is most of the cell's surface layer: a
@@ -370,7 +365,7 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
             if (known.at<uchar>(a, b))
               for (int ch = 0; ch < 3; ++ch) around[ch].push_back(bc.at<cv::Vec3f>(a, b)[ch]);
         cv::Vec3f ref;
-        for (int ch = 0; ch < 3; ++ch) ref[ch] = Median(around[ch]);
+        for (int ch = 0; ch < 3; ++ch) ref[ch] = UpperMedian(around[ch]);
         const cv::Vec3f ref_lab(LabOf(ref[0], ref[1], ref[2]));
         std::array<std::vector<float>, 3> agree;
         for (int r = i * cell; r < std::min(rows, (i + 1) * cell); ++r)
@@ -381,15 +376,15 @@ void Background(const ComponentParams& p, double pixel, SeImages& se) {
             for (int ch = 0; ch < 3; ++ch) agree[ch].push_back(se.rgb.at<cv::Vec3b>(r, k)[ch]);
           }
         for (int ch = 0; ch < 3; ++ch)
-          refined.at<cv::Vec3f>(i, j)[ch] = agree[ch].size() >= 8 ? Median(agree[ch]) : ref[ch];
+          refined.at<cv::Vec3f>(i, j)[ch] = agree[ch].size() >= 8 ? UpperMedian(agree[ch]) : ref[ch];
       }
     bc = refined;
   }
   float gd = 0.0f;
   cv::Vec3f gcol(200, 200, 200);
   if (!all_d.empty()) {
-    gd = Median(all_d);
-    for (int ch = 0; ch < 3; ++ch) gcol[ch] = Median(all_c[ch]);
+    gd = UpperMedian(all_d);
+    for (int ch = 0; ch < 3; ++ch) gcol[ch] = UpperMedian(all_c[ch]);
   }
   for (int i = 0; i < gr; ++i)
     for (int j = 0; j < gc; ++j)
@@ -460,7 +455,7 @@ double SeLight(const SeImages& se, const std::vector<PathDetection>& depth, bool
       }
   }
   if (ratios.size() < static_cast<std::size_t>(p.light_min_pixels)) return 1.0;
-  return Median(ratios);
+  return UpperMedian(ratios);
 }
 
 }  // namespace mopad::modelling::detail

@@ -1,5 +1,5 @@
 #pragma once
-// The floor model (issue 17, item 4; beyond the paper, which models rooms apart): the rooms'
+// The floor model (beyond the paper, which models rooms apart): the rooms'
 // SM3 and SM4, all in the one map frame of the floor mission, joined into one floor-level
 // SM3/SM4.
 //

@@ -400,7 +400,7 @@ LeafFit FitDoorLeaf(const OrthoPoints& points, const PatchFrame& frame, double u
 bool StandsInFrontOfTheWall(const DetectedOpening& door, const PatchFrame& frame,
                             const OrthoPoints& points, const OpeningParams& params);
 
-/// DSM3 with SM4 (issue 15, item 5): flags VoxelSpace::kOpeningFace on every structural voxel
+/// DSM3 with SM4: flags VoxelSpace::kOpeningFace on every structural voxel
 /// whose centre lies within `band` (m; <= 0: one voxel edge) of an opening's plane and inside
 /// its rectangle shrunk by 3/8 of a voxel edge (every 4 x 4 surface sample of the voxel inside
 /// the opening, the evaluator's truth DSM3 rule), so it reads as `opening`. Apply it to a copy of

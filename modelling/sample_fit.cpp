@@ -6,15 +6,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/statistics.h"
 
 namespace mopad::modelling {
 namespace {
-
-float MedianOf(std::vector<float> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 // Bilinear value of `m` (CV_32F or CV_32FC3) at (x, y) in pixel-centre coordinates, clamped
 // to its border (the padding is the wall).
@@ -55,12 +50,12 @@ WallAround WallOf(const SeSamples& samples, const std::vector<int>& near, double
       wall.push_back(i);
       wall_depth.push_back(samples.Depth(i));
     }
-  const double b = wall.size() >= 5 ? MedianOf(wall_depth) : 0.0;
+  const double b = wall.size() >= 5 ? UpperMedian(wall_depth) : 0.0;
   double sigma_d = surface_band / 3.0;  // too little wall to measure: the band as 3 sigma
   if (wall.size() >= 20) {
     std::vector<float> dev;
     for (float z : wall_depth) dev.push_back(std::abs(z - static_cast<float>(b)));
-    sigma_d = std::max(1e-3, 1.4826 * MedianOf(dev));
+    sigma_d = std::max(1e-3, 1.4826 * UpperMedian(dev));
   }
   return {wall, b, sigma_d};
 }
@@ -86,11 +81,11 @@ double UsedColours(const SeSamples& samples, const std::vector<int>& use,
   // Too little wall to measure: the colour path's noise, half colour_delta_e.
   double sigma_c = 4.0;
   if (wall_k.size() >= 20) {
-    const cv::Vec3f centre(MedianOf(ch[0]), MedianOf(ch[1]), MedianOf(ch[2]));
+    const cv::Vec3f centre(UpperMedian(ch[0]), UpperMedian(ch[1]), UpperMedian(ch[2]));
     std::vector<float> dist;
     for (int k : wall_k)
       dist.push_back(static_cast<float>(cv::norm(lab.at<cv::Vec3f>(0, k) - centre)));
-    sigma_c = std::max(1.0, MedianOf(dist) / 1.538);
+    sigma_c = std::max(1.0, UpperMedian(dist) / 1.538);
   }
   return sigma_c;
 }

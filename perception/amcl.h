@@ -1,7 +1,7 @@
 #pragma once
 // AMCL-style localisation of the base in the obstacle map from wheel odometry and a 2D LRF
 // (paper §3.1 step (2): "matches it with the readings of a 2D laser range finder, by means of
-// an Adaptive Monte-Carlo Localization algorithm"; issue 4, item 4).
+// an Adaptive Monte-Carlo Localization algorithm").
 //
 // Algorithms, after Thrun, Burgard & Fox, *Probabilistic Robotics* (2005):
 // - motion: sample_motion_model_odometry (Table 5.6), noise std sqrt(a1 rot^2 + a2 trans^2)

@@ -1,6 +1,6 @@
 #pragma once
 // The robot's 2D obstacle map (paper §3.1 step (2): "the robot obtains an obstacle map from the
-// previously acquired point cloud"; issue 4, item 3).
+// previously acquired point cloud").
 //
 // A log-odds occupancy grid in the map frame (REP-105 `map`, Z up, floor at z = 0): built from
 // a height band of the robot's own registered 3D points and updated by LRF scans (Bresenham ray

@@ -2,7 +2,7 @@
 // Registration of a new TLS scan s(t) to the accumulated cloud S(t-1) (paper §3.1 step (3):
 // "The set s(t) is firstly horizontally aligned according to the inclinometer ... the 2D
 // registration ... is estimated using the odometry ... Finally, this transformation is refined
-// by applying the well-known Iterative Closest Point (ICP) technique"; issue 5, item 1).
+// by applying the well-known Iterative Closest Point (ICP) technique").
 //
 // The caller gives the scan's points in the (levelled) scanner frame S and the prior X_MS
 // (odometry / localisation, e.g. TlsScan::X_MS_estimate). The refinement is point-to-plane ICP

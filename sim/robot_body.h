@@ -1,7 +1,7 @@
 #pragma once
 // The robot's physical base in the simulator: a differential-drive body that moves over the
 // static scene's collision mesh and among door leaves, and the drifting wheel odometry that is
-// the robot's only proprioception (issue 4, item 1).
+// the robot's only proprioception.
 //
 // Model. The base is velocity-controlled, as a real base with motor speed loops is: commanded
 // (v, w) are clamped to the speed limits (and to the per-wheel speed limit), then slewed by the

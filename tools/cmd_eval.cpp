@@ -1,6 +1,6 @@
 // `mopad eval RUN_DIR [--truth FILE] [--config YAML] -o DIR`: scores the robot's structural
 // models of one room run (RUN_DIR/run.json) or of every room of a main-job folder
-// (RUN_DIR/rooms/*/run.json) against the scene's truth (issue 6, item 5):
+// (RUN_DIR/rooms/*/run.json) against the scene's truth:
 //   SM3     - walls, floors, ceilings: detection TP/FP/FN per class, d_v, d_h, Phi
 //             (EvaluatePatches); columns as objects (EvaluateColumns: plan IoU > 0.5, centre,
 //             footprint and height errors, face metrics of polygonal columns only); ISPRS

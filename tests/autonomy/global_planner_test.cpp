@@ -1,5 +1,5 @@
 // Global planner: OMPL RRT* over the obstacle map with clearance, exact unreachability,
-// determinism for a seed (issue 4, item 5).
+// determinism for a seed.
 #include "autonomy/global_planner.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Local controller on a unicycle simulated in the test, with the base LRF ray cast against the
-// test's own boxes (which may hold obstacles the robot's map lacks) (issue 4, item 5).
+// test's own boxes (which may hold obstacles the robot's map lacks).
 #include "autonomy/local_controller.h"
 
 #include <gtest/gtest.h>
@@ -164,7 +164,7 @@ TEST(LocalController, ReachesTheGoalThroughTheDoorWithinTolerance) {
 // wall and 0.15 m off the door axis): the crossing, which follows the axis, hands over to the
 // final approach at the path's end. Before, the passage counted as done only once the base's
 // rear was 0.2 m past the narrowest point, which this path never reaches, and the base drove
-// on along the axis past the goal (office_5rooms, seed 1: 3 m into R1, unscanned).
+// on along the axis past the goal (3 m into an unscanned room).
 TEST(LocalController, ArrivesAtAGoalJustBeyondTheDoor) {
   Scenario sc;
   sc.goal = Pose2{5.3, 2.85, 0.0};
@@ -543,8 +543,8 @@ TEST(LocalController, FreeTravelOfTheFootprint) {
   EXPECT_NEAR(ctl.FreeTravel({}, 0.5, 0.3, 0.0, 1.5), 1.5, 1e-9);
 }
 
-// A base stopped with a cabinet face 3 cm beside its front right (office_5rooms, seed 3: the
-// base LRF saw the face at y = -0.28 m, inside a 4 cm margin) may back straight out and turn
+// A base stopped with a cabinet face 3 cm beside its front right (the base LRF sees the face
+// at y = -0.28 m, inside a 4 cm margin) may back straight out and turn
 // away from the face; turning into it and driving on along it into the niche stay blocked.
 // Before, every motion counted as blocked there and the base stood wedged until it gave up.
 TEST(LocalController, FreeTravelLetsABaseWithinTheMarginMoveAwayOnly) {

@@ -1,5 +1,5 @@
 #pragma once
-// Small scenes for the SM4 tests (issue 15), built in code from coloured oriented boxes and
+// Small scenes for the SM4 tests, built in code from coloured oriented boxes and
 // scanned by an analytic ray caster: a room x in [0, 5], y in [0, 4], z in [0, 2.7] whose south
 // wall (y in [-0.2, 0]) holds the opening under test, a second room behind it (y down to -4) so
 // that rays through an opening return, and whatever furniture a test adds. Glass boxes let rays

@@ -1,4 +1,4 @@
-// SM4 (paper §3.3; issue 15): the orthoimage J_CD, opening detection from colour and depth, the
+// SM4 (paper §3.3): the orthoimage J_CD, opening detection from colour and depth, the
 // door leaf's angle and state, and the sm4.json file. Scenes are coloured boxes scanned by the
 // analytic ray caster of openings_scenes.h; the truth of each is the scene's own numbers.
 #include "modelling/openings.h"

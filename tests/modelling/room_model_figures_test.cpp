@@ -111,7 +111,7 @@ TEST(RoomModelFigures, TwoRoomsDoorLabelsAgreeWithTruth) {
 }
 
 TEST(RoomModelFigures, LabelsWithTheLargestAcceptedRegistrationError) {
-  // 1 cm and 0.1 deg on every scan after the first (issue 5's registration acceptance bound).
+  // 1 cm and 0.1 deg on every scan after the first (the registration acceptance bound).
   RunRooms("two_rooms_door", {{"R1", {{1.5, 2.2}, {3.8, 1.5}}}}, 0.3, 0.98, 0.01, DegToRad(0.1));
 }
 

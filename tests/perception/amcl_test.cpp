@@ -1,5 +1,5 @@
 // AMCL on a synthetic two-room world: the LRF is simulated in the test by ray casting its own
-// boxes; the map is what the robot built from scan points of the same boxes (issue 4, item 4).
+// boxes; the map is what the robot built from scan points of the same boxes.
 #include "perception/amcl.h"
 
 #include <gtest/gtest.h>

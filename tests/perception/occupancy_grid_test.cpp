@@ -1,5 +1,5 @@
 // Obstacle map: built from a height band of 3D points, updated by LRF ray tracing, inflated by
-// a distance transform, written and read in ROS map_server conventions (issue 4, item 3).
+// a distance transform, written and read in ROS map_server conventions.
 #include "perception/occupancy_grid.h"
 
 #include <gtest/gtest.h>
@@ -96,7 +96,7 @@ TEST(OccupancyGrid, LrfBeamsDoNotClearObstaclesSeenIn3D) {
   }
 }
 
-// TLS beams clear the floor they cross low (issue 4 drive): a scanner at 1.6 m in a 10 m
+// TLS beams clear the floor they cross low: a scanner at 1.6 m in a 10 m
 // room whose floor returns are thinned to one every 2 m leaves most far cells unknown with
 // InsertPoints alone; InsertRays fills them, stops a cell short of a wall, keeps a low box
 // that band points marked, and does not clear the cells a beam crosses above ray_clear_z_max.

@@ -1,4 +1,4 @@
-// Scan registration (issue 5, item 1): point-cloud building blocks with analytic answers, and
+// Scan registration: point-cloud building blocks with analytic answers, and
 // ICP of simulated 0.2 deg TLS scans of scenes/one_room.yaml against known true poses. The
 // simulator and the scene generator make the input only; the registration never sees them.
 #include "perception/registration.h"

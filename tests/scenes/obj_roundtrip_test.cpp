@@ -1,5 +1,5 @@
 // A generated scene exported to OBJ and read back through assimp gives the same triangles
-// (issue 2 acceptance: the glTF and assimp paths agree on the same geometry).
+// (the glTF and assimp paths agree on the same geometry).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Robot body: the kinematic differential-drive base over Bullet collision queries and its
-// drifting wheel odometry (issue 4, item 1). Tiny worlds built in code with analytic answers.
+// drifting wheel odometry. Tiny worlds built in code with analytic answers.
 #include "sim/robot_body.h"
 
 #include <gtest/gtest.h>
