@@ -26,15 +26,15 @@ namespace {
 namespace fs = std::filesystem;
 // What the job collected, whichever mode ran.
 struct JobTables {
-  ReportTable rooms{"Rooms (robot side)", {}, {}, ""};
-  ReportTable eval{"Evaluation against the truth",
-                   {"room", "coverage of observable", "coverage of total",
-                    "registration error max (mm / deg)", "SM1 labels agree"},
-                   {},
-                   ""};
+  report::ReportTable rooms{"Rooms (robot side)", {}, {}, ""};
+  report::ReportTable eval{"Evaluation against the truth",
+                           {"room", "coverage of observable", "coverage of total",
+                            "registration error max (mm / deg)", "SM1 labels agree"},
+                           {},
+                           ""};
   nlohmann::ordered_json rooms_json = nlohmann::json::array();
   nlohmann::ordered_json mission_json;  ///< floor mode only
-  ReportTable tree;                     ///< floor mode only
+  report::ReportTable tree;             ///< floor mode only
   int rooms_failed = 0;
   std::string subtitle;
 };
@@ -55,9 +55,9 @@ void AddEvaluation(const std::string& room, const evaluation::RoomEvaluation& e,
 }
 
 void AddScans(const std::string& room, const std::vector<Eigen::Vector3d>& positions,
-              const std::vector<Eigen::Vector2f>& plan_points, ReportInput& report) {
+              const std::vector<Eigen::Vector2f>& plan_points, report::ReportInput& report) {
   for (std::size_t k = 0; k < positions.size(); ++k) {
-    ReportScan rs;
+    report::ReportScan rs;
     rs.name = room + "/" + std::to_string(k);
     rs.position = positions[k];
     if (k == 0) rs.plan_points = plan_points;
@@ -80,7 +80,7 @@ RoomBoundary PerRoomBoundary(const std::string& id, const RoomJob* job) {
 }
 
 void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
-                const MainJobOptions& o, JobTables& t, ReportInput& report) {
+                const MainJobOptions& o, JobTables& t, report::ReportInput& report) {
   t.rooms.header = {"room", "scans", "robot coverage", "stop reason", "path (m)", "SM1 points"};
   for (const std::string& id : o.rooms) {
     const auto t0 = WallClock::now();
@@ -108,7 +108,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
                             FormatFixed(job->path_length, 2), std::to_string(job->points)});
     AddEvaluation(id, *job->evaluation, t, o);
     AddScans(id, job->scan_positions_W, job->plan_points_W, report);
-    ReportCoverage rc{id, {}, job->evaluation->coverage_per_scan};
+    report::ReportCoverage rc{id, {}, job->evaluation->coverage_per_scan};
     for (const RoomScanLog& s : m.scans) rc.robot.push_back(s.coverage.observable_ratio);
     report.coverage.push_back(std::move(rc));
     nlohmann::ordered_json rj;
@@ -165,7 +165,7 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
 }
 
 // The true path (every 0.5 s) and the tree's edges on the plan (world frame).
-void AddMissionDrawing(const FloorJob& job, ReportInput& report) {
+void AddMissionDrawing(const FloorJob& job, report::ReportInput& report) {
   for (std::size_t k = 0; k < job.drive.truth.size(); k += 25) {
     const Pose2& p = job.drive.truth[k].pose;
     report.path.push_back((job.X_WM * Vec3(p.x, p.y, 0.0)).head<2>());
@@ -191,7 +191,7 @@ void AddMissionDrawing(const FloorJob& job, ReportInput& report) {
 }
 
 void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const MainJobOptions& o,
-              JobTables& t, ReportInput& report) {
+              JobTables& t, report::ReportInput& report) {
   t.rooms.header = {"robot room",     "scene room",  "scans (+ door)",
                     "robot coverage", "stop reason", "openings"};
   std::function<void(const RoomBoundary&)> boundary;
@@ -242,7 +242,7 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
            r.evaluation ? r.evaluation->coverage_per_scan : std::vector<double>{}});
     AddScans(r.room, r.scan_positions_W, r.plan_points_W, report);
     for (const Eigen::Vector3d& p : r.door_scan_positions_W) {
-      ReportScan rs;
+      report::ReportScan rs;
       rs.name = r.room + "/door";
       rs.position = p;
       rs.door = true;
@@ -287,7 +287,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& o) {
   const auto t_start = WallClock::now();
   const fs::path dir(o.dir);
-  ReportInput report;
+  report::ReportInput report;
   report.title = "OpenMoPAD run: " + o.scene_name;
   report.truth = &*mw.truth;
   report.coverage_threshold = params.stopping.epsilon1;
@@ -361,7 +361,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (!evaluated)
     report.tables.push_back({"Models against the truth", {"error"}, {{defect}}, ""});
   else
-    report.tables.push_back(ModelScoresTable(run_eval.summary));
+    report.tables.push_back(report::ModelScoresTable(run_eval.summary));
   if (run_eval.components) {
     const evaluation::ComponentTableText c = evaluation::ComponentsTable(*run_eval.components);
     report.tables.push_back({"SM5 service components against the truth (paper Table 3, all rooms)",
@@ -375,8 +375,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                             {"exports", FormatFixed(t_export, 2)},
                             {"total", FormatFixed(SecondsSince(t_start) + o.t_generate, 2)}},
                            ""});
-  WriteHtmlReport(report, (dir / "report.html").string());
-  WriteMarkdownReport(report, (dir / "report.md").string());
+  report::WriteHtmlReport(report, (dir / "report.html").string());
+  report::WriteMarkdownReport(report, (dir / "report.md").string());
   if (o.checkpoint) o.checkpoint->MarkComplete();
   if (!defect.empty())
     throw std::runtime_error(defect + " (summary.json and the report were written)");

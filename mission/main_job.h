@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "mission/floor_job.h"
-#include "mission/report.h"
+#include "report/report.h"
 #include "sim/scene_world.h"
 
 namespace mopad::mission {
@@ -25,7 +25,7 @@ struct MainJobOptions {
   std::optional<Pose2> start_W;    ///< floor mission start (world); default: a free spot
   std::string scene_name, scene_source;
   nlohmann::ordered_json scene_json;  ///< the scene's counts, for summary.json
-  ReportTable scene_table;            ///< the same, for the report
+  report::ReportTable scene_table;    ///< the same, for the report
   double t_generate = 0.0;            ///< s spent making the scene (reporting only)
   /// Hears one line per event (rooms, scans, doors); the CLI prints it.
   std::function<void(const std::string&)> progress;

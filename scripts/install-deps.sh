@@ -13,7 +13,7 @@ packages=(
   libeigen3-dev libembree-dev libbullet-dev libopencv-dev libompl-dev liboctomap-dev
   libtinygltf-dev libassimp-dev libyaml-cpp-dev libtbb-dev libcli11-dev libspdlog-dev
   nlohmann-json3-dev libnanoflann-dev libgtest-dev
-  libjs-three  # three.js r111, inlined into report.html's 3D view (mission/report_viewer.h)
+  libjs-three  # three.js r111, inlined into report.html's 3D view (report/report_viewer.h)
 )
 with_tests=0
 [[ "${1:-}" == "--test" ]] && with_tests=1

@@ -18,6 +18,7 @@
 #include "io/text_file.h"
 #include "mission/main_job.h"
 #include "mission/run_checkpoint.h"
+#include "report/report.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/scene_world.h"
@@ -41,7 +42,7 @@ nlohmann::ordered_json SceneJson(const std::string& source, const std::string& n
           {"triangles", s.triangles}};
 }
 
-mission::ReportTable SceneTable(const SceneSummary& s) {
+report::ReportTable SceneTable(const SceneSummary& s) {
   return {"Scene",
           {"item", "count"},
           {{"rooms", std::to_string(s.rooms)},

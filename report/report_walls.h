@@ -12,7 +12,7 @@
 
 #include <string>
 
-namespace mopad::mission {
+namespace mopad::report {
 
 /// Height (pixels) of the embedded images: the budget of a wall in the report.
 inline constexpr int kWallImageRows = 160;
@@ -23,4 +23,4 @@ inline constexpr int kWallImageJpegQuality = 80;
 /// malformed gets a one-line note instead of its figures.
 std::string WallImagesHtml(const std::string& run_dir);
 
-}  // namespace mopad::mission
+}  // namespace mopad::report

@@ -1,4 +1,4 @@
-#include "mission/report.h"
+#include "report/report.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -11,10 +11,10 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "common/polygon.h"
-#include "mission/report_viewer.h"
-#include "mission/report_walls.h"
+#include "report/report_viewer.h"
+#include "report/report_walls.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 
 std::string HtmlEscape(const std::string& s) {
   std::string o;
@@ -378,4 +378,4 @@ ReportTable ModelScoresTable(const nlohmann::ordered_json& summary) {
   return t;
 }
 
-}  // namespace mopad::mission
+}  // namespace mopad::report

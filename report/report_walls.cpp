@@ -1,4 +1,4 @@
-#include "mission/report_walls.h"
+#include "report/report_walls.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,13 +10,13 @@
 
 #include "common/error.h"
 #include "common/format.h"
-#include "mission/report.h"
 #include "modelling/model_io.h"
 #include "modelling/orthoimage.h"
 #include "modelling/sm5_io.h"
+#include "report/report.h"
 #include "runfolder/layout.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -37,7 +37,7 @@ std::string Base64(const std::vector<unsigned char>& in) {
   return out;
 }
 
-// The plan view's door colours (mission/report.cpp), by SM4 state; windows blue.
+// The plan view's door colours (report/report.cpp), by SM4 state; windows blue.
 const char* OpeningColour(const modelling::DetectedOpening& o) {
   if (o.type == modelling::OpeningType::kWindow) return "#1e88e5";
   switch (o.state) {
@@ -136,7 +136,8 @@ std::string WallFigure(const std::string& room, const modelling::StructuralPatch
 std::string WallImagesHtml(const std::string& run_dir) {
   std::ostringstream body;
   std::size_t bytes = 0, walls = 0;
-  for (const fs::path dir : runfolder::RoomFolders(run_dir.empty() ? "." : run_dir, runfolder::kSm3)) {
+  for (const fs::path dir :
+       runfolder::RoomFolders(run_dir.empty() ? "." : run_dir, runfolder::kSm3)) {
     const std::string name = dir.filename().string();
     try {
       const modelling::StructuralModel sm3 = modelling::ReadSm3((dir / runfolder::kSm3).string());
@@ -152,8 +153,8 @@ std::string WallImagesHtml(const std::string& run_dir) {
           sm3.room.empty() || sm3.room == name ? name : name + " (" + sm3.room + ")";
       for (const auto& p : sm3.patches) {
         if (p.patch_class != modelling::PatchClass::kWall) continue;
-        const std::string fig =
-            WallFigure(label, p, dir / runfolder::kOrthoimages / (p.id + "_colour.png"), sm4, sm5, bytes);
+        const std::string fig = WallFigure(
+            label, p, dir / runfolder::kOrthoimages / (p.id + "_colour.png"), sm4, sm5, bytes);
         if (!fig.empty()) ++walls;
         body << fig;
       }
@@ -176,4 +177,4 @@ std::string WallImagesHtml(const std::string& run_dir) {
          figures + "</div>\n";
 }
 
-}  // namespace mopad::mission
+}  // namespace mopad::report

@@ -16,7 +16,7 @@
 
 #include "scenes/ground_truth.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 
 /// Where Debian's libjs-three installs three.js, and its two files the view inlines.
 inline constexpr const char* kThreeJsDir = "/usr/share/javascript/three";
@@ -30,4 +30,4 @@ inline constexpr const char* kOrbitControlsFile = "examples/js/controls/OrbitCon
 std::string ModelViewerHtml(const std::string& run_dir, const scenes::GroundTruth* truth = nullptr,
                             const std::string& three_dir = kThreeJsDir);
 
-}  // namespace mopad::mission
+}  // namespace mopad::report

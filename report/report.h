@@ -2,7 +2,7 @@
 // Self-contained HTML report of a run: summary tables, a plan-view SVG of the scene (rooms,
 // doors coloured by state, windows, service components, furniture) with the scan positions and
 // a plan-view slice of the scanned points, one coverage-against-scans plot per room, and the
-// run folder's wall orthoimages and 3D model (mission/report_walls.h, report_viewer.h). No
+// run folder's wall orthoimages and 3D model (report/report_walls.h, report_viewer.h). No
 // external files, scripts or fonts.
 
 #include <Eigen/Core>
@@ -13,7 +13,7 @@
 
 #include "scenes/ground_truth.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 
 struct ReportScan {
   std::string name;
@@ -68,4 +68,4 @@ void WriteHtmlReport(const ReportInput& input, const std::string& path);
 /// The same tables as GitHub-flavoured Markdown (for CI summaries).
 void WriteMarkdownReport(const ReportInput& input, const std::string& path);
 
-}  // namespace mopad::mission
+}  // namespace mopad::report

@@ -1,4 +1,4 @@
-#include "mission/report_viewer.h"
+#include "report/report_viewer.h"
 
 #include <cmath>
 #include <filesystem>
@@ -11,7 +11,7 @@
 #include "exports/gltf_export.h"
 #include "runfolder/layout.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -304,4 +304,4 @@ std::string ModelViewerHtml(const std::string& run_dir, const scenes::GroundTrut
          text + "</script>\n" + library + "<script>" + kViewerScript + "</script>\n";
 }
 
-}  // namespace mopad::mission
+}  // namespace mopad::report

@@ -1,7 +1,7 @@
 // The report's 3D view: the fragment carries the model of a run folder, and headless Chromium
 // (Debian `chromium`, when installed) draws it with three.js (Debian libjs-three), or with the
 // canvas 2D fallback when the library is absent, on a non-blank canvas with no script error.
-#include "mission/report_viewer.h"
+#include "report/report_viewer.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 
 #include "modelling/model_io.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -193,4 +193,4 @@ TEST(ReportViewer, HeadlessChromiumDrawsTheCanvasFallbackWithoutThreeJs) {
 }
 
 }  // namespace
-}  // namespace mopad::mission
+}  // namespace mopad::report

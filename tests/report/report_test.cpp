@@ -1,7 +1,7 @@
 // The report's figures: coverage against scans per room, the wall orthoimages with the robot's
 // openings and components drawn over them, and the paper's Table 3 from the evaluator's one
 // table builder.
-#include "mission/report.h"
+#include "report/report.h"
 
 #include <gtest/gtest.h>
 
@@ -11,12 +11,12 @@
 #include <string>
 
 #include "evaluation/metrics_components.h"
-#include "mission/report_walls.h"
 #include "modelling/model_io.h"
 #include "modelling/orthoimage.h"
 #include "modelling/sm5_io.h"
+#include "report/report_walls.h"
 
-namespace mopad::mission {
+namespace mopad::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -202,4 +202,4 @@ TEST(ReportWalls, TallImagesAreDownscaledAndAFolderWithoutImagesHasNone) {
 }
 
 }  // namespace
-}  // namespace mopad::mission
+}  // namespace mopad::report
