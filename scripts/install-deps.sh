@@ -27,6 +27,10 @@ done
 if (( with_tests )) && ! command -v node >/dev/null 2>&1; then
   missing+=(nodejs npm)
 fi
+# Universal Ctags: function extents for scripts/check-code-size.sh (a test of the suite).
+if (( with_tests )) && ! dpkg-query -W -f='${Status}' universal-ctags 2>/dev/null | grep -q "install ok installed"; then
+  missing+=(universal-ctags)
+fi
 
 if (( ${#missing[@]} )); then
   echo "install-deps: installing ${missing[*]}"

@@ -79,6 +79,140 @@ std::function<void(const std::string&)> ProgressPrinter(bool quiet, WallClock::t
   };
 }
 
+// What `mopad run` was given on the command line.
+struct RunArgs {
+  std::string out = "out/run", spec_path, scene_dir, config, start, resume;
+  std::uint64_t seed = 1;
+  double step = 0.2;
+  std::vector<std::string> rooms;
+  bool quiet = false;
+  CLI::Option* seed_opt = nullptr;
+  CLI::Option* step_opt = nullptr;
+};
+
+void AddRunOptions(CLI::App* cmd, RunArgs& a) {
+  auto* out_opt = cmd->add_option("-o,--output", a.out, "Output folder")->default_val("out/run");
+  auto* spec_opt = cmd->add_option("--spec", a.spec_path,
+                                   "Scene spec YAML (default: the embedded office_5rooms)");
+  auto* scene_opt =
+      cmd->add_option("--scene", a.scene_dir,
+                      "A scene folder with its truth (mopad scene generate|random|import)")
+          ->excludes(spec_opt);
+  a.seed_opt = cmd->add_option("--seed", a.seed,
+                               "Run seed: sensor noise, odometry, localisation (default: the "
+                               "config's drive.seed, else 1)");
+  a.step_opt = cmd->add_option("--step-deg", a.step,
+                               "TLS angular step of the room scans in degrees (default: the "
+                               "config's scan_step_deg, else 0.2)")
+                   ->check(CLI::Range(0.02, 5.0));
+  auto* config_opt =
+      cmd->add_option("--config", a.config, "YAML overriding FloorMissionParams fields");
+  auto* rooms_opt = cmd->add_option(
+      "--room", a.rooms,
+      "Per-room mode: a fresh robot placed in each of these rooms (default: the floor mission)");
+  auto* start_opt =
+      cmd->add_option("--start", a.start,
+                      "Floor mission start pose in the scene frame 'x,y,yaw_deg' (default: a free "
+                      "spot of the scene's first room)");
+  cmd->add_option("--resume", a.resume,
+                  "Finish the run in DIR after its process was killed: the job runs again from "
+                  "DIR/checkpoint/ (its scene, config, seed, start) and writes the files an "
+                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option")
+      ->excludes(out_opt, spec_opt, scene_opt, a.seed_opt, a.step_opt, config_opt, rooms_opt,
+                 start_opt);
+  cmd->add_flag("-q,--quiet", a.quiet, "No progress lines (results and errors only)");
+  cmd->footer(
+      "Writes DIR/summary.json, report.html, report.md, dtt.json, trajectory_true.tum, "
+      "trajectory_estimated.tum and floor/ (sm3.json, sm4.json: the floor model) for the floor "
+      "mission, rooms/<ID>/ (models, scans, evaluation), "
+      "eval/ and export/ (model.ifc, model.glb, sm1.las; docs/exports.md).");
+}
+
+// The run's inputs: from the command line (a checkpoint records them in `dir` before anything
+// else happens), or, with --resume, from that checkpoint. None when a resumed run is complete.
+std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& dir) {
+  if (!a.resume.empty()) {
+    dir = a.resume;
+    mission::RunCheckpoint ck = mission::RunCheckpoint::Open(dir.string());
+    if (ck.Complete()) {
+      std::printf("%s: the run is complete (checkpoint/manifest.json); nothing to resume\n",
+                  dir.string().c_str());
+      return std::nullopt;
+    }
+    std::printf(
+        "resuming %s (resume %d): the job runs again from its checkpoint; the %d "
+        "rooms it recorded are re-run and checked\n",
+        dir.string().c_str(), ck.Resumes(), ck.RecordedRooms());
+    return ck;
+  }
+  dir = a.out;
+  fs::create_directories(dir);
+  mission::RunInputs in;
+  if (!a.config.empty()) in.params = LoadParamsFile<mission::FloorMissionParams>(a.config);
+  OverrideIfGiven(a.step_opt, a.step, in.params.scan_step_deg);
+  OverrideIfGiven(a.seed_opt, a.seed, in.params.drive.seed);
+  ValidateParams(in.params, "room.");
+  in.rooms = a.rooms;
+  if (!a.start.empty()) in.start_W = ParsePoseArg("--start", a.start);
+  if (a.scene_dir.empty()) {
+    in.spec_name = a.spec_path.empty() ? kDefaultSceneSpecName : a.spec_path;
+    in.spec_text = a.spec_path.empty() ? kDefaultSceneSpec : io::ReadTextFile(a.spec_path);
+    in.scene_source = in.spec_name;
+  } else {
+    in.scene_folder = fs::absolute(a.scene_dir).string();
+    in.scene_source = a.scene_dir;
+  }
+  return mission::RunCheckpoint::Create(dir.string(), in);
+}
+
+// The main job on the checkpoint's inputs, into `dir`.
+void RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
+            WallClock::time_point t_start) {
+  const mission::RunInputs& in = ck.Inputs();
+  // The world (truth side): a generated scene is written out so that `mopad eval` can
+  // re-read it; a given scene folder is used where it is.
+  mission::MainJobOptions o;
+  o.dir = dir.string();
+  o.rooms = in.rooms;
+  o.start_W = in.start_W;
+  if (in.scene_folder.empty()) {
+    const scenes::SceneSpec spec = scenes::ParseSceneSpec(in.spec_text, in.spec_name);
+    scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
+    o.scene_name = spec.name;
+    o.scene_source = in.scene_source;
+  }
+  const std::string scene_folder =
+      in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;
+  ck.SetScene(scene_folder);
+  const sim::SceneWorld mw = sim::LoadSceneWorld(scene_folder);
+  if (!mw.truth)
+    throw InputError(scene_folder + ": error: the scene has no truth sidecar (scene.truth.json)");
+  if (o.scene_name.empty()) o.scene_name = mw.truth->scene_name, o.scene_source = in.scene_source;
+  const SceneSummary summary =
+      Summarise(mw.world->scene(), &*mw.truth, scene_folder + "/scene.glb");
+  o.t_generate = SecondsSince(t_start);
+  o.scene_json = SceneJson(o.scene_source, o.scene_name, summary);
+  o.scene_table = SceneTable(summary);
+  std::printf(
+      "scene: %s, %zu rooms, %zu walls, %zu doors, %zu windows, %zu service "
+      "components, %zu triangles (%.2f s)\n",
+      o.scene_name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
+      summary.bsc_total, summary.triangles, o.t_generate);
+  const bool tty = isatty(fileno(stdout)) != 0 && !quiet;
+  o.progress = ProgressPrinter(quiet, t_start);
+  o.print = [tty](const std::string& line) {
+    std::printf(tty ? "\r\033[K%s\n" : "%s\n", line.c_str());
+    std::fflush(stdout);
+  };
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
+  o.stop_requested = [] { return g_stop.load(); };
+  o.checkpoint = &ck;
+  mission::RunMainJob(mw, in.params, o);
+  std::printf("done in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
+              SecondsSince(t_start), dir.string().c_str());
+}
+
 }  // namespace
 
 void RegisterRunCommand(CLI::App& app) {
@@ -86,136 +220,13 @@ void RegisterRunCommand(CLI::App& app) {
       "run",
       "Main job: the floor mission on the default scene (one robot, room by room through the "
       "doors it finds), models, evaluation and a report");
-  auto out = std::make_shared<std::string>("out/run");
-  auto spec_path = std::make_shared<std::string>();
-  auto seed = std::make_shared<std::uint64_t>(1);
-  auto step = std::make_shared<double>(0.2);
-  auto config = std::make_shared<std::string>();
-  auto rooms = std::make_shared<std::vector<std::string>>();
-  auto* out_opt = cmd->add_option("-o,--output", *out, "Output folder")->default_val("out/run");
-  auto scene_dir = std::make_shared<std::string>();
-  auto* spec_opt = cmd->add_option("--spec", *spec_path,
-                                   "Scene spec YAML (default: the embedded office_5rooms)");
-  auto* scene_opt =
-      cmd->add_option("--scene", *scene_dir,
-                      "A scene folder with its truth (mopad scene generate|random|import)")
-          ->excludes(spec_opt);
-  auto* seed_opt =
-      cmd->add_option("--seed", *seed,
-                      "Run seed: sensor noise, odometry, localisation (default: the config's "
-                      "drive.seed, else 1)");
-  auto* step_opt =
-      cmd->add_option("--step-deg", *step,
-                      "TLS angular step of the room scans in degrees (default: the config's "
-                      "scan_step_deg, else 0.2)")
-          ->check(CLI::Range(0.02, 5.0));
-  auto* config_opt =
-      cmd->add_option("--config", *config, "YAML overriding FloorMissionParams fields");
-  auto* rooms_opt = cmd->add_option(
-      "--room", *rooms,
-      "Per-room mode: a fresh robot placed in each of these rooms (default: the floor mission)");
-  auto start = std::make_shared<std::string>();
-  auto* start_opt =
-      cmd->add_option("--start", *start,
-                      "Floor mission start pose in the scene frame 'x,y,yaw_deg' (default: a free "
-                      "spot of the scene's first room)");
-  auto resume = std::make_shared<std::string>();
-  cmd->add_option("--resume", *resume,
-                  "Finish the run in DIR after its process was killed: the job runs again from "
-                  "DIR/checkpoint/ (its scene, config, seed, start) and writes the files an "
-                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option")
-      ->excludes(out_opt, spec_opt, scene_opt, seed_opt, step_opt, config_opt, rooms_opt,
-                 start_opt);
-  auto quiet = std::make_shared<bool>(false);
-  cmd->add_flag("-q,--quiet", *quiet, "No progress lines (results and errors only)");
-  cmd->footer(
-      "Writes DIR/summary.json, report.html, report.md, dtt.json, trajectory_true.tum, "
-      "trajectory_estimated.tum and floor/ (sm3.json, sm4.json: the floor model) for the floor "
-      "mission, rooms/<ID>/ (models, scans, evaluation), "
-      "eval/ and export/ (model.ifc, model.glb, sm1.las; docs/exports.md).");
-  cmd->callback([=] {
+  auto args = std::make_shared<RunArgs>();
+  AddRunOptions(cmd, *args);
+  cmd->callback([args] {
     const auto t_start = WallClock::now();
-    // The run's inputs: from the command line (a checkpoint records them before anything
-    // else happens), or, with --resume, from that checkpoint.
-    std::optional<mission::RunCheckpoint> ck;
     fs::path dir;
-    if (!resume->empty()) {
-      dir = *resume;
-      ck = mission::RunCheckpoint::Open(dir.string());
-      if (ck->Complete()) {
-        std::printf("%s: the run is complete (checkpoint/manifest.json); nothing to resume\n",
-                    dir.string().c_str());
-        return;
-      }
-      std::printf(
-          "resuming %s (resume %d): the job runs again from its checkpoint; the %d "
-          "rooms it recorded are re-run and checked\n",
-          dir.string().c_str(), ck->Resumes(), ck->RecordedRooms());
-    } else {
-      dir = *out;
-      fs::create_directories(dir);
-      mission::RunInputs in;
-      if (!config->empty()) in.params = LoadParamsFile<mission::FloorMissionParams>(*config);
-      OverrideIfGiven(step_opt, *step, in.params.scan_step_deg);
-      OverrideIfGiven(seed_opt, *seed, in.params.drive.seed);
-      ValidateParams(in.params, "room.");
-      in.rooms = *rooms;
-      if (!start->empty()) in.start_W = ParsePoseArg("--start", *start);
-      if (scene_dir->empty()) {
-        in.spec_name = spec_path->empty() ? kDefaultSceneSpecName : *spec_path;
-        in.spec_text = spec_path->empty() ? kDefaultSceneSpec : io::ReadTextFile(*spec_path);
-        in.scene_source = in.spec_name;
-      } else {
-        in.scene_folder = fs::absolute(*scene_dir).string();
-        in.scene_source = *scene_dir;
-      }
-      ck = mission::RunCheckpoint::Create(dir.string(), in);
-    }
-    const mission::RunInputs& in = ck->Inputs();
-    const mission::FloorMissionParams& params = in.params;
-
-    // The world (truth side): a generated scene is written out so that `mopad eval` can
-    // re-read it; a given scene folder is used where it is.
-    mission::MainJobOptions o;
-    o.dir = dir.string();
-    o.rooms = in.rooms;
-    o.start_W = in.start_W;
-    if (in.scene_folder.empty()) {
-      const scenes::SceneSpec spec = scenes::ParseSceneSpec(in.spec_text, in.spec_name);
-      scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
-      o.scene_name = spec.name;
-      o.scene_source = in.scene_source;
-    }
-    const std::string scene_folder =
-        in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;
-    ck->SetScene(scene_folder);
-    const sim::SceneWorld mw = sim::LoadSceneWorld(scene_folder);
-    if (!mw.truth)
-      throw InputError(scene_folder + ": error: the scene has no truth sidecar (scene.truth.json)");
-    if (o.scene_name.empty()) o.scene_name = mw.truth->scene_name, o.scene_source = in.scene_source;
-    const SceneSummary summary =
-        Summarise(mw.world->scene(), &*mw.truth, scene_folder + "/scene.glb");
-    o.t_generate = SecondsSince(t_start);
-    o.scene_json = SceneJson(o.scene_source, o.scene_name, summary);
-    o.scene_table = SceneTable(summary);
-    std::printf(
-        "scene: %s, %zu rooms, %zu walls, %zu doors, %zu windows, %zu service "
-        "components, %zu triangles (%.2f s)\n",
-        o.scene_name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
-        summary.bsc_total, summary.triangles, o.t_generate);
-    const bool tty = isatty(fileno(stdout)) != 0 && !*quiet;
-    o.progress = ProgressPrinter(*quiet, t_start);
-    o.print = [tty](const std::string& line) {
-      std::printf(tty ? "\r\033[K%s\n" : "%s\n", line.c_str());
-      std::fflush(stdout);
-    };
-    std::signal(SIGINT, OnStopSignal);
-    std::signal(SIGTERM, OnStopSignal);
-    o.stop_requested = [] { return g_stop.load(); };
-    o.checkpoint = &*ck;
-    mission::RunMainJob(mw, params, o);
-    std::printf("done in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
-                SecondsSince(t_start), dir.string().c_str());
+    std::optional<mission::RunCheckpoint> ck = CheckpointOf(*args, dir);
+    if (ck) RunJob(*ck, dir, args->quiet, t_start);
   });
 }
 
