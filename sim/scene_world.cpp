@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <sstream>
 
 #include "common/error.h"
 #include "common/polygon.h"
+#include "scenes/door_angles.h"
 #include "scenes/generator.h"
 #include "scenes/scene_loader.h"
 #include "scenes/scene_paths.h"
@@ -20,23 +20,7 @@ SceneWorld LoadSceneWorld(const std::string& scene_arg,
   const std::string ext = std::filesystem::path(scene_arg).extension().string();
   if (ext == ".yaml" || ext == ".yml") {
     scenes::SceneSpec spec = scenes::LoadSceneSpec(scene_arg);
-    for (const auto& d : door_overrides) {
-      const auto eq = d.find('=');
-      bool found = false;
-      if (eq != std::string::npos)
-        for (auto& door : spec.doors)
-          if (door.id == d.substr(0, eq)) {
-            try {
-              door.angle_deg = std::stod(d.substr(eq + 1));
-            } catch (const std::exception&) {
-              break;
-            }
-            found = true;
-          }
-      if (!found)
-        throw InputError("--door: error: unknown door or bad syntax; got '" + d +
-                         "', expected ID=DEG with ID a door of the spec");
-    }
+    scenes::SetDoorAngles(scenes::ParseDoorAngles(door_overrides, "--door"), "--door", &spec);
     scenes::GeneratedScene g = scenes::Generate(spec);
     out.truth = std::move(g.truth);
     out.world = std::make_unique<EmbreeWorld>(std::move(g.scene), &*out.truth);

@@ -18,6 +18,7 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "common/polygon.h"
+#include "scenes/door_angles.h"
 #include "scenes/generator.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene_loader.h"
@@ -106,17 +107,8 @@ Pose3 ParsePose(const std::string& s) {
 }
 
 void ApplyDoors(EmbreeWorld& world, const std::vector<std::string>& doors) {
-  for (const auto& d : doors) {
-    const auto eq = d.find('=');
-    if (eq == std::string::npos) throw InputError("--door", "expected ID=ANGLE_DEG", "'" + d + "'");
-    double deg = 0;
-    try {
-      deg = std::stod(d.substr(eq + 1));
-    } catch (const std::exception&) {
-      throw InputError("--door", "angle is not a number", "'" + d + "'");
-    }
-    world.SetDoorAngle(d.substr(0, eq), DegToRad(deg));
-  }
+  for (const auto& [id, deg] : scenes::ParseDoorAngles(doors, "--door"))
+    world.SetDoorAngle(id, DegToRad(deg));
 }
 
 /// A progress bar on stderr, only when stderr is a terminal and the work lasts over a second.
