@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include "common/polygon.h"
+
 namespace mopad::exports {
 namespace {
 
@@ -20,37 +22,27 @@ double SignedPlanArea(const std::vector<Eigen::Vector3d>& poly) {
   return 0.5 * a2;
 }
 
-double PolygonArea(const std::vector<Eigen::Vector3d>& poly) {
-  Eigen::Vector3d s = Eigen::Vector3d::Zero();
-  for (std::size_t k = 0; k < poly.size(); ++k) s += poly[k].cross(poly[(k + 1) % poly.size()]);
-  return 0.5 * s.norm();
-}
-
 // Counter-clockwise seen from above.
 std::vector<Eigen::Vector3d> PlanCcw(std::vector<Eigen::Vector3d> poly) {
   if (SignedPlanArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   return poly;
 }
 
-// Convex hull in plan (Andrew's monotone chain), CCW, at height z.
-std::vector<Eigen::Vector3d> PlanHull(std::vector<Eigen::Vector2d> pts, double z) {
-  std::sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  std::vector<Eigen::Vector2d> hull(2 * pts.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 1e-12) --k;
-    hull[k++] = pts[i];
+// The convex hull in plan of `pts` (common's ConvexHull, collinear points within 1e-12 m^2
+// dropped), counter-clockwise, at height z. Fewer than 3 distinct points make no footprint:
+// one point gives none, several the first and the last in (x, y) order.
+std::vector<Eigen::Vector3d> PlanHull(const std::vector<Eigen::Vector2d>& pts, double z) {
+  std::vector<Eigen::Vector2d> hull = ConvexHull(pts, 1e-12);
+  if (hull.size() < 3) {
+    hull.clear();
+    if (pts.size() >= 2) {
+      const auto [first, last] = std::minmax_element(
+          pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+            return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+          });
+      hull = {*first, *last};
+    }
   }
-  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i]) <= 1e-12) --k;
-    hull[k++] = pts[i];
-  }
-  hull.resize(k > 0 ? k - 1 : 0);
   std::vector<Eigen::Vector3d> out;
   for (const auto& p : hull) out.emplace_back(p.x(), p.y(), z);
   return out;
@@ -73,7 +65,7 @@ std::string ColumnName(const std::string& patch_id) {
 void AddPatches(const ModelSet& set, std::vector<Element>& out) {
   std::map<std::string, std::size_t> columns;  // column name -> index in out
   for (const auto& p : set.sm3.patches) {
-    if (PolygonArea(p.polygon) < 1e-6) continue;
+    if (PolygonArea3d(p.polygon) < 1e-6) continue;
     Element e;
     e.room = set.id;
     e.polygon = ToExport(set.X_EM, p.polygon);
@@ -234,7 +226,7 @@ BuildingModel BuildBuildingModel(const RunFolder& run) {
                                           : "the map frame of room " + first;
   for (const auto& room : run.rooms) {
     for (const auto& p : room.sm3.patches) {
-      if (p.patch_class != PatchClass::kFloor || PolygonArea(p.polygon) < 1e-6) continue;
+      if (p.patch_class != PatchClass::kFloor || PolygonArea3d(p.polygon) < 1e-6) continue;
       Space s;
       s.room = room.id;
       s.footprint = PlanCcw(ToExport(room.X_EM, p.polygon));

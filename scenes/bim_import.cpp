@@ -53,7 +53,7 @@ std::vector<MeshPart> Output::Parts() const {
   std::vector<MeshPart> parts;
   for (const Bucket& b : buckets_) {
     if (b.pieces.empty()) continue;
-    MeshPart p;
+    MeshPart& p = parts.emplace_back();
     p.name = b.name;
     p.element_id = b.id;
     p.element_class = b.cls;
@@ -73,7 +73,7 @@ std::vector<MeshPart> Output::Parts() const {
         const Eigen::Vector3i t(v(poly[0]), v(poly[i]), v(poly[i + 1]));
         if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) p.triangles.push_back(t);
       }
-    if (!p.triangles.empty()) parts.push_back(std::move(p));
+    if (p.triangles.empty()) parts.pop_back();
   }
   return parts;
 }
@@ -177,24 +177,6 @@ void BimImportParams::Validate() const {
   range("plane_tolerance", plane_tolerance, 0.0, 0.05, true);
   range("component_snap", component_snap, 0.0, 0.5, false);
   range("min_face_area", min_face_area, 0.0, 1e3, true);
-}
-
-std::map<std::string, double> ParseDoorAngles(const std::vector<std::string>& items) {
-  std::map<std::string, double> out;
-  for (const std::string& item : items) {
-    const std::size_t eq = item.rfind('=');
-    char* end = nullptr;
-    const std::string num = eq == std::string::npos ? "" : item.substr(eq + 1);
-    const double deg = std::strtod(num.c_str(), &end);
-    if (eq == std::string::npos || eq == 0 || num.empty() || *end != '\0' || !std::isfinite(deg) ||
-        deg < 0.0 || deg > 180.0)
-      throw InputError("--doors", "malformed door angle", "'" + item + "'",
-                       "ID=DEG with DEG in [0, 180]");
-    const std::string id = item.substr(0, eq);
-    if (!out.emplace(id, deg).second)
-      throw InputError("--doors", "door given twice", "'" + id + "'", "once");
-  }
-  return out;
 }
 
 BimImport ImportBim(const std::string& path, const BimImportParams& params) {

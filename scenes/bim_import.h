@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "scenes/door_angles.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene.h"
 
@@ -37,7 +38,7 @@ struct BimImportParams {
   std::string storey;  ///< IFC storey Name, node name or GlobalId; "" = lowest with spaces
   double door_angle_deg = 90.0;  ///< deg, [0, 180]: opening angle of every door
   /// Per-door angles, deg [0, 180], keyed by truth id (D1), IFC GlobalId or IFC Name.
-  std::map<std::string, double> door_angles_deg;
+  DoorAngles door_angles_deg;
   bool floor_from_spaces = false;    ///< make missing floors from the space footprint
   bool ceiling_from_spaces = false;  ///< make missing ceilings from the space footprint
   std::vector<std::string> merge;    ///< further models whose components are added (same frame)
@@ -65,9 +66,6 @@ struct BimImport {
 /// Imports `path` (.ifc IFC 2x3, or .glb/.gltf converted from IFC whose node names carry the
 /// IFC classes and which kept the IfcSpace volumes). Throws InputError.
 BimImport ImportBim(const std::string& path, const BimImportParams& params = {});
-
-/// Parses `--doors` items "ID=DEG" (DEG in [0, 180]); throws InputError naming the item.
-std::map<std::string, double> ParseDoorAngles(const std::vector<std::string>& items);
 
 /// Writes DIR/scene.glb and DIR/scene.truth.json (DIR is created).
 void WriteBimImport(const BimImport& imported, const std::string& dir);

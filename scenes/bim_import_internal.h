@@ -92,6 +92,7 @@ struct HalfSpace {
 };
 
 Poly3 Clip(const Poly3& poly, const Vector3d& n, double c);
+/// Area (m^2) of a planar polygon, any winding; 0 for fewer than 3 vertices.
 double Area(const Poly3& p);
 /// A piece worth keeping: not a float-noise sliver (area or width under ~1 um).
 bool Solid(const Poly3& p);

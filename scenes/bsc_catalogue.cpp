@@ -145,12 +145,8 @@ class Canvas {
   void Line(P2 a, P2 b, double thickness, Rgb c) {
     const double r = thickness / 2;
     Fill(std::min(a.x(), b.x()) - r, std::min(a.y(), b.y()) - r, std::max(a.x(), b.x()) + r,
-         std::max(a.y(), b.y()) + r, c, [=](double x, double y) {
-           const P2 p(x, y), ab = b - a;
-           const double len2 = ab.squaredNorm();
-           const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-           return (p - (a + t * ab)).squaredNorm() <= r * r;
-         });
+         std::max(a.y(), b.y()) + r, c,
+         [=](double x, double y) { return SquaredDistanceToSegment(P2(x, y), a, b) <= r * r; });
   }
   void Polyline(const std::vector<P2>& pts, double thickness, Rgb c) {
     for (std::size_t i = 1; i < pts.size(); ++i) Line(pts[i - 1], pts[i], thickness, c);

@@ -73,21 +73,6 @@ bool IsSimplePolygon(const Polygon2& poly, std::string* why) {
   return true;
 }
 
-double DistancePointSegment(const Vector2d& p, const Vector2d& a, const Vector2d& b) {
-  const Vector2d ab = b - a;
-  const double l2 = ab.squaredNorm();
-  double t = l2 > 0.0 ? (p - a).dot(ab) / l2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
-double DistanceToBoundary(const Vector2d& p, const Polygon2& poly) {
-  double d = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < poly.size(); ++i)
-    d = std::min(d, DistancePointSegment(p, poly[i], poly[(i + 1) % poly.size()]));
-  return d;
-}
-
 bool PolygonsIntersect(const Polygon2& a, const Polygon2& b) {
   for (std::size_t i = 0; i < a.size(); ++i)
     for (std::size_t j = 0; j < b.size(); ++j)

@@ -22,11 +22,7 @@ using mopad::SignedArea;  // positive for counter-clockwise vertex order, m^2
 bool IsSimplePolygon(const Polygon2& poly, std::string* why = nullptr);
 using mopad::PointInPolygon;
 
-/// Distance from p to segment [a, b].
-double DistancePointSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                            const Eigen::Vector2d& b);
-/// Distance from p to the polygon's boundary.
-double DistanceToBoundary(const Eigen::Vector2d& p, const Polygon2& poly);
+using mopad::DistanceToBoundary;  // m, to the closed polygon's edges, inside or outside
 /// True if closed segments [a, b] and [c, d] share a point.
 bool SegmentsIntersect(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
                        const Eigen::Vector2d& d);

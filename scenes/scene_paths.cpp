@@ -1,6 +1,9 @@
 #include "scenes/scene_paths.h"
 
 #include "common/error.h"
+#include "scenes/generator.h"
+#include "scenes/scene_loader.h"
+#include "scenes/scene_spec.h"
 
 namespace mopad::scenes {
 
@@ -30,6 +33,27 @@ ScenePaths ResolveScene(const std::string& arg) {
       break;
     }
   }
+  return out;
+}
+
+LoadedScene LoadSceneArg(const std::string& arg, const DoorAngles& spec_door_angles,
+                         const std::string& option) {
+  LoadedScene out;
+  const std::string ext = std::filesystem::path(arg).extension().string();
+  if (ext == ".yaml" || ext == ".yml") {
+    SceneSpec spec = LoadSceneSpec(arg);
+    SetDoorAngles(spec_door_angles, option, &spec);
+    GeneratedScene g = Generate(spec);
+    out.scene = std::move(g.scene);
+    out.truth = std::move(g.truth);
+    out.description = arg + " (generated)";
+    return out;
+  }
+  if (!spec_door_angles.empty()) throw InputError(option, "only with a scene spec (.yaml)");
+  const ScenePaths paths = ResolveScene(arg);
+  if (paths.truth) out.truth = ReadGroundTruth(*paths.truth);
+  out.scene = LoadScene(paths.geometry);
+  out.description = paths.geometry + (paths.truth ? " + " + *paths.truth : "");
   return out;
 }
 

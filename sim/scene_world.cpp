@@ -2,14 +2,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <sstream>
 
-#include "common/error.h"
 #include "common/polygon.h"
-#include "scenes/generator.h"
-#include "scenes/scene_loader.h"
+#include "scenes/door_angles.h"
 #include "scenes/scene_paths.h"
-#include "scenes/scene_spec.h"
 
 namespace mopad::sim {
 SceneWorld LoadSceneWorld(const std::string& scene_arg,
@@ -17,36 +13,11 @@ SceneWorld LoadSceneWorld(const std::string& scene_arg,
   SceneWorld out;
   out.source = std::filesystem::absolute(scene_arg).lexically_normal().string();
   out.door_overrides = door_overrides;
-  const std::string ext = std::filesystem::path(scene_arg).extension().string();
-  if (ext == ".yaml" || ext == ".yml") {
-    scenes::SceneSpec spec = scenes::LoadSceneSpec(scene_arg);
-    for (const auto& d : door_overrides) {
-      const auto eq = d.find('=');
-      bool found = false;
-      if (eq != std::string::npos)
-        for (auto& door : spec.doors)
-          if (door.id == d.substr(0, eq)) {
-            try {
-              door.angle_deg = std::stod(d.substr(eq + 1));
-            } catch (const std::exception&) {
-              break;
-            }
-            found = true;
-          }
-      if (!found)
-        throw InputError("--door: error: unknown door or bad syntax; got '" + d +
-                         "', expected ID=DEG with ID a door of the spec");
-    }
-    scenes::GeneratedScene g = scenes::Generate(spec);
-    out.truth = std::move(g.truth);
-    out.world = std::make_unique<EmbreeWorld>(std::move(g.scene), &*out.truth);
-    return out;
-  }
-  if (!door_overrides.empty()) throw InputError("--door: error: only with a scene spec (.yaml)");
-  const scenes::ScenePaths paths = scenes::ResolveScene(scene_arg);
-  if (paths.truth) out.truth = scenes::ReadGroundTruth(*paths.truth);
-  out.world = std::make_unique<EmbreeWorld>(scenes::LoadScene(paths.geometry),
-                                            out.truth ? &*out.truth : nullptr);
+  scenes::LoadedScene loaded =
+      scenes::LoadSceneArg(scene_arg, scenes::ParseDoorAngles(door_overrides, "--door"), "--door");
+  out.truth = std::move(loaded.truth);
+  out.world =
+      std::make_unique<EmbreeWorld>(std::move(loaded.scene), out.truth ? &*out.truth : nullptr);
   return out;
 }
 

@@ -18,11 +18,9 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "common/polygon.h"
-#include "scenes/generator.h"
+#include "scenes/door_angles.h"
 #include "scenes/ground_truth.h"
-#include "scenes/scene_loader.h"
 #include "scenes/scene_paths.h"
-#include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
 #include "sim/lrf.h"
 #include "sim/raycast_bench.h"
@@ -46,30 +44,6 @@ double PeakRssMiB() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_maxrss) / 1024.0;
-}
-
-struct LoadedScene {
-  scenes::Scene scene;
-  std::optional<scenes::GroundTruth> truth;
-  std::string description;
-};
-
-/// SCENE: a generated folder, any loadable scene file, or a scene spec (.yaml) generated in memory.
-LoadedScene LoadSceneArg(const std::string& arg) {
-  LoadedScene out;
-  const std::string ext = fs::path(arg).extension().string();
-  if (ext == ".yaml" || ext == ".yml") {
-    scenes::GeneratedScene g = scenes::Generate(scenes::LoadSceneSpec(arg));
-    out.scene = std::move(g.scene);
-    out.truth = std::move(g.truth);
-    out.description = arg + " (generated)";
-    return out;
-  }
-  const scenes::ScenePaths paths = scenes::ResolveScene(arg);
-  out.scene = scenes::LoadScene(paths.geometry);
-  if (paths.truth) out.truth = scenes::ReadGroundTruth(*paths.truth);
-  out.description = paths.geometry + (paths.truth ? " + " + *paths.truth : "");
-  return out;
 }
 
 /// The default office scene spec, looked up beside the sources (cwd or the build tree).
@@ -106,17 +80,8 @@ Pose3 ParsePose(const std::string& s) {
 }
 
 void ApplyDoors(EmbreeWorld& world, const std::vector<std::string>& doors) {
-  for (const auto& d : doors) {
-    const auto eq = d.find('=');
-    if (eq == std::string::npos) throw InputError("--door", "expected ID=ANGLE_DEG", "'" + d + "'");
-    double deg = 0;
-    try {
-      deg = std::stod(d.substr(eq + 1));
-    } catch (const std::exception&) {
-      throw InputError("--door", "angle is not a number", "'" + d + "'");
-    }
-    world.SetDoorAngle(d.substr(0, eq), DegToRad(deg));
-  }
+  for (const auto& [id, deg] : scenes::ParseDoorAngles(doors, "--door"))
+    world.SetDoorAngle(id, DegToRad(deg));
 }
 
 /// A progress bar on stderr, only when stderr is a terminal and the work lasts over a second.
@@ -178,7 +143,7 @@ void RunScan(const ScanOptions& o) {
   double t_load = 0, t_build = 0, t_scan = 0;
   std::uint64_t pulses = 0, points = 0;
   RunWithThreads(o.threads, [&] {
-    LoadedScene loaded = LoadSceneArg(o.scene);
+    scenes::LoadedScene loaded = scenes::LoadSceneArg(o.scene);
     t_load = Since(t0);
     const auto t1 = Clock::now();
     EmbreeWorld world(std::move(loaded.scene), loaded.truth ? &*loaded.truth : nullptr);
@@ -254,7 +219,7 @@ void RunLrf(const LrfOptions& o) {
       rig.push_back(p);
     }
   }
-  LoadedScene loaded = LoadSceneArg(o.scene);
+  scenes::LoadedScene loaded = scenes::LoadSceneArg(o.scene);
   EmbreeWorld world(std::move(loaded.scene), loaded.truth ? &*loaded.truth : nullptr);
   ApplyDoors(world, o.doors);
   const Pose3 X_WB = ParsePose(o.pose);
@@ -307,7 +272,7 @@ void RunLrf(const LrfOptions& o) {
 
 /// Default bench pose: the vertex centroid of the largest room whose centroid lies inside it (on
 /// its floor), or the centre of the scene's bounding box without a truth sidecar.
-Pose3 DefaultBenchPose(const LoadedScene& loaded) {
+Pose3 DefaultBenchPose(const scenes::LoadedScene& loaded) {
   Pose3 X = Pose3::Identity();
   const auto box = loaded.scene.Bounds();
   X.translation() = Eigen::Vector3d(box.center().x(), box.center().y(), box.min().z());
@@ -355,7 +320,7 @@ void RunBench(const BenchOptions& o) {
   const int threads = o.threads > 0 ? o.threads : AvailableThreads();
   RunWithThreads(threads, [&] {
     const auto t0 = Clock::now();
-    LoadedScene loaded = LoadSceneArg(scene_arg);
+    scenes::LoadedScene loaded = scenes::LoadSceneArg(scene_arg);
     const double t_load = Since(t0);
     const Pose3 X_WB = o.pose.empty() ? DefaultBenchPose(loaded) : ParsePose(o.pose);
     const auto t1 = Clock::now();

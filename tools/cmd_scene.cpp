@@ -10,6 +10,7 @@
 #include "interfaces/object_model_catalogue.h"
 #include "scenes/bim_import.h"
 #include "scenes/bsc_catalogue.h"
+#include "scenes/door_angles.h"
 #include "scenes/generator.h"
 #include "scenes/gltf_writer.h"
 #include "scenes/ground_truth.h"
@@ -136,7 +137,7 @@ void AddImportCommand(CLI::App* scene) {
   cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md).");
   cmd->callback([=] {
     scenes::BimImportParams params = *p;
-    params.door_angles_deg = scenes::ParseDoorAngles(*doors);
+    params.door_angles_deg = scenes::ParseDoorAngles(*doors, "--doors");
     const scenes::BimImport imported = scenes::ImportBim(*path, params);
     scenes::WriteBimImport(imported, *out);
     for (const auto& line : imported.report) std::printf("%s\n", line.c_str());

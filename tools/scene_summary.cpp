@@ -138,9 +138,9 @@ std::string SceneSummaryJson(const SceneSummary& s) {
     t["ceilings"] = s.ceilings;
     t["columns"] = s.columns;
     t["doors"] = {{"total", s.doors},
-                  {"open", s.doors_open},
-                  {"semi_open", s.doors_semi_open},
-                  {"closed", s.doors_closed}};
+                  {scenes::ToString(scenes::DoorState::kOpen), s.doors_open},
+                  {scenes::ToString(scenes::DoorState::kSemiOpen), s.doors_semi_open},
+                  {scenes::ToString(scenes::DoorState::kClosed), s.doors_closed}};
     t["windows"] = s.windows;
     t["furniture"] = s.furniture;
     t["connections"] = s.connections;
