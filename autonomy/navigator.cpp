@@ -74,68 +74,6 @@ const char* ToString(DriveStatus s) {
   return "?";
 }
 
-perception::AmclParams NavigatorParams::DefaultAmcl() {
-  perception::AmclParams p;
-  p.min_particles = 300;
-  p.max_particles = 3000;
-  // No random-particle injection while tracking: offices repeat (two equal rooms look alike),
-  // and a random particle in the twin room can win one poor update. Real loss is still caught
-  // by the inlier test, which starts a global re-localisation.
-  p.recovery_alpha_slow = 0.0;
-  // Beams ending on wall faces the map lacks (the far side of a wall entered through its door)
-  // must not pull the estimate back towards the mapped face.
-  p.unknown_endpoint_distance = 0.1;
-  // Beams are not independent in the world: a wide hit sigma over few beams keeps the weights
-  // from collapsing onto a handful of particles. The motion noise is sized to the odometry's
-  // error (about 1 % of the distance: radius and track errors, slip) with margin.
-  // docs/navigation.md (localisation) has the measurements behind these values.
-  p.sigma_hit = 0.2;
-  p.max_beams = 30;
-  p.odom_alpha1 = 0.02;
-  p.odom_alpha3 = 0.01;
-  // The wide sigma keeps the filter robust; the precision comes from matching every beam
-  // (perception/amcl.h, refinement).
-  p.refine = true;
-  return p;
-}
-
-GlobalPlannerParams NavigatorParams::DefaultPlanner() {
-  GlobalPlannerParams p;
-  // The planner's disc is smaller than the 0.6 x 0.5 m box (half-diagonal 0.39 m); 3 cm more
-  // than the default keeps the corners off furniture the base LRF cannot see (desk tops, now
-  // kept in the map from the 3D scans) and still passes a 0.9 m door as mapped: its jamb cells
-  // take up to a cell on each side, leaving a clearance of about 0.35-0.37 m.
-  p.robot_radius = 0.33;
-  // A door whose mapped jambs (or an opened leaf beside them) leave 0.58-0.66 m is still
-  // passable by the 0.5 m wide base aligned with it: its half-width plus the controller's
-  // safety margin plus 1 cm.
-  p.narrow_radius = 0.29;
-  return p;
-}
-
-LocalControllerParams NavigatorParams::DefaultController() {
-  LocalControllerParams p;
-  // 3 cm around the box (not 6): a 0.5 m wide base keeps 0.17 m a side in a 0.9 m door, enough
-  // for the docking error at a doorway scan position. Contacts are still counted by the body.
-  p.safety_margin = 0.03;
-  return p;
-}
-
-perception::IcpParams NavigatorParams::DefaultIcp() {
-  perception::IcpParams p;
-  // A scan just beyond a door sees mostly new space: 0.15-0.3 of its points lie in the
-  // earlier scans, and its registration is still right. The residual, free-space and
-  // conditioning checks and the correction bound guard against a wrong pose.
-  p.min_fitness = 0.15;
-  // Right registrations of a scan beyond a door reach violations of 0.007-0.008 (its new room
-  // seen past the earlier scans' door-frame rays); poses 90 or 180 deg off give 0.012 and more.
-  p.max_free_space_violation = 0.01;
-  // The prior is AMCL's (centimetres off), not odometry's: no 1 m first stage, whose wide
-  // basin let a hall scan slide 0.2 m along the corridor onto the next door frame.
-  p.max_correspondence = {0.3, 0.15, 0.08};
-  return p;
-}
-
 struct Navigator::Impl {
   static constexpr int kMaxMapReplans = 30;  // per NavigateTo
 

@@ -39,6 +39,11 @@
 
 namespace mopad::autonomy {
 
+/// m, the ICP stages (IcpParams::max_correspondence) of a scan registered from AMCL's prior:
+/// it is centimetres off, not odometry's decimetres, so no 1 m first stage, whose wide basin
+/// let a hall scan slide 0.2 m along the corridor onto the next door frame.
+inline const std::vector<double> kAmclPriorIcpStages = {0.3, 0.15, 0.08};
+
 struct NavigatorParams {
   /// s of platform time one NavigateTo may take before `timeout` (from its call, not from the
   /// mission's start: a floor mission's drives add up past any one drive's bound), (0, 1e5]
@@ -98,19 +103,62 @@ struct NavigatorParams {
   double exploration_unknown_cost = 3.0;
   /// Each TLS scan's range offset, estimated from its floor and ceiling, is removed before the
   /// scan is used (perception/range_bias.h).
-  perception::RangeBiasParams range_bias;
-  perception::IcpParams icp = DefaultIcp();
-  perception::RegistrationAcceptanceParams acceptance;
-  perception::OccupancyGridParams grid;
-  perception::AmclParams amcl = DefaultAmcl();
-  GlobalPlannerParams planner = DefaultPlanner();
-  LocalControllerParams controller = DefaultController();
+  perception::RangeBiasParams range_bias{};
+  /// Registration of a scan just beyond a door (the door scans of register_scans).
+  perception::IcpParams icp{
+      .max_correspondence = kAmclPriorIcpStages,
+      // Such a scan sees mostly new space: 0.15-0.3 of its points lie in the earlier scans, and
+      // its registration is still right. The residual, free-space and conditioning checks and
+      // the correction bound guard against a wrong pose.
+      .min_fitness = 0.15,
+      // Right registrations of a scan beyond a door reach violations of 0.007-0.008 (its new
+      // room seen past the earlier scans' door-frame rays); poses 90 or 180 deg off give 0.012
+      // and more.
+      .max_free_space_violation = 0.01,
+  };
+  perception::RegistrationAcceptanceParams acceptance{};
+  perception::OccupancyGridParams grid{};
+  /// docs/navigation.md (localisation) has the measurements behind these values.
+  perception::AmclParams amcl{
+      .min_particles = 300,
+      .max_particles = 3000,
+      // The motion noise is sized to the odometry's error (about 1 % of the distance: radius
+      // and track errors, slip) with margin.
+      .odom_alpha1 = 0.02,
+      .odom_alpha3 = 0.01,
+      // Beams are not independent in the world: a wide hit sigma over few beams keeps the
+      // weights from collapsing onto a handful of particles.
+      .max_beams = 30,
+      // Beams ending on wall faces the map lacks (the far side of a wall entered through its
+      // door) must not pull the estimate back towards the mapped face.
+      .unknown_endpoint_distance = 0.1,
+      .sigma_hit = 0.2,
+      // No random-particle injection while tracking: offices repeat (two equal rooms look
+      // alike), and a random particle in the twin room can win one poor update. Real loss is
+      // still caught by the inlier test, which starts a global re-localisation.
+      .recovery_alpha_slow = 0.0,
+      // The wide sigma keeps the filter robust; the precision comes from matching every beam
+      // (perception/amcl.h, refinement).
+      .refine = true,
+  };
+  GlobalPlannerParams planner{
+      // The planner's disc is smaller than the 0.6 x 0.5 m box (half-diagonal 0.39 m); 3 cm
+      // more than the library's keeps the corners off furniture the base LRF cannot see (desk
+      // tops, kept in the map from the 3D scans) and still passes a 0.9 m door as mapped: its
+      // jamb cells take up to a cell on each side, leaving a clearance of about 0.35-0.37 m.
+      .robot_radius = 0.33,
+      // A door whose mapped jambs (or an opened leaf beside them) leave 0.58-0.66 m is still
+      // passable by the 0.5 m wide base aligned with it: its half-width plus the controller's
+      // safety margin plus 1 cm.
+      .narrow_radius = 0.29,
+  };
+  LocalControllerParams controller{
+      // 3 cm around the box (not 6): a 0.5 m wide base keeps 0.17 m a side in a 0.9 m door,
+      // enough for the docking error at a doorway scan position. Contacts are still counted by
+      // the body.
+      .safety_margin = 0.03,
+  };
   bool trace = false;  ///< print plans and localisation to stderr every 50 steps (debugging)
-
-  static perception::AmclParams DefaultAmcl();
-  static GlobalPlannerParams DefaultPlanner();
-  static LocalControllerParams DefaultController();
-  static perception::IcpParams DefaultIcp();
 
   template <class V>
   void Visit(V& v) {

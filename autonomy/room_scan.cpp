@@ -19,57 +19,6 @@ double Since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-}  // namespace
-
-NextBestScanParams RoomScanParams::DefaultNbs() {
-  NextBestScanParams p;
-  // The planner only accepts goals in known free space (unknown counts as obstacle there), so
-  // the NBS candidates must come from the same space.
-  p.unknown_is_obstacle = true;
-  return p;
-}
-
-perception::IcpParams RoomScanParams::DefaultIcp() {
-  perception::IcpParams p = NavigatorParams::DefaultIcp();
-  // Room scans register from odometry/AMCL priors against the room's own earlier scans, which
-  // overlap well: a stricter fitness than the navigator's door scans.
-  p.min_fitness = 0.3;
-  p.max_free_space_violation = perception::IcpParams{}.max_free_space_violation;
-  return p;
-}
-
-perception::RegistrationAcceptanceParams RoomScanParams::DefaultAcceptance() {
-  perception::RegistrationAcceptanceParams p;
-  // Only fully `ok` registrations join the room model: a degenerate or creeping result would
-  // smear it. The prior may be far off (office rooms register from priors 1.2 m / 20 deg off):
-  // no correction bound.
-  p.accept_degenerate = false;
-  p.creeping_step_factor = 0.0;
-  p.max_correction = 1000.0;
-  p.max_correction_deg = 180.0;
-  p.gate_sigmas = 0.0;
-  return p;
-}
-
-perception::RegistrationAcceptanceParams RoomScanParams::DefaultEntryAcceptance() {
-  perception::RegistrationAcceptanceParams p;
-  // Just beyond a door the localiser has little of the new room in its map: its yaw can be
-  // several degrees off (docs/floor-mission.md). The ICP's own checks (fitness, residual, free
-  // space, conditioning) reject wrong minima; the bounds only stop a jump to another door
-  // frame. The yaw bound moves the door frame the scan stands 1.3 m behind by at most
-  // sin(10 deg) x 1.3 m = 0.23 m, within the translation bound.
-  p.max_correction = 0.3;
-  p.max_correction_deg = 10.0;
-  // Seeing the earlier rooms through one door often leaves one direction weak (along the door
-  // axis): the ICP keeps the prior there (solution remapping), so what it corrects is
-  // constrained, and a degenerate result is bounded like a constrained one. The localiser's own
-  // sigma is no gate here: it underreports its error just beyond a door.
-  p.gate_sigmas = 0.0;
-  return p;
-}
-
-namespace {
-
 // Registration (paper step (3)): the first scan defines the room's frame, unless a floor
 // target holds earlier rooms (then it is registered against them as a door scan, and used with
 // its prior when refused); later ones are refined against the accumulated cloud S(t-1) from the

@@ -40,26 +40,53 @@ struct RoomScanParams {
   /// m, NBS candidates this close to a position whose scan could not be registered are not
   /// chosen again (the model did not change, so the same spot would win again), [0, 10]
   double failed_scan_exclusion = 1.0;
-  perception::IcpParams icp = DefaultIcp();
-  perception::RegistrationAcceptanceParams acceptance = DefaultAcceptance();
+  /// Room scans register from odometry/AMCL priors against the room's own earlier scans, which
+  /// overlap well: a stricter fitness than the navigator's door scans, the library's
+  /// free-space bound.
+  perception::IcpParams icp{.max_correspondence = kAmclPriorIcpStages, .min_fitness = 0.3};
+  /// Only fully `ok` registrations join the room model: a degenerate or creeping result would
+  /// smear it. The prior may be far off (office rooms register from priors 1.2 m / 20 deg off):
+  /// no correction bound.
+  perception::RegistrationAcceptanceParams acceptance{
+      .accept_degenerate = false,
+      .creeping_step_factor = 0.0,
+      .max_correction = 1000.0,
+      .max_correction_deg = 180.0,
+      .gate_sigmas = 0.0,
+  };
   /// A room's first scan in a floor mission (taken just beyond the door it came through) is
   /// registered against the earlier rooms' scans with these: it sees them only through the
-  /// door, so a door scan's ICP and a bounded correction of the localiser's prior.
-  perception::IcpParams entry_icp = NavigatorParams::DefaultIcp();
-  perception::RegistrationAcceptanceParams entry_acceptance = DefaultEntryAcceptance();
-  modelling::RoomModelParams model;
-  modelling::StoppingParams stopping;
-  NextBestScanParams nbs = DefaultNbs();
-  modelling::Sm3Params sm3;
-  modelling::OpeningParams sm4;
-  modelling::ComponentParams sm5;
+  /// door, so a door scan's ICP (NavigatorParams::icp) and a bounded correction of the
+  /// localiser's prior.
+  perception::IcpParams entry_icp{
+      .max_correspondence = kAmclPriorIcpStages,
+      .min_fitness = 0.15,
+      .max_free_space_violation = 0.01,
+  };
+  /// Just beyond a door the localiser has little of the new room in its map: its yaw can be
+  /// several degrees off (docs/floor-mission.md). The ICP's own checks (fitness, residual, free
+  /// space, conditioning) reject wrong minima; the bounds only stop a jump to another door
+  /// frame. The yaw bound moves the door frame the scan stands 1.3 m behind by at most
+  /// sin(10 deg) x 1.3 m = 0.23 m, within the translation bound. Seeing the earlier rooms
+  /// through one door often leaves one direction weak (along the door axis): the ICP keeps the
+  /// prior there (solution remapping), so what it corrects is constrained, and a degenerate
+  /// result is bounded like a constrained one. The localiser's own sigma is no gate here: it
+  /// underreports its error just beyond a door.
+  perception::RegistrationAcceptanceParams entry_acceptance{
+      .max_correction = 0.3,
+      .max_correction_deg = 10.0,
+      .gate_sigmas = 0.0,
+  };
+  modelling::RoomModelParams model{};
+  modelling::StoppingParams stopping{};
+  /// The planner only accepts goals in known free space (unknown counts as obstacle there), so
+  /// the NBS candidates must come from the same space.
+  NextBestScanParams nbs{.unknown_is_obstacle = true};
+  modelling::Sm3Params sm3{};
+  modelling::OpeningParams sm4{};
+  modelling::ComponentParams sm5{};
   /// Extra scans for SM5's data quality after the stopping rule (not counted by max_scans)
-  DetailPassParams detail;
-
-  static NextBestScanParams DefaultNbs();
-  static perception::IcpParams DefaultIcp();
-  static perception::RegistrationAcceptanceParams DefaultAcceptance();
-  static perception::RegistrationAcceptanceParams DefaultEntryAcceptance();
+  DetailPassParams detail{};
 
   template <class V>
   void Visit(V& v) {

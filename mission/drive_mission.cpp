@@ -27,16 +27,6 @@ using perception::Compose;
 
 }  // namespace
 
-sim::RobotBodyParams DriveParams::DefaultBody() {
-  sim::RobotBodyParams p;
-  // A few per mille of calibration error and slip: odometry alone drifts decimetres over 50 m.
-  p.odometry.left_radius_error = 0.004;
-  p.odometry.right_radius_error = -0.003;
-  p.odometry.track_width_error = 0.01;
-  p.odometry.slip_sigma = 0.003;
-  return p;
-}
-
 DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
                      const DriveRequest& request) {
   RobotSession session(world, params, request.X_WB_start);
