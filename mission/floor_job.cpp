@@ -178,7 +178,7 @@ class FloorWorld {
     // The models follow once the floor has settled each door's state (RunFloorJob).
     runfolder::WriteRoomScanFiles(
         dir,
-        ScanFilesOf(mw_, session_, params_, v.scan, model, v.models, v.images, room_, window,
+        ScanFilesOf(mw_, session_, params_.room, v.scan, model, v.models, v.images, room_, window,
                     r.evaluation ? evaluation::ToJson(*r.evaluation) : nlohmann::ordered_json()));
     r.openings = v.models.sm4.openings.size();
     r.components = v.models.sm5.components.size();
@@ -212,20 +212,6 @@ class FloorWorld {
 
 }  // namespace
 
-FloorMissionParams::FloorMissionParams() {
-  // The floor's registration target holds both faces of the walls between rooms: a scan's
-  // points match only surfaces seen from their own side.
-  icp.same_side = true;
-  entry_icp.same_side = true;
-  // The floor's target also holds the other rooms' scans and the rays they cast through the
-  // doors: right registrations of a hall's scans put 0.009-0.013 of their points where one of
-  // those saw empty space (registration errors 1-10 mm), above the one-room bound of 0.006.
-  // A room's first scan registers against the same target, rays through doors included.
-  icp.max_free_space_violation = 0.015;
-  entry_icp.max_free_space_violation = 0.015;
-  entry_icp.weak_search = 0.3;
-}
-
 FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                      const std::optional<Pose2>& start_W, const std::string& dir, bool evaluate,
                      const std::function<void(const std::string&)>& progress,
@@ -245,11 +231,11 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
-  RobotSession session(*mw.world, params.drive, job.start_W);
+  RobotSession session(*mw.world, params.room.drive, job.start_W);
   FloorWorld world(mw, params, session, dir, evaluate, room_boundary);
   autonomy::FloorScanHooks hooks = world.Hooks(progress);
   hooks.stop_requested = stop_requested;
-  job.mission = autonomy::RunFloorScan(session.Robot(), params, params.floor, hooks,
+  job.mission = autonomy::RunFloorScan(session.Robot(), params.room.scan, params.floor, hooks,
                                        &RobotComponentRecogniser());
   job.rooms = std::move(world.Rooms());
   job.drive = session.Result();

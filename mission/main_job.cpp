@@ -87,7 +87,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     const std::string room_dir = (fs::path(o.dir) / "rooms" / id).string();
     std::optional<RoomJob> job;
     try {
-      job = RunRoomJob(mw, id, params, std::nullopt, room_dir, true);
+      job = RunRoomJob(mw, id, params.room, std::nullopt, room_dir, true);
     } catch (const std::exception& ex) {
       if (o.print) o.print("room " + id + ": failed: " + ex.what());
       t.rooms.rows.push_back({id, "-", "-", std::string("failed: ") + ex.what(), "-", "-"});
@@ -290,7 +290,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   report::ReportInput report;
   report.title = "OpenMoPAD run: " + o.scene_name;
   report.truth = &*mw.truth;
-  report.coverage_threshold = params.stopping.epsilon1;
+  report.coverage_threshold = params.room.scan.stopping.epsilon1;
   JobTables t;
   if (o.rooms.empty())
     RunFloor(mw, params, o, t, report);
@@ -333,8 +333,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   j["job"] = "run";
   j["mode"] = o.rooms.empty() ? "floor" : "rooms";
   j["scene"] = o.scene_json;
-  j["seed"] = params.drive.seed;
-  j["tls_step_deg"] = params.scan_step_deg;
+  j["seed"] = params.room.drive.seed;
+  j["tls_step_deg"] = params.room.scan.scan_step_deg;
   if (o.rooms.empty()) j["mission"] = t.mission_json;
   j["rooms"] = t.rooms_json;
   j["rooms_failed"] = t.rooms_failed;
@@ -352,8 +352,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   io::WriteTextFile((dir / "summary.json").string(), j.dump(2) + "\n");
   io::WriteTextFile((dir / "room.effective.yaml").string(), YAML::Dump(SaveParams(params)) + "\n");
 
-  report.subtitle = t.subtitle + " Seed " + std::to_string(params.drive.seed) + ", TLS step " +
-                    FormatFixed(params.scan_step_deg, 3) + " deg.";
+  report.subtitle = t.subtitle + " Seed " + std::to_string(params.room.drive.seed) + ", TLS step " +
+                    FormatFixed(params.room.scan.scan_step_deg, 3) + " deg.";
   report.tables.push_back(o.scene_table);
   report.tables.push_back(std::move(t.rooms));
   if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));

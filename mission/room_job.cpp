@@ -99,7 +99,7 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
     job.start_W = Pose2{xy.x(), xy.y(), 0.0};
   }
   RobotSession session(*mw.world, params.drive, job.start_W);
-  modelling::RoomModel model(params.model);
+  modelling::RoomModel model(params.scan.model);
   // The truth side scores an open-plan room (spaces joined by open passages) as the robot
   // meets it: one room (evaluation/truth_models.h, MergeOpenPlanRooms).
   const evaluation::OpenPlanTruth open_plan =
@@ -110,9 +110,9 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
       RunRoomMission(session, params, model, evaluate ? labels.Hook() : autonomy::ScanHook{});
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;
   // SM5 (paper §3.4) with the recogniser trained from the robot's catalogue (once a process).
-  const modelling::RoomModels models =
-      modelling::BuildRoomModels(model, std::move(job.mission.no_return), params.sm3, params.sm4,
-                                 params.sm5, room, &images, &RobotComponentRecogniser());
+  const modelling::RoomModels models = modelling::BuildRoomModels(
+      model, std::move(job.mission.no_return), params.scan.sm3, params.scan.sm4, params.scan.sm5,
+      room, &images, &RobotComponentRecogniser());
   job.sm4_seconds = models.sm4_seconds;
   job.openings = models.sm4.openings.size();
   job.sm5_seconds = models.sm5_seconds;

@@ -14,15 +14,18 @@
 
 namespace mopad::mission {
 
-/// The room loop's params (flat YAML keys) and the simulated robot's (`drive`).
-struct RoomMissionParams : autonomy::RoomScanParams {
-  DriveParams drive = DefaultDrive();
-
-  static DriveParams DefaultDrive();
+/// The room loop's params and the simulated robot's. YAML keys: the room loop's at the top
+/// level (autonomy::RoomScanParams), the robot's under `drive`.
+struct RoomMissionParams {
+  autonomy::RoomScanParams scan{};
+  /// Inside one room every NBS candidate lies in mapped free space: no scan-and-go stops (they
+  /// would be scans the room model never sees), and no registration by the navigator (the room
+  /// loop registers against its own S(t-1)).
+  DriveParams drive{.navigator = {.max_scans = 1, .register_scans = false}};
 
   template <class V>
   void Visit(V& v) {
-    autonomy::RoomScanParams::Visit(v);
+    scan.Visit(v);
     v("drive", drive);
   }
 };
@@ -34,7 +37,7 @@ using RoomMissionResult = autonomy::RoomScanResult;
 inline RoomMissionResult RunRoomMission(RobotSession& session, const RoomMissionParams& params,
                                         modelling::RoomModel& model,
                                         const autonomy::ScanHook& on_scan = {}) {
-  return autonomy::RunRoomScan(session.Robot(), params, model, on_scan);
+  return autonomy::RunRoomScan(session.Robot(), params.scan, model, on_scan);
 }
 
 }  // namespace mopad::mission

@@ -186,9 +186,9 @@ RunCheckpoint RunCheckpoint::Open(const std::string& run_dir) {
     ValidateParams(ck.inputs_.params, "room.");
     if (ConfigText(ck.inputs_.params) != config)
       throw InputError(config_path, "the config does not load back to the same values");
-    if (ck.inputs_.params.drive.seed != m.at("seed").get<std::uint64_t>())
+    if (ck.inputs_.params.room.drive.seed != m.at("seed").get<std::uint64_t>())
       throw InputError(manifest_path, "the config's seed differs from the manifest's",
-                       std::to_string(ck.inputs_.params.drive.seed),
+                       std::to_string(ck.inputs_.params.room.drive.seed),
                        std::to_string(m.at("seed").get<std::uint64_t>()));
     if (!ck.spec_hash_.empty()) {
       const std::string spec_path = (fs::path(ck.dir_) / "spec.yaml").string();
@@ -245,7 +245,7 @@ void RunCheckpoint::WriteManifest() const {
   m["state"] = complete_ ? "complete" : "running";
   m["resume"] = "replay";  // a resumed run re-runs the job from these inputs (run_checkpoint.h)
   m["resumes"] = resumes_;
-  m["seed"] = inputs_.params.drive.seed;
+  m["seed"] = inputs_.params.room.drive.seed;
   m["config_hash"] = config_hash_;
   m["spec_hash"] = spec_hash_;
   m["scene_hash"] = scene_hash_;

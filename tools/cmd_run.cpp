@@ -149,8 +149,8 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
   fs::create_directories(dir);
   mission::RunInputs in;
   if (!a.config.empty()) in.params = LoadParamsFile<mission::FloorMissionParams>(a.config);
-  OverrideIfGiven(a.step_opt, a.step, in.params.scan_step_deg);
-  OverrideIfGiven(a.seed_opt, a.seed, in.params.drive.seed);
+  OverrideIfGiven(a.step_opt, a.step, in.params.room.scan.scan_step_deg);
+  OverrideIfGiven(a.seed_opt, a.seed, in.params.room.drive.seed);
   ValidateParams(in.params, "room.");
   in.rooms = a.rooms;
   if (!a.start.empty()) in.start_W = ParsePoseArg("--start", a.start);

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "mission/floor_job.h"
 #include "mission/robot_session.h"
 #include "mission/room_mission.h"
 #include "scenes/generator.h"
@@ -322,6 +323,28 @@ TEST(RobotSession, StallWatchdogEndsADriveThatMakesNoProgress) {
 TEST(MissionParams, EveryFieldIsInTheFieldList) {
   for (const auto& m : FieldsMissingFromVisit(DriveParams{}, "drive.")) ADD_FAILURE() << m;
   for (const auto& m : FieldsMissingFromVisit(RoomMissionParams{}, "room.")) ADD_FAILURE() << m;
+  for (const auto& m : FieldsMissingFromVisit(FloorMissionParams{}, "run.")) ADD_FAILURE() << m;
+}
+
+// The missions' defaults differ from their parts' only where their field initialisers say so:
+// the room mission's robot takes no scan-and-go stops and leaves registration to the room
+// loop; the floor mission registers against a target holding both faces of shared walls and
+// the rays through doors; a room's entry scan registers as the navigator's door scans do.
+TEST(MissionParams, EachMissionChangesOnlyTheDefaultsItNames) {
+  auto yaml = [](const auto& p) { return YAML::Dump(SaveParams(p)); };
+  DriveParams drive;
+  drive.navigator.max_scans = 1;
+  drive.navigator.register_scans = false;
+  EXPECT_EQ(yaml(RoomMissionParams{}.drive), yaml(drive));
+  EXPECT_EQ(yaml(RoomMissionParams{}.scan), yaml(autonomy::RoomScanParams{}));
+  RoomMissionParams floor_room;
+  for (perception::IcpParams* icp : {&floor_room.scan.icp, &floor_room.scan.entry_icp}) {
+    icp->same_side = true;
+    icp->max_free_space_violation = 0.015;
+  }
+  floor_room.scan.entry_icp.weak_search = 0.3;
+  EXPECT_EQ(yaml(FloorMissionParams{}.room), yaml(floor_room));
+  EXPECT_EQ(yaml(autonomy::RoomScanParams{}.entry_icp), yaml(autonomy::NavigatorParams{}.icp));
 }
 
 }  // namespace

@@ -23,8 +23,8 @@ namespace fs = std::filesystem;
 
 FloorMissionParams Params() {
   FloorMissionParams p;
-  p.scan_step_deg = 0.4;  // coarser than the main job: the test's time
-  p.drive.seed = 3;
+  p.room.scan.scan_step_deg = 0.4;  // coarser than the main job: the test's time
+  p.room.drive.seed = 3;
   return p;
 }
 

@@ -35,8 +35,8 @@ std::string TempDir(const std::string& name) {
 
 RunInputs Inputs() {
   RunInputs in;
-  in.params.scan_step_deg = 0.4;  // coarser than the main job: the test's time
-  in.params.drive.seed = 3;
+  in.params.room.scan.scan_step_deg = 0.4;  // coarser than the main job: the test's time
+  in.params.room.drive.seed = 3;
   in.spec_name = Spec();
   in.spec_text = io::ReadTextFile(Spec());
   in.scene_source = Spec();
@@ -90,10 +90,10 @@ TEST(RunCheckpoint, KeepsTheInputsBitForBit) {
   const std::string dir = TempDir("inputs");
   RunInputs in = Inputs();
   // Values whose decimal text is not exact, and fields away from their defaults.
-  in.params.drive.seed = 123456789012345ull;
+  in.params.room.drive.seed = 123456789012345ull;
   in.params.floor.door_exit = 1.0 / 3.0;
   in.params.floor.max_rooms = 7;
-  in.params.scan_step_deg = 0.1 + 0.2;
+  in.params.room.scan.scan_step_deg = 0.1 + 0.2;
   in.start_W = Pose2{0.1 + 0.2, -1.0 / 7.0, 3.14159265358979 / 3.0};
   in.rooms = {"R2", "R1"};
   RunCheckpoint::Create(dir, in);
@@ -103,7 +103,7 @@ TEST(RunCheckpoint, KeepsTheInputsBitForBit) {
   const RunInputs& back = ck.Inputs();
   EXPECT_EQ(YAML::Dump(SaveParams(back.params)), YAML::Dump(SaveParams(in.params)));
   EXPECT_EQ(back.params.floor.door_exit, in.params.floor.door_exit);
-  EXPECT_EQ(back.params.scan_step_deg, in.params.scan_step_deg);
+  EXPECT_EQ(back.params.room.scan.scan_step_deg, in.params.room.scan.scan_step_deg);
   ASSERT_TRUE(back.start_W.has_value());
   EXPECT_EQ(back.start_W->x, in.start_W->x);
   EXPECT_EQ(back.start_W->y, in.start_W->y);
