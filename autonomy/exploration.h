@@ -7,17 +7,29 @@
 #include <vector>
 
 #include "common/frames.h"
+#include "common/params.h"
 #include "perception/occupancy_grid.h"
 
 namespace mopad::autonomy {
 
 struct ExplorationParams {
-  double pass_clearance = 0.33;    ///< m, cells with less clearance block the route (robot radius)
-  double target_clearance = 0.55;  ///< m, preferred clearance of a scan target
-  double exclusion = 0.5;          ///< m, targets this close to an earlier scan position are spent
-  double blind_radius = 0.5;       ///< m, around scan positions the map counts as known
-  double unknown_cost =
-      3.0;  ///< cost per metre of unknown or too narrow cells, relative to known free
+  /// m, cells with less clearance block the route (robot radius), (0, 5]
+  double pass_clearance = 0.33;
+  double target_clearance = 0.55;  ///< m, preferred clearance of a scan target, (0, 5]
+  /// m, targets this close to an earlier scan position are spent, [0, 10]
+  double exclusion = 0.5;
+  double blind_radius = 0.5;  ///< m, around scan positions the map counts as known, [0, 10]
+  /// Cost per metre of unknown or too narrow cells, relative to known free space, [1, 100]
+  double unknown_cost = 3.0;
+
+  template <class V>
+  void Visit(V& v) {
+    v("pass_clearance", pass_clearance, Bounds{1e-3, 5.0});
+    v("target_clearance", target_clearance, Bounds{1e-3, 5.0});
+    v("exclusion", exclusion, Bounds{0.0, 10.0});
+    v("blind_radius", blind_radius, Bounds{0.0, 10.0});
+    v("unknown_cost", unknown_cost, Bounds{1.0, 100.0});
+  }
 };
 
 /// An optimistic route from `from` to `goal` (unknown cells count as free; occupied cells and

@@ -14,12 +14,17 @@
 //
 // Loading starts from the defaults, rejects unknown keys and wrong types with
 // `file:line: error: ...`, and checks every bound. Nested structs with Visit() nest in YAML.
+// Fields are scalars (numbers, booleans, strings), std::vector of scalars (a YAML sequence),
+// std::map<std::string, scalar> (a YAML map; Bounds apply to its values) or params structs.
+// Composing: `v("part", part)` nests a member's keys under "part"; `part.Visit(v)` lists them
+// at this level (the keys of a struct that holds another are then those of both).
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -54,6 +59,15 @@ struct HasVisit<T, std::void_t<decltype(std::declval<T&>().Visit(std::declval<in
 namespace detail {
 
 template <class T>
+struct IsVector : std::false_type {};
+template <class T, class A>
+struct IsVector<std::vector<T, A>> : std::true_type {};
+template <class T>
+struct IsStringMap : std::false_type {};
+template <class T, class C, class A>
+struct IsStringMap<std::map<std::string, T, C, A>> : std::true_type {};
+
+template <class T>
 std::string TypeName() {
   if constexpr (std::is_same_v<T, bool>)
     return "a boolean";
@@ -75,8 +89,10 @@ void CheckBounds(const std::string& where, const std::string& key, const T& valu
       throw InputError(where, "parameter '" + key + "' out of range", std::to_string(value),
                        "[" + std::to_string(b.lo) + ", " + std::to_string(b.hi) + "]");
     }
-  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
-    for (double x : value) CheckBounds(where, key, x, b);
+  } else if constexpr (IsVector<T>::value) {
+    for (const auto& x : value) CheckBounds(where, key, x, b);
+  } else if constexpr (IsStringMap<T>::value) {
+    for (const auto& [name, x] : value) CheckBounds(where, key + "." + name, x, b);
   }
 }
 
@@ -100,8 +116,10 @@ class YamlReader {
       sub.Finish();
     } else {
       try {
-        if constexpr (std::is_same_v<T, std::vector<double>>) {
+        if constexpr (IsVector<T>::value) {
           if (!child.IsSequence()) throw YAML::Exception(child.Mark(), "not a sequence");
+        } else if constexpr (IsStringMap<T>::value) {
+          if (!child.IsMap()) throw YAML::Exception(child.Mark(), "not a map");
         } else if (!child.IsScalar()) {
           throw YAML::Exception(child.Mark(), "not a scalar");
         }

@@ -20,6 +20,12 @@ enum class ExportKind { kIfc, kGltf, kLas };
 struct ExportParams {
   IfcExportParams ifc;
   LasExportParams las;
+
+  template <class V>
+  void Visit(V& v) {
+    v("ifc", ifc);
+    v("las", las);
+  }
 };
 
 struct ExportResult {

@@ -18,6 +18,7 @@
 
 #include <string>
 
+#include "common/params.h"
 #include "exports/building_model.h"
 
 namespace mopad::exports {
@@ -26,13 +27,26 @@ namespace mopad::exports {
 struct IfcExportParams {
   /// m, walls with one face seen (no measured thickness) extruded away from the room, (0, 2]
   double wall_thickness = 0.10;
-  double slab_thickness = 0.20;          ///< m, floors extruded down, (0, 2]
-  double covering_thickness = 0.02;      ///< m, ceilings extruded up, (0, 1]
-  double leaf_thickness = 0.04;          ///< m, door leaves (modelled closed in the hole), (0, 0.5]
-  double pane_thickness = 0.02;          ///< m, window panes, (0, 0.5]
-  double opening_margin = 0.05;          ///< m, an opening's void reaches this far past both faces
-  double default_component_size = 0.10;  ///< m, width and height when sm5 gives none
-  double default_component_depth = 0.02;  ///< m, depth when sm5 gives none
+  double slab_thickness = 0.20;      ///< m, floors extruded down, (0, 2]
+  double covering_thickness = 0.02;  ///< m, ceilings extruded up, (0, 1]
+  double leaf_thickness = 0.04;      ///< m, door leaves (modelled closed in the hole), (0, 0.5]
+  double pane_thickness = 0.02;      ///< m, window panes, (0, 0.5]
+  /// m, an opening's void reaches this far past both faces, [0, 1]
+  double opening_margin = 0.05;
+  double default_component_size = 0.10;   ///< m, width and height when sm5 gives none, (0, 2]
+  double default_component_depth = 0.02;  ///< m, depth when sm5 gives none, (0, 1]
+
+  template <class V>
+  void Visit(V& v) {
+    v("wall_thickness", wall_thickness, Bounds{1e-6, 2.0});
+    v("slab_thickness", slab_thickness, Bounds{1e-6, 2.0});
+    v("covering_thickness", covering_thickness, Bounds{1e-6, 1.0});
+    v("leaf_thickness", leaf_thickness, Bounds{1e-6, 0.5});
+    v("pane_thickness", pane_thickness, Bounds{1e-6, 0.5});
+    v("opening_margin", opening_margin, Bounds{0.0, 1.0});
+    v("default_component_size", default_component_size, Bounds{1e-6, 2.0});
+    v("default_component_depth", default_component_depth, Bounds{1e-6, 1.0});
+  }
 };
 
 /// Per-class counts of what IfcText wrote (the oracle tests compare them with a reader's).

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/params.h"
 #include "exports/run_folder.h"
 
 namespace mopad::exports {
@@ -31,6 +32,11 @@ const char* ToString(LasCode code);
 
 struct LasExportParams {
   double patch_band = 0.10;  ///< m, an inlier takes the class of a patch this close, (0, 1]
+
+  template <class V>
+  void Visit(V& v) {
+    v("patch_band", patch_band, Bounds{1e-6, 1.0});
+  }
 };
 
 struct LasExportSummary {

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "common/params.h"
 #include "scenes/door_angles.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene.h"
@@ -46,10 +47,26 @@ struct BimImportParams {
   double leaf_thickness = 0.04;      ///< m, (0, 0.2]: generated door leaves
   double plane_tolerance = 0.003;    ///< m, (0, 0.05]: a face lies on a room's wall/floor plane
   double component_snap = 0.05;      ///< m, [0, 0.5]: largest gap between a component and host
-  double min_face_area = 0.01;       ///< m^2, > 0: smaller wall faces are not made elements
+  double min_face_area = 0.01;       ///< m^2, (0, 1000]: smaller wall faces are not made elements
 
-  /// Throws InputError naming the field, its value and the allowed range.
+  /// Throws InputError naming the field, its value and the allowed range (open lower bounds
+  /// exactly, where Visit's closed Bounds stop just above 0).
   void Validate() const;
+
+  template <class V>
+  void Visit(V& v) {
+    v("storey", storey);
+    v("door_angle_deg", door_angle_deg, Bounds{0.0, 180.0});
+    v("door_angles_deg", door_angles_deg, Bounds{0.0, 180.0});
+    v("floor_from_spaces", floor_from_spaces);
+    v("ceiling_from_spaces", ceiling_from_spaces);
+    v("merge", merge);
+    v("keep_site", keep_site);
+    v("leaf_thickness", leaf_thickness, Bounds{1e-9, 0.2});
+    v("plane_tolerance", plane_tolerance, Bounds{1e-9, 0.05});
+    v("component_snap", component_snap, Bounds{0.0, 0.5});
+    v("min_face_area", min_face_area, Bounds{1e-12, 1e3});
+  }
 };
 
 struct BimImport {

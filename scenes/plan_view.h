@@ -9,6 +9,7 @@
 //    vertices as small squares.
 // North (+y) is up. Pure function of its inputs: the same scene gives the same pixels.
 
+#include "common/params.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene.h"
 
@@ -16,9 +17,16 @@ namespace mopad::scenes {
 
 struct PlanViewParams {
   double pixel_size = 0.02;  ///< m per pixel, (0, 1]
-  double cut_height = 1.2;   ///< m above z = 0, the section plane
+  double cut_height = 1.2;   ///< m above z = 0, the section plane, any finite value
   double margin = 1.0;       ///< m around the rooms' bounding box, [0, 20]
   void Validate() const;     ///< throws InputError naming the field
+
+  template <class V>
+  void Visit(V& v) {
+    v("pixel_size", pixel_size, Bounds{1e-9, 1.0});
+    v("cut_height", cut_height);
+    v("margin", margin, Bounds{0.0, 20.0});
+  }
 };
 
 /// Renders the picture (RGBA8, top row = north). Throws InputError when the truth has no rooms

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "autonomy/exploration.h"
 #include "autonomy/room_scan.h"
 #include "common/error.h"
 #include "common/params.h"
@@ -185,6 +186,14 @@ TEST(DetailPass, PointsSeenFromBehindTheFaceDoNotCount) {
 
 TEST(DetailPass, ParamsVisitEveryField) {
   EXPECT_TRUE(FieldsMissingFromVisit(DetailPassParams{}).empty());
+}
+
+// Every field of the robot side's params is in its Visit() list (common/params.h).
+TEST(AutonomyParams, EveryFieldIsInTheFieldList) {
+  for (const auto& m : FieldsMissingFromVisit(RoomScanParams{}, "room.")) ADD_FAILURE() << m;
+  for (const auto& m : FieldsMissingFromVisit(NavigatorParams{}, "navigator.")) ADD_FAILURE() << m;
+  for (const auto& m : FieldsMissingFromVisit(ExplorationParams{}, "exploration."))
+    ADD_FAILURE() << m;
 }
 
 TEST(DetailPass, TheRoomLoopLoadsItsParamsUnderDetailAndRejectsTypos) {

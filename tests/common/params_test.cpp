@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <string>
+#include <vector>
 
 namespace mopad {
 namespace {
@@ -181,6 +184,63 @@ TEST(Params, CoverageCheckFindsAFieldMissingFromVisit) {
 TEST(Params, CoverageCheckPassesACompleteFieldList) {
   EXPECT_TRUE(FieldsMissingFromVisit(TestParams{}).empty());
   EXPECT_TRUE(FieldsMissingFromVisit(InnerParams{}).empty());
+}
+
+// Lists of strings and maps from names to numbers (per-item settings such as a door's angle).
+struct ListParams {
+  std::vector<std::string> files;            ///< paths
+  std::map<std::string, double> angles_deg;  ///< deg by id, [0, 180]
+  template <class V>
+  void Visit(V& v) {
+    v("files", files);
+    v("angles_deg", angles_deg, Bounds{0.0, 180.0});
+  }
+};
+
+TEST(Params, StringListsAndNameMapsLoadSaveAndCheckEveryValue) {
+  const auto p = LoadParams<ListParams>(
+      LoadYamlString("files: [a.ifc, b.ifc]\nangles_deg: {D1: 45, D2: 0}\n", "l.yaml"), "l.yaml");
+  EXPECT_EQ(p.files, (std::vector<std::string>{"a.ifc", "b.ifc"}));
+  EXPECT_EQ(p.angles_deg, (std::map<std::string, double>{{"D1", 45.0}, {"D2", 0.0}}));
+  const auto back = LoadParams<ListParams>(SaveParams(p), "saved");
+  EXPECT_EQ(back.files, p.files);
+  EXPECT_EQ(back.angles_deg, p.angles_deg);
+  const auto empty = LoadParams<ListParams>(
+      LoadYamlString(YAML::Dump(SaveParams(ListParams{})), "empty.yaml"), "empty.yaml");
+  EXPECT_TRUE(empty.files.empty());
+  EXPECT_TRUE(empty.angles_deg.empty());
+  try {
+    LoadParams<ListParams>(LoadYamlString("angles_deg: {D1: 45, D2: 200}\n", "l.yaml"), "l.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'angles_deg.D2' out of range"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(LoadParams<ListParams>(LoadYamlString("files: a.ifc\n", "l.yaml"), "l.yaml"),
+               InputError);
+  EXPECT_THROW(LoadParams<ListParams>(LoadYamlString("angles_deg: [1]\n", "l.yaml"), "l.yaml"),
+               InputError);
+  EXPECT_TRUE(FieldsMissingFromVisit(ListParams{}).empty());
+}
+
+// A struct that holds another and lists its fields flat (`part.Visit(v)`): the keys of both at
+// one level, every field still covered.
+struct ComposedParams {
+  InnerParams part{.gain = 3.0};
+  int extra = 1;  ///< count, [0, 10]
+  template <class V>
+  void Visit(V& v) {
+    part.Visit(v);
+    v("extra", extra, Bounds{0, 10});
+  }
+};
+
+TEST(Params, AMemberVisitedFlatKeepsItsKeysAtTheOwnersLevel) {
+  EXPECT_EQ(YAML::Dump(SaveParams(ComposedParams{})), "gain: 3\nextra: 1");
+  const auto p = LoadParams<ComposedParams>(LoadYamlString("extra: 2\n", "c.yaml"), "c.yaml");
+  EXPECT_DOUBLE_EQ(p.part.gain, 3.0);  // the owner's default for its member
+  EXPECT_EQ(p.extra, 2);
+  EXPECT_TRUE(FieldsMissingFromVisit(ComposedParams{}).empty());
 }
 
 }  // namespace

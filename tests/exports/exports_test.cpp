@@ -452,5 +452,9 @@ TEST(ExportsOracles, KhronosValidatorFindsNoErrorInTheSemanticGlb) {
   EXPECT_NE(out->find("errors=0 "), std::string::npos) << *out;
 }
 
+TEST(ExportParams, EveryFieldIsInTheFieldList) {
+  for (const auto& m : FieldsMissingFromVisit(ExportParams{}, "export.")) ADD_FAILURE() << m;
+}
+
 }  // namespace
 }  // namespace mopad::exports
