@@ -1,4 +1,4 @@
-// `mopad scene ...`: generate, random, info, validate, catalogue.
+// `mopad scene ...`: generate, random, info, import, plan, validate, catalogue.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +7,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/params.h"
 #include "interfaces/object_model_catalogue.h"
 #include "scenes/bim_import.h"
 #include "scenes/bsc_catalogue.h"
@@ -114,30 +115,46 @@ void AddImportCommand(CLI::App* scene) {
   auto path = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto doors = std::make_shared<std::vector<std::string>>();
-  auto p = std::make_shared<scenes::BimImportParams>();
+  auto config = std::make_shared<std::string>();
+  // The flags' values; a flag overrides the config only when given (OverrideIfGiven).
+  auto flags = std::make_shared<scenes::BimImportParams>();
   cmd->add_option("model", *path, "IFC 2x3 file (or glTF converted from IFC with its spaces)")
       ->required();
   cmd->add_option("-o,--output", *out, "Output folder")->required();
-  cmd->add_option("--storey", p->storey, "Storey Name, node name or GlobalId (default: lowest)");
-  auto* angle = cmd->add_option("--door-angle", p->door_angle_deg,
+  cmd->add_option("--config", *config,
+                  "YAML of BimImportParams (docs/scene-import.md); flags given override it");
+  auto* storey = cmd->add_option("--storey", flags->storey,
+                                 "Storey Name, node name or GlobalId (default: lowest)");
+  auto* angle = cmd->add_option("--door-angle", flags->door_angle_deg,
                                 "Opening angle of every door, deg [0, 180]")
-                    ->default_val(90.0);
-  cmd->add_option("--doors", *doors, "Per-door angles ID=DEG (ID: D1, GlobalId or IFC Name)")
-      ->delimiter(',')
-      ->excludes(angle);
-  cmd->add_flag("--floor-from-spaces", p->floor_from_spaces,
-                "Make missing floors from the space footprints");
-  cmd->add_flag("--ceiling-from-spaces", p->ceiling_from_spaces,
-                "Make missing ceilings from the space footprints");
-  cmd->add_option("--merge", p->merge, "Further model whose components are added (repeatable)");
-  cmd->add_flag("--keep-site", p->keep_site, "Keep the IfcSite terrain geometry");
-  cmd->add_option("--plane-tolerance", p->plane_tolerance,
-                  "Largest distance of a wall/floor/ceiling face from the space boundary, m")
-      ->default_val(0.003);
+                    ->capture_default_str();
+  auto* doors_opt =
+      cmd->add_option("--doors", *doors, "Per-door angles ID=DEG (ID: D1, GlobalId or IFC Name)")
+          ->delimiter(',')
+          ->excludes(angle);
+  auto* floor = cmd->add_flag("--floor-from-spaces", flags->floor_from_spaces,
+                              "Make missing floors from the space footprints");
+  auto* ceiling = cmd->add_flag("--ceiling-from-spaces", flags->ceiling_from_spaces,
+                                "Make missing ceilings from the space footprints");
+  auto* merge = cmd->add_option("--merge", flags->merge,
+                                "Further model whose components are added (repeatable)");
+  auto* site = cmd->add_flag("--keep-site", flags->keep_site, "Keep the IfcSite terrain geometry");
+  auto* tolerance =
+      cmd->add_option("--plane-tolerance", flags->plane_tolerance,
+                      "Largest distance of a wall/floor/ceiling face from the space boundary, m")
+          ->capture_default_str();
   cmd->footer("Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md).");
   cmd->callback([=] {
-    scenes::BimImportParams params = *p;
-    params.door_angles_deg = scenes::ParseDoorAngles(*doors, "--doors");
+    scenes::BimImportParams params;
+    if (!config->empty()) params = LoadParamsFile<scenes::BimImportParams>(*config);
+    OverrideIfGiven(storey, flags->storey, params.storey);
+    OverrideIfGiven(angle, flags->door_angle_deg, params.door_angle_deg);
+    if (doors_opt->count() > 0) params.door_angles_deg = scenes::ParseDoorAngles(*doors, "--doors");
+    OverrideIfGiven(floor, flags->floor_from_spaces, params.floor_from_spaces);
+    OverrideIfGiven(ceiling, flags->ceiling_from_spaces, params.ceiling_from_spaces);
+    OverrideIfGiven(merge, flags->merge, params.merge);
+    OverrideIfGiven(site, flags->keep_site, params.keep_site);
+    OverrideIfGiven(tolerance, flags->plane_tolerance, params.plane_tolerance);
     const scenes::BimImport imported = scenes::ImportBim(*path, params);
     scenes::WriteBimImport(imported, *out);
     for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
@@ -153,19 +170,28 @@ void AddPlanCommand(CLI::App* scene) {
                                     "truth (walls red, doors green, windows blue)");
   auto path = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
-  auto p = std::make_shared<scenes::PlanViewParams>();
+  auto config = std::make_shared<std::string>();
+  auto flags = std::make_shared<scenes::PlanViewParams>();  // the flags' values
   cmd->add_option("scene", *path, "Scene folder with scene.glb and scene.truth.json")->required();
   cmd->add_option("-o,--output", *out, "PNG file to write")->required();
-  cmd->add_option("--pixel-size", p->pixel_size, "Metres per pixel")->default_val(0.02);
-  cmd->add_option("--cut-height", p->cut_height, "Section height above the floor, m")
-      ->default_val(1.2);
+  cmd->add_option("--config", *config,
+                  "YAML of PlanViewParams (docs/scene-import.md); flags given override it");
+  auto* pixel =
+      cmd->add_option("--pixel-size", flags->pixel_size, "Metres per pixel")->capture_default_str();
+  auto* cut =
+      cmd->add_option("--cut-height", flags->cut_height, "Section height above the floor, m")
+          ->capture_default_str();
   cmd->callback([=] {
+    scenes::PlanViewParams p;
+    if (!config->empty()) p = LoadParamsFile<scenes::PlanViewParams>(*config);
+    OverrideIfGiven(pixel, flags->pixel_size, p.pixel_size);
+    OverrideIfGiven(cut, flags->cut_height, p.cut_height);
     const scenes::ScenePaths sp = scenes::ResolveScene(*path);
     if (!sp.truth)
       throw InputError(*path, "no ground truth next to the scene", "",
                        "scene.truth.json beside scene.glb");
     const scenes::Texture t = scenes::RenderPlanView(scenes::LoadScene(sp.geometry),
-                                                     scenes::ReadGroundTruth(*sp.truth), *p);
+                                                     scenes::ReadGroundTruth(*sp.truth), p);
     const std::vector<std::uint8_t> png = scenes::EncodePng(t);
     std::ofstream f(*out, std::ios::binary | std::ios::trunc);
     f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));

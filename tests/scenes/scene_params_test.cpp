@@ -1,6 +1,7 @@
 // The params of `mopad scene import` and `mopad scene plan` (their --config files).
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -33,6 +34,28 @@ TEST(SceneParams, AnImportConfigSetsPerDoorAnglesAndFurtherModels) {
   EXPECT_THROW(LoadParams<BimImportParams>(
                    LoadYamlString("door_angles_deg: {D1: 190}\n", "import.yaml"), "import.yaml"),
                InputError);
+}
+
+// Every ```yaml block of docs/scene-import.md is a `scene import --config` file (STYLE.md §8).
+TEST(SceneParams, TheDocsYamlExamplesLoadAsImportConfigs) {
+  std::ifstream in(std::string(MOPAD_SOURCE_DIR) + "/docs/scene-import.md");
+  ASSERT_TRUE(in) << "docs/scene-import.md";
+  std::string line, block;
+  bool inside = false;
+  int blocks = 0;
+  while (std::getline(in, line)) {
+    if (!inside && line == "```yaml") {
+      inside = true, block.clear();
+    } else if (inside && line == "```") {
+      inside = false, ++blocks;
+      const auto p =
+          LoadParams<BimImportParams>(LoadYamlString(block, "scene-import.md"), "scene-import.md");
+      EXPECT_NO_THROW(p.Validate());
+    } else if (inside) {
+      block += line + "\n";
+    }
+  }
+  EXPECT_GE(blocks, 1);
 }
 
 }  // namespace

@@ -439,3 +439,72 @@ TEST(Cli, AFlagOverridesTheConfigFileWhichOverridesTheDefault) {
   EXPECT_NE(eff_default.find("seed: 1\n"), std::string::npos) << eff_default;
   EXPECT_NE(eff_default.find("max_time: 2.5\n"), std::string::npos) << eff_default;
 }
+
+namespace {
+
+// The "W x H" a `mopad scene plan` run reports ("wrote FILE (W x H)").
+std::string PlanSize(const std::string& out) {
+  const auto open = out.rfind('(');
+  return open == std::string::npos ? "" : out.substr(open + 1, out.find(')', open) - open - 1);
+}
+
+}  // namespace
+
+// `scene plan --config`: the file's value is used, a given flag overrides it, a flag not given
+// does not.
+TEST(Cli, ScenePlanTakesItsParamsFromTheConfigAndAFlagOverridesIt) {
+  const std::string dir = TempDir("plan_config");
+  const std::string cfg = dir + "/plan.yaml";
+  std::ofstream(cfg) << "pixel_size: 0.05\nmargin: 0\n";
+  const Result def = Mopad("scene plan " + OfficeDir() + " -o " + dir + "/default.png");
+  const Result file = Mopad("scene plan " + OfficeDir() + " --config " + cfg + " -o " + dir +
+                            "/file.png --cut-height 1.0");
+  const Result flag = Mopad("scene plan " + OfficeDir() + " --config " + cfg +
+                            " --pixel-size 0.1 -o " + dir + "/flag.png");
+  ASSERT_EQ(def.code, 0) << def.out;
+  ASSERT_EQ(file.code, 0) << file.out;
+  ASSERT_EQ(flag.code, 0) << flag.out;
+  int dw = 0, dh = 0, fw = 0, fh = 0, gw = 0, gh = 0;
+  ASSERT_EQ(std::sscanf(PlanSize(def.out).c_str(), "%d x %d", &dw, &dh), 2) << def.out;
+  ASSERT_EQ(std::sscanf(PlanSize(file.out).c_str(), "%d x %d", &fw, &fh), 2) << file.out;
+  ASSERT_EQ(std::sscanf(PlanSize(flag.out).c_str(), "%d x %d", &gw, &gh), 2) << flag.out;
+  // Default 0.02 m pixels with a 1 m margin; the file's 0.05 m with none; the flag's 0.1 m.
+  EXPECT_NEAR(fw, (dw * 0.02 - 2.0) / 0.05, 2.0) << def.out << file.out;
+  EXPECT_NEAR(gw, (dw * 0.02 - 2.0) / 0.1, 2.0) << def.out << flag.out;
+  EXPECT_NEAR(gh * 2.0, fh, 2.0) << file.out << flag.out;
+}
+
+TEST(Cli, SceneImportAndPlanRejectAnUnknownConfigKeyWithItsLine) {
+  const std::string dir = TempDir("scene_config_typo");
+  const std::string cfg = dir + "/typo.yaml";
+  std::ofstream(cfg) << "door_angle_deg: 45\ndoor_angel: 30\n";
+  const Result imp = Mopad("scene import no_such.ifc --config " + cfg + " -o " + dir + "/out");
+  EXPECT_EQ(imp.code, 2) << imp.out;
+  EXPECT_NE(imp.out.find(cfg + ":2:"), std::string::npos) << imp.out;
+  EXPECT_NE(imp.out.find("door_angel"), std::string::npos) << imp.out;
+  EXPECT_EQ(std::count(imp.out.begin(), imp.out.end(), '\n'), 1) << imp.out;
+  std::ofstream(cfg) << "pixel_size: 0.05\ncut_hieght: 1\n";
+  const Result plan =
+      Mopad("scene plan " + OfficeDir() + " --config " + cfg + " -o " + dir + "/p.png");
+  EXPECT_EQ(plan.code, 2) << plan.out;
+  EXPECT_NE(plan.out.find(cfg + ":2:"), std::string::npos) << plan.out;
+  EXPECT_NE(plan.out.find("cut_hieght"), std::string::npos) << plan.out;
+}
+
+// `scene import --config`: the storey the file names is the one looked for, and --storey
+// overrides it (the KIT house has no such storeys: the refusal names the one used).
+TEST(Cli, SceneImportTakesItsParamsFromTheConfigAndAFlagOverridesIt) {
+  const std::string ifc = Src("../shared/testdata/external/kit_fzk_haus/AC14-FZK-Haus.ifc");
+  if (!fs::exists(ifc)) GTEST_SKIP() << "shared test data absent";
+  const std::string dir = TempDir("import_config");
+  const std::string cfg = dir + "/import.yaml";
+  std::ofstream(cfg) << "storey: From the file\nceiling_from_spaces: true\n";
+  const Result file = Mopad("scene import " + ifc + " --config " + cfg + " -o " + dir + "/a");
+  EXPECT_EQ(file.code, 2) << file.out;
+  EXPECT_NE(file.out.find("From the file"), std::string::npos) << file.out;
+  const Result flag = Mopad("scene import " + ifc + " --config " + cfg +
+                            " --storey 'From the flag' -o " + dir + "/b");
+  EXPECT_EQ(flag.code, 2) << flag.out;
+  EXPECT_NE(flag.out.find("From the flag"), std::string::npos) << flag.out;
+  EXPECT_EQ(flag.out.find("From the file"), std::string::npos) << flag.out;
+}
