@@ -114,11 +114,11 @@ class Progress {
 };
 
 TlsParams TlsParamsFromOptions(const std::string& profile, const std::string& profile_file,
-                               double step_deg, int footprint_rays) {
+                               std::optional<double> step_deg, std::optional<int> footprint_rays) {
   TlsParams p =
       profile_file.empty() ? TlsProfile(profile) : LoadParamsFile<TlsParams>(profile_file);
-  if (step_deg > 0) p.step_deg = step_deg;
-  if (footprint_rays > 0) p.footprint_rays = footprint_rays;
+  if (step_deg) p.step_deg = *step_deg;
+  if (footprint_rays) p.footprint_rays = *footprint_rays;
   p.Validate();
   return p;
 }

@@ -4,6 +4,7 @@
 // figures out (docs/sensors.md). World side: they read the truth sidecar when there is one.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,8 +12,8 @@ namespace mopad::sim {
 
 struct ScanOptions {
   std::string scene, pose, profile = "riegl_vz400", profile_file, output, ptx, truth;
-  double step_deg = 0;
-  int footprint_rays = 0;
+  std::optional<double> step_deg;     ///< deg; not given: the profile's
+  std::optional<int> footprint_rays;  ///< sub-rays per pulse; not given: the profile's
   std::uint64_t seed = 1, scan_id = 0;
   int threads = 0;
   std::vector<std::string> doors;

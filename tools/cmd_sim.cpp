@@ -23,9 +23,14 @@ void RegisterSimCommands(CLI::App& app) {
                    "built-in TLS profile (riegl_vz400, riegl_vz400_long_range)");
   scan->add_option("--profile-file", so->profile_file,
                    "TLS profile YAML (starts from riegl_vz400 defaults)");
-  scan->add_option("--step-deg", so->step_deg, "angular step, deg (overrides the profile)");
-  scan->add_option("--footprint-rays", so->footprint_rays,
-                   "sub-rays per pulse (1, or >= 3 for mixed pixels)");
+  // Given or not, never a sentinel value: a given 0 is refused by the profile's bounds.
+  auto step = std::make_shared<double>();
+  auto rays = std::make_shared<int>();
+  auto* step_opt =
+      scan->add_option("--step-deg", *step, "angular step, deg (default: the profile's)");
+  auto* rays_opt = scan->add_option("--footprint-rays", *rays,
+                                    "sub-rays per pulse (1, or >= 3 for mixed pixels; default: "
+                                    "the profile's)");
   scan->add_option("--seed", so->seed, "run seed");
   scan->add_option("--scan-id", so->scan_id, "scan number (keys the noise)");
   scan->add_option("--threads", so->threads,
@@ -34,7 +39,11 @@ void RegisterSimCommands(CLI::App& app) {
   scan->add_option("-o,--output", so->output, "output binary PLY")->required();
   scan->add_option("--ptx", so->ptx, "also write PTX (ASCII, slow for big scans)");
   scan->add_option("--truth", so->truth, "also write the truth sidecar PLY (evaluator only)");
-  scan->callback([so] { sim::RunScan(*so); });
+  scan->callback([=] {
+    if (step_opt->count() > 0) so->step_deg = *step;
+    if (rays_opt->count() > 0) so->footprint_rays = *rays;
+    sim::RunScan(*so);
+  });
 
   // mopad lrf
   auto lo = std::make_shared<sim::LrfOptions>();

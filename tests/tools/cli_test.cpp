@@ -508,3 +508,24 @@ TEST(Cli, SceneImportTakesItsParamsFromTheConfigAndAFlagOverridesIt) {
   EXPECT_NE(flag.out.find("From the flag"), std::string::npos) << flag.out;
   EXPECT_EQ(flag.out.find("From the file"), std::string::npos) << flag.out;
 }
+
+// `mopad scan`: an option not given leaves the profile's value (no value stands for "not
+// given"), and a given value is used or refused, never ignored.
+TEST(Cli, ScanUsesTheProfilesStepUnlessTheFlagIsGivenAndRefusesAGivenZero) {
+  const std::string dir = TempDir("scan_step");
+  const std::string profile = dir + "/tls.yaml";
+  std::ofstream(profile) << "step_deg: 1.5\n";
+  const std::string base = "scan " + OfficeDir() + " --pose 3,3,0,0 --profile-file " + profile;
+  const Result file = Mopad(base + " -o " + dir + "/file.ply");
+  ASSERT_EQ(file.code, 0) << file.out;
+  EXPECT_NE(file.out.find("step 1.5 deg"), std::string::npos) << file.out;
+  const Result flag = Mopad(base + " --step-deg 2 -o " + dir + "/flag.ply");
+  ASSERT_EQ(flag.code, 0) << flag.out;
+  EXPECT_NE(flag.out.find("step 2 deg"), std::string::npos) << flag.out;
+  const Result zero = Mopad(base + " --step-deg 0 -o " + dir + "/zero.ply");
+  EXPECT_EQ(zero.code, 2) << zero.out;
+  EXPECT_NE(zero.out.find("step_deg"), std::string::npos) << zero.out;
+  const Result rays = Mopad(base + " --footprint-rays 0 -o " + dir + "/rays.ply");
+  EXPECT_EQ(rays.code, 2) << rays.out;
+  EXPECT_NE(rays.out.find("footprint_rays"), std::string::npos) << rays.out;
+}
