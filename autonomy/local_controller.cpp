@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/format.h"
+#include "common/statistics.h"
 
 namespace mopad::autonomy {
 
@@ -143,8 +144,7 @@ std::vector<double> LocalController::MedianFiltered(const interfaces::LrfScan& s
     for (long j = static_cast<long>(k) - h; j <= static_cast<long>(k) + h; ++j)
       if (j >= 0 && j < static_cast<long>(n) && valid(scan.ranges[static_cast<std::size_t>(j)]))
         w.push_back(scan.ranges[static_cast<std::size_t>(j)]);
-    std::nth_element(w.begin(), w.begin() + static_cast<long>(w.size() / 2), w.end());
-    out[k] = w[w.size() / 2];
+    out[k] = UpperMedian(w);
   }
   return out;
 }

@@ -26,7 +26,7 @@ void Check(const OpeningRecord& r, const std::string& side, std::size_t i) {
     throw InputError("", what + ": normal zero or not finite");
   if (r.type != "door" && r.type != "window")
     throw InputError("", what + ": unknown type", "'" + r.type + "'", "door|window");
-  if (!r.state.empty() && r.state != "closed" && r.state != "semi_open" && r.state != "open")
+  if (!r.state.empty() && !DoorStateFromString(r.state))
     throw InputError("", what + ": unknown state", "'" + r.state + "'", "closed|semi_open|open");
 }
 

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "common/door_state.h"
 #include "common/frames.h"
 #include "common/params.h"
 #include "evaluation/metrics.h"
@@ -67,7 +68,7 @@ struct OpeningRow {
   double angle_error_deg = std::numeric_limits<double>::quiet_NaN();
 };
 
-inline constexpr std::array<const char*, 3> kDoorStateNames = {"closed", "semi_open", "open"};
+using mopad::kDoorStateNames;  // common/door_state.h
 
 struct OpeningEvaluation {
   std::vector<OpeningRow> rows;  ///< truth order (matched or missed), then false openings

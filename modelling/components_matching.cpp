@@ -6,6 +6,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "common/statistics.h"
 #include "modelling/components.h"
 #include "modelling/components_internal.h"
 
@@ -154,10 +155,7 @@ double BoxProtrusion(const SeImages& se, const PathDetection& d, double quantile
       if (se.valid.at<uchar>(r, c)) h.push_back(se.highpass.at<float>(r, c));
   if (h.empty() || h.size() < 0.3 * std::max(1, box.area()))
     return std::numeric_limits<double>::quiet_NaN();
-  const auto q =
-      h.begin() + static_cast<std::ptrdiff_t>(quantile * static_cast<double>(h.size() - 1));
-  std::nth_element(h.begin(), q, h.end());
-  return *q;
+  return Quantile(std::move(h), quantile);
 }
 
 int ProtrudingSamplesIn(const SeImages& se, const cv::Rect& box, const ComponentParams& p) {

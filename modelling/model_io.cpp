@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "common/error.h"
 #include "common/polygon.h"
@@ -239,14 +240,9 @@ DetectedOpening ParseOpening(const Json& jo, const std::string& where, const std
     auto reading = [&](const Json& j, const std::string& c, DoorState& state, double& angle,
                        double& clear) {
       const std::string st = StringField(j, "state", where, c);
-      if (st == "closed")
-        state = DoorState::kClosed;
-      else if (st == "semi_open")
-        state = DoorState::kSemiOpen;
-      else if (st == "open")
-        state = DoorState::kOpen;
-      else
-        throw InputError(where, c + "state: unknown", st, "closed|semi_open|open");
+      const std::optional<DoorState> parsed = DoorStateFromString(st);
+      if (!parsed) throw InputError(where, c + "state: unknown", st, "closed|semi_open|open");
+      state = *parsed;
       const Json& a = Field(j, "opening_angle_deg", where, c);
       if (!a.is_null()) angle = NumberField(j, "opening_angle_deg", where, c);
       clear = NumberField(j, "clear_width_m", where, c);

@@ -56,18 +56,6 @@ void OpeningParams::Validate() const {
 
 const char* ToString(OpeningType t) { return t == OpeningType::kDoor ? "door" : "window"; }
 
-const char* ToString(DoorState s) {
-  switch (s) {
-    case DoorState::kClosed:
-      return "closed";
-    case DoorState::kSemiOpen:
-      return "semi_open";
-    case DoorState::kOpen:
-      return "open";
-  }
-  return "closed";
-}
-
 DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg,
                                 double open_tolerance_deg) {
   if (lambda_deg >= 90.0 - open_tolerance_deg) return DoorState::kOpen;

@@ -71,6 +71,7 @@
 #include <string>
 #include <vector>
 
+#include "common/door_state.h"
 #include "common/frames.h"
 #include "common/params.h"
 #include "modelling/orthoimage.h"
@@ -239,9 +240,9 @@ struct OpeningParams {
 };
 
 enum class OpeningType : std::uint8_t { kDoor = 0, kWindow = 1 };
-enum class DoorState : std::uint8_t { kClosed = 0, kSemiOpen = 1, kOpen = 2 };
+using DoorState = mopad::DoorState;  // common/door_state.h
 const char* ToString(OpeningType t);
-const char* ToString(DoorState s);
+using mopad::ToString;
 /// The paper's thresholds: open >= 90 deg - open_tolerance_deg, semi_open >= closed_below_deg,
 /// else closed.
 DoorState DoorStateFromAngleDeg(double lambda_deg, double closed_below_deg = 5.0,

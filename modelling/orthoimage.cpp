@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/error.h"
+#include "common/statistics.h"
 
 namespace mopad::modelling {
 
@@ -190,8 +191,7 @@ double PixelSizeOf(const OrthoPoints& in, const PatchFrame& frame, const Orthoim
     a = b;
   }
   if (counts.empty()) return params.coarsest_pixel;
-  std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
-  const double density = counts[counts.size() / 2] / (cell * cell);  // points per m^2
+  const double density = UpperMedian(counts) / (cell * cell);  // points per m^2
   double px = std::sqrt(params.points_per_pixel / density);
   px = std::clamp(px, params.finest_pixel, params.coarsest_pixel);
   return std::max(params.finest_pixel, std::round(px * 1000.0) / 1000.0);

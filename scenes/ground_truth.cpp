@@ -477,18 +477,6 @@ DoorState DoorStateFromAngle(double lambda_rad) {
   return DoorState::kClosed;
 }
 
-std::string_view ToString(DoorState s) {
-  switch (s) {
-    case DoorState::kClosed:
-      return "closed";
-    case DoorState::kSemiOpen:
-      return "semi_open";
-    case DoorState::kOpen:
-      return "open";
-  }
-  return "closed";
-}
-
 const Room* GroundTruth::FindRoom(const std::string& id) const {
   for (const auto& r : rooms)
     if (r.id == id) return &r;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/door_state.h"
 #include "scenes/element_class.h"
 
 namespace mopad::scenes {
@@ -48,11 +49,11 @@ struct StructuralElement {
 };
 
 enum class OpeningType { kDoor, kWindow };
-enum class DoorState { kClosed, kSemiOpen, kOpen };
+using DoorState = mopad::DoorState;  // common/door_state.h
 
 /// The paper's thresholds: open lambda >= 90 deg, semi-open 5 <= lambda < 90, closed < 5.
 DoorState DoorStateFromAngle(double lambda_rad);
-std::string_view ToString(DoorState s);
+using mopad::ToString;
 
 struct Opening {
   std::string id;

@@ -166,7 +166,7 @@ TEST(GroundTruth, DoorStateFollowsThePapersThresholds) {
   EXPECT_EQ(DoorStateFromAngle(DegToRad(90.0)), DoorState::kOpen);
   EXPECT_EQ(DoorStateFromAngle(kPi / 2), DoorState::kOpen);
   EXPECT_EQ(DoorStateFromAngle(DegToRad(110.0)), DoorState::kOpen);
-  EXPECT_EQ(ToString(DoorState::kSemiOpen), "semi_open");
+  EXPECT_STREQ(ToString(DoorState::kSemiOpen), "semi_open");
 }
 
 }  // namespace
