@@ -246,10 +246,11 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
     job.max_true_step = std::max(job.max_true_step, std::hypot(b.x - a.x, b.y - a.y));
   }
   const fs::path d(dir);
-  io::WriteTextFile((d / "trajectory_estimated.tum").string(), ToTum(job.drive.estimated));
-  io::WriteTextFile((d / "trajectory_true.tum").string(), ToTum(job.drive.truth));
+  io::WriteTextFile(runfolder::Join(dir, runfolder::kTrajectoryEstimated),
+                    ToTum(job.drive.estimated));
+  io::WriteTextFile(runfolder::Join(dir, runfolder::kTrajectoryTrue), ToTum(job.drive.truth));
   job.dtt = DttJson(job.mission, job.rooms);
-  io::WriteTextFile((d / "dtt.json").string(), job.dtt.dump(2) + "\n");
+  io::WriteTextFile(runfolder::Join(dir, runfolder::kDtt), job.dtt.dump(2) + "\n");
   // Each room's models once the floor has settled its doors' states (one door, one state).
   WriteFloorModel(job.mission, params.floor_model, dir, progress);
   for (const FloorRoomJob& rj : job.rooms) {

@@ -19,6 +19,7 @@
 #include "io/text_file.h"
 #include "mission/room_job.h"
 #include "mission/run_checkpoint.h"
+#include "runfolder/layout.h"
 
 namespace mopad::mission {
 namespace {
@@ -84,7 +85,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
   t.rooms.header = {"room", "scans", "robot coverage", "stop reason", "path (m)", "SM1 points"};
   for (const std::string& id : o.rooms) {
     const auto t0 = WallClock::now();
-    const std::string room_dir = (fs::path(o.dir) / "rooms" / id).string();
+    const std::string room_dir = runfolder::RoomDir(o.dir, id);
     std::optional<RoomJob> job;
     try {
       job = RunRoomJob(mw, id, params.room, std::nullopt, room_dir, true);
@@ -114,7 +115,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     nlohmann::ordered_json rj;
     rj["room"] = id;
     rj["status"] = "scanned";
-    rj["dir"] = "rooms/" + id;
+    rj["dir"] = std::string(runfolder::kRoomsDir) + "/" + id;
     rj["scans"] = m.scans.size();
     rj["stop_reason"] = m.stop_reason;
     rj["registration_failed"] = m.registration_failed;
@@ -158,9 +159,9 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
   j["max_true_step_m"] = job.max_true_step;
   j["sim_time_s"] = m.sim_time;
   j["wall_time_s"] = m.wall_time;
-  j["files"] = {{"dtt", "dtt.json"},
-                {"trajectory_true", "trajectory_true.tum"},
-                {"trajectory_estimated", "trajectory_estimated.tum"}};
+  j["files"] = {{"dtt", runfolder::kDtt},
+                {"trajectory_true", runfolder::kTrajectoryTrue},
+                {"trajectory_estimated", runfolder::kTrajectoryEstimated}};
   return j;
 }
 
@@ -307,7 +308,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (o.print) o.print("models against the truth (mopad eval):");
   evaluation::RunEvaluation run_eval;
   try {
-    run_eval = evaluation::EvaluateRun(dir.string(), "", "", (dir / "eval").string());
+    run_eval =
+        evaluation::EvaluateRun(dir.string(), "", "", runfolder::Join(o.dir, runfolder::kEvalDir));
     if (o.print) o.print(run_eval.tables);
   } catch (const std::exception& e) {
     defect = std::string("the models could not be evaluated: ") + e.what();
@@ -349,8 +351,9 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                   {"eval", t_eval},
                   {"export", t_export},
                   {"total", SecondsSince(t_start) + o.t_generate}};
-  io::WriteTextFile((dir / "summary.json").string(), j.dump(2) + "\n");
-  io::WriteTextFile((dir / "room.effective.yaml").string(), YAML::Dump(SaveParams(params)) + "\n");
+  io::WriteTextFile(runfolder::Join(o.dir, runfolder::kSummary), j.dump(2) + "\n");
+  io::WriteTextFile(runfolder::Join(o.dir, runfolder::kEffectiveConfig),
+                    YAML::Dump(SaveParams(params)) + "\n");
 
   report.subtitle = t.subtitle + " Seed " + std::to_string(params.room.drive.seed) + ", TLS step " +
                     FormatFixed(params.room.scan.scan_step_deg, 3) + " deg.";
@@ -375,8 +378,8 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                             {"exports", FormatFixed(t_export, 2)},
                             {"total", FormatFixed(SecondsSince(t_start) + o.t_generate, 2)}},
                            ""});
-  report::WriteHtmlReport(report, (dir / "report.html").string());
-  report::WriteMarkdownReport(report, (dir / "report.md").string());
+  report::WriteHtmlReport(report, runfolder::Join(o.dir, runfolder::kReportHtml));
+  report::WriteMarkdownReport(report, runfolder::Join(o.dir, runfolder::kReportMarkdown));
   if (o.checkpoint) o.checkpoint->MarkComplete();
   if (!defect.empty())
     throw std::runtime_error(defect + " (summary.json and the report were written)");
