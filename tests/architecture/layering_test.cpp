@@ -15,37 +15,25 @@
 #include <string>
 #include <vector>
 
+#include "tests/architecture/link_graph.h"
+
 namespace {
 
 namespace fs = std::filesystem;
-using Graph = std::map<std::string, std::vector<std::string>>;
+using mopad::architecture::Closure;
+using mopad::architecture::Graph;
+using mopad::architecture::ReadGraph;
 
 // The layers, lowest first; a library may link only libraries of a strictly lower layer. Two
 // libraries of one layer never see each other (the robot's and the world's halves, side by side).
 const std::map<std::string, int> kLayer = {
-    {"common", 0},    {"interfaces", 1}, {"io", 2},        {"scenes", 2},
-    {"perception", 3}, {"sim", 3},       {"modelling", 4}, {"autonomy", 5},
-    {"runfolder", 6}, {"exports", 7},    {"evaluation", 8}, {"report", 9},
-    {"mission", 10},  {"tools", 11}};
+    {"common", 0},     {"interfaces", 1}, {"io", 2},       {"scenes", 2},    {"perception", 3},
+    {"sim", 3},        {"modelling", 4},  {"autonomy", 5}, {"runfolder", 6}, {"exports", 7},
+    {"evaluation", 8}, {"report", 9},     {"mission", 10}, {"tools", 11}};
 
 std::string FolderOf(const std::string& target) {
   if (target == "mopad") return "tools";
   return target.rfind("mopad_", 0) == 0 ? target.substr(6) : "";
-}
-
-Graph ReadGraph() {
-  Graph g;
-  std::ifstream in(MOPAD_LINK_GRAPH);
-  EXPECT_TRUE(in.good()) << "missing " << MOPAD_LINK_GRAPH;
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto colon = line.find(':');
-    if (colon == std::string::npos) continue;
-    std::istringstream deps(line.substr(colon + 1));
-    auto& list = g[line.substr(0, colon)];
-    for (std::string d; deps >> d;) list.push_back(d);
-  }
-  return g;
 }
 
 // The back-edges of `g`: "a -> b" for every edge between project libraries whose layer does not
@@ -67,28 +55,14 @@ std::vector<std::string> BackEdges(const Graph& g) {
   return out;
 }
 
-std::set<std::string> Closure(const Graph& g, const std::string& root) {
-  std::set<std::string> seen;
-  std::vector<std::string> stack{root};
-  while (!stack.empty()) {
-    const std::string t = stack.back();
-    stack.pop_back();
-    const auto it = g.find(t);
-    if (it == g.end()) continue;
-    for (const auto& d : it->second)
-      if (seen.insert(d).second) stack.push_back(d);
-  }
-  return seen;
-}
-
 TEST(Layering, TheCheckFindsABackEdgeAndASkippedLayer) {
   Graph g;
   g["mopad_modelling"] = {"mopad_perception", "Eigen3::Eigen"};
   g["mopad_perception"] = {"mopad_interfaces"};
   EXPECT_TRUE(BackEdges(g).empty());
   g["mopad_perception"].push_back("mopad_modelling");  // up
-  g["mopad_io"] = {"mopad_scenes"};                   // sideways
-  g["mopad_newlib"] = {};                             // unplaced
+  g["mopad_io"] = {"mopad_scenes"};                    // sideways
+  g["mopad_newlib"] = {};                              // unplaced
   const std::vector<std::string> bad = BackEdges(g);
   EXPECT_EQ(bad, (std::vector<std::string>{"mopad_io -> mopad_scenes", "mopad_newlib: no layer",
                                            "mopad_perception -> mopad_modelling"}));
@@ -119,8 +93,8 @@ TEST(Layering, EveryLibraryIncludesOnlyWhatItLinks) {
       std::smatch m;
       for (int n = 1; std::getline(in, line); ++n)
         if (std::regex_search(line, m, include) && kLayer.count(m[1]) && !visible.count(m[1]))
-          ADD_FAILURE() << e.path().string() << ":" << n << ": " << target << " includes "
-                        << m[1] << "/ without linking it";
+          ADD_FAILURE() << e.path().string() << ":" << n << ": " << target << " includes " << m[1]
+                        << "/ without linking it";
     }
   }
   EXPECT_GE(files, 100);

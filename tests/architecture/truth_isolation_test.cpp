@@ -13,10 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "tests/architecture/link_graph.h"
+
 namespace {
 
 namespace fs = std::filesystem;
-using Graph = std::map<std::string, std::vector<std::string>>;
+using mopad::architecture::Closure;
+using mopad::architecture::Graph;
+using mopad::architecture::ReadGraph;
 
 const std::vector<std::string> kRobotTargets = {"mopad_io",        "mopad_perception",
                                                 "mopad_modelling", "mopad_autonomy",
@@ -28,35 +32,6 @@ const std::vector<std::string> kRobotDirs = {"io",       "perception", "modellin
 const std::set<std::string> kTruthTargets = {"mopad_scenes",  "mopad_sim", "mopad_evaluation",
                                              "mopad_mission", "tinygltf",  "assimp::assimp",
                                              "embree"};
-
-Graph ReadGraph() {
-  Graph g;
-  std::ifstream in(MOPAD_LINK_GRAPH);
-  EXPECT_TRUE(in.good()) << "missing " << MOPAD_LINK_GRAPH;
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto colon = line.find(':');
-    if (colon == std::string::npos) continue;
-    std::istringstream deps(line.substr(colon + 1));
-    auto& list = g[line.substr(0, colon)];
-    for (std::string d; deps >> d;) list.push_back(d);
-  }
-  return g;
-}
-
-std::set<std::string> Closure(const Graph& g, const std::string& root) {
-  std::set<std::string> seen;
-  std::vector<std::string> stack{root};
-  while (!stack.empty()) {
-    const std::string t = stack.back();
-    stack.pop_back();
-    const auto it = g.find(t);
-    if (it == g.end()) continue;
-    for (const auto& d : it->second)
-      if (seen.insert(d).second) stack.push_back(d);
-  }
-  return seen;
-}
 
 TEST(TruthIsolation, LinkGraphIsReadAndTheWalkerFindsKnownEdges) {
   // Positive controls: if these fail, the checks below could not fail either.

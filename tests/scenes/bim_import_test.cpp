@@ -540,7 +540,10 @@ TEST_F(BimImportTest, SpaceDrawnIntoOrShortOfTheSlabGetsTheSlabsCeiling) {
   for (const double h : {2.8, 2.3}) {
     FixtureOptions o;
     o.space_height = h;
-    const BimImport imp = ImportBim(Fixture(o, "h" + std::to_string(h) + ".ifc"));
+    std::string name = "h";
+    name += std::to_string(h);
+    name += ".ifc";
+    const BimImport imp = ImportBim(Fixture(o, name));
     ExpectFixtureTruth(imp, 0.0, 90.0);
     int lines = 0;
     for (const auto& l : imp.report)
