@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "evaluation/metrics_voxels.h"
+#include "io/json_fields.h"
 
 namespace mopad::evaluation {
 namespace {
@@ -35,39 +36,10 @@ json ParseJsonFile(const std::string& path) {
   }
 }
 
-// Field access with "file: error: field: what" messages.
-struct Reader {
-  std::string path;
-  [[noreturn]] void Fail(const std::string& field, const std::string& what,
-                         const std::string& got = "", const std::string& expected = "") const {
-    throw InputError(path, field + ": " + what, got, expected);
-  }
-  const json& Get(const json& j, const std::string& key, const std::string& field) const {
-    if (!j.is_object()) Fail(field, "not an object", j.type_name(), "an object");
-    auto it = j.find(key);
-    if (it == j.end()) Fail(field, "missing field");
-    return *it;
-  }
-  double Number(const json& j, const std::string& field) const {
-    if (!j.is_number()) Fail(field, "not a number", j.dump(), "a number");
-    const double x = j.get<double>();
-    if (!std::isfinite(x)) Fail(field, "not finite", j.dump(), "a finite number");
-    return x;
-  }
-  std::string String(const json& j, const std::string& field) const {
-    if (!j.is_string()) Fail(field, "not a string", j.dump(), "a string");
-    return j.get<std::string>();
-  }
-  Vec3 Vector3(const json& j, const std::string& field) const {
-    if (!j.is_array() || j.size() != 3) Fail(field, "not a 3-vector", j.dump(), "[x, y, z]");
-    return {Number(j[0], field + "[0]"), Number(j[1], field + "[1]"), Number(j[2], field + "[2]")};
-  }
+// The model files' fields (io::JsonFields), their header at the model format version.
+struct Reader : io::JsonFields {
   void Header(const json& j, const std::string& format) const {
-    const std::string f = String(Get(j, "format", "format"), "format");
-    if (f != format) Fail("format", "wrong file format", "'" + f + "'", "'" + format + "'");
-    const json& v = Get(j, "version", "version");
-    if (!v.is_number_integer() || v.get<long>() != kModelFormatVersion)
-      Fail("version", "unsupported version", v.dump(), std::to_string(kModelFormatVersion));
+    JsonFields::Header(j, format, kModelFormatVersion);
   }
 };
 
@@ -90,7 +62,7 @@ std::vector<Patch> Sm3Model::Patches() const {
 }
 
 Sm3Model ReadSm3(const std::string& path) {
-  const Reader r{path};
+  const Reader r{{path}};
   const json j = ParseJsonFile(path);
   r.Header(j, "mopad-sm3");
   Sm3Model m;
@@ -225,7 +197,7 @@ struct Dsm3Header {
   std::string format;
   long n_vertex = -1;
   std::vector<PlyProperty> props;
-  int record = 0;  // bytes per binary vertex
+  int record = 0;        // bytes per binary vertex
   std::size_t body = 0;  // offset of the vertex data
   bool have_size = false, have_origin = false, have_dims = false;
   VoxelGrid grid;

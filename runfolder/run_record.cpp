@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "io/json_fields.h"
 #include "io/text_file.h"
 #include "runfolder/layout.h"
 
@@ -17,30 +18,7 @@ namespace fs = std::filesystem;
 constexpr int kVersion = 1;
 const std::string kFormat = "mopad-room-run";
 
-// Field access with "file: error: field: what" messages.
-struct Reader {
-  std::string path;
-  [[noreturn]] void Fail(const std::string& field, const std::string& what,
-                         const std::string& got = "", const std::string& expected = "") const {
-    throw InputError(path, field + ": " + what, got, expected);
-  }
-  const json& Get(const json& j, const std::string& key, const std::string& field) const {
-    if (!j.is_object()) Fail(field, "not an object", j.type_name(), "an object");
-    auto it = j.find(key);
-    if (it == j.end()) Fail(field, "missing field");
-    return *it;
-  }
-  double Number(const json& j, const std::string& field) const {
-    if (!j.is_number()) Fail(field, "not a number", j.dump(), "a number");
-    const double x = j.get<double>();
-    if (!std::isfinite(x)) Fail(field, "not finite", j.dump(), "a finite number");
-    return x;
-  }
-  std::string String(const json& j, const std::string& field) const {
-    if (!j.is_string()) Fail(field, "not a string", j.dump(), "a string");
-    return j.get<std::string>();
-  }
-};
+using Reader = io::JsonFields;
 
 Pose3 ReadPose(const Reader& r, const json& X) {
   if (!X.is_array() || X.size() != 4) r.Fail("X_WM", "not a 4x4 matrix", X.dump(), "4 rows of 4");
@@ -92,11 +70,7 @@ RunRecord ReadRunJson(const std::string& path) {
   } catch (const json::parse_error& e) {
     throw InputError(path, std::string("malformed JSON: ") + e.what());
   }
-  const std::string f = r.String(r.Get(j, "format", "format"), "format");
-  if (f != kFormat) r.Fail("format", "wrong file format", "'" + f + "'", "'" + kFormat + "'");
-  const json& v = r.Get(j, "version", "version");
-  if (!v.is_number_integer() || v.get<long>() != kVersion)
-    r.Fail("version", "unsupported version", v.dump(), std::to_string(kVersion));
+  r.Header(j, kFormat, kVersion);
   RunRecord info;
   info.dir = fs::path(path).parent_path().string();
   if (info.dir.empty()) info.dir = ".";
