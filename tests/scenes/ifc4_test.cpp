@@ -80,6 +80,37 @@ TEST(Ifc4Loader, GarbageEntitiesAreAnInputErrorNotACrash) {
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
 
+TEST(Ifc4Loader, ACrashOfTheReaderIsAnInputErrorNotADeadProcess) {
+  // Placements that contain each other and a Boolean result of itself: IfcPlusPlus (Debian
+  // 0~git20190402) recurses until its stack overflows (SIGSEGV). Read in a child process, it
+  // costs this process nothing.
+  const std::string path = WriteFile(
+      "crash4.ifc",
+      std::string(kHeader) +
+          "#1=IFCPROJECT('0YvctVUKr0kugbFTf53O9L',$,'P',$,$,$,$,(#2),#3);\n"
+          "#2=IFCGEOMETRICREPRESENTATIONCONTEXT($,'Model',3,1.E-05,$,$);\n"
+          "#3=IFCUNITASSIGNMENT((#4));\n#4=IFCSIUNIT(*,.LENGTHUNIT.,$,.METRE.);\n"
+          "#20=IFCSITE('2YvctVUKr0kugbFTf53O9L',$,'S',$,$,#6,$,$,.ELEMENT.,$,$,$,$,$);\n"
+          "#21=IFCRELAGGREGATES('3YvctVUKr0kugbFTf53O9L',$,$,$,#1,(#20));\n"
+          "#22=IFCRELCONTAINEDINSPATIALSTRUCTURE('4YvctVUKr0kugbFTf53O9L',$,$,$,(#5),#20);\n"
+          "#5=IFCWALL('1YvctVUKr0kugbFTf53O9L',$,'W',$,$,#6,#7,$,$);\n"
+          "#6=IFCLOCALPLACEMENT(#30,#31);\n#30=IFCLOCALPLACEMENT(#6,#31);\n"
+          "#31=IFCAXIS2PLACEMENT3D(#32,$,$);\n#32=IFCCARTESIANPOINT((0.,0.,0.));\n"
+          "#7=IFCPRODUCTDEFINITIONSHAPE($,$,(#8));\n"
+          "#8=IFCSHAPEREPRESENTATION(#2,'Body','SweptSolid',(#9));\n"
+          "#9=IFCBOOLEANRESULT(.DIFFERENCE.,#9,#9);\nENDSEC;\nEND-ISO-10303-21;\n");
+  const std::string m = InputErrorOf([&] { LoadScene(path); });
+  EXPECT_EQ(
+      m.rfind(path + ": error: the IFC4 reader (IfcPlusPlus) crashed on this file; got signal", 0),
+      0u)
+      << m;
+  EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  // The process goes on: a good file still loads.
+  if (fs::exists(kKit / "AC20-FZK-Haus.ifc")) {
+    EXPECT_GT(LoadScene((kKit / "AC20-FZK-Haus.ifc").string()).parts.size(), 0u);
+  }
+}
+
 TEST(Ifc4Loader, OtherSchemasAreRefused) {
   const std::string path = WriteFile(
       "ifc5.ifc", "ISO-10303-21;\nHEADER;\nFILE_SCHEMA(('IFC5'));\nENDSEC;\nDATA;\nENDSEC;\n");
