@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdint>
@@ -25,14 +24,11 @@
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 #include <ifcpp/IFC4/include/IfcAnnotation.h>
 #include <ifcpp/IFC4/include/IfcFeatureElementSubtraction.h>
-#include <ifcpp/IFC4/include/IfcGloballyUniqueId.h>
-#include <ifcpp/IFC4/include/IfcLabel.h>
 #include <ifcpp/IFC4/include/IfcProject.h>
 #include <ifcpp/IFC4/include/IfcRelAggregates.h>
 #include <ifcpp/IFC4/include/IfcRelContainedInSpatialStructure.h>
 #include <ifcpp/IFC4/include/IfcSpace.h>
 #include <ifcpp/IFC4/include/IfcSpatialElement.h>
-#include <ifcpp/IFC4/include/IfcSurfaceStyle.h>
 #include <ifcpp/geometry/Carve/GeometryConverter.h>
 #include <ifcpp/model/BuildingModel.h>
 #include <ifcpp/reader/ReaderSTEP.h>
@@ -47,29 +43,6 @@
 
 namespace mopad::scenes {
 namespace {
-
-std::string Utf8(const std::wstring& w) {
-  std::string out;
-  for (const wchar_t wc : w) {
-    const auto cp = static_cast<std::uint32_t>(wc);
-    if (cp < 0x80) {
-      out += static_cast<char>(cp);
-    } else if (cp < 0x800) {
-      out += static_cast<char>(0xC0 | (cp >> 6));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    } else if (cp < 0x10000) {
-      out += static_cast<char>(0xE0 | (cp >> 12));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    } else {
-      out += static_cast<char>(0xF0 | (cp >> 18));
-      out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    }
-  }
-  return out;
-}
 
 // --- the child's answer: a Scene (parts and materials) as bytes ---
 
@@ -170,9 +143,9 @@ Scene Deserialise(const std::string& bytes) {
 
 class Ifc4SceneBuilder {
  public:
-  Ifc4SceneBuilder(shared_ptr<BuildingModel> model, GeometryConverter* conv, double scale,
-                   bool spaces)
-      : model_(std::move(model)), conv_(*conv), scale_(scale), spaces_(spaces) {}
+  Ifc4SceneBuilder(shared_ptr<BuildingModel> model, GeometryConverter* conv,
+                   const bim::StepIndex& step, double scale, bool spaces)
+      : model_(std::move(model)), conv_(*conv), step_(step), scale_(scale), spaces_(spaces) {}
 
   Scene Build() {
     // Roots: what the project aggregates (the site, or a building without a site), as assimp
@@ -191,13 +164,15 @@ class Ifc4SceneBuilder {
   }
 
  private:
-  static std::string NodeName(const IfcObjectDefinition& od) {
-    std::string name = od.m_Name ? Utf8(od.m_Name->m_value) : "Unnamed";
-    name.erase(std::remove_if(name.begin(), name.end(),
-                              [](unsigned char c) { return std::isspace(c) != 0; }),
-               name.end());
-    const std::string guid = od.m_GlobalId ? Utf8(od.m_GlobalId->m_value) : "";
-    return std::string(od.className()) + "_" + name + "_" + guid;
+  // `<IfcClass>_<Name without white space>_<GlobalId>`, the strings decoded from the STEP text
+  // as the IFC 2x3 path's STEP readers decode them ("Unnamed" when Name is unset, as assimp).
+  std::string NodeName(const IfcObjectDefinition& od) const {
+    const auto body = step_.bodies.find(static_cast<unsigned long>(od.m_entity_id));
+    const std::vector<std::string> a =
+        body == step_.bodies.end() ? std::vector<std::string>{} : bim::Attributes(body->second);
+    const std::string name = a.size() > 2 && a[2] != "$" ? bim::StepString(a[2]) : "Unnamed";
+    const std::string guid = a.empty() ? "" : bim::StepString(a[0]);
+    return std::string(od.className()) + "_" + bim::NoSpaces(name) + "_" + guid;
   }
 
   void Visit(const shared_ptr<IfcObjectDefinition>& od, const std::string& parent) {
@@ -327,10 +302,12 @@ class Ifc4SceneBuilder {
     if (const auto it = materials_.find(key); it != materials_.end()) return it->second;
     Material m;
     if (style) {
-      const auto entity = model_->getMapIfcEntities().find(style->m_step_style_id);
-      if (entity != model_->getMapIfcEntities().end())
-        if (const auto ss = dynamic_pointer_cast<IfcPresentationStyle>(entity->second))
-          if (ss->m_Name) m.name = Utf8(ss->m_Name->m_value);
+      // IfcSurfaceStyle(Name, Side, Styles).
+      const auto body = step_.bodies.find(static_cast<unsigned long>(style->m_step_style_id));
+      if (body != step_.bodies.end()) {
+        const std::vector<std::string> a = bim::Attributes(body->second);
+        if (!a.empty()) m.name = bim::StepString(a[0]);
+      }
       const vec4& c = style->m_color_diffuse;
       m.base_color = Eigen::Vector4f(static_cast<float>(c.r()), static_cast<float>(c.g()),
                                      static_cast<float>(c.b()), static_cast<float>(c.a()))
@@ -349,6 +326,7 @@ class Ifc4SceneBuilder {
 
   shared_ptr<BuildingModel> model_;
   GeometryConverter& conv_;
+  const bim::StepIndex& step_;
   const double scale_;
   const bool spaces_;
   Scene scene_;
@@ -371,7 +349,7 @@ Scene ReadWithIfcPlusPlus(const std::string& path, const std::string& text,
   const double file_scale = bim::FullLengthScale(text, index, path);
   const double ifcpp_scale = model->getUnitConverter()->getLengthInMeterFactor();
   const double scale = ifcpp_scale > 0.0 ? file_scale / ifcpp_scale : 1.0;
-  Ifc4SceneBuilder builder(model, &conv, scale, options.import_ifc_spaces);
+  Ifc4SceneBuilder builder(model, &conv, index, scale, options.import_ifc_spaces);
   return builder.Build();
 }
 

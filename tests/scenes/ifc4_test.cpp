@@ -5,13 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -156,6 +160,79 @@ TEST_F(KitHouseIfc4, NodePathsNameStoreysAndElementsAsAssimpDoes) {
   // Without the option there are no space volumes; everything else is the same.
   const Scene no_spaces = LoadScene(Ac20());
   for (const MeshPart& p : no_spaces.parts) EXPECT_NE(p.element_class, ElementClass::kSpace);
+}
+
+// Runs `node tools/validators/ifc_meshes.js FILE` with web-ifc from NODE_PATH; nullopt when
+// node or web-ifc is absent (scripts/install-deps.sh --test installs them).
+std::optional<std::string> WebIfcMeshes(const std::string& file) {
+  const char* modules = std::getenv("NODE_PATH");
+  if (!modules || std::system("node --version >/dev/null 2>&1") != 0 ||
+      !fs::exists(fs::path(modules) / "web-ifc" / "package.json"))
+    return std::nullopt;
+  const std::string cmd = "node " + std::string(MOPAD_SOURCE_DIR) +
+                          "/tools/validators/ifc_meshes.js " + file + " " + modules;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return std::nullopt;
+  std::string out;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
+  EXPECT_EQ(pclose(p), 0) << cmd;
+  return out;
+}
+
+TEST_F(KitHouseIfc4, GeometryAgreesWithTheWebIfcOracle) {
+  const auto oracle = WebIfcMeshes(Ac20());
+  if (!oracle) GTEST_SKIP() << "node or npm web-ifc absent (scripts/install-deps.sh --test)";
+  struct Product {
+    double area = 0.0;
+    Eigen::AlignedBox3d box;
+  };
+  std::map<std::string, Product> ours;
+  for (const MeshPart& p : LoadScene(Ac20()).parts) {
+    Product& e = ours[p.element_id.substr(p.element_id.size() - 22)];
+    for (const auto& t : p.triangles) {
+      const Eigen::Vector3d a = p.positions[t[0]].cast<double>(),
+                            b = p.positions[t[1]].cast<double>(),
+                            c = p.positions[t[2]].cast<double>();
+      e.area += 0.5 * (b - a).cross(c - a).norm();
+      e.box.extend(a).extend(b).extend(c);
+    }
+  }
+  std::istringstream lines(*oracle);
+  int products = 0, area_within_1pc = 0;
+  double worst_box = 0.0, worst_area = 0.0;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream f(line);
+    std::string id, cls;
+    int tris = 0;
+    double area = 0.0;
+    Eigen::Vector3d lo, hi;
+    ASSERT_TRUE(f >> id >> cls >> tris >> area >> lo.x() >> lo.y() >> lo.z() >> hi.x() >> hi.y() >>
+                hi.z())
+        << line;
+    ++products;
+    const auto it = ours.find(id);
+    if (it == ours.end()) {
+      ADD_FAILURE() << cls << " " << id << ": web-ifc meshes it, IfcPlusPlus made nothing";
+      continue;
+    }
+    const double box = std::max((it->second.box.min() - lo).cwiseAbs().maxCoeff(),
+                                (it->second.box.max() - hi).cwiseAbs().maxCoeff());
+    const double rel = std::abs(it->second.area - area) / area;
+    // Bounding boxes are exact; areas differ only where a curve is tessellated (IfcPlusPlus
+    // cuts circles with 14 segments, web-ifc with more): a few per cent of the element.
+    EXPECT_LE(box, 0.001) << cls << " " << id;
+    EXPECT_LE(rel, 0.03) << cls << " " << id;
+    area_within_1pc += rel <= 0.01;
+    worst_box = std::max(worst_box, box);
+    worst_area = std::max(worst_area, rel);
+  }
+  std::printf(
+      "\nAC20: %d products meshed by web-ifc; IfcPlusPlus: bounding boxes within %.5f m, "
+      "%d areas within 1 %%, largest area difference %.2f %%\n",
+      products, worst_box, area_within_1pc, 100.0 * worst_area);
+  EXPECT_EQ(products, 83);
+  EXPECT_GE(area_within_1pc, products - 1);
 }
 
 // --- the two truths of one storey ---
