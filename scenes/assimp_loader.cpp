@@ -20,6 +20,7 @@
 #include "common/error.h"
 #include "common/frames.h"
 #include "scenes/gltf_loader.h"
+#include "scenes/ifc4_loader.h"
 #include "scenes/mesh_validation.h"
 
 namespace mopad::scenes {
@@ -398,10 +399,11 @@ Scene LoadWithAssimp(const std::string& path, const LoadOptions& options) {
     if (schema.empty())
       throw InputError(path, "not an IFC STEP file (no FILE_SCHEMA in its header)", "",
                        "ISO-10303-21 with FILE_SCHEMA(('IFC2X3'))");
-    // assimp 5.2.5 segfaults on some IFC4 files: refuse before it sees them.
+    // assimp 5.2.5 reads IFC 2x3 only and segfaults on some IFC4 files: IFC4 goes to
+    // IfcPlusPlus (scenes/ifc4_loader.h).
+    if (schema.rfind("IFC4", 0) == 0) return LoadIfc4(path, options);
     if (schema.rfind("IFC2X", 0) != 0)
-      throw InputError(path, "unsupported IFC schema (assimp 5.2.5 reads IFC 2x3 only)", schema,
-                       "IFC2X3");
+      throw InputError(path, "unsupported IFC schema", schema, "IFC2X3 or IFC4");
     unit_scale = IfcUnappliedLengthScale(text, path);
   }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Non-glTF formats (and Draco-compressed glTF) through assimp 5.2.5: .obj, .ply, .fbx, .dae,
-// .stl, .gltf/.glb, .ifc (IFC 2x3 only).
+// .stl, .gltf/.glb, .ifc (IFC 2x3; IFC4 is handed to scenes/ifc4_loader.h).
 // The node tree is flattened here (not with aiProcess_PreTransformVertices, which loses node
 // names); each mesh instanced by a node becomes one MeshPart named by its node path.
 // Axes: see UpAxis in scenes/scene_loader.h (assimp delivers glTF, IFC and DAE as Y-up).
@@ -10,7 +10,8 @@
 //    children); element_id = that node's name, subclass = its IFC entity name;
 //  - assimp ignores conversion-based length units (FOOT, INCH): they are read from the STEP
 //    text (IFCUNITASSIGNMENT) and applied here; SI prefixes assimp applies itself;
-//  - IFC4 / IFC4X* can crash assimp 5.2.5: they are refused by sniffing FILE_SCHEMA;
+//  - IFC4 / IFC4X* can crash assimp 5.2.5: FILE_SCHEMA is sniffed and they go to IfcPlusPlus
+//    (LoadIfc4), other schemas are refused;
 //  - IfcSpace volumes are skipped unless LoadOptions::import_ifc_spaces.
 // Materials: base/diffuse colour, metallic, roughness, transmission (or 1 - opacity when a
 // material is only transparent, as IFC glass is), two-sided; diffuse/base textures decoded.

@@ -80,8 +80,8 @@ struct BimImport {
   int walls_with_room_faces = 0;
 };
 
-/// Imports `path` (.ifc IFC 2x3, or .glb/.gltf converted from IFC whose node names carry the
-/// IFC classes and which kept the IfcSpace volumes). Throws InputError.
+/// Imports `path` (.ifc IFC 2x3 or IFC4, or .glb/.gltf converted from IFC whose node names carry
+/// the IFC classes and which kept the IfcSpace volumes). Throws InputError.
 BimImport ImportBim(const std::string& path, const BimImportParams& params = {});
 
 /// Writes DIR/scene.glb and DIR/scene.truth.json (DIR is created).

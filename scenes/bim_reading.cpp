@@ -394,9 +394,9 @@ namespace mopad::scenes {
 std::vector<BimStorey> ListIfcStoreys(const std::string& path) {
   const std::string text = bim::ReadText(path);
   const std::string schema = IfcSchemaOf(text);
-  if (schema.rfind("IFC2X", 0) != 0)
-    throw InputError(path, "unsupported IFC schema (assimp 5.2.5 reads IFC 2x3 only)",
-                     schema.empty() ? "no FILE_SCHEMA" : schema, "IFC2X3");
+  if (schema.rfind("IFC2X", 0) != 0 && schema.rfind("IFC4", 0) != 0)
+    throw InputError(path, "unsupported IFC schema", schema.empty() ? "no FILE_SCHEMA" : schema,
+                     "IFC2X3 or IFC4");
   const bim::StepIndex index = bim::IndexStep(text);
   const double scale = bim::FullLengthScale(text, index, path);
   std::vector<BimStorey> out;

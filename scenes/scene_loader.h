@@ -2,7 +2,8 @@
 // Loading a scene file of any supported format into a Scene (world frame, Z-up, metres).
 //   .glb/.gltf  -> tinygltf (Draco-compressed files fall back to assimp)
 //   .obj/.ply/.fbx/.dae/.stl -> assimp
-//   .ifc (IFC 2x3) -> assimp, with conversion-based units applied; IFC4 refused
+//   .ifc (IFC 2x3) -> assimp, with conversion-based units applied; IFC4 -> IfcPlusPlus
+//   (scenes/ifc4_loader.h), the same node naming
 // Every rejection throws mopad::InputError with one line: `path: error: what; got X, expected Y`.
 
 #include <string>

@@ -14,6 +14,9 @@ packages=(
   libtinygltf-dev libassimp-dev libyaml-cpp-dev libtbb-dev libcli11-dev libspdlog-dev
   nlohmann-json3-dev libnanoflann-dev libgtest-dev
   libjs-three  # three.js r111, inlined into report.html's 3D view (report/report_viewer.h)
+  # IfcPlusPlus (IFC4 reader, carve tessellation: scenes/ifc4_loader.h); its headers include
+  # Boost headers the package does not declare.
+  libifcplusplus-dev libboost-dev
 )
 with_tests=0
 [[ "${1:-}" == "--test" ]] && with_tests=1

@@ -111,14 +111,15 @@ void AddInfoCommand(CLI::App* scene) {
 void AddImportCommand(CLI::App* scene) {
   auto* cmd = scene->add_subcommand("import",
                                     "Make a scene folder with exact truth from a BIM "
-                                    "model (IFC 2x3, docs/scene-import.md)");
+                                    "model (IFC 2x3 or IFC4, docs/scene-import.md)");
   auto path = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto doors = std::make_shared<std::vector<std::string>>();
   auto config = std::make_shared<std::string>();
   // The flags' values; a flag overrides the config only when given (OverrideIfGiven).
   auto flags = std::make_shared<scenes::BimImportParams>();
-  cmd->add_option("model", *path, "IFC 2x3 file (or glTF converted from IFC with its spaces)")
+  cmd->add_option("model", *path,
+                  "IFC 2x3 or IFC4 file (or glTF converted from IFC with its spaces)")
       ->required();
   cmd->add_option("-o,--output", *out, "Output folder")->required();
   cmd->add_option("--config", *config,

@@ -88,10 +88,15 @@ const char kIfc4Header[] =
     "FILE_SCHEMA(('IFC4'));\nENDSEC;\nDATA;\n#1=IFCPROJECT('0001',$,$,$,$,$,$,$,$);\nENDSEC;\n"
     "END-ISO-10303-21;\n";
 
-TEST(AssimpLoader, Ifc4IsRefusedBeforeAssimpSeesIt) {
+TEST(AssimpLoader, Ifc4GoesToIfcPlusPlusBeforeAssimpSeesIt) {
   const std::string path = WriteFile("model4.ifc", kIfc4Header);
-  const std::string m = ExpectInputError([&] { LoadScene(path); }, path, "unsupported IFC schema");
-  EXPECT_NE(m.find("got IFC4, expected IFC2X3"), std::string::npos) << m;
+  ExpectInputError([&] { LoadScene(path); }, path, "the IFC4 reader (IfcPlusPlus)");
+  std::string v4 = kIfc4Header;
+  v4.replace(v4.find("'IFC4'"), 6, "'IFC3'");
+  const std::string path3 = WriteFile("model3.ifc", v4);
+  const std::string m =
+      ExpectInputError([&] { LoadScene(path3); }, path3, "unsupported IFC schema");
+  EXPECT_NE(m.find("got IFC3, expected IFC2X3 or IFC4"), std::string::npos) << m;
   EXPECT_EQ(IfcSchemaOf(kIfc4Header), "IFC4");
   EXPECT_EQ(IfcSchemaOf("ISO-10303-21;\nHEADER;\nFILE_SCHEMA (('ifc4x3_add2'));\nENDSEC;"),
             "IFC4X3_ADD2");
