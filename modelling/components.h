@@ -180,7 +180,9 @@ struct ComponentParams {
   /// catalogue's on the front faces of the SE's confident depth detections); with fewer the
   /// colour models keep their catalogue colours; 0 = never relit, [0, 1e6]
   int light_min_pixels = 8;
-  int max_image_pixels = 8'000'000;  ///< SEs with larger images are skipped, [1, 1e9]
+  /// Pixels of one SE image; a larger SE (a hall's ceiling: 25 m x 15 m is 15 M pixels at
+  /// 5 mm) is imaged in overlapping tiles of at most this many, [1, 1e9]
+  int max_image_pixels = 8'000'000;
   /// Step 7: each component placed where its model best explains the SE's own samples
   /// (modelling/sample_fit.h); false: at its box on the image
   bool place_on_samples = true;

@@ -10,6 +10,7 @@
 #include "common/rng.h"
 #include "scenes/generator.h"
 #include "scenes/geometry.h"
+#include "scenes/random_floor_internal.h"
 #include "scenes/scene_check.h"
 
 namespace mopad::scenes {
@@ -17,29 +18,9 @@ namespace {
 
 using Eigen::Vector2d;
 
-// Layout happens on wall centre lines: cells tile the footprint and each room's interior
-// outline is its cell shrunk by half the wall thickness, so neighbours face each other at
-// exactly one wall thickness (what the generator's adjacency expects).
-constexpr double kWall = 0.2;            // m
-constexpr double kMinCell = 3.0;         // m, smallest office side (centre lines)
-constexpr double kMinDoorOverlap = 1.8;  // m, shared centre-line length needed for a door
+using namespace random_floor;  // NOLINT: this file's own layout vocabulary
+
 constexpr int kMaxAttempts = 60;
-
-struct Cell {
-  double x0, y0, x1, y1;
-  double w() const { return x1 - x0; }
-  double h() const { return y1 - y0; }
-};
-
-/// A room on centre lines: an orthogonal CCW polygon.
-struct Block {
-  Polygon2 poly;
-  bool corridor = false;
-};
-
-Polygon2 RectPoly(const Cell& c) {
-  return {{c.x0, c.y0}, {c.x1, c.y0}, {c.x1, c.y1}, {c.x0, c.y1}};
-}
 
 Polygon2 Simplify(const Polygon2& in) {
   Polygon2 p;
@@ -147,29 +128,6 @@ std::vector<std::pair<Vector2d, Vector2d>> OuterEdges(const Polygon2& p, double 
   return out;
 }
 
-double Round(double v, double q = 0.05) { return std::round(v / q) * q; }
-
-/// Cuts [lo, hi] into n pieces of at least min_len at random positions (rounded to 5 cm).
-std::vector<double> Cuts(CounterRng& rng, double lo, double hi, int n, double min_len) {
-  std::vector<double> w(static_cast<std::size_t>(n));
-  double total = 0.0;
-  for (auto& x : w) total += (x = rng.Uniform(1.0, 1.8));
-  const double spare = (hi - lo) - n * min_len;
-  std::vector<double> cuts{lo};
-  double acc = lo;
-  for (int i = 0; i + 1 < n; ++i) {
-    acc += min_len + spare * w[static_cast<std::size_t>(i)] / total;
-    cuts.push_back(Round(acc));
-  }
-  cuts.push_back(hi);
-  return cuts;
-}
-
-struct Layout {
-  double W = 0.0, D = 0.0;
-  std::vector<Block> blocks;
-};
-
 Layout MakeLayout(CounterRng& rng, int rooms, bool merge) {
   Layout L;
   const int cells_needed = rooms + (merge ? 1 : 0);
@@ -235,14 +193,16 @@ Layout MakeLayout(CounterRng& rng, int rooms, bool merge) {
           pairs.emplace_back(i, j);
     if (pairs.empty()) return {};
     const auto [i, j] = pairs[rng.Below(pairs.size())];
-    L.blocks.push_back({MergeCells(cells[i], cells[j]), false});
+    L.blocks.push_back({MergeCells(cells[i], cells[j]), BlockKind::kOffice});
     used[i] = used[j] = true;
   }
   for (std::size_t i = 0; i < cells.size(); ++i)
-    if (!used[i]) L.blocks.push_back({RectPoly(cells[i]), static_cast<int>(i) == corridor});
+    if (!used[i])
+      L.blocks.push_back({RectPoly(cells[i]), static_cast<int>(i) == corridor ? BlockKind::kCorridor
+                                                                             : BlockKind::kOffice});
   // Corridor first (it becomes R1, the start of the connectivity check), then the rest.
   std::stable_sort(L.blocks.begin(), L.blocks.end(),
-                   [](const Block& a, const Block& b) { return a.corridor && !b.corridor; });
+                   [](const Block& a, const Block& b) { return a.hub() && !b.hub(); });
   return L;
 }
 
@@ -280,10 +240,10 @@ bool AddDoors(CounterRng& rng, const Layout& L, int rooms, const std::vector<std
   auto add_door = [&](const Pair& p, bool open) {
     DoorSpec d;
     d.id = "D" + std::to_string(++*doors);
-    // The non-corridor room, or a random one, gets the leaf.
-    int swing = L.blocks[p.a].corridor
+    // The room off the hub, or a random one, gets the leaf.
+    int swing = L.blocks[p.a].hub()
                     ? p.b
-                    : (L.blocks[p.b].corridor ? p.a : (rng.Bernoulli(0.5) ? p.a : p.b));
+                    : (L.blocks[p.b].hub() ? p.a : (rng.Bernoulli(0.5) ? p.a : p.b));
     d.room_a = ids[p.a];
     d.room_b = ids[p.b];
     d.swing_into = ids[swing];
@@ -302,7 +262,17 @@ bool AddDoors(CounterRng& rng, const Layout& L, int rooms, const std::vector<std
     d.where = s->source;
     s->doors.push_back(d);
   };
-  for (int added = 1; added < rooms;) {
+  int added = 1;
+  if (L.doors_from_hub) {
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      if (pairs[k].a != 0 || in_tree[pairs[k].b]) continue;
+      pair_used[k] = true;
+      in_tree[pairs[k].b] = true;
+      add_door(pairs[k], true);
+      ++added;
+    }
+  }
+  while (added < rooms) {
     std::vector<std::size_t> frontier;
     for (std::size_t k = 0; k < pairs.size(); ++k)
       if (in_tree[pairs[k].a] != in_tree[pairs[k].b]) frontier.push_back(k);
@@ -314,7 +284,7 @@ bool AddDoors(CounterRng& rng, const Layout& L, int rooms, const std::vector<std
     ++added;
   }
   for (std::size_t k = 0; k < pairs.size(); ++k)
-    if (!pair_used[k] && rng.Bernoulli(0.45)) add_door(pairs[k], false);
+    if (!pair_used[k] && rng.Bernoulli(L.extra_door_probability)) add_door(pairs[k], false);
   return true;
 }
 
@@ -344,7 +314,7 @@ std::map<int, int> AddOuterOpenings(CounterRng& rng, const Layout& L, int rooms,
         exit_done = true;
         continue;
       }
-      if (L.blocks[i].corridor || len < 2.2) continue;
+      if (L.blocks[i].kind == BlockKind::kCorridor || len < 2.2) continue;
       const int n = len >= 6.0 ? 2 : 1;
       for (int k = 0; k < n; ++k) {
         WindowSpec w;
@@ -364,12 +334,27 @@ std::map<int, int> AddOuterOpenings(CounterRng& rng, const Layout& L, int rooms,
   return windows_of;
 }
 
-// Columns: sometimes one in a big office.
+// Columns: a grid in a hall, sometimes one in a big office.
 void AddColumns(CounterRng& rng, const Layout& L, int rooms, const std::vector<std::string>& ids,
                 SceneSpec* s) {
   for (int i = 0; i < rooms; ++i) {
+    if (L.blocks[i].kind != BlockKind::kHall) continue;
+    const bool round = rng.Bernoulli(0.5);
+    for (const Vector2d& at : HallColumnGrid(s->rooms[i].polygon)) {
+      ColumnSpec c;
+      c.id = "C" + std::to_string(s->columns.size() + 1);
+      c.room = ids[i];
+      c.shape = round ? "round" : "rect";
+      c.radius = 0.25;
+      c.size = {0.45, 0.45};
+      c.position = at;
+      c.where = s->source;
+      s->columns.push_back(c);
+    }
+  }
+  for (int i = 0; i < rooms; ++i) {
     const double area = SignedArea(s->rooms[i].polygon);
-    if (L.blocks[i].corridor || area < 30.0 || !rng.Bernoulli(0.3)) continue;
+    if (L.blocks[i].hub() || area < 30.0 || !rng.Bernoulli(0.3)) continue;
     Eigen::AlignedBox2d box;
     for (const auto& p : s->rooms[i].polygon) box.extend(p);
     ColumnSpec c;
@@ -403,7 +388,7 @@ void AddServiceComponents(CounterRng& rng, const Layout& L, int rooms,
   };
   std::vector<std::string> offices;
   for (int i = 0; i < rooms; ++i)
-    if (!L.blocks[i].corridor) offices.push_back(ids[i]);
+    if (!L.blocks[i].hub()) offices.push_back(ids[i]);
   if (offices.empty()) offices = ids;
   bsc("electrical_panel", 1, {ids[0]});
   bsc("socket_x1", 2 * static_cast<int>(offices.size()), offices);
@@ -419,6 +404,10 @@ void AddServiceComponents(CounterRng& rng, const Layout& L, int rooms,
   for (const auto& [room, n] : windows_of) radiators += std::min(n, 1);
   bsc("radiator", radiators, {}, "under_window");
   bsc("smoke_detector", rooms, {});
+  // A hall needs a detector per ~40 m2 of ceiling (fire codes space them 5-7 m apart).
+  for (int i = 0; i < rooms; ++i)
+    if (L.blocks[i].kind == BlockKind::kHall)
+      bsc("smoke_detector", static_cast<int>(SignedArea(s->rooms[i].polygon) / 40.0), {ids[i]});
   bsc("exit_light", 1, {ids[0]}, "above_door");
 }
 
@@ -426,7 +415,7 @@ void AddServiceComponents(CounterRng& rng, const Layout& L, int rooms,
 void AddFurniture(CounterRng& rng, const Layout& L, int rooms, const std::vector<std::string>& ids,
                   SceneSpec* s) {
   for (int i = 0; i < rooms; ++i) {
-    if (L.blocks[i].corridor) continue;
+    if (L.blocks[i].hub()) continue;
     const double area = SignedArea(s->rooms[i].polygon);
     const int desks = std::clamp(static_cast<int>(area / 14.0), 1, 4);
     auto furn = [&](const std::string& type, int count) {
@@ -445,20 +434,44 @@ void AddFurniture(CounterRng& rng, const Layout& L, int rooms, const std::vector
   }
 }
 
-SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
-  CounterRng rng(seed, "random_floor/layout", static_cast<std::uint64_t>(rooms * 1000 + attempt));
+Layout FamilyLayout(CounterRng& rng, FloorFamily family, int rooms, int attempt) {
+  switch (family) {
+    case FloorFamily::kCorridor:
+      return CorridorLayout(rng, rooms);
+    case FloorFamily::kJunction:
+      return JunctionLayout(rng, rooms);
+    case FloorFamily::kHall:
+      return HallLayout(rng, rooms);
+    case FloorFamily::kOffice:
+    case FloorFamily::kMixed:
+      break;
+  }
   const bool merge = rooms >= 2 && attempt < kMaxAttempts / 2 && rng.Bernoulli(0.6);
-  Layout L = MakeLayout(rng, rooms, merge);
+  return MakeLayout(rng, rooms, merge);
+}
+
+SceneSpec BuildSpec(std::uint64_t seed, int rooms, FloorFamily family, int attempt) {
+  const bool office = family == FloorFamily::kOffice;
+  const std::string stream = office ? "" : "/" + FloorFamilyName(family);
+  CounterRng rng(seed, "random_floor/layout" + stream,
+                 static_cast<std::uint64_t>(rooms * 1000 + attempt));
+  Layout L = FamilyLayout(rng, family, rooms, attempt);
   if (static_cast<int>(L.blocks.size()) != rooms) return {};
 
   SceneSpec s;
-  s.name = "random_s" + std::to_string(seed) + "_r" + std::to_string(rooms);
+  const std::string tag = "s" + std::to_string(seed) + "_r" + std::to_string(rooms);
+  s.name = office ? "random_" + tag : "random_" + FloorFamilyName(family) + "_" + tag;
   s.seed = seed;
-  s.source = "random_floor(seed=" + std::to_string(seed) + ", rooms=" + std::to_string(rooms) + ")";
+  s.source = "random_floor(seed=" + std::to_string(seed) + ", rooms=" + std::to_string(rooms) +
+             (office ? "" : ", family=" + FloorFamilyName(family)) + ")";
   s.wall_thickness = kWall;
   s.storey_height = 3.0;
   s.ceiling_height = Round(rng.Uniform(2.6, 2.9));
   const std::vector<std::string> ids = AddRooms(L, &s);
+  if (L.hub_ceiling > 0.0) {
+    s.rooms[0].ceiling_height = L.hub_ceiling;
+    s.storey_height = std::max(s.storey_height, Round(L.hub_ceiling + 0.4));
+  }
   int doors = 0;
   if (!AddDoors(rng, L, rooms, ids, &s, &doors)) return {};
   const std::map<int, int> windows_of = AddOuterOpenings(rng, L, rooms, ids, &s, &doors);
@@ -470,16 +483,52 @@ SceneSpec BuildSpec(std::uint64_t seed, int rooms, int attempt) {
 
 }  // namespace
 
-SceneSpec RandomFloorSpec(std::uint64_t seed, int rooms) {
+std::string FloorFamilyName(FloorFamily family) {
+  switch (family) {
+    case FloorFamily::kOffice:
+      return "office";
+    case FloorFamily::kCorridor:
+      return "corridor";
+    case FloorFamily::kJunction:
+      return "junction";
+    case FloorFamily::kHall:
+      return "hall";
+    case FloorFamily::kMixed:
+      return "mixed";
+  }
+  return "office";
+}
+
+FloorFamily ParseFloorFamily(const std::string& name) {
+  for (FloorFamily f : {FloorFamily::kOffice, FloorFamily::kCorridor, FloorFamily::kJunction,
+                        FloorFamily::kHall, FloorFamily::kMixed})
+    if (FloorFamilyName(f) == name) return f;
+  throw InputError("", "unknown floor family", "'" + name + "'",
+                   "office, corridor, junction, hall or mixed");
+}
+
+FloorFamily ResolveFloorFamily(std::uint64_t seed, int rooms, FloorFamily family) {
+  if (family != FloorFamily::kMixed) return family;
+  // Offices 40 %, each new family 20 %: the established floors stay the most common.
+  CounterRng rng(seed, "random_floor/family", static_cast<std::uint64_t>(rooms));
+  const double u = rng.Uniform(0.0, 1.0);
+  if (u < 0.4) return FloorFamily::kOffice;
+  if (u < 0.6) return FloorFamily::kCorridor;
+  if (u < 0.8) return FloorFamily::kJunction;
+  return FloorFamily::kHall;
+}
+
+SceneSpec RandomFloorSpec(std::uint64_t seed, int rooms, FloorFamily family) {
   if (rooms < kMinRandomRooms || rooms > kMaxRandomRooms)
     throw InputError(
         "", "rooms out of range", std::to_string(rooms),
         "[" + std::to_string(kMinRandomRooms) + ", " + std::to_string(kMaxRandomRooms) + "]");
+  family = ResolveFloorFamily(seed, rooms, family);
   // Draw layouts until one realises cleanly: each attempt is a pure function of
-  // (seed, rooms, attempt), so the result is deterministic.
+  // (seed, rooms, family, attempt), so the result is deterministic.
   std::string last_error;
   for (int attempt = 0; attempt < kMaxAttempts; ++attempt) {
-    SceneSpec spec = BuildSpec(seed, rooms, attempt);
+    SceneSpec spec = BuildSpec(seed, rooms, family, attempt);
     if (static_cast<int>(spec.rooms.size()) != rooms) continue;
     try {
       ValidateSceneSpec(spec);
@@ -491,7 +540,8 @@ SceneSpec RandomFloorSpec(std::uint64_t seed, int rooms) {
     }
   }
   throw std::runtime_error("RandomFloorSpec: no valid layout for seed " + std::to_string(seed) +
-                           ", rooms " + std::to_string(rooms) + " (last: " + last_error + ")");
+                           ", rooms " + std::to_string(rooms) + ", family " +
+                           FloorFamilyName(family) + " (last: " + last_error + ")");
 }
 
 }  // namespace mopad::scenes

@@ -70,13 +70,21 @@ void AddRandomCommand(CLI::App* scene) {
   auto out = std::make_shared<std::string>();
   auto seed = std::make_shared<std::uint64_t>(1);
   auto rooms = std::make_shared<int>(5);
+  auto family = std::make_shared<std::string>("office");
   cmd->add_option("--seed", *seed, "Seed of the layout")->required();
   cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10")->default_val(5);
+  cmd->add_option("--family", *family,
+                  "Layout family: office, corridor (one long corridor), junction (L or T "
+                  "corridors), hall (a high hall with a column grid) or mixed (drawn from the seed)")
+      ->default_val("office");
   cmd->add_option("-o,--output", *out, "Output folder")->required();
   cmd->footer(
       "Writes DIR/scene.glb and DIR/scene.truth.json (docs/scene-format.md), and the spec it used, "
       "spec.effective.yaml.");
-  cmd->callback([=] { GenerateAndWrite(scenes::RandomFloorSpec(*seed, *rooms), *out); });
+  cmd->callback([=] {
+    const scenes::FloorFamily f = scenes::ParseFloorFamily(*family);
+    GenerateAndWrite(scenes::RandomFloorSpec(*seed, *rooms, f), *out);
+  });
 }
 
 // `scene info SCENE`: counts, bounds and rooms of a scene folder or file.

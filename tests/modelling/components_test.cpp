@@ -759,6 +759,31 @@ TEST(Components, TheSameBytesOnOneThreadAndOnTwo) {
   EXPECT_EQ(one, two);
 }
 
+// An SE too large for one image (a hall's ceiling) is imaged in overlapping tiles: the same
+// components as from one image, a component across a tile's edge found once.
+TEST(Components, AnSeLargerThanOneImageIsSearchedInTilesWithTheSameResult) {
+  TestWall w = MakeWall();
+  w.sm3.patches[0].polygon = {{8, 0, 0}, {0, 0, 0}, {0, 0, 2.7}, {8, 0, 2.7}};
+  w.frame = PatchFrame::Of(w.sm3.patches[0]);
+  for (double u : {0.7, 2.2, 3.45, 4.6, 5.8, 7.3}) w.placed.push_back({ModelOf("fire_sign"), u, 1.9});
+  w.placed.push_back({ModelOf("switch"), 3.48, 1.05});
+  w.placed.push_back({ModelOf("radiator"), 5.0, 0.45});
+  const std::vector<Vec3> from = {Vec3(2.0, 1.2, 2.5), Vec3(6.0, 1.3, 2.5)};
+  const Sm5Model whole = DetectFrom(w, from);
+  ComponentParams tiled_params;
+  tiled_params.max_image_pixels = 400'000;  // the wall is 1600 x 540 pixels: 21 tiles
+  const Sm5Model tiled = DetectFrom(w, from, tiled_params);
+  ASSERT_EQ(whole.components.size(), 8u);
+  ASSERT_EQ(tiled.components.size(), whole.components.size());
+  for (std::size_t i = 0; i < whole.components.size(); ++i) {
+    EXPECT_EQ(tiled.components[i].class_name, whole.components[i].class_name) << i;
+    EXPECT_NEAR(tiled.components[i].u, whole.components[i].u, 0.002) << i;
+    EXPECT_NEAR(tiled.components[i].v, whole.components[i].v, 0.002) << i;
+  }
+  tiled_params.max_image_pixels = 100'000;  // a tile would not hold the radiator twice over
+  EXPECT_THROW(DetectFrom(w, from, tiled_params), InputError);
+}
+
 // Signs of one size on the same colours differ only in their pictograms, which the perceptron's
 // global colour pattern does not hold: on office_5rooms it scored the wrong one of them higher
 // (an extinguisher sign 0.10 for its class, 0.69 for a fire sign). The colour path takes any

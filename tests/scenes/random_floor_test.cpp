@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <deque>
 #include <iostream>
+#include <set>
 
 #include "common/error.h"
 #include "common/polygon.h"
@@ -53,6 +54,96 @@ TEST(RandomFloor, SeedsAndRoomCountsGiveValidConnectedFloors) {
   EXPECT_GT(columns, 0);
   EXPECT_EQ(min_walls, 0);  // some floors all rectangles, some with L/T rooms
   EXPECT_GT(max_walls, 0);
+}
+
+// The corridor, junction and hall families: valid connected floors of every size, with the
+// shape each family promises, measured on the generated truth.
+struct FamilyStats {
+  int floors = 0, tees = 0, ells = 0;
+};
+
+Eigen::AlignedBox2d BoxOf(const std::vector<Eigen::Vector2d>& poly) {
+  Eigen::AlignedBox2d b;
+  for (const auto& p : poly) b.extend(p);
+  return b;
+}
+
+void CheckFamilyFloor(FloorFamily family, std::uint64_t seed, int rooms, FamilyStats* st) {
+  const SceneSpec spec = RandomFloorSpec(seed, rooms, family);
+  const GeneratedScene g = Generate(spec);
+  const CheckReport r = CheckScene(g.scene, g.truth);
+  const std::string what = FloorFamilyName(family) + " seed " + std::to_string(seed) + " rooms " +
+                           std::to_string(rooms);
+  ASSERT_TRUE(r.ok()) << what << "\n" << r.Summary();
+  ASSERT_EQ(r.rooms, rooms) << what;
+  ASSERT_GE(r.doors_open, rooms - 1) << what;
+  ++st->floors;
+  const Room& hub = g.truth.rooms.front();
+  const Eigen::AlignedBox2d box = BoxOf(hub.polygon);
+  // Every office has its own open door to the hub.
+  for (const Room& room : g.truth.rooms) {
+    if (room.id == hub.id) continue;
+    bool door_to_hub = false;
+    for (const Opening& o : g.truth.openings)
+      door_to_hub |= o.type == OpeningType::kDoor && o.state == DoorState::kOpen &&
+                     std::count(o.rooms.begin(), o.rooms.end(), hub.id) &&
+                     std::count(o.rooms.begin(), o.rooms.end(), room.id);
+    EXPECT_TRUE(door_to_hub) << what << ": " << room.id;
+  }
+  if (family == FloorFamily::kHall) {
+    EXPECT_GE(box.sizes().x(), 20.0 - 1e-9) << what;
+    EXPECT_GE(box.sizes().y(), 14.0 - 1e-9) << what;
+    EXPECT_GE(hub.ceiling_z - hub.floor_z, 3.4 - 1e-9) << what;
+    EXPECT_LE(hub.ceiling_z - hub.floor_z, 4.0 + 1e-9) << what;
+    int columns = 0, detectors = 0;
+    for (const ColumnSpec& c : spec.columns) columns += c.room == hub.id;
+    for (const ServiceComponent& c : g.truth.service_components)
+      detectors += c.room == hub.id && c.bsc_class == "smoke_detector";
+    EXPECT_GE(columns, 4) << what;
+    EXPECT_GE(detectors, static_cast<int>(SignedArea(hub.polygon) / 40.0)) << what;
+    return;
+  }
+  // A corridor: clear width 1.5-2.5 m, at most 40 m long; offices at most ~9 m along it.
+  const double width = std::min(box.sizes().x(), box.sizes().y());
+  if (family == FloorFamily::kCorridor) {
+    EXPECT_GE(width, 1.5 - 1e-9) << what;
+    EXPECT_LE(width, 2.5 + 1e-9) << what;
+    EXPECT_LE(box.sizes().maxCoeff(), 40.0) << what;
+    for (const Room& room : g.truth.rooms) {
+      if (room.id == hub.id) continue;
+      EXPECT_LE(BoxOf(room.polygon).sizes().x(), 9.6) << what;
+    }
+  } else {
+    st->tees += hub.polygon.size() == 8;
+    st->ells += hub.polygon.size() == 6;
+  }
+}
+
+TEST(RandomFloor, CorridorJunctionAndHallFamiliesKeepTheirShape) {
+  for (FloorFamily family : {FloorFamily::kCorridor, FloorFamily::kJunction, FloorFamily::kHall}) {
+    FamilyStats st;
+    for (std::uint64_t seed = 1; seed <= 4; ++seed)
+      for (int rooms = kMinRandomRooms; rooms <= kMaxRandomRooms; ++rooms)
+        CheckFamilyFloor(family, seed, rooms, &st);
+    EXPECT_EQ(st.floors, 4 * (kMaxRandomRooms - kMinRandomRooms + 1));
+    if (family == FloorFamily::kJunction) {
+      EXPECT_GT(st.tees, 0);
+      EXPECT_GT(st.ells, 0);
+    }
+  }
+}
+
+TEST(RandomFloor, MixedFamilyDrawsEveryFamilyAndLeavesOfficeFloorsAlone) {
+  std::set<FloorFamily> seen;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed)
+    seen.insert(ResolveFloorFamily(seed, 6, FloorFamily::kMixed));
+  EXPECT_EQ(seen.size(), 4u);
+  EXPECT_EQ(ResolveFloorFamily(5, 6, FloorFamily::kHall), FloorFamily::kHall);
+  EXPECT_EQ(SceneSpecToYaml(RandomFloorSpec(7, 6)),
+            SceneSpecToYaml(RandomFloorSpec(7, 6, FloorFamily::kOffice)));
+  EXPECT_EQ(RandomFloorSpec(7, 6, FloorFamily::kCorridor).name, "random_corridor_s7_r6");
+  EXPECT_THROW(ParseFloorFamily("atrium"), InputError);
+  EXPECT_EQ(ParseFloorFamily("junction"), FloorFamily::kJunction);
 }
 
 // The doors of every room are joined by a path at least 2 x kHalfWidth wide around the
