@@ -174,8 +174,7 @@ std::vector<Table> Tables(const Manifest& m, const std::vector<CaseResult>& case
                         MeanSd(s, g, k + "tp_alpha_above_0_9_share"),
                         MeanSd(s, g, k + "tp_alpha_0_5_share")});
     }
-    c.rows.push_back({"all", MeanSd(s, g, "rooms_modelled") == "-" ? "-" : "",
-                      MeanSd(s, g, "sm5_tp_rate"), MeanSd(s, g, "sm5_fn_rate"),
+    c.rows.push_back({"all", "", MeanSd(s, g, "sm5_tp_rate"), MeanSd(s, g, "sm5_fn_rate"),
                       MeanSd(s, g, "sm5_fp_rate"), "", ""});
     out.push_back(c);
   }

@@ -118,7 +118,8 @@ void AddRunOptions(CLI::App* cmd, RunArgs& a) {
   cmd->add_option("--resume", a.resume,
                   "Finish the run in DIR after its process was killed: the job runs again from "
                   "DIR/checkpoint/ (its scene, config, seed, start) and writes the files an "
-                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option")
+                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option "
+                 "but --keep")
       ->excludes(out_opt, spec_opt, scene_opt, a.seed_opt, a.step_opt, config_opt, rooms_opt,
                  start_opt);
   cmd->add_option("--keep", a.keep,
@@ -232,8 +233,9 @@ void RegisterRunCommand(CLI::App& app) {
     const auto t_start = WallClock::now();
     fs::path dir;
     std::optional<mission::RunCheckpoint> ck = CheckpointOf(*args, dir);
-    if (!ck) return;
-    RunJob(*ck, dir, args->quiet, t_start);
+    if (ck) RunJob(*ck, dir, args->quiet, t_start);
+    // Also on a complete run given to --resume: `--resume DIR --keep LEVEL` slims a finished
+    // folder.
     const runfolder::KeepLevel keep = runfolder::ParseKeepLevel(args->keep);
     const std::uintmax_t freed = runfolder::PruneRunFolder(dir.string(), keep);
     if (keep != runfolder::KeepLevel::kAll && !args->quiet)
