@@ -76,7 +76,8 @@ std::string Stem(const std::string& path) {
   return p.stem().string();
 }
 
-void ParseScene(const Ctx& c, const YAML::Node& n, std::vector<SceneEntry>& out) {
+void ParseScene(const Ctx& c, const YAML::Node& n, const Limits& suite_limits,
+                std::vector<SceneEntry>& out) {
   if (!n.IsMap())
     throw InputError(c.Where(n), "a scene must be a map", "", "spec:, folder:, random: or import:");
   RejectUnknownKeys(n, {"spec", "folder", "random", "import", "name", "limits"}, c.file, "scenes[].");
@@ -87,7 +88,7 @@ void ParseScene(const Ctx& c, const YAML::Node& n, std::vector<SceneEntry>& out)
                      "one of spec:, folder:, random:, import:");
   SceneEntry e;
   e.where = c.Where(n);
-  if (n["limits"]) e.limits = ParseLimits(c, n["limits"], Limits{});
+  if (n["limits"]) e.limits = ParseLimits(c, n["limits"], suite_limits);
   const std::string given_name = n["name"] ? c.Scalar(n["name"], "name") : "";
   if (n["spec"]) {
     e.kind = SceneEntry::Kind::kSpec;
@@ -176,7 +177,8 @@ Manifest ParseManifest(const std::string& text, const std::string& path) {
   if (!root["scenes"] || !root["scenes"].IsSequence() || root["scenes"].size() == 0)
     throw InputError(c.Where(root["scenes"] ? root["scenes"] : root), "scenes: missing or empty",
                      "", "a list of scenes");
-  for (const auto& s : root["scenes"]) ParseScene(c, s, m.scenes);
+  if (root["limits"]) m.limits = ParseLimits(c, root["limits"], Limits{});
+  for (const auto& s : root["scenes"]) ParseScene(c, s, m.limits, m.scenes);
   std::set<std::string> names;
   for (const auto& s : m.scenes) {
     CheckName(s.name, s.where, "scene");
@@ -221,7 +223,6 @@ Manifest ParseManifest(const std::string& text, const std::string& path) {
       m.sweeps.push_back(e);
     }
   }
-  if (root["limits"]) m.limits = ParseLimits(c, root["limits"], Limits{});
   if (root["keep"]) {
     m.keep = c.Scalar(root["keep"], "keep");
     if (m.keep != "summary" && m.keep != "models" && m.keep != "all")

@@ -35,7 +35,7 @@ struct SceneEntry {
   int random_rooms = 0;            ///< kRandom: `--rooms`, 2-10
   std::string storey;              ///< kImport: `--storey` ("" = the importer's default)
   std::vector<std::string> args;   ///< kImport: further `mopad scene import` arguments
-  std::optional<Limits> limits;    ///< this scene's limits, over the suite's
+  std::optional<Limits> limits;    ///< this scene's limits (keys it omits: the suite's)
   std::string where;               ///< manifest file:line, for messages
 };
 

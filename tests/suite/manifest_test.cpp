@@ -48,6 +48,7 @@ checks:
   EXPECT_EQ(m.scenes[0].name, "one_room");
   EXPECT_EQ(m.scenes[1].name, "floor");
   EXPECT_DOUBLE_EQ(m.scenes[1].limits->wall_s, 5.0);
+  EXPECT_DOUBLE_EQ(m.scenes[1].limits->memory_mb, 4000.0);  // the suite's, not given here
   EXPECT_EQ(m.scenes[2].name, "random-s1-r3");
   EXPECT_EQ(m.scenes[5].name, "random-s2-r5");
   EXPECT_EQ(m.scenes[6].kind, SceneEntry::Kind::kImport);
