@@ -19,6 +19,7 @@
 #include "mission/main_job.h"
 #include "mission/run_checkpoint.h"
 #include "report/report.h"
+#include "runfolder/keep.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/scene_world.h"
@@ -81,7 +82,7 @@ std::function<void(const std::string&)> ProgressPrinter(bool quiet, WallClock::t
 
 // What `mopad run` was given on the command line.
 struct RunArgs {
-  std::string out = "out/run", spec_path, scene_dir, config, start, resume;
+  std::string out = "out/run", spec_path, scene_dir, config, start, resume, keep = "all";
   std::uint64_t seed = 1;
   double step = 0.2;
   std::vector<std::string> rooms;
@@ -117,9 +118,15 @@ void AddRunOptions(CLI::App* cmd, RunArgs& a) {
   cmd->add_option("--resume", a.resume,
                   "Finish the run in DIR after its process was killed: the job runs again from "
                   "DIR/checkpoint/ (its scene, config, seed, start) and writes the files an "
-                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option")
+                  "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option "
+                 "but --keep")
       ->excludes(out_opt, spec_opt, scene_opt, a.seed_opt, a.step_opt, config_opt, rooms_opt,
                  start_opt);
+  cmd->add_option("--keep", a.keep,
+                  "What the finished run folder keeps: summary (JSON, YAML, reports), models (+ "
+                  "glTF, IFC, images, trajectories) or all (+ the point clouds; docs/suites.md)")
+      ->check(CLI::IsMember({"summary", "models", "all"}))
+      ->default_val("all");
   cmd->add_flag("-q,--quiet", a.quiet, "No progress lines (results and errors only)");
   cmd->footer(
       "Writes DIR/summary.json, report.html, report.md, dtt.json, trajectory_true.tum, "
@@ -227,6 +234,13 @@ void RegisterRunCommand(CLI::App& app) {
     fs::path dir;
     std::optional<mission::RunCheckpoint> ck = CheckpointOf(*args, dir);
     if (ck) RunJob(*ck, dir, args->quiet, t_start);
+    // Also on a complete run given to --resume: `--resume DIR --keep LEVEL` slims a finished
+    // folder.
+    const runfolder::KeepLevel keep = runfolder::ParseKeepLevel(args->keep);
+    const std::uintmax_t freed = runfolder::PruneRunFolder(dir.string(), keep);
+    if (keep != runfolder::KeepLevel::kAll && !args->quiet)
+      std::printf("--keep %s: removed %.1f MB of files the level does not keep\n",
+                  runfolder::ToString(keep), static_cast<double>(freed) / 1e6);
   });
 }
 

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterEvalCommand(app);
   mopad::tools::RegisterExportCommand(app);
   mopad::tools::RegisterCatalogueCommand(app);
+  mopad::tools::RegisterSuiteCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {

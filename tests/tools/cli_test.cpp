@@ -529,3 +529,46 @@ TEST(Cli, ScanUsesTheProfilesStepUnlessTheFlagIsGivenAndRefusesAGivenZero) {
   EXPECT_EQ(rays.code, 2) << rays.out;
   EXPECT_NE(rays.out.find("footprint_rays"), std::string::npos) << rays.out;
 }
+
+namespace {
+
+// `mopad suite run` on a real two-case suite (one_room, two seeds, the coarsest scan step):
+// each case a mopad run of this binary, checked, pooled, and pruned to --keep summary.
+TEST(Cli, SuiteRunsTwoRealCasesAndKeepsTheirSummaries) {
+  const std::string d = TempDir("suite");
+  {
+    std::ofstream m(d + "/mini.yaml");
+    m << "suite: mini\nscenes:\n  - spec: " << Src("scenes/one_room.yaml")
+      << "\nseeds: 1-2\nrun_args: [--step-deg, \"1.0\"]\nchecks:\n  - rooms_missed <= 0\n"
+         "  - wall_recall >= 1\n  - mean(rooms_modelled) >= 1\n";
+    std::ofstream bad(d + "/bad.yaml");
+    bad << "scenes:\n  - spec: x.yaml\nlimits: {wall_s: 10, memroy_mb: 5}\n";
+  }
+  const Result r = Mopad("suite run " + d + "/mini.yaml -o " + d + "/out --jobs 2 -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(d + "/out/suite.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("cases").size(), 2u);
+  for (const auto& c : j.at("cases")) {
+    EXPECT_EQ(c.at("verdict"), "passed") << c.dump();
+    EXPECT_EQ(c.at("figures").at("rooms_reachable"), 1);
+    EXPECT_EQ(c.at("figures").at("rooms_modelled"), 1);
+    const std::string dir = d + "/out/" + c.at("dir").get<std::string>();
+    EXPECT_TRUE(fs::exists(dir + "/report.html"));
+    EXPECT_TRUE(fs::exists(dir + "/rooms/R1/sm3.json"));
+    EXPECT_FALSE(fs::exists(dir + "/rooms/R1/sm1.ply"));  // --keep summary (the suite default)
+    EXPECT_FALSE(fs::exists(dir + "/export/sm1.las"));
+  }
+  EXPECT_EQ(j.at("cases")[0].at("id"), "one_room/seed-1");
+  EXPECT_EQ(j.at("totals").at("passed"), 2);
+  // A second run into the folder without --resume, and a manifest with a typo: exit 2.
+  const Result again = Mopad("suite run " + d + "/mini.yaml -o " + d + "/out -q");
+  EXPECT_EQ(again.code, 2) << again.out;
+  EXPECT_NE(again.out.find("--resume"), std::string::npos) << again.out;
+  const Result bad = Mopad("suite run " + d + "/bad.yaml -o " + d + "/bad_out");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("bad.yaml:3: error: unknown key 'limits.memroy_mb'"), std::string::npos)
+      << bad.out;
+}
+
+}  // namespace
