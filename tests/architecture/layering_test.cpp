@@ -29,7 +29,8 @@ using mopad::architecture::ReadGraph;
 const std::map<std::string, int> kLayer = {
     {"common", 0},     {"interfaces", 1}, {"io", 2},       {"scenes", 2},    {"perception", 3},
     {"sim", 3},        {"modelling", 4},  {"autonomy", 5}, {"runfolder", 6}, {"exports", 7},
-    {"evaluation", 8}, {"report", 9},     {"mission", 10}, {"tools", 11}};
+    {"evaluation", 8}, {"report", 9},     {"mission", 10}, {"suite", 11},
+    {"tools", 12}};
 
 std::string FolderOf(const std::string& target) {
   if (target == "mopad") return "tools";
