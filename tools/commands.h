@@ -18,6 +18,8 @@ void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one 
 void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
 void RegisterExportCommand(CLI::App& app);  // export: IFC4, semantic glTF, LAS of a run
 void RegisterCatalogueCommand(CLI::App& app);  // catalogue train: SM5's recogniser weights
+/// Adds `compare` and `slurm` under the `suite` subcommand.
+void RegisterSuiteCompareCommands(CLI::App& suite);
 
 /// Parses "x,y,yaw_deg" (a CLI pose option, degrees at the human edge); InputError naming
 /// `opt` otherwise.

@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterEvalCommand(app);
   mopad::tools::RegisterExportCommand(app);
   mopad::tools::RegisterCatalogueCommand(app);
+  CLI::App* suite = app.add_subcommand("suite", "CI scene suites: compare two, run one on Slurm");
+  suite->require_subcommand(1);
+  mopad::tools::RegisterSuiteCompareCommands(*suite);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
