@@ -44,8 +44,8 @@ double MinEffect(const CompareParams& p, double base_mean) {
   return std::max(p.min_relative_effect * std::abs(base_mean), p.min_absolute_effect);
 }
 
-void Judge(const CompareParams& params, FigureComparison& fc) {
-  const int nb = static_cast<int>(fc.base.size()), nn = static_cast<int>(fc.next.size());
+// The bootstrap interval and the U test of a figure present on both sides.
+void Measure(const CompareParams& params, FigureComparison& fc) {
   const std::uint64_t key =
       DeriveKey(DeriveKey(Mix64(static_cast<std::uint64_t>(params.bootstrap_seed)),
                           HashName("suite/compare/bootstrap")),
@@ -57,8 +57,24 @@ void Judge(const CompareParams& params, FigureComparison& fc) {
   const MannWhitneyResult mw = MannWhitneyU(fc.next, fc.base);
   fc.u = mw.u;
   fc.p = mw.p;
+  fc.p_adjusted = mw.p;
   fc.exact = mw.exact;
   fc.min_effect = MinEffect(params, fc.base_mean);
+}
+
+// Whether a measured figure belongs to the family of tests: a test that cannot reject at level
+// alpha (too few seeds for any p below it, or one value on both sides, whose permutation
+// distribution is a single point) adds nothing to the family-wise error and is left out
+// (Tarone 1990).
+bool CanReject(const CompareParams& params, const FigureComparison& fc) {
+  const int nb = static_cast<int>(fc.base.size()), nn = static_cast<int>(fc.next.size());
+  if (MinimumTwoSidedP(nn, nb) > params.alpha) return false;
+  return !(fc.base.front() == fc.base.back() && fc.next.front() == fc.next.back() &&
+           fc.base.front() == fc.next.front());  // sorted: front and back bound the values
+}
+
+void Classify(const CompareParams& params, FigureComparison& fc) {
+  const int nb = static_cast<int>(fc.base.size()), nn = static_cast<int>(fc.next.size());
   if (MinimumTwoSidedP(nn, nb) > params.alpha) {
     fc.change = Change::kTooFewSeeds;
     return;
@@ -67,7 +83,8 @@ void Judge(const CompareParams& params, FigureComparison& fc) {
   const double centre = 0.5 * nn * nb;
   const int rank_dir = fc.u > centre ? 1 : (fc.u < centre ? -1 : 0);
   const int mean_dir = fc.delta > 0 ? 1 : (fc.delta < 0 ? -1 : 0);
-  if (!(fc.p < params.alpha) || std::abs(fc.delta) <= fc.min_effect || rank_dir != mean_dir) {
+  if (!(fc.p_adjusted < params.alpha) || std::abs(fc.delta) <= fc.min_effect ||
+      rank_dir != mean_dir) {
     fc.change = Change::kWithinNoise;
     return;
   }
@@ -77,6 +94,20 @@ void Judge(const CompareParams& params, FigureComparison& fc) {
     const bool better = (fc.better == "higher") == (mean_dir > 0);
     fc.change = better ? Change::kImprovement : Change::kRegression;
   }
+}
+
+// Holm's step-down adjustment over the figures that can reject (or none when switched off);
+// the others keep their own p.
+int AdjustForMultipleTests(const CompareParams& params, std::vector<FigureComparison>& figures) {
+  std::vector<FigureComparison*> family;
+  for (auto& f : figures)
+    if (f.change == Change::kWithinNoise && CanReject(params, f)) family.push_back(&f);
+  if (!params.holm) return static_cast<int>(family.size());
+  std::vector<double> p;
+  for (const auto* f : family) p.push_back(f->p);
+  const std::vector<double> adjusted = HolmAdjusted(p);
+  for (std::size_t i = 0; i < family.size(); ++i) family[i]->p_adjusted = adjusted[i];
+  return static_cast<int>(family.size());
 }
 
 std::string Num(double v) { return std::isfinite(v) ? FormatNumbers("%.4g", v) : "-"; }
@@ -97,13 +128,13 @@ std::string FigureRow(const FigureComparison& f) {
          MeanSd(f.base, f.base_mean, f.base_sd) + " | " + MeanSd(f.next, f.new_mean, f.new_sd) +
          " | " + (both ? Signed(f.delta) + rel : "-") + " | " +
          (both ? std::string("[") + Num(f.ci_low) + ", " + Num(f.ci_high) + "]" : "-") + " | " +
-         (both ? Num(f.p) + (f.exact ? "" : " (approx.)") : "-") + " | " + ChangeName(f.change) +
-         " |\n";
+         (both ? Num(f.p) + (f.exact ? "" : " (approx.)") : "-") + " | " +
+         (both ? Num(f.p_adjusted) : "-") + " | " + ChangeName(f.change) + " |\n";
 }
 
 const char* kFigureHeader =
-    "| group | figure | BASE mean ± sd (n) | NEW mean ± sd (n) | change | CI | p | result |\n"
-    "|---|---|---|---|---|---|---|---|\n";
+    "| group | figure | BASE mean ± sd (n) | NEW mean ± sd (n) | change | CI | p | p Holm | result "
+    "|\n|---|---|---|---|---|---|---|---|---|\n";
 
 std::string FigureTable(const Comparison& c, const std::vector<Change>& which) {
   std::string rows;
@@ -218,6 +249,9 @@ Comparison CompareSuites(const SuiteResults& base, const SuiteResults& next,
       for (const SuiteCase* k : *side)
         for (const auto& [name, value] : k->figures) names.insert(name);
     for (const std::string& name : names) {
+      if (!params.figures.empty() &&
+          std::find(params.figures.begin(), params.figures.end(), name) == params.figures.end())
+        continue;
       FigureComparison fc;
       fc.group = group;
       fc.figure = name;
@@ -245,11 +279,23 @@ Comparison CompareSuites(const SuiteResults& base, const SuiteResults& next,
         fc.change = Change::kOnlyInBase;
       } else {
         fc.delta = fc.new_mean - fc.base_mean;
-        Judge(params, fc);
+        Measure(params, fc);
       }
       c.figures.push_back(std::move(fc));
     }
   }
+  for (const std::string& name : params.figures) {
+    const auto reports = [&name](const SuiteResults& r) {
+      return std::any_of(r.cases.begin(), r.cases.end(),
+                         [&name](const SuiteCase& k) { return k.figures.count(name) > 0; });
+    };
+    if (!reports(base) && !reports(next))
+      throw InputError("figures", "no such figure in either suite", "'" + name + "'",
+                       "a name of suite.json's figures");
+  }
+  c.tests = AdjustForMultipleTests(params, c.figures);
+  for (auto& f : c.figures)
+    if (f.change == Change::kWithinNoise) Classify(params, f);
   std::map<std::string, std::string> base_verdict;
   for (const auto& k : base.cases) base_verdict[k.id] = k.verdict;
   for (const auto& k : next.cases) {
@@ -277,15 +323,21 @@ std::string CompareMarkdown(const Comparison& c) {
     md += "**No regression beyond noise** (" + std::to_string(c.Count(Change::kImprovement)) +
           " improvement(s)).\n\n";
   }
-  md += "Per scene group and figure, pooled over seeds: a two-sided Mann-Whitney U test (alpha " +
-        Num(p.alpha) + "; exact for up to " + std::to_string(kExactMaxTotal) +
-        " values, else the normal approximation) and a " + Num(100.0 * p.confidence) +
-        " % percentile bootstrap interval (CI) of the change of the mean (" +
-        std::to_string(p.bootstrap_resamples) + " resamples, seed " +
-        std::to_string(p.bootstrap_seed) +
-        "). A change counts when p < alpha and it exceeds the larger of " +
-        Num(100.0 * p.min_relative_effect) + " % of |BASE mean| and " + Num(p.min_absolute_effect) +
-        ".\n\n";
+  md +=
+      "Per scene group and figure, pooled over seeds: a two-sided Mann-Whitney U test (exact "
+      "for up to " +
+      std::to_string(kExactMaxTotal) + " values, else the normal approximation), " +
+      (p.holm ? "its p corrected by Holm's method over the " + std::to_string(c.tests) +
+                    " figures tested (p Holm; alpha " + Num(p.alpha) + " for them all)"
+              : "each figure at alpha " + Num(p.alpha) + " (no correction for " +
+                    std::to_string(c.tests) + " tests)") +
+      ", and a " + Num(100.0 * p.confidence) +
+      " % percentile bootstrap interval (CI) of the change of the mean (" +
+      std::to_string(p.bootstrap_resamples) + " resamples, seed " +
+      std::to_string(p.bootstrap_seed) +
+      "). A change counts when p Holm < alpha and it exceeds the larger of " +
+      Num(100.0 * p.min_relative_effect) + " % of |BASE mean| and " + Num(p.min_absolute_effect) +
+      ".\n\n";
   md += "## Regressions\n\n" + FigureTable(c, {Change::kRegression}) + "\n";
   md += "## Improvements\n\n" + FigureTable(c, {Change::kImprovement}) + "\n";
   md += "## Verdicts that flipped\n\n";
@@ -316,6 +368,8 @@ json CompareJson(const Comparison& c) {
   const CompareParams& p = c.params;
   j["method"] = {{"test", "Mann-Whitney U, two-sided"},
                  {"alpha", p.alpha},
+                 {"holm", p.holm},
+                 {"tests", c.tests},
                  {"exact_max_total", kExactMaxTotal},
                  {"interval", "percentile bootstrap of mean(NEW) - mean(BASE)"},
                  {"confidence", p.confidence},
@@ -347,6 +401,7 @@ json CompareJson(const Comparison& c) {
       o["ci"] = {f.ci_low, f.ci_high};
       o["u"] = f.u;
       o["p"] = f.p;
+      o["p_holm"] = f.p_adjusted;
       o["exact"] = f.exact;
       o["min_effect"] = f.min_effect;
     }

@@ -5,9 +5,10 @@
 //
 // Cases are pooled per scene group (suite.json's "group": scene, config, sweep value; never the
 // seed), so BASE and NEW may use different seeds. Per group and figure: the change of the mean
-// with a bootstrap interval, and a two-sided Mann-Whitney U test (suite/two_sample.h). A change
-// is a regression when p < alpha, it goes the worse way (figure_info "better"), and it is larger
-// than the minimum effect max(min_relative_effect |BASE mean|, min_absolute_effect), so that
+// with a bootstrap interval, and a two-sided Mann-Whitney U test (suite/two_sample.h) whose p is
+// corrected by Holm's method over all figures and groups tested. A change is a regression when
+// the corrected p < alpha, it goes the worse way (figure_info "better"), and it is larger than
+// the minimum effect max(min_relative_effect |BASE mean|, min_absolute_effect), so that
 // bit-level noise never flags. Cases present in both suites (same id) whose verdict changed are
 // listed; a case that completed in BASE (passed or failed) and did not in NEW (error, timeout,
 // crashed) is a regression too: a program that broke is not noise.
@@ -29,6 +30,13 @@ struct CompareParams {
   /// A change at most this large (the figure's unit) is noise, [0, inf): the floor for figures
   /// whose BASE mean is zero; far below any figure's resolution (1 mm, 1 %, one room).
   double min_absolute_effect = 1e-9;
+  /// Holm's correction of the p-values over every figure and group tested, so that the chance
+  /// of any false regression in a comparison (the gate's false alarm) stays below alpha however
+  /// many figures a suite reports; false: each figure at alpha on its own.
+  bool holm = true;
+  /// The figures compared (names as in suite.json); empty: every figure. Fewer figures make a
+  /// smaller family for Holm's correction, so the ones a team gates on are judged more sharply.
+  std::vector<std::string> figures;
   int bootstrap_resamples = 2000;  ///< count, [100, 1000000]
   double confidence = 0.95;        ///< of the bootstrap interval, [0.5, 0.999]
   int bootstrap_seed = 1;          ///< the bootstrap's fixed seed, [0, 2^31)
@@ -38,6 +46,8 @@ struct CompareParams {
     v("alpha", alpha, Bounds{1e-6, 0.5});
     v("min_relative_effect", min_relative_effect, Bounds{0.0, 1.0});
     v("min_absolute_effect", min_absolute_effect, Bounds{0.0, 1e300});
+    v("holm", holm);
+    v("figures", figures);
     v("bootstrap_resamples", bootstrap_resamples, Bounds{100, 1000000});
     v("confidence", confidence, Bounds{0.5, 0.999});
     v("bootstrap_seed", bootstrap_seed, Bounds{0, 2147483647});
@@ -92,6 +102,7 @@ struct FigureComparison {
   double delta = 0;                ///< new_mean - base_mean
   double ci_low = 0, ci_high = 0;  ///< bootstrap interval of delta
   double u = 0, p = 1;             ///< U of NEW against BASE, two-sided p
+  double p_adjusted = 1;           ///< p after Holm's correction (p itself when not tested)
   bool exact = false;              ///< p from the exact distribution
   double min_effect = 0;           ///< the minimum effect applied (figure's unit)
   Change change = Change::kWithinNoise;
@@ -109,6 +120,7 @@ struct Comparison {
   std::vector<FigureComparison> figures;  ///< by group, then figure (byte order)
   std::vector<VerdictFlip> flips;         ///< by case id
   std::vector<std::string> groups_only_in_base, groups_only_in_new;
+  int tests = 0;  ///< figures in the family of tests (Holm's m): both sides, able to reject
 
   int Count(Change c) const;
   int BrokenCases() const;
@@ -117,7 +129,8 @@ struct Comparison {
 };
 
 /// Compares NEW against BASE (deterministic: the bootstrap's draws are keyed by the seed, the
-/// group and the figure, not by order).
+/// group and the figure, not by order). InputError when params.figures names a figure neither
+/// suite reports.
 Comparison CompareSuites(const SuiteResults& base, const SuiteResults& next,
                          const CompareParams& params);
 

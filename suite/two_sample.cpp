@@ -129,4 +129,19 @@ Interval BootstrapMeanDifference(const std::vector<double>& x, const std::vector
   return {Quantile(diffs, (1.0 - confidence) / 2.0), Quantile(diffs, (1.0 + confidence) / 2.0)};
 }
 
+std::vector<double> HolmAdjusted(const std::vector<double>& p) {
+  std::vector<std::size_t> order(p.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&p](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<double> out(p.size());
+  double running = 0.0;
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    const double scaled = static_cast<double>(p.size() - j) * p[order[j]];
+    running = std::max(running, std::min(1.0, scaled));
+    out[order[j]] = running;
+  }
+  return out;
+}
+
 }  // namespace mopad::suite

@@ -1,6 +1,7 @@
 #pragma once
 // Two-sample statistics for comparing a figure between two suites (suite/compare.h): the
-// Mann-Whitney U rank test and a bootstrap interval of the change of the mean. Both samples are
+// Mann-Whitney U rank test, a bootstrap interval of the change of the mean, and Holm's
+// correction of many tests' p-values. Both samples are
 // a figure's values over the seed repetitions of one scene group; they need not have the same
 // size or the same seeds. Values must be finite.
 
@@ -53,5 +54,11 @@ struct Interval {
 /// (0, 1), both samples non-empty (std::invalid_argument otherwise).
 Interval BootstrapMeanDifference(const std::vector<double>& x, const std::vector<double>& y,
                                  int resamples, double confidence, std::uint64_t key);
+
+/// Holm's step-down adjustment (Holm 1979) of m p-values, in their order: with the p sorted
+/// ascending, the i-th (1-based) becomes max over j <= i of min(1, (m - j + 1) p_(j)). Rejecting
+/// where the adjusted p < alpha keeps the chance of any false rejection below alpha, whatever
+/// the dependence between the tests. Empty in, empty out.
+std::vector<double> HolmAdjusted(const std::vector<double>& p);
 
 }  // namespace mopad::suite

@@ -40,14 +40,17 @@ void RegisterCompare(CLI::App& suite) {
   auto* min_effect =
       cmd->add_option("--min-effect", a->params.min_relative_effect,
                       "Smallest change that counts, as a fraction of |BASE mean| (default 0.01)");
+  auto* figures = cmd->add_option("--figure", a->params.figures,
+                                  "Compare only this figure (repeatable; default: all)");
   cmd->footer(
       "Exit 0: no regression beyond noise; 1: a figure regressed beyond noise or a case no "
       "longer completes; 2: bad input.");
-  cmd->callback([a, alpha, min_effect] {
+  cmd->callback([a, alpha, min_effect, figures] {
     suite::CompareParams params;
     if (!a->config.empty()) params = LoadParamsFile<suite::CompareParams>(a->config);
     OverrideIfGiven(alpha, a->params.alpha, params.alpha);
     OverrideIfGiven(min_effect, a->params.min_relative_effect, params.min_relative_effect);
+    OverrideIfGiven(figures, a->params.figures, params.figures);
     ValidateParams(params);
     const suite::SuiteResults base = suite::ReadSuiteResults(a->base);
     const suite::SuiteResults next = suite::ReadSuiteResults(a->next);

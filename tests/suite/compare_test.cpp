@@ -16,6 +16,7 @@
 
 #include "common/error.h"
 #include "common/params.h"
+#include "common/rng.h"
 #include "tests/process_temp_dir.h"
 #include "tests/suite/synthetic_suite.h"
 
@@ -112,10 +113,70 @@ TEST(CompareSuites, TooFewSeedsClaimNothing) {
     for (const auto& f : c.figures) EXPECT_EQ(f.change, Change::kTooFewSeeds) << n << f.figure;
     EXPECT_NE(mopad::suite::CompareMarkdown(c).find("too few seeds"), std::string::npos);
   }
-  // Four a side can: a drop of 0.4 is then a regression.
+  // Four a side can (min p 0.029): a drop of 0.4 is then a regression, when the figure is
+  // judged on its own (with Holm over the three figures, 3 x 0.029 is too much).
+  CompareParams single;
+  single.holm = false;
   const Comparison four = Compare(Suite({Group("office", 1, 4, 0.9, 0.01)}),
-                                  Suite({Group("office", 11, 4, 0.5, 0.01)}));
+                                  Suite({Group("office", 11, 4, 0.5, 0.01)}), single);
   EXPECT_EQ(Find(four, "office", "sm5_tp").change, Change::kRegression);
+}
+
+// A suite of `figures` noise-only figures (better: higher) over ten seeds from `first_seed`.
+std::string FigureName(int f) {
+  std::string name = "f";
+  name += std::to_string(f);
+  return name;
+}
+
+json NoiseSuite(int figures, int first_seed) {
+  json suite = Suite({});
+  for (int f = 0; f < figures; ++f)
+    suite["figure_info"][FigureName(f)] = {{"better", "higher"}, {"unit", ""}};
+  for (int s = first_seed; s < first_seed + 10; ++s) {
+    json values;
+    mopad::CounterRng rng(static_cast<std::uint64_t>(s), "test/noise");
+    for (int f = 0; f < figures; ++f) values[FigureName(f)] = 1.0 + 0.1 * rng.Normal();
+    suite["cases"].push_back(mopad::test_support::Case("office", s, "passed", values));
+  }
+  return suite;
+}
+
+TEST(CompareSuites, ManyFiguresOfTheSameCodeRaiseNoFalseAlarmWithHolm) {
+  // 60 figures of pure noise, seeds 1-10 against 11-20, 21-30, ...: tested one by one at 0.05,
+  // about 60 x 0.025 of them look worse by chance in each comparison; Holm's correction keeps
+  // the chance of any false alarm per comparison below 0.05.
+  CompareParams single;
+  single.holm = false;
+  int false_alarms_single = 0, false_alarms_holm = 0;
+  const json base = NoiseSuite(60, 1);
+  for (int block = 1; block <= 5; ++block) {
+    const json next = NoiseSuite(60, 1 + 10 * block);
+    false_alarms_single += Compare(base, next, single).Count(Change::kRegression);
+    const Comparison holm = Compare(base, next);
+    false_alarms_holm += holm.Count(Change::kRegression);
+    EXPECT_EQ(holm.tests, 60);
+  }
+  EXPECT_GE(false_alarms_single, 2);  // the problem is real (expected about 7)
+  EXPECT_EQ(false_alarms_holm, 0);
+  // A real drop of 3 sd in one of the 60 still shows.
+  json next = NoiseSuite(60, 11);
+  for (auto& k : next["cases"]) k["figures"]["f7"] = k["figures"]["f7"].get<double>() - 0.3;
+  const Comparison c = Compare(base, next);
+  EXPECT_EQ(Find(c, "office", "f7").change, Change::kRegression);
+  EXPECT_EQ(c.Count(Change::kRegression), 1);
+  // Gating on a few figures: a family of 2 instead of 60, the same data, a smaller correction.
+  CompareParams few;
+  few.figures = {"f7", "f8"};
+  const Comparison two = Compare(base, next, few);
+  EXPECT_EQ(two.tests, 2);
+  EXPECT_EQ(two.figures.size(), 2u);
+  const auto& f7 = Find(two, "office", "f7");
+  EXPECT_EQ(f7.p, Find(c, "office", "f7").p);
+  EXPECT_LE(f7.p_adjusted, 2.0 * f7.p);
+  EXPECT_LT(f7.p_adjusted, Find(c, "office", "f7").p_adjusted);
+  few.figures = {"f7", "no_such_figure"};
+  EXPECT_THROW(Compare(base, next, few), mopad::InputError);
 }
 
 TEST(CompareSuites, ChangesBelowTheMinimumEffectAreNoise) {

@@ -137,4 +137,17 @@ TEST(Bootstrap, IntervalCoversTheShiftAndIsReproducible) {
   EXPECT_THROW(BootstrapMeanDifference({1.0}, {1.0}, 100, 1.0, 1), std::invalid_argument);
 }
 
+TEST(Holm, StepDownAdjustmentByHand) {
+  // Sorted 0.005, 0.01, 0.03, 0.04 -> 4 x 0.005 = 0.02, 3 x 0.01 = 0.03, 2 x 0.03 = 0.06,
+  // max(0.06, 1 x 0.04) = 0.06; given back in the input's order.
+  const std::vector<double> adj = mopad::suite::HolmAdjusted({0.01, 0.04, 0.03, 0.005});
+  ASSERT_EQ(adj.size(), 4u);
+  EXPECT_NEAR(adj[0], 0.03, 1e-15);
+  EXPECT_NEAR(adj[1], 0.06, 1e-15);
+  EXPECT_NEAR(adj[2], 0.06, 1e-15);
+  EXPECT_NEAR(adj[3], 0.02, 1e-15);
+  EXPECT_EQ(mopad::suite::HolmAdjusted({0.5, 0.9}), (std::vector<double>{1.0, 1.0}));
+  EXPECT_TRUE(mopad::suite::HolmAdjusted({}).empty());
+}
+
 }  // namespace
