@@ -1,10 +1,7 @@
 // `mopad suite compare` and `mopad suite slurm` end to end: exit codes (0 no regression, 1 a
 // regression beyond noise, 2 bad input), the files written and the messages.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -12,6 +9,7 @@
 #include <string>
 
 #include "tests/process_temp_dir.h"
+#include "tests/run_command.h"
 #include "tests/suite/synthetic_suite.h"
 
 namespace {
@@ -21,20 +19,10 @@ using mopad::test_support::Group;
 using mopad::test_support::Suite;
 using nlohmann::json;
 
-struct Result {
-  int code = -1;
-  std::string out;  ///< stdout and stderr together
-};
+using Result = mopad::test_support::CommandResult;  // out: stdout and stderr together
 
 Result Mopad(const std::string& args) {
-  Result r;
-  FILE* p = popen((std::string(MOPAD_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return mopad::test_support::RunCommand(std::string(MOPAD_BINARY) + " " + args + " 2>&1");
 }
 
 std::string Read(const fs::path& p) {
