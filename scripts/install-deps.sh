@@ -4,7 +4,8 @@
 #   scripts/install-deps.sh --test   also what the test suite uses (GoogleTest; Node.js and the
 #                                    npm test oracles of tests/oracles/package.json — the Khronos
 #                                    glTF validator, web-ifc, copc — installed into build/_npm;
-#                                    Debian's chromium for the report's 3D-view test)
+#                                    Debian's chromium for the report's 3D-view test; Slurm
+#                                    and munge for the `slurm` tests)
 # Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
 set -euo pipefail
 
@@ -33,6 +34,15 @@ fi
 # Universal Ctags: function extents for scripts/check-code-size.sh (a test of the suite).
 if (( with_tests )) && ! dpkg-query -W -f='${Status}' universal-ctags 2>/dev/null | grep -q "install ok installed"; then
   missing+=(universal-ctags)
+fi
+# A single-node Slurm (slurmctld, slurmd, the clients) and munge, its authentication: the `slurm`
+# tests start one with scripts/slurm-local.sh (no systemd; they skip without it).
+if (( with_tests )); then
+  for p in slurm-wlm slurmctld slurmd slurm-client munge; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$p")
+    fi
+  done
 fi
 
 if (( ${#missing[@]} )); then

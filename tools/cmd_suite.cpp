@@ -85,6 +85,7 @@ void RegisterSuiteCommands(CLI::App& app) {
   suite->require_subcommand(1);
   AddRun(suite);
   AddMerge(suite);
+  RegisterSuiteCompareCommands(*suite);
 }
 
 }  // namespace mopad::tools

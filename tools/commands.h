@@ -19,6 +19,8 @@ void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models agains
 void RegisterExportCommand(CLI::App& app);  // export: IFC4, semantic glTF, LAS of a run
 void RegisterCatalogueCommand(CLI::App& app);  // catalogue train: SM5's recogniser weights
 void RegisterSuiteCommands(CLI::App& app);     // suite run|merge: CI scene suites
+/// Adds `compare` and `slurm` under the `suite` subcommand.
+void RegisterSuiteCompareCommands(CLI::App& suite);
 
 /// Parses "x,y,yaw_deg" (a CLI pose option, degrees at the human edge); InputError naming
 /// `opt` otherwise.

@@ -27,11 +27,12 @@ const std::vector<std::string> kRobotTargets = {"mopad_io",        "mopad_percep
                                                 "mopad_runfolder", "mopad_exports"};
 const std::vector<std::string> kRobotDirs = {"io",       "perception", "modelling",
                                              "autonomy", "runfolder",  "exports"};
-// Targets and third-party libraries that carry or read the truth, and the mission library
-// (the simulated robot and its truth log): the robot's brain reaches none of them.
-const std::set<std::string> kTruthTargets = {"mopad_scenes",  "mopad_sim", "mopad_evaluation",
-                                             "mopad_mission", "tinygltf",  "assimp::assimp",
-                                             "embree"};
+// Targets and third-party libraries that carry or read the truth, the mission library (the
+// simulated robot and its truth log) and the suites (missions' scores against the truth): the
+// robot's brain reaches none of them.
+const std::set<std::string> kTruthTargets = {"mopad_scenes",  "mopad_sim",   "mopad_evaluation",
+                                             "mopad_mission", "mopad_suite", "tinygltf",
+                                             "assimp::assimp", "embree"};
 
 TEST(TruthIsolation, LinkGraphIsReadAndTheWalkerFindsKnownEdges) {
   // Positive controls: if these fail, the checks below could not fail either.
@@ -57,7 +58,8 @@ TEST(TruthIsolation, RobotLibrariesDoNotLinkTruth) {
 
 const std::regex& ForbiddenInclude() {
   static const std::regex re(
-      R"(#\s*include\s*[<"]\s*(scenes/|sim/|evaluation/|mission/|tiny_gltf\.h|assimp/|embree3/))");
+      R"(#\s*include\s*[<"]\s*)"
+      R"((scenes/|sim/|evaluation/|mission/|suite/|tiny_gltf\.h|assimp/|embree3/))");
   return re;
 }
 
@@ -66,6 +68,7 @@ TEST(TruthIsolation, ForbiddenIncludePatternMatchesWhatItShould) {
   EXPECT_TRUE(std::regex_search("#  include <sim/embree_world.h>", ForbiddenInclude()));
   EXPECT_TRUE(std::regex_search("#include <assimp/scene.h>", ForbiddenInclude()));
   EXPECT_TRUE(std::regex_search("#include \"mission/sim_robot.h\"", ForbiddenInclude()));
+  EXPECT_TRUE(std::regex_search("#include \"suite/compare.h\"", ForbiddenInclude()));
   EXPECT_FALSE(std::regex_search("#include \"interfaces/tls_scan.h\"", ForbiddenInclude()));
   EXPECT_FALSE(std::regex_search("#include \"perception/scenes_like.h\"", ForbiddenInclude()));
 }

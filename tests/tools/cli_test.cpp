@@ -16,26 +16,16 @@
 #include <string>
 
 #include "tests/process_temp_dir.h"
+#include "tests/run_command.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out;  ///< stdout and stderr together
-};
+using Result = mopad::test_support::CommandResult;  // out: stdout and stderr together
 
 Result Mopad(const std::string& args) {
-  const std::string cmd = std::string(MOPAD_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return mopad::test_support::RunCommand(std::string(MOPAD_BINARY) + " " + args + " 2>&1");
 }
 
 std::string Src(const std::string& rel) { return std::string(MOPAD_SOURCE_DIR) + "/" + rel; }
