@@ -15,6 +15,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Std of the levelled mast's roll and pitch (the VZ-400's inclinometer, IcpParams::dof) and of
+// its height (a rigid mast on a flat floor), for the prior's covariance in 4 DoF.
+constexpr double kLevellingSigmaDeg = 0.01;
+constexpr double kMastHeightSigma = 0.005;  // m
+
 double Since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -44,7 +49,8 @@ bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
   if (!target.empty()) {
     const bool used =
         RegisterLastScan(navigator, target, first ? params.entry_icp : params.icp,
-                         first ? params.entry_acceptance : params.acceptance, log.registration);
+                         first ? params.entry_acceptance : params.acceptance, log.registration,
+                         &log.covariance);
     log.registered = used || first;
     if (used) log.X_MS = log.registration.X_MS;
   }
@@ -212,18 +218,37 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
 bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::IcpParams& icp,
                       const perception::RegistrationAcceptanceParams& acceptance,
-                      perception::RegistrationResult& r) {
+                      perception::RegistrationResult& r, Mat6* covariance) {
   const interfaces::TlsScan& scan = navigator.LastScan();
   const Pose3 prior = scan.X_MS_estimate;
   r = perception::RegisterScan(perception::ScanPoints(scan), target, prior, icp);
-  const Eigen::Matrix2d cov = navigator.Localisation().covariance.topLeftCorner<2, 2>();
+  const Eigen::Matrix3d& loc_cov = navigator.Localisation().covariance;  // x, y, yaw
+  const Eigen::Matrix2d cov = loc_cov.topLeftCorner<2, 2>();
   const double sigma = std::sqrt(
       std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff()));
   const perception::RegistrationDecision d =
       perception::AcceptRegistration(r, prior, icp, acceptance, sigma);
   r.message = d.message;  // the logs say whether the result was used, and why not
   r.X_MS = d.X_MS;        // and carry the pose used
-  if (d.use) navigator.CorrectLastScanPose(r.X_MS);
+  // The prior's covariance in the registration's coordinates (rx, ry, rz, tx, ty, tz): the
+  // localiser's x, y, yaw; roll, pitch and height as the levelled mast holds them.
+  Mat6 prior_cov = Mat6::Zero();
+  prior_cov.diagonal().head<3>().setConstant(DegToRad(kLevellingSigmaDeg) *
+                                             DegToRad(kLevellingSigmaDeg));
+  prior_cov(5, 5) = kMastHeightSigma * kMastHeightSigma;
+  const int xyyaw[3] = {3, 4, 2};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) prior_cov(xyyaw[a], xyyaw[b]) = loc_cov(a, b);
+  if (covariance) *covariance = d.use ? perception::RegistrationCovariance(r, prior_cov) : prior_cov;
+  if (d.use) {
+    // What the scan could not constrain keeps the prior's uncertainty: AMCL restarts with it.
+    const Mat6 weak = perception::RegistrationCovariance(r, prior_cov) -
+                      perception::RegistrationCovariance(r, Mat6::Zero());
+    Eigen::Matrix3d extra;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) extra(a, b) = weak(xyyaw[a], xyyaw[b]);
+    navigator.CorrectLastScanPose(r.X_MS, r.degenerate ? extra : Eigen::Matrix3d::Zero());
+  }
   return d.use;
 }
 

@@ -33,6 +33,8 @@
 
 namespace mopad::autonomy {
 
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
 struct RoomScanParams {
   double scan_step_deg = 0.2;  ///< deg, TLS angular step of the room scans, [0.02, 5]
   int max_scans = 10;    ///< hard cap of scans in the room (beyond the paper's rule), [1, 100]
@@ -44,11 +46,13 @@ struct RoomScanParams {
   /// overlap well: a stricter fitness than the navigator's door scans, the library's
   /// free-space bound.
   perception::IcpParams icp{.max_correspondence = kAmclPriorIcpStages, .min_fitness = 0.3};
-  /// Only fully `ok` registrations join the room model: a degenerate or creeping result would
-  /// smear it. The prior may be far off (office rooms register from priors 1.2 m / 20 deg off):
-  /// no correction bound.
+  /// Fully `ok` registrations join the room model, and degenerate ones that fit: the ICP keeps
+  /// the prior along the weak direction (solution remapping, and the slide rule), so what a
+  /// corridor scan estimates is what it constrains, the rest the prior's (docs/registration.md);
+  /// a creeping result would smear it. The prior may be far off (office rooms register from
+  /// priors 1.2 m / 20 deg off): no correction bound.
   perception::RegistrationAcceptanceParams acceptance{
-      .accept_degenerate = false,
+      .accept_degenerate = true,
       .creeping_step_factor = 0.0,
       .max_correction = 1000.0,
       .max_correction_deg = 180.0,
@@ -119,6 +123,10 @@ struct RoomScanLog {
   Pose3 X_MS = Pose3::Identity();        ///< registered pose used for the model
   bool registered = true;  ///< false: ICP refused (or a detail scan moved the structure): left out
   perception::RegistrationResult registration;  ///< empty for the first scan
+  /// Covariance of X_MS, coordinates as RegistrationResult::information_matrix (rad^2, m^2):
+  /// the registration's where it constrains the pose, the localiser's elsewhere; zero for a
+  /// scan not registered
+  Mat6 covariance = Mat6::Zero();
   perception::RangeBiasEstimate range_bias;     ///< the scan's range offset (removed when ok)
   modelling::CoverageFigures coverage;
   std::string stop_message;  ///< the stopping rule's verdict after this scan
@@ -160,11 +168,14 @@ RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params,
 
 /// Registers the scan just taken (`navigator.LastScan()`) against `target` from its estimate
 /// with `icp` through `acceptance` (the localiser's position std as the prior's sigma); a used
-/// result corrects the navigator's pose. Returns whether the registered pose was used; `r`
-/// receives the registration.
+/// result corrects the navigator's pose, and the prior's uncertainty along the result's weak
+/// directions is carried on to the localiser (Navigator::CorrectLastScanPose). Returns whether
+/// the registered pose was used; `r` receives the registration, `covariance` (optional) the
+/// used pose's covariance (perception::RegistrationCovariance with the localiser's covariance
+/// as the prior's; the prior's when refused).
 bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::IcpParams& icp,
                       const perception::RegistrationAcceptanceParams& acceptance,
-                      perception::RegistrationResult& r);
+                      perception::RegistrationResult& r, Mat6* covariance = nullptr);
 
 }  // namespace mopad::autonomy
