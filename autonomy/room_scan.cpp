@@ -45,7 +45,7 @@ modelling::CoverageFigures CoverageOf(const modelling::RoomModel& model, Navigat
 
 bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
                       const interfaces::TlsScan& scan, bool first, perception::PointMap& target,
-                      RoomScanLog& log) {
+                      RoomScanLog& log, bool allow_prior = true) {
   if (!target.empty()) {
     const bool used =
         RegisterLastScan(navigator, target, first ? params.entry_icp : params.icp,
@@ -53,11 +53,23 @@ bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
                          &log.covariance);
     log.registered = used || first;
     if (used) log.X_MS = log.registration.X_MS;
+    if (!log.registered && allow_prior && params.refused_scan_max_sigma > 0.0) {
+      const perception::Points at_prior = perception::Transform(
+          perception::VoxelDownsample(perception::ScanPoints(scan), params.icp.source_voxel_size),
+          log.X_MS_prior);
+      std::string why;
+      log.at_prior = RefusedScanUsable(params, navigator.Localisation().covariance,
+                                       target.FreeSpaceViolation(at_prior), &why);
+      log.registration.message += "; " + why;
+      if (log.at_prior) log.X_MS = log.X_MS_prior;
+    }
   }
+  // A scan at its prior stays out of the target: later scans register against what was
+  // registered.
   if (log.registered)
     target.Add(perception::Transform(perception::ScanPoints(scan), log.X_MS),
                log.X_MS.translation());
-  return log.registered;
+  return log.registered || log.at_prior;
 }
 
 // The next best scan's candidates in the order they are tried: the chosen one, then the others
@@ -189,7 +201,8 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     log.X_MS_prior = scan.X_MS_estimate;
     log.X_MS = scan.X_MS_estimate;
     t0 = Clock::now();
-    const bool used = RegisterRoomScan(session, params, scan, false, target, log);
+    // A detail scan adds data for SM5's precision: only registered ones.
+    const bool used = RegisterRoomScan(session, params, scan, false, target, log, false);
     log.t_registration = Since(t0);
     ++res.detail_scans;
     if (used) {
@@ -214,6 +227,26 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
 }
 
 }  // namespace
+
+bool RefusedScanUsable(const RoomScanParams& params, const Eigen::Matrix3d& loc_cov,
+                       double violation_at_prior, std::string* why) {
+  const double sigma_xy = std::sqrt(std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(loc_cov.topLeftCorner<2, 2>())
+               .eigenvalues()
+               .maxCoeff()));
+  const double sigma_yaw_deg = RadToDeg(std::sqrt(std::max(0.0, loc_cov(2, 2))));
+  const bool usable = params.refused_scan_max_sigma > 0.0 &&
+                      sigma_xy <= params.refused_scan_max_sigma &&
+                      sigma_yaw_deg <= params.refused_scan_max_sigma_deg &&
+                      violation_at_prior <= params.icp.max_free_space_violation;
+  if (why)
+    *why = FormatNumbers(usable ? "joins the room model at its prior (sigma %.4f m, %.3f deg, "
+                                  "free-space violation %.4f there)"
+                                : "left out: its prior is not good enough (sigma %.4f m, %.3f "
+                                  "deg, free-space violation %.4f there)",
+                         sigma_xy, sigma_yaw_deg, violation_at_prior);
+  return usable;
+}
 
 bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::IcpParams& icp,
@@ -284,6 +317,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
     t0 = Clock::now();
     const bool used = RegisterRoomScan(session, params, scan, k == 0, target, log);
     log.t_registration = Since(t0);
+    if (!log.registered) res.registration_failed = true;
     if (used) {
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();

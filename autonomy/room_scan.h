@@ -42,6 +42,14 @@ struct RoomScanParams {
   /// m, NBS candidates this close to a position whose scan could not be registered are not
   /// chosen again (the model did not change, so the same spot would win again), [0, 10]
   double failed_scan_exclusion = 1.0;
+  /// A later scan the acceptance refuses still joins the room model (its points, coverage and
+  /// SM data; not the registration target, which later scans must trust) at its prior when the
+  /// prior is good enough: the localiser's largest x-y std at most `refused_scan_max_sigma`,
+  /// its yaw std at most `refused_scan_max_sigma_deg` (the model's own accuracy: a wall placed
+  /// within the evaluator's 1 cm d_h bound), and the scan at its prior is no evidence against
+  /// it (free-space violation within the ICP's max_free_space_violation). 0 = off. m, [0, 1]
+  double refused_scan_max_sigma = 0.01;
+  double refused_scan_max_sigma_deg = 0.1;  ///< deg, [0, 10]
   /// Room scans register from odometry/AMCL priors against the room's own earlier scans, which
   /// overlap well: a stricter fitness than the navigator's door scans, the library's
   /// free-space bound.
@@ -98,6 +106,8 @@ struct RoomScanParams {
     v("max_scans", max_scans, Bounds{1, 100});
     v("nav_attempts", nav_attempts, Bounds{1, 20});
     v("failed_scan_exclusion", failed_scan_exclusion, Bounds{0.0, 10.0});
+    v("refused_scan_max_sigma", refused_scan_max_sigma, Bounds{0.0, 1.0});
+    v("refused_scan_max_sigma_deg", refused_scan_max_sigma_deg, Bounds{0.0, 10.0});
     v("icp", icp);
     v("registration_acceptance", acceptance);
     v("entry_icp", entry_icp);
@@ -122,6 +132,8 @@ struct RoomScanLog {
   Pose3 X_MS_prior = Pose3::Identity();  ///< odometry/AMCL estimate
   Pose3 X_MS = Pose3::Identity();        ///< registered pose used for the model
   bool registered = true;  ///< false: ICP refused (or a detail scan moved the structure): left out
+  /// Refused, yet in the room model at its prior (RoomScanParams::refused_scan_max_sigma)
+  bool at_prior = false;
   perception::RegistrationResult registration;  ///< empty for the first scan
   /// Covariance of X_MS, coordinates as RegistrationResult::information_matrix (rad^2, m^2):
   /// the registration's where it constrains the pose, the localiser's elsewhere; zero for a
@@ -165,6 +177,13 @@ using ScanHook = std::function<void(int index, const interfaces::TlsScan& scan)>
 RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params,
                            modelling::RoomModel& model, const ScanHook& on_scan = {},
                            perception::PointMap* floor_target = nullptr);
+
+/// Whether a refused scan may join the room model at its prior (RoomScanParams::
+/// refused_scan_max_sigma): `loc_cov` is the localiser's (x, y, yaw) covariance (m^2, rad^2),
+/// `violation_at_prior` the scan's free-space violation placed at its prior against the
+/// registration target. `why` (optional) receives the one-line reason.
+bool RefusedScanUsable(const RoomScanParams& params, const Eigen::Matrix3d& loc_cov,
+                       double violation_at_prior, std::string* why = nullptr);
 
 /// Registers the scan just taken (`navigator.LastScan()`) against `target` from its estimate
 /// with `icp` through `acceptance` (the localiser's position std as the prior's sigma); a used

@@ -44,6 +44,7 @@ nlohmann::ordered_json ScanJson(const autonomy::RoomScanLog& s) {
   j["detail"] = s.detail;
   j["step_deg"] = s.step_deg;
   j["registered"] = s.registered;
+  j["at_prior"] = s.at_prior;
   j["sim_time"] = s.sim_time;
   j["X_MS_prior"] = PoseJson(s.X_MS_prior);
   j["X_MS"] = PoseJson(s.X_MS);
