@@ -214,10 +214,14 @@ struct Navigator::Impl {
   }
 
   // AMCL restarted on the current map about X_MB; the planner gets the map.
-  void RestartLocaliser(const Pose2& X_MB) {
+  void RestartLocaliser(const Pose2& X_MB,
+                        const Eigen::Matrix3d& extra_cov = Eigen::Matrix3d::Zero()) {
     const double sxy = params.initial_sigma_xy, syaw = DegToRad(params.initial_sigma_yaw_deg);
     amcl.emplace(localiser_grid, params.amcl, seed * 1000003ULL + amcl_epoch++);
-    amcl->SetInitialPose(X_MB, Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+    const Eigen::Matrix3d cov =
+        Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal().toDenseMatrix() +
+        extra_cov;
+    amcl->SetInitialPose(X_MB, cov);
     if (!planner)
       planner.emplace(grid, params.planner, seed);
     else
@@ -319,7 +323,7 @@ struct Navigator::Impl {
                   last_scan.X_MS_estimate.translation());
   }
 
-  void CorrectLastScanPose(const Pose3& X_MS) {
+  void CorrectLastScanPose(const Pose3& X_MS, const Eigen::Matrix3d& extra_cov) {
     if (batches.empty()) throw InputError("drive: CorrectLastScanPose before any scan");
     const Pose2 X_MB_scan = Pose2Of(X_MS * last_scan.X_BS.inverse());
     last_scan.X_MS_estimate = X_MS;
@@ -334,7 +338,7 @@ struct Navigator::Impl {
     // The base may have moved since the scan: carry the odometry offset over.
     const Pose2 now = Compose(Compose(X_MB_scan, Inverse(old)), X_MB_est);
     X_MB_est = now;
-    RestartLocaliser(now);
+    RestartLocaliser(now, extra_cov);
     if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated)
       ++log.amcl_updates;
   }
@@ -745,7 +749,9 @@ const interfaces::TlsScan& Navigator::LastScan() const { return impl_->last_scan
 const perception::RangeBiasEstimate& Navigator::LastRangeBias() const {
   return impl_->last_range_bias;
 }
-void Navigator::CorrectLastScanPose(const Pose3& X_MS) { impl_->CorrectLastScanPose(X_MS); }
+void Navigator::CorrectLastScanPose(const Pose3& X_MS, const Eigen::Matrix3d& extra_cov) {
+  impl_->CorrectLastScanPose(X_MS, extra_cov);
+}
 void Navigator::ExtendMap(const Vec2& p_M) {
   const Eigen::Vector3d p3(p_M.x(), p_M.y(), 0.0);
   auto& e = impl_->extent_extra;

@@ -241,7 +241,11 @@ class Navigator {
   /// After the caller refined the last scan's pose (e.g. its own ICP): re-stamps its map
   /// points with `X_MS` (scanner in map), rebuilds the map and re-seeds AMCL around the
   /// corresponding base pose (odometry offset since the scan kept). InputError before any scan.
-  void CorrectLastScanPose(const Pose3& X_MS);
+  /// `extra_cov` (x, y, yaw; m^2, rad^2) is added to AMCL's initial covariance at the re-seed:
+  /// the uncertainty the correction could not remove (a registration's weak directions, whose
+  /// prior it kept), carried on to the next prior.
+  void CorrectLastScanPose(const Pose3& X_MS,
+                           const Eigen::Matrix3d& extra_cov = Eigen::Matrix3d::Zero());
   /// Makes every later map cover `p_M` (e.g. a far goal), so the planner can reason about it.
   void ExtendMap(const Vec2& p_M);
   /// Drives to `goal_M` with the full stack and scan-and-go within params limits. Returns the

@@ -36,11 +36,13 @@ struct Target {
   bool frontier = false;  // on a face without structural data
 };
 
-// The unsensed cells of the RoI's faces grouped into square patches of about `patch_size`.
-// Cells flagged in `exclude` (per face, per cell; null = none) are left out.
+// The unsensed cells of the RoI's faces (the sensed ones with `of` = kSensed) grouped into
+// square patches of about `patch_size`. Cells flagged in `exclude` (per face, per cell; null =
+// none) are left out.
 std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBestScanParams& P,
                                 double patch_size,
-                                const std::vector<std::vector<std::uint8_t>>* exclude = nullptr) {
+                                const std::vector<std::vector<std::uint8_t>>* exclude = nullptr,
+                                modelling::FaceCell of = modelling::FaceCell::kUnsensed) {
   using modelling::FaceCell;
   const modelling::Roi& roi = model.GetRoi();
   const double half_voxel = 0.5 * model.Voxels().Size();
@@ -57,7 +59,7 @@ std::vector<Target> MakeTargets(const modelling::RoomModel& model, const NextBes
         for (int iv = pv; iv < std::min(f.nv, pv + k); ++iv) {
           for (int iu = pu; iu < std::min(f.nu, pu + k); ++iu) {
             const std::size_t idx = static_cast<std::size_t>(iv) * f.nu + iu;
-            if (f.cells[idx] != FaceCell::kUnsensed) continue;
+            if (f.cells[idx] != of) continue;
             if (exclude && (*exclude)[fi][idx]) continue;
             area += f.cell_area[idx];
             c += f.cell_area[idx] * f.CellCentre(iu, iv);
@@ -234,19 +236,25 @@ void AddCandidates(const modelling::Roi& roi, const perception::OccupancyGrid& m
   }
 }
 
-// c/d. Certainty of every face and of the RoI for every candidate (its gain).
-void EvaluateCandidates(const std::vector<Target>& targets, const Visibility& visible, double zs,
-                        std::size_t faces, std::vector<NbsCandidate>& candidates) {
+// c/d. Certainty of every face and of the RoI for every candidate (its gain); the expected
+// overlap from the sensed patches `known` and the unsensed `targets` (their area x sensing
+// chance; a frontier patch x the structure behind it, as the gain), and the gain scaled by
+// overlap / min_overlap where the overlap falls short.
+void EvaluateCandidates(const std::vector<Target>& targets, const std::vector<Target>& known,
+                        const Visibility& visible, double zs, std::size_t faces,
+                        const NextBestScanParams& P, std::vector<NbsCandidate>& candidates) {
   tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t ci) {
     NbsCandidate& cand = candidates[ci];
     const Vec3 sc(cand.position.x(), cand.position.y(), zs);
     std::vector<double>& fg = cand.face_certainty;
     fg.assign(faces, 0.0);
-    double frontier = 0.0;
+    double frontier = 0.0, fresh = 0.0, seen = 0.0;
+    for (const Target& t : known) seen += t.area * visible(sc, t);
     for (const Target& t : targets) {
-      if (t.weight <= 0.0) continue;
       const double chance = visible(sc, t);
       if (chance <= 0.0) continue;
+      fresh += t.frontier ? t.area * P.frontier_factor : t.area * chance;
+      if (t.weight <= 0.0) continue;
       // A frontier patch reveals what lies behind it in proportion to how squarely it is seen
       // (not how densely: what lies behind is seen from elsewhere).
       const Vec3 d = t.p - sc;
@@ -257,8 +265,13 @@ void EvaluateCandidates(const std::vector<Target>& targets, const Visibility& vi
     }
     double g = 0.0;
     for (double v : fg) g += v;  // fixed order
-    cand.gain = g;
-    cand.frontier_gain = frontier;
+    cand.expected_overlap = seen + fresh > 0.0 ? seen / (seen + fresh) : 0.0;
+    const double scale = P.min_overlap > 0.0 && cand.expected_overlap < P.min_overlap
+                             ? cand.expected_overlap / P.min_overlap
+                             : 1.0;
+    for (double& v : fg) v *= scale;
+    cand.gain = g * scale;
+    cand.frontier_gain = frontier * scale;
   });
 }
 
@@ -325,8 +338,13 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
       }
     });
   }
-  // c/d/e.
-  EvaluateCandidates(targets, visible, zs, roi.faces.size(), out.candidates);
+  // c/d/e. The sensed patches only for the expected overlap, twice as coarse (a share, not
+  // a map of what is seen).
+  const std::vector<Target> known =
+      P.min_overlap > 0.0
+          ? MakeTargets(model, P, 2.0 * P.patch_size, nullptr, modelling::FaceCell::kSensed)
+          : std::vector<Target>{};
+  EvaluateCandidates(targets, known, visible, zs, roi.faces.size(), P, out.candidates);
   const std::size_t nc = out.candidates.size();
   out.chosen = ChooseNextBestScan(out.candidates, Vec2(current_M.x, current_M.y), P.tie_tolerance);
   char buf[320];
@@ -344,9 +362,10 @@ NbsResult NextBestScan(const modelling::RoomModel& model, const perception::Occu
   out.goal = Pose2{best.position.x(), best.position.y(), current_M.yaw};
   out.expected_gain = best.gain;
   std::snprintf(buf, sizeof(buf),
-                "next best scan at (%.2f, %.2f): expected gain %.2f m2, %d of %zu patches visible; "
-                "%zu candidates (%d unsafe, %d unreachable)",
-                best.position.x(), best.position.y(), best.gain, best.visible_patches,
+                "next best scan at (%.2f, %.2f): expected gain %.2f m2, expected overlap %.2f, "
+                "%d of %zu patches visible; %zu candidates (%d unsafe, %d unreachable)",
+                best.position.x(), best.position.y(), best.gain, best.expected_overlap,
+                best.visible_patches,
                 targets.size(), nc, out.rejected_unsafe, out.rejected_unreachable);
   out.message = buf;
   return out;

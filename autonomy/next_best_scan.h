@@ -24,6 +24,14 @@
 //     A patch an earlier scan position already passes this test for, yet still unsensed, is
 //     discounted by `revisit_factor` per such scan (what was looked at and not sensed will
 //     not be sensed by looking again from about the same place);
+//     Registrability (expected overlap): the share of what the candidate would sense that the
+//     model already holds, sensed area x sensing chance against that plus the unsensed
+//     area x chance (a frontier patch x frontier_factor, what lies behind it); the scan is
+//     registered against the model, so below `min_overlap` the gain is scaled by overlap /
+//     min_overlap: a position that would look mostly into unknown space (a corridor's far
+//     end) loses to one that still sees enough of the known structure, and the corridor is
+//     scanned in steps that register. Candidates see nothing closer than range_min (the
+//     scanner's minimum range), so neither the gain nor the overlap counts surfaces there;
 //  e. the candidate with the largest gain, except in a near-tie (gains within `tie_tolerance`
 //     of the largest): there the one that sees clearly more frontier (its frontier gain more
 //     than tie_tolerance x the largest gain above the others'), then the larger gain, the one
@@ -78,6 +86,12 @@ struct NextBestScanParams {
   double observability_spacing = 0.25;
   /// m, unsensed cells grouped into patches of this size for EstimateHiddenArea, [0.02, 5]
   double observability_patch = 0.1;
+  /// Least expected overlap (share of a candidate's expected sensed area already in the model)
+  /// at which the gain counts in full; below it the gain is scaled by overlap / min_overlap.
+  /// The room scan's registration matches a scan against the model; a scan that is mostly new
+  /// space keeps few points on known surfaces to match: the same share as the room's ICP
+  /// fitness bound (RoomScanParams::icp.min_fitness). 0 = off. [0, 1]
+  double min_overlap = 0.3;
 
   template <class V>
   void Visit(V& v) {
@@ -100,6 +114,7 @@ struct NextBestScanParams {
     v("tie_tolerance", tie_tolerance, Bounds{0.0, 1.0});
     v("observability_spacing", observability_spacing, Bounds{0.05, 5.0});
     v("observability_patch", observability_patch, Bounds{0.02, 5.0});
+    v("min_overlap", min_overlap, Bounds{0.0, 1.0});
   }
   /// Bounds plus elevation_min < elevation_max and range_min < range_max; InputError.
   void Validate() const;
@@ -111,6 +126,9 @@ struct NbsCandidate {
   /// m^2, the part of gain from frontier patches (faces without structural data)
   double frontier_gain = 0.0;
   int visible_patches = 0;
+  /// Share of the candidate's expected sensed area the model already holds (see
+  /// min_overlap; 0 when min_overlap is 0: not computed)
+  double expected_overlap = 0.0;
   std::vector<double> face_certainty;  ///< per RoI face (m^2); sums to gain
 };
 

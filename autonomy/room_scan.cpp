@@ -15,6 +15,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Std of the levelled mast's roll and pitch (the VZ-400's inclinometer, IcpParams::dof) and of
+// its height (a rigid mast on a flat floor), for the prior's covariance in 4 DoF.
+constexpr double kLevellingSigmaDeg = 0.01;
+constexpr double kMastHeightSigma = 0.005;  // m
+
 double Since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -40,18 +45,31 @@ modelling::CoverageFigures CoverageOf(const modelling::RoomModel& model, Navigat
 
 bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
                       const interfaces::TlsScan& scan, bool first, perception::PointMap& target,
-                      RoomScanLog& log) {
+                      RoomScanLog& log, bool allow_prior = true) {
   if (!target.empty()) {
     const bool used =
         RegisterLastScan(navigator, target, first ? params.entry_icp : params.icp,
-                         first ? params.entry_acceptance : params.acceptance, log.registration);
+                         first ? params.entry_acceptance : params.acceptance, log.registration,
+                         &log.covariance);
     log.registered = used || first;
     if (used) log.X_MS = log.registration.X_MS;
+    if (!log.registered && allow_prior && params.refused_scan_max_sigma > 0.0) {
+      const perception::Points at_prior = perception::Transform(
+          perception::VoxelDownsample(perception::ScanPoints(scan), params.icp.source_voxel_size),
+          log.X_MS_prior);
+      std::string why;
+      log.at_prior = RefusedScanUsable(params, navigator.Localisation().covariance,
+                                       target.FreeSpaceViolation(at_prior), &why);
+      log.registration.message += "; " + why;
+      if (log.at_prior) log.X_MS = log.X_MS_prior;
+    }
   }
+  // A scan at its prior stays out of the target: later scans register against what was
+  // registered.
   if (log.registered)
     target.Add(perception::Transform(perception::ScanPoints(scan), log.X_MS),
                log.X_MS.translation());
-  return log.registered;
+  return log.registered || log.at_prior;
 }
 
 // The next best scan's candidates in the order they are tried: the chosen one, then the others
@@ -183,7 +201,8 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     log.X_MS_prior = scan.X_MS_estimate;
     log.X_MS = scan.X_MS_estimate;
     t0 = Clock::now();
-    const bool used = RegisterRoomScan(session, params, scan, false, target, log);
+    // A detail scan adds data for SM5's precision: only registered ones.
+    const bool used = RegisterRoomScan(session, params, scan, false, target, log, false);
     log.t_registration = Since(t0);
     ++res.detail_scans;
     if (used) {
@@ -209,21 +228,60 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
 
 }  // namespace
 
+bool RefusedScanUsable(const RoomScanParams& params, const Eigen::Matrix3d& loc_cov,
+                       double violation_at_prior, std::string* why) {
+  const double sigma_xy = std::sqrt(std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(loc_cov.topLeftCorner<2, 2>())
+               .eigenvalues()
+               .maxCoeff()));
+  const double sigma_yaw_deg = RadToDeg(std::sqrt(std::max(0.0, loc_cov(2, 2))));
+  const bool usable = params.refused_scan_max_sigma > 0.0 &&
+                      sigma_xy <= params.refused_scan_max_sigma &&
+                      sigma_yaw_deg <= params.refused_scan_max_sigma_deg &&
+                      violation_at_prior <= params.icp.max_free_space_violation;
+  if (why)
+    *why = FormatNumbers(usable ? "joins the room model at its prior (sigma %.4f m, %.3f deg, "
+                                  "free-space violation %.4f there)"
+                                : "left out: its prior is not good enough (sigma %.4f m, %.3f "
+                                  "deg, free-space violation %.4f there)",
+                         sigma_xy, sigma_yaw_deg, violation_at_prior);
+  return usable;
+}
+
 bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::IcpParams& icp,
                       const perception::RegistrationAcceptanceParams& acceptance,
-                      perception::RegistrationResult& r) {
+                      perception::RegistrationResult& r, Mat6* covariance) {
   const interfaces::TlsScan& scan = navigator.LastScan();
   const Pose3 prior = scan.X_MS_estimate;
   r = perception::RegisterScan(perception::ScanPoints(scan), target, prior, icp);
-  const Eigen::Matrix2d cov = navigator.Localisation().covariance.topLeftCorner<2, 2>();
+  const Eigen::Matrix3d& loc_cov = navigator.Localisation().covariance;  // x, y, yaw
+  const Eigen::Matrix2d cov = loc_cov.topLeftCorner<2, 2>();
   const double sigma = std::sqrt(
       std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff()));
   const perception::RegistrationDecision d =
       perception::AcceptRegistration(r, prior, icp, acceptance, sigma);
   r.message = d.message;  // the logs say whether the result was used, and why not
   r.X_MS = d.X_MS;        // and carry the pose used
-  if (d.use) navigator.CorrectLastScanPose(r.X_MS);
+  // The prior's covariance in the registration's coordinates (rx, ry, rz, tx, ty, tz): the
+  // localiser's x, y, yaw; roll, pitch and height as the levelled mast holds them.
+  Mat6 prior_cov = Mat6::Zero();
+  prior_cov.diagonal().head<3>().setConstant(DegToRad(kLevellingSigmaDeg) *
+                                             DegToRad(kLevellingSigmaDeg));
+  prior_cov(5, 5) = kMastHeightSigma * kMastHeightSigma;
+  const int xyyaw[3] = {3, 4, 2};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) prior_cov(xyyaw[a], xyyaw[b]) = loc_cov(a, b);
+  if (covariance) *covariance = d.use ? perception::RegistrationCovariance(r, prior_cov) : prior_cov;
+  if (d.use) {
+    // What the scan could not constrain keeps the prior's uncertainty: AMCL restarts with it.
+    const Mat6 weak = perception::RegistrationCovariance(r, prior_cov) -
+                      perception::RegistrationCovariance(r, Mat6::Zero());
+    Eigen::Matrix3d extra;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) extra(a, b) = weak(xyyaw[a], xyyaw[b]);
+    navigator.CorrectLastScanPose(r.X_MS, r.degenerate ? extra : Eigen::Matrix3d::Zero());
+  }
   return d.use;
 }
 
@@ -259,6 +317,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
     t0 = Clock::now();
     const bool used = RegisterRoomScan(session, params, scan, k == 0, target, log);
     log.t_registration = Since(t0);
+    if (!log.registered) res.registration_failed = true;
     if (used) {
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();

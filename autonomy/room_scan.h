@@ -33,6 +33,8 @@
 
 namespace mopad::autonomy {
 
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
 struct RoomScanParams {
   double scan_step_deg = 0.2;  ///< deg, TLS angular step of the room scans, [0.02, 5]
   int max_scans = 10;    ///< hard cap of scans in the room (beyond the paper's rule), [1, 100]
@@ -40,15 +42,25 @@ struct RoomScanParams {
   /// m, NBS candidates this close to a position whose scan could not be registered are not
   /// chosen again (the model did not change, so the same spot would win again), [0, 10]
   double failed_scan_exclusion = 1.0;
+  /// A later scan the acceptance refuses still joins the room model (its points, coverage and
+  /// SM data; not the registration target, which later scans must trust) at its prior when the
+  /// prior is good enough: the localiser's largest x-y std at most `refused_scan_max_sigma`,
+  /// its yaw std at most `refused_scan_max_sigma_deg` (the model's own accuracy: a wall placed
+  /// within the evaluator's 1 cm d_h bound), and the scan at its prior is no evidence against
+  /// it (free-space violation within the ICP's max_free_space_violation). 0 = off. m, [0, 1]
+  double refused_scan_max_sigma = 0.01;
+  double refused_scan_max_sigma_deg = 0.1;  ///< deg, [0, 10]
   /// Room scans register from odometry/AMCL priors against the room's own earlier scans, which
   /// overlap well: a stricter fitness than the navigator's door scans, the library's
   /// free-space bound.
   perception::IcpParams icp{.max_correspondence = kAmclPriorIcpStages, .min_fitness = 0.3};
-  /// Only fully `ok` registrations join the room model: a degenerate or creeping result would
-  /// smear it. The prior may be far off (office rooms register from priors 1.2 m / 20 deg off):
-  /// no correction bound.
+  /// Fully `ok` registrations join the room model, and degenerate ones that fit: the ICP keeps
+  /// the prior along the weak direction (solution remapping, and the slide rule), so what a
+  /// corridor scan estimates is what it constrains, the rest the prior's (docs/registration.md);
+  /// a creeping result would smear it. The prior may be far off (office rooms register from
+  /// priors 1.2 m / 20 deg off): no correction bound.
   perception::RegistrationAcceptanceParams acceptance{
-      .accept_degenerate = false,
+      .accept_degenerate = true,
       .creeping_step_factor = 0.0,
       .max_correction = 1000.0,
       .max_correction_deg = 180.0,
@@ -94,6 +106,8 @@ struct RoomScanParams {
     v("max_scans", max_scans, Bounds{1, 100});
     v("nav_attempts", nav_attempts, Bounds{1, 20});
     v("failed_scan_exclusion", failed_scan_exclusion, Bounds{0.0, 10.0});
+    v("refused_scan_max_sigma", refused_scan_max_sigma, Bounds{0.0, 1.0});
+    v("refused_scan_max_sigma_deg", refused_scan_max_sigma_deg, Bounds{0.0, 10.0});
     v("icp", icp);
     v("registration_acceptance", acceptance);
     v("entry_icp", entry_icp);
@@ -118,7 +132,13 @@ struct RoomScanLog {
   Pose3 X_MS_prior = Pose3::Identity();  ///< odometry/AMCL estimate
   Pose3 X_MS = Pose3::Identity();        ///< registered pose used for the model
   bool registered = true;  ///< false: ICP refused (or a detail scan moved the structure): left out
+  /// Refused, yet in the room model at its prior (RoomScanParams::refused_scan_max_sigma)
+  bool at_prior = false;
   perception::RegistrationResult registration;  ///< empty for the first scan
+  /// Covariance of X_MS, coordinates as RegistrationResult::information_matrix (rad^2, m^2):
+  /// the registration's where it constrains the pose, the localiser's elsewhere; zero for a
+  /// scan not registered
+  Mat6 covariance = Mat6::Zero();
   perception::RangeBiasEstimate range_bias;     ///< the scan's range offset (removed when ok)
   modelling::CoverageFigures coverage;
   std::string stop_message;  ///< the stopping rule's verdict after this scan
@@ -158,13 +178,23 @@ RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params,
                            modelling::RoomModel& model, const ScanHook& on_scan = {},
                            perception::PointMap* floor_target = nullptr);
 
+/// Whether a refused scan may join the room model at its prior (RoomScanParams::
+/// refused_scan_max_sigma): `loc_cov` is the localiser's (x, y, yaw) covariance (m^2, rad^2),
+/// `violation_at_prior` the scan's free-space violation placed at its prior against the
+/// registration target. `why` (optional) receives the one-line reason.
+bool RefusedScanUsable(const RoomScanParams& params, const Eigen::Matrix3d& loc_cov,
+                       double violation_at_prior, std::string* why = nullptr);
+
 /// Registers the scan just taken (`navigator.LastScan()`) against `target` from its estimate
 /// with `icp` through `acceptance` (the localiser's position std as the prior's sigma); a used
-/// result corrects the navigator's pose. Returns whether the registered pose was used; `r`
-/// receives the registration.
+/// result corrects the navigator's pose, and the prior's uncertainty along the result's weak
+/// directions is carried on to the localiser (Navigator::CorrectLastScanPose). Returns whether
+/// the registered pose was used; `r` receives the registration, `covariance` (optional) the
+/// used pose's covariance (perception::RegistrationCovariance with the localiser's covariance
+/// as the prior's; the prior's when refused).
 bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
                       const perception::IcpParams& icp,
                       const perception::RegistrationAcceptanceParams& acceptance,
-                      perception::RegistrationResult& r);
+                      perception::RegistrationResult& r, Mat6* covariance = nullptr);
 
 }  // namespace mopad::autonomy

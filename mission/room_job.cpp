@@ -26,7 +26,7 @@ autonomy::ScanHook Sm1TruthCollector::Hook() {
 std::vector<evaluation::LoggedScan> LoggedScans(const RoomMissionResult& log) {
   std::vector<evaluation::LoggedScan> out;
   for (const RoomScanLog& s : log.scans)
-    out.push_back({s.X_MS, s.registered, static_cast<std::size_t>(s.session_scan)});
+    out.push_back({s.X_MS, s.registered || s.at_prior, static_cast<std::size_t>(s.session_scan)});
   return out;
 }
 

@@ -3,7 +3,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -338,6 +340,26 @@ double PointMap::FreeSpaceViolation(const Points& points_M) const {
   return static_cast<double>(violating) / static_cast<double>(points_M.size());
 }
 
+std::size_t PointMap::CountInView(const Points& points_M) const {
+  const double margin = impl_->params.free_space_margin;
+  std::size_t in_view = 0;
+  for (const auto& p : points_M) {
+    for (const RangeImage& img : impl_->images) {
+      const Eigen::Vector3d d = p - img.origin;
+      const double r = d.norm();
+      if (!(r > 1e-6)) continue;
+      const double farthest = img.farthest[static_cast<std::size_t>(img.Bin(d, r))];
+      if (farthest > 0.0 && r <= farthest + margin + 0.02 * farthest) {
+        ++in_view;
+        break;
+      }
+    }
+  }
+  return in_view;
+}
+
+bool PointMap::has_origins() const { return !impl_->images.empty(); }
+
 bool PointMap::empty() const { return !impl_->tree || impl_->tree->size() == 0; }
 std::size_t PointMap::size() const { return impl_->tree ? impl_->tree->size() : 0; }
 const Points& PointMap::points() const {
@@ -447,23 +469,59 @@ void AssessRegistration(const Points& src, const Eigen::Vector3d& src_centroid,
                         const PointMap& target, const IcpParams& params, RegistrationResult& res) {
   const Eigen::Isometry3d& T = res.X_MS;
   const double last_dist = params.max_correspondence.back();
-  const Accum fin = Correspond(src, T, T * src_centroid, target, last_dist, Kernel::kNone, 1.0,
+  const Eigen::Vector3d c = T * src_centroid;
+  const Accum fin = Correspond(src, T, c, target, last_dist, Kernel::kNone, 1.0,
                                params.max_normal_curvature, params.same_side);
-  res.fitness = static_cast<double>(fin.matched) / static_cast<double>(src.size());
+  const double n_src = static_cast<double>(src.size());
+  res.raw_fitness = static_cast<double>(fin.matched) / n_src;
   res.rmse = fin.planar > 0 ? std::sqrt(fin.r2 / static_cast<double>(fin.planar)) : 0.0;
-  // Free space: only points without a map point within the last stage's distance can float
-  // in observed empty space (matched ones lie on known surfaces; near depth edges they would
-  // only add noise).
-  res.free_space_violation = ViolationAt(src, T, target, last_dist);
+  // Free space and expected overlap: only points without a map point within the last stage's
+  // distance can float in observed empty space or lie where no map scan looked (matched ones
+  // lie on known surfaces).
+  Points unmatched;
+  for (const auto& p : src) {
+    const Eigen::Vector3d q = T * p;
+    if (target.tree().Nearest(q, last_dist) < 0) unmatched.push_back(q);
+  }
+  res.free_space_violation = target.FreeSpaceViolation(unmatched) *
+                             static_cast<double>(unmatched.size()) / n_src;
+  const double unseen = target.has_origins() ? static_cast<double>(unmatched.size() -
+                                                                   target.CountInView(unmatched))
+                                             : 0.0;
+  res.expected_overlap = (n_src - unseen) / n_src;
+  res.fitness = n_src - unseen > 0.0 ? static_cast<double>(fin.matched) / (n_src - unseen) : 0.0;
+  res.information_matrix.setZero();
+  res.constrained_directions.resize(6, 0);
   if (fin.planar >= 12 && fin.weight > 0.0) {
     const Reduced red = Reduce(fin, params.dof);
+    const int n = static_cast<int>(red.idx.size());
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(red.H);
     res.information.assign(es.eigenvalues().data(),
                            es.eigenvalues().data() + es.eigenvalues().size());
-    for (int k = 0; k < static_cast<int>(red.idx.size()); ++k) {
+    for (int k = 0; k < n; ++k) {
       res.weakest_direction[red.idx[k]] = es.eigenvectors()(k, 0);
     }
     res.degenerate = res.information.front() < params.degeneracy_threshold;
+    // Information in physical units: the unweighted Hessian of the estimated DoF over the
+    // residual variance (at least 1 mm: a perfect fit is not infinite information).
+    const double var = std::max(res.rmse * res.rmse, 1e-6);
+    for (int r = 0; r < n; ++r)
+      for (int q = 0; q < n; ++q)
+        res.information_matrix(red.idx[r], red.idx[q]) = fin.H(red.idx[r], red.idx[q]) / var;
+    // The constrained directions: eigenvectors of the normalised information (homogeneous
+    // units) at or above the threshold, mapped back to radians and metres and renormalised.
+    std::vector<Vec6> strong;
+    for (int k = 0; k < n; ++k) {
+      if (es.eigenvalues()[k] < params.degeneracy_threshold) continue;
+      Vec6 v = Vec6::Zero();
+      for (int i = 0; i < n; ++i)
+        v[red.idx[i]] = red.idx[i] < 3 ? es.eigenvectors()(i, k) / red.lever
+                                       : es.eigenvectors()(i, k);
+      strong.push_back(v.normalized());
+    }
+    res.constrained_directions.resize(6, static_cast<Eigen::Index>(strong.size()));
+    for (std::size_t k = 0; k < strong.size(); ++k)
+      res.constrained_directions.col(static_cast<Eigen::Index>(k)) = strong[k];
   } else {
     res.information.assign(params.dof, 0.0);
     res.degenerate = true;
@@ -504,12 +562,13 @@ void ExplainRegistration(const std::string& failure, double last_dt, double last
     why.push_back(buf);
   }
   res.ok = why.empty();
-  char figures[320];
+  char figures[400];
   std::snprintf(figures, sizeof figures,
-                "fitness %.3f, rmse %.2f mm, free-space violation %.4f, %d iterations, last step "
-                "%.2g m / %.2g deg, "
+                "fitness %.3f (%.3f of all points, expected overlap %.3f), rmse %.2f mm, "
+                "free-space violation %.4f, %d iterations, last step %.2g m / %.2g deg, "
                 "min information %.3g, %zu source / %zu map points",
-                res.fitness, res.rmse * 1e3, res.free_space_violation, res.iterations, last_dt,
+                res.fitness, res.raw_fitness, res.expected_overlap, res.rmse * 1e3,
+                res.free_space_violation, res.iterations, last_dt,
                 RadToDeg(last_dr), res.information.empty() ? 0.0 : res.information.front(),
                 res.source_points, res.target_points);
   if (res.ok) {
@@ -626,6 +685,23 @@ RegistrationResult RegisterScan(const interfaces::TlsScan& scan, const PointMap&
   return RegisterScan(
       ScanPoints(scan, Eigen::Isometry3d::Identity(), params.min_range, params.max_range), target,
       scan.X_MS_estimate, params);
+}
+
+Eigen::Matrix<double, 6, 6> RegistrationCovariance(const RegistrationResult& r,
+                                                   const Eigen::Matrix<double, 6, 6>& prior_cov) {
+  const Eigen::Index k = r.constrained_directions.cols();
+  if (k == 0) return prior_cov;
+  // Orthonormal basis of the constrained subspace (the directions are orthogonal in the
+  // normalised units, not necessarily after the lever scaling) and of its complement.
+  Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic>> qr(r.constrained_directions);
+  const Mat6 Q = qr.householderQ() * Mat6::Identity();
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> S = Q.leftCols(k);
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> W = Q.rightCols(6 - k);
+  // The scan's covariance in its constrained subspace: (S^T I S)^-1.
+  const Eigen::MatrixXd info_s = S.transpose() * r.information_matrix * S;
+  const Eigen::MatrixXd cov_s = info_s.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+  const Eigen::MatrixXd cov_w = W.transpose() * prior_cov * W;
+  return S * cov_s * S.transpose() + W * cov_w * W.transpose();
 }
 
 RegistrationDecision AcceptRegistration(const RegistrationResult& r,

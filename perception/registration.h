@@ -11,15 +11,22 @@
 // Cauchy; scale = kernel_scale_ratio x the stage's correspondence distance), Gauss-Newton
 // steps on SE(3) (6 DoF) or on x, y, z, yaw (4 DoF: the inclinometer's levelling is trusted).
 //
-// Health: fitness = share of downsampled source points with a correspondence within the last
-// stage's distance; rmse = RMS point-to-plane residual of those; free-space violation = share
+// Health: fitness = share of the downsampled source points the map could have seen that have a
+// correspondence within the last stage's distance (expected overlap: a point counts when some
+// map scan's ray in its direction reached at least as far, so points in space no map scan
+// looked into, beyond its returns or inside its minimum range, neither help nor hurt: a scan
+// that looks into new space is not a bad scan; without map scan origins every point counts);
+// rmse = RMS point-to-plane residual of those; free-space violation = share
 // of source points lying where a map scan saw through (catches a wrong pose that fits the
 // room's symmetric shell, e.g. a prior 180 deg off, when the scan's asymmetric content floats
 // in observed empty space); `degenerate` when the normalised information along some direction
 // is below `degeneracy_threshold` (after Zhang, Kaess & Singh 2016: eigenvalues of the
 // Gauss-Newton Hessian; e.g. the axis of a long corridor). Such directions are also frozen in
 // every step (solution remapping), so the pose keeps the prior along them instead of drifting
-// on noise. `ok` = converged, fitness >= min_fitness, rmse <= max_rmse, violation <=
+// on noise. The result carries its information matrix (the Gauss-Newton Hessian over the
+// residual variance, Censi 2007's first-order term) and, with RegistrationCovariance, a
+// covariance that takes the constrained directions from the scan and the weak ones from the
+// prior's covariance (docs/registration.md). `ok` = converged, fitness >= min_fitness, rmse <= max_rmse, violation <=
 // max_free_space_violation and not degenerate. A
 // failed registration is a result with ok = false and a message, never an exception.
 //
@@ -126,7 +133,13 @@ struct RegistrationResult {
   bool ok =
       false;  ///< converged, fits, free space consistent, well conditioned: safe to accumulate
   bool converged = false;  ///< the last stage's step fell below the deltas within max_iterations
-  double fitness = 0.0;    ///< share of source points matched in the last stage, [0, 1]
+  /// Share of the source points the map could have seen (expected overlap) that are matched
+  /// in the last stage, [0, 1]
+  double fitness = 0.0;
+  double raw_fitness = 0.0;  ///< share of all source points matched in the last stage, [0, 1]
+  /// Share of the source points lying where a map scan could have seen them, [0, 1] (1 when
+  /// the map has no scan origins)
+  double expected_overlap = 1.0;
   double rmse = 0.0;       ///< m, RMS point-to-plane residual of the matches
   /// Share of source points lying in space a map scan saw empty (0 if the map has no origins).
   double free_space_violation = 0.0;
@@ -140,6 +153,15 @@ struct RegistrationResult {
   std::vector<double> information;
   /// Eigenvector of the smallest one, (rx, ry, rz, tx, ty, tz); in 4 DoF rx = ry = 0.
   Eigen::Matrix<double, 6, 1> weakest_direction = Eigen::Matrix<double, 6, 1>::Zero();
+  /// Information of the pose at the result: sum J J^T / rmse^2 over the planar matches, J =
+  /// [(p - c) x n; n] with c the placed source centroid, in (rx, ry, rz, tx, ty, tz) (1/rad^2,
+  /// 1/m^2, map frame axes); the rows of DoF the ICP does not estimate (roll and pitch in 4
+  /// DoF) are zero. Zero when there were too few matches.
+  Eigen::Matrix<double, 6, 6> information_matrix = Eigen::Matrix<double, 6, 6>::Zero();
+  /// Unit basis (columns, same coordinates) of the directions the scan constrains: the
+  /// eigenvectors of the normalised information at or above degeneracy_threshold, in DoF the
+  /// ICP estimates. The others kept the prior (solution remapping).
+  Eigen::Matrix<double, 6, Eigen::Dynamic> constrained_directions;
   /// The free-space search (IcpParams::weak_search) found the least violating offsets along
   /// the weak direction bounded on both sides, the prior outside them and X_MS among them: its
   /// place along that direction is evidence, not a slide (AcceptRegistration).
@@ -213,6 +235,15 @@ RegistrationDecision AcceptRegistration(const RegistrationResult& r,
                                         const RegistrationAcceptanceParams& policy,
                                         double prior_sigma);
 
+/// Covariance (6 x 6, coordinates as RegistrationResult::information_matrix) of a registered
+/// pose: in the directions the scan constrains, the inverse of its information there; in the
+/// others (weak directions, and DoF the ICP does not estimate) the prior's covariance
+/// `prior_cov` projected onto them, so the uncertainty of what the scan could not see is
+/// carried on (Zhang et al. 2016's solution remapping applied to the covariance). A result
+/// without information gives `prior_cov`.
+Eigen::Matrix<double, 6, 6> RegistrationCovariance(const RegistrationResult& r,
+                                                   const Eigen::Matrix<double, 6, 6>& prior_cov);
+
 /// The accumulated target S(t-1) in the map frame: voxel-grid centroids (sums kept, so scans
 /// added later refine the same cells), PCA normals (updated where cells changed) and a kd-tree
 /// (rebuilt on every Add), plus per-scan direction-binned ranges for the free-space check.
@@ -234,6 +265,13 @@ class PointMap {
   void Add(const Points& points_M, const Eigen::Vector3d& origin_M);
   /// Share of `points_M` that lie in space some added scan saw empty (see IcpParams).
   double FreeSpaceViolation(const Points& points_M) const;
+  /// How many of `points_M` lie where some added scan could have seen them: in a direction
+  /// bin where it had a return no nearer than the point (less free_space_margin plus 2 % of
+  /// the range). Points beyond every scan's returns (new space, or hidden behind what the scans
+  /// saw) or in bins without a return (inside the minimum range, outside the field of view) do
+  /// not count. Only scans added with their origin count.
+  std::size_t CountInView(const Points& points_M) const;
+  bool has_origins() const;  ///< some scan was added with its origin
   bool empty() const;
   std::size_t size() const;
   const Points& points() const;  ///< voxel centroids, in voxel-key order

@@ -1,5 +1,7 @@
 #include "runfolder/room_files.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -42,15 +44,31 @@ nlohmann::ordered_json ScanJson(const autonomy::RoomScanLog& s) {
   j["detail"] = s.detail;
   j["step_deg"] = s.step_deg;
   j["registered"] = s.registered;
+  j["at_prior"] = s.at_prior;
   j["sim_time"] = s.sim_time;
   j["X_MS_prior"] = PoseJson(s.X_MS_prior);
   j["X_MS"] = PoseJson(s.X_MS);
   if (s.index > 0 || !s.registration.message.empty()) {
     const auto& r = s.registration;
-    j["registration"] = {
-        {"ok", r.ok},          {"converged", r.converged},   {"fitness", r.fitness},
-        {"rmse", r.rmse},      {"degenerate", r.degenerate}, {"iterations", r.iterations},
-        {"message", r.message}};
+    j["registration"] = {{"ok", r.ok},
+                         {"converged", r.converged},
+                         {"fitness", r.fitness},
+                         {"raw_fitness", r.raw_fitness},
+                         {"expected_overlap", r.expected_overlap},
+                         {"rmse", r.rmse},
+                         {"free_space_violation", r.free_space_violation},
+                         {"degenerate", r.degenerate},
+                         {"information", r.information},
+                         {"constrained_directions", r.constrained_directions.cols()},
+                         {"iterations", r.iterations},
+                         {"message", r.message}};
+    if (s.registered) {
+      // Std of the used pose along x, y (m) and yaw (deg), from its covariance.
+      const auto& C = s.covariance;
+      j["registration"]["sigma_x_y_yaw"] = {std::sqrt(std::max(0.0, C(3, 3))),
+                                            std::sqrt(std::max(0.0, C(4, 4))),
+                                            RadToDeg(std::sqrt(std::max(0.0, C(2, 2))))};
+    }
   }
   j["range_bias"] = {{"applied", s.range_bias.ok},
                      {"bias_m", s.range_bias.bias},

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "autonomy/floor_scan.h"
 #include "autonomy/room_scan.h"
@@ -135,6 +137,35 @@ TEST(EntryAcceptance, TheYawBoundMovesTheDoorFrameNoMoreThanTheTranslationBound)
   const double door_frame = FloorScanParams{}.door_exit;  // m, the first scan behind the frame
   EXPECT_LE(std::sin(DegToRad(p.entry_acceptance.max_correction_deg)) * door_frame,
             p.entry_acceptance.max_correction);
+}
+
+TEST(RefusedScan, JoinsTheModelAtItsPriorOnlyWhenThePriorIsGoodEnough) {
+  const RoomScanParams p;
+  auto cov = [](double sxy, double syaw_deg) {
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    c(0, 0) = sxy * sxy;
+    c(1, 1) = 0.25 * sxy * sxy;
+    c(2, 2) = DegToRad(syaw_deg) * DegToRad(syaw_deg);
+    return c;
+  };
+  std::string why;
+  EXPECT_TRUE(RefusedScanUsable(p, cov(0.005, 0.05), 0.0, &why)) << why;
+  EXPECT_NE(why.find("joins the room model at its prior"), std::string::npos) << why;
+  // A localiser less sure than the model's accuracy, in position or yaw.
+  EXPECT_FALSE(RefusedScanUsable(p, cov(0.02, 0.05), 0.0, &why)) << why;
+  EXPECT_NE(why.find("left out"), std::string::npos) << why;
+  EXPECT_FALSE(RefusedScanUsable(p, cov(0.005, 0.5), 0.0, &why)) << why;
+  // The largest std counts, whatever the axis.
+  Eigen::Matrix3d turned = cov(0.005, 0.05);
+  std::swap(turned(0, 0), turned(1, 1));
+  turned(1, 1) = 0.02 * 0.02;
+  EXPECT_FALSE(RefusedScanUsable(p, turned, 0.0));
+  // The scan at its prior floats in space the map saw empty: evidence against the prior.
+  EXPECT_FALSE(RefusedScanUsable(p, cov(0.005, 0.05), 2.0 * p.icp.max_free_space_violation));
+  // Off.
+  RoomScanParams off = p;
+  off.refused_scan_max_sigma = 0.0;
+  EXPECT_FALSE(RefusedScanUsable(off, Eigen::Matrix3d::Zero(), 0.0));
 }
 
 }  // namespace

@@ -293,6 +293,90 @@ TEST(EstimateHiddenArea, AWindowToTheOutsideIsSeenThroughNotUnsensedWall) {
   EXPECT_NEAR(with.area - without.area, with.seen_through_area, 0.05);
 }
 
+// A 24 m x 2.2 m x 2.6 m corridor scanned once from (2, 1.1): the scanner's 1.5 m minimum
+// range hides the walls, floor and ceiling next to it, and far along the walls are grazed.
+struct Corridor {
+  sim::EmbreeWorld world{[] {
+    scenes::Scene s;
+    sim::testing::AddRoomBox(s, Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(24, 2.2f, 2.6f));
+    for (auto& p : s.parts) p.room = "C";
+    return s;
+  }()};
+  SimScan first = TakeScan(world, TestTls(0.2), 2.0, 1.1, 0);
+  RoomModel model;
+  Corridor() { model.AddScan(first.scan, first.X_MS); }
+};
+
+const Corridor& C() {
+  static const Corridor c;
+  return c;
+}
+
+TEST(NextBestScan, GainIsScaledByTheExpectedOverlapBelowMinOverlap) {
+  const RoomModel& model = C().model;
+  const perception::OccupancyGrid map = MapOf(model);
+  NextBestScanParams off;
+  off.min_overlap = 0.0;
+  const NbsResult raw = NextBestScan(model, map, Pose2{2.0, 1.1, 0.0}, 0.2, off);
+  const NbsResult r = NextBestScan(model, map, Pose2{2.0, 1.1, 0.0}, 0.2);
+  std::printf("[figures] corridor NBS: %s\n", r.message.c_str());
+  ASSERT_TRUE(r.found) << r.message;
+  ASSERT_EQ(r.candidates.size(), raw.candidates.size());
+  const double m = NextBestScanParams{}.min_overlap;
+  int scaled = 0;
+  const NbsCandidate *nearest = nullptr, *farthest = nullptr;
+  for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+    const NbsCandidate& c = r.candidates[i];
+    EXPECT_GE(c.expected_overlap, 0.0);
+    EXPECT_LE(c.expected_overlap, 1.0);
+    const double factor = std::min(1.0, c.expected_overlap / m);
+    EXPECT_NEAR(c.gain, raw.candidates[i].gain * factor, 1e-9 * (1.0 + raw.candidates[i].gain));
+    scaled += factor < 1.0 && raw.candidates[i].gain > 0.0;
+    if (!nearest || c.position.x() < nearest->position.x()) nearest = &c;
+    if (!farthest || c.position.x() > farthest->position.x()) farthest = &c;
+  }
+  // The far end of the corridor holds little of what the first scan sensed: the positions
+  // there look mostly into unsensed structure, those near the scan see the sensed stretch.
+  EXPECT_GT(scaled, 0);
+  EXPECT_GT(nearest->expected_overlap, farthest->expected_overlap);
+  EXPECT_LT(farthest->expected_overlap, m);
+  // Without the overlap term the largest gain lies further down the corridor; with it the
+  // chosen step is shorter and keeps more of the model in view.
+  std::printf("[figures] corridor NBS without the overlap term: %s\n", raw.message.c_str());
+  EXPECT_LT(r.goal.x, raw.goal.x) << r.message << " | " << raw.message;
+  EXPECT_GT(r.candidates[r.chosen].expected_overlap, r.candidates[raw.chosen].expected_overlap);
+  EXPECT_GT(r.candidates[r.chosen].expected_overlap, 0.8 * m) << r.message;
+}
+
+TEST(NextBestScan, SurfacesInsideTheMinimumRangeAreNeitherGainNorOverlap) {
+  // From a candidate in the 2.2 m corridor every wall, the floor and the ceiling within 1.5 m
+  // are inside the scanner's minimum range: with range_min 1.5 the candidate expects less
+  // than with a scanner that could see them (range_min 0.1), and the sensed ones behind it
+  // count only beyond the range.
+  const RoomModel& model = C().model;
+  const perception::OccupancyGrid map = MapOf(model);
+  NextBestScanParams near_blind, sees_near;
+  near_blind.min_overlap = sees_near.min_overlap = 0.0;
+  near_blind.revisit_factor = sees_near.revisit_factor = 1.0;
+  sees_near.range_min = 0.1;
+  const NbsResult a = NextBestScan(model, map, Pose2{2.0, 1.1, 0.0}, 0.2, near_blind);
+  const NbsResult b = NextBestScan(model, map, Pose2{2.0, 1.1, 0.0}, 0.2, sees_near);
+  ASSERT_EQ(a.candidates.size(), b.candidates.size());
+  ASSERT_FALSE(a.candidates.empty());
+  // The surfaces around the first scan position are unsensed (inside its minimum range): a
+  // scanner that sees them from there would gain them; the real one does not.
+  std::size_t at_scan = 0;
+  for (std::size_t i = 0; i < a.candidates.size(); ++i) {
+    EXPECT_LE(a.candidates[i].gain, b.candidates[i].gain + 1e-9);
+    if ((a.candidates[i].position - Vec2(2.0, 1.1)).norm() <
+        (a.candidates[at_scan].position - Vec2(2.0, 1.1)).norm())
+      at_scan = i;
+  }
+  EXPECT_LT((a.candidates[at_scan].position - Vec2(2.0, 1.1)).norm(), 0.5);
+  EXPECT_LT(a.candidates[at_scan].gain, 0.5 * b.candidates[at_scan].gain)
+      << a.candidates[at_scan].gain << " vs " << b.candidates[at_scan].gain;
+}
+
 TEST(NextBestScan, EmptyModelAndBadParams) {
   const RoomModel empty;
   const perception::OccupancyGrid map({}, Vec2(0, 0), 10, 10);

@@ -427,6 +427,66 @@ TEST(Registration, LongCorridorIsFlaggedDegenerateAndKeepsThePriorAlongItsAxis) 
   EXPECT_NEAR(r.X_MS.translation().z(), X_MS_true.translation().z(), 1e-3);
 }
 
+TEST(Registration, CorridorResultEstimatesWhatItConstrainsAndCarriesThePriorElsewhere) {
+  // The synthetic corridor above (x unobservable), with its map scan origin: the result's
+  // constrained directions exclude x, its information along x is orders below that across,
+  // and its covariance takes x from the prior while y and yaw come from the scan.
+  Points corridor;
+  for (double x = -20; x <= 20; x += 0.02) {
+    for (double s = 0; s <= 3.0; s += 0.02) {
+      corridor.emplace_back(x, -1.0, s);
+      corridor.emplace_back(x, 1.0, s);
+    }
+    for (double y = -1.0; y <= 1.0; y += 0.02) {
+      corridor.emplace_back(x, y, 0.0);
+      corridor.emplace_back(x, y, 3.0);
+    }
+  }
+  PointMap map;
+  map.Add(corridor, Eigen::Vector3d(-2.0, 0.0, 1.4));
+  Eigen::Isometry3d X_MS_true = Eigen::Isometry3d::Identity();
+  X_MS_true.translation() = Eigen::Vector3d(0.3, 0.1, 1.4);
+  Points source;
+  for (const auto& p : corridor)
+    if ((p - X_MS_true.translation()).norm() < 15.0) source.push_back(X_MS_true.inverse() * p);
+  Eigen::Isometry3d prior = X_MS_true;
+  prior.translation() += Eigen::Vector3d(0.2, -0.05, 0.02);
+  prior.rotate(Eigen::AngleAxisd(DegToRad(1.0), Eigen::Vector3d::UnitZ()));
+  const RegistrationResult r = RegisterScan(source, map, prior, IcpParams{});
+  ASSERT_TRUE(r.degenerate) << r.message;
+  EXPECT_TRUE(r.converged) << r.message;
+  // Across the axis, height and yaw corrected; along it the prior kept.
+  EXPECT_NEAR(r.X_MS.translation().x(), prior.translation().x(), 0.01) << r.message;
+  EXPECT_NEAR(r.X_MS.translation().y(), X_MS_true.translation().y(), 2e-3) << r.message;
+  EXPECT_NEAR(r.X_MS.translation().z(), X_MS_true.translation().z(), 2e-3) << r.message;
+  const Eigen::Matrix3d dR = X_MS_true.linear().transpose() * r.X_MS.linear();
+  EXPECT_LT(RadToDeg(Eigen::AngleAxisd(dR).angle()), 0.05) << r.message;
+  // 4 DoF: rz, ty, tz constrained, tx not; roll and pitch not estimated.
+  ASSERT_EQ(r.constrained_directions.cols(), 3) << r.message;
+  for (Eigen::Index k = 0; k < 3; ++k) {
+    EXPECT_LT(std::abs(r.constrained_directions(3, k)), 0.05) << k;  // no x in any
+    EXPECT_EQ(r.constrained_directions(0, k), 0.0);
+    EXPECT_EQ(r.constrained_directions(1, k), 0.0);
+  }
+  EXPECT_GT(r.information_matrix(4, 4), 1e4 * r.information_matrix(3, 3)) << r.message;
+  EXPECT_GT(r.information_matrix(2, 2), 0.0);
+  Eigen::Matrix<double, 6, 6> prior_cov = Eigen::Matrix<double, 6, 6>::Zero();
+  prior_cov.diagonal() << 1e-8, 1e-8, 1e-4, 0.04, 0.04, 1e-4;  // 20 cm in x and y, 0.6 deg yaw
+  const Eigen::Matrix<double, 6, 6> cov = RegistrationCovariance(r, prior_cov);
+  EXPECT_NEAR(cov(3, 3), 0.04, 1e-3) << cov;  // x: the prior's
+  EXPECT_LT(cov(4, 4), 1e-4 * 0.04) << cov;   // y: the scan's, far below the prior's
+  EXPECT_LT(cov(2, 2), 1e-2 * 1e-4) << cov;   // yaw: the scan's
+  EXPECT_NEAR(cov(0, 0), 1e-8, 1e-12);        // roll: not estimated, the prior's
+  EXPECT_LT((cov - cov.transpose()).norm(), 1e-12);
+  // The scan's own part is the inverse of its information where it constrains the pose.
+  const Eigen::Matrix<double, 6, 6> own =
+      RegistrationCovariance(r, Eigen::Matrix<double, 6, 6>::Zero());
+  EXPECT_NEAR(own(3, 3), 0.0, 1e-9);
+  EXPECT_NEAR(own(4, 4) * r.information_matrix(4, 4), 1.0, 0.2) << own;
+  // Without information (a failed registration) the covariance is the prior's.
+  EXPECT_EQ(RegistrationCovariance(RegistrationResult{}, prior_cov), prior_cov);
+}
+
 // ---- a doorway: the planes leave the along-wall offset free, the free space does not ----------
 
 struct Box {
@@ -472,6 +532,65 @@ std::vector<Box> Doorway() {
           {V(0, -0.45, 2.1), V(0.2, 0.45, 3)},    {V(-6, -10, 0), V(-5.8, 10, 3)},
           {V(5.8, -10, 0), V(6, 10, 3)},          {V(-6, -10.2, 0), V(6, -10, 3)},
           {V(-6, 10, 0), V(6, 10.2, 3)}};
+}
+
+TEST(Registration, CountInViewKeepsPointsSomeMapScanCouldHaveSeen) {
+  // One scan of the wall x = 5 (|y|, |z| <= 2) from the origin: in front of the wall and on it
+  // is in view, behind it or where the scan had no return is not.
+  Points wall;
+  for (double y = -2; y <= 2; y += 0.02)
+    for (double z = -2; z <= 2; z += 0.02) wall.emplace_back(5.0, y, z);
+  PointMap map;
+  EXPECT_FALSE(map.has_origins());
+  map.Add(wall, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(map.has_origins());
+  EXPECT_EQ(map.CountInView({{3.0, 0.5, 0.2}, {5.0, 0.5, 0.2}, {5.05, 0.0, 0.0}}), 3u);
+  EXPECT_EQ(map.CountInView({{7.0, 1.0, 0.0}, {-3.0, 0.0, 0.0}, {5.0, 3.0, 0.0}}), 0u);
+  PointMap no_origin;
+  no_origin.Add(wall);
+  EXPECT_EQ(no_origin.CountInView({{3.0, 0.5, 0.2}}), 0u);
+}
+
+TEST(Registration, FitnessCountsThePointsTheMapCouldHaveSeen) {
+  // The map is one scan of room A (x < 0) of the doorway world; the new scan stands in room B
+  // and sees room A only through the door. Most of its points lie where the map never looked:
+  // they do not lower the fitness. A pose 0.3 m off across the wall puts points the map did
+  // see where it saw nothing: the fitness there drops.
+  const std::vector<Box> boxes = Doorway();
+  const Eigen::Vector3d map_origin(-2.5, 0.0, 1.4), scan_origin(2.0, 0.3, 1.4);
+  IcpParams icp;
+  icp.same_side = true;
+  PointMap map(icp);
+  map.Add(Transform(CastScan(boxes, map_origin), Eigen::Isometry3d(Eigen::Translation3d(map_origin))),
+          map_origin);
+  const Points source = CastScan(boxes, scan_origin);
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.translation() = scan_origin;
+  const RegistrationResult r = RegisterScan(source, map, truth, icp);
+  std::printf("  into new space: %s\n", r.message.c_str());
+  EXPECT_LT(r.expected_overlap, 0.5) << r.message;
+  EXPECT_LT(r.raw_fitness, 0.5) << r.message;
+  EXPECT_GT(r.fitness, 0.9) << r.message;
+  EXPECT_NEAR(r.raw_fitness, r.fitness * r.expected_overlap, 1e-9);
+  // The same scan against a map that also holds room B: everything is in view.
+  PointMap both(icp);
+  both.Add(Transform(CastScan(boxes, map_origin), Eigen::Isometry3d(Eigen::Translation3d(map_origin))),
+           map_origin);
+  both.Add(Transform(source, truth), scan_origin);
+  const RegistrationResult all = RegisterScan(source, both, truth, icp);
+  EXPECT_GT(all.expected_overlap, 0.99) << all.message;
+  EXPECT_GT(all.fitness, 0.95) << all.message;
+  // A wrong pose, evaluated where it is (no ICP iterations): in-view points unmatched.
+  IcpParams frozen = icp;
+  frozen.max_iterations = 1;
+  frozen.max_correspondence = {0.08};
+  Eigen::Isometry3d off = truth;
+  off.translation().y() += 0.3;
+  off.rotate(Eigen::AngleAxisd(DegToRad(8.0), Eigen::Vector3d::UnitZ()));
+  const RegistrationResult wrong = RegisterScan(source, both, off, frozen);
+  // (The floor and ceiling still match: the drop is the walls and furniture, 1/3 of the points.)
+  EXPECT_LT(wrong.fitness, all.fitness - 0.3) << wrong.message;
+  EXPECT_GT(wrong.expected_overlap, 0.8) << wrong.message;
 }
 
 TEST(Registration, AWeakDirectionIsPlacedByTheFreeSpaceEvidence) {
