@@ -199,17 +199,22 @@ std::string FreeSpace::Problem(const Pose2& X_WB) const {
   if (!Cell(c, &cx, &cy)) return "outside the building (no room holds it)";
   const int k = static_cast<int>(std::ceil(r / kCell)) + 1;
   bool outside = false;
+  int hit = -1;  // the blocker nearest to the footprint's centre
+  double hit_d = 1e300;
   for (int iy = cy - k; iy <= cy + k; ++iy)
     for (int ix = cx - k; ix <= cx + k; ++ix) {
       if (ix < 0 || iy < 0 || ix >= nx_ || iy >= ny_) continue;
       const Vector2d q = Centre(ix, iy) - c;
       if (std::abs(q.dot(ex)) > hl || std::abs(q.dot(ey)) > hw) continue;
       const std::size_t i = static_cast<std::size_t>(Index(ix, iy));
-      if (blocker_[i] >= 0)
-        return "in collision with the scene (" +
-               blocker_ids_[static_cast<std::size_t>(blocker_[i])] + ")";
+      if (blocker_[i] >= 0 && q.squaredNorm() < hit_d - 1e-12) {
+        hit_d = q.squaredNorm();
+        hit = blocker_[i];
+      }
       outside = outside || room_[i] < 0;
     }
+  if (hit >= 0)
+    return "in collision with the scene (" + blocker_ids_[static_cast<std::size_t>(hit)] + ")";
   if (room_[static_cast<std::size_t>(Index(cx, cy))] < 0)
     return "outside the building (no room holds it)";
   return outside ? "partly outside the building (no room holds all of it)" : "";
@@ -252,67 +257,105 @@ bool FreeSpace::BestSpotIn(const std::string& room_id, Vector2d* out, double* ar
 StartSpot ChooseStart(const Scene& scene, const GroundTruth& truth, const RobotFootprint& robot) {
   const FreeSpace space(scene, truth, robot);
   const std::map<std::string, std::vector<std::string>> graph = OpenDoorGraph(truth);
-  // Groups of rooms open doors connect, in truth order of their first room.
-  std::map<std::string, int> group;
-  std::vector<std::vector<std::string>> groups;
-  for (const Room& r : truth.rooms) {
-    if (group.count(r.id)) continue;
-    groups.emplace_back();
-    std::deque<std::string> queue{r.id};
-    group[r.id] = static_cast<int>(groups.size()) - 1;
-    while (!queue.empty()) {
-      const std::string a = queue.front();
-      queue.pop_front();
-      groups.back().push_back(a);
-      const auto it = graph.find(a);
-      if (it == graph.end()) continue;
-      for (const std::string& b : it->second)
-        if (group.emplace(b, group[r.id]).second) queue.push_back(b);
+  // Spaces: rooms joined by open passages are one space (the robot meets them as one room).
+  std::map<std::string, std::vector<std::string>> open_to;
+  for (const RoomConnection& c : truth.connections)
+    if (c.door.empty() && !c.room_b.empty()) {
+      open_to[c.room_a].push_back(c.room_b);
+      open_to[c.room_b].push_back(c.room_a);
     }
-  }
-  struct Candidate {
-    std::string room;
+  // Flood fill in truth order: `of` maps a room to its group (doors) or space (passages).
+  auto flood = [&](const std::map<std::string, std::vector<std::string>>& g) {
+    std::map<std::string, int> of;
+    int n = 0;
+    for (const Room& r : truth.rooms) {
+      if (of.count(r.id)) continue;
+      std::deque<std::string> queue{r.id};
+      of[r.id] = n;
+      while (!queue.empty()) {
+        const std::string a = queue.front();
+        queue.pop_front();
+        const auto it = g.find(a);
+        if (it == g.end()) continue;
+        for (const std::string& b : it->second)
+          if (of.emplace(b, n).second) queue.push_back(b);
+      }
+      ++n;
+    }
+    return of;
+  };
+  const std::map<std::string, int> group = flood(graph), space_of = flood(open_to);
+  std::map<int, int> group_size;
+  for (const auto& [room, g] : group) ++group_size[g];
+  int best_group = -1;
+  for (const Room& r : truth.rooms)  // the largest group, the first in truth order on a tie
+    if (best_group < 0 || group_size[group.at(r.id)] > group_size[best_group])
+      best_group = group.at(r.id);
+  // Per room of that group: its free area, best spot, and the rooms outside its own space one
+  // open door away; per space: the sums.
+  struct RoomInfo {
+    std::string id;
     Eigen::Vector2d spot;
     double area = 0.0;
-    int neighbours = 0;
-    std::size_t group_size = 0;
+    std::set<std::string> neighbours;
   };
-  const Candidate* best = nullptr;
-  std::vector<Candidate> candidates;
-  candidates.reserve(truth.rooms.size());
+  std::vector<RoomInfo> rooms;
+  std::map<int, double> space_area;
+  std::map<int, std::set<std::string>> space_neighbours;
   for (const Room& r : truth.rooms) {
-    Candidate c;
-    c.room = r.id;
-    if (!space.BestSpotIn(r.id, &c.spot, &c.area)) continue;
+    if (group.at(r.id) != best_group) continue;
+    RoomInfo info;
+    info.id = r.id;
+    if (!space.BestSpotIn(r.id, &info.spot, &info.area)) continue;
     const auto it = graph.find(r.id);
-    if (it != graph.end()) {
-      const std::set<std::string> distinct(it->second.begin(), it->second.end());
-      c.neighbours = static_cast<int>(distinct.size());
-    }
-    c.group_size = groups[static_cast<std::size_t>(group.at(r.id))].size();
-    candidates.push_back(c);
+    if (it != graph.end())
+      for (const std::string& b : it->second)
+        if (space_of.at(b) != space_of.at(r.id)) info.neighbours.insert(b);
+    space_area[space_of.at(r.id)] += info.area;
+    space_neighbours[space_of.at(r.id)].insert(info.neighbours.begin(), info.neighbours.end());
+    rooms.push_back(info);
   }
-  for (const Candidate& c : candidates) {
-    if (!best || c.group_size > best->group_size ||
-        (c.group_size == best->group_size &&
-         (c.area > best->area + 1e-9 ||
-          (std::abs(c.area - best->area) <= 1e-9 && c.neighbours > best->neighbours))))
-      best = &c;
-  }
-  if (!best)
+  if (rooms.empty())
     throw InputError("", "no room of the scene has a free spot for the robot", "",
                      "a room with " + FormatNumbers("%.2f", robot.TurnRadius()) +
                          " m clearance around a point");
+  // The space connected to the most others, among the spaces of at least the (upper) median
+  // free area: a hall or a corridor, never a closet or a lift lobby; ties: the larger space.
+  std::vector<double> areas;
+  for (const auto& [sp, a] : space_area) areas.push_back(a);
+  std::sort(areas.begin(), areas.end());
+  const double median = areas[areas.size() / 2];
+  int best_space = -1;
+  for (const RoomInfo& r : rooms) {  // truth order: deterministic ties
+    const int sp = space_of.at(r.id);
+    if (space_area[sp] < median - 1e-9) continue;
+    if (best_space < 0) {
+      best_space = sp;
+      continue;
+    }
+    const std::size_t n = space_neighbours[sp].size(), nb = space_neighbours[best_space].size();
+    if (n > nb || (n == nb && space_area[sp] > space_area[best_space] + 1e-9)) best_space = sp;
+  }
+  // In that space, the room with the most doors to others (ties: the larger room).
+  const RoomInfo* best = nullptr;
+  for (const RoomInfo& r : rooms) {
+    if (space_of.at(r.id) != best_space) continue;
+    if (!best || r.neighbours.size() > best->neighbours.size() ||
+        (r.neighbours.size() == best->neighbours.size() && r.area > best->area + 1e-9))
+      best = &r;
+  }
   StartSpot s;
   s.X_WB = Pose2{best->spot.x(), best->spot.y(), 0.0};
-  s.room = best->room;
+  s.room = best->id;
   s.clearance = space.Clearance(best->spot);
-  s.how = "room " + best->room + ": the largest free floor (" +
-          FormatNumbers("%.1f", best->area) + " m2) of the " + std::to_string(best->group_size) +
-          " of " + std::to_string(truth.rooms.size()) +
-          " rooms that open doors connect, " + std::to_string(best->neighbours) +
-          " neighbour(s); its spot farthest from obstacles (" +
-          FormatNumbers("%.2f", s.clearance) + " m)";
+  s.how = "room " + best->id + ": of the " + std::to_string(group_size[best_group]) + " of " +
+          std::to_string(truth.rooms.size()) +
+          " rooms that open doors connect, in the space connected to the most others (" +
+          std::to_string(space_neighbours[best_space].size()) + ") among those of at least the "
+          "median free floor (" + FormatNumbers("%.1f", space_area[best_space]) + " >= " +
+          FormatNumbers("%.1f", median) + " m2), its room with the most doors (" +
+          std::to_string(best->neighbours.size()) +
+          "); the spot farthest from obstacles (" + FormatNumbers("%.2f", s.clearance) + " m)";
   return s;
 }
 
