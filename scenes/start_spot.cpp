@@ -319,22 +319,20 @@ StartSpot ChooseStart(const Scene& scene, const GroundTruth& truth, const RobotF
     throw InputError("", "no room of the scene has a free spot for the robot", "",
                      "a room with " + FormatNumbers("%.2f", robot.TurnRadius()) +
                          " m clearance around a point");
-  // The space connected to the most others, among the spaces of at least the (upper) median
-  // free area: a hall or a corridor, never a closet or a lift lobby; ties: the larger space.
-  std::vector<double> areas;
-  for (const auto& [sp, a] : space_area) areas.push_back(a);
-  std::sort(areas.begin(), areas.end());
-  const double median = areas[areas.size() / 2];
+  // The space with the most floor a first look reaches: its own free floor times the rooms one
+  // open door away (plus itself). A hall or corridor connected to many rooms wins over a large
+  // dead-end room; a stair hall crowded to a few square metres or a closet does not win over
+  // the large room next to it. Ties: the larger space, then truth order.
+  auto score = [&](int sp) {
+    return space_area[sp] * static_cast<double>(space_neighbours[sp].size() + 1);
+  };
   int best_space = -1;
-  for (const RoomInfo& r : rooms) {  // truth order: deterministic ties
+  for (const RoomInfo& r : rooms) {
     const int sp = space_of.at(r.id);
-    if (space_area[sp] < median - 1e-9) continue;
-    if (best_space < 0) {
+    if (best_space < 0 || score(sp) > score(best_space) + 1e-9 ||
+        (std::abs(score(sp) - score(best_space)) <= 1e-9 &&
+         space_area[sp] > space_area[best_space] + 1e-9))
       best_space = sp;
-      continue;
-    }
-    const std::size_t n = space_neighbours[sp].size(), nb = space_neighbours[best_space].size();
-    if (n > nb || (n == nb && space_area[sp] > space_area[best_space] + 1e-9)) best_space = sp;
   }
   // In that space, the room with the most doors to others (ties: the larger room).
   const RoomInfo* best = nullptr;
@@ -350,11 +348,10 @@ StartSpot ChooseStart(const Scene& scene, const GroundTruth& truth, const RobotF
   s.clearance = space.Clearance(best->spot);
   s.how = "room " + best->id + ": of the " + std::to_string(group_size[best_group]) + " of " +
           std::to_string(truth.rooms.size()) +
-          " rooms that open doors connect, in the space connected to the most others (" +
-          std::to_string(space_neighbours[best_space].size()) + ") among those of at least the "
-          "median free floor (" + FormatNumbers("%.1f", space_area[best_space]) + " >= " +
-          FormatNumbers("%.1f", median) + " m2), its room with the most doors (" +
-          std::to_string(best->neighbours.size()) +
+          " rooms that open doors connect, in the space with the most free floor times rooms "
+          "reached (" + FormatNumbers("%.1f", space_area[best_space]) + " m2 x (" +
+          std::to_string(space_neighbours[best_space].size()) +
+          " + 1)), its room with the most doors (" + std::to_string(best->neighbours.size()) +
           "); the spot farthest from obstacles (" + FormatNumbers("%.2f", s.clearance) + " m)";
   return s;
 }

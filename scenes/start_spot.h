@@ -74,11 +74,11 @@ class FreeSpace {
 };
 
 /// The default start of a floor mission: of the rooms that open doors (and open passages)
-/// connect, the largest group; in it, of the spaces (rooms joined by open passages) whose free
-/// floor is at least the group's (upper) median, the one an open door connects to the most other
-/// rooms (a hall or a corridor, never a closet or a lift lobby; ties: the larger, then truth
-/// order); in it the room with the most such doors, and there the free spot farthest from every
-/// obstacle. Throws InputError if no room has a free spot.
+/// connect, the largest group; in it, of the spaces (rooms joined by open passages), the one
+/// with the largest free floor times (1 + the rooms one open door away): a hall connected to
+/// many rooms or a large room, never a closet or a crowded stair hall; ties: the larger, then
+/// truth order. In that space the room with the most such doors, and there the free spot
+/// farthest from every obstacle. Throws InputError if no room has a free spot.
 StartSpot ChooseStart(const Scene& scene, const GroundTruth& truth, const RobotFootprint& robot);
 
 /// The start in a given room (a room mission): its free spot farthest from every obstacle.
