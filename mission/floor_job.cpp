@@ -222,12 +222,11 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
         "run: error: the scene has no truth rooms; expected a generated or "
         "imported scene (scene.truth.json)");
   FloorJob job;
-  if (start_W) {
-    job.start_W = *start_W;
-  } else {
-    const Eigen::Vector2d xy = sim::FreeSpotInRoom(*mw.truth, mw.truth->rooms.front());
-    job.start_W = Pose2{xy.x(), xy.y(), 0.0};
-  }
+  // The harness's start (truth side, before any work): a given one checked, else chosen.
+  const scenes::RobotFootprint body = sim::FootprintOf(params.room.drive.body);
+  job.start = start_W ? scenes::CheckStart(mw.world->scene(), *mw.truth, body, *start_W)
+                      : scenes::ChooseStart(mw.world->scene(), *mw.truth, body);
+  job.start_W = job.start.X_WB;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());

@@ -97,6 +97,7 @@ struct RoomBoundary {
 
 struct FloorJob {
   Pose2 start_W;
+  scenes::StartSpot start;  ///< the start, its room and how it was chosen (summary.json)
   autonomy::FloorScanResult mission;
   std::vector<FloorRoomJob> rooms;  ///< in visit order
   DriveResult drive;                ///< the whole mission's driving figures (truth included)
@@ -105,8 +106,9 @@ struct FloorJob {
   nlohmann::ordered_json dtt;       ///< what dtt.json holds
 };
 
-/// Runs the floor mission from `start_W` (default: the harness's free spot of the truth's first
-/// room) and writes the run folder `dir`; with `evaluate`, each room is scored as `mopad room`
+/// Runs the floor mission from `start_W`, checked against the scene (InputError naming the
+/// nearest free spot when it is in collision or outside the building; default:
+/// scenes::ChooseStart) and writes the run folder `dir`; with `evaluate`, each room is scored as `mopad room`
 /// does (DIR/rooms/<ID>/evaluation.json). `progress` hears one line per robot event;
 /// `stop_requested`, asked before each room, ends the mission there (the rooms done are kept);
 /// `room_boundary` hears each room's end, its files written.

@@ -145,6 +145,8 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
   const DriveResult& d = job.drive;
   nlohmann::ordered_json j;
   j["start_W"] = {job.start_W.x, job.start_W.y, job.start_W.yaw};
+  j["start"] = {{"room", job.start.room}, {"how", job.start.how},
+                {"clearance_m", job.start.clearance}};
   j["rooms_visited"] = m.tree.VisitedCount();
   j["rooms_known"] = m.tree.Nodes().size();
   j["scans"] = m.scans;

@@ -92,12 +92,9 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   }
   RoomJob job;
   job.room = room;
-  if (start_W) {
-    job.start_W = *start_W;
-  } else {
-    const Eigen::Vector2d xy = sim::FreeSpotInRoom(*mw.truth, *r);
-    job.start_W = Pose2{xy.x(), xy.y(), 0.0};
-  }
+  const scenes::RobotFootprint body = sim::FootprintOf(params.drive.body);
+  job.start_W = start_W ? scenes::CheckStart(mw.world->scene(), *mw.truth, body, *start_W).X_WB
+                        : scenes::StartInRoom(mw.world->scene(), *mw.truth, body, room).X_WB;
   RobotSession session(*mw.world, params.drive, job.start_W);
   modelling::RoomModel model(params.scan.model);
   // The truth side scores an open-plan room (spaces joined by open passages) as the robot

@@ -11,11 +11,47 @@
 
 namespace mopad::scenes::bim {
 
+namespace {
+
+// The catalogue class that the words of a component's names say ("" = none), in the order that
+// keeps compound names right: a "Thermostat" or "Lichtschalter" is no light, a "switchboard" no
+// switch. English and German, the languages of the files at hand; ASCII lower case, so
+// "Heizk\xc3\xb6rper" matches by its ASCII stem.
+std::string ClassFromWords(const std::string& names, const Eigen::Vector3d& size) {
+  auto has = [&](std::initializer_list<const char*> words) {
+    for (const char* w : words)
+      if (names.find(w) != std::string::npos) return true;
+    return false;
+  };
+  const double w = std::max(size.x(), size.y());
+  const std::string socket = w < 0.12 ? "socket_x1" : w < 0.22 ? "socket_x2" : "socket_x4";
+  if (has({"thermostat", "temperaturregler", "temperature control"})) return "other";
+  if (has({"smoke", "rauchmelder", "rauchwarnmelder"})) return "smoke_detector";
+  if (has({"call point", "druckknopfmelder", "handfeuermelder", "fire alarm", "feuermelder"}))
+    return "fire_alarm_switch";
+  if (has({"extinguisher", "feuerl"})) return "fire_extinguisher";
+  if (has({"distribution board", "switchboard", "panelboard", "electrical panel",
+           "unterverteil", "verteiler"}))
+    return "electrical_panel";
+  if (has({"switch", "schalter", "dimmer", "taster"})) return "switch";
+  if (has({"receptacle", "outlet", "socket", "steckdose"})) return socket;
+  if (has({"radiator", "heizk", "heater"})) return "radiator";
+  if (has({"exit", "notausgang", "fluchtweg"})) return "exit_light";
+  if (has({"emergency light", "notleuchte", "sicherheitsleuchte", "notbeleuchtung"}))
+    return "emergency_light";
+  if (has({"light", "lamp", "leuchte", "luminaire"})) return "other";
+  return "";
+}
+
+}  // namespace
+
 std::string ComponentClass(const std::string& ifc, const std::string& type_class,
-                           const Eigen::Vector3d& size) {
+                           const Eigen::Vector3d& size, const std::string& names) {
   // IFC 2x3 has no IfcOutlet or IfcSwitchingDevice: a generic IfcFlowTerminal/IfcFlowController
   // says what it is through its type object (IfcOutletType -> "ifcoutlet").
   const std::string c = type_class.empty() ? Lower(ifc) : type_class;
+  const std::string words = ClassFromWords(Lower(names), size);
+  const std::string other = "other:" + ifc;
   if (c == "ifcoutlet") {
     const double w = std::max(size.x(), size.y());
     return w < 0.12 ? "socket_x1" : w < 0.22 ? "socket_x2" : "socket_x4";
@@ -25,9 +61,13 @@ std::string ComponentClass(const std::string& ifc, const std::string& type_class
   if (c == "ifcelectricdistributionpoint" || c == "ifcelectricdistributionboard")
     return "electrical_panel";
   if (c == "ifcspaceheater") return "radiator";
-  if (c == "ifcsensor") return "smoke_detector";  // kept only when ceiling-mounted (below)
-  if (!type_class.empty() && c != Lower(ifc)) return ComponentClass(ifc, "", size);
-  return "other:" + ifc;
+  // A sensor is a smoke detector unless its name says otherwise (a thermostat); kept only when
+  // ceiling-mounted (HostComponent).
+  if (c == "ifcsensor") return words.empty() ? "smoke_detector" : words == "other" ? other : words;
+  if (!type_class.empty() && c != Lower(ifc)) return ComponentClass(ifc, "", size, names);
+  // Generic classes: the names decide.
+  if (!words.empty() && words != "other") return words;
+  return other;
 }
 
 void Importer::Components() {
@@ -148,11 +188,21 @@ bool Importer::HostComponent(std::size_t ei, std::map<std::string, int>* counts)
   const Vector3d shift = ceiling ? Vector3d(0, 0, gap) : Vector3d(-gap * host->normal);
   ServiceComponent s;
   const auto type = type_class_.find(NodeGuid(e.node));
+  const std::string guid = NodeGuid(e.node);
+  const auto type_guid = type_guid_.find(guid);
+  const auto type_name =
+      type_guid == type_guid_.end() ? names_.end() : names_.find(type_guid->second);
+  const std::string names = NiceNameOnly(e.node) + " | " + NodeLabel(e.node) + " | " +
+                            (type_name == names_.end() ? std::string() : type_name->second);
   std::string cls =
-      ComponentClass(e.ifc, type == type_class_.end() ? "" : type->second, e.box.sizes());
-  if (cls == "smoke_detector" && !ceiling) cls = "other:" + e.ifc;
+      ComponentClass(e.ifc, type == type_class_.end() ? "" : type->second, e.box.sizes(), names);
+  // Where the catalogue says a class mounts, or the component is not a catalogue class.
+  const bool ceiling_class = cls == "smoke_detector";
+  if (cls.rfind("other:", 0) != 0 && ceiling_class != ceiling) cls = "other:" + e.ifc;
   s.bsc_class = cls;
-  s.id = (cls.rfind("other:", 0) == 0 ? "other" : cls) + "_" + std::to_string(++(*counts)[cls]);
+  // One counter per id prefix: ids stay unique whatever classes, and models, they come from.
+  const std::string prefix = cls.rfind("other:", 0) == 0 ? "other" : cls;
+  s.id = prefix + "_" + std::to_string(++(*counts)[prefix]);
   s.host = host->id;
   s.room = host->rooms.empty() ? "" : host->rooms[0];
   for (std::size_t pi : e.parts) {

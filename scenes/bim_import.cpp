@@ -91,10 +91,37 @@ BimImport Importer::Run() {
   FloorsAndCeilings();
   Columns();
   Openings();
+  Doorways();
   Passages();
   Components();
   Finish();
+  if (!needed_.empty()) {
+    std::vector<std::string> lines;
+    std::set<std::string> options;
+    for (const auto& [line, option] : needed_) {
+      lines.push_back(line + " (" + option + ")");
+      if (option != "--repair") options.insert(option);
+    }
+    std::string flags;
+    for (const std::string& o : options) flags += (flags.empty() ? "" : ", ") + o;
+    if (!flags.empty()) flags += " ";
+    const std::string what = FormatError(
+        path_,
+        "the file needs " + std::to_string(lines.size()) + " repair(s); the first: " +
+            needed_.front().first.substr(needed_.front().first.find(' ') + 1),
+        "", flags + "or --repair, which applies them all");
+    throw BimRepairsNeeded(what, std::move(lines));
+  }
   return std::move(out_);
+}
+
+void Importer::Repair(const std::string& what, const std::string& where, const std::string& from,
+                      const std::string& to, bool allowed, const std::string& option) {
+  const std::string line = "repair: " + what + " " + where + ": " + from + " -> " + to;
+  if (allowed)
+    out_.repairs.push_back(line);
+  else
+    needed_.emplace_back(line, option);
 }
 
 void Importer::Finish() {
@@ -152,11 +179,17 @@ void Importer::Finish() {
     }
     part.material = it->second;
   }
-  // Every truth id once (two IFC elements sharing a GlobalId would clash).
+  // Every truth id once across elements, openings, components and furniture (two IFC elements
+  // sharing a GlobalId would clash).
   std::set<std::string> ids;
-  for (const auto& e : out_.truth.elements)
-    if (!ids.insert(e.id).second)
-      throw InputError(path_, "two elements have the same id", "'" + e.id + "'",
+  std::vector<std::string> all;
+  for (const auto& e : out_.truth.elements) all.push_back(e.id);
+  for (const auto& o : out_.truth.openings) all.push_back(o.id);
+  for (const auto& c : out_.truth.service_components) all.push_back(c.id);
+  for (const auto& f : out_.truth.furniture) all.push_back(f.id);
+  for (const std::string& id : all)
+    if (!ids.insert(id).second)
+      throw InputError(path_, "two elements have the same id", "'" + id + "'",
                        "unique IFC GlobalIds");
 }
 

@@ -26,8 +26,10 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "common/error.h"
 #include "common/params.h"
 #include "scenes/door_angles.h"
 #include "scenes/ground_truth.h"
@@ -42,6 +44,9 @@ struct BimImportParams {
   DoorAngles door_angles_deg;
   bool floor_from_spaces = false;    ///< make missing floors from the space footprint
   bool ceiling_from_spaces = false;  ///< make missing ceilings from the space footprint
+  /// Apply every repair the file needs: floors and ceilings from the space footprints, and the
+  /// wall inside an opening's rectangle made the opening's frame (docs/scene-import.md).
+  bool repair = false;
   std::vector<std::string> merge;    ///< further models whose components are added (same frame)
   bool keep_site = false;            ///< keep IfcSite geometry (terrain) as `other`
   double leaf_thickness = 0.04;      ///< m, (0, 0.2]: generated door leaves
@@ -60,6 +65,7 @@ struct BimImportParams {
     v("door_angles_deg", door_angles_deg, Bounds{0.0, 180.0});
     v("floor_from_spaces", floor_from_spaces);
     v("ceiling_from_spaces", ceiling_from_spaces);
+    v("repair", repair);
     v("merge", merge);
     v("keep_site", keep_site);
     v("leaf_thickness", leaf_thickness, Bounds{1e-9, 0.2});
@@ -72,16 +78,29 @@ struct BimImportParams {
 struct BimImport {
   Scene scene;
   GroundTruth truth;
-  /// One line each: what the file lacked, what was repaired, replaced or left out.
+  /// One line each: what the file lacked, what was replaced or left out.
   std::vector<std::string> report;
+  /// One line per repair made: "repair: <what> <where>: <from> -> <to>".
+  std::vector<std::string> repairs;
   /// IFC class -> elements with geometry in the storey's node tree (what the file holds).
   std::map<std::string, int> storey_elements;
   /// IFC wall elements of any storey that gave at least one room-side wall face.
   int walls_with_room_faces = 0;
 };
 
-/// Imports `path` (.ifc IFC 2x3 or IFC4, or .glb/.gltf converted from IFC whose node names carry
-/// the IFC classes and which kept the IfcSpace volumes). Throws InputError.
+/// The import's refusal when the file needs repairs that were not allowed: every one of them,
+/// found in one run (what() is one line naming the first and the count).
+class BimRepairsNeeded : public InputError {
+ public:
+  BimRepairsNeeded(const std::string& what, std::vector<std::string> repairs)
+      : InputError(what), repairs(std::move(repairs)) {}
+  /// "repair: <what> <where>: <from> -> <to> (<the option that applies it>)", one each.
+  std::vector<std::string> repairs;
+};
+
+/// Imports `path` (.ifc IFC 2x3 or IFC4, or .glb/.gltf converted from IFC whose node names
+/// carry the IFC classes and which kept the IfcSpace volumes). Throws InputError, and BimRepairsNeeded
+/// when the file needs repairs the parameters do not allow.
 BimImport ImportBim(const std::string& path, const BimImportParams& params = {});
 
 /// Writes DIR/scene.glb and DIR/scene.truth.json (DIR is created).

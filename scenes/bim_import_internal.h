@@ -77,9 +77,13 @@ std::string NoSpaces(std::string s);
 
 enum class Role { kSpace, kWall, kSlab, kColumn, kDoor, kWindow, kComponent, kFurniture, kOther };
 
-/// Catalogue class of a component IFC class ("" = not a component class). Sizes pick sockets.
+/// Catalogue class of a component from its IFC class, its type object's class and, where those
+/// are generic (IfcFlowTerminal, IfcBuildingElementProxy, IfcSensor, IfcLightFixture, ...), the
+/// words of its name and its type object's name (`names`, English or German: "Steckdose",
+/// "Smoke detector", "Raumthermostat"); `other:<IfcClass>` when none says a catalogue class.
+/// Sizes pick sockets.
 std::string ComponentClass(const std::string& ifc, const std::string& type_class,
-                           const Eigen::Vector3d& size);
+                           const Eigen::Vector3d& size, const std::string& names = "");
 bool IsComponentIfc(const std::string& ifc);
 Role RoleOf(const std::string& ifc, ElementClass cls);
 
@@ -244,6 +248,10 @@ class Importer {
   bool SwingFits(const Swing& sw) const;
   Swing ChooseSwing(const Element& e, const std::vector<Hole>& holes, std::size_t hole_b);
   void AddLeaf(const Opening& o, const Swing& sw, double lambda, const std::string& swing_room);
+  // Holes through a wall between two rooms that no door or window fills: leafless doorways.
+  void Doorways();
+  // Wall inside an opening's rectangle (a round window, a sill): the opening's frame.
+  void FillHole(const Opening& o, const Hole& h, bool door);
   // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.
   void Passages();
 
@@ -254,6 +262,9 @@ class Importer {
   bool HostComponent(std::size_t ei, std::map<std::string, int>* counts);
 
   // --- the result (bim_import.cpp) ---
+  // One repair: listed when `allowed`, else kept for the refusal naming `option`.
+  void Repair(const std::string& what, const std::string& where, const std::string& from,
+              const std::string& to, bool allowed, const std::string& option);
   void Finish();
 
   const std::string path_;
@@ -261,6 +272,7 @@ class Importer {
   Scene scene_;
   std::map<std::string, std::string> names_;       // GlobalId -> IFC Name
   std::map<std::string, std::string> type_class_;  // GlobalId -> "ifcoutlet" (its type object)
+  std::map<std::string, std::string> type_guid_;   // GlobalId -> its type object's GlobalId
   std::map<std::string, std::vector<std::string>> storey_spaces_;  // storey -> space GlobalIds
   // storey GlobalId -> (element GlobalId, ENTITY) of IfcRelContainedInSpatialStructure
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> storey_contained_;
@@ -278,6 +290,8 @@ class Importer {
   std::vector<StructuralElement> walls_, floors_, ceilings_, columns_;
   std::set<std::string> other_ids_;
   mutable std::set<std::string> used_door_keys_;
+  std::vector<std::pair<std::string, std::string>> needed_;  // (repair line, option)
+  int doors_ = 0;                                            // D<k> ids given so far
   Output out_bucket_;
   BimImport out_;
 };

@@ -131,7 +131,7 @@ int Importer::LeafMaterial() {
 }
 
 void Importer::Openings() {
-  int doors = 0, windows = 0;
+  int windows = 0;
   for (std::size_t ei = 0; ei < elements_.size(); ++ei) {
     const Element& e = elements_[ei];
     if (!e.in_storey || (e.role != Role::kDoor && e.role != Role::kWindow)) continue;
@@ -146,7 +146,7 @@ void Importer::Openings() {
     }
     ReportHoleShape(e, holes[0]);
     Opening o;
-    o.id = door ? "D" + std::to_string(++doors) : "W" + std::to_string(++windows);
+    o.id = door ? "D" + std::to_string(++doors_) : "W" + std::to_string(++windows);
     o.type = door ? OpeningType::kDoor : OpeningType::kWindow;
     const Face& f0 = faces_[holes[0].face];
     const RoomData& r0 = rooms_[f0.room];
@@ -158,35 +158,85 @@ void Importer::Openings() {
       AddDoor(e, holes, &o);
     else
       AddWindow(e, f0, &o);
+    FillHole(o, holes[0], door);
   }
 }
 
-// The format's openings are rectangles: say so when the hole is not one (round window).
+// An element that fills only part of its hole leaves the rest open (a window in an opening cut
+// down to the floor): said in one line.
 void Importer::ReportHoleShape(const Element& e, const Hole& h) {
-  const Face& f = faces_[h.face];
-  const std::vector<HalfSpace> rect{{-f.dir, -f.dir.dot(f.a) - h.u0},
-                                    {f.dir, f.dir.dot(f.a) + h.u1},
-                                    {-Vector3d::UnitZ(), -h.v0},
-                                    {Vector3d::UnitZ(), h.v1}};
-  double covered = 0.0;
-  for (const auto& [el, piece] : f.pieces) {
-    Poly3 in;
-    std::vector<Poly3> outside;
-    Split(piece, rect, &in, &outside);
-    covered += Area(in);
-  }
-  // An element that fills only part of its hole leaves the rest open (a window in an
-  // opening cut down to the floor).
   if (e.box.min().z() > h.v0 + 0.05 || e.box.max().z() < h.v1 - 0.05)
     out_.report.push_back(NiceName(e.node) + ": fills z " + Fmt(e.box.min().z(), 2) + " to " +
                           Fmt(e.box.max().z(), 2) + " m of its hole's " + Fmt(h.v0, 2) + " to " +
                           Fmt(h.v1, 2) + " m; the rest of the hole is open");
-  const double share = covered / ((h.u1 - h.u0) * (h.v1 - h.v0));
-  if (share > 0.001)
-    out_.report.push_back(NiceName(e.node) + ": its hole is not a rectangle (" +
-                          Fmt(100.0 * share, 1) +
-                          " % of its bounding rectangle is wall); "
-                          "the truth keeps the rectangle and validate will say so");
+}
+
+// The format's openings are rectangles. Wall inside an opening's rectangle on any of its host
+// faces (a round window's corners, a threshold or a lintel step 1 cm into a door's hole) is
+// part of the opening: with --repair it becomes the opening's frame, so that no wall triangle
+// covers the opening (docs/scene-format.md); else it is a repair the file needs.
+void Importer::FillHole(const Opening& o, const Hole& /*h*/, bool door) {
+  for (const std::string& wid : o.host_walls) {
+    std::size_t fi = faces_.size();
+    for (std::size_t k = 0; k < faces_.size(); ++k)
+      if (faces_[k].id == wid) fi = k;
+    if (fi == faces_.size()) continue;
+    Face& f = faces_[fi];
+    double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+    for (const Vector3d& c : o.corners) {
+      u0 = std::min(u0, f.U(c));
+      u1 = std::max(u1, f.U(c));
+      v0 = std::min(v0, c.z());
+      v1 = std::max(v1, c.z());
+    }
+    auto rect = [&](double m) {
+      return std::vector<HalfSpace>{{-f.dir, -f.dir.dot(f.a) - (u0 + m)},
+                                    {f.dir, f.dir.dot(f.a) + (u1 - m)},
+                                    {-Vector3d::UnitZ(), -(v0 + m)},
+                                    {Vector3d::UnitZ(), v1 - m}};
+    };
+    // What validate sees: wall inside the rectangle shrunk by 1 mm.
+    double covered = 0.0;
+    for (const auto& [el, piece] : f.pieces) {
+      Poly3 in;
+      std::vector<Poly3> outside;
+      Split(piece, rect(1e-3), &in, &outside);
+      covered += Area(in);
+    }
+    if (covered <= kMinPieceArea) continue;
+    const double share = covered / ((u1 - u0) * (v1 - v0));
+    Repair(door ? "door hole" : "window hole", o.id + " in " + f.id,
+           Fmt(100.0 * share, 1) + " % of its rectangle " + Fmt(u1 - u0, 2) + " x " +
+               Fmt(v1 - v0, 2) + " m is wall",
+           "that wall is the " + std::string(door ? "door's" : "window's") + " frame", p_.repair,
+           "--repair");
+    if (!p_.repair) continue;
+    std::vector<std::pair<std::size_t, Poly3>> kept;
+    std::vector<int> kept_materials;
+    const ElementClass frame = door ? ElementClass::kDoorFrame : ElementClass::kWindowFrame;
+    const std::string room = rooms_[f.room].room.id;
+    for (std::size_t i = 0; i < f.pieces.size(); ++i) {
+      Poly3 in;
+      std::vector<Poly3> outside;
+      Split(f.pieces[i].second, rect(0.0), &in, &outside);
+      if (!in.empty())
+        out_bucket_.Get(o.id, frame, door ? "door" : "window", room, f.materials[i])
+            .pieces.push_back(std::move(in));
+      else
+        outside = {f.pieces[i].second};
+      for (Poly3& piece : outside) {
+        kept.emplace_back(f.pieces[i].first, std::move(piece));
+        kept_materials.push_back(f.materials[i]);
+      }
+    }
+    f.pieces = std::move(kept);
+    f.materials = std::move(kept_materials);
+    for (Bucket& b : out_bucket_.buckets())
+      if (b.id == f.id && b.cls == ElementClass::kWall) b.pieces.clear();
+    for (std::size_t i = 0; i < f.pieces.size(); ++i)
+      out_bucket_.Get(f.id, ElementClass::kWall, "", room, f.materials[i])
+          .pieces.push_back(f.pieces[i].second);
+  }
 }
 
 // A window keeps its BIM geometry: glass parts (transmissive materials) and frame.
@@ -329,6 +379,83 @@ void Importer::AddLeaf(const Opening& o, const Swing& sw, double lambda,
   for (const auto& t : box.triangles)
     leaf.pieces.push_back({box.positions[t[0]].cast<double>(), box.positions[t[1]].cast<double>(),
                            box.positions[t[2]].cast<double>()});
+}
+
+// A hole through a wall between two rooms that no door or window fills (an IfcOpeningElement
+// alone, a doorway): on a room's wall face, a gap in the wall at 1 m above the floor, reaching
+// down to the floor and at least kDoorwayHeight high, facing a gap of another room's wall face
+// no deeper than kDoorwayDepth behind it. It is a door without a leaf (leaf_thickness 0, open
+// at 180 deg) and connects the two rooms (docs/scene-format.md).
+void Importer::Doorways() {
+  constexpr double kDoorwayHeight = 1.8;  // m: a passage people walk through
+  constexpr double kDoorwayDepth = 0.6;   // m: the thickest wall between two rooms
+  constexpr double kMinWidth = 0.3;       // m: narrower gaps are joints, not openings
+  for (std::size_t fi = 0; fi < faces_.size(); ++fi) {
+    const Face& f = faces_[fi];
+    if (!f.kept) continue;
+    const double v = std::min(f.z0 + 1.0, 0.5 * (f.vmin + f.vmax));
+    const std::vector<std::pair<double, double>> cov = Coverage(f, false, v);
+    for (std::size_t k = 0; k + 1 < cov.size(); ++k) {
+      double g0 = cov[k].second, g1 = cov[k + 1].first;
+      if (g1 - g0 < kMinWidth) continue;
+      bool taken = false;
+      for (const Hole& h : holes_)
+        taken = taken || (h.face == fi && h.u0 < g1 - 1e-3 && h.u1 > g0 + 1e-3);
+      if (taken) continue;
+      const double um = 0.5 * (g0 + g1);
+      double v0 = 0.0, v1 = 0.0;
+      if (!GapAround(Coverage(f, true, um), v, f.vmin, f.vmax, &v0, &v1) ||
+          v0 > f.z0 + 0.05 || v1 - v0 < kDoorwayHeight)
+        continue;
+      // The other room's face behind it, with a gap there too.
+      const Vector3d mid = f.a + um * f.dir + Vector3d(0, 0, v - f.a.z());
+      std::size_t gi = faces_.size();
+      double ga = 0.0, gb = 0.0;
+      for (std::size_t k2 = 0; k2 < faces_.size(); ++k2) {
+        const Face& g = faces_[k2];
+        if (!g.kept || g.room == f.room || g.n.dot(f.n) > -kFacingCos) continue;
+        const double depth = -f.W(g.a);
+        const double ug = g.U(mid);
+        if (depth < -p_.plane_tolerance || depth > kDoorwayDepth || ug < 0.0 || ug > g.length)
+          continue;
+        if (GapAround(Coverage(g, false, v), ug, 0.0, g.length, &ga, &gb)) gi = k2;
+        if (gi != faces_.size()) break;
+      }
+      if (gi == faces_.size() || gi < fi) continue;  // each doorway once, from its first face
+      const Face& g = faces_[gi];
+      // The clear hole: where both sides are open.
+      const double fa = f.U(g.a + ga * g.dir), fb = f.U(g.a + gb * g.dir);
+      g0 = std::max(g0, std::min(fa, fb));
+      g1 = std::min(g1, std::max(fa, fb));
+      double gv0 = 0.0, gv1 = 0.0;
+      if (g1 - g0 < kMinWidth ||
+          !GapAround(Coverage(g, true, g.U(f.a + 0.5 * (g0 + g1) * f.dir)), v, g.vmin, g.vmax,
+                     &gv0, &gv1))
+        continue;
+      v1 = std::min(v1, gv1);
+      Opening o;
+      o.id = "D" + std::to_string(++doors_);
+      o.type = OpeningType::kDoor;
+      o.host_walls = {f.id, g.id};
+      o.rooms = {rooms_[f.room].room.id, rooms_[g.room].room.id};
+      const Hole h{fi, g0, g1, v0, v1, 0.0};
+      FillRect(&o, h);
+      holes_.push_back(h);
+      o.opening_angle = kPi;
+      o.state = DoorStateFromAngle(o.opening_angle);
+      o.leaf_thickness = 0.0;
+      o.hinge_side = "left";
+      o.swing_room = o.rooms[0];
+      o.hinge_point = o.corners[0];
+      o.hinge_axis = Vector3d::UnitZ();
+      out_.truth.openings.push_back(o);
+      out_.truth.connections.push_back({o.id, o.rooms[0], o.rooms[1]});
+      FillHole(o, h, true);
+      out_.report.push_back("doorway " + o.id + " between " + o.rooms[0] + " and " + o.rooms[1] +
+                            ": a " + Fmt(g1 - g0, 2) + " x " + Fmt(v1 - v0, 2) + " m hole in " +
+                            f.id + " and " + g.id + " that no door or window fills (no leaf)");
+    }
+  }
 }
 
 // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.

@@ -353,7 +353,10 @@ void Importer::ReadStepInfo(const std::string& path) {
       std::string cls = Lower(EntityOf(type->second));
       if (cls.size() > 4 && cls.compare(cls.size() - 4, 4, "type") == 0) cls.resize(cls.size() - 4);
       for (unsigned long o : refs(a[4]))
-        if (guid_of.count(o)) type_class_[guid_of[o]] = cls;
+        if (guid_of.count(o)) {
+          type_class_[guid_of[o]] = cls;
+          if (guid_of.count(type->first)) type_guid_[guid_of[o]] = guid_of[type->first];
+        }
     } else if (entity == "IFCRELCONTAINEDINSPATIALSTRUCTURE" && a.size() >= 6) {
       // (guid, owner, name, description, (#elements), #structure)
       const std::vector<unsigned long> where = refs(a[5]);

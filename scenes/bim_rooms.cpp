@@ -261,16 +261,24 @@ double Importer::SlabCover(std::size_t r, double z, bool up) const {
   return area / SignedArea(room.poly);
 }
 
-// A space drawn into the slab above (to the next level, as some tools do) or short of the
-// ceiling: the room's ceiling (floor) is the fully covering slab face nearest to the space's
-// top (bottom), within [floor + 1.8 m, top + 1 m] ([bottom - 0.3 m, bottom + 0.3 m]).
+// The building elements are the truth of the building, a space's box is an annotation. A space
+// drawn into the slab above (to the next level, as some tools do), short of the ceiling, or
+// floating above its floor (a space base at 1.22 m while the storey's walls and doors stand on
+// the slab at 0): the room's ceiling (floor) is the fully covering slab face nearest to the
+// space's top (bottom), within [floor + 1.8 m, top + 1 m] ([lowest wall or door foot of the
+// storey - 0.3 m, bottom + 0.3 m]: walls and doors stand on the floor).
 void Importer::ResolveHeights() {
+  double feet = 1e300;  // the lowest foot of the storey's walls and doors
+  for (const Element& e : elements_)
+    if (e.in_storey && !e.merged && (e.role == Role::kWall || e.role == Role::kDoor) &&
+        !e.box.isEmpty())
+      feet = std::min(feet, e.box.min().z());
   for (std::size_t r = 0; r < rooms_.size(); ++r) {
     Room& room = rooms_[r].room;
     for (bool up : {true, false}) {
       const double z_space = up ? room.floor_z : room.ceiling_z;
       if (SlabCover(r, z_space, up) >= kFullCover) continue;
-      const double lo = up ? z_space - 0.3 : room.floor_z + 1.8;
+      const double lo = up ? std::min(z_space, feet) - 0.3 : room.floor_z + 1.8;
       const double hi = up ? z_space + 0.3 : z_space + 1.0;
       // Candidate planes (mm): slab faces facing the right way over the room's box.
       Eigen::AlignedBox2d room_box;
@@ -314,9 +322,11 @@ void Importer::ResolveHeights() {
             if (std::abs(v.z() - best) <= 1e-3) sum += v.z(), n += 1.0;
       }
       const double z = n > 0 ? sum / n : best;
-      out_.report.push_back(NiceName(rooms_[r].node) + ": its " + (up ? "floor" : "ceiling") +
-                            " is the slab face at z = " + Fmt(z) + " m, not the space's " +
-                            (up ? "bottom" : "top") + " at " + Fmt(z_space) + " m");
+      // Always applied: the slab is there; the space's box is not.
+      Repair(up ? "floor height" : "ceiling height",
+             room.id + " (" + NiceName(rooms_[r].node) + ")",
+             Fmt(z_space) + " m (the space's " + (up ? "bottom" : "top") + ")",
+             Fmt(z) + " m (the slab face " + (up ? "under" : "over") + " it)", true, "");
       (up ? room.floor_z : room.ceiling_z) = z;
     }
   }

@@ -251,14 +251,9 @@ void Importer::FloorsAndCeilings() {
       const ElementClass cls = up ? ElementClass::kFloor : ElementClass::kCeiling;
       const double z = up ? room.room.floor_z : room.room.ceiling_z;
       if (have < kFullCover * area) {
-        const std::string line = "room " + room.room.id + " (" + NiceName(room.node) +
-                                 "): " + Fmt(100.0 * have / area, 1) + " % of its " + what +
-                                 " has geometry at z = " + Fmt(z) + " m";
-        if (!repair)
-          throw InputError(path_, line, "",
-                           "--" + what +
-                               "-from-spaces to make it from the "
-                               "space footprint");
+        Repair(what, room.room.id + " (" + NiceName(room.node) + ")",
+               Fmt(100.0 * have / area, 1) + " % " + what + " geometry at z = " + Fmt(z) + " m",
+               "the space footprint", repair || p_.repair, "--" + what + "-from-spaces");
         // Replace what there is by the whole footprint (same plane: nothing is lost).
         for (Bucket& b : out_bucket_.buckets())
           if (b.id == id) b.pieces.clear();
@@ -269,7 +264,6 @@ void Importer::FloorsAndCeilings() {
           if (!up) std::swap(tri[1], tri[2]);
           b.pieces.push_back(tri);
         }
-        out_.report.push_back(line + ": made from the space footprint");
       }
       StructuralElement s;
       s.id = id;

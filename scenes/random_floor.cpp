@@ -533,7 +533,8 @@ SceneSpec RandomFloorSpec(std::uint64_t seed, int rooms, FloorFamily family) {
     try {
       ValidateSceneSpec(spec);
       const GeneratedScene g = Generate(spec);
-      if (CheckScene(g.scene, g.truth).ok()) return spec;
+      const CheckReport check = CheckScene(g.scene, g.truth);
+      if (check.ok() && check.unreachable_rooms == 0) return spec;
       last_error = "check failed";
     } catch (const InputError& e) {
       last_error = e.what();

@@ -5,11 +5,16 @@
 //  - openings are cut into their host walls (no wall triangle covers the opening's interior);
 //  - every BSC's back lies on its host wall or ceiling within 1 mm and inside its extent;
 //  - rooms do not overlap;
-//  - every room is reachable from the first through open doors (lambda >= 90 deg) whose clear
-//    width (opening width minus leaf thickness) is at least kMinClearDoorWidth;
-//  - every door leaf lies at the angle the truth gives (within 0.5 deg) and states match angles.
+//  - every door leaf lies at the angle the truth gives (within 0.5 deg; the direction of the
+//    leaf's own width) and states match angles; a door with leaf_thickness 0 is a doorway
+//    without a leaf.
+// Errors are defects of the scene. Warnings are properties of the building the scene holds:
+//  - a room not reachable from the first through open doors (lambda >= 90 deg) whose clear
+//    width (opening width minus leaf thickness) is at least kMinClearDoorWidth (a locked room);
+//  - a door leaf more than 3 cm narrower or wider than its opening.
 // Pure function of its inputs; results are reported, never thrown.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -29,6 +34,7 @@ struct CheckReport {
   int doors_open = 0, doors_semi_open = 0, doors_closed = 0;
   int service_components = 0, furniture = 0;
   std::size_t triangles = 0;
+  int unreachable_rooms = 0;  ///< rooms open doors do not reach from the first (warnings)
 
   bool ok() const { return errors.empty(); }
   /// Multi-line human-readable summary (counts, then errors and warnings).
@@ -36,5 +42,9 @@ struct CheckReport {
 };
 
 CheckReport CheckScene(const Scene& scene, const GroundTruth& truth);
+
+/// Room id -> the rooms one step away through an open door of clear width >=
+/// kMinClearDoorWidth or an open passage (in connection order; a room may repeat).
+std::map<std::string, std::vector<std::string>> OpenDoorGraph(const GroundTruth& truth);
 
 }  // namespace mopad::scenes

@@ -21,35 +21,14 @@ SceneWorld LoadSceneWorld(const std::string& scene_arg,
   return out;
 }
 
-Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::Room& room) {
-  Eigen::AlignedBox2d box;
-  for (const auto& p : room.polygon) box.extend(p);
-  Eigen::Vector2d best = box.center();
-  double best_clear = -1.0;
-  for (double x = box.min().x() + 0.05; x < box.max().x(); x += 0.1) {
-    for (double y = box.min().y() + 0.05; y < box.max().y(); y += 0.1) {
-      const Eigen::Vector2d p(x, y);
-      if (!PointInPolygon(p, room.polygon)) continue;
-      double clear = 1e9;
-      for (std::size_t i = 0; i < room.polygon.size(); ++i)
-        clear = std::min(clear, DistanceToSegment(p, room.polygon[i],
-                                                  room.polygon[(i + 1) % room.polygon.size()]));
-      for (const auto& f : truth.furniture) {
-        const double r = 0.5 * f.size.head<2>().norm();
-        clear = std::min(clear, (p - f.centre.head<2>()).norm() - r);
-      }
-      for (const auto& e : truth.elements) {
-        if (e.element_class != scenes::ElementClass::kColumn) continue;
-        for (const auto& poly : e.polygons)
-          for (const auto& v : poly) clear = std::min(clear, (p - v.head<2>()).norm());
-      }
-      if (clear > best_clear + 1e-9) {
-        best_clear = clear;
-        best = p;
-      }
-    }
-  }
-  return best;
+scenes::RobotFootprint FootprintOf(const RobotBodyParams& body) {
+  scenes::RobotFootprint f;
+  f.length = body.footprint_length;
+  f.width = body.footprint_width;
+  f.offset_x = body.footprint_offset_x;
+  f.ground_clearance = body.ground_clearance;
+  f.body_height = body.body_height;
+  return f;
 }
 
 }  // namespace mopad::sim

@@ -1,7 +1,8 @@
 #pragma once
 // The world a mission runs in, from a SCENE argument (truth side): a SCENE argument
 // (generated folder, scene file, or spec .yaml with optional door-angle overrides) becomes an
-// Embree world plus the truth sidecar when there is one. Also the harness's start placement.
+// Embree world plus the truth sidecar when there is one, and the robot body for the harness's
+// start placement (scenes/start_spot.h).
 
 #include <Eigen/Core>
 #include <memory>
@@ -11,7 +12,9 @@
 
 #include "common/frames.h"
 #include "scenes/ground_truth.h"
+#include "scenes/start_spot.h"
 #include "sim/embree_world.h"
+#include "sim/robot_body.h"
 
 namespace mopad::sim {
 
@@ -27,9 +30,7 @@ struct SceneWorld {
 SceneWorld LoadSceneWorld(const std::string& scene_arg,
                           const std::vector<std::string>& door_overrides = {});
 
-/// Harness placement from the truth (never given to the robot as knowledge): the point of a
-/// 10 cm grid inside the room that is farthest from walls, furniture and columns (a "pole of
-/// inaccessibility"). Deterministic.
-Eigen::Vector2d FreeSpotInRoom(const scenes::GroundTruth& truth, const scenes::Room& room);
+/// The robot body as the harness's start placement sees it (scenes/start_spot.h).
+scenes::RobotFootprint FootprintOf(const RobotBodyParams& body);
 
 }  // namespace mopad::sim

@@ -145,6 +145,9 @@ void AddImportCommand(CLI::App* scene) {
                               "Make missing floors from the space footprints");
   auto* ceiling = cmd->add_flag("--ceiling-from-spaces", flags->ceiling_from_spaces,
                                 "Make missing ceilings from the space footprints");
+  auto* repair = cmd->add_flag("--repair", flags->repair,
+                               "Apply every repair the file needs, one line each (without it, "
+                               "the import lists them all and exits 2)");
   auto* merge = cmd->add_option("--merge", flags->merge,
                                 "Further model whose components are added (repeatable)");
   auto* site = cmd->add_flag("--keep-site", flags->keep_site, "Keep the IfcSite terrain geometry");
@@ -161,12 +164,22 @@ void AddImportCommand(CLI::App* scene) {
     if (doors_opt->count() > 0) params.door_angles_deg = scenes::ParseDoorAngles(*doors, "--doors");
     OverrideIfGiven(floor, flags->floor_from_spaces, params.floor_from_spaces);
     OverrideIfGiven(ceiling, flags->ceiling_from_spaces, params.ceiling_from_spaces);
+    OverrideIfGiven(repair, flags->repair, params.repair);
     OverrideIfGiven(merge, flags->merge, params.merge);
     OverrideIfGiven(site, flags->keep_site, params.keep_site);
     OverrideIfGiven(tolerance, flags->plane_tolerance, params.plane_tolerance);
-    const scenes::BimImport imported = scenes::ImportBim(*path, params);
+    scenes::BimImport imported;
+    try {
+      imported = scenes::ImportBim(*path, params);
+    } catch (const scenes::BimRepairsNeeded& e) {
+      // Every repair in one run; then the one error line (exit 2).
+      for (const auto& line : e.repairs) std::printf("needs %s\n", line.c_str());
+      std::fflush(stdout);
+      throw;
+    }
     scenes::WriteBimImport(imported, *out);
     for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
+    for (const auto& line : imported.repairs) std::printf("%s\n", line.c_str());
     PrintSummary(Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
     std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out->c_str(), out->c_str());
   });

@@ -4,6 +4,7 @@
 // turned by 45 deg, a second space without representation, malformed files. Every answer is
 // analytic (from the numbers below), never taken from the importer itself.
 #include "scenes/bim_import.h"
+#include "scenes/bim_import_internal.h"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -45,6 +48,7 @@ struct FixtureOptions {
   bool feet = false;       // write lengths in feet with a FOOT unit
   bool extra_space_without_representation = false;
   bool floor_slab = true;
+  bool ceiling_slab = true;
   std::string schema = "IFC2X3";
   bool broken_foot_unit = false;
   bool outlet = true;
@@ -52,6 +56,7 @@ struct FixtureOptions {
   bool split_space = false;   // two 2 x 3 m spaces side by side, no wall between them
   double space_inset = 0.0;   // m, the space drawn this much inside the walls
   double space_height = 2.5;  // m (the ceiling slab's underside is at 2.5)
+  double space_base = 0.0;    // m, the space's bottom (its top stays at space_height)
   bool west_lining = false;   // the west wall 18 cm, its room face a 2 cm IfcCovering
   bool far = false;           // georeferenced: the building at (500 km, 5400 km)
   bool brep_space = false;    // the space a faceted BRep whose bottom has a T-junction
@@ -76,7 +81,8 @@ class IfcWriter {
     const int wall_e = Element("IFCWALLSTANDARDCASE", "East", Rect(4.0, 0.0, 4.2, 3.0, 0, 2.5));
     if (o_.floor_slab)
       Element("IFCSLAB", "Floor", Rect(-0.2, -0.2, 4.2, 3.2, -0.2, 0.2), ".FLOOR.");
-    Element("IFCSLAB", "Ceiling", Rect(-0.2, -0.2, 4.2, 3.2, 2.5, 0.2), ".FLOOR.");
+    if (o_.ceiling_slab)
+      Element("IFCSLAB", "Ceiling", Rect(-0.2, -0.2, 4.2, 3.2, 2.5, 0.2), ".FLOOR.");
     // Door: opening through the south wall, x [1, 1.9], z [0, 2]; the closed leaf in it.
     const int hole_d = Element("IFCOPENINGELEMENT", "", Rect(1.0, -0.3, 1.9, 0.1, 0.0, 2.0));
     const int door = Element("IFCDOOR", "Door-1", Rect(1.0, -0.12, 1.9, -0.08, 0.0, 2.0));
@@ -106,7 +112,8 @@ class IfcWriter {
     } else {
       const double d = o_.space_inset;
       spaces.push_back(
-          Element("IFCSPACE", "1", Rect(d, d, 4.0 - d, 3.0 - d, 0.0, o_.space_height)));
+          Element("IFCSPACE", "1",
+                  Rect(d, d, 4.0 - d, 3.0 - d, o_.space_base, o_.space_height - o_.space_base)));
     }
     if (o_.extra_space_without_representation)
       spaces.push_back(Add("IFCSPACE('" + Guid() +
@@ -546,8 +553,9 @@ TEST_F(BimImportTest, SpaceDrawnIntoOrShortOfTheSlabGetsTheSlabsCeiling) {
     const BimImport imp = ImportBim(Fixture(o, name));
     ExpectFixtureTruth(imp, 0.0, 90.0);
     int lines = 0;
-    for (const auto& l : imp.report)
-      lines += l.find("its ceiling is the slab face at z = 2.500 m") != std::string::npos;
+    for (const auto& l : imp.repairs)
+      lines += l.find("repair: ceiling height R1 (IfcSpace '1')") == 0 &&
+               l.find("-> 2.500 m (the slab face over it)") != std::string::npos;
     EXPECT_EQ(lines, 1) << h;
   }
 }
@@ -620,17 +628,72 @@ TEST_F(BimImportTest, MissingFloorIsRefusedOrMadeFromTheSpace) {
   try {
     ImportBim(path);
     FAIL() << "no error";
-  } catch (const InputError& e) {
+  } catch (const BimRepairsNeeded& e) {
     const std::string m = e.what();
-    EXPECT_EQ(m.rfind(path + ": error: room R1", 0), 0u) << m;
-    EXPECT_NE(m.find("0.0 % of its floor"), std::string::npos) << m;
-    EXPECT_NE(m.find("--floor-from-spaces"), std::string::npos) << m;
+    EXPECT_EQ(m.rfind(path + ": error: the file needs 1 repair(s); the first: floor R1", 0), 0u)
+        << m;
+    EXPECT_NE(m.find("0.0 % floor"), std::string::npos) << m;
+    EXPECT_NE(m.find("--floor-from-spaces or --repair"), std::string::npos) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos);
+    ASSERT_EQ(e.repairs.size(), 1u);
+    EXPECT_EQ(e.repairs[0].rfind("repair: floor R1 (IfcSpace '1'): 0.0 % floor geometry at z = "
+                                 "0.000 m -> the space footprint (--floor-from-spaces)",
+                                 0),
+              0u)
+        << e.repairs[0];
   }
+  for (const bool all : {false, true}) {
+    BimImportParams p;
+    (all ? p.repair : p.floor_from_spaces) = true;
+    const BimImport imp = ImportBim(path, p);
+    ExpectFixtureTruth(imp, 0.0, 90.0);
+    ASSERT_EQ(imp.repairs.size(), 1u);
+    EXPECT_EQ(imp.repairs[0].rfind("repair: floor R1", 0), 0u) << imp.repairs[0];
+  }
+}
+
+TEST_F(BimImportTest, EveryRepairTheFileNeedsIsListedInOneRun) {
+  // No floor slab and no ceiling slab: two repairs, both named by the one refusal (the outlet,
+  // with no ceiling above it, stays on its wall).
+  FixtureOptions o;
+  o.floor_slab = false;
+  o.ceiling_slab = false;
+  const std::string path = Fixture(o);
+  std::vector<std::string> needed;
+  try {
+    ImportBim(path);
+    ADD_FAILURE() << "no error";
+  } catch (const BimRepairsNeeded& e) {
+    needed = e.repairs;
+    EXPECT_NE(std::string(e.what()).find("needs " + std::to_string(needed.size()) + " repair"),
+              std::string::npos)
+        << e.what();
+  }
+  ASSERT_GE(needed.size(), 2u);
+  EXPECT_EQ(needed[0].rfind("repair: floor R1", 0), 0u) << needed[0];
+  EXPECT_EQ(needed[1].rfind("repair: ceiling R1", 0), 0u) << needed[1];
   BimImportParams p;
-  p.floor_from_spaces = true;
+  p.repair = true;
   const BimImport imp = ImportBim(path, p);
+  ASSERT_EQ(imp.repairs.size(), needed.size());
+  for (std::size_t k = 0; k < needed.size(); ++k)  // the same lines, now applied
+    EXPECT_EQ(needed[k].rfind(imp.repairs[k], 0), 0u) << needed[k] << " vs " << imp.repairs[k];
+  EXPECT_TRUE(CheckScene(imp.scene, imp.truth).ok());
+}
+
+TEST_F(BimImportTest, SpaceFloatingAboveTheSlabGetsTheSlabsFloor) {
+  // A space drawn from 1.22 m while its walls, door and slab start at 0: the floor is the slab's
+  // top (the building elements are the truth; the space's box an annotation), in one repair line.
+  FixtureOptions o;
+  o.space_base = 1.22;
+  const BimImport imp = ImportBim(Fixture(o));
   ExpectFixtureTruth(imp, 0.0, 90.0);
+  int lines = 0;
+  for (const auto& l : imp.repairs)
+    lines += l.rfind("repair: floor height R1 (IfcSpace '1'): 1.220 m (the space's bottom) -> "
+                     "0.000 m (the slab face under it)",
+                     0) == 0;
+  EXPECT_EQ(lines, 1);
 }
 
 TEST_F(BimImportTest, MalformedInputsGiveOneClearLine) {
@@ -704,6 +767,68 @@ TEST_F(BimImportTest, MergedModelAddsItsComponentsInTheSameFrame) {
   BimImportParams self;
   self.merge = {elec};
   EXPECT_EQ(ImportBim(elec, self).truth.service_components.size(), 1u);
+}
+
+TEST_F(BimImportTest, MergedModelsComponentsOfOtherClassesGetUniqueIds) {
+  // Two components that are no catalogue class, of two IFC classes, one from each model: both
+  // `other`, numbered by one counter (they once were both `other_1`, and validate refused it).
+  const std::string plain = Fixture({}, "plain.ifc");
+  auto untyped = [&](const std::string& name, const std::string& entity, const std::string& guid) {
+    std::ifstream in(plain);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const std::size_t rel = text.find("IFCRELDEFINESBYTYPE");
+    const std::size_t line = text.rfind('#', rel);
+    text.erase(line, text.find('\n', rel) + 1 - line);  // no type object
+    const std::size_t at = text.find("IFCFLOWTERMINAL('");
+    text.replace(at + 17, 22, guid);
+    text.replace(at, 15, entity);
+    const std::size_t label = text.find("'Socket-1'");
+    text.replace(label, 10, "'Box-1'");
+    const fs::path out = dir_ / name;
+    std::ofstream(out) << text;
+    return out.string();
+  };
+  const std::string arch = untyped("arch.ifc", "IFCFLOWCONTROLLER", "ARCH00000000000000000A");
+  const std::string elec = untyped("elec.ifc", "IFCFLOWTERMINAL", "ELEC00000000000000000E");
+  BimImportParams p;
+  p.merge = {elec};
+  const BimImport imp = ImportBim(arch, p);
+  std::set<std::string> ids, classes;
+  for (const ServiceComponent& c : imp.truth.service_components) {
+    EXPECT_TRUE(ids.insert(c.id).second) << c.id;
+    classes.insert(c.bsc_class);
+  }
+  EXPECT_EQ(ids, (std::set<std::string>{"other_1", "other_2"}));
+  EXPECT_EQ(classes, (std::set<std::string>{"other:IfcFlowController", "other:IfcFlowTerminal"}));
+  const CheckReport rep = CheckScene(imp.scene, imp.truth);
+  EXPECT_TRUE(rep.ok()) << rep.Summary();
+  // Written and read back: the truth reader accepts it.
+  WriteBimImport(imp, (dir_ / "merged").string());
+  EXPECT_EQ(ReadGroundTruth((dir_ / "merged" / "scene.truth.json").string())
+                .service_components.size(),
+            2u);
+}
+
+TEST(BimComponentClass, GenericClassesTakeTheirClassFromTheirNames) {
+  const Vector3d small(0.08, 0.04, 0.08), double_socket(0.15, 0.04, 0.08);
+  using bim::ComponentClass;
+  EXPECT_EQ(ComponentClass("IfcFlowTerminal", "", double_socket, "Steckdose 2-fach"),
+            "socket_x2");
+  EXPECT_EQ(ComponentClass("IfcFlowTerminal", "", small, "Duplex Receptacle"), "socket_x1");
+  EXPECT_EQ(ComponentClass("IfcFlowController", "", small, "Lichtschalter"), "switch");
+  EXPECT_EQ(ComponentClass("IfcBuildingElementProxy", "", small, "Rauchmelder"), "smoke_detector");
+  // A thermostat is no switch and no smoke detector, though an IfcSensor.
+  EXPECT_EQ(ComponentClass("IfcSensor", "", small, "Raumthermostat"), "other:IfcSensor");
+  EXPECT_EQ(ComponentClass("IfcFlowController", "", small, "Thermostat | Temperaturschalter"),
+            "other:IfcFlowController");
+  // Lights are not in the catalogue, exit lights are.
+  EXPECT_EQ(ComponentClass("IfcFlowTerminal", "", small, "Deckenleuchte"),
+            "other:IfcFlowTerminal");
+  EXPECT_EQ(ComponentClass("IfcFlowTerminal", "", small, "Exit sign light"), "exit_light");
+  EXPECT_EQ(ComponentClass("IfcFlowTerminal", "", small, "Box-1"), "other:IfcFlowTerminal");
+  // The type object's class is said first; a sensor without words is a smoke detector.
+  EXPECT_EQ(ComponentClass("IfcFlowTerminal", "ifcoutlet", small, "Lamp"), "socket_x1");
+  EXPECT_EQ(ComponentClass("IfcSensor", "", small, ""), "smoke_detector");
 }
 
 }  // namespace

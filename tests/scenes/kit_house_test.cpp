@@ -239,6 +239,74 @@ TEST_F(KitHouse, GroundFloorImportHoldsTheCountsOfTheStepText) {
   EXPECT_TRUE(rep.ok()) << rep.Summary();
 }
 
+// Both storeys with --repair: every repair listed in one line each, the scene valid, the counts
+// of the STEP text kept. Without it, the refusal names every repair at once.
+TEST_F(KitHouse, BothStoreysWithRepairListEveryRepairAndValidate) {
+  for (const char* storey : {"0. Erdgeschoss", "1. Dachgeschoss"}) {
+    BimImportParams p;
+    p.storey = storey;
+    std::vector<std::string> needed;
+    try {
+      ImportBim(Ifc(), p);
+    } catch (const BimRepairsNeeded& e) {
+      needed = e.repairs;
+    }
+    ASSERT_FALSE(needed.empty()) << storey;
+    p.repair = true;
+    const BimImport imp = ImportBim(Ifc(), p);
+    ASSERT_EQ(imp.repairs.size(), needed.size()) << storey;
+    for (std::size_t k = 0; k < needed.size(); ++k) {
+      EXPECT_EQ(imp.repairs[k].rfind("repair: ", 0), 0u) << imp.repairs[k];
+      EXPECT_EQ(needed[k].rfind(imp.repairs[k], 0), 0u) << needed[k];
+    }
+    const kit_import::StepCounts step = kit_import::CountStoreyFromStep(Ifc(), storey);
+    int doors = 0, windows = 0;
+    for (const auto& o : imp.truth.openings) (o.type == OpeningType::kDoor ? doors : windows)++;
+    EXPECT_EQ(static_cast<int>(imp.truth.rooms.size()), step.spaces) << storey;
+    EXPECT_EQ(doors, step.doors) << storey;
+    EXPECT_EQ(windows, step.windows) << storey;
+    const CheckReport rep = CheckScene(imp.scene, imp.truth);
+    EXPECT_TRUE(rep.ok()) << storey << "\n" << rep.Summary();
+    EXPECT_TRUE(rep.warnings.empty()) << storey << "\n" << rep.Summary();
+  }
+  // The upper storey: its stair hole, its roof, and the wall in the corners of its two round
+  // windows' rectangles.
+  BimImportParams p;
+  p.storey = "1. Dachgeschoss";
+  p.repair = true;
+  std::string all;
+  for (const auto& l : ImportBim(Ifc(), p).repairs) all += l + "\n";
+  EXPECT_NE(all.find("repair: floor R1"), std::string::npos) << all;
+  EXPECT_NE(all.find("repair: ceiling R1"), std::string::npos) << all;
+  EXPECT_NE(all.find("repair: window hole W1"), std::string::npos) << all;
+  EXPECT_NE(all.find("21.6 % of its rectangle"), std::string::npos) << all;  // 1 - pi/4
+}
+
+// The KIT Jasmin-Sun house's ground floor: the living room opens to the hall through a hole in
+// their wall that no door fills; that doorway connects them, and with --repair the storey
+// validates with every room reachable.
+TEST_F(KitHouse, JasminSunGroundFloorHasADoorwayAndValidatesWithRepair) {
+  const fs::path jasmin = kKit / ".." / "kit_jasmin_sun" / "AC90R1-Jasmin-Sun-105-2x3.ifc";
+  if (!fs::exists(jasmin)) GTEST_SKIP() << "no Jasmin-Sun house at " << jasmin;
+  BimImportParams p;
+  p.storey = "Erdgeschoss";
+  p.repair = true;
+  const BimImport imp = ImportBim(jasmin.string(), p);
+  EXPECT_EQ(imp.truth.rooms.size(), 4u);
+  int leafless = 0;
+  for (const auto& o : imp.truth.openings)
+    if (o.type == OpeningType::kDoor && o.leaf_thickness == 0.0) {
+      ++leafless;
+      EXPECT_EQ(o.rooms.size(), 2u);
+      EXPECT_GE(o.u1 - o.u0, 0.7);
+      EXPECT_NEAR(o.v0, 0.0, 0.01);
+    }
+  EXPECT_EQ(leafless, 1);
+  const CheckReport rep = CheckScene(imp.scene, imp.truth);
+  EXPECT_TRUE(rep.ok()) << rep.Summary();
+  EXPECT_EQ(rep.unreachable_rooms, 0) << rep.Summary();
+}
+
 // The same house placed elsewhere and turned by 30 deg (the site's placement edited in the STEP
 // text): a building nobody tuned on, with the same answers where they do not depend on the
 // placement.

@@ -499,6 +499,32 @@ TEST(Cli, SceneImportTakesItsParamsFromTheConfigAndAFlagOverridesIt) {
   EXPECT_EQ(flag.out.find("From the file"), std::string::npos) << flag.out;
 }
 
+// A start in a wall or outside the building is refused before any work, in one line naming the
+// nearest free spot (the harness's free-space map, scenes/start_spot.h).
+TEST(Cli, RunStartInAWallOrOutsideTheBuildingIsOneLineExitTwoNamingTheNearestFreeSpot) {
+  // The wall between the open-plan office R1 and the hall H runs along y 7.4-7.6.
+  const Result wall =
+      Mopad("run --scene " + OfficeDir() + " --start 3.0,7.5,0 -q -o " + TempDir("start_wall"));
+  EXPECT_EQ(wall.code, 2) << wall.out;
+  EXPECT_NE(wall.out.find("--start 3.00,7.50,0.0: error: in collision with the scene "
+                          "(wall_R1_4); nearest free spot"),
+            std::string::npos)
+      << wall.out;
+  EXPECT_NE(wall.out.find("; nearest free spot "), std::string::npos) << wall.out;
+  // One error line (stdout's scene line may come before or after it).
+  const std::size_t line = wall.out.find("mopad: --start");
+  ASSERT_NE(line, std::string::npos) << wall.out;
+  EXPECT_NE(wall.out.substr(line, wall.out.find('\n', line) - line).find("nearest free spot"),
+            std::string::npos)
+      << wall.out;
+  EXPECT_EQ(wall.out.find("error", wall.out.find('\n', line)), std::string::npos) << wall.out;
+  const Result out =
+      Mopad("run --scene " + OfficeDir() + " --start -5,-5,0 -q -o " + TempDir("start_out"));
+  EXPECT_EQ(out.code, 2) << out.out;
+  EXPECT_NE(out.out.find("outside the building"), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("nearest free spot"), std::string::npos) << out.out;
+}
+
 // `mopad scan`: an option not given leaves the profile's value (no value stands for "not
 // given"), and a given value is used or refused, never ignored.
 TEST(Cli, ScanUsesTheProfilesStepUnlessTheFlagIsGivenAndRefusesAGivenZero) {
