@@ -37,18 +37,15 @@ constexpr double kMaxOffice = 9.0;     // m, the widest office along its corrido
 /// Corridor width on centre lines: 1.5-2.5 m clear between the wall faces.
 double CorridorWidth(CounterRng& rng) { return Round(rng.Uniform(1.5, 2.5)) + kWall; }
 
-/// Offices of one strip [lo, hi] along x, y in [y0, y1].
-void StripX(CounterRng& rng, double lo, double hi, double y0, double y1, int n, Layout* L) {
+/// Offices of one strip: [lo, hi] cut along x (y in [a0, a1]) or, with along_y, along y (x in
+/// [a0, a1]).
+void Strip(CounterRng& rng, double lo, double hi, double a0, double a1, int n, Layout* L,
+           bool along_y = false) {
   if (n <= 0) return;
-  const auto xs = Cuts(rng, lo, hi, n, kMinCell);
-  for (int i = 0; i < n; ++i) L->blocks.push_back({RectPoly({xs[i], y0, xs[i + 1], y1})});
-}
-
-/// Offices of one strip [lo, hi] along y, x in [x0, x1].
-void StripY(CounterRng& rng, double lo, double hi, double x0, double x1, int n, Layout* L) {
-  if (n <= 0) return;
-  const auto ys = Cuts(rng, lo, hi, n, kMinCell);
-  for (int i = 0; i < n; ++i) L->blocks.push_back({RectPoly({x0, ys[i], x1, ys[i + 1]})});
+  const auto cuts = Cuts(rng, lo, hi, n, kMinCell);
+  for (int i = 0; i < n; ++i)
+    L->blocks.push_back({along_y ? RectPoly({a0, cuts[i], a1, cuts[i + 1]})
+                                 : RectPoly({cuts[i], a0, cuts[i + 1], a1})});
 }
 
 }  // namespace
@@ -73,8 +70,8 @@ Layout CorridorLayout(CounterRng& rng, int rooms) {
   L.W = length;
   L.D = ds + c + dn;
   L.blocks.push_back({RectPoly({0.0, ds, L.W, ds + c}), BlockKind::kCorridor});
-  StripX(rng, 0.0, L.W, 0.0, ds, south, &L);
-  StripX(rng, 0.0, L.W, ds + c, L.D, north, &L);
+  Strip(rng, 0.0, L.W, 0.0, ds, south, &L);
+  Strip(rng, 0.0, L.W, ds + c, L.D, north, &L);
   return L;
 }
 
@@ -110,9 +107,9 @@ Layout JunctionLayout(CounterRng& rng, int rooms) {
   hub.push_back({xv, y1});
   hub.push_back({0.0, y1});
   L.blocks.push_back({hub, BlockKind::kCorridor});
-  StripX(rng, 0.0, L.W, 0.0, ds, south, &L);
-  StripY(rng, y1, L.D, 0.0, xv, west, &L);
-  StripY(rng, y1, L.D, xv + c, L.W, east, &L);
+  Strip(rng, 0.0, L.W, 0.0, ds, south, &L);
+  Strip(rng, y1, L.D, 0.0, xv, west, &L, true);
+  Strip(rng, y1, L.D, xv + c, L.W, east, &L, true);
   return L;
 }
 
@@ -131,8 +128,8 @@ Layout HallLayout(CounterRng& rng, int rooms) {
   const double dn = north > 0 ? Round(rng.Uniform(4.5, 6.5)) : 0.0;
   L.D = ds + hall_d + dn;
   L.blocks.push_back({RectPoly({0.0, ds, L.W, ds + hall_d}), BlockKind::kHall});
-  StripX(rng, 0.0, L.W, 0.0, ds, south, &L);
-  StripX(rng, 0.0, L.W, ds + hall_d, L.D, north, &L);
+  Strip(rng, 0.0, L.W, 0.0, ds, south, &L);
+  Strip(rng, 0.0, L.W, ds + hall_d, L.D, north, &L);
   return L;
 }
 
