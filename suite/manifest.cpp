@@ -7,6 +7,7 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "io/text_file.h"
+#include "scenes/random_floor.h"
 
 namespace mopad::suite {
 
@@ -116,9 +117,21 @@ void ParseScene(const Ctx& c, const YAML::Node& n, const Limits& suite_limits,
     const YAML::Node& m = n["random"];
     if (!m.IsMap() || !m["seeds"] || !m["rooms"])
       throw InputError(c.Where(m), "random: needs seeds: and rooms:", "", "a map");
-    RejectUnknownKeys(m, {"seeds", "rooms"}, c.file, "random.");
+    RejectUnknownKeys(m, {"seeds", "rooms", "family"}, c.file, "random.");
     if (!given_name.empty())
-      throw InputError(c.Where(n["name"]), "random scenes are named random-s<SEED>-r<ROOMS>");
+      throw InputError(c.Where(n["name"]),
+                       "random scenes are named random[-<FAMILY>]-s<SEED>-r<ROOMS>");
+    std::string family = "office";
+    if (m["family"]) {
+      family = c.Scalar(m["family"], "a floor family");
+      try {
+        scenes::ParseFloorFamily(family);
+      } catch (const InputError&) {
+        throw InputError(c.Where(m["family"]), "bad random.family", "'" + family + "'",
+                         "office, corridor, junction, hall or mixed");
+      }
+    }
+    const std::string prefix = family == "office" ? "random-" : "random-" + family + "-";
     for (std::uint64_t s : IntList(c, m["seeds"], "random.seeds")) {
       for (std::uint64_t r : IntList(c, m["rooms"], "random.rooms")) {
         if (r < 2 || r > 10)
@@ -127,7 +140,8 @@ void ParseScene(const Ctx& c, const YAML::Node& n, const Limits& suite_limits,
         k.kind = SceneEntry::Kind::kRandom;
         k.random_seed = s;
         k.random_rooms = static_cast<int>(r);
-        k.name = "random-s" + std::to_string(s) + "-r" + std::to_string(r);
+        k.random_family = family;
+        k.name = prefix + "s" + std::to_string(s) + "-r" + std::to_string(r);
         out.push_back(k);
       }
     }

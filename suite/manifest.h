@@ -29,10 +29,13 @@ struct Limits {
 struct SceneEntry {
   enum class Kind { kSpec, kFolder, kRandom, kImport };
   Kind kind = Kind::kSpec;
-  std::string name;  ///< the group's first part: file stem, folder name, random-s<S>-r<R>, ...
+  /// the group's first part: file stem, folder name, random-s<S>-r<R> (office floors) or
+  /// random-<family>-s<S>-r<R>, ...
+  std::string name;
   std::string path;  ///< kSpec: spec file; kFolder: scene folder; kImport: BIM file (resolved)
   std::uint64_t random_seed = 0;   ///< kRandom: `mopad scene random --seed`
   int random_rooms = 0;            ///< kRandom: `--rooms`, 2-10
+  std::string random_family = "office";  ///< kRandom: `--family` (scenes/random_floor.h)
   std::string storey;              ///< kImport: `--storey` ("" = the importer's default)
   std::vector<std::string> args;   ///< kImport: further `mopad scene import` arguments
   std::optional<Limits> limits;    ///< this scene's limits (keys it omits: the suite's)

@@ -44,7 +44,8 @@ std::string PrepareScene(const SceneEntry& s, const RunOptions& o, const Limits&
   p.argv = {o.program, "scene"};
   if (s.kind == SceneEntry::Kind::kRandom) {
     p.argv.insert(p.argv.end(), {"random", "--seed", std::to_string(s.random_seed), "--rooms",
-                                 std::to_string(s.random_rooms), "-o", dir});
+                                 std::to_string(s.random_rooms), "--family", s.random_family,
+                                 "-o", dir});
   } else {
     p.argv.insert(p.argv.end(), {"import", s.path, "-o", dir});
     if (!s.storey.empty()) p.argv.insert(p.argv.end(), {"--storey", s.storey});

@@ -20,6 +20,18 @@ std::string ErrorOf(const std::string& text) {
   return "";
 }
 
+TEST(SuiteManifest, RandomFloorsOfAFamilyAreNamedByIt) {
+  const Manifest m =
+      ParseManifest("scenes:\n  - random: {seeds: 3, rooms: 4, family: hall}\n  - random: "
+                    "{seeds: 3, rooms: 4}\n",
+                    "suites/f.yaml");
+  ASSERT_EQ(m.scenes.size(), 2u);
+  EXPECT_EQ(m.scenes[0].name, "random-hall-s3-r4");
+  EXPECT_EQ(m.scenes[0].random_family, "hall");
+  EXPECT_EQ(m.scenes[1].name, "random-s3-r4");
+  EXPECT_EQ(m.scenes[1].random_family, "office");
+}
+
 TEST(SuiteManifest, ParsesScenesSeedsConfigsSweepsLimitsAndChecks) {
   const Manifest m = ParseManifest(R"(suite: demo
 scenes:
@@ -79,6 +91,9 @@ TEST(SuiteManifest, UnknownKeysAndBadValuesNameFileAndLine) {
             std::string::npos);
   EXPECT_NE(ErrorOf("scenes:\n  - spec: a.yaml\nseeds: 3-1\n").find("dir/m.yaml:3"), std::string::npos);
   EXPECT_NE(ErrorOf("scenes:\n  - random: {seeds: 1, rooms: 12}\n").find("2-10"), std::string::npos);
+  EXPECT_NE(ErrorOf("scenes:\n  - random: {seeds: 1, rooms: 3, family: atrium}\n")
+                .find(":2: error: bad random.family"),
+            std::string::npos);
   EXPECT_NE(ErrorOf("scenes:\n  - spec: a.yaml\n  - spec: b/a.yaml\n").find("two scenes named 'a'"),
             std::string::npos);
   EXPECT_NE(ErrorOf("seeds: [1]\n").find("scenes: missing"), std::string::npos);
