@@ -317,45 +317,51 @@ void PointMap::Add(const Points& points_M, const Eigen::Vector3d& origin_M) {
   impl_->images.push_back(std::move(img));
 }
 
-double PointMap::FreeSpaceViolation(const Points& points_M) const {
-  if (points_M.empty() || impl_->images.empty()) return 0.0;
-  const double margin = impl_->params.free_space_margin;
-  std::size_t violating = 0;
-  for (const auto& p : points_M) {
-    for (const RangeImage& img : impl_->images) {
+namespace {
+
+/// How many of `points` some range image holds `seen(image, bin, range)` for: one walk over the
+/// points and images for both the free-space check and the expected overlap.
+template <class Seen>
+std::size_t CountSeenByAnyImage(const Points& points, const std::vector<RangeImage>& images,
+                                Seen seen) {
+  std::size_t n = 0;
+  for (const auto& p : points) {
+    for (const RangeImage& img : images) {
       const Eigen::Vector3d d = p - img.origin;
       const double r = d.norm();
       if (!(r > 1e-6)) continue;
-      const auto b = static_cast<std::size_t>(img.Bin(d, r));
-      const double nearest = img.nearest[b];
-      // Evidence only from bins that saw one surface squarely (range spread within the margin):
-      // grazing floors and depth edges spread over a bin and would accuse good points.
-      if (!(img.farthest[b] - nearest <= margin)) continue;  // also skips empty bins (inf)
-      if (r < nearest - margin - 0.02 * nearest) {
-        ++violating;
+      if (seen(img, static_cast<std::size_t>(img.Bin(d, r)), r)) {
+        ++n;
         break;
       }
     }
   }
+  return n;
+}
+
+}  // namespace
+
+double PointMap::FreeSpaceViolation(const Points& points_M) const {
+  if (points_M.empty() || impl_->images.empty()) return 0.0;
+  const double margin = impl_->params.free_space_margin;
+  const std::size_t violating = CountSeenByAnyImage(
+      points_M, impl_->images, [&](const RangeImage& img, std::size_t b, double r) {
+        const double nearest = img.nearest[b];
+        // Evidence only from bins that saw one surface squarely (range spread within the
+        // margin): grazing floors and depth edges spread over a bin and would accuse good
+        // points. Also skips empty bins (inf).
+        return img.farthest[b] - nearest <= margin && r < nearest - margin - 0.02 * nearest;
+      });
   return static_cast<double>(violating) / static_cast<double>(points_M.size());
 }
 
 std::size_t PointMap::CountInView(const Points& points_M) const {
   const double margin = impl_->params.free_space_margin;
-  std::size_t in_view = 0;
-  for (const auto& p : points_M) {
-    for (const RangeImage& img : impl_->images) {
-      const Eigen::Vector3d d = p - img.origin;
-      const double r = d.norm();
-      if (!(r > 1e-6)) continue;
-      const double farthest = img.farthest[static_cast<std::size_t>(img.Bin(d, r))];
-      if (farthest > 0.0 && r <= farthest + margin + 0.02 * farthest) {
-        ++in_view;
-        break;
-      }
-    }
-  }
-  return in_view;
+  return CountSeenByAnyImage(points_M, impl_->images,
+                             [&](const RangeImage& img, std::size_t b, double r) {
+                               const double farthest = img.farthest[b];
+                               return farthest > 0.0 && r <= farthest + margin + 0.02 * farthest;
+                             });
 }
 
 bool PointMap::has_origins() const { return !impl_->images.empty(); }
