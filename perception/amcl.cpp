@@ -455,6 +455,7 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
   // unmapped near face of a wall whose far face the map holds) stays out of the match: moved
   // by the wall's thickness it would end on that far face and pull the estimate there.
   std::vector<std::uint8_t> excluded(beams.size(), 0);
+  const double cos_max_normal_angle = std::cos(DegToRad(p.refine_max_normal_angle_deg));
   bool first = true;
   // Matched beams at X (rows, in beam order).
   auto match = [&](const Pose2& X) {
@@ -478,6 +479,11 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
       const Vec2& nb = normals_B[k];
       if (nb.squaredNorm() == 0.0) continue;
       const Vec2 n(c * nb.x() - s * nb.y(), s * nb.x() + c * nb.y());
+      // A surface the map did not see (a reveal across the wall whose returns are nearest)
+      // is no correspondence: its normal crosses the mapped surface's.
+      if (near.surface_normal.squaredNorm() > 0.0 &&
+          std::abs(n.dot(near.surface_normal)) < cos_max_normal_angle)
+        continue;
       const double r = near.distance * n.dot(near.normal);  // n . (e - nearest return)
       rows.push_back({Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()), r, k});
     }

@@ -37,7 +37,9 @@
 //   in unknown space away from a return at the filter's estimate stays out, however near a
 //   return the moving pose brings it), corrected only along the directions the matched beams
 //   constrain (eigenvalues of J^T J, in beams' worth; a corridor without a visible end wall
-//   stays as the filter has it), and accepted only when it is small, lowers the robust cost of
+//   stays as the filter has it), a beam paired only with a mapped surface facing its way (the
+//   normals within `refine_max_normal_angle_deg`: an unmapped reveal is not matched to the
+//   wall face beside it), and accepted only when it is small, lowers the robust cost of
 //   the beams matched before and after, and has enough of them; the whole particle set is then
 //   moved rigidly so the filter carries the correction on.
 //
@@ -127,6 +129,13 @@ struct AmclParams {
   int refine_min_beams = 40;            ///< matched beams needed to apply a refinement, [3, 100000]
   double refine_max_shift = 0.2;        ///< m, larger corrections are refused, (0, 5]
   double refine_max_turn_deg = 5.0;     ///< deg, idem for yaw, (0, 90]
+  /// deg, largest angle between a beam's surface normal in the sweep and the mapped surface's
+  /// normal at its nearest return for the two to be matched: a correspondence pairs the same
+  /// surface, whose two normal estimates (the sweep's line fit, the map cell's returns) agree
+  /// to a few tens of degrees, while a face the map has not seen (a door reveal across a
+  /// wall) meets the wall's returns at about 90 deg. Where the map's returns in the cell are
+  /// no line (a point), no orientation is known and the beam is matched as before. (0, 90]
+  double refine_max_normal_angle_deg = 45.0;
 
   template <class V>
   void Visit(V& v) {
@@ -178,6 +187,7 @@ struct AmclParams {
     v("refine_min_beams", refine_min_beams, Bounds{3, 100000});
     v("refine_max_shift", refine_max_shift, Bounds{1e-3, 5.0});
     v("refine_max_turn_deg", refine_max_turn_deg, Bounds{1e-3, 90.0});
+    v("refine_max_normal_angle_deg", refine_max_normal_angle_deg, Bounds{1e-3, 90.0});
   }
   /// ValidateParams plus cross-field checks (min <= max particles); throws InputError.
   void Validate() const;

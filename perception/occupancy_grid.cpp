@@ -506,6 +506,8 @@ DistanceField::Nearest DistanceField::NearestReturn(const Vec2& p) const {
       out.found = true;
       out.distance = d;
       out.normal = d > 1e-12 ? Vec2(r / d) : Vec2(-seg.direction.y(), seg.direction.x());
+      out.surface_normal =
+          seg.half_length > 0.0 ? Vec2(-seg.direction.y(), seg.direction.x()) : Vec2::Zero();
     }
   }
   return out;

@@ -221,7 +221,10 @@ class DistanceField {
   struct Nearest {
     bool found = false;
     double distance = 0.0;
-    Vec2 normal = Vec2::Zero();
+    Vec2 normal = Vec2::Zero();  ///< unit, from the nearest return towards the query point
+    /// Unit normal of the mapped surface at that return (sign arbitrary) where its cell's
+    /// returns are line-like; zero where they are a point (no orientation known).
+    Vec2 surface_normal = Vec2::Zero();
   };
   Nearest NearestReturn(const Vec2& p_M) const;
   /// True if the cell is known free (not an obstacle) and its clearance is >= `radius`.
