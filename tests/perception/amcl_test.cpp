@@ -425,10 +425,12 @@ TEST(Amcl, RefinementDoesNotMatchAnUnmappedRevealToTheWallAcrossIt) {
     const LocalisationEstimate& e = amcl.Estimate();
     shift[variant] = e.refined ? e.X_MB.x - truth.x : 0.0;
   }
-  std::printf("[ AMCL     ] unmapped reveal: along-corridor shift %.1f mm without the normal "
-              "test, %.1f mm with it\n",
-              1000 * shift[0], 1000 * shift[1]);
-  EXPECT_LT(shift[0], -0.008);  // the pull the test is about: towards the returns (measured -12.8 mm)
+  std::printf(
+      "[ AMCL     ] unmapped reveal: along-corridor shift %.1f mm without the normal "
+      "test, %.1f mm with it\n",
+      1000 * shift[0], 1000 * shift[1]);
+  // The pull the test is about, towards the wall face's returns (measured -12.8 mm).
+  EXPECT_LT(shift[0], -0.008);
   EXPECT_LT(std::abs(shift[1]), 0.002);
 }
 
