@@ -18,6 +18,8 @@
 #include "common/error.h"
 #include "io/tum.h"
 #include "mission/robot_session.h"
+#include "sim/lrf.h"
+#include "sim/tls_params.h"
 
 namespace mopad::mission {
 namespace {
@@ -25,7 +27,24 @@ namespace {
 namespace fs = std::filesystem;
 using perception::Compose;
 
+// "a, b, c" for an error message.
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
 }  // namespace
+
+void DriveParams::Validate() const {
+  const std::vector<std::string> tls = sim::TlsProfileNames(), lrf = sim::LrfProfileNames();
+  if (std::find(tls.begin(), tls.end(), tls_profile) == tls.end())
+    throw InputError("", "parameter 'tls_profile' unknown", "'" + tls_profile + "'",
+                     "one of " + JoinNames(tls));
+  if (std::find(lrf.begin(), lrf.end(), lrf_profile) == lrf.end())
+    throw InputError("", "parameter 'lrf_profile' unknown", "'" + lrf_profile + "'",
+                     "one of " + JoinNames(lrf));
+}
 
 DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
                      const DriveRequest& request) {

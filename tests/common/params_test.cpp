@@ -117,6 +117,53 @@ TEST(Params, ValidateNamesTheField) {
   }
 }
 
+// A relation between fields that no single bound can state (lo below hi).
+struct RangeParams {
+  double lo = 1.0;  ///< m, [0, 100], below hi
+  double hi = 2.0;  ///< m, [0, 100], above lo
+  template <class V>
+  void Visit(V& v) {
+    v("lo", lo, Bounds{0.0, 100.0});
+    v("hi", hi, Bounds{0.0, 100.0});
+  }
+  void Validate() const {
+    if (!(lo < hi))
+      throw InputError("", "parameter 'lo' must be below 'hi'", std::to_string(lo), "< hi");
+  }
+};
+
+struct OuterParams {
+  RangeParams range;
+  template <class V>
+  void Visit(V& v) {
+    v("range", range);
+  }
+};
+
+// ValidateParams runs a nested struct's own Validate() too, so that one call before any work
+// refuses what the struct's user would refuse later; the message says which struct.
+TEST(Params, ValidateRunsANestedStructsOwnChecksAndNamesItsPath) {
+  OuterParams p;
+  EXPECT_NO_THROW(ValidateParams(p, "cfg."));
+  p.range.lo = 3.0;  // each value within its bounds, the pair not
+  try {
+    ValidateParams(p, "cfg.");
+    FAIL() << "lo above hi accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "cfg.range: error: parameter 'lo' must be below 'hi'; got 3.000000, expected < hi");
+  }
+  // Bounds are still checked first, with the field's full path.
+  p.range.lo = -1.0;
+  try {
+    ValidateParams(p, "cfg.");
+    FAIL() << "lo below its bound accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'cfg.range.lo' out of range"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Params, MissingFileAndBadYamlAreOneLineErrors) {
   try {
     LoadYamlFile("/nonexistent/p.yaml");
