@@ -174,9 +174,10 @@ std::string PadCount(std::uint64_t n) {
   return s;
 }
 
-std::FILE* OpenForWrite(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw InputError(path, "cannot open file for writing", std::strerror(errno));
+// Opens `file`'s temporary file; errors name its final path.
+std::FILE* OpenForWrite(const AtomicFile& file) {
+  std::FILE* f = std::fopen(file.TempPath().c_str(), "wb");
+  if (!f) throw InputError(file.Path(), "cannot open file for writing", std::strerror(errno));
   return f;
 }
 
@@ -341,7 +342,8 @@ void WritePly(const std::string& path, const PointCloud& cloud) {
     stride += PlyTypeSize(f.type);
   }
   header += "end_header\n";
-  std::FILE* file = OpenForWrite(path);
+  AtomicFile out(path);
+  std::FILE* file = OpenForWrite(out);
   try {
     WriteOrThrow(file, header.data(), header.size(), path);
     constexpr std::size_t kChunk = 1 << 16;
@@ -368,6 +370,7 @@ void WritePly(const std::string& path, const PointCloud& cloud) {
     throw;
   }
   if (std::fclose(file) != 0) throw InputError(path, "write failed", std::strerror(errno));
+  out.Commit();
 }
 
 PointCloud ReadPly(const std::string& path) {
@@ -438,7 +441,7 @@ PointCloud ReadPly(const std::string& path) {
 PlyStreamWriter::PlyStreamWriter(const std::string& path, const std::vector<std::string>& comments,
                                  const std::vector<std::pair<std::string, PlyType>>& properties,
                                  std::uint64_t expected_points)
-    : path_(path) {
+    : path_(path), out_(path) {
   std::string header = "ply\nformat binary_little_endian 1.0\n";
   for (const auto& c : comments) {
     if (c.find('\n') != std::string::npos) throw InputError(path, "PLY comment contains a newline");
@@ -452,7 +455,7 @@ PlyStreamWriter::PlyStreamWriter(const std::string& path, const std::vector<std:
     record_size_ += PlyTypeSize(type);
   }
   header += "end_header\n";
-  file_ = OpenForWrite(path);
+  file_ = OpenForWrite(out_);
   WriteOrThrow(file_, header.data(), header.size(), path_);
   bytes_ = header.size();
   if (expected_points > 0) {
@@ -485,6 +488,7 @@ void PlyStreamWriter::Close() {
   ok = ok && std::fwrite(count.data(), 1, count.size(), f) == count.size();
   ok = (std::fclose(f) == 0) && ok;
   if (!ok) throw InputError(path_, "write failed", std::strerror(errno));
+  out_.Commit();
 }
 
 TlsPlyStreamWriter::TlsPlyStreamWriter(const std::string& path, const TlsScan& meta,
@@ -637,8 +641,9 @@ std::string PtxHeader(const TlsScan& s) {
 
 }  // namespace
 
-TlsPtxStreamWriter::TlsPtxStreamWriter(const std::string& path, const TlsScan& meta) : path_(path) {
-  file_ = OpenForWrite(path);
+TlsPtxStreamWriter::TlsPtxStreamWriter(const std::string& path, const TlsScan& meta)
+    : path_(path), out_(path) {
+  file_ = OpenForWrite(out_);
   const std::string h = PtxHeader(meta);
   WriteOrThrow(file_, h.data(), h.size(), path_);
 }
@@ -678,6 +683,7 @@ void TlsPtxStreamWriter::Close() {
   std::FILE* f = file_;
   file_ = nullptr;
   if (std::fclose(f) != 0) throw InputError(path_, "write failed", std::strerror(errno));
+  out_.Commit();
 }
 
 void WriteTlsScanPtx(const std::string& path, const TlsScan& scan) {

@@ -182,6 +182,10 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
         "rooms/R1/run.json", "rooms/R1/evaluation.json", "rooms/R1/models.glb", "rooms/R1/sm2.json",
         "rooms/R1/dsm3.ply", "eval/evaluation.json", "eval/evaluation.md"})
     EXPECT_TRUE(fs::exists(d + "/a/" + f)) << f;
+  // Every file was written whole and renamed into place (common/atomic_file.h): no temporary
+  // file remains.
+  for (const auto& e : fs::recursive_directory_iterator(d + "/a"))
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path();
   // The models are scored against the truth in the same job (mopad eval's figures).
   const auto& ms = j.at("models_evaluation").at("summary");
   EXPECT_EQ(ms.at("detection").at("wall").at("tp").get<int>(),
