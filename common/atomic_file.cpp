@@ -43,7 +43,8 @@ void AtomicFile::Commit(bool sync) {
   if (!open_) throw std::logic_error(path_ + ": AtomicFile committed twice or moved from");
   if (sync) {
     const int fd = ::open(tmp_.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw InputError(path_, std::string("cannot open the file; ") + std::strerror(errno));
+    if (fd < 0)
+      throw InputError(path_, std::string("cannot open the file; ") + std::strerror(errno));
     const bool synced = ::fsync(fd) == 0;
     const int err = errno;
     ::close(fd);
@@ -58,8 +59,7 @@ void AtomicFile::Commit(bool sync) {
 void WriteWholeFile(const std::string& path, const std::string& bytes, bool sync) {
   AtomicFile file(path);
   const int fd = ::open(file.TempPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw InputError(path, std::string("cannot write the file; ") + std::strerror(errno));
+  if (fd < 0) throw InputError(path, std::string("cannot write the file; ") + std::strerror(errno));
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);

@@ -15,7 +15,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::Run([&] { (void)modelling::ParseSm3(text, "sm3.json"); });
   fuzz::Run([&] { (void)modelling::ParseSm4(text, "sm4.json"); });
   fuzz::Run([&] { (void)modelling::ParseSm5(text, "sm5.json"); });
-  return fuzz::Run([&] {
-    (void)modelling::ParseFloorModel(text, "floor/sm3.json", text, "floor/sm4.json");
-  });
+  return fuzz::Run(
+      [&] { (void)modelling::ParseFloorModel(text, "floor/sm3.json", text, "floor/sm4.json"); });
 }

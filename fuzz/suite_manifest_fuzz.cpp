@@ -3,7 +3,6 @@
 #include "suite/manifest.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  return mopad::fuzz::Run([&] {
-    (void)mopad::suite::ParseManifest(mopad::fuzz::AsString(data, size), "fuzz.yaml");
-  });
+  return mopad::fuzz::Run(
+      [&] { (void)mopad::suite::ParseManifest(mopad::fuzz::AsString(data, size), "fuzz.yaml"); });
 }

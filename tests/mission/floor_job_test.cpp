@@ -129,8 +129,9 @@ TEST(FloorJob, ASceneWithoutRoomsOrAnUnknownRoomIsRefusedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir)) << "work started before the room ids were checked";
 
   mw.truth->rooms.clear();
-  const std::string no_rooms = "error: the scene has no truth rooms; expected a generated or "
-                               "imported scene with rooms (scene.truth.json)";
+  const std::string no_rooms =
+      "error: the scene has no truth rooms; expected a generated or "
+      "imported scene with rooms (scene.truth.json)";
   EXPECT_EQ(ErrorOf([&] { RunFloorJob(mw, Params(), std::nullopt, dir.string(), false); }),
             no_rooms);
   o.rooms.clear();

@@ -561,8 +561,8 @@ TEST(Cli, RunInputErrorsAreOneLineExitTwoBeforeAnyWork) {
        "step.yaml:1: error: parameter 'scan_step_deg' out of range; got -1.000000, expected "
        "[0.020000, 5.000000]",
        false},
-      {config("nan.yaml", "scan_step_deg: .nan\n"), "parameter 'scan_step_deg' out of range; got nan",
-       false},
+      {config("nan.yaml", "scan_step_deg: .nan\n"),
+       "parameter 'scan_step_deg' out of range; got nan", false},
       {config("empty.yaml", "scan_step_deg:\n"),
        "error: wrong type for 'scan_step_deg'; got null, expected a number", false},
       {config("time.yaml", "drive:\n  max_time: 0\n"),
