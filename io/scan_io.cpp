@@ -7,8 +7,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <system_error>
 
 #include "common/error.h"
 #include "common/format.h"
@@ -403,9 +406,11 @@ PointCloud ReadPly(const std::string& path) {
   const std::uint64_t n = h.vertex_count;
   in.seekg(0, std::ios::end);
   const std::uint64_t size = static_cast<std::uint64_t>(in.tellg());
-  if (size < h.data_offset + n * static_cast<std::uint64_t>(h.stride)) {
+  // Compared as a count (n * stride can wrap around for a hostile vertex count).
+  if (size < h.data_offset || n > (size - h.data_offset) / static_cast<std::uint64_t>(h.stride)) {
     throw InputError(path, "file truncated", std::to_string(size) + " bytes",
-                     std::to_string(h.data_offset + n * h.stride) + " or more");
+                     std::to_string(n) + " vertices of " + std::to_string(h.stride) +
+                         " bytes after a header of " + std::to_string(h.data_offset));
   }
   in.seekg(static_cast<std::streamoff>(h.data_offset));
   cloud.points.resize(n);
@@ -710,6 +715,19 @@ TlsScan ReadTlsScanPtx(const std::string& path) {
   in >> cols >> rows;
   if (!in || cols <= 0 || rows <= 0)
     throw InputError(path + ":1", "malformed PTX header (columns, rows)");
+  // Every cell is a line of at least four numbers ("0 0 0 0\n", 8 bytes): a header that claims
+  // more cells than the file's bytes can hold is refused before the grid is allocated.
+  constexpr std::uint64_t kMinCellBytes = 8;
+  std::error_code size_error;
+  const std::uint64_t file_bytes = std::filesystem::file_size(path, size_error);
+  const std::uint64_t max_cells = size_error ? 0 : file_bytes / kMinCellBytes;
+  const auto kMaxSide = static_cast<long long>(std::numeric_limits<std::uint32_t>::max());
+  if (cols > kMaxSide || rows > kMaxSide ||
+      static_cast<std::uint64_t>(cols) * static_cast<std::uint64_t>(rows) > max_cells)
+    throw InputError(path + ":1", "PTX header claims more cells than the file holds",
+                     std::to_string(cols) + " x " + std::to_string(rows),
+                     "at most " + std::to_string(max_cells) + " cells in " +
+                         std::to_string(file_bytes) + " bytes");
   double v[3 * 4 + 4 * 4];
   for (double& x : v) in >> x;
   if (!in) throw InputError(path, "malformed PTX header (pose)");
