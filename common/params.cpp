@@ -34,14 +34,23 @@ YAML::Node LoadYamlString(const std::string& text, const std::string& name) {
 void RejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& known,
                        const std::string& file, const std::string& context) {
   if (!node.IsMap()) return;
+  const auto expected = [&] {
+    std::string names;
+    for (const auto& k : known) names += (names.empty() ? "" : ", ") + k;
+    return "one of: " + names;
+  };
   for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    if (!known.count(key)) {
-      std::string expected;
-      for (const auto& k : known) expected += (expected.empty() ? "" : ", ") + k;
+    // A key that is a sequence or a map (`? [a, b]`) names no field.
+    if (!kv.first.IsScalar())
+      throw InputError(YamlWhere(file, kv.first),
+                       context.empty() ? "a key is not a name"
+                                       : "a key under '" + context.substr(0, context.size() - 1) +
+                                             "' is not a name",
+                       kv.first.IsSequence() ? "a sequence" : "a map", expected());
+    const std::string key = kv.first.Scalar();
+    if (!known.count(key))
       throw InputError(YamlWhere(file, kv.first), "unknown key '" + context + key + "'", "",
-                       "one of: " + expected);
-    }
+                       expected());
   }
 }
 

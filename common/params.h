@@ -56,6 +56,12 @@ template <class T>
 struct HasVisit<T, std::void_t<decltype(std::declval<T&>().Visit(std::declval<int&>()))>>
     : std::true_type {};
 
+template <class T, class = void>
+struct HasValidate : std::false_type {};
+template <class T>
+struct HasValidate<T, std::void_t<decltype(std::declval<const T&>().Validate())>>
+    : std::true_type {};
+
 namespace detail {
 
 template <class T>
@@ -164,7 +170,9 @@ class YamlWriter {
   YAML::Node& node_;
 };
 
-/// Checks every field's bounds (for structs built in code rather than loaded).
+/// Checks every field's bounds (for structs built in code rather than loaded), and the checks
+/// of every nested params struct that has its own `Validate()` (relations between fields, names
+/// of profiles), so that one ValidateParams before any work refuses all that its parts would.
 class BoundsChecker {
  public:
   explicit BoundsChecker(std::string context) : context_(std::move(context)) {}
@@ -173,6 +181,14 @@ class BoundsChecker {
     if constexpr (HasVisit<T>::value) {
       BoundsChecker sub(context_ + key + ".");
       const_cast<T&>(value).Visit(sub);
+      if constexpr (HasValidate<T>::value) {
+        try {
+          value.Validate();
+        } catch (const InputError& e) {
+          // Its message names the field within the struct; the prefix says which struct.
+          throw InputError(context_ + key + ": " + e.what());
+        }
+      }
     } else {
       CheckBounds("", context_ + key, value, b);
     }
@@ -210,7 +226,9 @@ YAML::Node SaveParams(const T& params) {
   return node;
 }
 
-/// Throws InputError naming the first field outside its bounds.
+/// Throws InputError naming the first field outside its bounds, or the first nested params
+/// struct whose own Validate() refuses its values (the struct's own Validate(), if any, is its
+/// caller's to call: it usually calls this).
 template <class T>
 void ValidateParams(const T& params, const std::string& context = "") {
   detail::BoundsChecker checker(context);

@@ -34,6 +34,7 @@
 #include <tuple>
 #include <utility>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/params.h"
 #include "evaluation/metrics_components.h"
@@ -430,11 +431,11 @@ RunEvaluation EvaluateRun(const std::string& run_dir, const std::string& truth_f
   const fs::path dir =
       out.empty() ? fs::path(runfolder::Join(run_dir, runfolder::kEvalDir)) : fs::path(out);
   fs::create_directories(dir);
-  std::ofstream(dir / "evaluation.json") << json.dump(2) << "\n";
-  std::ofstream(dir / "eval.effective.yaml") << YAML::Dump(SaveParams(params)) << "\n";
+  WriteWholeFile((dir / "evaluation.json").string(), json.dump(2) + "\n");
+  WriteWholeFile((dir / "eval.effective.yaml").string(), YAML::Dump(SaveParams(params)) + "\n");
   WriteRoomFiles(dir.string(), rooms);
-  std::ofstream(dir / "evaluation.md")
-      << EvaluationMarkdown(run_dir, params, rooms, pooled, loaded.truth_notes);
+  WriteWholeFile((dir / "evaluation.md").string(),
+                 EvaluationMarkdown(run_dir, params, rooms, pooled, loaded.truth_notes));
   return {PrintedTables(params, rooms, pooled, dir.string()), json.at("summary"),
           pooled.components};
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/format.h"
 #include "evaluation/json_number.h"
@@ -128,9 +129,7 @@ void WriteTruthDsm3Ply(const std::string& path, const Dsm3Voxels& grid_of,
     const std::int32_t ijk[3] = {grid_of.ijk[n][0], grid_of.ijk[n][1], grid_of.ijk[n][2]};
     data.append(reinterpret_cast<const char*>(ijk), sizeof ijk);
   }
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, "cannot write the file");
-  f << data;
+  WriteWholeFile(path, data);
 }
 
 ojson MissionSummaryJson(const MissionFigures& m) {
@@ -371,8 +370,8 @@ std::string EvaluationMarkdown(const std::string& run_dir, const EvalParams& par
 
 void WriteRoomFiles(const std::string& dir, const std::vector<RoomResult>& rooms) {
   for (const auto& r : rooms) {
-    std::ofstream(fs::path(dir) / ("isprs_" + r.run.room + ".svg"))
-        << IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) << "\n";
+    WriteWholeFile((fs::path(dir) / ("isprs_" + r.run.room + ".svg")).string(),
+                   IsprsSvgPlot(r.isprs, "ISPRS surfaces, room " + r.run.room) + "\n");
     if (r.has_dsm3)
       WriteTruthDsm3Ply((fs::path(dir) / ("dsm3_truth_" + r.run.room + ".ply")).string(),
                         r.dsm3_voxels, r.dsm3_truth);

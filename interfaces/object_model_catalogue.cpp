@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/format.h"
 #include "common/params.h"
@@ -72,11 +73,9 @@ bool IsSafeName(const std::string& s) {
 
 void WriteFileBytes(const fs::path& path, const std::string& header, const char* data,
                     std::size_t size) {
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) throw InputError(path.string(), "cannot open file for writing");
-  f.write(header.data(), static_cast<std::streamsize>(header.size()));
-  f.write(data, static_cast<std::streamsize>(size));
-  if (!f) throw InputError(path.string(), "write failed");
+  std::string bytes = header;
+  bytes.append(data, size);
+  WriteWholeFile(path.string(), bytes);
 }
 
 void CheckModelForWrite(const ObjectModel& m, const std::string& dir) {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 
 namespace mopad::io {
@@ -131,10 +132,7 @@ void WriteGlb(const GlbScene& scene, const std::string& path) {
     PutU32(out, 0x004E4942u);  // "BIN\0"
     out.insert(out.end(), bin.begin(), bin.end());
   }
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, "cannot write the file");
-  f.write(reinterpret_cast<const char*>(out.data()), static_cast<std::streamsize>(out.size()));
-  if (!f) throw InputError(path, "write failed");
+  WriteWholeFile(path, std::string(out.begin(), out.end()));
 }
 
 }  // namespace mopad::io

@@ -37,14 +37,15 @@ double LasScaleFor(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
   return 10.0;
 }
 
-LasWriter::LasWriter(const std::string& path, const LasFileInfo& info) : path_(path), info_(info) {
+LasWriter::LasWriter(const std::string& path, const LasFileInfo& info)
+    : path_(path), out_(path), info_(info) {
   if (!info.min.allFinite() || !info.max.allFinite() || (info.max - info.min).minCoeff() < 0)
     throw InputError(path, "LAS bounds are not finite or min > max");
   offset_ = LasOffsetFor(info.min, info.max);
   scale_ = LasScaleFor(info.min, info.max, offset_);
   lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   hi_ = -lo_;
-  file_ = std::fopen(path.c_str(), "wb");
+  file_ = std::fopen(out_.TempPath().c_str(), "wb");
   if (!file_) throw InputError(path, "cannot write the file");
   const std::string header = HeaderBytes();
   std::fwrite(header.data(), 1, header.size(), file_);
@@ -125,6 +126,7 @@ void LasWriter::Close() {
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   if (!ok || !closed) throw InputError(path_, "write failed");
+  out_.Commit();
 }
 
 }  // namespace mopad::io

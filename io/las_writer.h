@@ -19,6 +19,8 @@
 #include <span>
 #include <string>
 
+#include "common/atomic_file.h"
+
 namespace mopad::io {
 
 /// One PF7 point.
@@ -65,7 +67,8 @@ class LasWriter {
   LasWriter& operator=(const LasWriter&) = delete;
   /// Appends records. InputError for a non-finite point or one beyond the int32 counts.
   void Append(std::span<const LasPoint> points);
-  /// Rewrites the header with the counts and true bounds and closes. InputError on I/O failure.
+  /// Rewrites the header with the counts and true bounds, closes and moves the file to its path
+  /// (without Close(), no file appears). InputError on I/O failure.
   void Close();
   std::uint64_t points_written() const { return count_; }
   double scale() const { return scale_; }
@@ -75,6 +78,7 @@ class LasWriter {
   std::string HeaderBytes() const;
 
   std::string path_;
+  AtomicFile out_;  ///< the file appears at `path_` when Close() succeeds, never a part of it
   LasFileInfo info_;
   std::FILE* file_ = nullptr;
   double scale_ = 1e-4;

@@ -7,8 +7,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <system_error>
 
 #include "common/error.h"
 #include "common/format.h"
@@ -174,9 +177,10 @@ std::string PadCount(std::uint64_t n) {
   return s;
 }
 
-std::FILE* OpenForWrite(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw InputError(path, "cannot open file for writing", std::strerror(errno));
+// Opens `file`'s temporary file; errors name its final path.
+std::FILE* OpenForWrite(const AtomicFile& file) {
+  std::FILE* f = std::fopen(file.TempPath().c_str(), "wb");
+  if (!f) throw InputError(file.Path(), "cannot open file for writing", std::strerror(errno));
   return f;
 }
 
@@ -341,7 +345,8 @@ void WritePly(const std::string& path, const PointCloud& cloud) {
     stride += PlyTypeSize(f.type);
   }
   header += "end_header\n";
-  std::FILE* file = OpenForWrite(path);
+  AtomicFile out(path);
+  std::FILE* file = OpenForWrite(out);
   try {
     WriteOrThrow(file, header.data(), header.size(), path);
     constexpr std::size_t kChunk = 1 << 16;
@@ -368,6 +373,7 @@ void WritePly(const std::string& path, const PointCloud& cloud) {
     throw;
   }
   if (std::fclose(file) != 0) throw InputError(path, "write failed", std::strerror(errno));
+  out.Commit();
 }
 
 PointCloud ReadPly(const std::string& path) {
@@ -400,9 +406,11 @@ PointCloud ReadPly(const std::string& path) {
   const std::uint64_t n = h.vertex_count;
   in.seekg(0, std::ios::end);
   const std::uint64_t size = static_cast<std::uint64_t>(in.tellg());
-  if (size < h.data_offset + n * static_cast<std::uint64_t>(h.stride)) {
+  // Compared as a count (n * stride can wrap around for a hostile vertex count).
+  if (size < h.data_offset || n > (size - h.data_offset) / static_cast<std::uint64_t>(h.stride)) {
     throw InputError(path, "file truncated", std::to_string(size) + " bytes",
-                     std::to_string(h.data_offset + n * h.stride) + " or more");
+                     std::to_string(n) + " vertices of " + std::to_string(h.stride) +
+                         " bytes after a header of " + std::to_string(h.data_offset));
   }
   in.seekg(static_cast<std::streamoff>(h.data_offset));
   cloud.points.resize(n);
@@ -438,7 +446,7 @@ PointCloud ReadPly(const std::string& path) {
 PlyStreamWriter::PlyStreamWriter(const std::string& path, const std::vector<std::string>& comments,
                                  const std::vector<std::pair<std::string, PlyType>>& properties,
                                  std::uint64_t expected_points)
-    : path_(path) {
+    : path_(path), out_(path) {
   std::string header = "ply\nformat binary_little_endian 1.0\n";
   for (const auto& c : comments) {
     if (c.find('\n') != std::string::npos) throw InputError(path, "PLY comment contains a newline");
@@ -452,7 +460,7 @@ PlyStreamWriter::PlyStreamWriter(const std::string& path, const std::vector<std:
     record_size_ += PlyTypeSize(type);
   }
   header += "end_header\n";
-  file_ = OpenForWrite(path);
+  file_ = OpenForWrite(out_);
   WriteOrThrow(file_, header.data(), header.size(), path_);
   bytes_ = header.size();
   if (expected_points > 0) {
@@ -485,6 +493,7 @@ void PlyStreamWriter::Close() {
   ok = ok && std::fwrite(count.data(), 1, count.size(), f) == count.size();
   ok = (std::fclose(f) == 0) && ok;
   if (!ok) throw InputError(path_, "write failed", std::strerror(errno));
+  out_.Commit();
 }
 
 TlsPlyStreamWriter::TlsPlyStreamWriter(const std::string& path, const TlsScan& meta,
@@ -637,8 +646,9 @@ std::string PtxHeader(const TlsScan& s) {
 
 }  // namespace
 
-TlsPtxStreamWriter::TlsPtxStreamWriter(const std::string& path, const TlsScan& meta) : path_(path) {
-  file_ = OpenForWrite(path);
+TlsPtxStreamWriter::TlsPtxStreamWriter(const std::string& path, const TlsScan& meta)
+    : path_(path), out_(path) {
+  file_ = OpenForWrite(out_);
   const std::string h = PtxHeader(meta);
   WriteOrThrow(file_, h.data(), h.size(), path_);
 }
@@ -678,6 +688,7 @@ void TlsPtxStreamWriter::Close() {
   std::FILE* f = file_;
   file_ = nullptr;
   if (std::fclose(f) != 0) throw InputError(path_, "write failed", std::strerror(errno));
+  out_.Commit();
 }
 
 void WriteTlsScanPtx(const std::string& path, const TlsScan& scan) {
@@ -704,6 +715,19 @@ TlsScan ReadTlsScanPtx(const std::string& path) {
   in >> cols >> rows;
   if (!in || cols <= 0 || rows <= 0)
     throw InputError(path + ":1", "malformed PTX header (columns, rows)");
+  // Every cell is a line of at least four numbers ("0 0 0 0\n", 8 bytes): a header that claims
+  // more cells than the file's bytes can hold is refused before the grid is allocated.
+  constexpr std::uint64_t kMinCellBytes = 8;
+  std::error_code size_error;
+  const std::uint64_t file_bytes = std::filesystem::file_size(path, size_error);
+  const std::uint64_t max_cells = size_error ? 0 : file_bytes / kMinCellBytes;
+  const auto kMaxSide = static_cast<long long>(std::numeric_limits<std::uint32_t>::max());
+  if (cols > kMaxSide || rows > kMaxSide ||
+      static_cast<std::uint64_t>(cols) * static_cast<std::uint64_t>(rows) > max_cells)
+    throw InputError(path + ":1", "PTX header claims more cells than the file holds",
+                     std::to_string(cols) + " x " + std::to_string(rows),
+                     "at most " + std::to_string(max_cells) + " cells in " +
+                         std::to_string(file_bytes) + " bytes");
   double v[3 * 4 + 4 * 4];
   for (double& x : v) in >> x;
   if (!in) throw InputError(path, "malformed PTX header (pose)");

@@ -37,6 +37,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/atomic_file.h"
 #include "interfaces/tls_scan.h"
 
 namespace mopad::io {
@@ -113,12 +114,14 @@ class PlyStreamWriter {
   int record_size() const { return record_size_; }
   /// Appends already encoded records holding `count` points.
   void Append(const std::string& bytes, std::uint64_t count);
-  /// Patches the vertex count, trims preallocated space and closes. Throws on I/O failure.
+  /// Patches the vertex count, trims preallocated space, closes and moves the file to its path
+  /// (without Close(), no file appears). Throws on I/O failure.
   void Close();
   std::uint64_t points_written() const { return count_; }
 
  private:
   std::string path_;
+  AtomicFile out_;  ///< the file appears at `path_` when Close() succeeds, never a part of it
   std::FILE* file_ = nullptr;
   long count_offset_ = 0;
   std::uint64_t count_ = 0;
@@ -164,6 +167,7 @@ class TlsPtxStreamWriter {
 
  private:
   std::string path_;
+  AtomicFile out_;  ///< the file appears at `path_` when Close() succeeds, never a part of it
   std::FILE* file_ = nullptr;
 };
 

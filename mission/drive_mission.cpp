@@ -15,9 +15,12 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "io/tum.h"
 #include "mission/robot_session.h"
+#include "sim/lrf.h"
+#include "sim/tls_params.h"
 
 namespace mopad::mission {
 namespace {
@@ -25,7 +28,24 @@ namespace {
 namespace fs = std::filesystem;
 using perception::Compose;
 
+// "a, b, c" for an error message.
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
 }  // namespace
+
+void DriveParams::Validate() const {
+  const std::vector<std::string> tls = sim::TlsProfileNames(), lrf = sim::LrfProfileNames();
+  if (std::find(tls.begin(), tls.end(), tls_profile) == tls.end())
+    throw InputError("", "parameter 'tls_profile' unknown", "'" + tls_profile + "'",
+                     "one of " + JoinNames(tls));
+  if (std::find(lrf.begin(), lrf.end(), lrf_profile) == lrf.end())
+    throw InputError("", "parameter 'lrf_profile' unknown", "'" + lrf_profile + "'",
+                     "one of " + JoinNames(lrf));
+}
 
 DriveResult RunDrive(const sim::EmbreeWorld& world, const DriveParams& params,
                      const DriveRequest& request) {
@@ -67,9 +87,7 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   const fs::path dir(dir_str);
   fs::create_directories(dir);
   auto write = [&](const std::string& name, const std::string& text) {
-    std::ofstream f(dir / name, std::ios::binary);
-    f << text;
-    if (!f) throw InputError((dir / name).string() + ": error: cannot write");
+    WriteWholeFile((dir / name).string(), text);
   };
   write("trajectory_estimated.tum", ToTum(r.estimated));
   write("trajectory_true.tum", ToTum(r.truth));
@@ -103,8 +121,10 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   poly(es, {0, 0, 220});
   for (const auto& s : r.scan_poses) cv::circle(img, px(s), 5, {0, 140, 255}, 2);
   cv::circle(img, px(r.goal_M), 5, {255, 0, 255}, 2);
-  if (!cv::imwrite((dir / "map_path.png").string(), img))
-    throw InputError((dir / "map_path.png").string() + ": error: cannot write");
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", img, png))
+    throw InputError((dir / "map_path.png").string() + ": error: cannot encode the image");
+  WriteWholeFile((dir / "map_path.png").string(), std::string(png.begin(), png.end()));
 
   nlohmann::ordered_json j;
   j["status"] = ToString(r.status);

@@ -63,6 +63,8 @@ struct DriveParams {
     v("body", body);
     navigator.Visit(v);
   }
+  /// InputError naming `tls_profile` or `lrf_profile` when no profile of that name exists.
+  void Validate() const;
 };
 
 using autonomy::DriveStatus;

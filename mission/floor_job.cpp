@@ -217,10 +217,7 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
                      const std::function<void(const std::string&)>& progress,
                      const std::function<bool()>& stop_requested,
                      const std::function<void(const RoomBoundary&)>& room_boundary) {
-  if (!mw.truth || mw.truth->rooms.empty())
-    throw InputError(
-        "run: error: the scene has no truth rooms; expected a generated or "
-        "imported scene (scene.truth.json)");
+  CheckJobRooms(mw, {});
   FloorJob job;
   // The harness's start (truth side, before any work): a given one checked, else chosen.
   const scenes::RobotFootprint body = sim::FootprintOf(params.room.drive.body);

@@ -288,6 +288,8 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
 
 void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& o) {
+  // Bad input ends the job before any work (the floor mission checks its start first thing).
+  CheckJobRooms(mw, o.rooms);
   const auto t_start = WallClock::now();
   const fs::path dir(o.dir);
   report::ReportInput report;

@@ -77,19 +77,23 @@ runfolder::RoomScanFiles ScanFilesOf(
   return f;
 }
 
-RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
-                   const RoomMissionParams& params, const std::optional<Pose2>& start_W,
-                   const std::string& dir, bool evaluate) {
-  if (!mw.truth)
+void CheckJobRooms(const sim::SceneWorld& mw, const std::vector<std::string>& rooms) {
+  if (!mw.truth || mw.truth->rooms.empty())
     throw InputError(
-        "room: error: the scene has no truth sidecar; got no rooms, expected a "
-        "generated scene (scene.truth.json) or a spec");
-  const scenes::Room* r = mw.truth->FindRoom(room);
-  if (!r) {
+        "error: the scene has no truth rooms; expected a generated or imported scene with rooms "
+        "(scene.truth.json)");
+  for (const std::string& room : rooms) {
+    if (mw.truth->FindRoom(room)) continue;
     std::string ids;
     for (const auto& x : mw.truth->rooms) ids += (ids.empty() ? "" : ", ") + x.id;
     throw InputError("--room: error: unknown room; got '" + room + "', expected one of " + ids);
   }
+}
+
+RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
+                   const RoomMissionParams& params, const std::optional<Pose2>& start_W,
+                   const std::string& dir, bool evaluate) {
+  CheckJobRooms(mw, {room});
   RoomJob job;
   job.room = room;
   const scenes::RobotFootprint body = sim::FootprintOf(params.drive.body);

@@ -80,6 +80,11 @@ struct RoomJob {
   std::size_t components = 0;  ///< SM5: service components found
   double sm5_seconds = 0.0;    ///< s of wall time of SM5 (reporting only)
 };
+/// The harness's check of a job's scene and rooms, before any work: the scene has truth rooms
+/// and each of `rooms` is one of their ids. InputError naming the first unknown id and the
+/// scene's room ids otherwise (a floor mission passes no ids: the rooms must exist).
+void CheckJobRooms(const sim::SceneWorld& mw, const std::vector<std::string>& rooms);
+
 RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
                    const RoomMissionParams& params, const std::optional<Pose2>& start_W,
                    const std::string& dir, bool evaluate);

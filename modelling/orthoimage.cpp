@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/statistics.h"
 
@@ -425,13 +426,15 @@ void WriteOrthoimagePngs(const Orthoimage& img, const std::string& stem) {
   for (const auto& [path, mat] :
        {std::pair<std::string, const cv::Mat*>{stem + "_colour.png", &colour},
         {stem + "_depth.png", &depth}}) {
+    std::vector<unsigned char> png;
     bool ok = false;
     try {
-      ok = cv::imwrite(path, *mat);
+      ok = cv::imencode(".png", *mat, png);
     } catch (const cv::Exception& e) {
       throw InputError(path, "cannot write the image", e.what());
     }
     if (!ok) throw InputError(path, "cannot write the image");
+    WriteWholeFile(path, std::string(png.begin(), png.end()));
   }
 }
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/format.h"
 #include "common/polygon.h"
@@ -65,13 +66,6 @@ struct PlanView {
   double X(double x) const { return (x - min_x) * scale + 20; }
   double Y(double y) const { return (max_y - y) * scale + 20; }
 };
-
-void WriteOrThrow(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw InputError(path, "cannot write file");
-  out << text;
-  if (!out) throw InputError(path, "write failed");
-}
 
 // A point well inside a (possibly non-convex) room: the vertex mean if it is inside, else the
 // inside point of a coarse grid nearest to it.
@@ -310,7 +304,7 @@ void WriteHtmlReport(const ReportInput& in, const std::string& path) {
     if (!t.note.empty()) h << "<p>" << Escape(t.note) << "</p>\n";
   }
   h << "</body></html>\n";
-  WriteOrThrow(path, h.str());
+  WriteWholeFile(path, h.str());
 }
 
 void WriteMarkdownReport(const ReportInput& in, const std::string& path) {
@@ -329,7 +323,7 @@ void WriteMarkdownReport(const ReportInput& in, const std::string& path) {
     }
     if (!t.note.empty()) m << "\n" << t.note << "\n";
   }
-  WriteOrThrow(path, m.str());
+  WriteWholeFile(path, m.str());
 }
 
 ReportTable ModelScoresTable(const nlohmann::ordered_json& summary) {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "io/text_file.h"
 #include "io/tum.h"
@@ -17,14 +18,6 @@ namespace mopad::runfolder {
 namespace {
 
 namespace fs = std::filesystem;
-
-// `bytes` as given (no newline added); InputError naming the file on failure.
-void WriteBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, "cannot write the file");
-  f << bytes;
-  if (!f) throw InputError(path, "write failed");
-}
 
 void CreateFolder(const fs::path& dir) {
   std::error_code ec;
@@ -148,10 +141,10 @@ void WriteRoomScanFiles(const std::string& dir, const RoomScanFiles& f) {
   std::string poses;
   for (const auto& [t, X] : f.door_scans) poses += io::TumLine(t, X);
   for (const auto& s : f.log->scans) poses += io::TumLine(s.sim_time, s.X_MS);
-  WriteBytes(Join(dir, kScanPoses), poses);
+  WriteWholeFile(Join(dir, kScanPoses), poses);
   io::WriteTextFile(Join(dir, kSummary), SummaryJson(*f.log, f.drive).dump(2));
-  WriteBytes(Join(dir, kTrajectoryEstimated), f.trajectory_estimated_tum);
-  WriteBytes(Join(dir, kTrajectoryTrue), f.trajectory_true_tum);
+  WriteWholeFile(Join(dir, kTrajectoryEstimated), f.trajectory_estimated_tum);
+  WriteWholeFile(Join(dir, kTrajectoryTrue), f.trajectory_true_tum);
   perception::WriteMap(*f.map, Join(dir, kMapYaml));
   io::WriteTextFile(Join(dir, kEffectiveConfig), f.effective_config_yaml);
   io::WriteTextFile(Join(dir, kScansLog), ScanLogJson(*f.log).dump(2));

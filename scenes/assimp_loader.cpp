@@ -19,6 +19,7 @@
 
 #include "common/error.h"
 #include "common/frames.h"
+#include "scenes/child_reader.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/ifc4_loader.h"
 #include "scenes/mesh_validation.h"
@@ -407,31 +408,38 @@ Scene LoadWithAssimp(const std::string& path, const LoadOptions& options) {
     unit_scale = IfcUnappliedLengthScale(text, path);
   }
 
-  Assimp::Importer importer;
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_IFC_SKIP_SPACE_REPRESENTATIONS,
-                           !options.import_ifc_spaces);
-  importer.SetPropertyBool(AI_CONFIG_FBX_CONVERT_TO_M, true);  // FBX centimetres -> metres
-  // No PreTransformVertices: it merges meshes and drops the node names IFC classes live in.
-  // FlipUVs: assimp keeps UVs with a bottom-left origin; ours (and glTF's) is top-left.
-  const unsigned flags =
-      aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_FlipUVs;
-  const aiScene* ai = importer.ReadFile(path, flags);
-  if (ai == nullptr)
-    throw InputError(path, "assimp cannot read the file",
-                     "\"" + OneLine(importer.GetErrorString()) + "\"",
-                     "a valid " + (ext.empty() ? std::string("scene") : ext.substr(1)) + " file");
-  if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || ai->mRootNode == nullptr)
-    throw InputError(path, "assimp returned an incomplete scene", "", "a scene with meshes");
+  const auto read = [&] {
+    Assimp::Importer importer;
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_IFC_SKIP_SPACE_REPRESENTATIONS,
+                             !options.import_ifc_spaces);
+    importer.SetPropertyBool(AI_CONFIG_FBX_CONVERT_TO_M, true);  // FBX centimetres -> metres
+    // No PreTransformVertices: it merges meshes and drops the node names IFC classes live in.
+    // FlipUVs: assimp keeps UVs with a bottom-left origin; ours (and glTF's) is top-left.
+    const unsigned flags =
+        aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_FlipUVs;
+    const aiScene* ai = importer.ReadFile(path, flags);
+    if (ai == nullptr)
+      throw InputError(path, "assimp cannot read the file",
+                       "\"" + OneLine(importer.GetErrorString()) + "\"",
+                       "a valid " + (ext.empty() ? std::string("scene") : ext.substr(1)) + " file");
+    if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || ai->mRootNode == nullptr)
+      throw InputError(path, "assimp returned an incomplete scene", "", "a scene with meshes");
 
-  bool y_up = ext != ".stl";
-  if (options.up_axis == UpAxis::kY) y_up = true;
-  if (options.up_axis == UpAxis::kZ) y_up = false;
-  Eigen::Matrix4d fix = Eigen::Matrix4d::Identity();
-  if (y_up) fix.topLeftCorner<3, 3>() = ZupFromYup();
-  fix.topLeftCorner<3, 3>() *= unit_scale;
+    bool y_up = ext != ".stl";
+    if (options.up_axis == UpAxis::kY) y_up = true;
+    if (options.up_axis == UpAxis::kZ) y_up = false;
+    Eigen::Matrix4d fix = Eigen::Matrix4d::Identity();
+    if (y_up) fix.topLeftCorner<3, 3>() = ZupFromYup();
+    fix.topLeftCorner<3, 3>() *= unit_scale;
 
-  AssimpSceneBuilder builder(*ai, path, fix);
-  Scene scene = builder.Build();
+    AssimpSceneBuilder builder(*ai, path, fix);
+    return builder.Build();
+  };
+  // assimp's IFC 2x3 reader segfaults on some hostile files (found by fuzzing,
+  // docs/reliability.md): it runs in a child process, as the IFC4 reader does.
+  Scene scene = ext == ".ifc" ? ReadSceneInChild(path, "the IFC 2x3 reader (assimp)",
+                                                 "an IFC 2x3 file it can read", read)
+                              : read();
   ValidateScene(&scene, options.drop_degenerate_triangles);
   return scene;
 }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <set>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "scenes/generator_internal.h"
 #include "scenes/gltf_writer.h"
@@ -131,12 +132,10 @@ void WriteGeneratedScene(const GeneratedScene& generated, const std::string& dir
   const std::filesystem::path d(dir);
   WriteGlb(generated.scene, (d / "scene.glb").string());
   WriteGroundTruth(generated.truth, (d / "scene.truth.json").string());
-  const std::string spec_path = (d / "spec.effective.yaml").string();
-  std::ofstream out(spec_path, std::ios::binary | std::ios::trunc);
-  out << "# Effective scene spec (defaults filled in); regenerate with\n"
-      << "#   mopad scene generate spec.effective.yaml -o DIR\n"
-      << SceneSpecToYaml(generated.spec);
-  if (!out) throw InputError(spec_path, "write failed");
+  WriteWholeFile((d / "spec.effective.yaml").string(),
+                 "# Effective scene spec (defaults filled in); regenerate with\n"
+                 "#   mopad scene generate spec.effective.yaml -o DIR\n" +
+                     SceneSpecToYaml(generated.spec));
 }
 
 }  // namespace mopad::scenes

@@ -161,7 +161,8 @@ void TriangulateRectWithHoles(double length, double height, const std::vector<Re
     lv.erase(std::unique(lv.begin(), lv.end()), lv.end());
   }
   for (std::size_t s = 0; s < ns; ++s) {
-    for (const auto& [va, vb] : solid[s]) {
+    for (const auto& span : solid[s]) {
+      const double va = span.first, vb = span.second;  // a lambda captures no structured binding
       auto chain = [&](std::size_t l) {
         std::vector<int> ids;
         for (double v : line_v[l]) {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 
 namespace mopad::scenes {
@@ -319,10 +320,13 @@ void WriteGlb(const Scene& scene, const std::string& path) {
   m.defaultScene = 0;
 
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&m, path, /*embedImages=*/true, /*embedBuffers=*/true,
-                                   /*prettyPrint=*/false, /*writeBinary=*/true)) {
+  AtomicFile file(path);
+  if (!writer.WriteGltfSceneToFile(&m, file.TempPath(), /*embedImages=*/true,
+                                   /*embedBuffers=*/true, /*prettyPrint=*/false,
+                                   /*writeBinary=*/true)) {
     throw InputError(path, "cannot write glTF binary");
   }
+  file.Commit();
 }
 
 }  // namespace mopad::scenes

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/frames.h"
 
@@ -516,10 +517,7 @@ GroundTruth ReadGroundTruth(const std::string& path) {
 }
 
 void WriteGroundTruth(const GroundTruth& truth, const std::string& path) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path, "cannot write file");
-  out << ToJson(truth).dump(2) << '\n';
-  if (!out) throw InputError(path, "write failed");
+  WriteWholeFile(path, ToJson(truth).dump(2) + "\n");
 }
 
 }  // namespace mopad::scenes

@@ -1,18 +1,10 @@
 #include "scenes/ifc4_loader.h"
 
-#include <fcntl.h>
-#include <sys/types.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <csignal>
-#include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -39,105 +31,11 @@
 #include "common/error.h"
 #include "scenes/assimp_loader.h"
 #include "scenes/bim_import_internal.h"
+#include "scenes/child_reader.h"
 #include "scenes/mesh_validation.h"
 
 namespace mopad::scenes {
 namespace {
-
-// --- the child's answer: a Scene (parts and materials) as bytes ---
-
-class Writer {
- public:
-  void U32(std::uint32_t v) { Raw(&v, sizeof v); }
-  void F32(float v) { Raw(&v, sizeof v); }
-  void Str(const std::string& s) {
-    U32(static_cast<std::uint32_t>(s.size()));
-    Raw(s.data(), s.size());
-  }
-  void Raw(const void* p, std::size_t n) { bytes_.append(static_cast<const char*>(p), n); }
-  const std::string& bytes() const { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  explicit Reader(const std::string& b) : b_(b) {}
-  std::uint32_t U32() {
-    std::uint32_t v = 0;
-    Raw(&v, sizeof v);
-    return v;
-  }
-  float F32() {
-    float v = 0;
-    Raw(&v, sizeof v);
-    return v;
-  }
-  std::string Str() {
-    const std::uint32_t n = U32();
-    Need(n);
-    std::string s = b_.substr(pos_, n);
-    pos_ += n;
-    return s;
-  }
-  void Raw(void* p, std::size_t n) {
-    Need(n);
-    std::memcpy(p, b_.data() + pos_, n);
-    pos_ += n;
-  }
-
- private:
-  void Need(std::size_t n) const {
-    if (pos_ + n > b_.size()) throw std::runtime_error("truncated answer of the IFC4 reader");
-  }
-  const std::string& b_;
-  std::size_t pos_ = 0;
-};
-
-void Serialise(const Scene& s, Writer* w) {
-  w->U32(static_cast<std::uint32_t>(s.materials.size()));
-  for (const Material& m : s.materials) {
-    w->Str(m.name);
-    for (int k = 0; k < 4; ++k) w->F32(m.base_color[k]);
-    w->F32(m.transmission);
-  }
-  w->U32(static_cast<std::uint32_t>(s.parts.size()));
-  for (const MeshPart& p : s.parts) {
-    w->Str(p.name);
-    w->Str(p.element_id);
-    w->Str(p.subclass);
-    w->U32(static_cast<std::uint32_t>(p.material + 1));
-    w->U32(static_cast<std::uint32_t>(p.positions.size()));
-    w->Raw(p.positions.data(), p.positions.size() * sizeof(Eigen::Vector3f));
-    w->U32(static_cast<std::uint32_t>(p.triangles.size()));
-    w->Raw(p.triangles.data(), p.triangles.size() * sizeof(Eigen::Vector3i));
-  }
-}
-
-Scene Deserialise(const std::string& bytes) {
-  Reader r(bytes);
-  Scene s;
-  s.materials.resize(r.U32());
-  for (Material& m : s.materials) {
-    m.name = r.Str();
-    for (int k = 0; k < 4; ++k) m.base_color[k] = r.F32();
-    m.transmission = r.F32();
-  }
-  s.parts.resize(r.U32());
-  for (MeshPart& p : s.parts) {
-    p.name = r.Str();
-    p.element_id = r.Str();
-    p.subclass = r.Str();
-    p.element_class = FromIfcClass(p.subclass);
-    p.material = static_cast<int>(r.U32()) - 1;
-    p.positions.resize(r.U32());
-    r.Raw(p.positions.data(), p.positions.size() * sizeof(Eigen::Vector3f));
-    p.triangles.resize(r.U32());
-    r.Raw(p.triangles.data(), p.triangles.size() * sizeof(Eigen::Vector3i));
-  }
-  return s;
-}
 
 // --- IfcPlusPlus's model and geometry to parts (runs in the child) ---
 
@@ -353,90 +251,19 @@ Scene ReadWithIfcPlusPlus(const std::string& path, const std::string& text,
   return builder.Build();
 }
 
-std::string SignalName(int sig) {
-  const char* name = strsignal(sig);
-  return "signal " + std::to_string(sig) + (name ? std::string(" (") + name + ")" : "");
-}
-
 }  // namespace
 
 Scene LoadIfc4(const std::string& path, const LoadOptions& options) {
   const std::string text = bim::ReadText(path);
-  int fds[2];
-  if (pipe(fds) != 0)
-    throw InputError(path, "cannot start the IFC4 reader", std::strerror(errno), "a pipe");
-  const pid_t pid = fork();
-  if (pid < 0) {
-    close(fds[0]);
-    close(fds[1]);
-    throw InputError(path, "cannot start the IFC4 reader", std::strerror(errno), "a process");
-  }
-  if (pid == 0) {
-    // The child: IfcPlusPlus prints progress to stdout; the parent's stdout is not its to use.
-    close(fds[0]);
-    const int null = open("/dev/null", O_WRONLY);
-    if (null >= 0) {
-      dup2(null, STDOUT_FILENO);
-      dup2(null, STDERR_FILENO);
-    }
-    Writer w;
-    int code = 0;
+  const std::string reader = "the IFC4 reader (IfcPlusPlus)";
+  Scene scene = ReadSceneInChild(path, reader, "an IFC4 file it can read", [&] {
     try {
-      Writer body;
-      Serialise(ReadWithIfcPlusPlus(path, text, options), &body);
-      w.Raw(body.bytes().data(), body.bytes().size());
+      return ReadWithIfcPlusPlus(path, text, options);
     } catch (const std::exception& e) {
-      w.Str(e.what());
-      code = 3;
-    } catch (...) {
-      w.Str("unknown exception");
-      code = 3;
+      throw InputError(path, reader + " cannot read the file", e.what(), "a valid IFC4 file");
     }
-    const std::string& b = w.bytes();
-    for (std::size_t done = 0; done < b.size();) {
-      const ssize_t n = write(fds[1], b.data() + done, b.size() - done);
-      if (n <= 0) _exit(4);
-      done += static_cast<std::size_t>(n);
-    }
-    close(fds[1]);
-    _exit(code);
-  }
-  close(fds[1]);
-  std::string bytes;
-  char buf[65536];
-  for (;;) {
-    const ssize_t n = read(fds[0], buf, sizeof buf);
-    if (n > 0) {
-      bytes.append(buf, static_cast<std::size_t>(n));
-    } else if (n == 0 || errno != EINTR) {
-      break;
-    }
-  }
-  close(fds[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFSIGNALED(status))
-    throw InputError(path, "the IFC4 reader (IfcPlusPlus) crashed on this file",
-                     SignalName(WTERMSIG(status)), "an IFC4 file it can read");
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::string why = "exit status " + std::to_string(WEXITSTATUS(status));
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 3) {
-      try {
-        why = Reader(bytes).Str();
-      } catch (const std::exception&) {
-      }
-    }
-    throw InputError(path, "the IFC4 reader (IfcPlusPlus) cannot read the file", why,
-                     "a valid IFC4 file");
-  }
-  Scene scene;
-  try {
-    scene = Deserialise(bytes);
-  } catch (const std::exception& e) {
-    throw InputError(path, "the IFC4 reader (IfcPlusPlus) gave no usable answer", e.what(),
-                     "a complete scene");
-  }
+  });
+  for (MeshPart& p : scene.parts) p.element_class = FromIfcClass(p.subclass);
   if (scene.parts.empty())
     throw InputError(path, "the IFC4 reader (IfcPlusPlus) made no geometry", "0 mesh parts",
                      "products with a Body representation");

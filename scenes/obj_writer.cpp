@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/frames.h"
 
@@ -22,7 +23,8 @@ std::string ObjName(std::string s) {
 void WriteObj(const Scene& scene, const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path mtl_path = fs::path(path).replace_extension(".mtl");
-  std::ofstream obj(path), mtl(mtl_path);
+  AtomicFile obj_file(path), mtl_file(mtl_path.string());
+  std::ofstream obj(obj_file.TempPath()), mtl(mtl_file.TempPath());
   if (!obj) throw InputError(path, "cannot write file");
   if (!mtl) throw InputError(mtl_path.string(), "cannot write file");
 
@@ -75,7 +77,11 @@ void WriteObj(const Scene& scene, const std::string& path) {
     base_v += part.positions.size();
     if (has_uv) base_vt += part.uvs.size();
   }
+  obj.close();
+  mtl.close();
   if (!obj || !mtl) throw InputError(path, "write failed");
+  mtl_file.Commit();
+  obj_file.Commit();
 }
 
 }  // namespace mopad::scenes

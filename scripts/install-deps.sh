@@ -6,6 +6,8 @@
 #                                    glTF validator, web-ifc, copc — installed into build/_npm;
 #                                    Debian's chromium for the report's 3D-view test; Slurm
 #                                    and munge for the `slurm` tests)
+#   scripts/install-deps.sh --fuzz   also Debian's clang for the libFuzzer targets of fuzz/
+#                                    (scripts/fuzz.sh; not needed to build or test)
 # Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
 set -euo pipefail
 
@@ -19,8 +21,13 @@ packages=(
   # Boost headers the package does not declare.
   libifcplusplus-dev libboost-dev
 )
-with_tests=0
-[[ "${1:-}" == "--test" ]] && with_tests=1
+with_tests=0 with_fuzz=0
+for arg in "$@"; do
+  case "$arg" in
+    --test) with_tests=1 ;;
+    --fuzz) with_fuzz=1 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do
@@ -43,6 +50,11 @@ if (( with_tests )); then
       missing+=("$p")
     fi
   done
+fi
+
+# Fuzzing (optional): clang 14 ships libFuzzer and the sanitizer runtimes (scripts/fuzz.sh).
+if (( with_fuzz )) && ! dpkg-query -W -f='${Status}' clang 2>/dev/null | grep -q "install ok installed"; then
+  missing+=(clang)
 fi
 
 if (( ${#missing[@]} )); then

@@ -15,6 +15,7 @@
 #include <optional>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/params.h"
 #include "common/polygon.h"
@@ -173,7 +174,9 @@ void RunScan(const ScanOptions& o) {
     node["scan_id"] = o.scan_id;
     node["doors"] = o.doors;
     node["tls"] = SaveParams(params);
-    std::ofstream(cfg) << node << "\n";
+    std::ostringstream cfg_text;
+    cfg_text << node << "\n";
+    WriteWholeFile(cfg.string(), cfg_text.str());
     std::printf("scene    %s: %zu triangles, %zu doors (load %.2f s, BVH %.2f s)\n",
                 loaded.description.c_str(), world.scene().TriangleCount(), world.DoorIds().size(),
                 t_load, t_build);
@@ -226,8 +229,7 @@ void RunLrf(const LrfOptions& o) {
   std::vector<interfaces::LrfScan> scans;
   for (const auto& p : rig)
     scans.push_back(LrfSimulator(world, p).Scan(X_WB, o.seed, o.seq, o.time));
-  std::ofstream out(o.output);
-  if (!out) throw InputError(o.output, "cannot open file for writing");
+  std::ostringstream out;
   if (ext == ".csv") {
     out << "frame,seq,timestamp,beam,angle_rad,range_m,intensity,mount_z_m\n";
     char line[256];
@@ -258,7 +260,7 @@ void RunLrf(const LrfOptions& o) {
     }
     out << j.dump(1) << "\n";
   }
-  if (!out) throw InputError(o.output, "write failed");
+  WriteWholeFile(o.output, out.str());
   for (const auto& s : scans) {
     std::size_t returns = 0;
     for (float r : s.ranges) returns += r < s.range_max;

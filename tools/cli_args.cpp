@@ -1,3 +1,4 @@
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -22,6 +23,10 @@ Pose2 ParsePoseArg(const std::string& opt, const std::string& text) {
   }
   if (v.size() != 3)
     throw InputError(opt + ": error: wrong count; got '" + text + "', expected x,y,yaw_deg");
+  for (double x : v)
+    if (!std::isfinite(x))
+      throw InputError(opt + ": error: not a finite number; got '" + text +
+                       "', expected x,y,yaw_deg in metres and degrees");
   return Pose2{v[0], v[1], DegToRad(v[2])};
 }
 

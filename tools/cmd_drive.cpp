@@ -65,6 +65,8 @@ void RegisterDriveCommand(CLI::App& app) {
     if (!config->empty()) params = LoadParamsFile<mission::DriveParams>(*config);
     OverrideIfGiven(seed_opt, *seed, params.seed);
     OverrideIfGiven(max_time_opt, *max_time, params.navigator.max_time);
+    ValidateParams(params);
+    params.Validate();
     mission::DriveRequest req;
     req.X_WB_start = ParsePoseArg("--from", *from);
     req.X_WB_goal = ParsePoseArg("--to", *to);

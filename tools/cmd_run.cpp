@@ -153,7 +153,6 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
     return ck;
   }
   dir = a.out;
-  fs::create_directories(dir);
   mission::RunInputs in;
   if (!a.config.empty()) in.params = LoadParamsFile<mission::FloorMissionParams>(a.config);
   OverrideIfGiven(a.step_opt, a.step, in.params.room.scan.scan_step_deg);
@@ -169,6 +168,7 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
     in.scene_folder = fs::absolute(a.scene_dir).string();
     in.scene_source = a.scene_dir;
   }
+  fs::create_directories(dir);
   return mission::RunCheckpoint::Create(dir.string(), in);
 }
 

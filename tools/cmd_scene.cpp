@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/params.h"
 #include "interfaces/object_model_catalogue.h"
@@ -215,9 +216,7 @@ void AddPlanCommand(CLI::App* scene) {
     const scenes::Texture t = scenes::RenderPlanView(scenes::LoadScene(sp.geometry),
                                                      scenes::ReadGroundTruth(*sp.truth), p);
     const std::vector<std::uint8_t> png = scenes::EncodePng(t);
-    std::ofstream f(*out, std::ios::binary | std::ios::trunc);
-    f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-    if (!f) throw InputError(*out, "cannot write file");
+    WriteWholeFile(*out, std::string(png.begin(), png.end()));
     std::printf("wrote %s (%d x %d)\n", out->c_str(), t.width, t.height);
   });
 }

@@ -103,6 +103,28 @@ TEST(LasWriter, HeaderFieldsAndRecordsReadBack) {
   EXPECT_EQ(ReadBytes(again), b);
 }
 
+// The file appears whole at Close() or not at all: a writer given up half way (an exception
+// between Append and Close) leaves neither the file nor its temporary (common/atomic_file.h).
+TEST(LasWriter, TheFileAppearsOnlyWhenClosed) {
+  const std::string path = TempPath("mopad_unclosed.las");
+  std::filesystem::remove(path);
+  LasFileInfo info;
+  info.min = {-4, -5, -1};
+  info.max = {13, 4, 3};
+  {
+    LasWriter w(path, info);
+    w.Append(ThreePoints());
+    EXPECT_FALSE(std::filesystem::exists(path)) << "a part of the file is visible before Close()";
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  LasWriter w(path, info);
+  w.Append(ThreePoints());
+  w.Close();
+  EXPECT_EQ(ReadBytes(path).size(), 375u + 3 * 36u);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+}
+
 TEST(LasWriter, ScaleCoarsensOnlyWhenTheInt32CountsWouldOverflow) {
   const Eigen::Vector3d lo(0, 0, 0);
   EXPECT_DOUBLE_EQ(LasScaleFor(lo, {100, 50, 3}, LasOffsetFor(lo, {100, 50, 3})), 1e-4);

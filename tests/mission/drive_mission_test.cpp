@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 
+#include "common/error.h"
+#include "common/params.h"
 #include "mission/floor_job.h"
 #include "mission/robot_session.h"
 #include "mission/room_mission.h"
@@ -49,6 +51,33 @@ DriveParams Params(std::uint64_t seed = 5) {
   p.seed = seed;
   p.navigator.max_time = 150.0;
   return p;
+}
+
+// A profile name no profile has is refused by the one ValidateParams a command calls before any
+// work, naming the field's path, the value and the names that exist.
+TEST(DriveParams, AnUnknownSensorProfileIsRefusedByValidateParams) {
+  FloorMissionParams p;
+  EXPECT_NO_THROW(ValidateParams(p, "room."));
+  p.room.drive.tls_profile = "";
+  try {
+    ValidateParams(p, "room.");
+    FAIL() << "an empty TLS profile accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "room.drive: error: parameter 'tls_profile' unknown; got '', expected one of "
+              "riegl_vz400, riegl_vz400_long_range");
+  }
+  p.room.drive.tls_profile = "riegl_vz400_long_range";
+  p.room.drive.lrf_profile = "hokuyo";
+  try {
+    ValidateParams(p, "room.");
+    FAIL() << "an unknown LRF profile accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter 'lrf_profile' unknown; got 'hokuyo', "
+                                         "expected one of hokuyo_utm30lx"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 void Print(const char* what, const DriveResult& r) {

@@ -10,9 +10,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "common/error.h"
+#include "mission/main_job.h"
 #include "modelling/model_io.h"
 #include "sim/scene_world.h"
 
@@ -100,6 +103,40 @@ TEST(FloorJob, AClosedDoorIsSeenNotEnteredAndTheMissionFinishes) {
       closed_leaf = true;
   EXPECT_TRUE(closed_leaf) << "no closed door recorded as seen, not entered";
   fs::remove_all(dir);
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError)";
+}
+
+// Bad input to a job is InputError (exit 2) before any work: a scene without truth rooms, a room
+// id the scene does not have, also after a valid one (no room of the list is run first).
+TEST(FloorJob, ASceneWithoutRoomsOrAnUnknownRoomIsRefusedBeforeAnyWork) {
+  sim::SceneWorld mw = sim::LoadSceneWorld(Spec());
+  const fs::path dir =
+      fs::temp_directory_path() / ("mopad_floor_refused_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  MainJobOptions o;
+  o.dir = dir.string();
+  o.rooms = {"R1", "R9"};
+  EXPECT_EQ(ErrorOf([&] { RunMainJob(mw, Params(), o); }),
+            "--room: error: unknown room; got 'R9', expected one of R1, R2");
+  EXPECT_FALSE(fs::exists(dir)) << "work started before the room ids were checked";
+
+  mw.truth->rooms.clear();
+  const std::string no_rooms =
+      "error: the scene has no truth rooms; expected a generated or "
+      "imported scene with rooms (scene.truth.json)";
+  EXPECT_EQ(ErrorOf([&] { RunFloorJob(mw, Params(), std::nullopt, dir.string(), false); }),
+            no_rooms);
+  o.rooms.clear();
+  EXPECT_EQ(ErrorOf([&] { RunMainJob(mw, Params(), o); }), no_rooms);
+  EXPECT_FALSE(fs::exists(dir));
 }
 
 }  // namespace

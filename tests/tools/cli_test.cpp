@@ -14,6 +14,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/process_temp_dir.h"
 #include "tests/run_command.h"
@@ -181,6 +182,10 @@ TEST(Cli, MainJobScansEveryRoomAndWritesModelsEvaluationAndReportDeterministical
         "rooms/R1/run.json", "rooms/R1/evaluation.json", "rooms/R1/models.glb", "rooms/R1/sm2.json",
         "rooms/R1/dsm3.ply", "eval/evaluation.json", "eval/evaluation.md"})
     EXPECT_TRUE(fs::exists(d + "/a/" + f)) << f;
+  // Every file was written whole and renamed into place (common/atomic_file.h): no temporary
+  // file remains.
+  for (const auto& e : fs::recursive_directory_iterator(d + "/a"))
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path();
   // The models are scored against the truth in the same job (mopad eval's figures).
   const auto& ms = j.at("models_evaluation").at("summary");
   EXPECT_EQ(ms.at("detection").at("wall").at("tp").get<int>(),
@@ -523,6 +528,65 @@ TEST(Cli, RunStartInAWallOrOutsideTheBuildingIsOneLineExitTwoNamingTheNearestFre
   EXPECT_EQ(out.code, 2) << out.out;
   EXPECT_NE(out.out.find("outside the building"), std::string::npos) << out.out;
   EXPECT_NE(out.out.find("nearest free spot"), std::string::npos) << out.out;
+}
+
+// The number of lines of `out` that hold "error".
+int ErrorLines(const std::string& out) {
+  std::istringstream in(out);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) n += line.find("error") != std::string::npos;
+  return n;
+}
+
+// Input errors of `mopad run` are input errors: exit 2 and one line naming the value and what
+// is expected, before any work (no room run, no summary; a bad config or argument before the
+// output folder exists).
+TEST(Cli, RunInputErrorsAreOneLineExitTwoBeforeAnyWork) {
+  struct Case {
+    std::string args, message;
+    bool folder;  // the output folder may exist (the scene had to be read to know)
+  };
+  const std::string cfg = TempDir("bad_configs");
+  fs::create_directories(cfg);
+  const auto config = [&](const std::string& name, const std::string& text) {
+    std::ofstream(cfg + "/" + name) << text;
+    return "--config " + cfg + "/" + name;
+  };
+  const std::vector<Case> cases = {
+      {"--start 500,500,0", "--start 500.00,500.00,0.0: error: outside the building", true},
+      {"--start nan,1,0", "--start: error: not a finite number; got 'nan,1,0'", false},
+      {"--room NOPE", "--room: error: unknown room; got 'NOPE', expected one of R1, ", true},
+      {"--room R1 --room NOPE", "--room: error: unknown room; got 'NOPE'", true},
+      {config("step.yaml", "scan_step_deg: -1\n"),
+       "step.yaml:1: error: parameter 'scan_step_deg' out of range; got -1.000000, expected "
+       "[0.020000, 5.000000]",
+       false},
+      {config("nan.yaml", "scan_step_deg: .nan\n"),
+       "parameter 'scan_step_deg' out of range; got nan", false},
+      {config("empty.yaml", "scan_step_deg:\n"),
+       "error: wrong type for 'scan_step_deg'; got null, expected a number", false},
+      {config("time.yaml", "drive:\n  max_time: 0\n"),
+       "time.yaml:2: error: parameter 'drive.max_time' out of range; got 0.000000", false},
+      {config("neg_time.yaml", "drive:\n  local_controller:\n    stuck_timeout: -1\n"),
+       "parameter 'drive.local_controller.stuck_timeout' out of range; got -1.000000", false},
+      {config("profile.yaml", "drive:\n  tls_profile: \"\"\n"),
+       "room.drive: error: parameter 'tls_profile' unknown; got '', expected one of riegl_vz400",
+       false},
+  };
+  int i = 0;
+  for (const Case& c : cases) {
+    const std::string out = TempDir("input_error_" + std::to_string(i++)) + "/run";
+    const Result r = Mopad("run --scene " + OfficeDir() + " " + c.args + " -q -o " + out);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.message), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find("mopad: "), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(ErrorLines(r.out), 1) << c.args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(out + "/summary.json")) << c.args;
+    EXPECT_FALSE(fs::exists(out + "/rooms")) << c.args;
+    if (!c.folder) {
+      EXPECT_FALSE(fs::exists(out)) << c.args << ": the folder made before the check";
+    }
+  }
 }
 
 // `mopad scan`: an option not given leaves the profile's value (no value stands for "not
