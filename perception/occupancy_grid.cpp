@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 
 namespace mopad::perception {
@@ -538,15 +539,16 @@ void WriteMap(const OccupancyGrid& grid, const std::string& yaml_path) {
       img.at<std::uint8_t>(grid.Height() - 1 - j, i) = v;  // top row = highest y
     }
   }
+  std::vector<unsigned char> encoded;
   bool ok = false;
   try {
-    ok = cv::imwrite(png.string(), img);
+    ok = cv::imencode(".png", img, encoded);
   } catch (const cv::Exception& e) {
     throw InputError(png.string(), "cannot write map image", e.what());
   }
   if (!ok) throw InputError(png.string(), "cannot write map image");
-  std::ofstream out(yaml);
-  if (!out) throw InputError(yaml.string(), "cannot write map YAML");
+  WriteWholeFile(png.string(), std::string(encoded.begin(), encoded.end()));
+  std::ostringstream out;
   const auto& p = grid.Params();
   out << std::setprecision(17);
   out << "image: " << png.filename().string() << "\n"
@@ -556,7 +558,7 @@ void WriteMap(const OccupancyGrid& grid, const std::string& yaml_path) {
       << "negate: 0\n"
       << "occupied_thresh: " << p.occupied_thresh << "\n"
       << "free_thresh: " << p.free_thresh << "\n";
-  if (!out) throw InputError(yaml.string(), "cannot write map YAML");
+  WriteWholeFile(yaml.string(), out.str());
 }
 
 OccupancyGrid ReadMap(const std::string& yaml_path, const OccupancyGridParams& params) {
