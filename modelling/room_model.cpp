@@ -151,7 +151,8 @@ void RoomModel::UpdateWorkingCloud(std::size_t begin, std::size_t end) {
 
 void RoomModel::EstimateHeights() {
   // Z-histogram of the working cloud (area-like weights: one count per working voxel). Floor:
-  // the lowest strong peak below the scanners; ceiling: the highest strong peak above them.
+  // the lowest strong peak below the scanners; ceiling: the highest strong peak above them
+  // that is over them (heights.ceiling_over_scanner).
   double zs = 0.0;
   for (const auto& s : scans_) zs += s.origin.z();
   zs /= static_cast<double>(scans_.size());
@@ -183,7 +184,36 @@ void RoomModel::EstimateHeights() {
     return best;
   };
   const int bf = pick(0, std::max(1, mid - guard), true);
-  const int bc = pick(std::min(n - 1, mid + guard), n, false);
+  int bc = pick(std::min(n - 1, mid + guard), n, false);
+  // The highest strong peak is the ceiling unless it is not over the scanners (another room's,
+  // seen through a door): then the highest strong peak that is.
+  const auto over_scanner = [&](int b) {
+    const double c = lo + (b + 0.5) * bin;
+    for (const auto& s : scans_) {
+      const double dz = c - s.origin.z();
+      const double rmin = std::isfinite(s.min_range) ? s.min_range : 0.0;
+      const double blind = std::sqrt(std::max(0.0, rmin * rmin - dz * dz));
+      const double reach = blind + H.ceiling_over_scanner;
+      for (const auto& p : work_points_) {
+        if (std::abs(p.z() - c) > H.refine_bins * bin) continue;
+        const double dx = p.x() - s.origin.x(), dy = p.y() - s.origin.y();
+        if (dx * dx + dy * dy <= reach * reach) return true;
+      }
+    }
+    return false;
+  };
+  if (bc >= 0 && !over_scanner(bc)) {
+    const int b0 = std::min(n - 1, mid + guard);
+    double m = 0.0;
+    for (int b = b0; b < n; ++b) m = std::max(m, sm[b]);
+    for (int b = bc - 1; b >= std::max(b0, 1); --b) {
+      if (b + 1 < n && sm[b] >= H.peak_share * m && sm[b] >= sm[b - 1] && sm[b] >= sm[b + 1] &&
+          over_scanner(b)) {
+        bc = b;
+        break;
+      }
+    }
+  }
   auto refine = [&](int b) {
     const double c = lo + (b + 0.5) * bin;
     double sum = 0.0, cnt = 0.0;

@@ -55,6 +55,12 @@ struct HeightSearchParams {
   /// m, the floor (ceiling) lies this far below (above) the scanners where no peak is found,
   /// [0, 10]
   double fallback_offset = 1.4;
+  /// m, the ceiling is the highest strong peak over the scanners: one whose working points
+  /// come within this of the disc around a scanner that its minimum range hides (radius
+  /// sqrt(range_min^2 - (z - scanner z)^2)). A higher ceiling seen only through a door (the
+  /// next room's) starts beyond the wall; a room's own ceiling starts at that disc's edge.
+  /// [0, 100]
+  double ceiling_over_scanner = 0.5;
 
   template <class V>
   void Visit(V& v) {
@@ -63,6 +69,7 @@ struct HeightSearchParams {
     v("peak_share", peak_share, Bounds{0.01, 1.0});
     v("refine_bins", refine_bins, Bounds{0.5, 10.0});
     v("fallback_offset", fallback_offset, Bounds{0.0, 10.0});
+    v("ceiling_over_scanner", ceiling_over_scanner, Bounds{0.0, 100.0});
   }
 };
 

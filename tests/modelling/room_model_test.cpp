@@ -84,6 +84,30 @@ TEST(RoomModel, PerimeterUnderACeilingInsideTheMinimumRange) {
   EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
 }
 
+// A narrow corridor under a low ceiling (2.65 m, 1.25 m above the scanner centre: inside the
+// 1.5 m minimum range within 0.83 m of it) beside a hall under a higher one (2.75 m) seen
+// through a 1.6 m door 0.6 m away: the hall's ceiling is the highest strong peak of the heights
+// histogram, but it is not over the scanner; the corridor's is. (0.5 m from a 2.4 m high door
+// the hall's ceiling starts within reach and would still win: a limit of the rule.)
+TEST(RoomModel, TheCeilingIsTheOneOverTheScannerNotTheNextRoomsSeenThroughADoor) {
+  const sim::EmbreeWorld world(testing::RoomWithDoorScene(6, 2.2f, 2.65f, 0.3f, 1.9f, 2.1f, 2.75f));
+  const SimScan s = TakeScan(world, TestTls(), 5.4, 1.1, 0);
+  double ceiling[2] = {0, 0};
+  for (const int variant : {0, 1}) {
+    RoomModelParams p;
+    if (variant == 0) p.heights.ceiling_over_scanner = 100.0;  // any peak counts as over it
+    RoomModel model(p);
+    model.AddScan(s.scan, s.X_MS);
+    ceiling[variant] = model.CeilingZ();
+    // The outline is traced at the ceiling's height: at the hall's, the corridor has none.
+    if (variant == 1) EXPECT_GE(model.Perimeter().size(), 3u) << model.FiguresJson();
+  }
+  std::printf("[ HEIGHTS  ] ceiling %.3f m with any peak, %.3f m over the scanner\n", ceiling[0],
+              ceiling[1]);
+  EXPECT_NEAR(ceiling[0], 2.75, 0.01);  // the case the rule is for
+  EXPECT_NEAR(ceiling[1], 2.65, 0.01);
+}
+
 TEST(RoomModel, PerimeterDoesNotLeakThroughADoorBesideTheScanner) {
   // 0.6 m from the door wall (a 2 m hall is always < 1 m from one): the lintel over the door
   // is closer than the scanner's 1.5 m minimum range below ~66 deg elevation, so it returns
