@@ -134,7 +134,7 @@ struct AmclParams {
   /// surface, whose two normal estimates (the sweep's line fit, the map cell's returns) agree
   /// to a few tens of degrees, while a face the map has not seen (a door reveal across a
   /// wall) meets the wall's returns at about 90 deg. Where the map's returns in the cell are
-  /// no line (a point), no orientation is known and the beam is matched as before. (0, 90]
+  /// no line (a point), no orientation is known and the beam is matched on distance alone. (0, 90]
   double refine_max_normal_angle_deg = 45.0;
 
   template <class V>
