@@ -25,6 +25,7 @@
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
+#include "tests/input_error_of.h"
 #include "tests/sim/test_scenes.h"
 
 namespace mopad::evaluation {
@@ -510,14 +511,7 @@ std::string Replace(std::string s, const std::string& a, const std::string& b) {
   return s;
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test_support::InputErrorOf;
 
 const char* kSm3Json =
     R"({"format": "mopad-sm3", "version": 1, "room": "R1", "floor_z": 0.0, "ceiling_z": 2.5,
@@ -541,18 +535,18 @@ TEST(ModelFiles, Sm3IsReadAndMalformedOnesRejected) {
   ASSERT_EQ(m.adjacency.size(), 1u);
   EXPECT_NEAR(m.ceiling_z, 2.5, 1e-12);
   WriteText(p, Replace(kSm3Json, R"("n": [0, 1, 0], )", ""));
-  std::string e = ErrorOf([&] { ReadSm3(p); });
+  std::string e = InputErrorOf([&] { ReadSm3(p); });
   EXPECT_NE(e.find("sm3.json: error: patches[1].plane.n: missing field"), std::string::npos) << e;
   WriteText(p, Replace(kSm3Json, R"("class": "wall")", R"("class": "door")"));
-  EXPECT_NE(ErrorOf([&] { ReadSm3(p); }).find("patches[1].class: unknown class"),
+  EXPECT_NE(InputErrorOf([&] { ReadSm3(p); }).find("patches[1].class: unknown class"),
             std::string::npos);
   WriteText(p, Replace(kSm3Json, R"("format": "mopad-sm3")", R"("format": "mopad-sm2")"));
-  EXPECT_NE(ErrorOf([&] { ReadSm3(p); }).find("wrong file format"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadSm3(p); }).find("wrong file format"), std::string::npos);
   WriteText(p, Replace(kSm3Json, "[[0, 1]]", "[[0, 7]]"));
-  EXPECT_NE(ErrorOf([&] { ReadSm3(p); }).find("adjacency[0]: patch index out of range"),
+  EXPECT_NE(InputErrorOf([&] { ReadSm3(p); }).find("adjacency[0]: patch index out of range"),
             std::string::npos);
   WriteText(p, Replace(kSm3Json, "[4,0,2.5],[0,0,2.5]]", "[4,0,2.5]]").substr(0, 10));
-  EXPECT_FALSE(ErrorOf([&] { ReadSm3(p); }).empty());
+  EXPECT_FALSE(InputErrorOf([&] { ReadSm3(p); }).empty());
   fs::remove_all(d);
 }
 
@@ -608,19 +602,19 @@ TEST(ModelFiles, Dsm3IsReadWithLabelsMappedByNameAndBadOnesRejected) {
   EXPECT_NEAR(v.grid.origin.y(), 2.0, 1e-12);
   EXPECT_EQ(v.grid.dims[0], 4);
   WriteDsm3Ply(d / "dsm3.ply", g, ijk, labels, 5);
-  EXPECT_NE(ErrorOf([&] { ReadDsm3(p); }).find("truncated vertex data"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadDsm3(p); }).find("truncated vertex data"), std::string::npos);
   VoxelGrid small = g;
   small.dims = {2, 3, 2};
   WriteDsm3Ply(d / "dsm3.ply", small, ijk, labels);
-  EXPECT_NE(ErrorOf([&] { ReadDsm3(p); }).find("outside the grid"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadDsm3(p); }).find("outside the grid"), std::string::npos);
   WriteText(d / "dsm3.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 0\nend_header\n");
-  EXPECT_NE(ErrorOf([&] { ReadDsm3(p); }).find("mopad_dsm3_voxel_size"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadDsm3(p); }).find("mopad_dsm3_voxel_size"), std::string::npos);
   WriteText(d / "poses.tum", "# t x y z qx qy qz qw\n1.0 1 2 3 0 0 0 1\n2.0 4 5 6 0 0 0 1\n");
   const auto pos = ReadTumPositions((d / "poses.tum").string());
   ASSERT_EQ(pos.size(), 2u);
   EXPECT_EQ(pos[1], Vec3(4, 5, 6));
   WriteText(d / "poses.tum", "1.0 1 2\n");
-  EXPECT_NE(ErrorOf([&] { ReadTumPositions((d / "poses.tum").string()); }).find("poses.tum:1"),
+  EXPECT_NE(InputErrorOf([&] { ReadTumPositions((d / "poses.tum").string()); }).find("poses.tum:1"),
             std::string::npos);
   fs::remove_all(d);
 }

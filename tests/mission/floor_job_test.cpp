@@ -18,6 +18,7 @@
 #include "mission/main_job.h"
 #include "modelling/model_io.h"
 #include "sim/scene_world.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::mission {
 namespace {
@@ -105,14 +106,7 @@ TEST(FloorJob, AClosedDoorIsSeenNotEnteredAndTheMissionFinishes) {
   fs::remove_all(dir);
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
+using test_support::InputErrorOf;
 
 // Bad input to a job is InputError (exit 2) before any work: a scene without truth rooms, a room
 // id the scene does not have, also after a valid one (no room of the list is run first).
@@ -124,7 +118,7 @@ TEST(FloorJob, ASceneWithoutRoomsOrAnUnknownRoomIsRefusedBeforeAnyWork) {
   MainJobOptions o;
   o.dir = dir.string();
   o.rooms = {"R1", "R9"};
-  EXPECT_EQ(ErrorOf([&] { RunMainJob(mw, Params(), o); }),
+  EXPECT_EQ(InputErrorOf([&] { RunMainJob(mw, Params(), o); }),
             "--room: error: unknown room; got 'R9', expected one of R1, R2");
   EXPECT_FALSE(fs::exists(dir)) << "work started before the room ids were checked";
 
@@ -132,10 +126,10 @@ TEST(FloorJob, ASceneWithoutRoomsOrAnUnknownRoomIsRefusedBeforeAnyWork) {
   const std::string no_rooms =
       "error: the scene has no truth rooms; expected a generated or "
       "imported scene with rooms (scene.truth.json)";
-  EXPECT_EQ(ErrorOf([&] { RunFloorJob(mw, Params(), std::nullopt, dir.string(), false); }),
+  EXPECT_EQ(InputErrorOf([&] { RunFloorJob(mw, Params(), std::nullopt, dir.string(), false); }),
             no_rooms);
   o.rooms.clear();
-  EXPECT_EQ(ErrorOf([&] { RunMainJob(mw, Params(), o); }), no_rooms);
+  EXPECT_EQ(InputErrorOf([&] { RunMainJob(mw, Params(), o); }), no_rooms);
   EXPECT_FALSE(fs::exists(dir));
 }
 

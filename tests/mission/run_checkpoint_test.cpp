@@ -17,6 +17,7 @@
 #include "common/params.h"
 #include "io/text_file.h"
 #include "sim/scene_world.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::mission {
 namespace {
@@ -44,14 +45,7 @@ RunInputs Inputs() {
   return in;
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test_support::InputErrorOf;
 
 std::string Slurp(const fs::path& p) { return io::ReadTextFile(p.string()); }
 
@@ -117,10 +111,10 @@ TEST(RunCheckpoint, KeepsTheInputsBitForBit) {
 
 TEST(RunCheckpoint, ResumeWithoutACheckpointIsRefusedWithOneLine) {
   const std::string dir = TempDir("missing");
-  const std::string e = ErrorOf([&] { RunCheckpoint::Open(dir); });
+  const std::string e = InputErrorOf([&] { RunCheckpoint::Open(dir); });
   EXPECT_NE(e.find("nothing to resume"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-  EXPECT_NE(ErrorOf([&] { RunCheckpoint::Open(dir + "/no_such"); }).find("does not exist"),
+  EXPECT_NE(InputErrorOf([&] { RunCheckpoint::Open(dir + "/no_such"); }).find("does not exist"),
             std::string::npos);
   fs::remove_all(dir);
 }
@@ -132,26 +126,28 @@ TEST(RunCheckpoint, ACorruptOrChangedCheckpointIsRefused) {
   const std::string good = Slurp(m);
 
   io::WriteTextFile(m.string(), good.substr(0, good.size() / 2));  // a torn write
-  EXPECT_NE(ErrorOf([&] { RunCheckpoint::Open(dir); }).find("corrupt checkpoint manifest"),
+  EXPECT_NE(InputErrorOf([&] { RunCheckpoint::Open(dir); }).find("corrupt checkpoint manifest"),
             std::string::npos);
 
   io::WriteFileAtomically(m.string(), good);
   const fs::path config = fs::path(dir) / "checkpoint" / "config.yaml";
   const std::string config_text = Slurp(config);
   io::WriteFileAtomically(config.string(), config_text + "# edited\n");
-  EXPECT_NE(ErrorOf([&] { RunCheckpoint::Open(dir); }).find("config differs"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { RunCheckpoint::Open(dir); }).find("config differs"),
+            std::string::npos);
 
   io::WriteFileAtomically(config.string(), config_text);
   std::string other = good;
   other.replace(other.find("\"binary_hash\": \"") + 16, 4, "zzzz");
   io::WriteFileAtomically(m.string(), other);
-  EXPECT_NE(ErrorOf([&] { RunCheckpoint::Open(dir); }).find("another mopad binary"),
+  EXPECT_NE(InputErrorOf([&] { RunCheckpoint::Open(dir); }).find("another mopad binary"),
             std::string::npos);
 
   other = good;
   other.replace(other.find("mopad-checkpoint"), 16, "mopad-somethingx");
   io::WriteFileAtomically(m.string(), other);
-  EXPECT_NE(ErrorOf([&] { RunCheckpoint::Open(dir); }).find("not a checkpoint"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { RunCheckpoint::Open(dir); }).find("not a checkpoint"),
+            std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -163,9 +159,10 @@ TEST(RunCheckpoint, ASceneThatChangedIsRefused) {
   RunCheckpoint::Create(dir, Inputs()).SetScene(scene.string());
   RunCheckpoint::Open(dir).SetScene(scene.string());  // unchanged: accepted
   io::WriteTextFile((scene / "scene.truth.json").string(), "{ }");
-  EXPECT_NE(
-      ErrorOf([&] { RunCheckpoint::Open(dir).SetScene(scene.string()); }).find("the scene changed"),
-      std::string::npos);
+  EXPECT_NE(InputErrorOf([&] {
+              RunCheckpoint::Open(dir).SetScene(scene.string());
+            }).find("the scene changed"),
+            std::string::npos);
   fs::remove_all(dir);
 }
 

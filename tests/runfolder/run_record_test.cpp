@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "io/text_file.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::runfolder {
 namespace {
@@ -36,14 +37,7 @@ std::string Replace(std::string s, const std::string& a, const std::string& b) {
   return s;
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test_support::InputErrorOf;
 
 TEST(RunRecord, RunJsonIsReadAndMalformedOnesRejected) {
   const fs::path d = TempDir("read");
@@ -57,15 +51,16 @@ TEST(RunRecord, RunJsonIsReadAndMalformedOnesRejected) {
   EXPECT_EQ(r.sm3, (d / "sm3.json").string());
   EXPECT_EQ(r.sm4, "");  // not in "files": not written
   WriteText(path, Replace(kRunJsonText, R"("X_WM")", R"("X_MW")"));
-  EXPECT_NE(ErrorOf([&] { ReadRunJson(path); }).find("X_WM: missing field"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadRunJson(path); }).find("X_WM: missing field"),
+            std::string::npos);
   WriteText(path, Replace(kRunJsonText, R"("version": 1)", R"("version": 2)"));
-  const std::string v = ErrorOf([&] { ReadRunJson(path); });
+  const std::string v = InputErrorOf([&] { ReadRunJson(path); });
   EXPECT_NE(v.find("run.json: error: version"), std::string::npos) << v;
   WriteText(path, Replace(kRunJsonText, "[0,0,1,0]", "[0,0,2,0]"));
-  EXPECT_NE(ErrorOf([&] { ReadRunJson(path); }).find("rigid"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadRunJson(path); }).find("rigid"), std::string::npos);
   WriteText(path, "{\"format\": ");
-  EXPECT_NE(ErrorOf([&] { ReadRunJson(path); }).find("malformed JSON"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { ReadRunJson((d / "nothing.json").string()); }).find("cannot read"),
+  EXPECT_NE(InputErrorOf([&] { ReadRunJson(path); }).find("malformed JSON"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { ReadRunJson((d / "nothing.json").string()); }).find("cannot read"),
             std::string::npos);
   fs::remove_all(d);
 }

@@ -10,18 +10,12 @@
 #include <string>
 
 #include "common/error.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::scenes {
 namespace {
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
+using test_support::InputErrorOf;
 
 Scene SampleScene() {
   Scene s;
@@ -89,7 +83,7 @@ TEST(ChildReader, TheSceneComesBackWhole) {
 // A third-party reader that crashes on a hostile file (assimp's IFC 2x3 reader did, found by
 // fuzzing: docs/reliability.md) ends as one InputError; this process goes on.
 TEST(ChildReader, ACrashIsAnInputErrorNamingTheReaderAndTheSignal) {
-  const std::string m = ErrorOf([] {
+  const std::string m = InputErrorOf([] {
     ReadSceneInChild("bad.ifc", "the IFC 2x3 reader (assimp)", "an IFC 2x3 file it can read",
                      []() -> Scene {
                        std::raise(SIGSEGV);
@@ -106,13 +100,13 @@ TEST(ChildReader, ACrashIsAnInputErrorNamingTheReaderAndTheSignal) {
 }
 
 TEST(ChildReader, TheReadersInputErrorArrivesAsItIsAndOtherErrorsNameTheReader) {
-  EXPECT_EQ(ErrorOf([] {
+  EXPECT_EQ(InputErrorOf([] {
               ReadSceneInChild("a.ifc", "the reader", "a file", []() -> Scene {
                 throw InputError("a.ifc", "assimp cannot read the file", "\"x\"", "a valid ifc");
               });
             }),
             "a.ifc: error: assimp cannot read the file; got \"x\", expected a valid ifc");
-  EXPECT_EQ(ErrorOf([] {
+  EXPECT_EQ(InputErrorOf([] {
               ReadSceneInChild("a.ifc", "the reader", "a file",
                                []() -> Scene { throw std::runtime_error("no entities"); });
             }),

@@ -11,21 +11,15 @@
 
 #include "common/error.h"
 #include "scenes/scene_spec.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::scenes {
 namespace {
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test_support::InputErrorOf;
 
 std::string ParseError(const std::string& item) {
-  return ErrorOf([&] { ParseDoorAngles({item}, "--door"); });
+  return InputErrorOf([&] { ParseDoorAngles({item}, "--door"); });
 }
 
 TEST(DoorAngles, WellFormedItemsGiveTheirAnglesById) {
@@ -44,7 +38,7 @@ TEST(DoorAngles, WellFormedItemsGiveTheirAnglesById) {
 TEST(DoorAngles, ABadIdIsRefused) {
   EXPECT_EQ(ParseError("=30"),
             "--door: error: malformed door angle; got '=30', expected ID=DEG with DEG in [0, 180]");
-  EXPECT_EQ(ErrorOf([] {
+  EXPECT_EQ(InputErrorOf([] {
               ParseDoorAngles({"D1=30", "D1=40"}, "--doors");
             }),
             "--doors: error: door given twice; got 'D1', expected once");
@@ -75,7 +69,7 @@ TEST(DoorAngles, SetOnASpecChangesOnlyTheNamedDoors) {
   SetDoorAngles(ParseDoorAngles({"D1=0"}, "--door"), "--door", &spec);
   EXPECT_EQ(spec.doors[0].angle_deg, 0.0);
   EXPECT_EQ(spec.doors[1].angle_deg, 10.0);
-  EXPECT_EQ(ErrorOf([&] {
+  EXPECT_EQ(InputErrorOf([&] {
               SetDoorAngles({{"D9", 30.0}}, "--door", &spec);
             }),
             "--door: error: unknown door; got 'D9', expected a door of the spec");

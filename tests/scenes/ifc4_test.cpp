@@ -24,6 +24,7 @@
 #include "scenes/bim_import.h"
 #include "scenes/geometry.h"
 #include "scenes/scene_loader.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::scenes {
 namespace {
@@ -41,14 +42,7 @@ std::string WriteFile(const std::string& name, const std::string& text) {
   return path;
 }
 
-std::string InputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test_support::InputErrorOf;
 
 const char kHeader[] =
     "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('ViewDefinition [ReferenceView]'),'2;1');\n"

@@ -14,6 +14,7 @@
 #include "common/frames.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
+#include "tests/input_error_of.h"
 
 namespace mopad::scenes {
 namespace {
@@ -22,14 +23,7 @@ namespace fs = std::filesystem;
 
 const std::string kSpec = std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml";
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test_support::InputErrorOf;
 
 const Opening& Door(const GroundTruth& truth, const std::string& id) {
   for (const Opening& o : truth.openings)
@@ -45,7 +39,7 @@ TEST(SceneArg, ASpecIsGeneratedWithItsDoorAnglesSetFirst) {
   const LoadedScene closed = LoadSceneArg(kSpec, {{"D1", 0.0}}, "--door");
   EXPECT_EQ(Door(*closed.truth, "D1").opening_angle, 0.0);
   EXPECT_EQ(Door(*closed.truth, "D1").state, DoorState::kClosed);
-  EXPECT_EQ(ErrorOf([] {
+  EXPECT_EQ(InputErrorOf([] {
               LoadSceneArg(kSpec, {{"D9", 30.0}}, "--door");
             }),
             "--door: error: unknown door; got 'D9', expected a door of the spec");
@@ -63,17 +57,17 @@ TEST(SceneArg, AFolderAndAFileReadTheTruthBesideThem) {
     EXPECT_EQ(s.description, glb + " + " + truth);
     EXPECT_GT(s.scene.TriangleCount(), 0u);
   }
-  EXPECT_EQ(ErrorOf([&] {
+  EXPECT_EQ(InputErrorOf([&] {
               LoadSceneArg(dir.string(), {{"D1", 0.0}}, "--door");
             }),
             "--door: error: only with a scene spec (.yaml)");
   fs::remove(dir / "scene.glb");
-  EXPECT_EQ(ErrorOf([&] { LoadSceneArg(dir.string()); }),
+  EXPECT_EQ(InputErrorOf([&] { LoadSceneArg(dir.string()); }),
             dir.string() +
                 ": error: scene folder has no scene.glb; expected a folder written by `mopad "
                 "scene generate`, or a scene file");
   fs::remove_all(dir);
-  EXPECT_EQ(ErrorOf([&] { LoadSceneArg(dir.string()); }),
+  EXPECT_EQ(InputErrorOf([&] { LoadSceneArg(dir.string()); }),
             dir.string() + ": error: no such scene file or folder");
 }
 
