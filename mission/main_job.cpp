@@ -309,29 +309,41 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   // is a defect of this program, not bad input. The job still writes the summary and the report
   // (with the reason) and then ends with an internal error.
   std::string defect;
-  if (o.print) o.print("models against the truth (mopad eval):");
+  // A mission whose every room failed (or that was stopped before its first) modelled nothing:
+  // a robot outcome the rooms' reasons explain, with nothing to score or export.
+  const bool modelled = std::any_of(t.rooms_json.begin(), t.rooms_json.end(),
+                                    [](const nlohmann::ordered_json& r) { return r.contains("dir"); });
+  const std::string nothing_modelled =
+      "no room was modelled (rooms[].reason says why each failed)";
   evaluation::RunEvaluation run_eval;
-  try {
-    run_eval =
-        evaluation::EvaluateRun(dir.string(), "", "", runfolder::Join(o.dir, runfolder::kEvalDir));
-    if (o.print) o.print(run_eval.tables);
-  } catch (const std::exception& e) {
-    defect = std::string("the models could not be evaluated: ") + e.what();
-    run_eval.summary = {{"error", defect}};
-    if (o.print) o.print(defect);
+  if (!modelled) {
+    if (o.print) o.print("models against the truth: skipped; " + nothing_modelled);
+  } else {
+    if (o.print) o.print("models against the truth (mopad eval):");
+    try {
+      run_eval = evaluation::EvaluateRun(dir.string(), "", "",
+                                         runfolder::Join(o.dir, runfolder::kEvalDir));
+      if (o.print) o.print(run_eval.tables);
+    } catch (const std::exception& e) {
+      defect = std::string("the models could not be evaluated: ") + e.what();
+      run_eval.summary = {{"error", defect}};
+      if (o.print) o.print(defect);
+    }
   }
   const double t_eval = SecondsSince(t0);
 
   // The deliverables (docs/exports.md): export/model.ifc, model.glb, sm1.las.
   t0 = WallClock::now();
   std::string exports_error;
-  try {
-    const exports::ExportResult exported = exports::WriteAllExports(dir.string());
-    if (o.print) o.print(exported.summary);
-  } catch (const std::exception& e) {
-    exports_error = std::string("the deliverables could not be written: ") + e.what();
-    if (defect.empty()) defect = exports_error;
-    if (o.print) o.print(exports_error);
+  if (modelled) {
+    try {
+      const exports::ExportResult exported = exports::WriteAllExports(dir.string());
+      if (o.print) o.print(exported.summary);
+    } catch (const std::exception& e) {
+      exports_error = std::string("the deliverables could not be written: ") + e.what();
+      if (defect.empty()) defect = exports_error;
+      if (o.print) o.print(exports_error);
+    }
   }
   const double t_export = SecondsSince(t0);
 
@@ -344,11 +356,14 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (o.rooms.empty()) j["mission"] = t.mission_json;
   j["rooms"] = t.rooms_json;
   j["rooms_failed"] = t.rooms_failed;
-  const bool evaluated = !run_eval.summary.contains("error");
-  if (!evaluated)
+  const bool evaluated = modelled && !run_eval.summary.contains("error");
+  if (!modelled)
+    j["models_evaluation"] = {{"skipped", nothing_modelled}};
+  else if (!evaluated)
     j["models_evaluation"] = {{"error", run_eval.summary["error"]}};
   else
     j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", run_eval.summary}};
+  if (!modelled) j["exports_skipped"] = nothing_modelled;
   if (!exports_error.empty()) j["exports_error"] = exports_error;
   j["seconds"] = {{"generate", o.t_generate},
                   {"mission", t_mission},
@@ -365,7 +380,9 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   report.tables.push_back(std::move(t.rooms));
   if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));
   report.tables.push_back(std::move(t.eval));
-  if (!evaluated)
+  if (!modelled)
+    report.tables.push_back({"Models against the truth", {"skipped"}, {{nothing_modelled}}, ""});
+  else if (!evaluated)
     report.tables.push_back({"Models against the truth", {"error"}, {{defect}}, ""});
   else
     report.tables.push_back(report::ModelScoresTable(run_eval.summary));

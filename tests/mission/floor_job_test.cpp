@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -131,6 +132,39 @@ TEST(FloorJob, ASceneWithoutRoomsOrAnUnknownRoomIsRefusedBeforeAnyWork) {
   o.rooms.clear();
   EXPECT_EQ(InputErrorOf([&] { RunMainJob(mw, Params(), o); }), no_rooms);
   EXPECT_FALSE(fs::exists(dir));
+}
+
+// A 1.4 m closet: the scanner's 1.5 m minimum range hides every wall, the floor and the ceiling,
+// so the one room fails. The job ends as a robot outcome, not an error: summary.json and the
+// report say that no room was modelled and why the room failed; nothing is scored or exported.
+TEST(FloorJob, AMissionThatModelsNoRoomEndsWithAnExplainedStatus) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("mopad_floor_nothing_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path spec = dir / "closet.yaml";
+  std::ofstream(spec) << "name: closet\nseed: 2\nstorey_height: 3.0\nceiling_height: 2.6\n"
+                         "wall_thickness: 0.2\nrooms:\n"
+                         "  - {id: C1, polygon: [[0, 0], [1.4, 0], [1.4, 1.4], [0, 1.4]]}\n";
+  const sim::SceneWorld mw = sim::LoadSceneWorld(spec.string());
+  MainJobOptions o;
+  o.dir = (dir / "run").string();
+  o.start_W = Pose2{0.7, 0.7, 0.0};
+  ASSERT_NO_THROW(RunMainJob(mw, Params(), o));
+  const nlohmann::json summary =
+      nlohmann::json::parse(std::ifstream(fs::path(o.dir) / "summary.json"));
+  ASSERT_EQ(summary["rooms"].size(), 1u);
+  EXPECT_EQ(summary["rooms"][0]["status"], "failed");
+  EXPECT_FALSE(summary["rooms"][0]["reason"].get<std::string>().empty());
+  const std::string skipped = summary["models_evaluation"].value("skipped", "");
+  EXPECT_NE(skipped.find("no room was modelled"), std::string::npos) << summary.dump(2);
+  EXPECT_EQ(summary.value("exports_skipped", ""), skipped);
+  EXPECT_FALSE(fs::exists(fs::path(o.dir) / "eval"));
+  EXPECT_FALSE(fs::exists(fs::path(o.dir) / "export"));
+  std::ifstream md(fs::path(o.dir) / "report.md");
+  const std::string report((std::istreambuf_iterator<char>(md)), {});
+  EXPECT_NE(report.find("no room was modelled"), std::string::npos);
+  fs::remove_all(dir);
 }
 
 }  // namespace
