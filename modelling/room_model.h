@@ -211,6 +211,15 @@ struct OpeningSealParams {
   int max_vertices = 12;  ///< vertices of the detour, [1, 1000]
   /// deg, the wall edge after the detour runs within this of the wall's direction, [0, 45]
   double parallel_deg = 5.0;
+  /// m, a detour deeper than seal_depth is still a view through an opening when the wall's face
+  /// goes on above its mouth (a lintel: points on the wall's line above door heads, over at
+  /// least `lintel_coverage` of the mouth): a room's ceiling ends at a wall with a head over
+  /// its opening, and what lies beyond is the next room's, seen through the door from a
+  /// scanner too near the wall to see the lintel itself (inside the minimum range). Up to
+  /// this depth, [0, 100]
+  double lintel_depth = 10.0;
+  /// share of the mouth's 5 cm bins holding such a point, (0, 1]
+  double lintel_coverage = 0.5;
 
   template <class V>
   void Visit(V& v) {
@@ -219,6 +228,8 @@ struct OpeningSealParams {
     v("min_depth", min_depth, Bounds{0.0, 1.0});
     v("max_vertices", max_vertices, Bounds{1, 1000});
     v("parallel_deg", parallel_deg, Bounds{0.0, 45.0});
+    v("lintel_depth", lintel_depth, Bounds{0.0, 100.0});
+    v("lintel_coverage", lintel_coverage, Bounds{0.01, 1.0});
   }
 };
 
@@ -347,8 +358,12 @@ struct RoomModelParams {
 /// The perimeter's last pass after its edges were refit onto their walls (plan polygon, CCW,
 /// map frame, m): vertices closer than `jog_tolerance` to the segment joining their neighbours
 /// dropped, detours behind a wall line deeper than that and at most `seal_depth` (views through
-/// an opening) cut across, short and collinear edges merged.
-void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params);
+/// an opening) cut across, short and collinear edges merged. `above_heads`: the plan positions
+/// of the working points above door heads (WallRefitParams::high_band) and below the ceiling
+/// band; with them, a deeper detour whose mouth a lintel spans is cut across too
+/// (OpeningSealParams::lintel_depth).
+void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params,
+                   const std::vector<Vec2>& above_heads = {});
 
 /// One perimeter edge's wall line after the refit (plan, map frame): a point `p` of it, its unit
 /// direction `t`, `fitted` false where no wall's points carried the edge (it keeps the traced
@@ -469,7 +484,11 @@ class RoomModel {
   void EstimateHeights();
   void TraceOutline(ScanRecord& rec) const;
   void BuildPerimeter();
-  void RefitPerimeter(std::vector<Vec2>& poly) const;
+  /// The plan positions of the working points between the refit's floor and ceiling bands, and
+  /// which of them lie above door heads (WallRefitParams::high_band).
+  void WallBand(std::vector<Vec2>& band, std::vector<std::uint8_t>& high) const;
+  void RefitPerimeter(std::vector<Vec2>& poly, const std::vector<Vec2>& band,
+                      const std::vector<std::uint8_t>& high) const;
   void DetectColumns();
   void BuildRoi();
   void LabelAll();

@@ -63,15 +63,37 @@ void Clean(std::vector<Vec2>& poly, double collinear_deg, double min_len, double
 // into the room than seal_inward, spans at most seal_width along the line and comes back onto it
 // (within seal.on_line) ahead of the edge, where a parallel wall edge goes on, is replaced by the
 // straight wall. A detour that stays in the room (a pilaster, a cabinet) is kept: it never
-// passes behind.
+// passes behind. Deeper than seal_depth (up to seal.lintel_depth), the detour is cut across
+// only where a lintel spans its mouth (LintelSpans).
 
-void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
+// Whether the wall's face goes on above the mouth b -> v on a wall line: `above_heads` points
+// within wall_tolerance of the line over at least seal.lintel_coverage of its 5 cm bins.
+bool LintelSpans(const Vec2& b, const Vec2& v, const std::vector<Vec2>& above_heads,
+                 const RoomModelParams& P) {
+  constexpr double kBin = 0.05;  // m, as the refit's support bins
+  const double len = (v - b).norm();
+  if (len < 1e-9 || above_heads.empty()) return false;
+  const Vec2 t = (v - b) / len, nrm(t.y(), -t.x());
+  std::vector<std::uint8_t> bins(static_cast<std::size_t>(std::ceil(len / kBin)), 0);
+  for (const Vec2& p : above_heads) {
+    const double u = (p - b).dot(t);
+    if (u < 0.0 || u >= len || std::abs((p - b).dot(nrm)) > P.wall_tolerance) continue;
+    bins[std::min(bins.size() - 1, static_cast<std::size_t>(u / kBin))] = 1;
+  }
+  const int covered = std::accumulate(bins.begin(), bins.end(), 0);
+  return covered >= P.seal.lintel_coverage * static_cast<double>(bins.size());
+}
+
+void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P,
+                  const std::vector<Vec2>& above_heads) {
   if (P.seal_depth <= 0.0) return;
   // Shallower detours are the jog rule's (Clean with jog_tolerance): the two rules meet, so no
   // vertex a few cm behind a wall line falls between them (it would split the wall in SM3).
   const OpeningSealParams& S = P.seal;
   const double min_depth =
       P.jog_tolerance > 0.0 ? std::min(S.min_depth, P.jog_tolerance) : S.min_depth;
+  const double max_depth =
+      above_heads.empty() ? P.seal_depth : std::max(P.seal_depth, S.lintel_depth);
   bool changed = true;
   while (changed && poly.size() > 4) {
     changed = false;
@@ -88,8 +110,9 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
         const Vec2& v = poly[(i + s) % n];
         const double u = (v - b).dot(t), d = (v - b).dot(out);
         u_min = std::min(u_min, u);  // a reveal seen obliquely reaches back under the wall
-        if (u - u_min > P.seal_width + S.on_line || d > P.seal_depth || d < -P.seal_inward) break;
-        if (s >= 2 && std::abs(d) <= S.on_line && u > 0.0 && behind > min_depth) {
+        if (u - u_min > P.seal_width + S.on_line || d > max_depth || d < -P.seal_inward) break;
+        if (s >= 2 && std::abs(d) <= S.on_line && u > 0.0 && behind > min_depth &&
+            (behind <= P.seal_depth || LintelSpans(b, v, above_heads, P))) {
           const Vec2& w = poly[(i + s + 1) % n];
           const double lw = (w - v).norm();
           if (lw >= S.min_wall && (w - v).dot(t) >= lw * std::cos(DegToRad(S.parallel_deg))) {
@@ -114,9 +137,10 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P) {
 
 }  // namespace
 
-void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params) {
+void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params,
+                   const std::vector<Vec2>& above_heads) {
   Clean(poly, params.collinear_deg, params.min_edge_length, params.jog_tolerance);
-  SealOpenings(poly, params);
+  SealOpenings(poly, params, above_heads);
   Clean(poly, params.collinear_deg, params.min_edge_length, params.jog_tolerance);
 }
 
@@ -174,8 +198,14 @@ void RoomModel::BuildPerimeter() {
   for (const auto& p : approx) poly.push_back(lo + r * Vec2(p.x + 0.5, p.y + 0.5));
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   Clean(poly, params_.collinear_deg, params_.min_edge_length);
-  RefitPerimeter(poly);
-  TidyPerimeter(poly, params_);
+  std::vector<Vec2> band;
+  std::vector<std::uint8_t> high;
+  WallBand(band, high);
+  RefitPerimeter(poly, band, high);
+  std::vector<Vec2> above_heads;
+  for (std::size_t k = 0; k < band.size(); ++k)
+    if (high[k]) above_heads.push_back(band[k]);
+  TidyPerimeter(poly, params_, above_heads);
   if (SignedArea(poly) < 0) std::reverse(poly.begin(), poly.end());
   roi_.perimeter = poly;
 }
@@ -301,19 +331,13 @@ PerimeterLine FitWallEdge(const Vec2& a, const Vec2& b, const std::vector<Vec2>&
 
 }  // namespace
 
-void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
-  // Each edge is moved onto its wall: the densest offset of the wall points near it (walls are
-  // the farthest dense surface; clutter in front only thins the histogram), then a total
-  // least-squares line through the points close to that offset. Corners are re-intersected.
-  const std::size_t n = poly.size();
-  if (n < 3) return;
+void RoomModel::WallBand(std::vector<Vec2>& band, std::vector<std::uint8_t>& high) const {
   const WallRefitParams& R = params_.refit;
   const double z0 = roi_.floor_z + R.floor_clearance, z1 = roi_.ceiling_z - R.ceiling_clearance;
-  // Above door heads only the wall itself reaches (a lintel, the wall over a cabinet): the
-  // wall's offset is looked for there first.
+  // Above door heads only the wall itself reaches (a lintel, the wall over a cabinet).
   const double z_high = roi_.floor_z + R.high_band;
-  std::vector<Vec2> band;
-  std::vector<std::uint8_t> high;
+  band.clear();
+  high.clear();
   band.reserve(work_points_.size() / 2);
   for (const auto& p : work_points_) {
     if (p.z() > z0 && p.z() < z1) {
@@ -321,6 +345,16 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly) const {
       high.push_back(p.z() > z_high ? 1 : 0);
     }
   }
+}
+
+void RoomModel::RefitPerimeter(std::vector<Vec2>& poly, const std::vector<Vec2>& band,
+                               const std::vector<std::uint8_t>& high) const {
+  // Each edge is moved onto its wall: the densest offset of the wall points near it (walls are
+  // the farthest dense surface; clutter in front only thins the histogram), then a total
+  // least-squares line through the points close to that offset; above door heads first (the
+  // wall alone reaches there). Corners are re-intersected.
+  const std::size_t n = poly.size();
+  if (n < 3) return;
   std::vector<PerimeterLine> fits(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     fits[i] = FitWallEdge(poly[i], poly[(i + 1) % n], band, high, params_);

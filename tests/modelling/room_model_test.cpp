@@ -100,7 +100,9 @@ TEST(RoomModel, TheCeilingIsTheOneOverTheScannerNotTheNextRoomsSeenThroughADoor)
     model.AddScan(s.scan, s.X_MS);
     ceiling[variant] = model.CeilingZ();
     // The outline is traced at the ceiling's height: at the hall's, the corridor has none.
-    if (variant == 1) EXPECT_GE(model.Perimeter().size(), 3u) << model.FiguresJson();
+    if (variant == 1) {
+      EXPECT_GE(model.Perimeter().size(), 3u) << model.FiguresJson();
+    }
   }
   std::printf("[ HEIGHTS  ] ceiling %.3f m with any peak, %.3f m over the scanner\n", ceiling[0],
               ceiling[1]);
@@ -315,6 +317,39 @@ TEST(RoomModel, PerimeterDropsADetourBehindAWallLineAtAnyDepthUpToSealDepth) {
                               {3.5, 0}, {6, 0},   {6, 4},      {0, 4}};
   TidyPerimeter(alcove, p);
   EXPECT_EQ(alcove.size(), 8u);
+}
+
+// A scanner 0.6 m from a corridor wall, beside a door in it: the lintel over the door lies inside
+// the minimum range, so the first return up the door's azimuths is the next room's ceiling and
+// the outline runs 0.9 m into that room through a 0.2 m mouth on the wall line (random corridor
+// floor 8104: the room behind the door was never entered). Where other scans saw the wall's
+// face go on above the mouth (a lintel), the detour is a view through an opening at any depth
+// and is cut across; without a lintel (an alcove whose ceiling goes on) it is room, kept.
+TEST(RoomModel, PerimeterCutsAcrossADeepViewThroughADoorWhoseLintelOtherScansSaw) {
+  const RoomModelParams p;
+  const std::vector<Vec2> spike = {{0, 0},       {15, 0},    {15, 2.25},  {11.43, 2.25},
+                                   {10.71, 3.15}, {10.43, 3.15}, {11.21, 2.25}, {0, 2.25}};
+  std::vector<Vec2> lintel;  // the wall's face over the 1 m door at x 10.85-11.85, y 2.25
+  for (double x = 10.86; x < 11.85; x += 0.02) lintel.emplace_back(x, 2.25 + 0.003);
+  std::vector<Vec2> sealed = spike;
+  TidyPerimeter(sealed, p, lintel);
+  EXPECT_EQ(sealed.size(), 4u);
+  for (const Vec2& v : sealed) EXPECT_LE(v.y(), 2.25 + 1e-9);
+  // No lintel points, or points off the wall's line (the next room's far wall): kept.
+  for (const double off : {-1.0, 0.05}) {
+    std::vector<Vec2> kept = spike, pts;
+    if (off > 0)
+      for (const Vec2& q : lintel) pts.emplace_back(q.x(), q.y() + off);
+    TidyPerimeter(kept, p, pts);
+    EXPECT_EQ(kept.size(), spike.size()) << "offset " << off;
+  }
+  // The lintel over part of the mouth only (a third of a 0.6 m mouth): kept.
+  std::vector<Vec2> wide = {{0, 0},      {15, 0},      {15, 2.25}, {11.8, 2.25},
+                            {11.5, 3.15}, {11.3, 3.15}, {11.2, 2.25}, {0, 2.25}};
+  std::vector<Vec2> third;
+  for (double x = 11.6; x < 11.8; x += 0.02) third.emplace_back(x, 2.25);
+  TidyPerimeter(wide, p, third);
+  EXPECT_EQ(wide.size(), 8u);
 }
 
 // A corner the tracer cut with a 0.39 m edge 11 deg off the wall it ends (office_5rooms, R1's
