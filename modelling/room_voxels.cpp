@@ -23,14 +23,16 @@ void RoomModel::UpdateVoxels(bool new_scan_only) {
   }
   lo -= Vec2::Constant(params_.voxel_margin);
   hi += Vec2::Constant(params_.voxel_margin);
-  // The layers are placed so that the floor and the ceiling both lie at least a quarter of a
-  // voxel from a layer boundary (centred when the room's height is a whole number of voxels):
-  // a face on a boundary is labelled in the layer its estimate happens to fall in, and a
-  // fraction of a millimetre then moves a whole layer of structure (2.65 m under a 0.1 m grid
-  // centred on the floor puts the ceiling on a boundary). Layer 1 holds the floor.
+  // Layer 1 holds the floor, centred in it unless that leaves the ceiling within a quarter of
+  // a voxel of a layer boundary: a face on a boundary is labelled in the layer its estimate
+  // happens to fall in, and a fraction of a millimetre then moves a whole layer of structure
+  // (2.65 m under a 0.1 m grid centred on the floor puts the ceiling on a boundary). Then the
+  // floor moves within its layer so that both lie a quarter of a voxel or more from one.
   const double height = (roi_.ceiling_z - roi_.floor_z) / v;  // in voxels
   const double frac = height - std::floor(height);
-  const double floor_in_layer = frac <= 0.5 ? 0.5 - 0.5 * frac : 1.0 - 0.5 * frac;  // [0.25, 0.75]
+  double floor_in_layer = 0.5;  // the floor's place in its layer, [0.25, 0.75]
+  if (frac > 0.25 && frac <= 0.5) floor_in_layer = 0.5 - 0.5 * frac;
+  if (frac > 0.5 && frac < 0.75) floor_in_layer = 1.0 - 0.5 * frac;
   const double oz = roi_.floor_z - (1.0 + floor_in_layer) * v;
   bool reuse = new_scan_only && !voxels_.empty() &&
                std::abs(voxels_.Origin().z() - oz) < 0.25 * v && voxels_.Origin().x() <= lo.x() &&
