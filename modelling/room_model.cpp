@@ -105,6 +105,8 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   rec.azimuth_min = scan.azimuth_min;
   rec.azimuth_step = scan.azimuth_step;
   rec.R_MS = X_MS.linear();
+  if (!scan.X_BS.isApprox(Eigen::Isometry3d::Identity()))
+    rec.base_z = (X_MS * scan.X_BS.inverse()).translation().z();
   rec.min_range = std::numeric_limits<double>::infinity();
   for (const auto& p : scan.points)
     if (p.valid()) rec.min_range = std::min(rec.min_range, static_cast<double>(p.range));
@@ -183,7 +185,34 @@ void RoomModel::EstimateHeights() {
     }
     return best;
   };
-  const int bf = pick(0, std::max(1, mid - guard), true);
+  int bf = pick(0, std::max(1, mid - guard), true);
+  // The floor the robot stands on, where the scans carry their mount: the lowest strong peak
+  // when it lies within floor_from_base of it, else the strong peak nearest it within that,
+  // else that floor itself (below).
+  double base_z = 0.0;
+  int with_base = 0;
+  for (const auto& s : scans_)
+    if (std::isfinite(s.base_z)) base_z += s.base_z, ++with_base;
+  const bool floor_known = with_base > 0 && H.floor_from_base > 0.0;
+  bool floor_unseen = false;
+  if (floor_known) base_z /= with_base;
+  if (floor_known && (bf < 0 || std::abs(lo + (bf + 0.5) * bin - base_z) > H.floor_from_base)) {
+    const int b1 = std::max(1, mid - guard);
+    double m = 0.0;
+    for (int b = 0; b < b1; ++b) m = std::max(m, sm[b]);
+    int near = -1;
+    double near_d = H.floor_from_base;
+    for (int b = 1; b < std::min(b1, n - 1); ++b) {
+      const double d = std::abs(lo + (b + 0.5) * bin - base_z);
+      if (m > 0.0 && sm[b] >= H.peak_share * m && sm[b] >= sm[b - 1] && sm[b] >= sm[b + 1] &&
+          d <= near_d) {
+        near = b;
+        near_d = d;
+      }
+    }
+    bf = near;
+    floor_unseen = near < 0;
+  }
   int bc = pick(std::min(n - 1, mid + guard), n, false);
   // The highest strong peak is the ceiling unless it is not over the scanners (another room's,
   // seen through a door): then the highest strong peak that is.
@@ -225,7 +254,7 @@ void RoomModel::EstimateHeights() {
     }
     return cnt > 0 ? sum / cnt : c;
   };
-  roi_.floor_z = bf >= 0 ? refine(bf) : zs - H.fallback_offset;
+  roi_.floor_z = bf >= 0 ? refine(bf) : floor_unseen ? base_z : zs - H.fallback_offset;
   roi_.ceiling_z = bc >= 0 ? refine(bc) : zs + H.fallback_offset;
 }
 

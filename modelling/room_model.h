@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -61,6 +62,14 @@ struct HeightSearchParams {
   /// next room's) starts beyond the wall; a room's own ceiling starts at that disc's edge.
   /// [0, 100]
   double ceiling_over_scanner = 0.5;
+  /// m, the floor is the strong peak within this of the floor the robot stands on (the base's
+  /// height under the scanner, from the scan's calibrated mount: base_link lies on the floor),
+  /// else that floor itself: the robot stands on it, whether or not the scanner sees it. In a
+  /// washroom of 2-3 m^2 the floor lies outside the -40 deg field of view up to 1.7 m from the
+  /// scanner and the lowest strong peak is a bathtub's or a toilet's top. Scans without a mount
+  /// (identity X_BS: read from a file) keep the lowest strong peak below the scanners.
+  /// 0 = off. [0, 2]
+  double floor_from_base = 0.1;
 
   template <class V>
   void Visit(V& v) {
@@ -70,6 +79,7 @@ struct HeightSearchParams {
     v("refine_bins", refine_bins, Bounds{0.5, 10.0});
     v("fallback_offset", fallback_offset, Bounds{0.0, 10.0});
     v("ceiling_over_scanner", ceiling_over_scanner, Bounds{0.0, 100.0});
+    v("floor_from_base", floor_from_base, Bounds{0.0, 2.0});
   }
 };
 
@@ -475,6 +485,8 @@ class RoomModel {
     Vec3 origin = Vec3::Zero();      // scanner centre, map
     std::vector<Vec2> outline;       // plan outline of its ceiling view (map)
     double min_range = 0.0;          // m, the shortest return of the scan (its minimum range)
+    /// m, map z of the floor under the scanner's base (X_MS X_BS^-1); NaN without a mount
+    double base_z = std::numeric_limits<double>::quiet_NaN();
     std::uint32_t columns = 0;       // azimuth columns of the scan
     double azimuth_min = 0.0, azimuth_step = 0.0;        // rad, scanner frame
     Eigen::Matrix3d R_MS = Eigen::Matrix3d::Identity();  // scanner orientation in map

@@ -110,6 +110,31 @@ TEST(RoomModel, TheCeilingIsTheOneOverTheScannerNotTheNextRoomsSeenThroughADoor)
   EXPECT_NEAR(ceiling[1], 2.65, 0.01);
 }
 
+// A 1.6 m x 2.4 m washroom with a bathtub (top 0.44 m) along its far wall: the floor lies
+// outside the scanner's -40 deg field of view up to 1.7 m from it and under the tub beyond, so
+// the lowest strong height peak is the tub's top (the KIT Jasmin-Sun house's WC and shower:
+// floors 0.44 m up). The robot stands on the floor: with the scan's mount (1.4 m over
+// base_link, which lies on the floor) the floor is that floor; without a mount (a scan read
+// from a file) the lowest strong peak as before.
+TEST(RoomModel, TheFloorIsTheOneTheRobotStandsOnWhereTheScannerCannotSeeIt) {
+  scenes::Scene scene;
+  sim::testing::AddRoomBox(scene, testing::V3(0, 0, 0), testing::V3(1.6f, 2.4f, 2.6f));
+  AddBox(scene, testing::V3(0.001f, 1.65f, 0.0f), testing::V3(1.599f, 2.399f, 0.44f),
+         scenes::ElementClass::kFurniture, "bathtub", "R");
+  const sim::EmbreeWorld world{std::move(scene)};
+  const SimScan s = TakeScan(world, TestTls(), 0.8, 0.55, 0);
+  ASSERT_NEAR(s.scan.X_BS.translation().z(), 1.4, 1e-9);
+  RoomModel with_mount;
+  with_mount.AddScan(s.scan, s.X_MS);
+  EXPECT_NEAR(with_mount.FloorZ(), 0.0, 0.01);
+  EXPECT_NEAR(with_mount.CeilingZ(), 2.6, 0.01);
+  interfaces::TlsScan no_mount = s.scan;
+  no_mount.X_BS = Eigen::Isometry3d::Identity();
+  RoomModel without;
+  without.AddScan(no_mount, s.X_MS);
+  EXPECT_NEAR(without.FloorZ(), 0.44, 0.02) << "the lowest strong peak is the tub's top";
+}
+
 TEST(RoomModel, PerimeterDoesNotLeakThroughADoorBesideTheScanner) {
   // 0.6 m from the door wall (a 2 m hall is always < 1 m from one): the lintel over the door
   // is closer than the scanner's 1.5 m minimum range below ~66 deg elevation, so it returns
