@@ -8,7 +8,8 @@
 # a library the target does not link fails to compile.
 #
 # mopad_include_root(<target> <folder> [PRIVATE]): gives <target> the root of <folder> (PUBLIC
-# unless PRIVATE is given) and records libraries for the link graph (cmake/LinkGraph.cmake).
+# unless PRIVATE is given) and records libraries, with their folder, for the link graph
+# (cmake/LinkGraph.cmake) and the install (cmake/Install.cmake).
 function(mopad_include_root target folder)
   set(root ${PROJECT_BINARY_DIR}/include/${folder})
   if(NOT EXISTS ${root}/${folder})
@@ -19,9 +20,13 @@ function(mopad_include_root target folder)
   if(ARGV2 STREQUAL "PRIVATE")
     set(scope PRIVATE)
   endif()
-  target_include_directories(${target} ${scope} ${root})
+  # Installed, the same scheme: include/mopad/<folder>/<folder>/ holds the headers
+  # (cmake/Install.cmake), so a package user sees the headers of what it links and no others.
+  target_include_directories(${target} ${scope} $<BUILD_INTERFACE:${root}>
+                             $<INSTALL_INTERFACE:include/mopad/${folder}>)
   get_target_property(type ${target} TYPE)
   if(type MATCHES "LIBRARY")
     set_property(GLOBAL APPEND PROPERTY MOPAD_LIBRARIES ${target})
+    set_property(TARGET ${target} PROPERTY MOPAD_FOLDER ${folder})
   endif()
 endfunction()
