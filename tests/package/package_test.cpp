@@ -34,6 +34,21 @@ std::string MustRun(const std::string& command) {
   return r.out;
 }
 
+// The command configuring the project in `source` into `build` against the package in
+// `prefix`, with this build's generator, compiler and compiler launcher.
+std::string ConfigureAgainst(const fs::path& prefix, const fs::path& source,
+                             const fs::path& build) {
+  std::string c = std::string(MOPAD_CMAKE) + " -S " + Quoted(source) + " -B " + Quoted(build) +
+                  " -G '" + MOPAD_GENERATOR +
+                  "' -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + Quoted(prefix) +
+                  " -DCMAKE_CXX_COMPILER=" + Quoted(MOPAD_CXX_COMPILER);
+  if (!std::string(MOPAD_MAKE_PROGRAM).empty())
+    c += " -DCMAKE_MAKE_PROGRAM=" + Quoted(MOPAD_MAKE_PROGRAM);
+  if (!std::string(MOPAD_CXX_LAUNCHER).empty())
+    c += " -DCMAKE_CXX_COMPILER_LAUNCHER=" + Quoted(MOPAD_CXX_LAUNCHER);
+  return c;
+}
+
 TEST(Package, ExampleBuiltAgainstTheInstalledPackageExploresTheOfficeAndIsScored) {
   const fs::path work = test_support::ProcessTempDir("mopad_package_");
   const fs::path prefix = work / "prefix", build = work / "build", out = work / "run";
@@ -52,16 +67,8 @@ TEST(Package, ExampleBuiltAgainstTheInstalledPackageExploresTheOfficeAndIsScored
   EXPECT_FALSE(fs::exists(prefix / "include/mopad/modelling/modelling/room_model_internal.h"));
 
   // 2. The example, a project of its own, against the installed package only.
-  std::string configure = std::string(MOPAD_CMAKE) + " -S " +
-                          Quoted(fs::path(MOPAD_SOURCE_DIR) / "examples/frontier_explorer") +
-                          " -B " + Quoted(build) + " -G '" + MOPAD_GENERATOR +
-                          "' -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + Quoted(prefix) +
-                          " -DCMAKE_CXX_COMPILER=" + Quoted(MOPAD_CXX_COMPILER);
-  if (!std::string(MOPAD_MAKE_PROGRAM).empty())
-    configure += " -DCMAKE_MAKE_PROGRAM=" + Quoted(MOPAD_MAKE_PROGRAM);
-  if (!std::string(MOPAD_CXX_LAUNCHER).empty())
-    configure += " -DCMAKE_CXX_COMPILER_LAUNCHER=" + Quoted(MOPAD_CXX_LAUNCHER);
-  MustRun(configure);
+  MustRun(
+      ConfigureAgainst(prefix, fs::path(MOPAD_SOURCE_DIR) / "examples/frontier_explorer", build));
   // The package found is the one just installed (not a checkout or another prefix).
   std::ifstream cache(build / "CMakeCache.txt");
   const std::string cache_text((std::istreambuf_iterator<char>(cache)),
@@ -70,6 +77,19 @@ TEST(Package, ExampleBuiltAgainstTheInstalledPackageExploresTheOfficeAndIsScored
             std::string::npos);
   MustRun(std::string(MOPAD_CMAKE) + " --build " + Quoted(build) + " -j2");
   ASSERT_TRUE(fs::exists(build / "frontier_explorer"));
+
+  // The installed include roots hold the arrows: a target linking OpenMoPAD::modelling compiles
+  // an include of modelling/ (positive control) and not one of sim/.
+  const fs::path probe = work / "probe";
+  MustRun(
+      ConfigureAgainst(prefix, fs::path(MOPAD_SOURCE_DIR) / "tests/package/include_probe", probe));
+  MustRun(std::string(MOPAD_CMAKE) + " --build " + Quoted(probe) +
+          " --target robot_header_from_robot_side");
+  const test_support::CommandResult truth =
+      RunCommand(std::string(MOPAD_CMAKE) + " --build " + Quoted(probe) +
+                 " --target truth_header_from_robot_side 2>&1");
+  EXPECT_NE(truth.code, 0) << truth.out;
+  EXPECT_NE(truth.out.find("sim/scene_world.h: No such file"), std::string::npos) << truth.out;
 
   // 3. A short run: three scans at a coarse step in the office's first room.
   const std::string printed =
