@@ -479,6 +479,11 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   StructuralModel m;
   m.room = input.room;
   std::tie(m.floor_z, m.ceiling_z) = FloorCeilingFromHistogram(pts, prm.histogram_bin);
+  if (std::isfinite(input.floor_z) && std::abs(m.floor_z - input.floor_z) > prm.heights_tolerance)
+    m.floor_z = input.floor_z;
+  if (std::isfinite(input.ceiling_z) &&
+      std::abs(m.ceiling_z - input.ceiling_z) > prm.heights_tolerance)
+    m.ceiling_z = input.ceiling_z;
   PlaneFit floor, ceiling;
   tbb::parallel_invoke(
       [&] { floor = FitHorizontal(pts, m.floor_z, /*up=*/true, prm, input.room + "/floor"); },
@@ -601,6 +606,8 @@ StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params,
   input.points = &in;
   input.perimeter = model.Perimeter();
   input.columns = model.Columns();
+  input.floor_z = model.FloorZ();
+  input.ceiling_z = model.CeilingZ();
   return BuildStructuralModel(input, params);
 }
 

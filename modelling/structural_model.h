@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,10 @@ namespace mopad::modelling {
 
 struct Sm3Params {
   double histogram_bin = 0.02;  ///< m, Z-histogram bin, [0.001, 0.5]
+  /// m, a Z-histogram maximum this far from the room model's floor or ceiling (Sm3Input) is
+  /// another surface's (a bathtub's top, a next room's ceiling): the room model's height is
+  /// taken instead. [0.01, 10]
+  double heights_tolerance = 0.1;
   double plane_band =
       0.10;  ///< m, points this close to a hypothesised surface feed its fit, (0, 1]
   double corner_margin =
@@ -59,6 +64,7 @@ struct Sm3Params {
   template <class V>
   void Visit(V& v) {
     v("histogram_bin", histogram_bin, Bounds{0.001, 0.5});
+    v("heights_tolerance", heights_tolerance, Bounds{0.01, 10.0});
     v("plane_band", plane_band, Bounds{1e-4, 1.0});
     v("corner_margin", corner_margin, Bounds{0.0, 2.0});
     v("mlesac_sigma", mlesac_sigma, Bounds{1e-5, 0.5});
@@ -126,6 +132,12 @@ struct Sm3Input {
   const std::vector<Eigen::Vector3d>* points = nullptr;
   std::vector<Eigen::Vector2d> perimeter;
   std::vector<std::vector<Eigen::Vector2d>> columns;
+  /// m, the room model's floor and ceiling (RoomModel::FloorZ/CeilingZ: the floor the robot
+  /// stands on, the ceiling over the scanners), NaN when not known. A Z-histogram maximum more
+  /// than Sm3Params::heights_tolerance from one yields to it: the strongest maxima of a
+  /// washroom's points are its ceiling and a bathtub's top, not its floor.
+  double floor_z = std::numeric_limits<double>::quiet_NaN();
+  double ceiling_z = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Floor and ceiling heights: the lowest and the highest strong maxima of the Z-histogram.

@@ -100,6 +100,38 @@ TEST(StructuralModel, FloorAndCeilingFromTheZHistogram) {
   EXPECT_NEAR(c, 2.8, 0.002);
 }
 
+// A washroom as the scanner sees it: the floor outside its -40 deg field of view but for a
+// strip, a bathtub's top (0.44 m) and the ceiling strong. The histogram's two strongest
+// maxima are the ceiling and the tub: the room model's floor (where the robot stands) wins
+// when given, and a histogram maximum that agrees with the room model keeps its own height.
+TEST(StructuralModel, TheRoomModelsFloorWinsOverABathtubsTop) {
+  std::vector<Eigen::Vector3d> pts;
+  CounterRng rng(5, "sm3-washroom");
+  AddRect(pts, rng, {0, 0, 0}, {1.6, 0, 0}, {0, 0.2, 0}, 6000);        // floor strip
+  AddRect(pts, rng, {0, 1.65, 0.44}, {1.6, 0, 0}, {0, 0.75, 0}, 8000);  // tub top
+  AddRect(pts, rng, {0, 0, 2.6}, {1.6, 0, 0}, {0, 2.4, 0}, 20000);      // ceiling
+  const std::vector<Eigen::Vector2d> sq = {{0, 0}, {1.6, 0}, {1.6, 2.4}, {0, 2.4}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto a = sq[i], b = sq[(i + 1) % 4];
+    AddRect(pts, rng, {a.x(), a.y(), 0}, {b.x() - a.x(), b.y() - a.y(), 0}, {0, 0, 2.6}, 3000);
+  }
+  Sm3Input in;
+  in.room = "WC";
+  in.points = &pts;
+  in.perimeter = sq;
+  EXPECT_NEAR(BuildStructuralModel(in, {}).floor_z, 0.44, 0.01) << "the histogram alone";
+  in.floor_z = 0.003;
+  in.ceiling_z = 2.61;
+  const StructuralModel m = BuildStructuralModel(in, {});
+  EXPECT_NEAR(m.floor_z, 0.003, 1e-9);
+  EXPECT_NEAR(m.ceiling_z, 2.6, 0.002) << "within the tolerance: the histogram's own height";
+  for (const auto& p : m.patches) {
+    if (p.patch_class == PatchClass::kFloor) {
+      EXPECT_NEAR(p.plane.Distance({0.8, 0.1, 0.0}), 0.0, 0.01);  // on the seen strip
+    }
+  }
+}
+
 TEST(StructuralModel, LRoomIsReproducedToNoiseLevel) {
   LRoom room;
   Sm3Input in;
