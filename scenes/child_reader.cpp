@@ -163,6 +163,9 @@ std::string SignalName(int sig) {
 // exception's message follows.
 constexpr int kInputError = 2, kOtherError = 3;
 
+// The signals a crashing reader dies of.
+constexpr int kCrashSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+
 }  // namespace
 
 Scene ReadSceneInChild(const std::string& path, const std::string& reader,
@@ -177,7 +180,11 @@ Scene ReadSceneInChild(const std::string& path, const std::string& reader,
     throw InputError(path, "cannot start " + reader, std::strerror(errno), "a process");
   }
   if (pid == 0) {
-    // The child: readers print progress to stdout; the parent's stdout is not theirs to use.
+    // The child: a crash of the reader must end it by the signal itself, which the parent names.
+    // A handler the process inherited (AddressSanitizer's, libFuzzer's) would turn the signal
+    // into its own report and exit code, and a contained crash into a finding.
+    for (const int sig : kCrashSignals) std::signal(sig, SIG_DFL);
+    // Readers print progress to stdout; the parent's stdout is not theirs to use.
     close(fds[0]);
     const int null = open("/dev/null", O_WRONLY);
     if (null >= 0) {

@@ -3,6 +3,7 @@
 #include "scenes/child_reader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <functional>
@@ -97,6 +98,26 @@ TEST(ChildReader, ACrashIsAnInputErrorNamingTheReaderAndTheSignal) {
       << m;
   EXPECT_NE(m.find(", expected an IFC 2x3 file it can read"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+}
+
+// A crash handler of this process, as AddressSanitizer and libFuzzer install one, is not the
+// child's: the reader still dies of the signal. Were the handler kept, the child would exit by
+// the handler's status (here 1) and the crash would read "cannot read the file; got exit
+// status 1".
+TEST(ChildReader, ACrashHandlerOfThisProcessDoesNotHideTheReadersSignal) {
+  struct sigaction handler {};
+  struct sigaction before {};
+  handler.sa_handler = [](int) { _exit(1); };
+  sigemptyset(&handler.sa_mask);
+  ASSERT_EQ(sigaction(SIGSEGV, &handler, &before), 0);
+  const std::string m = InputErrorOf([] {
+    ReadSceneInChild("bad.ifc", "the reader", "a file", []() -> Scene {
+      std::raise(SIGSEGV);
+      return {};
+    });
+  });
+  sigaction(SIGSEGV, &before, nullptr);
+  EXPECT_NE(m.find("the reader crashed on this file; got signal 11"), std::string::npos) << m;
 }
 
 TEST(ChildReader, TheReadersInputErrorArrivesAsItIsAndOtherErrorsNameTheReader) {
