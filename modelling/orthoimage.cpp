@@ -62,9 +62,21 @@ Orthoimage::Orthoimage(const PatchFrame& frame, double pixel, int cols, int rows
   front_.assign(n, std::numeric_limits<float>::quiet_NaN());
 }
 
+namespace {
+
+// A pixel index k = floor(...) of an axis of n pixels as an int, limited to [-1, n]: one past
+// either edge stands for every point beyond it (a grazing ray meets the plane kilometres off
+// the image), so the cast never overflows; NaN gives -1.
+int AxisIndex(double k, int n) {
+  if (!(k >= 0.0)) return -1;
+  return k < n ? static_cast<int>(k) : n;
+}
+
+}  // namespace
+
 std::array<int, 2> Orthoimage::PixelOf(double pu, double pv) const {
-  const int c = static_cast<int>(std::floor((pu + margin_) / pixel_));
-  const int r = rows_ - 1 - static_cast<int>(std::floor((pv + margin_) / pixel_));
+  const int c = AxisIndex(std::floor((pu + margin_) / pixel_), cols_);
+  const int r = rows_ - 1 - AxisIndex(std::floor((pv + margin_) / pixel_), rows_);
   return {c, r};
 }
 

@@ -159,7 +159,8 @@ class Orthoimage {
     return static_cast<std::size_t>(row) * static_cast<std::size_t>(cols_) + col;
   }
   bool Inside(int col, int row) const { return col >= 0 && row >= 0 && col < cols_ && row < rows_; }
-  /// Pixel containing (u, v); may be outside the image (check Inside).
+  /// Pixel containing (u, v); may be outside the image (check Inside). Beyond an edge, the
+  /// index is one past it (-1 or Cols()/Rows()) however far the point lies.
   std::array<int, 2> PixelOf(double pu, double pv) const;
   /// (u, v) of a pixel's centre.
   Vec2 CentreUv(int col, int row) const {

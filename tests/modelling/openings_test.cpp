@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -41,6 +42,22 @@ TEST(Orthoimage, CeilingFrameIsRightHandedWithUAlongX) {
   EXPECT_NEAR(f.u.dot(Vec3::UnitX()), 1.0, 1e-12);
   EXPECT_NEAR(f.u.cross(f.v).dot(f.n), 1.0, 1e-12);
   EXPECT_NEAR(f.width, 4.0, 1e-12);
+}
+
+// A ray that stops just in front of the wall at a grazing angle meets the plane kilometres off
+// the image: its pixel is one past the edge, never an int overflow (UBSan float-cast-overflow).
+TEST(Orthoimage, APointFarOffTheImageIsOnePixelPastTheEdge) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
+  const Orthoimage img(f, 0.01, 500, 200);
+  const auto far = img.PixelOf(4.4e7, -4.4e7);
+  EXPECT_EQ(far[0], 500);
+  EXPECT_EQ(far[1], 200);
+  const auto near = img.PixelOf(-4.4e7, 4.4e7);
+  EXPECT_EQ(near[0], -1);
+  EXPECT_EQ(near[1], -1);
+  const auto nan = img.PixelOf(std::nan(""), std::nan(""));
+  EXPECT_FALSE(img.Inside(nan[0], nan[1]));
+  EXPECT_EQ(img.PixelOf(0.995, 1.005)[0], 99);  // inside: unchanged
 }
 
 TEST(Orthoimage, PointsLandInTheirPixelWithMeanColourAndSignedDepth) {
