@@ -69,15 +69,30 @@ Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
 EOS
   local o=(-o Dir::Etc::SourceParts="$apt/parts" -o Dir::Etc::SourceList=/dev/null
            -o Dir::State::Lists="$apt/lists" -o Dir::Cache="$apt/cache")
-  apt-get "${o[@]}" update >/dev/null
-  (cd "$apt/src" && apt-get "${o[@]}" source --download-only "$pkg=$ver" >/dev/null 2>&1)
+  # Each step writes to BUILD/_tbb.log; a failure names the step and shows the log's end.
+  local log="$bf/_tbb.log"
+  : >"$log"
+  Step() {
+    local what="$1"
+    shift
+    if ! "$@" >>"$log" 2>&1; then
+      echo "sanitize.sh: tsan: $what failed ($*); the end of $log:" >&2
+      tail -n 20 "$log" >&2
+      return 1
+    fi
+  }
+  Step "apt-get update of the deb-src list (deb.debian.org)" apt-get "${o[@]}" update
+  (cd "$apt/src" &&
+    Step "apt-get source $pkg=$ver" apt-get "${o[@]}" source --download-only "$pkg=$ver")
   src="$apt/src/tbb"
-  dpkg-source -x "$apt/src/${pkg}_${ver#*:}.dsc" "$src" >/dev/null
-  cmake -S "$src" -B "$bf/_tbb-build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_STRICT=OFF -DTBBMALLOC_BUILD=OFF \
-    -DCMAKE_INSTALL_PREFIX="$bf/_tbb" -DCMAKE_INSTALL_LIBDIR=lib >/dev/null
-  cmake --build "$bf/_tbb-build" -j"$jobs"
-  cmake --install "$bf/_tbb-build" >/dev/null
+  # apt has checked the files against the signed Release file; dpkg-source's warning that it
+  # cannot verify the .dsc's own signature (no Debian developer keyring here) is expected.
+  Step "unpacking the source" dpkg-source -x "$apt/src/${pkg}_${ver#*:}.dsc" "$src"
+  Step "configuring oneTBB" cmake -S "$src" -B "$bf/_tbb-build" "${generator[@]}" \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_STRICT=OFF \
+    -DTBBMALLOC_BUILD=OFF -DCMAKE_INSTALL_PREFIX="$bf/_tbb" -DCMAKE_INSTALL_LIBDIR=lib
+  Step "building oneTBB" cmake --build "$bf/_tbb-build" -j"$jobs"
+  Step "installing oneTBB" cmake --install "$bf/_tbb-build"
   touch "$bf/_tbb/done"
 }
 
@@ -94,6 +109,9 @@ for m in "${modes[@]}"; do
     # does because of -fno-sanitize-recover). detect_leaks: LeakSanitizer at every exit.
     export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:check_initialization_order=1:strict_init_order=1:log_path=$logs/asan"
     export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
+    # UBSan linked with ASan (GCC 12) writes its reports to stderr whatever log_path says; with
+    # -fno-sanitize-recover each one ends its process with a failure, so its test fails and
+    # ctest prints the report: the summary counts the "runtime error:" lines of the ctest log.
     export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:log_path=$logs/ubsan"
   else
     sanitize=thread
@@ -144,9 +162,14 @@ for m in "${modes[@]}"; do
     echo "--- $r"
     head -n 40 "$r"
   done
+  ub_lines=$(grep -c ': runtime error: ' "$ctest_log" || true)
+  if (( ub_lines > 0 )); then
+    echo "--- UBSan reports in $ctest_log:"
+    grep -A 3 ': runtime error: ' "$ctest_log" | head -n 40
+  fi
   minutes=$(( ($(date +%s) - start + 30) / 60 ))
-  summaries+=("sanitize.sh: $m: $total tests run, $((total - failed)) passed, $failed failed; ${#reports[@]} sanitizer reports ($logs); $minutes min")
-  if (( total == 0 || failed > 0 || ${#reports[@]} > 0 )); then
+  summaries+=("sanitize.sh: $m: $total tests run, $((total - failed)) passed, $failed failed; $(( ${#reports[@]} + ub_lines )) sanitizer reports ($logs, $ctest_log); $minutes min")
+  if (( total == 0 || failed > 0 || ${#reports[@]} + ub_lines > 0 )); then
     status=1
   fi
 done
