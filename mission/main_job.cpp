@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -24,7 +23,6 @@
 namespace mopad::mission {
 namespace {
 
-namespace fs = std::filesystem;
 // What the job collected, whichever mode ran.
 struct JobTables {
   report::ReportTable rooms{"Rooms (robot side)", {}, {}, ""};
@@ -284,6 +282,59 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
       "it chooses itself (next best scan, §3.1).";
 }
 
+// A mission whose every room failed (or that was stopped before its first) modelled nothing:
+// a robot outcome the rooms' reasons explain, with nothing to score or export.
+constexpr const char* kNothingModelled =
+    "no room was modelled (rooms[].reason says why each failed)";
+
+// The robot's models scored against the truth and exported.
+struct ScoredRun {
+  bool modelled = false;            ///< false: kNothingModelled, nothing scored or exported
+  evaluation::RunEvaluation eval;   ///< summary {"error": defect} when the evaluator refused
+  std::string defect;               ///< the first refusal ("" none): an internal error
+  std::string exports_error;        ///< the exporters' refusal ("" none)
+  double t_eval = 0, t_export = 0;  ///< s, wall clock
+};
+
+// The models against the truth (`mopad eval` over every room, eval/) and the deliverables
+// (docs/exports.md: export/model.ifc, model.glb, sm1.las). The robot's model files are this
+// job's own output: one the evaluator or an exporter refuses is a defect of this program, not
+// bad input. The job still writes the summary and the report (with the reason) and then ends
+// with an internal error.
+ScoredRun ScoreAndExport(const MainJobOptions& o, const JobTables& t) {
+  ScoredRun s;
+  s.modelled = std::any_of(t.rooms_json.begin(), t.rooms_json.end(),
+                           [](const nlohmann::ordered_json& r) { return r.contains("dir"); });
+  auto t0 = WallClock::now();
+  if (!s.modelled) {
+    if (o.print) o.print(std::string("models against the truth: skipped; ") + kNothingModelled);
+  } else {
+    if (o.print) o.print("models against the truth (mopad eval):");
+    try {
+      s.eval = evaluation::EvaluateRun(o.dir, "", "", runfolder::Join(o.dir, runfolder::kEvalDir));
+      if (o.print) o.print(s.eval.tables);
+    } catch (const std::exception& e) {
+      s.defect = std::string("the models could not be evaluated: ") + e.what();
+      s.eval.summary = {{"error", s.defect}};
+      if (o.print) o.print(s.defect);
+    }
+  }
+  s.t_eval = SecondsSince(t0);
+  t0 = WallClock::now();
+  if (s.modelled) {
+    try {
+      const exports::ExportResult exported = exports::WriteAllExports(o.dir);
+      if (o.print) o.print(exported.summary);
+    } catch (const std::exception& e) {
+      s.exports_error = std::string("the deliverables could not be written: ") + e.what();
+      if (s.defect.empty()) s.defect = s.exports_error;
+      if (o.print) o.print(s.exports_error);
+    }
+  }
+  s.t_export = SecondsSince(t0);
+  return s;
+}
+
 }  // namespace
 
 void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
@@ -291,7 +342,6 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   // Bad input ends the job before any work (the floor mission checks its start first thing).
   CheckJobRooms(mw, o.rooms);
   const auto t_start = WallClock::now();
-  const fs::path dir(o.dir);
   report::ReportInput report;
   report.title = "OpenMoPAD run: " + o.scene_name;
   report.truth = &*mw.truth;
@@ -303,49 +353,7 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
     RunPerRoom(mw, params, o, t, report);
   const double t_mission = SecondsSince(t_start);
 
-  // The models against the truth (`mopad eval` over every room): eval/.
-  auto t0 = WallClock::now();
-  // The robot's model files are this job's own output: one the evaluator or an exporter refuses
-  // is a defect of this program, not bad input. The job still writes the summary and the report
-  // (with the reason) and then ends with an internal error.
-  std::string defect;
-  // A mission whose every room failed (or that was stopped before its first) modelled nothing:
-  // a robot outcome the rooms' reasons explain, with nothing to score or export.
-  const bool modelled = std::any_of(t.rooms_json.begin(), t.rooms_json.end(),
-                                    [](const nlohmann::ordered_json& r) { return r.contains("dir"); });
-  const std::string nothing_modelled =
-      "no room was modelled (rooms[].reason says why each failed)";
-  evaluation::RunEvaluation run_eval;
-  if (!modelled) {
-    if (o.print) o.print("models against the truth: skipped; " + nothing_modelled);
-  } else {
-    if (o.print) o.print("models against the truth (mopad eval):");
-    try {
-      run_eval = evaluation::EvaluateRun(dir.string(), "", "",
-                                         runfolder::Join(o.dir, runfolder::kEvalDir));
-      if (o.print) o.print(run_eval.tables);
-    } catch (const std::exception& e) {
-      defect = std::string("the models could not be evaluated: ") + e.what();
-      run_eval.summary = {{"error", defect}};
-      if (o.print) o.print(defect);
-    }
-  }
-  const double t_eval = SecondsSince(t0);
-
-  // The deliverables (docs/exports.md): export/model.ifc, model.glb, sm1.las.
-  t0 = WallClock::now();
-  std::string exports_error;
-  if (modelled) {
-    try {
-      const exports::ExportResult exported = exports::WriteAllExports(dir.string());
-      if (o.print) o.print(exported.summary);
-    } catch (const std::exception& e) {
-      exports_error = std::string("the deliverables could not be written: ") + e.what();
-      if (defect.empty()) defect = exports_error;
-      if (o.print) o.print(exports_error);
-    }
-  }
-  const double t_export = SecondsSince(t0);
+  const ScoredRun scored = ScoreAndExport(o, t);
 
   nlohmann::ordered_json j;
   j["job"] = "run";
@@ -356,19 +364,19 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   if (o.rooms.empty()) j["mission"] = t.mission_json;
   j["rooms"] = t.rooms_json;
   j["rooms_failed"] = t.rooms_failed;
-  const bool evaluated = modelled && !run_eval.summary.contains("error");
-  if (!modelled)
-    j["models_evaluation"] = {{"skipped", nothing_modelled}};
+  const bool evaluated = scored.modelled && !scored.eval.summary.contains("error");
+  if (!scored.modelled)
+    j["models_evaluation"] = {{"skipped", kNothingModelled}};
   else if (!evaluated)
-    j["models_evaluation"] = {{"error", run_eval.summary["error"]}};
+    j["models_evaluation"] = {{"error", scored.eval.summary["error"]}};
   else
-    j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", run_eval.summary}};
-  if (!modelled) j["exports_skipped"] = nothing_modelled;
-  if (!exports_error.empty()) j["exports_error"] = exports_error;
+    j["models_evaluation"] = {{"file", "eval/evaluation.json"}, {"summary", scored.eval.summary}};
+  if (!scored.modelled) j["exports_skipped"] = kNothingModelled;
+  if (!scored.exports_error.empty()) j["exports_error"] = scored.exports_error;
   j["seconds"] = {{"generate", o.t_generate},
                   {"mission", t_mission},
-                  {"eval", t_eval},
-                  {"export", t_export},
+                  {"eval", scored.t_eval},
+                  {"export", scored.t_export},
                   {"total", SecondsSince(t_start) + o.t_generate}};
   io::WriteTextFile(runfolder::Join(o.dir, runfolder::kSummary), j.dump(2) + "\n");
   io::WriteTextFile(runfolder::Join(o.dir, runfolder::kEffectiveConfig),
@@ -380,14 +388,14 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
   report.tables.push_back(std::move(t.rooms));
   if (!t.tree.rows.empty()) report.tables.push_back(std::move(t.tree));
   report.tables.push_back(std::move(t.eval));
-  if (!modelled)
-    report.tables.push_back({"Models against the truth", {"skipped"}, {{nothing_modelled}}, ""});
+  if (!scored.modelled)
+    report.tables.push_back({"Models against the truth", {"skipped"}, {{kNothingModelled}}, ""});
   else if (!evaluated)
-    report.tables.push_back({"Models against the truth", {"error"}, {{defect}}, ""});
+    report.tables.push_back({"Models against the truth", {"error"}, {{scored.defect}}, ""});
   else
-    report.tables.push_back(report::ModelScoresTable(run_eval.summary));
-  if (run_eval.components) {
-    const evaluation::ComponentTableText c = evaluation::ComponentsTable(*run_eval.components);
+    report.tables.push_back(report::ModelScoresTable(scored.eval.summary));
+  if (scored.eval.components) {
+    const evaluation::ComponentTableText c = evaluation::ComponentsTable(*scored.eval.components);
     report.tables.push_back({"SM5 service components against the truth (paper Table 3, all rooms)",
                              c.header, c.rows, c.centre_errors});
   }
@@ -395,15 +403,15 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                            {"step", "seconds"},
                            {{"generate scene", FormatFixed(o.t_generate, 2)},
                             {"mission", FormatFixed(t_mission, 2)},
-                            {"evaluate models", FormatFixed(t_eval, 2)},
-                            {"exports", FormatFixed(t_export, 2)},
+                            {"evaluate models", FormatFixed(scored.t_eval, 2)},
+                            {"exports", FormatFixed(scored.t_export, 2)},
                             {"total", FormatFixed(SecondsSince(t_start) + o.t_generate, 2)}},
                            ""});
   report::WriteHtmlReport(report, runfolder::Join(o.dir, runfolder::kReportHtml));
   report::WriteMarkdownReport(report, runfolder::Join(o.dir, runfolder::kReportMarkdown));
   if (o.checkpoint) o.checkpoint->MarkComplete();
-  if (!defect.empty())
-    throw std::runtime_error(defect + " (summary.json and the report were written)");
+  if (!scored.defect.empty())
+    throw std::runtime_error(scored.defect + " (summary.json and the report were written)");
 }
 
 }  // namespace mopad::mission
