@@ -99,6 +99,8 @@ struct DriveResult : autonomy::NavigatorLog {
   double wall_time = 0.0;    ///< s (reporting only)
   int lrf_sweeps = 0;
   int teleports = 0;           ///< kidnappings applied (world side)
+  /// The world's injected faults that acted (mission/faults.h), one line each, in time order.
+  std::vector<std::string> fault_events;
   double tls_time = 0.0;       ///< s of simulation time spent standing for TLS scans
   double tls_wall_time = 0.0;  ///< s of wall time spent simulating TLS scans (reporting only)
   double RealTimeFactor() const { return wall_time > 0 ? sim_time / wall_time : 0.0; }

@@ -121,6 +121,7 @@ void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
     rj["sm4_seconds"] = job->sm4_seconds;
     rj["sm5_seconds"] = job->sm5_seconds;
     rj["components"] = job->components;
+    if (!job->fault_events.empty()) rj["faults"] = job->fault_events;
     rj["evaluation"] = evaluation::ToJson(*job->evaluation);
     rj["seconds"] = SecondsSince(t0);
     t.rooms_json.push_back(std::move(rj));
@@ -157,6 +158,7 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
   j["localisation_rms_m"] = d.loc_rms;
   j["localisation_max_m"] = d.loc_max;
   j["max_true_step_m"] = job.max_true_step;
+  if (!d.fault_events.empty()) j["faults"] = d.fault_events;  // the world's injected faults
   j["sim_time_s"] = m.sim_time;
   j["wall_time_s"] = m.wall_time;
   j["files"] = {{"dtt", runfolder::kDtt},
@@ -267,6 +269,7 @@ void RunFloor(const sim::SceneWorld& mw, const FloorMissionParams& params, const
                            n.state == autonomy::NodeState::kVisited ? "" : n.reason});
   }
   if (o.print) {
+    for (const std::string& e : job.drive.fault_events) o.print("world: " + e);
     const auto& m = job.mission;
     o.print("mission: " + m.tree.Summary() + ", " + std::to_string(m.scans) + " scans (" +
             std::to_string(m.door_scans.size()) + " door scans, " +

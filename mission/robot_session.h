@@ -24,9 +24,11 @@ namespace mopad::mission {
 
 class RobotSession {
  public:
-  /// Places the body at `X_WB_start` (world); params.seed seeds both sides. Throws InputError for
-  /// invalid params or a start pose in collision with the scene.
-  RobotSession(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start);
+  /// Places the body at `X_WB_start` (world); params.seed seeds both sides. `faults`: the
+  /// world's (mission/faults.h; default none). Throws InputError for invalid params or a start
+  /// pose in collision with the scene.
+  RobotSession(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
+               const FaultParams& faults = {});
   RobotSession(const RobotSession&) = delete;
   RobotSession& operator=(const RobotSession&) = delete;
 

@@ -79,6 +79,7 @@ struct RoomJob {
   double sm4_seconds = 0.0;    ///< s of wall time of SM4 (reporting only)
   std::size_t components = 0;  ///< SM5: service components found
   double sm5_seconds = 0.0;    ///< s of wall time of SM5 (reporting only)
+  std::vector<std::string> fault_events;  ///< the world's injected faults that acted
 };
 /// The harness's check of a job's scene and rooms, before any work: the scene has truth rooms
 /// and each of `rooms` is one of their ids. InputError naming the first unknown id and the

@@ -8,6 +8,8 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/format.h"
+#include "common/rng.h"
 #include "perception/point_cloud_ops.h"
 #include "sim/lrf.h"
 #include "sim/tls_scanner.h"
@@ -33,6 +35,13 @@ struct SimRobot::Impl {
   std::vector<sim::TlsTruth> truths;
   bool keep_truths = true;
   std::optional<std::pair<double, Pose2>> teleport;  // (time, X_WB)
+  FaultParams faults;
+  std::vector<std::string> fault_events;
+  bool lrf_silent = false, slipping = false, kidnapped = false;
+  // Once the wheels have slipped, the odometry the robot reads is integrated here from the
+  // body's own readings (before, it is the body's reading itself, untouched).
+  std::optional<interfaces::Odometry> slipped_odometry;
+  Pose2 last_body_odometry;
 
   double t = 0.0;
   std::uint64_t steps = 0, scans = 0;
@@ -48,9 +57,12 @@ struct SimRobot::Impl {
   int lrf_sweeps = 0, teleports = 0;
   double tls_time = 0.0, tls_wall = 0.0;
 
-  Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s)
-      : world(w), params(p), seed(s) {
+  Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s,
+       const FaultParams& f)
+      : world(w), params(p), seed(s), faults(f) {
     ValidateParams(params, "drive.");
+    ValidateParams(faults, "faults.");
+    faults.Validate();
     std::vector<Eigen::Vector3f> vertices;
     std::vector<std::uint32_t> triangles;
     for (const auto& part : world.scene().parts) {
@@ -81,22 +93,92 @@ struct SimRobot::Impl {
     last_true = X_WB_start;
   }
 
-  // Both LRFs at their profile rates (rays in the scene at the true pose).
+  void Event(const std::string& what) {
+    fault_events.push_back(FormatNumbers("%.2f s: ", t) + what);
+  }
+
+  // Both LRFs at their profile rates (rays in the scene at the true pose). Silent LRFs (a
+  // fault) keep their schedule but deliver nothing; the sweeps before the first scan are
+  // always taken.
   bool Sweep(bool force) {
+    const bool silent = !force && faults.LrfSilentAt(t);
+    if (silent != lrf_silent) {
+      lrf_silent = silent;
+      Event(silent ? "fault: both LRFs silent (no new sweeps) for " +
+                         FormatNumbers("%.2f s", faults.lrf_silent_for)
+                   : "fault: the LRFs sweep again");
+    }
     const Pose3 X_WB = body->TruePose().To3d();
     bool top_new = false;
     if (force || t + 1e-9 >= next_base) {
-      base_scan = lrf_base->Scan(X_WB, seed, base_seq++, t);
+      if (!silent) {
+        base_scan = lrf_base->Scan(X_WB, seed, base_seq++, t);
+        ++lrf_sweeps;
+      }
       next_base += base_period;
-      ++lrf_sweeps;
     }
     if (force || t + 1e-9 >= next_top) {
-      top_scan = lrf_top->Scan(X_WB, seed, top_seq++, t);
+      if (!silent) {
+        top_scan = lrf_top->Scan(X_WB, seed, top_seq++, t);
+        ++lrf_sweeps;
+        top_new = true;
+      }
       next_top += top_period;
-      ++lrf_sweeps;
-      top_new = true;
     }
     return top_new;
+  }
+
+  // The odometry the robot reads after a body step: the body's own, or, once the wheels have
+  // slipped, its motions integrated with the slipping ones scaled.
+  void UpdateOdometry() {
+    const interfaces::Odometry& body_odometry = body->Odometry();
+    const bool slip = faults.SlipAt(t);
+    if (slip != slipping) {
+      slipping = slip;
+      Event(slip ? FormatNumbers("fault: wheels slip, odometry reports %.2f x the motion", 
+                                 faults.slip_factor) + FormatNumbers(" for %.2f s", faults.slip_for)
+                 : "fault: the wheels grip again");
+    }
+    if (slip && !slipped_odometry) {
+      slipped_odometry = body_odometry;
+      slipped_odometry->X_OB = last_body_odometry;
+    }
+    if (slipped_odometry) {
+      Pose2 delta = Compose(Inverse(last_body_odometry), body_odometry.X_OB);
+      double v = body_odometry.v, w = body_odometry.w;
+      if (slip) {
+        delta = SlippedMotion(delta, faults.slip_factor);
+        v *= faults.slip_factor, w *= faults.slip_factor;
+      }
+      slipped_odometry->X_OB = Compose(slipped_odometry->X_OB, delta);
+      slipped_odometry->timestamp = body_odometry.timestamp;
+      slipped_odometry->v = v;
+      slipped_odometry->w = w;
+    }
+    last_body_odometry = body_odometry.X_OB;
+  }
+
+  // The push of the kidnap fault (once, at its time): the body slides to the free pose nearest
+  // the target; the odometry does not see it.
+  void Kidnap() {
+    kidnapped = true;
+    const Pose2 from = body->TruePose();
+    const double direction = CounterRng(seed, "mission/fault/kidnap").Uniform(0.0, 2.0 * kPi);
+    Pose2 to;
+    const bool found = KidnapTarget(from, direction, faults.kidnap_distance,
+                                    [this](const Pose2& p) { return !body->InCollision(p); }, &to);
+    if (!found) {
+      Event(FormatNumbers("fault: kidnap not applied: no free pose within %.2f m of the target",
+                          kKidnapSearchRadius) +
+            FormatNumbers(" %.2f m from (%.2f, %.2f)", faults.kidnap_distance, from.x, from.y));
+      return;
+    }
+    body->Teleport(to);
+    last_true = to;
+    ++teleports;
+    Event(FormatNumbers("fault: kidnap: the base pushed %.3f m from (%.3f, %.3f) ",
+                        std::hypot(to.x - from.x, to.y - from.y), from.x, from.y) +
+          FormatNumbers("to (%.3f, %.3f) (world), the odometry unaware", to.x, to.y));
   }
 
   void RecordTruth() { truth.push_back({t, Compose(X_MW, body->TruePose())}); }
@@ -105,6 +187,8 @@ struct SimRobot::Impl {
     body->Step(cmd, params.control_dt);
     t += params.control_dt;
     ++steps;
+    if (faults.slip_at >= 0.0) UpdateOdometry();
+    if (faults.kidnap_at >= 0.0 && !kidnapped && t + 1e-9 >= faults.kidnap_at) Kidnap();
     if (teleport && t + 1e-9 >= teleport->first) {
       body->Teleport(teleport->second);  // kidnapping: odometry does not see it
       last_true = teleport->second;
@@ -142,6 +226,16 @@ struct SimRobot::Impl {
     req.X_MS_estimate = Eigen::Isometry3d::Identity();  // the platform knows no map pose
     sim::TlsTruth scan_truth;
     interfaces::TlsScan scan = scanner.Scan(req, keep_truths ? &scan_truth : nullptr);
+    if (const ScanFault fault = ScanFaultOf(faults, scans); fault != ScanFault::kNone) {
+      const std::size_t lost = ApplyScanFault(fault, faults.tls_partial_fraction, scan,
+                                              keep_truths ? &scan_truth : nullptr);
+      Event("fault: TLS scan " + std::to_string(scans) +
+            (fault == ScanFault::kEmpty
+                 ? " returned nothing"
+                 : FormatNumbers(" returned only the first %.3f of its sweep",
+                                 faults.tls_partial_fraction)) +
+            " (" + std::to_string(lost) + " returns lost)");
+    }
     if (keep_truths) truths.push_back(std::move(scan_truth));
     tls_wall += std::chrono::duration<double>(Clock::now() - wall0).count();
     ++scans;
@@ -154,14 +248,16 @@ struct SimRobot::Impl {
 };
 
 SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params,
-                   const Pose2& X_WB_start, std::uint64_t seed)
-    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed)) {}
+                   const Pose2& X_WB_start, std::uint64_t seed, const FaultParams& faults)
+    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed, faults)) {}
 SimRobot::~SimRobot() = default;
 
 double SimRobot::Time() const { return impl_->t; }
 double SimRobot::ControlPeriod() const { return impl_->params.control_dt; }
 bool SimRobot::Step(const interfaces::VelocityCommand& cmd) { return impl_->Step(cmd); }
-const interfaces::Odometry& SimRobot::WheelOdometry() const { return impl_->body->Odometry(); }
+const interfaces::Odometry& SimRobot::WheelOdometry() const {
+  return impl_->slipped_odometry ? *impl_->slipped_odometry : impl_->body->Odometry();
+}
 const interfaces::LrfScan& SimRobot::BaseSweep() const { return impl_->base_scan; }
 const interfaces::LrfScan& SimRobot::TopSweep() const { return impl_->top_scan; }
 interfaces::TlsScan SimRobot::Scan(double step_deg, double* still_for) {
@@ -178,6 +274,7 @@ const std::vector<sim::TlsTruth>& SimRobot::ScanTruths() const { return impl_->t
 void SimRobot::SetKeepScanTruths(bool keep) { impl_->keep_truths = keep; }
 void SimRobot::ScheduleTeleport(double t, const Pose2& X_WB) { impl_->teleport.emplace(t, X_WB); }
 const DriveParams& SimRobot::Params() const { return impl_->params; }
+const std::vector<std::string>& SimRobot::FaultEvents() const { return impl_->fault_events; }
 
 void SimRobot::FillResult(DriveResult& res) const {
   const Impl& m = *impl_;
@@ -209,6 +306,7 @@ void SimRobot::FillResult(DriveResult& res) const {
   res.path_length = m.path_length;
   res.lrf_sweeps = m.lrf_sweeps;
   res.teleports = m.teleports;
+  res.fault_events = m.fault_events;
   res.tls_time = m.tls_time;
   res.tls_wall_time = m.tls_wall;
   res.wall_time = std::chrono::duration<double>(Clock::now() - m.wall_start).count();

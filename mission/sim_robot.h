@@ -5,6 +5,10 @@
 // an evaluator may read (the true trajectory, contacts, the scans' truth sidecars) and the
 // kidnapping hook of tests.
 //
+// Faults (mission/faults.h) are applied here, on the world side: a scan's lost returns, silent
+// LRFs, slipping wheels, a push of the base. The robot sees only their effect on its sensors;
+// FaultEvents() says what happened, when.
+//
 // Frames: the world W is the scene; map M := the body's start pose, X_MW = X_WB(0)^-1 (truth
 // expressed in the robot's map frame for evaluation only).
 // Determinism: same world + params + seed + call sequence -> same bytes.
@@ -12,10 +16,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "interfaces/robot_platform.h"
 #include "mission/drive_mission.h"
+#include "mission/faults.h"
 #include "sim/tls_truth.h"
 
 namespace mopad::mission {
@@ -23,9 +29,10 @@ namespace mopad::mission {
 class SimRobot final : public interfaces::RobotPlatform {
  public:
   /// Places the body at `X_WB_start` (world). Throws InputError for invalid params or a start
-  /// pose in collision with the scene (door leaves as the world has them).
+  /// pose in collision with the scene (door leaves as the world has them). `faults`: the
+  /// world's faults (default: none).
   SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
-           std::uint64_t seed);
+           std::uint64_t seed, const FaultParams& faults = {});
   ~SimRobot() override;
   SimRobot(const SimRobot&) = delete;
   SimRobot& operator=(const SimRobot&) = delete;
@@ -52,6 +59,8 @@ class SimRobot final : public interfaces::RobotPlatform {
   /// Kidnapping: at simulation time `t` the true body jumps to `X_WB` (world); odometry does
   /// not see it. One pending teleport at a time.
   void ScheduleTeleport(double t, const Pose2& X_WB);
+  /// The faults that acted so far, one line each ("12.34 s: ..."), in time order.
+  const std::vector<std::string>& FaultEvents() const;
   /// The world-side figures of a DriveResult: truth, contacts, distance, sensor counts, times.
   void FillResult(DriveResult& result) const;
   const DriveParams& Params() const;
