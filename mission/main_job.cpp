@@ -81,7 +81,17 @@ RoomBoundary PerRoomBoundary(const std::string& id, const RoomJob* job) {
 void RunPerRoom(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& o, JobTables& t, report::ReportInput& report) {
   t.rooms.header = {"room", "scans", "robot coverage", "stop reason", "path (m)", "SM1 points"};
+  bool stopped = false;
   for (const std::string& id : o.rooms) {
+    if (stopped || (o.stop_requested && o.stop_requested())) {
+      // An explained status for every listed room, also those the operator's stop left out.
+      stopped = true;
+      const std::string why = "not run: the operator stopped the job before this room";
+      if (o.print) o.print("room " + id + ": " + why);
+      t.rooms.rows.push_back({id, "-", "-", why, "-", "-"});
+      t.rooms_json.push_back({{"room", id}, {"status", "not run"}, {"reason", why}});
+      continue;
+    }
     const auto t0 = WallClock::now();
     const std::string room_dir = runfolder::RoomDir(o.dir, id);
     std::optional<RoomJob> job;
@@ -340,10 +350,19 @@ ScoredRun ScoreAndExport(const MainJobOptions& o, const JobTables& t) {
 
 }  // namespace
 
-void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
-                const MainJobOptions& o) {
+bool RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
+                const MainJobOptions& options) {
   // Bad input ends the job before any work (the floor mission checks its start first thing).
-  CheckJobRooms(mw, o.rooms);
+  CheckJobRooms(mw, options.rooms);
+  // The job stopped early when the operator's stop was asked for and granted (the missions
+  // end at the first true answer).
+  bool stopped = false;
+  MainJobOptions o = options;
+  if (options.stop_requested)
+    o.stop_requested = [&stopped, ask = options.stop_requested] {
+      if (ask()) stopped = true;
+      return stopped;
+    };
   const auto t_start = WallClock::now();
   report::ReportInput report;
   report.title = "OpenMoPAD run: " + o.scene_name;
@@ -412,9 +431,15 @@ void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                            ""});
   report::WriteHtmlReport(report, runfolder::Join(o.dir, runfolder::kReportHtml));
   report::WriteMarkdownReport(report, runfolder::Join(o.dir, runfolder::kReportMarkdown));
-  if (o.checkpoint) o.checkpoint->MarkComplete();
+  if (o.checkpoint) {
+    if (stopped)
+      o.checkpoint->MarkStopped();
+    else
+      o.checkpoint->MarkComplete();
+  }
   if (!scored.defect.empty())
     throw std::runtime_error(scored.defect + " (summary.json and the report were written)");
+  return !stopped;
 }
 
 }  // namespace mopad::mission

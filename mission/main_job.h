@@ -31,8 +31,9 @@ struct MainJobOptions {
   std::function<void(const std::string&)> progress;
   /// Hears the job's result lines (rooms, evaluation tables); the CLI prints them.
   std::function<void(const std::string&)> print;
-  /// Asked before each room of the floor mission: true ends it there; the rooms done are
-  /// evaluated, exported and reported as usual.
+  /// Asked before each room (of the floor mission or the per-room mode): true ends the job
+  /// there; the rooms done are evaluated, exported and reported as usual, and the checkpoint
+  /// says "stopped" (`--resume` finishes the run).
   std::function<bool()> stop_requested;
   /// Optional: hears every room's boundary and is marked complete when the run folder is
   /// written (`mopad run --resume`, mission/run_checkpoint.h).
@@ -40,8 +41,9 @@ struct MainJobOptions {
 };
 
 /// Runs the job and writes the run folder. Robot failures are recorded per room (status and
-/// reason) and the job goes on; InputError for a scene without truth rooms.
-void RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
+/// reason) and the job goes on; InputError for a scene without truth rooms. Returns false when
+/// `stop_requested` ended it before all its rooms, true when it ran to its end.
+bool RunMainJob(const sim::SceneWorld& mw, const FloorMissionParams& params,
                 const MainJobOptions& options);
 
 }  // namespace mopad::mission

@@ -238,11 +238,16 @@ void RunCheckpoint::MarkComplete() {
   WriteManifest();
 }
 
+void RunCheckpoint::MarkStopped() {
+  stopped_ = true;
+  WriteManifest();
+}
+
 void RunCheckpoint::WriteManifest() const {
   nlohmann::ordered_json m;
   m["format"] = kFormat;
   m["version"] = kVersion;
-  m["state"] = complete_ ? "complete" : "running";
+  m["state"] = complete_ ? "complete" : stopped_ ? "stopped" : "running";
   m["resume"] = "replay";  // a resumed run re-runs the job from these inputs (run_checkpoint.h)
   m["resumes"] = resumes_;
   m["seed"] = inputs_.params.room.drive.seed;

@@ -11,7 +11,8 @@
 // must reach its recorded fingerprint (else the replay stops with an internal error). No scan
 // is lost: every scan is taken again, to the bit.
 //
-//   DIR/checkpoint/manifest.json  format, state ("running" or "complete"), the hashes (config,
+//   DIR/checkpoint/manifest.json  format, state ("running", "stopped" or "complete"), the
+//                                 hashes (config,
 //                                 spec, scene, binary), the seed, the start, the rooms done
 //   DIR/checkpoint/config.yaml    the effective config (every field; doubles to 17 digits)
 //   DIR/checkpoint/spec.yaml      the scene spec's text (generated scenes only)
@@ -90,6 +91,9 @@ class RunCheckpoint {
   /// The run's files are all written: state "complete" (the checkpoint is kept as the record of
   /// the run's inputs; `--resume` then says the run is complete).
   void MarkComplete();
+  /// The run's files are written but the operator stopped it (SIGINT, SIGTERM) before all its
+  /// rooms: state "stopped"; `--resume` runs it again to its end, as after a kill.
+  void MarkStopped();
 
  private:
   RunCheckpoint() = default;
@@ -98,6 +102,7 @@ class RunCheckpoint {
   std::string dir_;
   RunInputs inputs_;
   bool complete_ = false;
+  bool stopped_ = false;
   int resumes_ = 0;
   std::string config_hash_, spec_hash_, scene_hash_, binary_hash_;
   std::vector<RoomBoundary> boundaries_;

@@ -58,10 +58,13 @@ report::ReportTable SceneTable(const SceneSummary& s) {
           ""};
 }
 
-// SIGINT / SIGTERM: the floor mission stops before its next room and the job still writes its
-// evaluation, exports and report; a second signal ends the process at once.
+// SIGINT / SIGTERM: the job stops before its next room and still writes its evaluation,
+// exports and report; the checkpoint says "stopped" and the process exits with 128 + the
+// signal's number. A second signal ends the process at once.
 std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
 extern "C" void OnStopSignal(int sig) {
+  g_signal = sig;
   g_stop = true;
   std::signal(sig, SIG_DFL);
 }
@@ -172,8 +175,9 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
   return mission::RunCheckpoint::Create(dir.string(), in);
 }
 
-// The main job on the checkpoint's inputs, into `dir`.
-void RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
+// The main job on the checkpoint's inputs, into `dir`. False when a signal stopped it before
+// all its rooms.
+bool RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
             WallClock::time_point t_start) {
   const mission::RunInputs& in = ck.Inputs();
   // The world (truth side): a generated scene is written out so that `mopad eval` can
@@ -215,9 +219,10 @@ void RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
   std::signal(SIGTERM, OnStopSignal);
   o.stop_requested = [] { return g_stop.load(); };
   o.checkpoint = &ck;
-  mission::RunMainJob(mw, in.params, o);
-  std::printf("done in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
-              SecondsSince(t_start), dir.string().c_str());
+  const bool finished = mission::RunMainJob(mw, in.params, o);
+  std::printf("%s in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
+              finished ? "done" : "stopped", SecondsSince(t_start), dir.string().c_str());
+  return finished;
 }
 
 }  // namespace
@@ -233,7 +238,7 @@ void RegisterRunCommand(CLI::App& app) {
     const auto t_start = WallClock::now();
     fs::path dir;
     std::optional<mission::RunCheckpoint> ck = CheckpointOf(*args, dir);
-    if (ck) RunJob(*ck, dir, args->quiet, t_start);
+    const bool finished = !ck || RunJob(*ck, dir, args->quiet, t_start);
     // Also on a complete run given to --resume: `--resume DIR --keep LEVEL` slims a finished
     // folder.
     const runfolder::KeepLevel keep = runfolder::ParseKeepLevel(args->keep);
@@ -241,6 +246,16 @@ void RegisterRunCommand(CLI::App& app) {
     if (keep != runfolder::KeepLevel::kAll && !args->quiet)
       std::printf("--keep %s: removed %.1f MB of files the level does not keep\n",
                   runfolder::ToString(keep), static_cast<double>(freed) / 1e6);
+    if (!finished) {
+      const int sig = g_signal.load();
+      std::fflush(stdout);
+      std::fprintf(stderr,
+                   "mopad: stopped by %s before all rooms were done; %s holds the rooms done "
+                   "(summary.json); finish the run with: mopad run --resume %s\n",
+                   sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal",
+                   dir.string().c_str(), dir.string().c_str());
+      throw CLI::RuntimeError(128 + (sig > 0 ? sig : SIGTERM));
+    }
   });
 }
 

@@ -16,25 +16,17 @@
 #include <string>
 #include <vector>
 
-#include "tests/process_temp_dir.h"
-#include "tests/run_command.h"
+#include "tests/tools/mopad_cli.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
+using mopad::test_support::Mopad;
+using mopad::test_support::RunFiles;
+using mopad::test_support::Src;
+using mopad::test_support::TempDir;
 using Result = mopad::test_support::CommandResult;  // out: stdout and stderr together
-
-Result Mopad(const std::string& args) {
-  return mopad::test_support::RunCommand(std::string(MOPAD_BINARY) + " " + args + " 2>&1");
-}
-
-std::string Src(const std::string& rel) { return std::string(MOPAD_SOURCE_DIR) + "/" + rel; }
-
-std::string TempDir(const std::string& name) {
-  // Per process: ctest runs each test case in its own process, possibly in parallel.
-  return mopad::test_support::ProcessTempDir("mopad_cli_", "_" + name).string();
-}
 
 // The default scene is generated once and shared by the tests that read it.
 const std::string& OfficeDir() {
@@ -253,39 +245,6 @@ TEST(Cli, ResumeWithoutACheckpointOrWithOtherRunOptionsIsOneLineExitTwo) {
   EXPECT_NE(torn.out.find("corrupt checkpoint manifest"), std::string::npos) << torn.out;
   EXPECT_EQ(std::count(torn.out.begin(), torn.out.end(), '\n'), 1) << torn.out;
   EXPECT_EQ(Mopad("run --resume " + d + " --seed 2").code, 2);
-}
-
-// The wall-clock timings a resumed run may write differently (docs/floor-mission.md, Resume).
-nlohmann::json WithoutTimings(nlohmann::json j) {
-  if (j.is_array())
-    for (auto& x : j) x = WithoutTimings(x);
-  if (!j.is_object()) return j;
-  for (const char* key :
-       {"seconds", "wall_time", "wall_time_s", "tls_wall_time_s", "sm4_seconds", "sm5_seconds"})
-    j.erase(key);
-  for (auto& [k, v] : j.items()) v = WithoutTimings(v);
-  return j;
-}
-
-// Every file of a run folder (checkpoint/ aside), JSON without its timings, the reports without
-// their Timing table.
-std::map<std::string, std::string> RunFiles(const std::string& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string rel = fs::relative(e.path(), dir).generic_string();
-    if (rel.rfind("checkpoint/", 0) == 0) continue;
-    std::ifstream f(e.path(), std::ios::binary);
-    std::string s((std::istreambuf_iterator<char>(f)), {});
-    if (e.path().extension() == ".json") s = WithoutTimings(nlohmann::json::parse(s)).dump(1);
-    for (const char* timing : {"## Timing", "<h2>Timing</h2>"})
-      if (const auto at = s.find(timing); at != std::string::npos) {
-        const auto end = s.find(timing[0] == '#' ? "\n#" : "</table>", at + 1);
-        s.erase(at, end == std::string::npos ? std::string::npos : end - at);
-      }
-    out[rel] = std::move(s);
-  }
-  return out;
 }
 
 TEST(Cli, RunKilledWithSigkillAfterItsFirstRoomAndResumedWritesTheFilesOfAnUninterruptedRun) {
