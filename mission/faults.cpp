@@ -29,11 +29,37 @@ void FaultParams::Validate() const {
   if (kidnap_at >= 0.0 && kidnap_distance <= 0.0)
     throw InputError("", "parameter 'kidnap_distance' must be positive when kidnap_at is set",
                      FormatShortest(kidnap_distance), "(0, 5] m");
+  if (door_close_id.empty() != (door_close_at < 0.0))
+    throw InputError("", "parameters 'door_close_id' and 'door_close_at' go together",
+                     "'" + door_close_id + "' at " + FormatShortest(door_close_at),
+                     "a door id and a time >= 0, or neither");
+}
+
+std::optional<DoorFaultWorld> DoorFaultOf(const sim::SceneWorld& mw, const FaultParams& faults) {
+  if (faults.door_close_id.empty()) return std::nullopt;
+  const std::vector<std::string>& ids = mw.world->DoorIds();
+  const scenes::Opening* door = mw.truth ? mw.truth->FindOpening(faults.door_close_id) : nullptr;
+  if (!door || std::find(ids.begin(), ids.end(), faults.door_close_id) == ids.end()) {
+    std::string names;
+    for (const std::string& id : ids) names += (names.empty() ? "" : ", ") + id;
+    throw InputError("faults", "parameter 'door_close_id' names no door with a leaf",
+                     "'" + faults.door_close_id + "'", "one of " + names);
+  }
+  return DoorFaultWorld{mw.world.get(), *door};
+}
+
+Eigen::Isometry3d SwungLeaf(const scenes::Opening& door, const Eigen::Isometry3d& X_WD,
+                            double from_angle, double to_angle) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translate(door.hinge_point);
+  T.rotate(Eigen::AngleAxisd(to_angle - from_angle, door.hinge_axis.normalized()));
+  T.translate(-door.hinge_point);
+  return T * X_WD;
 }
 
 bool FaultParams::Any() const {
   return !tls_empty_scans.empty() || !tls_partial_scans.empty() || lrf_silent_at >= 0.0 ||
-         slip_at >= 0.0 || kidnap_at >= 0.0;
+         slip_at >= 0.0 || kidnap_at >= 0.0 || !door_close_id.empty();
 }
 
 ScanFault ScanFaultOf(const FaultParams& faults, std::uint64_t index) {

@@ -2,7 +2,7 @@
 // Faults of the simulated world (`faults:` of the mission config, docs/reliability.md "Fault
 // injection"): what a real robot meets — a TLS scan that returns nothing or only part of its
 // sweep, LRFs that go silent, wheels that slip, a push that moves the base while the odometry
-// says nothing. They are properties of the world, applied by mission::SimRobot; the robot's
+// says nothing, a door that closes. They are properties of the world, applied by mission::SimRobot; the robot's
 // brain sees only their effect on its sensors and never knows that a fault was injected.
 //
 // All off by default: a run without `faults:` (or with every fault off) takes the same code
@@ -13,12 +13,16 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/frames.h"
 #include "common/params.h"
 #include "interfaces/tls_scan.h"
+#include "scenes/ground_truth.h"
+#include "sim/embree_world.h"
+#include "sim/scene_world.h"
 #include "sim/tls_truth.h"
 
 namespace mopad::mission {
@@ -54,6 +58,13 @@ struct FaultParams {
   double kidnap_at = -1.0;
   double kidnap_distance = 0.5;  ///< m, [0, 5]
 
+  /// The door (its truth id, e.g. "D3") that closes at `door_close_at`: its leaf swings to
+  /// 0 deg in the world, so the sensors see it and the base collides with it. While the closed
+  /// leaf would overlap the base it waits (a door does not close through the robot). Each
+  /// robot starts with the door as the scene has it. "": never.
+  std::string door_close_id;
+  double door_close_at = -1.0;  ///< s; negative: never, [-1, 1e6]
+
   template <class V>
   void Visit(V& v) {
     v("tls_empty_scans", tls_empty_scans, Bounds{0, 1e6});
@@ -66,9 +77,12 @@ struct FaultParams {
     v("slip_factor", slip_factor, Bounds{0.0, 10.0});
     v("kidnap_at", kidnap_at, Bounds{-1.0, 1e6});
     v("kidnap_distance", kidnap_distance, Bounds{0.0, 5.0});
+    v("door_close_id", door_close_id);
+    v("door_close_at", door_close_at, Bounds{-1.0, 1e6});
   }
   /// InputError for a fault switched on that cannot act: LRF silence or slip of zero duration,
-  /// a slip with factor 1, a kidnap of zero distance.
+  /// a slip with factor 1, a kidnap of zero distance, a door to close without a time or a
+  /// time without a door.
   void Validate() const;
 
   /// True when some fault is on (then the run reports its fault events).
@@ -78,6 +92,22 @@ struct FaultParams {
   }
   bool SlipAt(double t) const { return slip_at >= 0.0 && t >= slip_at && t < slip_at + slip_for; }
 };
+
+/// The world side of the door fault: the world whose leaf it swings (the one the robot's
+/// sensors cast their rays in) and the door's truth (hinge, modelled angle).
+struct DoorFaultWorld {
+  sim::EmbreeWorld* world = nullptr;
+  scenes::Opening door;
+};
+
+/// The door fault's world for `faults` in `mw`, or none when the fault is off. InputError
+/// naming the id and the scene's doors when the scene has no such door with a hinge.
+std::optional<DoorFaultWorld> DoorFaultOf(const sim::SceneWorld& mw, const FaultParams& faults);
+
+/// The pose (world) of a door leaf's box after the door swings from `from_angle` to `to_angle`
+/// (rad) about its hinge, given the box at `X_WD` for `from_angle`.
+Eigen::Isometry3d SwungLeaf(const scenes::Opening& door, const Eigen::Isometry3d& X_WD,
+                            double from_angle, double to_angle);
 
 /// m, how far from the kidnap's target the search for a free pose goes.
 inline constexpr double kKidnapSearchRadius = 1.0;

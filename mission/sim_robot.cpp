@@ -1,5 +1,6 @@
 #include "mission/sim_robot.h"
 
+#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +43,12 @@ struct SimRobot::Impl {
   // body's own readings (before, it is the body's reading itself, untouched).
   std::optional<interfaces::Odometry> slipped_odometry;
   Pose2 last_body_odometry;
+  // The door fault: the leaf is a box of the body's (RobotBody::AddDoorLeaf), not part of its
+  // static mesh, so that it can swing.
+  std::optional<DoorFaultWorld> door;
+  int leaf = -1;
+  Eigen::Isometry3d X_WD_open = Eigen::Isometry3d::Identity();
+  bool door_closed = false, door_waiting = false;
 
   double t = 0.0;
   std::uint64_t steps = 0, scans = 0;
@@ -58,20 +65,28 @@ struct SimRobot::Impl {
   double tls_time = 0.0, tls_wall = 0.0;
 
   Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s,
-       const FaultParams& f)
-      : world(w), params(p), seed(s), faults(f) {
+       const FaultParams& f, const std::optional<DoorFaultWorld>& d)
+      : world(w), params(p), seed(s), faults(f), door(d) {
     ValidateParams(params, "drive.");
     ValidateParams(faults, "faults.");
     faults.Validate();
-    std::vector<Eigen::Vector3f> vertices;
+    if (door && door->world != &world)
+      throw std::logic_error("SimRobot: the door fault's world is not the robot's");
+    std::vector<Eigen::Vector3f> vertices, leaf_vertices;
     std::vector<std::uint32_t> triangles;
     for (const auto& part : world.scene().parts) {
+      if (door && part.element_class == scenes::ElementClass::kDoorLeaf &&
+          part.element_id == door->door.id) {
+        leaf_vertices.insert(leaf_vertices.end(), part.positions.begin(), part.positions.end());
+        continue;
+      }
       const auto base = static_cast<std::uint32_t>(vertices.size());
       vertices.insert(vertices.end(), part.positions.begin(), part.positions.end());
       for (const auto& tri : part.triangles)
         for (int k = 0; k < 3; ++k) triangles.push_back(base + static_cast<std::uint32_t>(tri[k]));
     }
     body.emplace(params.body, vertices, triangles, X_WB_start, seed);
+    if (door) AddSwingingLeaf(leaf_vertices);
     if (body->InCollision(X_WB_start)) {
       char buf[160];
       std::snprintf(buf, sizeof buf,
@@ -91,6 +106,53 @@ struct SimRobot::Impl {
     top_period = 1.0 / lrf_top->params().rate_hz;
     X_MW = Inverse(X_WB_start);
     last_true = X_WB_start;
+  }
+
+  // The door fault's leaf as a box (its vertices' bounding box along their main horizontal
+  // direction), at the scene's angle; the world's leaf back at that angle too.
+  void AddSwingingLeaf(const std::vector<Eigen::Vector3f>& vertices) {
+    if (vertices.empty())
+      throw InputError("faults", "parameter 'door_close_id' names a door without leaf geometry",
+                       "'" + door->door.id + "'", "a door whose leaf the scene holds");
+    door->world->SetDoorAngle(door->door.id, door->door.opening_angle);
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& v : vertices) mean += v.head<2>().cast<double>();
+    mean /= static_cast<double>(vertices.size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& v : vertices) {
+      const Eigen::Vector2d q = v.head<2>().cast<double>() - mean;
+      cov += q * q.transpose();
+    }
+    const Eigen::Vector2d e = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvectors().col(1);
+    Eigen::Matrix3d R;
+    R << e.x(), -e.y(), 0.0, e.y(), e.x(), 0.0, 0.0, 0.0, 1.0;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    for (const auto& v : vertices) {
+      const Eigen::Vector3d q = R.transpose() * v.cast<double>();
+      lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    }
+    X_WD_open.linear() = R;
+    X_WD_open.translation() = R * (0.5 * (lo + hi));
+    const Eigen::Vector3d half = (0.5 * (hi - lo)).cwiseMax(0.005);  // a leaf has thickness
+    leaf = body->AddDoorLeaf(half, X_WD_open);
+  }
+
+  // The door fault, from its time on: the leaf swings shut unless the base stands in its way.
+  void CloseDoor() {
+    const Eigen::Isometry3d X_WD_closed =
+        SwungLeaf(door->door, X_WD_open, door->door.opening_angle, 0.0);
+    body->SetDoorLeafPose(leaf, X_WD_closed);
+    if (body->InCollision(body->TruePose())) {
+      body->SetDoorLeafPose(leaf, X_WD_open);
+      if (!door_waiting) Event("fault: door " + door->door.id + " cannot close yet: the base is in its way");
+      door_waiting = true;
+      return;
+    }
+    door->world->SetDoorAngle(door->door.id, 0.0);
+    door_closed = true;
+    Event("fault: door " + door->door.id +
+          FormatNumbers(" closed (its leaf swung from %.0f deg to 0)",
+                        RadToDeg(door->door.opening_angle)));
   }
 
   void Event(const std::string& what) {
@@ -189,6 +251,7 @@ struct SimRobot::Impl {
     ++steps;
     if (faults.slip_at >= 0.0) UpdateOdometry();
     if (faults.kidnap_at >= 0.0 && !kidnapped && t + 1e-9 >= faults.kidnap_at) Kidnap();
+    if (door && !door_closed && t + 1e-9 >= faults.door_close_at) CloseDoor();
     if (teleport && t + 1e-9 >= teleport->first) {
       body->Teleport(teleport->second);  // kidnapping: odometry does not see it
       last_true = teleport->second;
@@ -248,8 +311,9 @@ struct SimRobot::Impl {
 };
 
 SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params,
-                   const Pose2& X_WB_start, std::uint64_t seed, const FaultParams& faults)
-    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed, faults)) {}
+                   const Pose2& X_WB_start, std::uint64_t seed, const FaultParams& faults,
+                   const std::optional<DoorFaultWorld>& door)
+    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed, faults, door)) {}
 SimRobot::~SimRobot() = default;
 
 double SimRobot::Time() const { return impl_->t; }

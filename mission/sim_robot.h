@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,9 +31,12 @@ class SimRobot final : public interfaces::RobotPlatform {
  public:
   /// Places the body at `X_WB_start` (world). Throws InputError for invalid params or a start
   /// pose in collision with the scene (door leaves as the world has them). `faults`: the
-  /// world's faults (default: none).
+  /// world's faults (default: none); `door`: the world and door of the door fault
+  /// (DoorFaultOf; its world must be `world`), which the robot then opens to the scene's angle
+  /// for its start and closes at the fault's time.
   SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
-           std::uint64_t seed, const FaultParams& faults = {});
+           std::uint64_t seed, const FaultParams& faults = {},
+           const std::optional<DoorFaultWorld>& door = std::nullopt);
   ~SimRobot() override;
   SimRobot(const SimRobot&) = delete;
   SimRobot& operator=(const SimRobot&) = delete;

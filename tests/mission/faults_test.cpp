@@ -106,6 +106,11 @@ TEST(Faults, TheConfigSectionParsesAndRefusesAFaultThatCannotAct) {
             "room.faults: error: parameter 'lrf_silent_for' must be positive when lrf_silent_at "
             "is set; got 0, expected (0, 1e6] s");
   q = {};
+  q.room.faults.door_close_id = "D3";
+  EXPECT_NE(InputErrorOf([&] { ValidateParams(q, "room."); })
+                .find("'door_close_id' and 'door_close_at' go together"),
+            std::string::npos);
+  q = {};
   q.room.faults.slip_at = 1.0;
   q.room.faults.slip_for = 2.0;
   EXPECT_NE(InputErrorOf([&] { ValidateParams(q, "room."); }).find("'slip_factor' of 1 is no slip"),
@@ -261,6 +266,69 @@ TEST(Faults, AKidnapPushesTheBaseWhileTheOdometrySaysNothing) {
   for (int k = 0; k < 20; ++k) again.Step({0.0, 0.0});
   EXPECT_EQ(again.TruePoseInWorld().x, b.x);
   EXPECT_EQ(again.TruePoseInWorld().y, b.y);
+}
+
+// The door fault swings the leaf shut in the world: the rays meet it and the base stops at it.
+// A robot standing in the doorway keeps it open; each new robot finds it as the scene has it.
+TEST(Faults, ADoorThatClosesIsSeenAndFeltAndWaitsForTheBaseToLeaveItsSwing) {
+  scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml"));
+  const scenes::GroundTruth truth = g.truth;
+  sim::EmbreeWorld world(std::move(g.scene), &truth);
+  const DoorFaultWorld door{&world, *truth.FindOpening("D1")};
+  FaultParams f;
+  f.door_close_id = "D1";
+  f.door_close_at = 0.2;
+  DriveParams p;
+  p.body.odometry = {};
+  auto ahead = [&](double x) {  // m to the first surface along +x at 1 m height, y = 2
+    return world.Intersect(Eigen::Vector3f(float(x), 2.0f, 1.0f), Eigen::Vector3f::UnitX()).t;
+  };
+  EXPECT_GT(ahead(4.0), 5.0f);  // through the open door to R2's far wall
+  const double leaf_plane = door.door.hinge_point.x();  // the leaf shuts on R2's wall face
+  {
+    SimRobot control(world, p, {4.4, 2.0, 0.0}, 3);  // without the fault it drives through
+    for (int k = 0; k < 250; ++k) control.Step({0.3, 0.0});
+    EXPECT_GT(control.TruePoseInWorld().x, leaf_plane + 0.5);
+  }
+  {
+    SimRobot robot(world, p, {4.4, 2.0, 0.0}, 3, f, door);
+    for (int k = 0; k < 10; ++k) robot.Step({0.0, 0.0});
+    EXPECT_NEAR(world.DoorAngle("D1"), 0.0, 1e-12);
+    EXPECT_LT(ahead(4.0), 1.3f);  // the leaf in the door's wall (x 5 .. 5.2)
+    // Driving on, the base stops at the closed leaf instead of passing.
+    for (int k = 0; k < 250; ++k) robot.Step({0.3, 0.0});
+    EXPECT_LT(robot.TruePoseInWorld().x + 0.3, leaf_plane);  // the front of the base, stopped
+    DriveResult r;
+    robot.FillResult(r);
+    EXPECT_GE(r.contacts, 1);
+    ASSERT_EQ(robot.FaultEvents().size(), 1u);
+    EXPECT_NE(robot.FaultEvents()[0].find("fault: door D1 closed"), std::string::npos);
+  }
+  {
+    // A new robot finds the door as the scene has it; standing in the doorway, it keeps it open.
+    SimRobot robot(world, p, {5.1, 2.0, 0.0}, 3, f, door);
+    EXPECT_NEAR(world.DoorAngle("D1"), DegToRad(90.0), 1e-12);
+    for (int k = 0; k < 20; ++k) robot.Step({0.0, 0.0});
+    EXPECT_NEAR(world.DoorAngle("D1"), DegToRad(90.0), 1e-12);
+    ASSERT_EQ(robot.FaultEvents().size(), 1u);
+    EXPECT_NE(robot.FaultEvents()[0].find("cannot close yet"), std::string::npos);
+    for (int k = 0; k < 100; ++k) robot.Step({-0.3, 0.0});  // backs out of the doorway
+    EXPECT_NEAR(world.DoorAngle("D1"), 0.0, 1e-12);
+  }
+  FaultParams unknown = f;
+  unknown.door_close_id = "D7";
+  sim::SceneWorld mw;
+  mw.truth = truth;
+  mw.world = std::make_unique<sim::EmbreeWorld>(
+      scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) +
+                                             "/scenes/two_rooms_door.yaml"))
+          .scene,
+      &truth);
+  EXPECT_EQ(InputErrorOf([&] { DoorFaultOf(mw, unknown); }),
+            "faults: error: parameter 'door_close_id' names no door with a leaf; got 'D7', "
+            "expected one of D1");
+  EXPECT_FALSE(DoorFaultOf(mw, FaultParams{}).has_value());
 }
 
 // Near a wall the push ends at the nearest free pose it can slide to, never through the wall.
