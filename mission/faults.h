@@ -2,8 +2,9 @@
 // Faults of the simulated world (`faults:` of the mission config, docs/reliability.md "Fault
 // injection"): what a real robot meets — a TLS scan that returns nothing or only part of its
 // sweep, LRFs that go silent, wheels that slip, a push that moves the base while the odometry
-// says nothing, a door that closes. They are properties of the world, applied by mission::SimRobot; the robot's
-// brain sees only their effect on its sensors and never knows that a fault was injected.
+// says nothing, a door that closes. They are properties of the world, applied by mission::SimRobot;
+// the robot's brain sees only their effect on its sensors and never knows that a fault was
+// injected.
 //
 // All off by default: a run without `faults:` (or with every fault off) takes the same code
 // path as before, to the byte. Times are simulation time (s) from the robot's placement; scan

@@ -123,7 +123,8 @@ struct SimRobot::Impl {
       const Eigen::Vector2d q = v.head<2>().cast<double>() - mean;
       cov += q * q.transpose();
     }
-    const Eigen::Vector2d e = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvectors().col(1);
+    const Eigen::Vector2d e =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvectors().col(1);
     Eigen::Matrix3d R;
     R << e.x(), -e.y(), 0.0, e.y(), e.x(), 0.0, 0.0, 0.0, 1.0;
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
@@ -144,7 +145,8 @@ struct SimRobot::Impl {
     body->SetDoorLeafPose(leaf, X_WD_closed);
     if (body->InCollision(body->TruePose())) {
       body->SetDoorLeafPose(leaf, X_WD_open);
-      if (!door_waiting) Event("fault: door " + door->door.id + " cannot close yet: the base is in its way");
+      if (!door_waiting)
+        Event("fault: door " + door->door.id + " cannot close yet: the base is in its way");
       door_waiting = true;
       return;
     }
@@ -197,8 +199,9 @@ struct SimRobot::Impl {
     const bool slip = faults.SlipAt(t);
     if (slip != slipping) {
       slipping = slip;
-      Event(slip ? FormatNumbers("fault: wheels slip, odometry reports %.2f x the motion", 
-                                 faults.slip_factor) + FormatNumbers(" for %.2f s", faults.slip_for)
+      Event(slip ? FormatNumbers("fault: wheels slip, odometry reports %.2f x the motion",
+                                 faults.slip_factor) +
+                       FormatNumbers(" for %.2f s", faults.slip_for)
                  : "fault: the wheels grip again");
     }
     if (slip && !slipped_odometry) {
@@ -227,8 +230,9 @@ struct SimRobot::Impl {
     const Pose2 from = body->TruePose();
     const double direction = CounterRng(seed, "mission/fault/kidnap").Uniform(0.0, 2.0 * kPi);
     Pose2 to;
-    const bool found = KidnapTarget(from, direction, faults.kidnap_distance,
-                                    [this](const Pose2& p) { return !body->InCollision(p); }, &to);
+    const bool found = KidnapTarget(
+        from, direction, faults.kidnap_distance,
+        [this](const Pose2& p) { return !body->InCollision(p); }, &to);
     if (!found) {
       Event(FormatNumbers("fault: kidnap not applied: no free pose within %.2f m of the target",
                           kKidnapSearchRadius) +

@@ -252,7 +252,9 @@ void RegisterRunCommand(CLI::App& app) {
       std::fprintf(stderr,
                    "mopad: stopped by %s before all rooms were done; %s holds the rooms done "
                    "(summary.json); finish the run with: mopad run --resume %s\n",
-                   sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal",
+                   sig == SIGTERM  ? "SIGTERM"
+                   : sig == SIGINT ? "SIGINT"
+                                   : "a signal",
                    dir.string().c_str(), dir.string().c_str());
       throw CLI::RuntimeError(128 + (sig > 0 ? sig : SIGTERM));
     }

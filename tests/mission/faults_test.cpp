@@ -107,8 +107,9 @@ TEST(Faults, TheConfigSectionParsesAndRefusesAFaultThatCannotAct) {
             "is set; got 0, expected (0, 1e6] s");
   q = {};
   q.room.faults.door_close_id = "D3";
-  EXPECT_NE(InputErrorOf([&] { ValidateParams(q, "room."); })
-                .find("'door_close_id' and 'door_close_at' go together"),
+  EXPECT_NE(InputErrorOf([&] {
+              ValidateParams(q, "room.");
+            }).find("'door_close_id' and 'door_close_at' go together"),
             std::string::npos);
   q = {};
   q.room.faults.slip_at = 1.0;
@@ -284,7 +285,7 @@ TEST(Faults, ADoorThatClosesIsSeenAndFeltAndWaitsForTheBaseToLeaveItsSwing) {
   auto ahead = [&](double x) {  // m to the first surface along +x at 1 m height, y = 2
     return world.Intersect(Eigen::Vector3f(float(x), 2.0f, 1.0f), Eigen::Vector3f::UnitX()).t;
   };
-  EXPECT_GT(ahead(4.0), 5.0f);  // through the open door to R2's far wall
+  EXPECT_GT(ahead(4.0), 5.0f);                          // through the open door to R2's far wall
   const double leaf_plane = door.door.hinge_point.x();  // the leaf shuts on R2's wall face
   {
     SimRobot control(world, p, {4.4, 2.0, 0.0}, 3);  // without the fault it drives through
@@ -321,8 +322,8 @@ TEST(Faults, ADoorThatClosesIsSeenAndFeltAndWaitsForTheBaseToLeaveItsSwing) {
   sim::SceneWorld mw;
   mw.truth = truth;
   mw.world = std::make_unique<sim::EmbreeWorld>(
-      scenes::Generate(scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) +
-                                             "/scenes/two_rooms_door.yaml"))
+      scenes::Generate(
+          scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml"))
           .scene,
       &truth);
   EXPECT_EQ(InputErrorOf([&] { DoorFaultOf(mw, unknown); }),
@@ -342,7 +343,8 @@ TEST(Faults, AKidnapTargetInAWallEndsAtTheNearestFreePoseOnThisSide) {
   EXPECT_TRUE(KidnapTarget({1.0, 2.0, 0.0}, 0.0, 0.5, free, &to));
   EXPECT_DOUBLE_EQ(to.x, 1.5);
   // Nothing free within the search radius: no push.
-  EXPECT_FALSE(KidnapTarget({1.0, 2.0, 0.0}, 0.0, 0.5, [](const Pose2&) { return false; }, &to));
+  EXPECT_FALSE(KidnapTarget(
+      {1.0, 2.0, 0.0}, 0.0, 0.5, [](const Pose2&) { return false; }, &to));
   // A target beyond a thin wall is not reached through it.
   auto wall = [](const Pose2& p) { return std::abs(p.x - 1.25) > 0.35; };
   ASSERT_TRUE(KidnapTarget({0.5, 2.0, 0.0}, 0.0, 0.5, wall, &to));

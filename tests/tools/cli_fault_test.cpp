@@ -87,8 +87,8 @@ void ExpectEveryFileWhole(const std::string& dir) {
 TEST(CliFaults, SigtermInTheFirstRoomStopsAfterItAndResumeFinishesTheRun) {
   const std::string d = TempDir("sigterm");
   const std::string spec = Src("scenes/two_rooms_door.yaml");
-  const std::vector<std::string> args = {"run", "--spec", spec, "--step-deg", "0.5", "-o",
-                                         d + "/run"};
+  const std::vector<std::string> args = {"run", "--spec", spec,      "--step-deg",
+                                         "0.5", "-o",     d + "/run"};
   // The uninterrupted run writes to the same path (eval/ names its run folder), then moves aside.
   const pid_t whole = StartMopad(args, d + "/whole.log");
   ASSERT_EQ(ExitCodeOf(whole), 0) << ReadText(d + "/whole.log");
@@ -106,7 +106,8 @@ TEST(CliFaults, SigtermInTheFirstRoomStopsAfterItAndResumeFinishesTheRun) {
   const auto summary = ReadJson(d + "/run/summary.json");
   EXPECT_EQ(summary.at("rooms").size(), 1u);
   EXPECT_EQ(summary.at("rooms")[0].at("status"), "scanned");
-  EXPECT_EQ(summary.at("mission").at("end_reason"), "stop: requested by the operator after 1 rooms");
+  EXPECT_EQ(summary.at("mission").at("end_reason"),
+            "stop: requested by the operator after 1 rooms");
   EXPECT_EQ(ReadJson(d + "/run/checkpoint/manifest.json").at("state"), "stopped");
   ExpectEveryFileWhole(d + "/run");
 
@@ -124,9 +125,10 @@ TEST(CliFaults, SigtermInTheFirstRoomStopsAfterItAndResumeFinishesTheRun) {
 
 TEST(CliFaults, SigintInPerRoomModeLeavesTheLaterRoomsNotRunAndResumeRunsThem) {
   const std::string d = TempDir("sigint");
-  const std::vector<std::string> args = {"run",  "--spec", Src("scenes/two_rooms_door.yaml"),
-                                         "--step-deg", "0.5", "--room", "R1", "--room", "R2",
-                                         "-o", d + "/run"};
+  const std::vector<std::string> args = {"run",        "--spec",  Src("scenes/two_rooms_door.yaml"),
+                                         "--step-deg", "0.5",     "--room",
+                                         "R1",         "--room",  "R2",
+                                         "-o",         d + "/run"};
   const pid_t pid = StartMopad(args, d + "/stopped.log");
   ASSERT_TRUE(WaitForTheMission(d + "/run", pid)) << ReadText(d + "/stopped.log");
   kill(pid, SIGINT);
@@ -152,8 +154,8 @@ TEST(CliFaults, SigintInPerRoomModeLeavesTheLaterRoomsNotRunAndResumeRunsThem) {
 // with one line naming the file; what was written before stays whole and `--resume` finishes.
 TEST(CliFaults, AnOutputFolderThatRefusesAFileEndsNamingItAndResumeFinishesTheRun) {
   const std::string d = TempDir("full");
-  const std::vector<std::string> args = {
-      "run", "-q", "--spec", Src("scenes/one_room.yaml"), "--step-deg", "2", "-o", d + "/run"};
+  const std::vector<std::string> args = {"run",        "-q", "--spec", Src("scenes/one_room.yaml"),
+                                         "--step-deg", "2",  "-o",     d + "/run"};
   const pid_t pid = StartMopad(args, d + "/full.log", [] {
     std::signal(SIGXFSZ, SIG_IGN);
     const rlimit limit{1 << 20, 1 << 20};  // 1 MiB per file: the scene fits, a room's cloud not

@@ -20,9 +20,7 @@ inline CommandResult Mopad(const std::string& args) {
 }
 
 /// A file of the source tree.
-inline std::string Src(const std::string& rel) {
-  return std::string(MOPAD_SOURCE_DIR) + "/" + rel;
-}
+inline std::string Src(const std::string& rel) { return std::string(MOPAD_SOURCE_DIR) + "/" + rel; }
 
 /// Per process: ctest runs each test case in its own process, possibly in parallel.
 inline std::string TempDir(const std::string& name) {
