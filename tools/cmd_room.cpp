@@ -61,6 +61,7 @@ void RegisterRoomCommand(CLI::App& app) {
           s.t_registration + s.t_model + s.t_nbs, s.t_registration, s.t_model, s.t_nbs,
           s.registered ? "" : "  REGISTRATION FAILED");
     if (res.registration_failed) std::printf("registration failed for at least one scan\n");
+    for (const std::string& e : job.fault_events) std::printf("world: %s\n", e.c_str());
     if (job.evaluation) {
       const evaluation::RoomEvaluation& e = *job.evaluation;
       std::printf(
