@@ -6,11 +6,12 @@
 // the robot's brain sees only their effect on its sensors and never knows that a fault was
 // injected.
 //
-// All off by default: a run without `faults:` (or with every fault off) takes the same code
-// path as before, to the byte. Times are simulation time (s) from the robot's placement; scan
-// indices count the TLS scans of one robot (the mission's scan index in a floor mission, a
-// room's in the per-room mode), 0 = the first. Random draws (the kidnap's direction) come from
-// the run's seed (stream "mission/fault/kidnap"), so a faulted run is as deterministic as any.
+// All off by default. With every fault off (or no `faults:` section) none of this acts: the
+// scans, the odometry and the models are those of the fault-free world. Times are simulation time
+// (s) from the robot's placement; scan indices count the TLS scans of one robot (the mission's scan
+// index in a floor mission, a room's in the per-room mode), 0 = the first. Random draws (the
+// kidnap's direction) come from the run's seed (stream "mission/fault/kidnap"), so a faulted run is
+// as deterministic as any.
 
 #include <cstdint>
 #include <functional>
