@@ -30,54 +30,8 @@ mkdir -p "$out"
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f", b - a }'; }
 
-# compare REF DIR -> prints "files differing" and writes the list to DIR.cmp
-compare() {
-  /usr/bin/env python3 - "$1" "$2" <<'PY'
-import json, os, re, sys, filecmp
-ref, got = sys.argv[1], sys.argv[2]
-TIMING = {"seconds", "wall_time", "wall_time_s", "tls_wall_time_s", "sm4_seconds", "sm5_seconds"}
-def drop(j):
-    if isinstance(j, dict):
-        return {k: drop(v) for k, v in j.items() if k not in TIMING}
-    if isinstance(j, list):
-        return [drop(x) for x in j]
-    return j
-def files(d):
-    out = set()
-    for root, _, names in os.walk(d):
-        for n in names:
-            rel = os.path.relpath(os.path.join(root, n), d)
-            if not rel.startswith("checkpoint" + os.sep):
-                out.add(rel)
-    return out
-def report_md(text):  # without the Timing table
-    return re.sub(r"\n#+ Timing\n.*?(?=\n#|\Z)", "\n", text, flags=re.S)
-def report_html(text):  # without the Timing table
-    return re.sub(r"<h2>Timing</h2>.*?</table>", "", text, flags=re.S)
-a, b = files(ref), files(got)
-bad = sorted(("missing " + f) for f in a - b) + sorted(("extra " + f) for f in b - a)
-same_bytes = loosened = 0
-for f in sorted(a & b):
-    pa, pb = os.path.join(ref, f), os.path.join(got, f)
-    if filecmp.cmp(pa, pb, shallow=False):
-        same_bytes += 1
-        continue
-    ok = False
-    if f.endswith(".json"):
-        ok = drop(json.load(open(pa))) == drop(json.load(open(pb)))
-    elif f == "report.md":
-        ok = report_md(open(pa).read()) == report_md(open(pb).read())
-    elif f == "report.html":
-        ok = report_html(open(pa).read()) == report_html(open(pb).read())
-    if ok:
-        loosened += 1
-    else:
-        bad.append("differs " + f)
-print(f"{len(a)} {same_bytes} {loosened} {len(bad)}")
-with open(got.rstrip("/") + ".cmp", "w") as fh:
-    fh.write("\n".join(bad) + "\n")
-PY
-}
+# compare REF DIR -> "FILES CMP TIMING DIFF ..." (scripts/compare-runs.py), the list in DIR.cmp
+compare() { python3 "$here/scripts/compare-runs.py" "$1" "$2"; }
 
 rows=()
 fail=0
@@ -127,7 +81,7 @@ for scene in office_5rooms two_rooms_door; do
   rc=$?
   t3=$(now)
   final=$(elapsed "$t2" "$t3")
-  read -r nref nsame nloose nbad <<< "$(compare "$ref" "$got")"
+  read -r nref nsame nloose nbad _ <<< "$(compare "$ref" "$got")"
   verdict=PASS
   if [ $rc -ne 0 ] || [ "${nbad:-1}" != 0 ] || [ "${nref:-0}" -lt 10 ]; then
     verdict=FAIL
