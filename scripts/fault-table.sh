@@ -1,24 +1,24 @@
 #!/usr/bin/env bash
-# Issue 52, item 3: each injected fault (docs/reliability.md, "Fault injection") on
-# office_5rooms (the default scene) with seed 1, then, per run folder: does every JSON parse and
-# is no temporary file left, and, where the run did not finish, does `mopad run --resume`
-# finish it. Prints the table: fault | status | files intact | resume result. Long (each line
-# is a whole floor mission, ~2-6 min on a 2-core machine): not part of ctest.
+# Each injected fault (docs/reliability.md, "Fault injection") on office_5rooms (the default
+# scene) with seed 1, then, per run folder: does every JSON parse and is no temporary file left,
+# and, where the run did not finish, does `mopad run --resume` finish it (a finished run is asked
+# too: it must say it is complete). Prints the table: fault | status | files intact | resume
+# result. Long (each line is a whole floor mission, ~2-6 min on a 2-core machine): not ctest.
 #
 #   scripts/fault-table.sh [BUILD_DIR] [OUT_DIR]          (OUT_DIR: out/fault-table)
 #   FAULTS="none kidnap" scripts/fault-table.sh ...       (only these lines)
 #
-# Lines: none (no fault), tls_empty, tls_partial (scan 7: the first room-loop scan after the
-# first door), lrf_silent (5 s from 95 s), slip (x1.5 for 10 s from 95 s), kidnap (0.5 m at
-# 100 s), door (D9, the door to the second room, closes at 150 s, ~20 s before the robot's
-# door scan in front of it) (the `faults:` config section, written to OUT_DIR/NAME.yaml), full (the output folder on a tmpfs too small for the
-# run: `mount -t tmpfs -o size=30m`, root only; without root a 1 MiB RLIMIT_FSIZE with SIGXFSZ
-# ignored, so that writes fail with EFBIG; the folder is then copied out and resumed), sigterm
-# (SIGTERM 20 s into the first room), sigint (SIGINT 10 s after the second room's boundary).
-# The times and scan of the robot faults were read off the unfaulted run (trajectory_true.tum:
-# the robot drives 85-119 s, 13.7 m, towards the second room; dtt.json: door scan 6 at 171.5 s
-# in front of D9): on another scene or seed they act wherever the robot is. SCAN, LRF_SILENT_AT,
-# SLIP_AT, KIDNAP_AT, DOOR, DOOR_AT override them.
+# Lines, robot faults (the `faults:` config section, written to OUT_DIR/NAME.yaml): none (an
+# empty section), tls_empty and tls_partial (scan 7, a third of its sweep), lrf_silent (5 s from
+# 95 s), slip (x1.5 for 10 s from 95 s), kidnap (0.5 m at 100 s), door (D9 closes at 150 s).
+# Faults of the process: full (the output folder on a 30 MiB tmpfs, `mount -t tmpfs`, root only;
+# the folder is then copied out and resumed; without root a 1 MiB RLIMIT_FSIZE with SIGXFSZ
+# ignored, so that writes fail with EFBIG), sigterm (SIGTERM 20 s after the checkpoint names
+# the scene, in the first room), sigint (SIGINT 10 s after the checkpoint's second room
+# boundary, in the third room).
+# The robot faults' times and scan fit the unfaulted run of office_5rooms seed 1 (where the
+# robot is then: docs/reliability.md, "The fault table"); on another scene or seed they act
+# wherever the robot is. SCAN, LRF_SILENT_AT, SLIP_AT, KIDNAP_AT, DOOR, DOOR_AT override them.
 # The binary is copied to OUT_DIR first: a rebuild while the table runs cannot change the
 # binary a resume must match. Exit code 0 when every line ends in an explained status with its
 # files whole (and, where resumed, a finished run), 1 otherwise, 2 when the binary is missing.
