@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include "common/error.h"
@@ -116,6 +117,25 @@ TEST(Faults, TheConfigSectionParsesAndRefusesAFaultThatCannotAct) {
   q.room.faults.slip_for = 2.0;
   EXPECT_NE(InputErrorOf([&] { ValidateParams(q, "room."); }).find("'slip_factor' of 1 is no slip"),
             std::string::npos);
+}
+
+// Every ```yaml block of docs/reliability.md is a mission config that loads and validates.
+TEST(Faults, TheReliabilityPagesExampleLoads) {
+  std::ifstream in(std::string(MOPAD_SOURCE_DIR) + "/docs/reliability.md");
+  ASSERT_TRUE(in);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  int blocks = 0;
+  for (std::size_t at = text.find("```yaml\n"); at != std::string::npos;
+       at = text.find("```yaml\n", at + 1)) {
+    const std::size_t begin = at + 8, end = text.find("```", begin);
+    ASSERT_NE(end, std::string::npos);
+    const std::string name = "docs/reliability.md#" + std::to_string(++blocks);
+    const FloorMissionParams p =
+        LoadParams<FloorMissionParams>(LoadYamlString(text.substr(begin, end - begin), name), name);
+    EXPECT_NO_THROW(ValidateParams(p, "room.")) << name;
+    EXPECT_TRUE(p.room.faults.Any()) << name;
+  }
+  EXPECT_GE(blocks, 1);
 }
 
 // With every fault off the simulated robot is the one it was: the same scans and odometry.
