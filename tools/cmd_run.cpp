@@ -179,6 +179,9 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
 // all its rooms.
 bool RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
             WallClock::time_point t_start) {
+  // From here on a signal is an orderly stop (the checkpoint exists; the scene may still load).
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
   const mission::RunInputs& in = ck.Inputs();
   // The world (truth side): a generated scene is written out so that `mopad eval` can
   // re-read it; a given scene folder is used where it is.
@@ -209,14 +212,13 @@ bool RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
       "components, %zu triangles (%.2f s)\n",
       o.scene_name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
       summary.bsc_total, summary.triangles, o.t_generate);
+  std::fflush(stdout);
   const bool tty = isatty(fileno(stdout)) != 0 && !quiet;
   o.progress = ProgressPrinter(quiet, t_start);
   o.print = [tty](const std::string& line) {
     std::printf(tty ? "\r\033[K%s\n" : "%s\n", line.c_str());
     std::fflush(stdout);
   };
-  std::signal(SIGINT, OnStopSignal);
-  std::signal(SIGTERM, OnStopSignal);
   o.stop_requested = [] { return g_stop.load(); };
   o.checkpoint = &ck;
   const bool finished = mission::RunMainJob(mw, in.params, o);

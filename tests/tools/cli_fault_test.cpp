@@ -46,15 +46,15 @@ pid_t StartMopad(const std::vector<std::string>& args, const std::string& log,
   _exit(127);
 }
 
-// Waits until the run's checkpoint names its scene: the job has begun its first room.
-bool WaitForTheMission(const std::string& run_dir, pid_t pid) {
-  for (int k = 0; k < 1200; ++k) {
+// Waits until the run has loaded its scene and printed it (`scene: ...` in its log): the job
+// then begins its first room.
+bool WaitForTheMission(const std::string& log, pid_t pid) {
+  for (int k = 0; k < 2400; ++k) {
     usleep(50000);
     if (waitpid(pid, nullptr, WNOHANG) == pid) return false;
-    std::ifstream m(run_dir + "/checkpoint/manifest.json");
-    if (!m) continue;
-    const auto j = nlohmann::json::parse(m, nullptr, false);
-    if (!j.is_discarded() && !j.value("scene_hash", "").empty()) return true;
+    std::ifstream f(log, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(f)), {});
+    if (text.find("scene: ") != std::string::npos) return true;
   }
   return false;
 }
@@ -95,7 +95,7 @@ TEST(CliFaults, SigtermInTheFirstRoomStopsAfterItAndResumeFinishesTheRun) {
   fs::rename(d + "/run", d + "/whole");
 
   const pid_t pid = StartMopad(args, d + "/stopped.log");
-  ASSERT_TRUE(WaitForTheMission(d + "/run", pid)) << ReadText(d + "/stopped.log");
+  ASSERT_TRUE(WaitForTheMission(d + "/stopped.log", pid)) << ReadText(d + "/stopped.log");
   kill(pid, SIGTERM);
   EXPECT_EQ(ExitCodeOf(pid), 128 + SIGTERM);
   const std::string log = ReadText(d + "/stopped.log");
@@ -130,7 +130,7 @@ TEST(CliFaults, SigintInPerRoomModeLeavesTheLaterRoomsNotRunAndResumeRunsThem) {
                                          "R1",         "--room",  "R2",
                                          "-o",         d + "/run"};
   const pid_t pid = StartMopad(args, d + "/stopped.log");
-  ASSERT_TRUE(WaitForTheMission(d + "/run", pid)) << ReadText(d + "/stopped.log");
+  ASSERT_TRUE(WaitForTheMission(d + "/stopped.log", pid)) << ReadText(d + "/stopped.log");
   kill(pid, SIGINT);
   EXPECT_EQ(ExitCodeOf(pid), 128 + SIGINT);
   EXPECT_NE(ReadText(d + "/stopped.log").find("stopped by SIGINT"), std::string::npos);
