@@ -115,7 +115,7 @@ TEST(RoomModel, TheCeilingIsTheOneOverTheScannerNotTheNextRoomsSeenThroughADoor)
 // the lowest strong height peak is the tub's top (the KIT Jasmin-Sun house's WC and shower:
 // floors 0.44 m up). The robot stands on the floor: with the scan's mount (1.4 m over
 // base_link, which lies on the floor) the floor is that floor; without a mount (a scan read
-// from a file) the lowest strong peak as before.
+// from a file) the floor is the lowest strong peak.
 TEST(RoomModel, TheFloorIsTheOneTheRobotStandsOnWhereTheScannerCannotSeeIt) {
   scenes::Scene scene;
   sim::testing::AddRoomBox(scene, testing::V3(0, 0, 0), testing::V3(1.6f, 2.4f, 2.6f));
