@@ -83,16 +83,19 @@ struct Navigator::Impl {
 
   interfaces::TlsScan last_scan;
   perception::RangeBiasEstimate last_range_bias;
-  std::vector<std::vector<Eigen::Vector3d>> batches;  // the robot's own map points, per scan
-  std::vector<Eigen::Vector3d> batch_origins;         // scanner centre of each batch (map)
+  // The robot's own map points as grid evidence, one per scan (band and floor cells, the cells
+  // its low beams clear), made once: a rebuild does not go back to the points.
+  std::vector<perception::CloudEvidence> clouds;
   std::optional<perception::PointMap> scan_map;       // ICP target: every scan (register_scans)
   struct MapSweep {
     interfaces::LrfScan scan;
     Pose2 X_MB;
-    double max_range;  // m; infinite for the sweeps taken at scan positions
   };
-  std::vector<MapSweep> map_sweeps;  // LRF sweeps at scan poses and while driving
-  std::size_t scan_sweeps_at = 0;    // index of the last scan's two sweeps in map_sweeps
+  std::vector<MapSweep> map_sweeps;  // the two LRF sweeps taken at each scan pose
+  // The sweeps taken while driving, accumulated once in a grid of their own (log-odds, returns)
+  // on the map's cell lattice, covering the map and map_lrf_range around it; laid over the
+  // scans' map (Compose) rather than traced again at every rebuild.
+  std::optional<perception::OccupancyGrid> driving;
   double next_map_sweep = 0.0;       // s, next driving sweep into the map
   bool leg_blocked = false;          // the driving sweeps put an obstacle on the leg
   std::vector<Eigen::Vector3d> extent_extra{Eigen::Vector3d::Zero()};  // map must cover these
@@ -158,6 +161,15 @@ struct Navigator::Impl {
     return out;
   }
 
+  // Robot side: a scan's map points (band and floor, below obstacle_z_max + 0.1 m) as grid
+  // evidence, its beams from the scanner centre.
+  perception::CloudEvidence CloudOf(const interfaces::TlsScan& scan, const Pose3& X_MS) const {
+    const std::vector<Eigen::Vector3d> pts = ScanPointsInMap(
+        scan, X_MS, params.grid.obstacle_z_max + 0.1, params.max_points_per_scan);
+    const Eigen::Vector3d o = X_MS.translation();
+    return perception::OccupancyGrid::Evidence(params.grid, pts, &o);
+  }
+
   // Robot side: one turn on the spot, mapping the LRF sweeps. The LRFs see 270 deg and the TLS
   // nothing within its minimum range (1.5 m for the VZ-400), so a wall close behind the base
   // stays unknown at a scan position, and an optimistic route can leave the room through it
@@ -187,26 +199,37 @@ struct Navigator::Impl {
   // Robot side: the grid from all scans' band points, the LRF sweeps taken at the scan poses
   // (the TLS cannot see the floor near the base) and the footprints stood on (free).
   void RebuildMap() {
-    std::vector<Eigen::Vector3d> extent;
-    for (const auto& b : batches) extent.insert(extent.end(), b.begin(), b.end());
-    // Order kept from the original loop: goal first, then the origin (bytes of the grid size).
-    for (auto it = extent_extra.rbegin(); it != extent_extra.rend(); ++it) extent.push_back(*it);
-    grid = perception::OccupancyGrid::Covering(params.grid, extent, params.map_margin);
-    for (const auto& b : batches) grid.InsertPoints(b);
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const auto& c : clouds) lo = lo.cwiseMin(c.lo), hi = hi.cwiseMax(c.hi);
+    for (const auto& e : extent_extra) lo = lo.cwiseMin(e.head<2>()), hi = hi.cwiseMax(e.head<2>());
+    grid = perception::OccupancyGrid::Covering(params.grid, lo, hi, params.map_margin);
+    for (const auto& c : clouds) grid.InsertPoints(c);
     // Beams clear the floor they cross (after all band points: those cells stay protected).
-    for (std::size_t k = 0; k < batches.size(); ++k) grid.InsertRays(batch_origins[k], batches[k]);
+    for (const auto& c : clouds) grid.InsertRays(c);
     // AMCL's map: the scans and the sweeps taken at scan positions only. The sweeps taken
     // while driving were placed with the estimate of that moment; in AMCL's field they would
     // confirm its own drift.
-    for (const MapSweep& m : map_sweeps)
-      if (!std::isfinite(m.max_range)) grid.InsertScan(m.scan, m.X_MB, m.max_range);
-    for (const Pose2& s : log.scan_poses) {
-      const double r = 0.5 * params.controller.footprint_width;
-      grid.FillBox(Vec2(s.x - r, s.y - r), Vec2(s.x + r, s.y + r), perception::CellState::kFree);
-    }
+    for (const MapSweep& m : map_sweeps) grid.InsertScan(m.scan, m.X_MB);
+    MarkFootprints();
     localiser_grid = grid;
-    for (const MapSweep& m : map_sweeps)
-      if (std::isfinite(m.max_range)) grid.InsertScan(m.scan, m.X_MB, m.max_range);
+    // The driving sweeps' grid covers the map and the range of a sweep taken inside it.
+    const Vec2 m = Vec2::Constant(params.map_lrf_range + 1.0);
+    const Vec2 need_lo = grid.Origin() - m,
+               need_hi = grid.Origin() + grid.Resolution() * Vec2(grid.Width(), grid.Height()) + m;
+    if (!driving) {
+      driving.emplace(perception::OccupancyGrid::Covering(params.grid, need_lo, need_hi, 0.0));
+    } else {
+      const Vec2 have_lo = driving->Origin(),
+                 have_hi = have_lo + driving->Resolution() * Vec2(driving->Width(), driving->Height());
+      if ((need_lo.array() < have_lo.array()).any() || (need_hi.array() > have_hi.array()).any())
+        driving = driving->Resized(need_lo.cwiseMin(have_lo), need_hi.cwiseMax(have_hi));
+    }
+    grid.Compose(localiser_grid, *driving, need_lo, need_hi);
+    MarkFootprints();
+  }
+
+  // The cells under the base at every scan pose are free: the robot stood there.
+  void MarkFootprints() {
     for (const Pose2& s : log.scan_poses) {
       const double r = 0.5 * params.controller.footprint_width;
       grid.FillBox(Vec2(s.x - r, s.y - r), Vec2(s.x + r, s.y + r), perception::CellState::kFree);
@@ -268,14 +291,9 @@ struct Navigator::Impl {
     ++nav_scans;
     looked_around = false;
     log.scan_poses.push_back(X_MB_est);
-    batches.push_back(ScanPointsInMap(last_scan, last_scan.X_MS_estimate,
-                                      params.grid.obstacle_z_max + 0.1,
-                                      params.max_points_per_scan));
-    batch_origins.push_back(last_scan.X_MS_estimate.translation());
-    scan_sweeps_at = map_sweeps.size();
-    const double inf = std::numeric_limits<double>::infinity();
-    map_sweeps.push_back({platform.BaseSweep(), X_MB_est, inf});
-    map_sweeps.push_back({platform.TopSweep(), X_MB_est, inf});
+    clouds.push_back(CloudOf(last_scan, last_scan.X_MS_estimate));
+    map_sweeps.push_back({platform.BaseSweep(), X_MB_est});
+    map_sweeps.push_back({platform.TopSweep(), X_MB_est});
     RebuildMap();
     RestartLocaliser(X_MB_est);
     if (amcl->Update(platform.WheelOdometry(), platform.TopSweep(), /*force=*/true).updated)
@@ -324,15 +342,13 @@ struct Navigator::Impl {
   }
 
   void CorrectLastScanPose(const Pose3& X_MS, const Eigen::Matrix3d& extra_cov) {
-    if (batches.empty()) throw InputError("drive: CorrectLastScanPose before any scan");
+    if (clouds.empty()) throw InputError("drive: CorrectLastScanPose before any scan");
     const Pose2 X_MB_scan = Pose2Of(X_MS * last_scan.X_BS.inverse());
     last_scan.X_MS_estimate = X_MS;
-    batches.back() = ScanPointsInMap(last_scan, X_MS, params.grid.obstacle_z_max + 0.1,
-                                     params.max_points_per_scan);
-    batch_origins.back() = X_MS.translation();
+    clouds.back() = CloudOf(last_scan, X_MS);
     const Pose2 old = log.scan_poses.back();
     log.scan_poses.back() = X_MB_scan;
-    for (std::size_t k = scan_sweeps_at; k < std::min(scan_sweeps_at + 2, map_sweeps.size()); ++k)
+    for (std::size_t k = map_sweeps.size() - 2; k < map_sweeps.size(); ++k)
       map_sweeps[k].X_MB = X_MB_scan;
     RebuildMap();
     // The base may have moved since the scan: carry the odometry offset over.
@@ -347,12 +363,13 @@ struct Navigator::Impl {
   // AMCL's field, which restarts only at scans).
   void MapDrivingSweeps(const perception::LocalisationEstimate& est) {
     if (params.map_lrf_period <= 0.0 || t + 1e-9 < next_map_sweep) return;
-    if (est.status != perception::LocalisationStatus::kLocalised) return;
+    if (est.status != perception::LocalisationStatus::kLocalised || !driving) return;
     next_map_sweep = t + params.map_lrf_period;
-    for (const interfaces::LrfScan* sc : {&platform.BaseSweep(), &platform.TopSweep()}) {
-      map_sweeps.push_back({*sc, X_MB_est, params.map_lrf_range});
-      grid.InsertScan(*sc, X_MB_est, params.map_lrf_range);
-    }
+    for (const interfaces::LrfScan* sc : {&platform.BaseSweep(), &platform.TopSweep()})
+      driving->InsertScan(*sc, X_MB_est, params.map_lrf_range);
+    const Vec2 reach = Vec2::Constant(params.map_lrf_range + 1.0), at(X_MB_est.x, X_MB_est.y);
+    grid.Compose(localiser_grid, *driving, at - reach, at + reach);
+    MarkFootprints();
     leg_blocked = LegBlockedInMap();
   }
 

@@ -12,9 +12,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <unordered_map>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/format.h"
 
 namespace mopad::perception {
 
@@ -81,6 +83,10 @@ OccupancyGrid::OccupancyGrid(const OccupancyGridParams& params, const Vec2& orig
   return_xx_.assign(n, 0.0f);
   return_xy_.assign(n, 0.0f);
   return_yy_.assign(n, 0.0f);
+  const Vec2 q = origin_ / params_.resolution;
+  const Vec2 r(std::round(q.x()), std::round(q.y()));
+  on_lattice_ = (q - r).cwiseAbs().maxCoeff() <= 1e-6 && r.cwiseAbs().maxCoeff() < 1e9;
+  if (on_lattice_) lattice_ = {static_cast<int>(r.x()), static_cast<int>(r.y())};
 }
 
 OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params,
@@ -93,6 +99,14 @@ OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params,
     hi = hi.cwiseMax(p.head<2>());
   }
   if (!lo.allFinite()) throw InputError("", "cannot size an occupancy grid from no points");
+  return Covering(params, lo, hi, margin);
+}
+
+OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params, const Vec2& lo,
+                                      const Vec2& hi, double margin) {
+  if (!lo.allFinite() || !hi.allFinite() || (lo.array() > hi.array()).any() ||
+      !std::isfinite(margin))
+    throw InputError("", "cannot size an occupancy grid from an empty or non-finite box");
   const double r = params.resolution;
   // Snap the origin to a multiple of the resolution so maps of the same site line up.
   const Vec2 origin((std::floor((lo.x() - margin) / r)) * r,
@@ -103,6 +117,11 @@ OccupancyGrid OccupancyGrid::Covering(const OccupancyGridParams& params,
 }
 
 Cell OccupancyGrid::CellOf(const Vec2& p) const {
+  // On the lattice, the global cell less the origin's: every grid of the site (and
+  // CloudEvidence) puts a point on a cell boundary into the same cell.
+  if (on_lattice_)
+    return {static_cast<int>(std::floor(p.x() / params_.resolution)) - lattice_.i,
+            static_cast<int>(std::floor(p.y() / params_.resolution)) - lattice_.j};
   return {static_cast<int>(std::floor((p.x() - origin_.x()) / params_.resolution)),
           static_cast<int>(std::floor((p.y() - origin_.y()) / params_.resolution))};
 }
@@ -159,46 +178,50 @@ Vec2 OccupancyGrid::ObstaclePosition(const Cell& c) const {
   return centre + Vec2(return_dx_[k], return_dy_[k]) / static_cast<double>(return_n_[k]);
 }
 
-void OccupancyGrid::InsertPoints(const std::vector<Eigen::Vector3d>& points_M) {
-  // Per-batch counts, so that one dense scan counts as one observation of a cell.
-  std::vector<std::uint32_t> band(log_odds_.size(), 0), floor(log_odds_.size(), 0);
+CloudEvidence OccupancyGrid::Evidence(const OccupancyGridParams& params,
+                                      const std::vector<Eigen::Vector3d>& points_M,
+                                      const Eigen::Vector3d* origin_M) {
+  params.Validate();
+  CloudEvidence e;
+  const double res = params.resolution;
+  e.resolution = res;
+  auto key = [](long i, long j) { return (static_cast<std::int64_t>(j) << 32) ^ (i & 0xffffffffL); };
+  auto cell_of = [res](double x) { return static_cast<int>(std::floor(x / res)); };
+  std::unordered_map<std::int64_t, std::size_t> at;
   for (const auto& p : points_M) {
     if (!p.allFinite()) continue;
-    const Cell c = CellOf(p.head<2>());
-    if (!Contains(c)) continue;
-    if (p.z() >= params_.obstacle_z_min && p.z() <= params_.obstacle_z_max) {
-      ++band[Index(c)];
-      AddReturn(c, p.head<2>());
-    } else if (std::abs(p.z()) <= params_.floor_z_max) {
-      ++floor[Index(c)];
+    e.lo = e.lo.cwiseMin(p.head<2>());
+    e.hi = e.hi.cwiseMax(p.head<2>());
+    const bool band = p.z() >= params.obstacle_z_min && p.z() <= params.obstacle_z_max;
+    if (!band && std::abs(p.z()) > params.floor_z_max) continue;
+    const int i = cell_of(p.x()), j = cell_of(p.y());
+    const auto [it, fresh] = at.try_emplace(key(i, j), e.cells.size());
+    if (fresh) e.cells.push_back({i, j});
+    CloudEvidence::PointCell& c = e.cells[it->second];
+    if (band) {
+      ++c.band;
+      const double dx = p.x() - (i + 0.5) * res, dy = p.y() - (j + 0.5) * res;
+      c.dx += static_cast<float>(dx);
+      c.dy += static_cast<float>(dy);
+      c.xx += static_cast<float>(dx * dx);
+      c.xy += static_cast<float>(dx * dy);
+      c.yy += static_cast<float>(dy * dy);
+    } else {
+      ++c.floor;
     }
   }
-  for (std::size_t k = 0; k < log_odds_.size(); ++k) {
-    const Cell c{static_cast<int>(k % static_cast<std::size_t>(width_)),
-                 static_cast<int>(k / static_cast<std::size_t>(width_))};
-    if (band[k] > 0) cloud_obstacle_[k] |= 2;
-    if (band[k] >= static_cast<std::uint32_t>(params_.min_points_per_cell)) {
-      // Band beats floor: a thin obstacle (a door leaf) shares its cell with floor returns,
-      // and another scan that saw it edge-on saw only that floor.
-      if (!(cloud_obstacle_[k] & 1) && log_odds_[k] < 0.0f) log_odds_[k] = 0.0f;
-      Add(c, params_.cloud_log_odds_hit);
-      cloud_obstacle_[k] |= 1;
-    } else if (band[k] == 0 && floor[k] > 0 && !(cloud_obstacle_[k] & 1)) {
-      Add(c, params_.cloud_log_odds_floor);
-    }
-  }
-}
-
-void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
-                               const std::vector<Eigen::Vector3d>& points_M) {
-  if (!o.allFinite() || params_.ray_clear_z_max <= 0.0) return;
-  const double cap = params_.ray_clear_z_max, res = params_.resolution;
-  const double bin = params_.ray_bin_deg * kPi / 180.0;
+  std::sort(e.cells.begin(), e.cells.end(), [](const auto& a, const auto& b) {
+    return a.j != b.j ? a.j < b.j : a.i < b.i;
+  });
+  if (!origin_M || !origin_M->allFinite() || params.ray_clear_z_max <= 0.0) return e;
+  // Rays: per azimuth bin, the plan-range intervals [r0, r1] the beams clear.
+  const Eigen::Vector3d& o = *origin_M;
+  const double cap = params.ray_clear_z_max;
+  const double bin = params.ray_bin_deg * kPi / 180.0;
   const int bins = static_cast<int>(std::ceil(2.0 * kPi / bin));
-  // Per azimuth bin: the plan-range intervals [r0, r1] the beams clear.
   std::vector<std::vector<std::pair<float, float>>> spans(static_cast<std::size_t>(bins));
   for (const auto& p : points_M) {
-    if (!p.allFinite() || p.z() > params_.obstacle_z_max || p.z() >= cap) continue;
+    if (!p.allFinite() || p.z() > params.obstacle_z_max || p.z() >= cap) continue;
     const Vec2 d = p.head<2>() - o.head<2>();
     const double r = d.norm();
     if (r < 2.0 * res) continue;
@@ -211,7 +234,7 @@ void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
     const int b = std::min(bins - 1, static_cast<int>(a / bin));
     spans[static_cast<std::size_t>(b)].emplace_back(static_cast<float>(r0), static_cast<float>(r1));
   }
-  std::vector<std::uint8_t> crossed(log_odds_.size(), 0);
+  std::vector<std::int64_t> crossed;
   for (int b = 0; b < bins; ++b) {
     auto& s = spans[static_cast<std::size_t>(b)];
     if (s.empty()) continue;
@@ -219,9 +242,15 @@ void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
     const double a = (b + 0.5) * bin;
     const Vec2 u(std::cos(a), std::sin(a));
     auto trace = [&](double r0, double r1) {
+      std::int64_t last = 0;
+      bool any = false;
       for (double r = r0; r <= r1; r += 0.5 * res) {
-        const Cell c = CellOf(o.head<2>() + r * u);
-        if (Contains(c)) crossed[Index(c)] = 1;
+        const Vec2 q = o.head<2>() + r * u;
+        const std::int64_t k = key(cell_of(q.x()), cell_of(q.y()));
+        if (any && k == last) continue;
+        crossed.push_back(k);
+        last = k;
+        any = true;
       }
     };
     double lo = s[0].first, hi = s[0].second;
@@ -235,12 +264,131 @@ void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
     }
     trace(lo, hi);
   }
-  for (std::size_t k = 0; k < log_odds_.size(); ++k) {
-    if (!crossed[k] || cloud_obstacle_[k]) continue;
-    Add(Cell{static_cast<int>(k % static_cast<std::size_t>(width_)),
-             static_cast<int>(k / static_cast<std::size_t>(width_))},
-        params_.cloud_log_odds_floor);
+  std::sort(crossed.begin(), crossed.end());
+  crossed.erase(std::unique(crossed.begin(), crossed.end()), crossed.end());
+  e.crossed.reserve(crossed.size());
+  for (const std::int64_t k : crossed)
+    e.crossed.emplace_back(static_cast<int>(static_cast<std::int32_t>(k & 0xffffffffL)),
+                           static_cast<int>(k >> 32));
+  return e;
+}
+
+Cell OccupancyGrid::LatticeOffset(double resolution, const Vec2& origin, const char* what) const {
+  const double r = params_.resolution;
+  const Vec2 q = origin / r;
+  const Vec2 n(std::round(q.x()), std::round(q.y()));
+  if (std::abs(resolution - r) > 1e-12 * r || (q - n).cwiseAbs().maxCoeff() > 1e-6 ||
+      n.cwiseAbs().maxCoeff() >= 1e9)
+    throw InputError("", std::string(what) + " does not share the grid's cell lattice",
+                     FormatNumbers("resolution %.6g m, origin (%.6g, %.6g)", resolution,
+                                   origin.x(), origin.y()),
+                     FormatNumbers("resolution %.6g m, origin a multiple of it", r));
+  return {static_cast<int>(n.x()), static_cast<int>(n.y())};
+}
+
+void OccupancyGrid::InsertPoints(const std::vector<Eigen::Vector3d>& points_M) {
+  InsertPoints(Evidence(params_, points_M));
+}
+
+void OccupancyGrid::InsertPoints(const CloudEvidence& e) {
+  const Cell o = LatticeOffset(e.resolution, origin_, "the grid's origin");
+  // One observation per cell and batch, however dense the scan.
+  for (const CloudEvidence::PointCell& pc : e.cells) {
+    const Cell c{pc.i - o.i, pc.j - o.j};
+    if (!Contains(c)) continue;
+    const std::size_t k = Index(c);
+    if (pc.band > 0) {
+      return_dx_[k] += pc.dx;
+      return_dy_[k] += pc.dy;
+      return_xx_[k] += pc.xx;
+      return_xy_[k] += pc.xy;
+      return_yy_[k] += pc.yy;
+      return_n_[k] += pc.band;
+      cloud_obstacle_[k] |= 2;
+    }
+    if (pc.band >= static_cast<std::uint32_t>(params_.min_points_per_cell)) {
+      // Band beats floor: a thin obstacle (a door leaf) shares its cell with floor returns,
+      // and another scan that saw it edge-on saw only that floor.
+      if (!(cloud_obstacle_[k] & 1) && log_odds_[k] < 0.0f) log_odds_[k] = 0.0f;
+      Add(c, params_.cloud_log_odds_hit);
+      cloud_obstacle_[k] |= 1;
+    } else if (pc.band == 0 && pc.floor > 0 && !(cloud_obstacle_[k] & 1)) {
+      Add(c, params_.cloud_log_odds_floor);
+    }
   }
+}
+
+void OccupancyGrid::InsertRays(const Eigen::Vector3d& o,
+                               const std::vector<Eigen::Vector3d>& points_M) {
+  if (!o.allFinite() || params_.ray_clear_z_max <= 0.0) return;
+  InsertRays(Evidence(params_, points_M, &o));
+}
+
+void OccupancyGrid::InsertRays(const CloudEvidence& e) {
+  const Cell o = LatticeOffset(e.resolution, origin_, "the grid's origin");
+  for (const auto& [gi, gj] : e.crossed) {
+    const Cell c{gi - o.i, gj - o.j};
+    if (!Contains(c) || cloud_obstacle_[Index(c)]) continue;
+    Add(c, params_.cloud_log_odds_floor);
+  }
+}
+
+void OccupancyGrid::Compose(const OccupancyGrid& base, const OccupancyGrid& evidence,
+                            const Vec2& lo, const Vec2& hi) {
+  if (base.width_ != width_ || base.height_ != height_ || base.origin_ != origin_ ||
+      base.params_.resolution != params_.resolution)
+    throw InputError("", "occupancy grid Compose: the base grid's geometry differs");
+  const Cell me = LatticeOffset(params_.resolution, origin_, "the grid's origin");
+  const Cell ev = LatticeOffset(evidence.params_.resolution, evidence.origin_, "the evidence grid");
+  const Cell a = CellOf(lo), b = CellOf(hi);
+  for (int j = std::max(0, a.j); j <= std::min(height_ - 1, b.j); ++j) {
+    for (int i = std::max(0, a.i); i <= std::min(width_ - 1, b.i); ++i) {
+      const std::size_t k = Index({i, j});
+      log_odds_[k] = base.log_odds_[k];
+      return_dx_[k] = base.return_dx_[k];
+      return_dy_[k] = base.return_dy_[k];
+      return_xx_[k] = base.return_xx_[k];
+      return_xy_[k] = base.return_xy_[k];
+      return_yy_[k] = base.return_yy_[k];
+      return_n_[k] = base.return_n_[k];
+      cloud_obstacle_[k] = base.cloud_obstacle_[k];
+      const Cell ce{i + me.i - ev.i, j + me.j - ev.j};
+      if (!evidence.Contains(ce)) continue;
+      const std::size_t q = evidence.Index(ce);
+      double e = evidence.log_odds_[q];
+      if (!params_.lrf_clears_cloud_obstacles && (cloud_obstacle_[k] & 1)) e = std::max(e, 0.0);
+      log_odds_[k] = static_cast<float>(std::clamp(static_cast<double>(log_odds_[k]) + e,
+                                                   params_.log_odds_min, params_.log_odds_max));
+      return_dx_[k] += evidence.return_dx_[q];
+      return_dy_[k] += evidence.return_dy_[q];
+      return_xx_[k] += evidence.return_xx_[q];
+      return_xy_[k] += evidence.return_xy_[q];
+      return_yy_[k] += evidence.return_yy_[q];
+      return_n_[k] += evidence.return_n_[q];
+    }
+  }
+}
+
+OccupancyGrid OccupancyGrid::Resized(const Vec2& lo, const Vec2& hi) const {
+  OccupancyGrid out = Covering(params_, lo, hi, 0.0);
+  const Cell me = LatticeOffset(params_.resolution, origin_, "the grid's origin");
+  const Cell to = out.LatticeOffset(params_.resolution, out.origin_, "the resized grid");
+  for (int j = 0; j < height_; ++j) {
+    for (int i = 0; i < width_; ++i) {
+      const Cell c{i + me.i - to.i, j + me.j - to.j};
+      if (!out.Contains(c)) continue;
+      const std::size_t k = Index({i, j}), q = out.Index(c);
+      out.log_odds_[q] = log_odds_[k];
+      out.return_dx_[q] = return_dx_[k];
+      out.return_dy_[q] = return_dy_[k];
+      out.return_xx_[q] = return_xx_[k];
+      out.return_xy_[q] = return_xy_[k];
+      out.return_yy_[q] = return_yy_[k];
+      out.return_n_[q] = return_n_[k];
+      out.cloud_obstacle_[q] = cloud_obstacle_[k];
+    }
+  }
+  return out;
 }
 
 void OccupancyGrid::InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB,

@@ -5,7 +5,9 @@
 // A log-odds occupancy grid in the map frame (REP-105 `map`, Z up, floor at z = 0): built from
 // a height band of the robot's own registered 3D points and updated by LRF scans (Bresenham ray
 // tracing of free space, Probabilistic Robotics ch. 9, Thrun/Burgard/Fox 2005). Cell (i, j) —
-// column i along +x, row j along +y — covers [origin + (i, j) * resolution, + resolution).
+// column i along +x, row j along +y — covers [origin + (i, j) * resolution, + resolution);
+// when the origin is a multiple of the resolution (Covering) a point is placed by its global
+// cell floor(x / resolution), so grids of one site and CloudEvidence agree on boundaries.
 // Cells start unknown (log-odds 0). A cell is occupied when its probability exceeds
 // `occupied_thresh`, free below `free_thresh`, unknown between (ROS map_server semantics).
 //
@@ -18,6 +20,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/frames.h"
@@ -84,6 +87,26 @@ struct Cell {
   bool operator==(const Cell&) const = default;
 };
 
+/// One batch of 3D points (a registered TLS scan) as occupancy evidence, computed once in
+/// global cells of `resolution` (cell (i, j) covers [i, i + 1) x [j, j + 1) times the
+/// resolution, map frame): what InsertPoints and InsertRays would add to any grid of that
+/// resolution whose origin is a multiple of it, so a map rebuilt from many scans does not go
+/// back to their points. OccupancyGrid::Evidence makes it; InsertPoints/InsertRays apply it.
+struct CloudEvidence {
+  double resolution = 0.0;  ///< m
+  struct PointCell {
+    int i = 0, j = 0;                      ///< global cell
+    std::uint32_t band = 0, floor = 0;     ///< band and floor points in the cell
+    float dx = 0, dy = 0;                  ///< sums of band point offsets from the centre, m
+    float xx = 0, xy = 0, yy = 0;          ///< sums of their products, m^2
+  };
+  std::vector<PointCell> cells;                  ///< cells with band or floor points
+  std::vector<std::pair<int, int>> crossed;      ///< cells the beams clear (no repeats)
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());   ///< x-y extent of the
+  Vec2 hi = Vec2::Constant(-std::numeric_limits<double>::infinity());  ///< finite points, m
+  bool empty() const { return cells.empty() && crossed.empty(); }
+};
+
 /// Points are line-like when the smaller principal variance of their spread is at most this
 /// share of the larger (a cell's returns; an LRF sweep's neighbourhood in AMCL's refinement).
 inline constexpr double kLineLikeRatio = 0.1;
@@ -95,6 +118,15 @@ class OccupancyGrid {
   /// A grid covering the x-y extent of `points_M` plus `margin` (m) on every side.
   static OccupancyGrid Covering(const OccupancyGridParams& params,
                                 const std::vector<Eigen::Vector3d>& points_M, double margin);
+  /// A grid covering the box [lo, hi] (map, m) plus `margin` on every side; its origin is a
+  /// multiple of the resolution. InputError for a non-finite or empty box.
+  static OccupancyGrid Covering(const OccupancyGridParams& params, const Vec2& lo, const Vec2& hi,
+                                double margin);
+  /// The evidence of one batch of points (map frame) as InsertPoints (band and floor points)
+  /// and, when `origin_M` is given, InsertRays (beams from that scanner centre) use it.
+  static CloudEvidence Evidence(const OccupancyGridParams& params,
+                                const std::vector<Eigen::Vector3d>& points_M,
+                                const Eigen::Vector3d* origin_M = nullptr);
   OccupancyGrid(const OccupancyGrid&) = default;
   OccupancyGrid& operator=(const OccupancyGrid&) = default;
   OccupancyGrid(OccupancyGrid&&) noexcept = default;
@@ -123,6 +155,9 @@ class OccupancyGrid {
   /// floor points and no band points gains `cloud_log_odds_floor` once, unless an earlier batch
   /// marked it with band points. Points outside the grid are ignored.
   void InsertPoints(const std::vector<Eigen::Vector3d>& points_M);
+  /// InsertPoints of the batch `e` was made from (its resolution must be the grid's and the
+  /// origin a multiple of it: grids from Covering; InputError otherwise).
+  void InsertPoints(const CloudEvidence& e);
   /// Free space from the beams of one registered TLS scan taken from `origin_M` (scanner
   /// centre, map frame): each return at most `obstacle_z_max` high clears (`cloud_log_odds_floor`,
   /// once per cell) the cells its plan projection crosses while the beam is below
@@ -131,11 +166,25 @@ class OccupancyGrid {
   /// A cell where any TLS band point fell (InsertPoints, call those first) is never cleared.
   /// This fills the far floor, where floor returns are too sparse to mark every cell.
   void InsertRays(const Eigen::Vector3d& origin_M, const std::vector<Eigen::Vector3d>& points_M);
+  /// InsertRays of the batch and origin `e` was made from (conditions as InsertPoints).
+  void InsertRays(const CloudEvidence& e);
   /// Ray-traces one LRF scan taken with the base at `X_MB` (map frame): cells along each beam
   /// become freer, the end cell of each return more occupied. Beams outside the grid are clipped;
   /// returns beyond `max_range` (m) only clear up to it.
   void InsertScan(const interfaces::LrfScan& scan, const Pose2& X_MB,
                   double max_range = std::numeric_limits<double>::infinity());
+  /// This grid's cells within the box [lo, hi] (map, m) become `base` with `evidence` laid over
+  /// it: log-odds clamp(base + e), where e is the evidence grid's log-odds at the same place
+  /// (LRF sweeps gathered apart, e.g. while driving), raised to at least 0 on cells the base's
+  /// 3D band points marked unless lrf_clears_cloud_obstacles (an LRF beam does not clear what the
+  /// cloud saw); their returns add up. `base` has this grid's geometry; `evidence` the same
+  /// resolution and an origin on the same lattice (InputError otherwise); cells outside it
+  /// take the base's values.
+  void Compose(const OccupancyGrid& base, const OccupancyGrid& evidence, const Vec2& lo,
+               const Vec2& hi);
+  /// A grid with this one's parameters covering [lo, hi] (as Covering, no margin) holding this
+  /// grid's cells where the two overlap (others unknown, without returns).
+  OccupancyGrid Resized(const Vec2& lo, const Vec2& hi) const;
   /// Sets a cell's state directly (maps drawn in code, closing a door in a test).
   void SetState(const Cell& c, CellState state);
   /// Marks every cell whose centre lies in the axis-aligned box [lo, hi] (map, m).
@@ -179,10 +228,15 @@ class OccupancyGrid {
  private:
   void Add(const Cell& c, double delta);
   void AddReturn(const Cell& c, const Vec2& p);
+  /// Global cell of this grid's cell (0, 0) for evidence of `resolution`; InputError when the
+  /// resolution differs or the origin is off its lattice.
+  Cell LatticeOffset(double resolution, const Vec2& origin, const char* what) const;
   OccupancyGridParams params_;
   Vec2 origin_;
   int width_ = 0, height_ = 0;
   float l_occ_ = 0.0f, l_free_ = 0.0f;  // log-odds thresholds
+  bool on_lattice_ = false;  // origin is a multiple of the resolution
+  Cell lattice_;             // then: the global cell (floor(x / resolution), ...) of cell (0, 0)
   std::vector<float> log_odds_;
   std::vector<float> return_dx_, return_dy_;  // sums of return offsets from the cell centre, m
   std::vector<float> return_xx_, return_xy_, return_yy_;  // sums of their products, m^2
