@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <unordered_set>
 #include <utility>
 
@@ -188,12 +190,15 @@ struct RangeImage {
 struct PointMap::Impl {
   IcpParams params;
   std::vector<VoxelCell> cells;
-  std::unique_ptr<KdTree3> tree;
+  Points centroids;                    // per cell
   std::vector<Normal> normals;
   std::vector<Eigen::Vector3f> views;  // per merged cell, as PointMap::views()
-  std::vector<RangeImage> images;
+  std::vector<std::shared_ptr<const RangeImage>> images;  // shared with Local maps
   std::size_t last_recomputed = 0;
-  Points empty_points;
+  // Over `centroids`, built on first use after a change: an Add needs only the trees of the
+  // neighbourhoods it touches, a registration only that of the map near its scan (Local).
+  mutable std::unique_ptr<KdTree3> tree;
+  mutable std::mutex tree_mutex;
 };
 
 PointMap::PointMap(const IcpParams& params) : impl_(std::make_unique<Impl>()) {
@@ -262,34 +267,67 @@ void PointMap::AddCells(const Points& points_M, const Eigen::Vector3d* origin_M)
   }
   Points centroids(merged.size());
   for (std::size_t k = 0; k < merged.size(); ++k) centroids[k] = merged[k].Centroid();
-  auto tree = std::make_unique<KdTree3>(std::move(centroids));
   // A normal depends only on the points within normal_radius of its point (EstimateNormals), so
   // only cells that changed or lie within the radius of a changed centroid are recomputed:
   // those in the 27 coarse cells (edge = radius) around a coarse cell holding a moved centroid.
+  // Their neighbours within the radius lie in the 27 coarse cells around theirs: the tree the
+  // normals are computed on holds only those (the same neighbours as the whole map's).
   const double g = p.normal_radius;
-  std::unordered_set<std::int64_t> seeds, dirty;
-  for (const auto& c : moved) seeds.insert(VoxelKey(c, g));
   constexpr std::int64_t kX = std::int64_t{1} << 42, kY = std::int64_t{1} << 21;
-  for (const std::int64_t key : seeds)
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) dirty.insert(key + dx * kX + dy * kY + dz);
+  auto dilate = [&](const std::unordered_set<std::int64_t>& keys) {
+    std::unordered_set<std::int64_t> out;
+    for (const std::int64_t key : keys)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) out.insert(key + dx * kX + dy * kY + dz);
+    return out;
+  };
+  std::unordered_set<std::int64_t> seeds;
+  for (const auto& c : moved) seeds.insert(VoxelKey(c, g));
+  const std::unordered_set<std::int64_t> dirty = dilate(seeds);
+  const std::unordered_set<std::int64_t> reach = dilate(dirty);
   std::vector<Normal> normals(merged.size());
-  std::vector<std::uint32_t> which;
+  std::vector<std::uint32_t> which, local_of_which, local_index;
+  Points local_points;
   for (std::size_t k = 0; k < merged.size(); ++k) {
-    if (changed[k] || dirty.count(VoxelKey(tree->points()[k], g))) {
+    const std::int64_t key = VoxelKey(centroids[k], g);
+    const bool recompute = changed[k] || dirty.count(key);
+    if (!recompute) normals[k] = impl_->normals[static_cast<std::size_t>(from_old[k])];
+    if (!reach.count(key)) continue;
+    if (recompute) {
       which.push_back(static_cast<std::uint32_t>(k));
-    } else {
-      normals[k] = impl_->normals[static_cast<std::size_t>(from_old[k])];
+      local_of_which.push_back(static_cast<std::uint32_t>(local_points.size()));
     }
+    local_index.push_back(static_cast<std::uint32_t>(k));
+    local_points.push_back(centroids[k]);
   }
-  EstimateNormalsAt(*tree, which, p.normal_neighbours, p.normal_radius,
-                    std::min(5, p.normal_neighbours), Eigen::Vector3d::Zero(), normals);
+  const KdTree3 local_tree(std::move(local_points));
+  std::vector<Normal> local_normals(local_tree.size());
+  EstimateNormalsAt(local_tree, local_of_which, p.normal_neighbours, p.normal_radius,
+                    std::min(5, p.normal_neighbours), Eigen::Vector3d::Zero(), local_normals);
+  for (std::size_t w = 0; w < which.size(); ++w) normals[which[w]] = local_normals[local_of_which[w]];
   impl_->cells = std::move(merged);
-  impl_->tree = std::move(tree);
+  impl_->centroids = std::move(centroids);
   impl_->normals = std::move(normals);
   impl_->views = std::move(merged_views);
   impl_->last_recomputed = which.size();
+  std::lock_guard<std::mutex> lock(impl_->tree_mutex);
+  impl_->tree.reset();
+}
+
+PointMap PointMap::Local(const Eigen::AlignedBox3d& box) const {
+  PointMap out(impl_->params);
+  Impl& o = *out.impl_;
+  const Impl& m = *impl_;
+  for (std::size_t k = 0; k < m.centroids.size(); ++k) {
+    if (!box.contains(m.centroids[k])) continue;
+    o.cells.push_back(m.cells[k]);
+    o.centroids.push_back(m.centroids[k]);
+    o.normals.push_back(m.normals[k]);
+    o.views.push_back(m.views[k]);
+  }
+  o.images = m.images;
+  return out;
 }
 
 std::size_t PointMap::last_normals_recomputed() const { return impl_->last_recomputed; }
@@ -314,7 +352,7 @@ void PointMap::Add(const Points& points_M, const Eigen::Vector3d& origin_M) {
     img.nearest[b] = std::min(img.nearest[b], static_cast<float>(r));
     img.farthest[b] = std::max(img.farthest[b], static_cast<float>(r));
   }
-  impl_->images.push_back(std::move(img));
+  impl_->images.push_back(std::make_shared<const RangeImage>(std::move(img)));
 }
 
 namespace {
@@ -322,11 +360,13 @@ namespace {
 /// How many of `points` some range image holds `seen(image, bin, range)` for: one walk over the
 /// points and images for both the free-space check and the expected overlap.
 template <class Seen>
-std::size_t CountSeenByAnyImage(const Points& points, const std::vector<RangeImage>& images,
+std::size_t CountSeenByAnyImage(const Points& points,
+                                const std::vector<std::shared_ptr<const RangeImage>>& images,
                                 Seen seen) {
   std::size_t n = 0;
   for (const auto& p : points) {
-    for (const RangeImage& img : images) {
+    for (const auto& image : images) {
+      const RangeImage& img = *image;
       const Eigen::Vector3d d = p - img.origin;
       const double r = d.norm();
       if (!(r > 1e-6)) continue;
@@ -366,14 +406,16 @@ std::size_t PointMap::CountInView(const Points& points_M) const {
 
 bool PointMap::has_origins() const { return !impl_->images.empty(); }
 
-bool PointMap::empty() const { return !impl_->tree || impl_->tree->size() == 0; }
-std::size_t PointMap::size() const { return impl_->tree ? impl_->tree->size() : 0; }
-const Points& PointMap::points() const {
-  return impl_->tree ? impl_->tree->points() : impl_->empty_points;
-}
+bool PointMap::empty() const { return impl_->centroids.empty(); }
+std::size_t PointMap::size() const { return impl_->centroids.size(); }
+const Points& PointMap::points() const { return impl_->centroids; }
 const std::vector<Normal>& PointMap::normals() const { return impl_->normals; }
 const std::vector<Eigen::Vector3f>& PointMap::views() const { return impl_->views; }
-const KdTree3& PointMap::tree() const { return *impl_->tree; }
+const KdTree3& PointMap::tree() const {
+  std::lock_guard<std::mutex> lock(impl_->tree_mutex);
+  if (!impl_->tree) impl_->tree = std::make_unique<KdTree3>(impl_->centroids);
+  return *impl_->tree;
+}
 const IcpParams& PointMap::params() const { return impl_->params; }
 
 // ---- ICP
@@ -588,7 +630,7 @@ void ExplainRegistration(const std::string& failure, double last_dt, double last
 
 }  // namespace
 
-RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
+RegistrationResult RegisterScan(const Points& source_S, const PointMap& map,
                                 const Eigen::Isometry3d& prior_X_MS, const IcpParams& params) {
   params.Validate();
   if (!prior_X_MS.matrix().allFinite()) {
@@ -599,10 +641,24 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& target,
   res.X_MS = prior_X_MS;
   const Points src = GatedSource(source_S, params);
   res.source_points = src.size();
-  res.target_points = target.size();
-  if (src.empty() || target.empty()) {
+  res.target_points = map.size();
+  // The map near what the scan saw: its points at the prior, grown by the widest
+  // correspondence distance, the weak-direction search and kLocalMapSlack for the correction.
+  // No map point outside can pair with a source point (the same pairs as the whole map) while
+  // the correction moves no source point farther than the slack.
+  Eigen::AlignedBox3d box;
+  for (const auto& p : src) box.extend(prior_X_MS * p);
+  if (!src.empty()) {
+    const double grow = *std::max_element(params.max_correspondence.begin(),
+                                          params.max_correspondence.end()) +
+                        params.weak_search + kLocalMapSlack;
+    box.min().array() -= grow;
+    box.max().array() += grow;
+  }
+  const PointMap target = map.Local(box);  // may be empty: then no correspondences
+  if (src.empty() || map.empty()) {
     res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") +
-                  " (" + std::to_string(src.size()) + " source / " + std::to_string(target.size()) +
+                  " (" + std::to_string(src.size()) + " source / " + std::to_string(map.size()) +
                   " map points)";
     return res;
   }

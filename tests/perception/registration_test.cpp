@@ -249,6 +249,28 @@ TEST(Registration, ThirdScanAgainstTwoAccumulatedWithinFiveMillimetres) {
   EXPECT_LT(RotationErrorDeg(r.X_MS, s2.X_WS_true), 0.05);
 }
 
+TEST(Registration, MapPointsFarFromTheScanChangeNothing) {
+  // The same two scans, and a copy of the first 60 m away (a room across the floor, added
+  // without an origin): RegisterScan works on the map near the scan, with the same pairs, so
+  // the result is the same to the bit; the message still counts the whole map.
+  PointMap near_only = MapOf({0, 1});
+  PointMap with_far = MapOf({0, 1});
+  const SimScan& s0 = Room::Get().Scan(0, kBase[0]);
+  Points far = ScanPoints(s0.scan, s0.X_WS_true);
+  for (auto& p : far) p.x() += 60.0;
+  with_far.Add(far);
+  ASSERT_GT(with_far.size(), near_only.size() + 1000);
+  const SimScan& s2 = Room::Get().Scan(2, kBase[2]);
+  const Eigen::Isometry3d prior = PerturbedPrior(s2.scan, -0.14, 0.14, -3.0);
+  const RegistrationResult a = RegisterScan(ScanPoints(s2.scan), near_only, prior, IcpParams{});
+  const RegistrationResult b = RegisterScan(ScanPoints(s2.scan), with_far, prior, IcpParams{});
+  EXPECT_TRUE(a.ok) << a.message;
+  EXPECT_EQ(a.X_MS.matrix(), b.X_MS.matrix());
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.fitness, b.fitness);
+  EXPECT_EQ(b.target_points, with_far.size());
+}
+
 TEST(Registration, WholeScanFromItsOwnEstimate) {
   // The TlsScan overload starts from X_MS_estimate (here the nominal, untilted pose; the true
   // scanner is tilted by the drawn levelling error) and honours the range gate.
