@@ -11,7 +11,8 @@
 # ROOMS: room counts (default 2 5 10). Every run is done again (timings of kept runs would mix
 # machines). Per run: rooms visited / in the scene, TLS scans, the mission's platform seconds,
 # wall seconds and peak RSS of the whole job (mission, SM1-SM5, evaluation, exports, report),
-# and wall seconds per visited room. Let nothing else run meanwhile: wall time is the figure.
+# and wall seconds per visited room; then the TLS scan and registration steps' seconds per scan
+# in the first and the last room visited. Let nothing else run meanwhile: wall time is the figure.
 set -uo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -56,4 +57,27 @@ for s in seeds:
         v = m["rooms_visited"]
         print(f"| {s} | {r} | {v} | {m['scans']} | {m['sim_time_s']:.0f} | {secs:.1f} | "
               f"{peak:.0f} | {secs / max(v, 1):.1f} |")
+
+# Per-scan cost against the scan's place in the mission: the room-scan steps of the first and
+# the last room visited (rooms/*/scans.json, seconds), mean per scan, and their ratio.
+import glob
+print()
+print("| seed | rooms | step | first room s/scan | last room s/scan | last / first |")
+print("|---|---|---|---|---|---|")
+for s in seeds:
+    for r in rooms:
+        rows = []
+        for f in glob.glob(f"{out}/run_{s}_{r}/rooms/*/scans.json"):
+            for sc in json.load(open(f)).get("scans", []):
+                rows.append((sc["sim_time"], os.path.basename(os.path.dirname(f)), sc["seconds"]))
+        if not rows:
+            continue
+        rows.sort(key=lambda x: x[0])
+        order = list(dict.fromkeys(room for _, room, _ in rows))
+        for step in ("scan", "registration"):
+            def mean(room):
+                v = [sec[step] for _, rm, sec in rows if rm == room]
+                return sum(v) / len(v)
+            a, b = mean(order[0]), mean(order[-1])
+            print(f"| {s} | {r} | {step} | {a:.2f} | {b:.2f} | {b / a:.2f} |")
 EOF
