@@ -140,6 +140,8 @@ class FloorWorld {
     r.detail_log = v.scan.detail_log;
     rooms_.push_back(std::move(r));
     labels_.reset();
+    // This room is scored: the next one's own scans (its door scan included) come later.
+    session_.ReleaseScanTruthPoints();
     if (room_boundary_) room_boundary_(Boundary(rooms_.back()));
   }
 

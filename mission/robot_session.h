@@ -58,6 +58,7 @@ class RobotSession {
   Pose2 TruePoseInWorld() const { return world_robot_.TruePoseInWorld(); }
   const std::vector<sim::TlsTruth>& ScanTruths() const { return world_robot_.ScanTruths(); }
   void SetKeepScanTruths(bool keep) { world_robot_.SetKeepScanTruths(keep); }
+  void ReleaseScanTruthPoints() { world_robot_.ReleaseScanTruthPoints(); }
   void ScheduleTeleport(double t, const Pose2& X_WB) { world_robot_.ScheduleTeleport(t, X_WB); }
   /// Everything so far: the navigator's log and map, with the world's figures (truth,
   /// localisation error, contacts, goal error against the last NavigateTo's goal, times).

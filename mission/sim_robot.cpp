@@ -340,6 +340,9 @@ const std::vector<autonomy::TrajectorySample>& SimRobot::TrueTrajectory() const 
 }
 const std::vector<sim::TlsTruth>& SimRobot::ScanTruths() const { return impl_->truths; }
 void SimRobot::SetKeepScanTruths(bool keep) { impl_->keep_truths = keep; }
+void SimRobot::ReleaseScanTruthPoints() {
+  for (sim::TlsTruth& t : impl_->truths) std::vector<sim::TlsPointTruth>().swap(t.points);
+}
 void SimRobot::ScheduleTeleport(double t, const Pose2& X_WB) { impl_->teleport.emplace(t, X_WB); }
 const DriveParams& SimRobot::Params() const { return impl_->params; }
 const std::vector<std::string>& SimRobot::FaultEvents() const { return impl_->fault_events; }

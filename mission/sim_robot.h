@@ -60,6 +60,9 @@ class SimRobot final : public interfaces::RobotPlatform {
   /// Truth sidecars of the TLS scans, in scan order (kept unless SetKeepScanTruths(false)).
   const std::vector<sim::TlsTruth>& ScanTruths() const;
   void SetKeepScanTruths(bool keep);  ///< ~16 B per pulse per scan when kept (default: kept)
+  /// Frees the per-pulse truth of every scan taken so far (poses, ids and sizes kept; `points`
+  /// empty): a finished room's scans are scored, and a floor keeps no pulse truth of its past.
+  void ReleaseScanTruthPoints();
   /// Kidnapping: at simulation time `t` the true body jumps to `X_WB` (world); odometry does
   /// not see it. One pending teleport at a time.
   void ScheduleTeleport(double t, const Pose2& X_WB);
