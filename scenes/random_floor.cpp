@@ -518,11 +518,18 @@ FloorFamily ResolveFloorFamily(std::uint64_t seed, int rooms, FloorFamily family
   return FloorFamily::kHall;
 }
 
+int MaxRandomRooms(FloorFamily family) {
+  return family == FloorFamily::kOffice ? kMaxRandomOfficeRooms : kMaxRandomRooms;
+}
+
 SceneSpec RandomFloorSpec(std::uint64_t seed, int rooms, FloorFamily family) {
-  if (rooms < kMinRandomRooms || rooms > kMaxRandomRooms)
-    throw InputError(
-        "", "rooms out of range", std::to_string(rooms),
-        "[" + std::to_string(kMinRandomRooms) + ", " + std::to_string(kMaxRandomRooms) + "]");
+  const int most = MaxRandomRooms(family);
+  if (rooms < kMinRandomRooms || rooms > most)
+    throw InputError("", "rooms out of range", std::to_string(rooms),
+                     "[" + std::to_string(kMinRandomRooms) + ", " + std::to_string(most) + "]" +
+                         (family == FloorFamily::kOffice
+                              ? ""
+                              : " for the " + FloorFamilyName(family) + " family"));
   family = ResolveFloorFamily(seed, rooms, family);
   // Draw layouts until one realises cleanly: each attempt is a pure function of
   // (seed, rooms, family, attempt), so the result is deterministic.

@@ -21,7 +21,8 @@
 namespace mopad::scenes {
 
 inline constexpr int kMinRandomRooms = 2;
-inline constexpr int kMaxRandomRooms = 10;
+inline constexpr int kMaxRandomRooms = 10;        ///< every family
+inline constexpr int kMaxRandomOfficeRooms = 40;  ///< the office family (scaling benchmarks)
 
 enum class FloorFamily { kOffice, kCorridor, kJunction, kHall, kMixed };
 
@@ -33,8 +34,13 @@ FloorFamily ParseFloorFamily(const std::string& name);
 /// seed draws.
 FloorFamily ResolveFloorFamily(std::uint64_t seed, int rooms, FloorFamily family);
 
-/// A valid spec with exactly `rooms` rooms ([2, 10]; InputError otherwise). Generate() on it
-/// succeeds and CheckScene() reports no errors.
+/// The most rooms a floor of `family` can have: kMaxRandomOfficeRooms for office floors (a
+/// corridor band with offices on both sides grows as long as it must, or a subdivision),
+/// kMaxRandomRooms for the others (a corridor is at most 40 m long, a hall's sides hold a few).
+int MaxRandomRooms(FloorFamily family);
+
+/// A valid spec with exactly `rooms` rooms ([2, MaxRandomRooms(family)]; InputError
+/// otherwise). Generate() on it succeeds and CheckScene() reports no errors.
 SceneSpec RandomFloorSpec(std::uint64_t seed, int rooms,
                           FloorFamily family = FloorFamily::kOffice);
 

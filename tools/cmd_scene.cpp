@@ -73,7 +73,7 @@ void AddRandomCommand(CLI::App* scene) {
   auto rooms = std::make_shared<int>(5);
   auto family = std::make_shared<std::string>("office");
   cmd->add_option("--seed", *seed, "Seed of the layout")->required();
-  cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10")->default_val(5);
+  cmd->add_option("--rooms", *rooms, "Number of rooms, 2-10 (2-40 for the office family)")->default_val(5);
   cmd->add_option("--family", *family,
                   "Layout family: office, corridor (one long corridor), junction (L or T "
                   "corridors), hall (a high hall with a column grid) or mixed (drawn from the seed)")

@@ -280,11 +280,30 @@ TEST(RandomFloor, SameSeedGivesSameSpecDifferentSeedsDiffer) {
 
 TEST(RandomFloor, RoomCountOutOfRangeIsAnInputError) {
   EXPECT_THROW(RandomFloorSpec(1, 1), InputError);
-  EXPECT_THROW(RandomFloorSpec(1, 11), InputError);
+  EXPECT_THROW(RandomFloorSpec(1, 41), InputError);
   try {
-    RandomFloorSpec(1, 11);
+    RandomFloorSpec(1, 41);
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "error: rooms out of range; got 11, expected [2, 10]");
+    EXPECT_STREQ(e.what(), "error: rooms out of range; got 41, expected [2, 40]");
+  }
+  try {
+    RandomFloorSpec(1, 11, FloorFamily::kCorridor);
+    ADD_FAILURE() << "11 rooms of the corridor family were accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "error: rooms out of range; got 11, expected [2, 10] for the corridor family");
+  }
+}
+
+TEST(RandomFloor, FortyRoomOfficeFloorsAreValidAndEveryRoomIsReachable) {
+  // The scaling benchmark's floors: 20 and 40 offices, each a checked scene.
+  for (int rooms : {20, 40}) {
+    const SceneSpec spec = RandomFloorSpec(31, rooms);
+    ASSERT_EQ(static_cast<int>(spec.rooms.size()), rooms);
+    const GeneratedScene g = Generate(spec);
+    const CheckReport check = CheckScene(g.scene, g.truth);
+    EXPECT_TRUE(check.ok()) << rooms << " rooms";
+    EXPECT_EQ(check.unreachable_rooms, 0) << rooms << " rooms";
   }
 }
 

@@ -333,7 +333,7 @@ TEST(Cli, RandomFloorValidates) {
   ASSERT_EQ(g.code, 0) << g.out;
   const Result v = Mopad("scene validate " + d);
   EXPECT_EQ(v.code, 0) << v.out;
-  EXPECT_EQ(Mopad("scene random --seed 1 --rooms 11 -o " + d + "/x").code, 2);
+  EXPECT_EQ(Mopad("scene random --seed 1 --rooms 41 -o " + d + "/x").code, 2);
 }
 
 TEST(Cli, CatalogueHasTheEighteenModels) {
