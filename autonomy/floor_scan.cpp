@@ -127,10 +127,9 @@ class FloorMission {
     r.error = v.error;
     if (r.error.empty()) {
       const modelling::OpeningParams& op = rp_.sm4;
-      const double z0 = r.sm3.floor_z + op.leaf_v_low * op.door_min_height;
-      const double z1 = r.sm3.floor_z + op.door_max_height + op.lintel_search;
-      for (const Eigen::Vector3f& q : model.Points())
-        if (q.z() >= z0 && q.z() <= z1) r.leaf_points.push_back(q);
+      r.leaf_z0 = r.sm3.floor_z + op.leaf_v_low * op.door_min_height;
+      r.leaf_z1 = r.sm3.floor_z + op.door_max_height + op.lintel_search;
+      if (!hooks_.room_points) r.leaf_points = LeafBand(model.Points(), r);
     }
     res_.tree.Node(node).reason = r.stop_reason;
     res_.rooms.push_back(std::move(r));
@@ -147,12 +146,22 @@ class FloorMission {
       std::vector<modelling::Sm4Model> later;
       for (std::size_t j = i + 1; j < res_.rooms.size(); ++j)
         if (res_.rooms[j].error.empty()) later.push_back(res_.rooms[j].sm4);
+      if (hooks_.room_points) r.leaf_points = LeafBand(hooks_.room_points(r.room), r);
       modelling::OrthoPoints pts;
       pts.points = &r.leaf_points;
       r.doors_from_later_rooms =
           modelling::AddDoorsFromNeighbours(r.sm3, r.sm4, pts, later, rp_.sm4);
+      std::vector<Eigen::Vector3f>().swap(r.leaf_points);
     }
-    for (FloorRoom& r : res_.rooms) std::vector<Eigen::Vector3f>().swap(r.leaf_points);
+  }
+
+  // The points of `all` in the room's leaf band, in order.
+  static std::vector<Eigen::Vector3f> LeafBand(const std::vector<Eigen::Vector3f>& all,
+                                               const FloorRoom& r) {
+    std::vector<Eigen::Vector3f> out;
+    for (const Eigen::Vector3f& q : all)
+      if (q.z() >= r.leaf_z0 && q.z() <= r.leaf_z1) out.push_back(q);
+    return out;
   }
 
   // "; K doors not entered (closed: a, too narrow: b, unreachable: c)" or "".

@@ -97,6 +97,10 @@ struct FloorScanHooks {
   std::function<void(const std::string& room, int index, const interfaces::TlsScan& scan)> scan;
   /// A room finished (models built, or the error).
   std::function<void(const RoomVisit& visit)> room_done;
+  /// The points of a finished room's model (RoomModel::Points(), same order and values), read
+  /// back from where room_done stored them. When set, the mission keeps no room's points in
+  /// memory (the end-of-mission door pass reads them back one room at a time).
+  std::function<std::vector<Eigen::Vector3f>(const std::string& room)> room_points;
   /// One line of what the robot is doing, for a person.
   std::function<void(const std::string& line)> progress;
   /// Asked before each room: true ends the mission there, explained (an operator's stop).
@@ -119,8 +123,10 @@ struct FloorRoom {
   /// (modelling::AddDoorsFromNeighbours).
   int doors_from_later_rooms = 0;
   /// SM1 points in the height band of door leaves and lintels (floor + leaf_v_low *
-  /// door_min_height to floor + door_max_height + lintel_search), kept for that pass only.
+  /// door_min_height to floor + door_max_height + lintel_search), kept for that pass only
+  /// (and only without FloorScanHooks::room_points; then read back for it).
   std::vector<Eigen::Vector3f> leaf_points;
+  double leaf_z0 = 0.0, leaf_z1 = 0.0;  ///< m, map z: that band
 };
 
 struct FloorScanResult {

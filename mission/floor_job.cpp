@@ -11,6 +11,7 @@
 #include "common/polygon.h"
 #include "common/wall_clock.h"
 #include "evaluation/truth_models.h"
+#include "io/scan_io.h"
 #include "io/text_file.h"
 #include "mission/floor_model_job.h"
 #include "mission/robot_catalogue.h"
@@ -102,6 +103,13 @@ class FloorWorld {
       if (labels_) hook_(index, scan);
     };
     h.room_done = [this](const autonomy::RoomVisit& v) { Done(v); };
+    // A finished room's points are in its sm1.ply (written by Done): read back, not kept.
+    h.room_points = [this](const std::string& robot_room) {
+      for (const FloorRoomJob& r : rooms_)
+        if (r.robot_room == robot_room && !r.dir.empty())
+          return io::ReadPly((fs::path(dir_) / r.dir / runfolder::kSm1).string()).points;
+      throw std::runtime_error("floor job: no model files of room " + robot_room);
+    };
     h.progress = progress;
     return h;
   }
