@@ -177,6 +177,7 @@ struct RangeImage {
   double bin = 0.0;             // rad
   std::vector<float> nearest;   // n_el * n_az, +inf = no return
   std::vector<float> farthest;  // idem, 0 = no return
+  float reach = 0.0f;           // m, the farthest return of all bins
   // Bin of direction d (non-zero), or -1.
   std::int64_t Bin(const Eigen::Vector3d& d, double r) const {
     const int a = std::clamp(static_cast<int>((std::atan2(d.y(), d.x()) + kPi) / bin), 0, n_az - 1);
@@ -351,6 +352,7 @@ void PointMap::Add(const Points& points_M, const Eigen::Vector3d& origin_M) {
     const auto b = static_cast<std::size_t>(img.Bin(d, r));
     img.nearest[b] = std::min(img.nearest[b], static_cast<float>(r));
     img.farthest[b] = std::max(img.farthest[b], static_cast<float>(r));
+    img.reach = std::max(img.reach, static_cast<float>(r));
   }
   impl_->images.push_back(std::make_shared<const RangeImage>(std::move(img)));
 }
@@ -360,16 +362,18 @@ namespace {
 /// How many of `points` some range image holds `seen(image, bin, range)` for: one walk over the
 /// points and images for both the free-space check and the expected overlap.
 template <class Seen>
+/// `seen` holds only where the range is at most reach_scale * farthest + reach_margin of its
+/// bin, so images whose every return is nearer are skipped without a look (scans of far rooms).
 std::size_t CountSeenByAnyImage(const Points& points,
                                 const std::vector<std::shared_ptr<const RangeImage>>& images,
-                                Seen seen) {
+                                double reach_scale, double reach_margin, Seen seen) {
   std::size_t n = 0;
   for (const auto& p : points) {
     for (const auto& image : images) {
       const RangeImage& img = *image;
       const Eigen::Vector3d d = p - img.origin;
       const double r = d.norm();
-      if (!(r > 1e-6)) continue;
+      if (!(r > 1e-6) || r > reach_scale * img.reach + reach_margin) continue;
       if (seen(img, static_cast<std::size_t>(img.Bin(d, r)), r)) {
         ++n;
         break;
@@ -385,7 +389,7 @@ double PointMap::FreeSpaceViolation(const Points& points_M) const {
   if (points_M.empty() || impl_->images.empty()) return 0.0;
   const double margin = impl_->params.free_space_margin;
   const std::size_t violating = CountSeenByAnyImage(
-      points_M, impl_->images, [&](const RangeImage& img, std::size_t b, double r) {
+      points_M, impl_->images, 1.0, 0.0, [&](const RangeImage& img, std::size_t b, double r) {
         const double nearest = img.nearest[b];
         // Evidence only from bins that saw one surface squarely (range spread within the
         // margin): grazing floors and depth edges spread over a bin and would accuse good
@@ -397,7 +401,7 @@ double PointMap::FreeSpaceViolation(const Points& points_M) const {
 
 std::size_t PointMap::CountInView(const Points& points_M) const {
   const double margin = impl_->params.free_space_margin;
-  return CountSeenByAnyImage(points_M, impl_->images,
+  return CountSeenByAnyImage(points_M, impl_->images, 1.02, margin,
                              [&](const RangeImage& img, std::size_t b, double r) {
                                const double farthest = img.farthest[b];
                                return farthest > 0.0 && r <= farthest + margin + 0.02 * farthest;
