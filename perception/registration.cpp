@@ -287,10 +287,20 @@ void PointMap::AddCells(const Points& points_M, const Eigen::Vector3d* origin_M)
   for (const auto& c : moved) seeds.insert(VoxelKey(c, g));
   const std::unordered_set<std::int64_t> dirty = dilate(seeds);
   const std::unordered_set<std::int64_t> reach = dilate(dirty);
+  // Every cell of `reach` lies within three coarse cells of a moved centroid: cells outside
+  // that box keep their normals without a look-up.
+  Eigen::AlignedBox3d near_moved;
+  for (const auto& c : moved) near_moved.extend(c);
+  near_moved.min().array() -= 3.0 * g;
+  near_moved.max().array() += 3.0 * g;
   std::vector<Normal> normals(merged.size());
-  std::vector<std::uint32_t> which, local_of_which, local_index;
+  std::vector<std::uint32_t> which, local_of_which;
   Points local_points;
   for (std::size_t k = 0; k < merged.size(); ++k) {
+    if (!changed[k] && !near_moved.contains(centroids[k])) {
+      normals[k] = impl_->normals[static_cast<std::size_t>(from_old[k])];
+      continue;
+    }
     const std::int64_t key = VoxelKey(centroids[k], g);
     const bool recompute = changed[k] || dirty.count(key);
     if (!recompute) normals[k] = impl_->normals[static_cast<std::size_t>(from_old[k])];
@@ -299,7 +309,6 @@ void PointMap::AddCells(const Points& points_M, const Eigen::Vector3d* origin_M)
       which.push_back(static_cast<std::uint32_t>(k));
       local_of_which.push_back(static_cast<std::uint32_t>(local_points.size()));
     }
-    local_index.push_back(static_cast<std::uint32_t>(k));
     local_points.push_back(centroids[k]);
   }
   const KdTree3 local_tree(std::move(local_points));
@@ -316,18 +325,36 @@ void PointMap::AddCells(const Points& points_M, const Eigen::Vector3d* origin_M)
   impl_->tree.reset();
 }
 
-PointMap PointMap::Local(const Eigen::AlignedBox3d& box) const {
+PointMap PointMap::Local(const Points& points_M, double distance) const {
   PointMap out(impl_->params);
   Impl& o = *out.impl_;
   const Impl& m = *impl_;
+  o.images = m.images;
+  if (points_M.empty() || !(distance > 0.0) || !std::isfinite(distance)) return out;
+  // Tiles of edge `distance` holding a point, and their 26 neighbours: every map cell within
+  // `distance` of a point lies in one of them.
+  constexpr std::int64_t kX = std::int64_t{1} << 42, kY = std::int64_t{1} << 21;
+  std::unordered_set<std::int64_t> tiles;
+  Eigen::AlignedBox3d box;
+  for (const auto& p : points_M) {
+    if (!p.allFinite()) continue;
+    box.extend(p);
+    const std::int64_t key = VoxelKey(p, distance);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) tiles.insert(key + dx * kX + dy * kY + dz);
+  }
+  if (box.isEmpty()) return out;
+  box.min().array() -= 2.0 * distance;
+  box.max().array() += 2.0 * distance;
   for (std::size_t k = 0; k < m.centroids.size(); ++k) {
-    if (!box.contains(m.centroids[k])) continue;
+    if (!box.contains(m.centroids[k]) || !tiles.count(VoxelKey(m.centroids[k], distance)))
+      continue;
     o.cells.push_back(m.cells[k]);
     o.centroids.push_back(m.centroids[k]);
     o.normals.push_back(m.normals[k]);
     o.views.push_back(m.views[k]);
   }
-  o.images = m.images;
   return out;
 }
 
@@ -646,20 +673,17 @@ RegistrationResult RegisterScan(const Points& source_S, const PointMap& map,
   const Points src = GatedSource(source_S, params);
   res.source_points = src.size();
   res.target_points = map.size();
-  // The map near what the scan saw: its points at the prior, grown by the widest
-  // correspondence distance, the weak-direction search and kLocalMapSlack for the correction.
-  // No map point outside can pair with a source point (the same pairs as the whole map) while
-  // the correction moves no source point farther than the slack.
-  Eigen::AlignedBox3d box;
-  for (const auto& p : src) box.extend(prior_X_MS * p);
-  if (!src.empty()) {
-    const double grow = *std::max_element(params.max_correspondence.begin(),
-                                          params.max_correspondence.end()) +
-                        params.weak_search + kLocalMapSlack;
-    box.min().array() -= grow;
-    box.max().array() += grow;
-  }
-  const PointMap target = map.Local(box);  // may be empty: then no correspondences
+  // The map near what the scan saw: within the widest correspondence distance, the
+  // weak-direction search and kLocalMapSlack of its points at the prior. No map point farther
+  // can pair with a source point (the same pairs as the whole map) while the correction moves
+  // no source point farther than the slack.
+  Points at_prior;
+  at_prior.reserve(src.size());
+  for (const auto& p : src) at_prior.push_back(prior_X_MS * p);
+  const double reach = *std::max_element(params.max_correspondence.begin(),
+                                         params.max_correspondence.end()) +
+                       params.weak_search + kLocalMapSlack;
+  const PointMap target = map.Local(at_prior, reach);  // may be empty: then no correspondences
   if (src.empty() || map.empty()) {
     res.message = std::string("registration failed: empty ") + (src.empty() ? "source" : "map") +
                   " (" + std::to_string(src.size()) + " source / " + std::to_string(map.size()) +

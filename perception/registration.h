@@ -281,9 +281,10 @@ class PointMap {
   const std::vector<Eigen::Vector3f>& views() const;
   const KdTree3& tree() const;  ///< precondition: !empty()
   const IcpParams& params() const;
-  /// The map's cells whose centroid lies in `box` (map frame), with their normals and views,
-  /// and every scan's free-space evidence: what a registration near one scan needs.
-  PointMap Local(const Eigen::AlignedBox3d& box) const;
+  /// The map's cells within `distance` (m) of some of `points_M` (map frame; and a few more:
+  /// those in the same tiles of that edge), with their normals and views, and every scan's
+  /// free-space evidence: what a registration near one scan needs.
+  PointMap Local(const Points& points_M, double distance) const;
   /// Normals recomputed by the last Add (cells within normal_radius of a changed cell; the
   /// others keep theirs, which is exact: a normal only depends on points within that radius).
   std::size_t last_normals_recomputed() const;
@@ -294,10 +295,10 @@ class PointMap {
   std::unique_ptr<Impl> impl_;
 };
 
-/// m: RegisterScan registers against the map within the scan's extent at its prior grown by
-/// this besides the correspondence distance: the pairs, and so the result, are those of the
-/// whole map while the correction moves no source point farther (room scans are corrected by
-/// millimetres to centimetres).
+/// m: RegisterScan registers against the map within this (besides the correspondence
+/// distance) of the scan's points at its prior: the pairs, and so the result, are those of
+/// the whole map while the correction moves no source point farther (room scans are corrected
+/// by millimetres to centimetres).
 inline constexpr double kLocalMapSlack = 1.0;
 
 /// Refines `prior_X_MS` so that `source_S` (scanner frame) lies on `target` (see the file
