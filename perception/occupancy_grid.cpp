@@ -344,14 +344,7 @@ void OccupancyGrid::Compose(const OccupancyGrid& base, const OccupancyGrid& evid
   for (int j = std::max(0, a.j); j <= std::min(height_ - 1, b.j); ++j) {
     for (int i = std::max(0, a.i); i <= std::min(width_ - 1, b.i); ++i) {
       const std::size_t k = Index({i, j});
-      log_odds_[k] = base.log_odds_[k];
-      return_dx_[k] = base.return_dx_[k];
-      return_dy_[k] = base.return_dy_[k];
-      return_xx_[k] = base.return_xx_[k];
-      return_xy_[k] = base.return_xy_[k];
-      return_yy_[k] = base.return_yy_[k];
-      return_n_[k] = base.return_n_[k];
-      cloud_obstacle_[k] = base.cloud_obstacle_[k];
+      CopyCell(base, k, k);
       const Cell ce{i + me.i - ev.i, j + me.j - ev.j};
       if (!evidence.Contains(ce)) continue;
       const std::size_t q = evidence.Index(ce);
@@ -369,6 +362,17 @@ void OccupancyGrid::Compose(const OccupancyGrid& base, const OccupancyGrid& evid
   }
 }
 
+void OccupancyGrid::CopyCell(const OccupancyGrid& from, std::size_t k, std::size_t q) {
+  log_odds_[q] = from.log_odds_[k];
+  return_dx_[q] = from.return_dx_[k];
+  return_dy_[q] = from.return_dy_[k];
+  return_xx_[q] = from.return_xx_[k];
+  return_xy_[q] = from.return_xy_[k];
+  return_yy_[q] = from.return_yy_[k];
+  return_n_[q] = from.return_n_[k];
+  cloud_obstacle_[q] = from.cloud_obstacle_[k];
+}
+
 OccupancyGrid OccupancyGrid::Resized(const Vec2& lo, const Vec2& hi) const {
   OccupancyGrid out = Covering(params_, lo, hi, 0.0);
   const Cell me = LatticeOffset(params_.resolution, origin_, "the grid's origin");
@@ -377,15 +381,7 @@ OccupancyGrid OccupancyGrid::Resized(const Vec2& lo, const Vec2& hi) const {
     for (int i = 0; i < width_; ++i) {
       const Cell c{i + me.i - to.i, j + me.j - to.j};
       if (!out.Contains(c)) continue;
-      const std::size_t k = Index({i, j}), q = out.Index(c);
-      out.log_odds_[q] = log_odds_[k];
-      out.return_dx_[q] = return_dx_[k];
-      out.return_dy_[q] = return_dy_[k];
-      out.return_xx_[q] = return_xx_[k];
-      out.return_xy_[q] = return_xy_[k];
-      out.return_yy_[q] = return_yy_[k];
-      out.return_n_[q] = return_n_[k];
-      out.cloud_obstacle_[q] = cloud_obstacle_[k];
+      out.CopyCell(*this, Index({i, j}), out.Index(c));
     }
   }
   return out;

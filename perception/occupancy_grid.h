@@ -228,6 +228,8 @@ class OccupancyGrid {
  private:
   void Add(const Cell& c, double delta);
   void AddReturn(const Cell& c, const Vec2& p);
+  /// Cell index q of this grid takes everything cell index k of `from` holds.
+  void CopyCell(const OccupancyGrid& from, std::size_t k, std::size_t q);
   /// Global cell of this grid's cell (0, 0) for evidence of `resolution`; InputError when the
   /// resolution differs or the origin is off its lattice.
   Cell LatticeOffset(double resolution, const Vec2& origin, const char* what) const;

@@ -38,6 +38,42 @@ TEST(OccupancyGrid, BuiltFromPointsOfTwoRoomsWithADoorGap) {
   EXPECT_GT(g.Count(CellState::kFree), 15000);
 }
 
+TEST(OccupancyGrid, EvidenceLaidOverABaseNeverClearsWhatTheCloudMarked) {
+  OccupancyGridParams p;
+  // The base: a wall of 3D band points at x = 1.0 m, free floor elsewhere around it.
+  OccupancyGrid base = OccupancyGrid::Covering(p, Vec2(0.0, 0.0), Vec2(2.0, 2.0), 0.0);
+  std::vector<Eigen::Vector3d> pts;
+  for (int k = 0; k < 40; ++k) {
+    pts.emplace_back(1.02, 0.5 + 0.02 * k, 1.0);
+    pts.emplace_back(0.52, 0.5 + 0.02 * k, 0.0);
+  }
+  base.InsertPoints(pts);
+  ASSERT_TRUE(base.IsOccupied({1.02, 1.0}));
+  ASSERT_TRUE(base.IsFree({0.52, 1.0}));
+  // The evidence, on a larger grid of the same lattice: many misses over the wall cell and
+  // the floor cell, hits on a cell the base left unknown.
+  OccupancyGrid evidence = OccupancyGrid::Covering(p, Vec2(-1.0, -1.0), Vec2(3.0, 3.0), 0.0);
+  OccupancyGrid beams(p, evidence.Origin(), evidence.Width(), evidence.Height());
+  for (int k = 0; k < 10; ++k)
+    beams.InsertScan(testing::SimulateScan({{{1.62, 1.5}, {1.72, 1.6}}}, {0.3, 1.02, 0.0}, 1, k,
+                                           0.0),
+                     {0.3, 1.02, 0.0});
+  evidence = beams.Resized(Vec2(-1.0, -1.0), Vec2(3.0, 3.0));
+  OccupancyGrid out = base;
+  out.Compose(base, evidence, Vec2(0.0, 0.0), Vec2(2.0, 2.0));
+  EXPECT_TRUE(out.IsOccupied({1.02, 1.0}));  // the beams crossed it: the cloud's wall stays
+  EXPECT_TRUE(out.IsFree({0.52, 1.0}));
+  EXPECT_TRUE(out.IsOccupied({1.63, 1.53}));  // the beams' own obstacle, unknown in the base
+  EXPECT_EQ(base.StateAt({1.63, 1.53}), CellState::kUnknown);
+  // Outside the box the base is kept as it was.
+  OccupancyGrid part = base;
+  part.Compose(base, evidence, Vec2(0.0, 0.0), Vec2(1.4, 2.0));
+  EXPECT_EQ(part.StateAt({1.63, 1.53}), CellState::kUnknown);
+  // A grid off the lattice cannot take lattice evidence.
+  OccupancyGrid off(p, Vec2(0.013, 0.0), 10, 10);
+  EXPECT_THROW(off.Compose(off, evidence, Vec2(0.0, 0.0), Vec2(0.5, 0.5)), InputError);
+}
+
 TEST(OccupancyGrid, PointsOutsideTheHeightBandAreNotObstacles) {
   OccupancyGridParams p;
   OccupancyGrid g(p, {0.0, 0.0}, 20, 20);
