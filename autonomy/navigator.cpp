@@ -228,10 +228,14 @@ struct Navigator::Impl {
     MarkFootprints();
   }
 
-  // The cells under the base at every scan pose are free: the robot stood there.
-  void MarkFootprints() {
+  // The cells under the base at every scan pose are free: the robot stood there. When `at` is
+  // given, only the footprints that reach the cells of the box of half-edge `reach` (m) about it
+  // (those a Compose of that box rewrote; the rest of the grid already has them).
+  void MarkFootprints(const Vec2* at = nullptr, double reach = 0.0) {
+    const double r = 0.5 * params.controller.footprint_width;
+    const double near = reach + r + grid.Resolution();  // the box's edge cells reach a cell out
     for (const Pose2& s : log.scan_poses) {
-      const double r = 0.5 * params.controller.footprint_width;
+      if (at && (std::abs(s.x - at->x()) > near || std::abs(s.y - at->y()) > near)) continue;
       grid.FillBox(Vec2(s.x - r, s.y - r), Vec2(s.x + r, s.y + r), perception::CellState::kFree);
     }
   }
@@ -367,9 +371,10 @@ struct Navigator::Impl {
     next_map_sweep = t + params.map_lrf_period;
     for (const interfaces::LrfScan* sc : {&platform.BaseSweep(), &platform.TopSweep()})
       driving->InsertScan(*sc, X_MB_est, params.map_lrf_range);
-    const Vec2 reach = Vec2::Constant(params.map_lrf_range + 1.0), at(X_MB_est.x, X_MB_est.y);
-    grid.Compose(localiser_grid, *driving, at - reach, at + reach);
-    MarkFootprints();
+    const double reach = params.map_lrf_range + 1.0;
+    const Vec2 at(X_MB_est.x, X_MB_est.y), box = Vec2::Constant(reach);
+    grid.Compose(localiser_grid, *driving, at - box, at + box);
+    MarkFootprints(&at, reach);
     leg_blocked = LegBlockedInMap();
   }
 
