@@ -130,7 +130,8 @@ bool AddGeometry(const Element& e, io::GlbMesh& mesh) {
       const Vec3 x = x0.norm() > 1e-6 ? x0.normalized() : Vec3::UnitX();
       const double w = e.size.x() > 0 ? e.size.x() : 0.1, h = e.size.y() > 0 ? e.size.y() : 0.1;
       const double d = e.size.z() > 0 ? e.size.z() : 0.02;
-      AddBox(e.centre, x, z.cross(x), z, w, h, d, mesh);
+      // On its host: the back face centred at `centre` (on the host plane), depth out along z.
+      AddBox(e.centre + 0.5 * d * z, x, z.cross(x), z, w, h, d, mesh);
       return true;
     }
     default:

@@ -249,7 +249,7 @@ int IfcBuilder::Component(const Element& e) {
   const Vec3 z = e.normal;
   const Vec3 x = HorizontalX(z);
   const Vec3 y = z.cross(x);
-  const Vec3 base = e.centre - 0.5 * d * z;
+  const Vec3 base = e.centre;  // the back face on the host plane, depth out along the normal
   const std::vector<Vec3> rect = {
       base - 0.5 * w * x - 0.5 * h * y, base + 0.5 * w * x - 0.5 * h * y,
       base + 0.5 * w * x + 0.5 * h * y, base - 0.5 * w * x + 0.5 * h * y};

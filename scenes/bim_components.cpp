@@ -203,6 +203,7 @@ bool Importer::HostComponent(std::size_t ei, std::map<std::string, int>* counts)
   // One counter per id prefix: ids stay unique whatever classes, and models, they come from.
   const std::string prefix = cls.rfind("other:", 0) == 0 ? "other" : cls;
   s.id = prefix + "_" + std::to_string(++(*counts)[prefix]);
+  if (!guid.empty()) out_.component_guids[s.id] = guid;
   s.host = host->id;
   s.room = host->rooms.empty() ? "" : host->rooms[0];
   for (std::size_t pi : e.parts) {

@@ -86,6 +86,7 @@ BimImport Importer::Run() {
   ResolveHeights();
   Shift();
   MakeFaces();
+  FindWallPlanes();
   DistributeStructure();
   FinishFaces();
   FloorsAndCeilings();
@@ -120,6 +121,8 @@ void Importer::Repair(const std::string& what, const std::string& where, const s
   const std::string line = "repair: " + what + " " + where + ": " + from + " -> " + to;
   if (allowed)
     out_.repairs.push_back(line);
+  else if (p_.as_is)
+    out_.report.push_back("as it is: " + what + " " + where + ": " + from + " (not repaired)");
   else
     needed_.emplace_back(line, option);
 }
@@ -210,6 +213,7 @@ void BimImportParams::Validate() const {
   range("plane_tolerance", plane_tolerance, 0.0, 0.05, true);
   range("component_snap", component_snap, 0.0, 0.5, false);
   range("min_face_area", min_face_area, 0.0, 1e3, true);
+  range("wall_search", wall_search, 0.0, 1.0, false);
 }
 
 BimImport ImportBim(const std::string& path, const BimImportParams& params) {

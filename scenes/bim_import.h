@@ -53,6 +53,15 @@ struct BimImportParams {
   double plane_tolerance = 0.003;    ///< m, (0, 0.05]: a face lies on a room's wall/floor plane
   double component_snap = 0.05;      ///< m, [0, 0.5]: largest gap between a component and host
   double min_face_area = 0.01;       ///< m^2, (0, 1000]: smaller wall faces are not made elements
+  /// Read the model as it is, to score it (`mopad eval --model`), not to make a scene of it:
+  /// heights stay the file's (no shift of the lowest room floor to z = 0); a repair the file
+  /// would need is not made and not refused but reported ("as it is: ..."), so a floor or
+  /// ceiling the model lacks is left out and a door hole that is wall stays wall.
+  bool as_is = false;
+  /// m, [0, 1], with as_is only: a room's wall face is the IfcWall face facing the room nearest
+  /// its outline within this distance, in front of or behind it (0: on the outline within
+  /// plane_tolerance). A model's walls need not lie on its spaces' outlines to the millimetre.
+  double wall_search = 0.0;
 
   /// Throws InputError naming the field, its value and the allowed range (open lower bounds
   /// exactly, where Visit's closed Bounds stop just above 0).
@@ -72,6 +81,8 @@ struct BimImportParams {
     v("plane_tolerance", plane_tolerance, Bounds{1e-9, 0.05});
     v("component_snap", component_snap, Bounds{0.0, 0.5});
     v("min_face_area", min_face_area, Bounds{1e-12, 1e3});
+    v("as_is", as_is);
+    v("wall_search", wall_search, Bounds{0.0, 1.0});
   }
 };
 
@@ -86,6 +97,11 @@ struct BimImport {
   std::map<std::string, int> storey_elements;
   /// IFC wall elements of any storey that gave at least one room-side wall face.
   int walls_with_room_faces = 0;
+  /// Truth opening id -> GlobalId of the IfcDoor / IfcWindow it came from (doorways found as
+  /// holes without such an element are absent).
+  std::map<std::string, std::string> opening_guids;
+  /// Service component id -> GlobalId of the IFC element it came from.
+  std::map<std::string, std::string> component_guids;
 };
 
 /// The import's refusal when the file needs repairs that were not allowed: every one of them,
@@ -112,6 +128,14 @@ struct BimStorey {
   double elevation = 0.0;  ///< m, the storey's Elevation attribute in the file's units, scaled
   bool has_elevation = false;
 };
+
+/// The single-value properties of an IFC STEP file's property sets, by the GlobalId of each
+/// product a set defines (IfcRelDefinesByProperties): "<set name>.<property name>" -> the value
+/// as written, decoded (a label's or identifier's text; a measure's number as text, in the
+/// file's units, e.g. radians for IfcPlaneAngleMeasure when the file says so). Throws InputError
+/// if the file cannot be read or is not IFC.
+using IfcProperties = std::map<std::string, std::map<std::string, std::string>>;
+IfcProperties ReadIfcProperties(const std::string& path);
 
 /// The IfcBuildingStorey entities of an IFC STEP file in file order (for `mopad scene info`).
 /// Throws InputError if the file cannot be read or is not IFC.

@@ -61,6 +61,10 @@ std::string StepString(const std::string& attr);
 double FullLengthScale(const std::string& text, const StepIndex& index, const std::string& where);
 /// The whole file; throws InputError if it cannot be opened.
 std::string ReadText(const std::string& path);
+/// The whole file, which must be IFC 2x3 or IFC4 STEP text (InputError otherwise).
+std::string ReadIfcStepText(const std::string& path);
+/// The #ids an attribute references, in order ("(#12,#15)" -> 12, 15).
+std::vector<unsigned long> StepRefs(const std::string& attr);
 
 // --- node names: `<IfcClass>_<Name without spaces>_<GlobalId>` (bim_reading.cpp) ---
 
@@ -158,6 +162,7 @@ struct Face {
   std::vector<std::pair<std::size_t, Poly3>> pieces;  // (element, piece)
   std::vector<int> materials;                         // per piece
   double umin = 0.0, umax = 0.0, vmin = 0.0, vmax = 0.0, area = 0.0;
+  double w = 0.0;  // m, the wall plane's offset from the room edge along n (wall_search)
   bool kept = false;
   double U(const Vector3d& p) const { return (p - a).dot(dir); }
   double W(const Vector3d& p) const { return (p - a).dot(n); }
@@ -225,6 +230,7 @@ class Importer {
   // --- wall faces, floors, ceilings, columns (bim_surfaces.cpp) ---
   void MakeFaces();
   void Leftover(std::size_t e, int material, Poly3 piece);
+  void FindWallPlanes();
   void DistributeStructure();
   void FinishFaces();
   void FloorsAndCeilings();

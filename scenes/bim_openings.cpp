@@ -147,6 +147,7 @@ void Importer::Openings() {
     ReportHoleShape(e, holes[0]);
     Opening o;
     o.id = door ? "D" + std::to_string(++doors_) : "W" + std::to_string(++windows);
+    if (const std::string guid = NodeGuid(e.node); !guid.empty()) out_.opening_guids[o.id] = guid;
     o.type = door ? OpeningType::kDoor : OpeningType::kWindow;
     const Face& f0 = faces_[holes[0].face];
     const RoomData& r0 = rooms_[f0.room];

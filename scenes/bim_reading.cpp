@@ -163,6 +163,22 @@ std::string ReadText(const std::string& path) {
   return ss.str();
 }
 
+std::string ReadIfcStepText(const std::string& path) {
+  std::string text = ReadText(path);
+  const std::string schema = IfcSchemaOf(text);
+  if (schema.rfind("IFC2X", 0) != 0 && schema.rfind("IFC4", 0) != 0)
+    throw InputError(path, "unsupported IFC schema", schema.empty() ? "no FILE_SCHEMA" : schema,
+                     "IFC2X3 or IFC4");
+  return text;
+}
+
+std::vector<unsigned long> StepRefs(const std::string& attr) {
+  std::vector<unsigned long> out;
+  for (std::size_t q = attr.find('#'); q != std::string::npos; q = attr.find('#', q + 1))
+    out.push_back(std::strtoul(attr.c_str() + q + 1, nullptr, 10));
+  return out;
+}
+
 std::string NodeGuid(const std::string& node) {
   if (node.size() < kGuidLength + 2 || node[node.size() - kGuidLength - 1] != '_') return "";
   return node.substr(node.size() - kGuidLength);
@@ -315,12 +331,7 @@ void Importer::ReadStepInfo(const std::string& path) {
     guid_of[id] = guid;
     names_[guid] = StepString(a[2]);
   }
-  auto refs = [](const std::string& list) {
-    std::vector<unsigned long> out;
-    for (std::size_t q = list.find('#'); q != std::string::npos; q = list.find('#', q + 1))
-      out.push_back(std::strtoul(list.c_str() + q + 1, nullptr, 10));
-    return out;
-  };
+  const auto refs = StepRefs;
   // Georeferenced coordinates: assimp 5.2.5 computes IFC geometry partly in float.
   double far = 0.0;
   for (const auto& [id, body] : step.bodies) {
@@ -394,12 +405,64 @@ std::string Importer::NiceNameOnly(const std::string& node) const {
 
 namespace mopad::scenes {
 
+namespace {
+
+// "IFCLABEL('open')" -> "open", "IFCPLANEANGLEMEASURE(1.5707)" -> "1.5707", "'x'" -> "x", "$" -> "".
+std::string NominalValue(const std::string& attr) {
+  std::string v = attr;
+  const std::size_t open = v.find('(');
+  if (open != std::string::npos && v.back() == ')' && v.front() != '\'')
+    v = v.substr(open + 1, v.size() - open - 2);
+  if (v.size() >= 2 && v.front() == '\'') return bim::StepString(v);
+  return v == "$" ? "" : v;
+}
+
+}  // namespace
+
+IfcProperties ReadIfcProperties(const std::string& path) {
+  const bim::StepIndex index = bim::IndexStep(bim::ReadIfcStepText(path));
+  const auto refs = bim::StepRefs;
+  auto body = [&](unsigned long id) -> const std::string* {
+    const auto it = index.bodies.find(id);
+    return it == index.bodies.end() ? nullptr : &it->second;
+  };
+  IfcProperties out;
+  for (const auto& [id, rel] : index.bodies) {
+    if (bim::EntityOf(rel) != "IFCRELDEFINESBYPROPERTIES") continue;
+    // (guid, owner, name, description, (#objects), #definition)
+    const std::vector<std::string> a = bim::Attributes(rel);
+    if (a.size() < 6) continue;
+    const std::vector<unsigned long> def = refs(a[5]);
+    const std::string* set = def.empty() ? nullptr : body(def[0]);
+    if (!set || bim::EntityOf(*set) != "IFCPROPERTYSET") continue;
+    // (guid, owner, name, description, (#properties))
+    const std::vector<std::string> sa = bim::Attributes(*set);
+    if (sa.size() < 5) continue;
+    const std::string set_name = bim::StepString(sa[2]);
+    std::vector<std::pair<std::string, std::string>> values;
+    for (unsigned long pid : refs(sa[4])) {
+      const std::string* prop = body(pid);
+      if (!prop || bim::EntityOf(*prop) != "IFCPROPERTYSINGLEVALUE") continue;
+      // (name, description, nominal value, unit)
+      const std::vector<std::string> pa = bim::Attributes(*prop);
+      if (pa.size() < 3) continue;
+      values.emplace_back(set_name + "." + bim::StepString(pa[0]), NominalValue(pa[2]));
+    }
+    for (unsigned long object : refs(a[4])) {
+      const std::string* product = body(object);
+      if (!product) continue;
+      const std::vector<std::string> pa = bim::Attributes(*product);
+      if (pa.empty()) continue;
+      const std::string guid = bim::StepString(pa[0]);
+      if (guid.empty()) continue;
+      for (const auto& [key, value] : values) out[guid][key] = value;
+    }
+  }
+  return out;
+}
+
 std::vector<BimStorey> ListIfcStoreys(const std::string& path) {
-  const std::string text = bim::ReadText(path);
-  const std::string schema = IfcSchemaOf(text);
-  if (schema.rfind("IFC2X", 0) != 0 && schema.rfind("IFC4", 0) != 0)
-    throw InputError(path, "unsupported IFC schema", schema.empty() ? "no FILE_SCHEMA" : schema,
-                     "IFC2X3 or IFC4");
+  const std::string text = bim::ReadIfcStepText(path);
   const bim::StepIndex index = bim::IndexStep(text);
   const double scale = bim::FullLengthScale(text, index, path);
   std::vector<BimStorey> out;

@@ -355,6 +355,11 @@ void Importer::Shift() {
     e.in_storey = zmax >= lo && (slab ? zmin <= hi : zmin < top - 0.01);
     if (e.merged) e.in_storey = zmax >= lo && zmin <= hi;
   }
+  const double lowest = z0_;
+  if (p_.as_is) {  // the file's heights: only the band above used the lowest floor
+    out_.report.push_back("storey floor at z = " + Fmt(z0_) + " m in the file: kept (as it is)");
+    z0_ = 0.0;
+  }
   for (MeshPart& part : scene_.parts)
     for (auto& v : part.positions) v.z() = static_cast<float>(v.z() - z0_);
   for (Element& e : elements_)
@@ -367,10 +372,11 @@ void Importer::Shift() {
     top_ = std::max(top_, r.room.ceiling_z);
   }
   Storey& s = out_.truth.storeys[0];
-  s.elevation = 0.0;
+  s.elevation = p_.as_is ? lowest : 0.0;
   s.height = next_storey_low_ < 1e299 ? next_storey_low_ - z0_ : top_;
   if (!(s.height > 0.0)) s.height = top_;
-  out_.report.push_back("storey floor at z = " + Fmt(z0_) + " m in the file: moved to 0");
+  if (!p_.as_is)
+    out_.report.push_back("storey floor at z = " + Fmt(z0_) + " m in the file: moved to 0");
 }
 
 }  // namespace mopad::scenes::bim

@@ -100,6 +100,48 @@ void Importer::Leftover(std::size_t e, int material, Poly3 piece) {
   other_ids_.insert(el.node);
 }
 
+// With wall_search: each room edge's wall plane is the plane of IfcWall triangles facing the
+// room, over the edge, nearest the edge within the search distance and carrying at least
+// min_face_area (planes within plane_tolerance of one another are one).
+void Importer::FindWallPlanes() {
+  if (!p_.as_is || p_.wall_search <= p_.plane_tolerance) return;
+  for (Face& f : faces_) {
+    std::vector<std::pair<double, double>> planes;  // (offset, area)
+    for (const Element& e : elements_) {
+      if (!e.in_storey || e.role != Role::kWall) continue;
+      for (std::size_t pi : e.parts) {
+        const MeshPart& part = scene_.parts[pi];
+        for (const auto& t : part.triangles) {
+          const Poly3 tri{part.positions[t[0]].cast<double>(), part.positions[t[1]].cast<double>(),
+                          part.positions[t[2]].cast<double>()};
+          if (NormalOf(tri).dot(f.n) < kFacingCos) continue;
+          const Vector3d c = (tri[0] + tri[1] + tri[2]) / 3.0;
+          const double w = f.W(c);
+          if (std::abs(w) > p_.wall_search || f.U(c) <= 0.0 || f.U(c) >= f.length ||
+              c.z() <= f.z0 || c.z() >= f.z1)
+            continue;
+          planes.emplace_back(w, Area(tri));
+        }
+      }
+    }
+    std::sort(planes.begin(), planes.end(), [](const auto& a, const auto& b) {
+      return std::abs(a.first) < std::abs(b.first) ||
+             (std::abs(a.first) == std::abs(b.first) && a.first < b.first);
+    });
+    for (const auto& [w, area] : planes) {
+      double sum = 0.0, moment = 0.0;
+      for (const auto& [w2, a2] : planes)
+        if (std::abs(w2 - w) <= p_.plane_tolerance) sum += a2, moment += a2 * w2;
+      if (sum < p_.min_face_area) continue;
+      f.w = moment / sum;
+      if (std::abs(f.w) > p_.plane_tolerance)
+        out_.report.push_back(f.id + ": wall face " + Fmt(100.0 * f.w, 1) +
+                              " cm off the space's outline (as it is)");
+      break;
+    }
+  }
+}
+
 // Faces on a room's wall planes onto its wall faces (from walls, and from whatever else
 // forms the wall surface: coverings, parts, proxies, curtain-wall plates); slab faces onto
 // floors and ceilings; the rest of these elements is `other`.
@@ -120,7 +162,7 @@ void Importer::DistributeStructure() {
           for (Face& f : faces_) {
             if (n.dot(f.n) < kFacingCos) continue;
             bool on = true;
-            for (const auto& p : rest[0]) on = on && std::abs(f.W(p)) <= p_.plane_tolerance;
+            for (const auto& p : rest[0]) on = on && std::abs(f.W(p) - f.w) <= p_.plane_tolerance;
             if (!on) continue;
             std::vector<Poly3> next;
             for (const Poly3& piece : rest) {
@@ -254,6 +296,7 @@ void Importer::FloorsAndCeilings() {
         Repair(what, room.room.id + " (" + NiceName(room.node) + ")",
                Fmt(100.0 * have / area, 1) + " % " + what + " geometry at z = " + Fmt(z) + " m",
                "the space footprint", repair || p_.repair, "--" + what + "-from-spaces");
+        if (p_.as_is && !(repair || p_.repair)) continue;  // the model lacks it: left out
         // Replace what there is by the whole footprint (same plane: nothing is lost).
         for (Bucket& b : out_bucket_.buckets())
           if (b.id == id) b.pieces.clear();

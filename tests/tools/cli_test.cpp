@@ -302,6 +302,25 @@ TEST(Cli, ExportHelpNamesItsFilesAndAFolderWithoutModelsIsOneLineExitTwo) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+TEST(Cli, EvalModelInputErrorsAreOneLineExitTwoBeforeAnyFile) {
+  const std::string d = TempDir("eval_model_bad");
+  const std::string out = d + "/out";
+  for (const std::string& args :
+       {"eval --model " + d + "/none.ifc --scene " + OfficeDir() + " -o " + out,
+        "eval --model " + Src("README.md") + " --scene " + OfficeDir() + " -o " + out,
+        "eval --model " + d + "/none.ifc -o " + out,  // no truth
+        "eval --model x.ifc --scene " + OfficeDir() + " --pose 1,2 -o " + out,
+        std::string("eval")}) {
+    const Result r = Mopad(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
+  }
+  // Usage errors (CLI11): exit 2 with the help hint.
+  EXPECT_EQ(Mopad("eval --model x.ifc --scene s --align maybe -o " + out).code, 2);
+  EXPECT_EQ(Mopad("eval " + d + " --model x.ifc").code, 2);
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Cli, DefaultSceneGlbPassesTheKhronosValidator) {
   int status = 0;
   const auto out = KhronosValidate(OfficeDir() + "/scene.glb", &status);
