@@ -89,10 +89,18 @@ ModelRecords ReadIfcModel(const ModelEvalOptions& o) {
   params.wall_search = 0.30;
   const scenes::BimImport model = scenes::ImportBim(o.model, params);
   const scenes::IfcProperties props = scenes::ReadIfcProperties(o.model);
-  const scenes::GroundTruth& g = model.truth;
+  // The model's spaces joined by open passages are one room, as the truth's are.
+  const OpenPlanTruth merged = MergeOpenPlanRooms(model.truth);
+  const scenes::GroundTruth& g = merged.truth;
   ModelRecords m;
   m.format = "ifc";
   m.notes = model.report;
+  for (const auto& [room, members] : merged.members) {
+    std::string list;
+    for (const auto& r : members) list += (list.empty() ? "" : ", ") + r;
+    m.notes.push_back("spaces " + list + " joined by open passages: one room " + room);
+  }
+  m.notes.insert(m.notes.end(), merged.notes.begin(), merged.notes.end());
   if (g.rooms.empty())
     throw InputError(o.model, "no IfcSpace on the storey", "",
                      "spaces: they tell a wall's room face from its back");
@@ -194,6 +202,26 @@ void Place(ModelRecords& m, const Pose3& X) {
     c.centre = X * c.centre;
     c.normal = X.linear() * c.normal;
   }
+}
+
+// The height of the floor patches carrying the most area, heights within 5 cm one level; NaN
+// without floors.
+double MainFloorZ(const std::vector<Patch>& patches) {
+  std::vector<std::pair<double, double>> levels;  // (z, area)
+  for (const Patch& p : patches) {
+    if (p.cls != SurfaceClass::kFloor || p.polygon.empty()) continue;
+    double z = 0.0;
+    for (const Vec3& v : p.polygon) z += v.z();
+    levels.emplace_back(z / static_cast<double>(p.polygon.size()), PolygonArea3d(p.polygon));
+  }
+  double best_z = NAN, best_area = 0.0;
+  for (const auto& [z, area] : levels) {
+    double sum = 0.0;
+    for (const auto& [z2, a2] : levels)
+      if (std::abs(z2 - z) <= 0.05) sum += a2;
+    if (sum > best_area) best_area = sum, best_z = z;
+  }
+  return best_z;
 }
 
 struct FitResult {
@@ -495,6 +523,15 @@ ModelEvaluation EvaluateModel(const ModelEvalOptions& o) {
   if (o.fit) {
     ModelRecords placed = model;
     Place(placed, X);
+    // Coarse step: the floor level carrying the most area onto the truth's (a model kept in its
+    // file's heights against an imported scene, whose storey floor was moved to z = 0).
+    const double dz = MainFloorZ(truth.patches) - MainFloorZ(placed.patches);
+    if (std::isfinite(dz)) {
+      Pose3 lift = Pose3::Identity();
+      lift.translation().z() = dz;
+      X = lift * X;
+      Place(placed, lift);
+    }
     fit = FitPose(placed.patches, truth.patches, params);
     X = fit->delta * X;
   }

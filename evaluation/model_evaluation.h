@@ -20,9 +20,10 @@
 //    the sm4.json and sm5.json beside it when present; rooms are its floor polygons.
 //
 // The model's frame: `X_WE`, the pose of the model's frame in the world (default identity: a
-// model drawn in the building's coordinates). With `fit` the pose is refined by a 4-DoF
-// point-to-plane alignment (x, y, z, yaw) of the model's structural surfaces to the truth's,
-// started from `X_WE` (it needs the model within about 0.3 m and a few degrees of its place); the
+// model drawn in the building's coordinates). With `fit` the model's main floor level (the floor
+// height carrying the most area) is first put on the truth's, then the pose is refined by a
+// 4-DoF point-to-plane alignment (x, y, z, yaw) of the model's structural surfaces to the
+// truth's (it needs the model within about 0.3 m and a few degrees of its place in plan); the
 // fitted pose and its residual are reported.
 //
 // Figures, floor-wide (every truth room of the scene, open-plan rooms merged as `mopad eval`

@@ -16,6 +16,7 @@
 #include "evaluation/model_evaluation.h"
 #include "evaluation/truth_models.h"
 #include "exports/exports.h"
+#include "scenes/bim_import.h"
 #include "scenes/generator.h"
 #include "scenes/ground_truth.h"
 #include "scenes/scene_spec.h"
@@ -195,10 +196,11 @@ TEST(ModelEvaluation, AModelInItsOwnFrameScoresTheSameWithItsPoseGivenOrFitted) 
   EXPECT_EQ(given["detection"]["wall"]["tp"], f.walls);
   EXPECT_NEAR(given["d_v"]["mean"].get<double>(), 0.0, 1e-6);
   EXPECT_DOUBLE_EQ(Endpoints(given, 0)["f1"].get<double>(), 1.0);
-  // Started 6 cm and 1 degree off, the fit finds the pose.
+  // Started 6 cm and 1 degree off in plan and 2.9 m too low (a model in its file's heights
+  // against an imported scene), the fit finds the pose.
   Pose3 off = Pose3::Identity();
   off.linear() = Eigen::AngleAxisd(DegToRad(1.0), Vec3::UnitZ()).toRotationMatrix();
-  off.translation() = Vec3(0.05, -0.03, 0.02);
+  off.translation() = Vec3(0.05, -0.03, -2.9);
   Evaluate(f, model, dir / "fit", off * X_WE, /*fit=*/true);
   std::ifstream in(dir / "fit" / "evaluation.json");
   const json fitted = json::parse(in);
@@ -230,6 +232,35 @@ TEST(ModelEvaluation, TheIfcThisProgramExportsFromTheTruthScoresAsTheTruth) {
   EXPECT_LT(s["d_h"]["mean"].get<double>(), 1e-3);
   EXPECT_GT(s["room_iou_mean"].get<double>(), 0.999);
   EXPECT_DOUBLE_EQ(Endpoints(s, 0)["f1"].get<double>(), 1.0);
+}
+
+// Two exports of one real building from one author's tool, years apart (ArchiCAD 14 as IFC 2x3,
+// ArchiCAD 20 as IFC4; ../shared/testdata/external): the IFC4 one scored against the IFC 2x3
+// one's import finds the same walls, rooms and wall endpoints.
+TEST(ModelEvaluation, FzkHausIfc4ScoredAgainstItsIfc2x3ImportFindsTheSameBuilding) {
+  const fs::path kit =
+      fs::path(MOPAD_SOURCE_DIR) / ".." / "shared" / "testdata" / "external" / "kit_fzk_haus";
+  if (!fs::exists(kit / "AC20-FZK-Haus.ifc")) GTEST_SKIP() << "no FZK-Haus at " << kit;
+  const fs::path dir = TempDir("fzk");
+  scenes::BimImportParams params;
+  params.storey = "0. Erdgeschoss";
+  params.repair = true;
+  const scenes::BimImport truth = scenes::ImportBim((kit / "AC14-FZK-Haus.ifc").string(), params);
+  scenes::WriteGroundTruth(truth.truth, (dir / "scene.truth.json").string());
+  ModelEvalOptions o;
+  o.model = (kit / "AC20-FZK-Haus.ifc").string();
+  o.storey = "Erdgeschoss";
+  o.truth_file = (dir / "scene.truth.json").string();
+  o.out = (dir / "out").string();
+  const auto s = EvaluateModel(o).summary;
+  EXPECT_EQ(s["detection"]["wall"]["tp"], s["detection"]["wall"]["n_truth"]);
+  EXPECT_GE(s["detection"]["wall"]["n_truth"].get<int>(), 20);
+  EXPECT_EQ(s["detection"]["wall"]["fp"], 0);
+  EXPECT_EQ(s["detection"]["floor"]["fp"], 0);  // open-plan spaces joined on both sides
+  EXPECT_GT(s["room_iou_mean"].get<double>(), 0.999);
+  EXPECT_LT(s["d_h"]["mean"].get<double>(), 0.005);
+  EXPECT_DOUBLE_EQ(Endpoints(s, 0)["f1"].get<double>(), 1.0);
+  EXPECT_EQ(s["openings"]["doors_with_state_in_model"], 0);  // BIM doors carry no state
 }
 
 TEST(ModelEvaluation, BadInputIsAnInputErrorBeforeAnyFileIsWritten) {
