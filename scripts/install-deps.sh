@@ -5,7 +5,8 @@
 #                                    npm test oracles of tests/oracles/package.json — the Khronos
 #                                    glTF validator, web-ifc, copc — installed into build/_npm;
 #                                    Debian's chromium for the report's 3D-view test; Slurm
-#                                    and munge for the `slurm` tests)
+#                                    and munge for the `slurm` tests; python3-numpy and
+#                                    python3-pytest for the Python loader's test)
 #   scripts/install-deps.sh --fuzz   also Debian's clang for the libFuzzer targets of fuzz/
 #                                    (scripts/fuzz.sh; not needed to build or test)
 # Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
@@ -37,6 +38,14 @@ for p in "${packages[@]}"; do
 done
 if (( with_tests )) && ! command -v node >/dev/null 2>&1; then
   missing+=(nodejs npm)
+fi
+# Debian's python3 with numpy and pytest: the Python loader's tests (python/, docs/dataset.md).
+if (( with_tests )); then
+  for p in python3-numpy python3-pytest; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$p")
+    fi
+  done
 fi
 # Universal Ctags: function extents for scripts/check-code-size.sh (a test of the suite).
 if (( with_tests )) && ! dpkg-query -W -f='${Status}' universal-ctags 2>/dev/null | grep -q "install ok installed"; then

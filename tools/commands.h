@@ -17,6 +17,7 @@ void RegisterDriveCommand(CLI::App& app);   // drive: closed-loop navigation
 void RegisterRoomCommand(CLI::App& app);    // room: autonomous scanning of one room -> SM1
 void RegisterEvalCommand(CLI::App& app);    // eval: score a run's models against the truth
 void RegisterExportCommand(CLI::App& app);  // export: IFC4, semantic glTF, LAS of a run
+void RegisterDatasetCommand(CLI::App& app);  // dataset: labelled scans for offline methods
 void RegisterCatalogueCommand(CLI::App& app);  // catalogue train: SM5's recogniser weights
 void RegisterSuiteCommands(CLI::App& app);     // suite run|merge: CI scene suites
 /// Adds `compare` and `slurm` under the `suite` subcommand.

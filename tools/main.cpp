@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   mopad::tools::RegisterRoomCommand(app);
   mopad::tools::RegisterEvalCommand(app);
   mopad::tools::RegisterExportCommand(app);
+  mopad::tools::RegisterDatasetCommand(app);
   mopad::tools::RegisterCatalogueCommand(app);
   mopad::tools::RegisterSuiteCommands(app);
   try {
