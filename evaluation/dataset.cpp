@@ -152,36 +152,16 @@ Labels LabelScan(const sim::EmbreeWorld& world, const std::vector<int>& semantic
   return l;
 }
 
-}  // namespace
+// Label tables: fixed classes, then one per component class; instances are the world's
+// element ids.
+struct LabelTables {
+  std::vector<int> semantic_of_element;  // per world element, -1 unknown
+  std::vector<int> fixed_of_part;        // per scene part
+  ojson classes, instances;
+};
 
-DatasetSummary WriteDataset(const std::string& run_dir, const std::string& out,
-                            double tolerance) {
-  if (!(tolerance > 0.0 && tolerance <= 1.0))
-    throw InputError("--tolerance", "out of range", FormatFixed(tolerance, 4), "(0, 1] m");
-  if (!fs::is_directory(run_dir))
-    throw InputError(run_dir, "run directory not found", "",
-                     "a room run (run.json) or a folder with rooms/*/run.json");
-  std::vector<RoomInput> rooms;
-  for (const std::string& dir : runfolder::RoomFolders(run_dir, runfolder::kRunJson))
-    rooms.push_back(ReadRoom(dir));
-  if (rooms.empty())
-    throw InputError(run_dir, "not a run directory", "no run.json",
-                     "RUN_DIR/run.json or RUN_DIR/rooms/*/run.json");
-  for (const RoomInput& r : rooms)
-    if (r.run.scene != rooms.front().run.scene || r.run.doors != rooms.front().run.doors)
-      throw InputError(r.run.dir, "rooms of one run in different worlds", "'" + r.run.scene + "'",
-                       "one scene and one set of door angles");
-  std::string scene = rooms.front().run.scene;
-  if (!fs::exists(scene) && fs::exists(fs::path(rooms.front().run.dir) / scene))
-    scene = (fs::path(rooms.front().run.dir) / scene).string();
-  const sim::SceneWorld world = sim::LoadSceneWorld(scene, rooms.front().run.doors);
-  if (!world.truth)
-    throw InputError(scene, "scene has no truth sidecar", "", "a scene with scene.truth.json");
-  const scenes::GroundTruth& truth = *world.truth;
-  const sim::EmbreeWorld& ew = *world.world;
-
-  // Label tables: fixed classes, then one per component class; instances are the world's
-  // element ids.
+LabelTables MakeLabelTables(const scenes::GroundTruth& truth, const sim::EmbreeWorld& ew,
+                            const std::string& scene) {
   std::set<std::string> component_classes;
   for (const auto& c : truth.service_components) component_classes.insert(c.bsc_class);
   std::map<std::string, int> component_semantic;
@@ -221,6 +201,95 @@ DatasetSummary WriteDataset(const std::string& run_dir, const std::string& out,
                          {"semantic", semantic_of_element[e] >= 0 ? semantic_of_element[e] : kOther}});
   }
 
+  return {semantic_of_element, fixed_of_part, classes, instances};
+}
+
+// One room's scans, labelled, into `dir`/scans/<room>/; their index entries into `scans`.
+void WriteRoomScans(const RoomInput& r, const sim::EmbreeWorld& ew, const LabelTables& tables,
+                    double tolerance, const fs::path& dir, ojson& scans, DatasetSummary& sum) {
+  const io::PointCloud sm1 = io::ReadPly(r.run.sm1);
+  const io::ScalarField* scan_field = sm1.Field("scalar_scan");
+  const io::ScalarField* label_field = sm1.Field("scalar_label");
+  const io::ScalarField* intensity = sm1.Field("scalar_intensity");
+  if (!scan_field) throw InputError(r.run.sm1, "no scalar_scan property", "", "an SM1 cloud");
+  std::vector<std::vector<std::size_t>> of_scan(r.X_MS.size());
+  for (std::size_t i = 0; i < sm1.points.size(); ++i) {
+    const double k = scan_field->values[i];
+    if (!(k >= 0) || k >= static_cast<double>(r.X_MS.size()))
+      throw InputError(r.run.sm1, "scalar_scan out of range", FormatFixed(k, 0),
+                       "an index of scans.json");
+    of_scan[static_cast<std::size_t>(k)].push_back(i);
+  }
+  fs::create_directories(dir / "scans" / r.run.room);
+  for (std::size_t k = 0; k < r.X_MS.size(); ++k) {
+    io::PointCloud c;
+    for (std::size_t i : of_scan[k]) {
+      c.points.push_back(sm1.points[i]);
+      if (!sm1.colors.empty()) c.colors.push_back(sm1.colors[i]);
+    }
+    const Labels l = LabelScan(ew, tables.semantic_of_element, tables.fixed_of_part,
+                               r.run.X_WM * r.X_MS[k],
+                               r.run.X_WM, c.points, tolerance);
+    io::ScalarField fi{"intensity", io::PlyType::kFloat32, {}};
+    io::ScalarField fs_{"semantic", io::PlyType::kUInt8, {}};
+    io::ScalarField fin{"instance", io::PlyType::kInt32, {}};
+    io::ScalarField fl{"sm1_label", io::PlyType::kUInt8, {}};
+    std::map<int, long long> histogram;
+    for (std::size_t j = 0; j < of_scan[k].size(); ++j) {
+      const std::size_t i = of_scan[k][j];
+      fi.values.push_back(intensity ? intensity->values[i] : 0.0);
+      fs_.values.push_back(l.semantic[j]);
+      fin.values.push_back(l.instance[j]);
+      fl.values.push_back(label_field ? label_field->values[i] : 0.0);
+      ++histogram[l.semantic[j]];
+    }
+    c.fields = {fi, fs_, fin, fl};
+    c.comments = {"mopad dataset: map frame; docs/dataset.md"};
+    char name[32];
+    std::snprintf(name, sizeof name, "%03zu.ply", k);
+    const std::string file = "scans/" + r.run.room + "/" + name;
+    io::WritePly((dir / file).string(), c);
+    ojson hist = ojson::object();
+    for (const auto& [cls, count] : histogram) hist[std::to_string(cls)] = count;
+    scans.push_back({{"room", r.run.room}, {"index", k}, {"file", file},
+                     {"points", of_scan[k].size()}, {"detail", static_cast<bool>(r.detail[k])},
+                     {"X_MS", MatrixJson(r.X_MS[k])}, {"semantic_histogram", hist}});
+    ++sum.scans;
+    sum.points += static_cast<long long>(of_scan[k].size());
+    sum.unlabelled += histogram.count(kUnlabelled) ? histogram[kUnlabelled] : 0;
+  }
+  ++sum.rooms;
+}
+
+}  // namespace
+
+DatasetSummary WriteDataset(const std::string& run_dir, const std::string& out,
+                            double tolerance) {
+  if (!(tolerance > 0.0 && tolerance <= 1.0))
+    throw InputError("--tolerance", "out of range", FormatFixed(tolerance, 4), "(0, 1] m");
+  if (!fs::is_directory(run_dir))
+    throw InputError(run_dir, "run directory not found", "",
+                     "a room run (run.json) or a folder with rooms/*/run.json");
+  std::vector<RoomInput> rooms;
+  for (const std::string& dir : runfolder::RoomFolders(run_dir, runfolder::kRunJson))
+    rooms.push_back(ReadRoom(dir));
+  if (rooms.empty())
+    throw InputError(run_dir, "not a run directory", "no run.json",
+                     "RUN_DIR/run.json or RUN_DIR/rooms/*/run.json");
+  for (const RoomInput& r : rooms)
+    if (r.run.scene != rooms.front().run.scene || r.run.doors != rooms.front().run.doors)
+      throw InputError(r.run.dir, "rooms of one run in different worlds", "'" + r.run.scene + "'",
+                       "one scene and one set of door angles");
+  std::string scene = rooms.front().run.scene;
+  if (!fs::exists(scene) && fs::exists(fs::path(rooms.front().run.dir) / scene))
+    scene = (fs::path(rooms.front().run.dir) / scene).string();
+  const sim::SceneWorld world = sim::LoadSceneWorld(scene, rooms.front().run.doors);
+  if (!world.truth)
+    throw InputError(scene, "scene has no truth sidecar", "", "a scene with scene.truth.json");
+  const scenes::GroundTruth& truth = *world.truth;
+  const sim::EmbreeWorld& ew = *world.world;
+
+  const LabelTables tables = MakeLabelTables(truth, ew, scene);
   const fs::path dir(out);
   std::error_code ec;
   fs::create_directories(dir / "scans", ec);
@@ -229,59 +298,9 @@ DatasetSummary WriteDataset(const std::string& run_dir, const std::string& out,
   ojson scans = ojson::array();
   ojson room_list = ojson::array();
   for (const RoomInput& r : rooms) {
-    const io::PointCloud sm1 = io::ReadPly(r.run.sm1);
-    const io::ScalarField* scan_field = sm1.Field("scalar_scan");
-    const io::ScalarField* label_field = sm1.Field("scalar_label");
-    const io::ScalarField* intensity = sm1.Field("scalar_intensity");
-    if (!scan_field) throw InputError(r.run.sm1, "no scalar_scan property", "", "an SM1 cloud");
-    std::vector<std::vector<std::size_t>> of_scan(r.X_MS.size());
-    for (std::size_t i = 0; i < sm1.points.size(); ++i) {
-      const double k = scan_field->values[i];
-      if (!(k >= 0) || k >= static_cast<double>(r.X_MS.size()))
-        throw InputError(r.run.sm1, "scalar_scan out of range", FormatFixed(k, 0),
-                         "an index of scans.json");
-      of_scan[static_cast<std::size_t>(k)].push_back(i);
-    }
     room_list.push_back({{"room", r.run.room}, {"X_WM", MatrixJson(r.run.X_WM)},
                          {"scans", r.X_MS.size()}});
-    fs::create_directories(dir / "scans" / r.run.room);
-    for (std::size_t k = 0; k < r.X_MS.size(); ++k) {
-      io::PointCloud c;
-      for (std::size_t i : of_scan[k]) {
-        c.points.push_back(sm1.points[i]);
-        if (!sm1.colors.empty()) c.colors.push_back(sm1.colors[i]);
-      }
-      const Labels l = LabelScan(ew, semantic_of_element, fixed_of_part, r.run.X_WM * r.X_MS[k],
-                                 r.run.X_WM, c.points, tolerance);
-      io::ScalarField fi{"intensity", io::PlyType::kFloat32, {}};
-      io::ScalarField fs_{"semantic", io::PlyType::kUInt8, {}};
-      io::ScalarField fin{"instance", io::PlyType::kInt32, {}};
-      io::ScalarField fl{"sm1_label", io::PlyType::kUInt8, {}};
-      std::map<int, long long> histogram;
-      for (std::size_t j = 0; j < of_scan[k].size(); ++j) {
-        const std::size_t i = of_scan[k][j];
-        fi.values.push_back(intensity ? intensity->values[i] : 0.0);
-        fs_.values.push_back(l.semantic[j]);
-        fin.values.push_back(l.instance[j]);
-        fl.values.push_back(label_field ? label_field->values[i] : 0.0);
-        ++histogram[l.semantic[j]];
-      }
-      c.fields = {fi, fs_, fin, fl};
-      c.comments = {"mopad dataset: map frame; docs/dataset.md"};
-      char name[32];
-      std::snprintf(name, sizeof name, "%03zu.ply", k);
-      const std::string file = "scans/" + r.run.room + "/" + name;
-      io::WritePly((dir / file).string(), c);
-      ojson hist = ojson::object();
-      for (const auto& [cls, count] : histogram) hist[std::to_string(cls)] = count;
-      scans.push_back({{"room", r.run.room}, {"index", k}, {"file", file},
-                       {"points", of_scan[k].size()}, {"detail", static_cast<bool>(r.detail[k])},
-                       {"X_MS", MatrixJson(r.X_MS[k])}, {"semantic_histogram", hist}});
-      ++sum.scans;
-      sum.points += static_cast<long long>(of_scan[k].size());
-      sum.unlabelled += histogram.count(kUnlabelled) ? histogram[kUnlabelled] : 0;
-    }
-    ++sum.rooms;
+    WriteRoomScans(r, ew, tables, tolerance, dir, scans, sum);
   }
   // The truth as the run's world had it.
   const fs::path truth_src = fs::is_directory(scene) ? fs::path(scene) / "scene.truth.json"
@@ -303,8 +322,8 @@ DatasetSummary WriteDataset(const std::string& run_dir, const std::string& out,
       "points and X_MS in each room's map frame (REP-105); X_WM maps a room's map frame into "
       "the truth's world frame";
   index["label_tolerance_m"] = tolerance;
-  index["semantic_classes"] = classes;
-  index["instances"] = instances;
+  index["semantic_classes"] = tables.classes;
+  index["instances"] = tables.instances;
   index["rooms"] = room_list;
   index["scans"] = scans;
   index["truth"] = "truth.json";
