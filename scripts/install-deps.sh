@@ -5,8 +5,8 @@
 #                                    npm test oracles of tests/oracles/package.json — the Khronos
 #                                    glTF validator, web-ifc, copc — installed into build/_npm;
 #                                    Debian's chromium for the report's 3D-view test; Slurm
-#                                    and munge for the `slurm` tests; python3-numpy and
-#                                    python3-pytest for the Python loader's test)
+#                                    and munge for the `slurm` tests; pybind11-dev, python3-dev,
+#                                    python3-numpy and python3-pytest for the Python module)
 #   scripts/install-deps.sh --fuzz   also Debian's clang for the libFuzzer targets of fuzz/
 #                                    (scripts/fuzz.sh; not needed to build or test)
 # Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
@@ -39,9 +39,10 @@ done
 if (( with_tests )) && ! command -v node >/dev/null 2>&1; then
   missing+=(nodejs npm)
 fi
-# Debian's python3 with numpy and pytest: the Python loader's tests (python/, docs/dataset.md).
+# The Python module (python/, docs/python.md): pybind11 and python3's headers build it with the
+# project; Debian's python3 with numpy and pytest runs its tests.
 if (( with_tests )); then
-  for p in python3-numpy python3-pytest; do
+  for p in pybind11-dev python3-dev python3-numpy python3-pytest; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
       missing+=("$p")
     fi
