@@ -5,8 +5,8 @@
 #                                    npm test oracles of tests/oracles/package.json — the Khronos
 #                                    glTF validator, web-ifc, copc — installed into build/_npm;
 #                                    Debian's chromium for the report's 3D-view test; Slurm
-#                                    and munge for the `slurm` tests; pybind11-dev, python3-dev,
-#                                    python3-numpy and python3-pytest for the Python module)
+#                                    and munge for the `slurm` tests; python3-pytest
+#                                    for the Python module's tests)
 #   scripts/install-deps.sh --fuzz   also Debian's clang for the libFuzzer targets of fuzz/
 #                                    (scripts/fuzz.sh; not needed to build or test)
 # Runs as root (or through sudo when available). Nothing is downloaded outside Debian and npm.
@@ -21,6 +21,8 @@ packages=(
   # IfcPlusPlus (IFC4 reader, carve tessellation: scenes/ifc4_loader.h); its headers include
   # Boost headers the package does not declare.
   libifcplusplus-dev libboost-dev
+  # The Python module `import mopad` (python/, docs/python.md), built with the project.
+  pybind11-dev python3-dev python3-numpy
 )
 with_tests=0 with_fuzz=0
 for arg in "$@"; do
@@ -39,10 +41,9 @@ done
 if (( with_tests )) && ! command -v node >/dev/null 2>&1; then
   missing+=(nodejs npm)
 fi
-# The Python module (python/, docs/python.md): pybind11 and python3's headers build it with the
-# project; Debian's python3 with numpy and pytest runs its tests.
+# pytest: the Python module's and loader's tests (python/).
 if (( with_tests )); then
-  for p in pybind11-dev python3-dev python3-numpy python3-pytest; do
+  for p in python3-pytest; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
       missing+=("$p")
     fi
