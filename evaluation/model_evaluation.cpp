@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -154,6 +155,13 @@ ModelRecords ReadIfcModel(const ModelEvalOptions& o) {
 ModelRecords ReadJsonModel(const ModelEvalOptions& o) {
   ModelRecords m;
   m.format = "mopad-sm3";
+  {
+    std::ifstream f(o.model);
+    const ojson j = ojson::parse(f, nullptr, /*allow_exceptions=*/false);
+    if (j.is_object() && j.contains("rooms"))  // the floor model: walls on their axes
+      throw InputError(o.model, "a floor model (floor/sm3.json) is not scored as JSON", "",
+                       "its export (export/model.ifc) or a room's sm3.json");
+  }
   const Sm3Model sm3 = ReadSm3(o.model);
   std::vector<Patch> all;
   for (const Sm3Patch& p : sm3.patches) all.push_back(p.patch);

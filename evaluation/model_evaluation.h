@@ -16,8 +16,10 @@
 //    model has one (MoPAD_Opening.State / OpeningAngle, this program's export); without one a
 //    door has no state and is left out of the state figures. A component's class (and score alpha)
 //    come from its MoPAD_Component set where present, else from its IFC class, type and names.
-//  - This program's JSON model (.json, format mopad-sm3: a room's or the floor's sm3.json), with
-//    the sm4.json and sm5.json beside it when present; rooms are its floor polygons.
+//  - This program's JSON model (.json, format mopad-sm3: a room's sm3.json), with the sm4.json
+//    and sm5.json beside it when present; rooms are its floor polygons. The floor model
+//    (floor/sm3.json: a wall between rooms on its axis, its faces inside) is refused: score its
+//    export, export/model.ifc, which has the faces.
 //
 // The model's frame: `X_WE`, the pose of the model's frame in the world (default identity: a
 // model drawn in the building's coordinates). With `fit` the model's main floor level (the floor

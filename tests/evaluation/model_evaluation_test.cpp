@@ -271,6 +271,11 @@ TEST(ModelEvaluation, BadInputIsAnInputErrorBeforeAnyFileIsWritten) {
   EXPECT_THROW(Evaluate(f, (dir / "model.obj").string(), dir / "o2"), InputError);
   WriteText(dir / "bad.ifc", "ISO-10303-21;\nHEADER;\nFILE_SCHEMA(('IFC4'));\nENDSEC;\n");
   EXPECT_THROW(Evaluate(f, (dir / "bad.ifc").string(), dir / "o3"), InputError);
+  WriteText(dir / "floor" / "sm3.json",  // the floor model: walls on their axes
+            R"({"format": "mopad-sm3", "version": 1, "room": "floor", "rooms": [],
+                "patches": [], "adjacency": []})");
+  EXPECT_THROW(Evaluate(f, (dir / "floor" / "sm3.json").string(), dir / "o4"), InputError);
+  EXPECT_FALSE(fs::exists(dir / "o4"));
   EXPECT_FALSE(fs::exists(dir / "o1"));
   EXPECT_FALSE(fs::exists(dir / "o2"));
   EXPECT_FALSE(fs::exists(dir / "o3"));
