@@ -65,6 +65,13 @@ PlaneFrame PlaneFrame::Of(const Patch& patch) {
   return f;
 }
 
+Patch Transformed(const Patch& patch, const Pose3& X) {
+  Patch out = patch;
+  for (Vec3& v : out.polygon) v = X * v;
+  out.normal = X.linear() * patch.normal;
+  return out;
+}
+
 void ValidatePatch(const Patch& patch, const PatchValidationParams& params,
                    const std::string& what) {
   const size_t nv = patch.polygon.size();

@@ -39,6 +39,9 @@ struct Patch {
   Vec3 normal = Vec3::UnitZ();  ///< world frame
 };
 
+/// `patch` moved by the rigid transform `X` (e.g. X_WM: a model's map frame into the world).
+Patch Transformed(const Patch& patch, const Pose3& X);
+
 struct PatchValidationParams {
   double planarity_tolerance = 1e-3;  ///< m, max vertex distance from the patch plane, (0, 1]
   double min_area = 1e-6;             ///< m^2, smaller polygons are rejected, (0, 1]

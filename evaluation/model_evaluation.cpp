@@ -35,7 +35,8 @@
 #include "modelling/model_io.h"
 #include "modelling/sm5_io.h"
 #include "scenes/bim_import.h"
-#include "sim/scene_world.h"
+#include "scenes/door_angles.h"
+#include "scenes/scene_paths.h"
 
 namespace mopad::evaluation {
 
@@ -191,13 +192,9 @@ ModelRecords ReadJsonModel(const ModelEvalOptions& o) {
 
 // Every record of `m` moved by `X` (a pose of the model frame in the world).
 void Place(ModelRecords& m, const Pose3& X) {
-  auto patch = [&](Patch& p) {
-    for (Vec3& v : p.polygon) v = X * v;
-    p.normal = X.linear() * p.normal;
-  };
-  for (Patch& p : m.patches) patch(p);
+  for (Patch& p : m.patches) p = Transformed(p, X);
   for (ColumnObject& c : m.columns) {
-    for (Patch& f : c.faces) patch(f);
+    for (Patch& f : c.faces) f = Transformed(f, X);
     c = MakeColumnObject(c.id, c.faces);
   }
   for (Room& r : m.rooms)
@@ -336,10 +333,12 @@ TruthRecords LoadTruth(const ModelEvalOptions& o) {
   if (!o.truth_file.empty()) {
     sidecar = scenes::ReadGroundTruth(o.truth_file);
   } else {
-    sim::SceneWorld world = sim::LoadSceneWorld(o.scene, o.doors);
-    if (!world.truth)
+    // The truth only (no ray-casting world): a spec is generated with the door angles.
+    scenes::LoadedScene loaded =
+        scenes::LoadSceneArg(o.scene, scenes::ParseDoorAngles(o.doors, "--doors"), "--doors");
+    if (!loaded.truth)
       throw InputError(o.scene, "scene has no truth sidecar", "", "--truth FILE");
-    sidecar = std::move(world.truth);
+    sidecar = std::move(loaded.truth);
   }
   const OpenPlanTruth op = MergeOpenPlanRooms(*sidecar);
   TruthRecords t;

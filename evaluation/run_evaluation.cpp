@@ -171,13 +171,6 @@ RoomInput LoadRoom(const RunInfo& run, LoadedRun& loaded) {
   return in;
 }
 
-Patch ToWorld(const Patch& p, const Pose3& X_WM) {
-  Patch w = p;
-  for (auto& v : w.polygon) v = X_WM * v;
-  w.normal = X_WM.linear() * p.normal;
-  return w;
-}
-
 std::vector<Patch> WithoutColumns(const std::vector<Patch>& patches) {
   std::vector<Patch> out;
   for (const auto& p : patches)
@@ -263,7 +256,7 @@ RoomResult ScoreRoom(const RoomInput& in, const EvalParams& params) {
   const Sm3Model sm3 = ReadSm3(run.sm3);
   r.model_room = sm3.room;
   std::vector<Patch> model;
-  for (const auto& p : sm3.patches) model.push_back(ToWorld(p.patch, run.X_WM));
+  for (const auto& p : sm3.patches) model.push_back(Transformed(p.patch, run.X_WM));
   r.model_patches = model.size();
   ScoreSm3(model, in, run.sm3, params, r);
   r.floor = LargestFloor(model, in.truth_room);

@@ -61,12 +61,6 @@ std::string Sm3Text(const std::string& room, const std::vector<Patch>& patches, 
   return j.dump(1);
 }
 
-Patch Moved(Patch p, const Pose3& X) {
-  for (Vec3& v : p.polygon) v = X * v;
-  p.normal = X.linear() * p.normal;
-  return p;
-}
-
 struct Fixture {
   scenes::GroundTruth truth;
   std::string truth_file;
@@ -94,7 +88,7 @@ std::string JsonModel(const Fixture& f, const fs::path& dir, const Pose3& X = Po
                       const std::function<void(std::vector<Patch>&)>& damage = {}) {
   std::vector<Patch> all;
   for (const auto& room : f.patches)
-    for (const Patch& p : room) all.push_back(Moved(p, X));
+    for (const Patch& p : room) all.push_back(Transformed(p, X));
   if (damage) damage(all);
   const std::string path = (dir / "model" / "sm3.json").string();
   WriteText(path, Sm3Text("all", all, 0.0, 2.6));
@@ -125,7 +119,7 @@ TEST(WallEndpoints, AShiftCountsAtTheThresholdsItPassesAndAMissingWallCostsRecal
   Pose3 X = Pose3::Identity();
   X.translation() = Vec3(0.07, 0.0, 0.0);
   std::vector<Patch> moved;
-  for (const Patch& p : truth) moved.push_back(Moved(p, X));
+  for (const Patch& p : truth) moved.push_back(Transformed(p, X));
   const WallEndpointEvaluation e = EvaluateWallEndpoints(moved, truth);
   ASSERT_EQ(e.scores.size(), 3u);
   EXPECT_EQ(e.truth_walls, f.walls);
