@@ -1,5 +1,6 @@
 #include "mission/run_checkpoint.h"
 
+#include <dlfcn.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -29,10 +30,21 @@ std::string HashText(const std::string& s) { return Fingerprint().Add(s).Hex(); 
 // loading it back gives the same bits (Open checks that it does).
 std::string ConfigText(const FloorMissionParams& p) { return YAML::Dump(SaveParams(p)) + "\n"; }
 
-// The mopad binary this process runs: a resumed run gives the bytes of an uninterrupted one
-// only with the binary that started it.
+// The file whose code runs the mission: the mopad binary, or, in Python, the module
+// mopad._mopad (the interpreter is not what makes the bytes). A resumed run gives the bytes of
+// an uninterrupted one only with the code that started it.
+std::string MissionCodeFile() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&MissionCodeFile), &info) != 0 && info.dli_fname &&
+      info.dli_fname[0] == '/') {
+    std::error_code ec;
+    if (fs::is_regular_file(info.dli_fname, ec)) return info.dli_fname;
+  }
+  return "/proc/self/exe";
+}
+
 std::string BinaryHash() {
-  std::ifstream f("/proc/self/exe", std::ios::binary);
+  std::ifstream f(MissionCodeFile(), std::ios::binary);
   if (!f) return "unknown";
   Fingerprint h;
   std::vector<char> buf(1 << 20);

@@ -17,10 +17,14 @@
 
 #include "common/error.h"
 #include "common/frames.h"
+#include "common/wall_clock.h"
 #include "evaluation/run_evaluation.h"
+#include "io/text_file.h"
 #include "io/tum.h"
 #include "mission/drive_mission.h"
+#include "mission/run_job.h"
 #include "mission/sim_robot.h"
+#include "runfolder/keep.h"
 #include "scenes/generator.h"
 #include "scenes/random_floor.h"
 #include "scenes/scene_spec.h"
@@ -207,6 +211,65 @@ class Robot {
   std::unique_ptr<mission::SimRobot> robot_;
 };
 
+// The main job (`mopad run`, mission/run_job.h) into `out`, or, with `resume`, the run killed in
+// that folder; returns its summary.json. Ctrl-C (SIGINT), or an exception of `log`, stops it
+// before its next room as a signal stops `mopad run`: the rooms done are written (the
+// checkpoint says "stopped"; resume= finishes the run) and the exception is raised after.
+py::object Run(const std::string& out, const std::string& spec, const std::string& scene,
+               const std::string& config, std::optional<std::uint64_t> seed,
+               std::optional<double> step_deg, const std::vector<std::string>& rooms,
+               std::optional<std::array<double, 3>> start, const std::string& resume,
+               const std::string& keep, const py::object& log) {
+  const runfolder::KeepLevel keep_level = runfolder::ParseKeepLevel(keep, "keep");
+  const auto t_start = WallClock::now();
+  std::string dir = resume.empty() ? out : resume;
+  std::optional<mission::RunCheckpoint> ck;
+  if (!resume.empty()) {
+    ck = mission::RunCheckpoint::Open(resume);
+    if (ck->Complete()) ck.reset();
+  } else {
+    mission::RunRequest r;
+    r.out = out;
+    r.spec_path = spec;
+    r.scene_dir = scene;
+    r.config = config;
+    r.seed = seed;
+    r.step_deg = step_deg;
+    r.rooms = rooms;
+    if (start) r.start_W = Pose2{(*start)[0], (*start)[1], DegToRad((*start)[2])};
+    ck = mission::StartRun(r);
+  }
+  bool finished = true;
+  std::optional<py::error_already_set> interrupted;
+  if (ck) {
+    mission::RunHooks hooks;
+    if (!log.is_none()) {
+      // An exception of `log` (KeyboardInterrupt among them) stops the run as Ctrl-C does.
+      hooks.progress = hooks.print = [&log, &interrupted](const std::string& line) {
+        py::gil_scoped_acquire gil;
+        if (interrupted) return;
+        try {
+          log(line);
+        } catch (py::error_already_set& e) {
+          interrupted.emplace(std::move(e));
+        }
+      };
+    }
+    hooks.stop_requested = [&interrupted] {
+      py::gil_scoped_acquire gil;
+      if (!interrupted && PyErr_CheckSignals() != 0) interrupted.emplace();  // takes the error
+      return interrupted.has_value();
+    };
+    py::gil_scoped_release release;
+    finished = mission::RunFromCheckpoint(*ck, dir, hooks, t_start);
+  }
+  runfolder::PruneRunFolder(dir, keep_level);
+  if (interrupted) throw std::move(*interrupted);
+  if (!finished) throw std::runtime_error("the run stopped before all its rooms");
+  const std::string summary = io::ReadTextFile(dir + "/summary.json");
+  return py::module_::import("json").attr("loads")(summary);
+}
+
 py::object Evaluate(const std::string& run_dir, const std::string& truth, const std::string& out) {
   const evaluation::RunEvaluation e = evaluation::EvaluateRun(run_dir, truth, "", out);
   return py::module_::import("json").attr("loads")(e.summary.dump());
@@ -216,7 +279,7 @@ py::object Evaluate(const std::string& run_dir, const std::string& truth, const 
 
 PYBIND11_MODULE(_mopad, m) {
   m.doc() = "OpenMoPAD's world, sensors, simulated robot and evaluator (docs/python.md)";
-  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
 
   m.def(
       "generate_scene",
@@ -264,6 +327,16 @@ PYBIND11_MODULE(_mopad, m) {
       .def("true_pose", &Robot::TruePoseInWorld, "World side: (x, y, yaw rad) in the world.")
       .def("true_trajectory_tum", &Robot::TrueTrajectoryTum,
            "World side: the true trajectory in the map frame as TUM text.");
+
+  m.def("run", &Run, py::kw_only(), py::arg("out") = "out/run", py::arg("spec") = "",
+        py::arg("scene") = "", py::arg("config") = "", py::arg("seed") = py::none(),
+        py::arg("step_deg") = py::none(), py::arg("rooms") = std::vector<std::string>{},
+        py::arg("start") = py::none(), py::arg("resume") = "", py::arg("keep") = "all",
+        py::arg("log") = py::none(),
+        "`mopad run`: the main job on the default scene (or spec=YAML, or scene=FOLDER) into "
+        "out, or resume=DIR to finish a killed run; start=(x, y, yaw_deg), rooms=[...] for the "
+        "per-room mode, keep='summary'|'models'|'all', log=callable(str) for its lines. "
+        "Returns summary.json; the run folder holds the same bytes as `mopad run`'s.");
 
   m.def("evaluate", &Evaluate, py::arg("run_dir"), py::arg("truth") = "", py::arg("out") = "",
         "`mopad eval RUN_DIR`: writes the evaluator's files and returns its summary.");

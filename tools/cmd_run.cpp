@@ -8,55 +8,19 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <optional>
 
-#include "common/error.h"
 #include "common/format.h"
-#include "common/params.h"
 #include "common/wall_clock.h"
-#include "io/text_file.h"
-#include "mission/main_job.h"
 #include "mission/run_checkpoint.h"
-#include "report/report.h"
+#include "mission/run_job.h"
 #include "runfolder/keep.h"
-#include "scenes/generator.h"
-#include "scenes/scene_spec.h"
-#include "sim/scene_world.h"
 #include "tools/commands.h"
-#include "tools/default_scene.h"
-#include "tools/scene_summary.h"
 
 namespace mopad::tools {
 namespace {
 
 namespace fs = std::filesystem;
-nlohmann::ordered_json SceneJson(const std::string& source, const std::string& name,
-                                 const SceneSummary& s) {
-  return {{"spec", source},
-          {"name", name},
-          {"rooms", s.rooms},
-          {"walls", s.walls},
-          {"doors", s.doors},
-          {"windows", s.windows},
-          {"service_components", s.bsc_total},
-          {"triangles", s.triangles}};
-}
-
-report::ReportTable SceneTable(const SceneSummary& s) {
-  return {"Scene",
-          {"item", "count"},
-          {{"rooms", std::to_string(s.rooms)},
-           {"walls", std::to_string(s.walls)},
-           {"doors (open / semi-open / closed)",
-            std::to_string(s.doors) + " (" + std::to_string(s.doors_open) + " / " +
-                std::to_string(s.doors_semi_open) + " / " + std::to_string(s.doors_closed) + ")"},
-           {"windows", std::to_string(s.windows)},
-           {"service components", std::to_string(s.bsc_total)},
-           {"furniture", std::to_string(s.furniture)},
-           {"triangles", std::to_string(s.triangles)}},
-          ""};
-}
 
 // SIGINT / SIGTERM: the job stops before its next room and still writes its evaluation,
 // exports and report; the checkpoint says "stopped" and the process exits with 128 + the
@@ -156,23 +120,16 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
     return ck;
   }
   dir = a.out;
-  mission::RunInputs in;
-  if (!a.config.empty()) in.params = LoadParamsFile<mission::FloorMissionParams>(a.config);
-  OverrideIfGiven(a.step_opt, a.step, in.params.room.scan.scan_step_deg);
-  OverrideIfGiven(a.seed_opt, a.seed, in.params.room.drive.seed);
-  ValidateParams(in.params, "room.");
-  in.rooms = a.rooms;
-  if (!a.start.empty()) in.start_W = ParsePoseArg("--start", a.start);
-  if (a.scene_dir.empty()) {
-    in.spec_name = a.spec_path.empty() ? kDefaultSceneSpecName : a.spec_path;
-    in.spec_text = a.spec_path.empty() ? kDefaultSceneSpec : io::ReadTextFile(a.spec_path);
-    in.scene_source = in.spec_name;
-  } else {
-    in.scene_folder = fs::absolute(a.scene_dir).string();
-    in.scene_source = a.scene_dir;
-  }
-  fs::create_directories(dir);
-  return mission::RunCheckpoint::Create(dir.string(), in);
+  mission::RunRequest r;
+  r.out = a.out;
+  r.spec_path = a.spec_path;
+  r.scene_dir = a.scene_dir;
+  r.config = a.config;
+  if (a.seed_opt->count() > 0) r.seed = a.seed;
+  if (a.step_opt->count() > 0) r.step_deg = a.step;
+  r.rooms = a.rooms;
+  if (!a.start.empty()) r.start_W = ParsePoseArg("--start", a.start);
+  return mission::StartRun(r);
 }
 
 // The main job on the checkpoint's inputs, into `dir`. False when a signal stopped it before
@@ -182,46 +139,15 @@ bool RunJob(mission::RunCheckpoint& ck, const fs::path& dir, bool quiet,
   // From here on a signal is an orderly stop (the checkpoint exists; the scene may still load).
   std::signal(SIGINT, OnStopSignal);
   std::signal(SIGTERM, OnStopSignal);
-  const mission::RunInputs& in = ck.Inputs();
-  // The world (truth side): a generated scene is written out so that `mopad eval` can
-  // re-read it; a given scene folder is used where it is.
-  mission::MainJobOptions o;
-  o.dir = dir.string();
-  o.rooms = in.rooms;
-  o.start_W = in.start_W;
-  if (in.scene_folder.empty()) {
-    const scenes::SceneSpec spec = scenes::ParseSceneSpec(in.spec_text, in.spec_name);
-    scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
-    o.scene_name = spec.name;
-    o.scene_source = in.scene_source;
-  }
-  const std::string scene_folder =
-      in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;
-  ck.SetScene(scene_folder);
-  const sim::SceneWorld mw = sim::LoadSceneWorld(scene_folder);
-  if (!mw.truth)
-    throw InputError(scene_folder + ": error: the scene has no truth sidecar (scene.truth.json)");
-  if (o.scene_name.empty()) o.scene_name = mw.truth->scene_name, o.scene_source = in.scene_source;
-  const SceneSummary summary =
-      Summarise(mw.world->scene(), &*mw.truth, scene_folder + "/scene.glb");
-  o.t_generate = SecondsSince(t_start);
-  o.scene_json = SceneJson(o.scene_source, o.scene_name, summary);
-  o.scene_table = SceneTable(summary);
-  std::printf(
-      "scene: %s, %zu rooms, %zu walls, %zu doors, %zu windows, %zu service "
-      "components, %zu triangles (%.2f s)\n",
-      o.scene_name.c_str(), summary.rooms, summary.walls, summary.doors, summary.windows,
-      summary.bsc_total, summary.triangles, o.t_generate);
-  std::fflush(stdout);
   const bool tty = isatty(fileno(stdout)) != 0 && !quiet;
-  o.progress = ProgressPrinter(quiet, t_start);
-  o.print = [tty](const std::string& line) {
+  mission::RunHooks hooks;
+  hooks.progress = ProgressPrinter(quiet, t_start);
+  hooks.print = [tty](const std::string& line) {
     std::printf(tty ? "\r\033[K%s\n" : "%s\n", line.c_str());
     std::fflush(stdout);
   };
-  o.stop_requested = [] { return g_stop.load(); };
-  o.checkpoint = &ck;
-  const bool finished = mission::RunMainJob(mw, in.params, o);
+  hooks.stop_requested = [] { return g_stop.load(); };
+  const bool finished = mission::RunFromCheckpoint(ck, dir.string(), hooks, t_start);
   std::printf("%s in %.1f s; wrote %s/{summary.json,report.html,report.md,rooms/*/,eval/}\n",
               finished ? "done" : "stopped", SecondsSince(t_start), dir.string().c_str());
   return finished;

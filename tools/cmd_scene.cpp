@@ -23,7 +23,7 @@
 #include "scenes/scene_paths.h"
 #include "scenes/scene_spec.h"
 #include "tools/commands.h"
-#include "tools/scene_summary.h"
+#include "scenes/scene_summary.h"
 
 namespace mopad::tools {
 namespace {
@@ -34,12 +34,12 @@ std::string FormatMetres(double v) {
   return buf;
 }
 
-void PrintSummary(const SceneSummary& s) { std::printf("%s\n", FormatSceneSummary(s).c_str()); }
+void PrintSummary(const scenes::SceneSummary& s) { std::printf("%s\n", scenes::FormatSceneSummary(s).c_str()); }
 
 void GenerateAndWrite(const scenes::SceneSpec& spec, const std::string& out_dir) {
   const scenes::GeneratedScene g = scenes::Generate(spec);
   scenes::WriteGeneratedScene(g, out_dir);
-  PrintSummary(Summarise(g.scene, &g.truth, out_dir + "/scene.glb"));
+  PrintSummary(scenes::Summarise(g.scene, &g.truth, out_dir + "/scene.glb"));
   std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out_dir.c_str(), out_dir.c_str());
 }
 
@@ -103,9 +103,9 @@ void AddInfoCommand(CLI::App* scene) {
     const scenes::Scene sc = scenes::LoadScene(p.geometry);
     std::optional<scenes::GroundTruth> truth;
     if (p.truth) truth = scenes::ReadGroundTruth(*p.truth);
-    const SceneSummary s = Summarise(sc, truth ? &*truth : nullptr, p.geometry);
+    const scenes::SceneSummary s = scenes::Summarise(sc, truth ? &*truth : nullptr, p.geometry);
     if (*json) {
-      std::printf("%s\n", SceneSummaryJson(s).c_str());
+      std::printf("%s\n", scenes::SceneSummaryJson(s).c_str());
       return;
     }
     PrintSummary(s);
@@ -181,7 +181,7 @@ void AddImportCommand(CLI::App* scene) {
     scenes::WriteBimImport(imported, *out);
     for (const auto& line : imported.report) std::printf("%s\n", line.c_str());
     for (const auto& line : imported.repairs) std::printf("%s\n", line.c_str());
-    PrintSummary(Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
+    PrintSummary(scenes::Summarise(imported.scene, &imported.truth, *out + "/scene.glb"));
     std::printf("wrote %s/scene.glb and %s/scene.truth.json\n", out->c_str(), out->c_str());
   });
 }

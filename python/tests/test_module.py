@@ -3,6 +3,8 @@ MOPAD_SOURCE_DIR and MOPAD_WORK set):
 - a TLS scan of office_5rooms as arrays equals `mopad scan`'s PLY and truth PLY;
 - a 60 s closed-loop drive decided in Python from the robot's own LRF writes its commands and
   the true trajectory (the C++ test replays the commands and compares the bytes);
+- the main job run from Python writes the run folder `mopad run` writes (the C++ test compares
+  the files);
 - the evaluator's summary on a run folder equals `mopad eval`'s."""
 import json
 import os
@@ -71,10 +73,45 @@ def test_a_closed_loop_drive_in_python_records_its_commands_and_trajectory(offic
     assert abs(odo["x"]) + abs(odo["y"]) > 1.0  # it went somewhere
 
 
+def test_the_main_job_in_python_writes_the_run_folder_of_mopad_run():
+    spec = os.path.join(SRC, "scenes", "one_room.yaml")
+    run = os.path.join(WORK, "run")  # eval/ names its run folder: both runs write here
+    subprocess.run([BIN, "run", "-q", "--spec", spec, "--step-deg", "0.5", "-o", run],
+                   check=True, capture_output=True)
+    os.rename(run, os.path.join(WORK, "run_cli"))  # the C++ test compares the two folders
+    lines = []
+    summary = mopad.run(out=run, spec=spec, step_deg=0.5, log=lines.append)
+    with open(os.path.join(run, "summary.json")) as f:
+        assert summary == json.load(f)
+    assert lines[0].startswith("scene: one_room, 1 rooms")
+    assert summary["rooms"][0]["status"] == "scanned"
+    assert mopad.run(resume=run) == summary  # a complete run: nothing to do
+    with pytest.raises(mopad.InputError):
+        mopad.run(out=os.path.join(WORK, "bad"), spec=spec, step_deg=50.0)
+
+
+def test_an_exception_in_log_stops_the_run_in_order_and_resume_finishes_it():
+    run = os.path.join(WORK, "stopped")
+    spec = os.path.join(SRC, "scenes", "two_rooms_door.yaml")
+
+    def interrupt(line):
+        if line.startswith("room_1: scan 1,"):
+            raise KeyboardInterrupt  # as Ctrl-C would: the run stops before its next room
+
+    with pytest.raises(KeyboardInterrupt):
+        mopad.run(out=run, spec=spec, step_deg=0.5, log=interrupt)
+    with open(os.path.join(run, "checkpoint", "manifest.json")) as f:
+        assert json.load(f)["state"] == "stopped"
+    with open(os.path.join(run, "summary.json")) as f:
+        assert len(json.load(f)["rooms"]) == 1
+    summary = mopad.run(resume=run)  # replays room 1 (checked against its fingerprint), then 2
+    assert len(summary["rooms"]) == 2
+    with open(os.path.join(run, "checkpoint", "manifest.json")) as f:
+        assert json.load(f)["state"] == "complete"
+
+
 def test_the_evaluator_gives_mopad_evals_summary():
     run = os.path.join(WORK, "run")
-    subprocess.run([BIN, "run", "-q", "--spec", os.path.join(SRC, "scenes", "one_room.yaml"),
-                    "--step-deg", "0.5", "-o", run], check=True, capture_output=True)
     subprocess.run([BIN, "eval", run, "-o", os.path.join(WORK, "eval_cli")], check=True,
                    capture_output=True)
     summary = mopad.evaluate(run, out=os.path.join(WORK, "eval_py"))

@@ -1,8 +1,10 @@
 // The Python module (python/mopad_module.cpp, docs/python.md) against the CLI and the C++
 // libraries: python/tests/test_module.py runs under Debian's python3 with numpy and pytest (a
 // scan as arrays equals `mopad scan`'s PLY, the evaluator's summary equals `mopad eval`'s, a
-// 60 s closed-loop drive decided in Python writes its commands); here the same commands drive
-// the same robot through C++ and the true trajectory must be the same bytes. Skipped when the
+// 60 s closed-loop drive decided in Python writes its commands, the main job runs from Python
+// and stops in order on KeyboardInterrupt); here the same commands drive the same robot through
+// C++ and the true trajectory must be the same bytes, and the run folder mopad.run() wrote must
+// hold the files of `mopad run`'s, byte for byte (timings aside). Skipped when the
 // module was not built (no pybind11) or python3 lacks numpy or pytest.
 #include <gtest/gtest.h>
 
@@ -16,6 +18,7 @@
 #include "scenes/start_spot.h"
 #include "sim/scene_world.h"
 #include "tests/run_command.h"
+#include "tests/tools/mopad_cli.h"
 
 namespace {
 
@@ -44,7 +47,17 @@ TEST(Python, TheModuleMatchesTheCliAndADriveInPythonIsTheSameDriveInCpp) {
                             " /usr/bin/python3 -m pytest -q -p no:cacheprovider "
                             "python/tests/test_module.py 2>&1");
   ASSERT_EQ(t.code, 0) << t.out;
-  EXPECT_NE(t.out.find("3 passed"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("5 passed"), std::string::npos) << t.out;
+
+  // The main job: mopad.run() and `mopad run` on one spec (both wrote to work/run).
+  const auto cli = mopad::test_support::RunFiles((work / "run_cli").string());
+  const auto py = mopad::test_support::RunFiles((work / "run").string());
+  ASSERT_GT(cli.size(), 20u);
+  EXPECT_EQ(cli.size(), py.size());
+  for (const auto& [name, bytes] : cli) {
+    ASSERT_TRUE(py.count(name)) << name << " missing from the run folder of mopad.run()";
+    EXPECT_TRUE(py.at(name) == bytes) << name << " differs between mopad.run() and `mopad run`";
+  }
 
   // The commands the Python brain sent, through the C++ robot.
   const mopad::sim::SceneWorld w = mopad::sim::LoadSceneWorld((work / "office").string());
@@ -61,9 +74,9 @@ TEST(Python, TheModuleMatchesTheCliAndADriveInPythonIsTheSameDriveInCpp) {
   std::string tum;
   for (const auto& s : robot.TrueTrajectory())
     tum += mopad::io::TumLinePlanar(s.t, s.pose.x, s.pose.y, s.pose.yaw);
-  const std::string py = Bytes(work / "python_trajectory.tum");
-  EXPECT_GT(py.size(), 1000u);
-  EXPECT_TRUE(tum == py) << "C++ and Python trajectories differ";
+  const std::string py_tum = Bytes(work / "python_trajectory.tum");
+  EXPECT_GT(py_tum.size(), 1000u);
+  EXPECT_TRUE(tum == py_tum) << "C++ and Python trajectories differ";
   fs::remove_all(work);
 }
 

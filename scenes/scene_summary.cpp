@@ -1,11 +1,11 @@
-#include "tools/scene_summary.h"
+#include "scenes/scene_summary.h"
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
-namespace mopad::tools {
+namespace mopad::scenes {
 
 SceneSummary Summarise(const scenes::Scene& scene, const scenes::GroundTruth* truth,
                        const std::string& path) {
@@ -150,4 +150,4 @@ std::string SceneSummaryJson(const SceneSummary& s) {
   return j.dump(2);
 }
 
-}  // namespace mopad::tools
+}  // namespace mopad::scenes

@@ -1,6 +1,7 @@
 #pragma once
-// What `mopad scene info` reports: geometry counts per class and, when a truth sidecar is
-// present, rooms, walls, openings (doors by state) and service components per class.
+// What `mopad scene info` reports (and `mopad run` of its scene): geometry counts per class and,
+// when a truth sidecar is present, rooms, walls, openings (doors by state) and service components
+// per class.
 
 #include <Eigen/Geometry>
 #include <map>
@@ -10,7 +11,7 @@
 #include "scenes/ground_truth.h"
 #include "scenes/scene.h"
 
-namespace mopad::tools {
+namespace mopad::scenes {
 
 struct ClassCount {
   std::size_t elements = 0;  ///< distinct element ids (parts without id count one each)
@@ -35,4 +36,4 @@ SceneSummary Summarise(const scenes::Scene& scene, const scenes::GroundTruth* tr
 std::string FormatSceneSummary(const SceneSummary& s);
 std::string SceneSummaryJson(const SceneSummary& s);
 
-}  // namespace mopad::tools
+}  // namespace mopad::scenes
