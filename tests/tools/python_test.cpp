@@ -35,7 +35,9 @@ TEST(Python, TheModuleMatchesTheCliAndADriveInPythonIsTheSameDriveInCpp) {
   bool built = false;
   for (const auto& e : fs::directory_iterator(module_dir))
     built = built || e.path().filename().string().rfind("_mopad", 0) == 0;
-  if (!built) GTEST_SKIP() << "mopad._mopad not built (Debian pybind11-dev absent)";
+  if (!built)
+    GTEST_SKIP() << "mopad._mopad not built (no Debian pybind11-dev, -DMOPAD_PYTHON=OFF or a "
+                    "sanitizer build)";
   if (RunCommand("/usr/bin/python3 -c 'import numpy, pytest' 2>&1").code != 0)
     GTEST_SKIP() << "Debian python3 with numpy and pytest absent (scripts/install-deps.sh --test)";
   const fs::path work = fs::temp_directory_path() / ("mopad_python_" + std::to_string(getpid()));
