@@ -31,7 +31,7 @@ json ParseJsonFile(const std::string& path) {
   const std::string text = ReadWholeFile(path);
   try {
     return json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number beyond double (406)
     throw InputError(path, std::string("malformed JSON: ") + e.what());
   }
 }

@@ -67,7 +67,7 @@ RunRecord ReadRunJson(const std::string& path) {
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number beyond double (406)
     throw InputError(path, std::string("malformed JSON: ") + e.what());
   }
   r.Header(j, kFormat, kVersion);

@@ -511,6 +511,8 @@ GroundTruth ReadGroundTruth(const std::string& path) {
     int line = 1;
     for (std::size_t i = 0; i + 1 < byte; ++i) line += text[i] == '\n';
     throw InputError(path + ":" + std::to_string(line), "malformed JSON", e.what());
+  } catch (const Json::exception& e) {  // a number beyond double (out_of_range 406)
+    throw InputError(path, "malformed JSON", e.what());
   }
   Reader reader(path);
   return FromJson(j, reader);

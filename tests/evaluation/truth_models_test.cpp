@@ -542,6 +542,9 @@ TEST(ModelFiles, Sm3IsReadAndMalformedOnesRejected) {
             std::string::npos);
   WriteText(p, Replace(kSm3Json, R"("format": "mopad-sm3")", R"("format": "mopad-sm2")"));
   EXPECT_NE(InputErrorOf([&] { ReadSm3(p); }).find("wrong file format"), std::string::npos);
+  WriteText(p, Replace(kSm3Json, "\"support\": 1000", "\"support\": 1e999999"));
+  e = InputErrorOf([&] { ReadSm3(p); });  // a number beyond a double: out_of_range 406
+  EXPECT_NE(e.find("malformed JSON"), std::string::npos) << e;
   WriteText(p, Replace(kSm3Json, "[[0, 1]]", "[[0, 7]]"));
   EXPECT_NE(InputErrorOf([&] { ReadSm3(p); }).find("adjacency[0]: patch index out of range"),
             std::string::npos);

@@ -60,6 +60,8 @@ TEST(RunRecord, RunJsonIsReadAndMalformedOnesRejected) {
   EXPECT_NE(InputErrorOf([&] { ReadRunJson(path); }).find("rigid"), std::string::npos);
   WriteText(path, "{\"format\": ");
   EXPECT_NE(InputErrorOf([&] { ReadRunJson(path); }).find("malformed JSON"), std::string::npos);
+  WriteText(path, "{\"format\": 1e999999}");  // out_of_range 406, not a parse_error
+  EXPECT_NE(InputErrorOf([&] { ReadRunJson(path); }).find("malformed JSON"), std::string::npos);
   EXPECT_NE(InputErrorOf([&] { ReadRunJson((d / "nothing.json").string()); }).find("cannot read"),
             std::string::npos);
   fs::remove_all(d);
