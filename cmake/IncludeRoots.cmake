@@ -26,6 +26,14 @@ function(mopad_include_root target folder)
                              $<INSTALL_INTERFACE:include/mopad/${folder}>)
   get_target_property(type ${target} TYPE)
   if(type MATCHES "LIBRARY")
+    # A sanitized build's installed libraries: their users compile and link with the same
+    # sanitizers (the runtimes; and Eigen's allocation ABI differs under __SANITIZE_ADDRESS__, so
+    # a matrix freed by unsanitized code is a bad free). cmake/Sanitizers.cmake gives the build
+    # tree its flags globally.
+    if(mopad_sanitize_flags)
+      target_compile_options(${target} INTERFACE "$<INSTALL_INTERFACE:${mopad_sanitize_flags}>")
+      target_link_options(${target} INTERFACE "$<INSTALL_INTERFACE:${mopad_sanitize_flags}>")
+    endif()
     set_property(GLOBAL APPEND PROPERTY MOPAD_LIBRARIES ${target})
     set_property(TARGET ${target} PROPERTY MOPAD_FOLDER ${folder})
   endif()
