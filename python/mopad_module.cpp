@@ -48,6 +48,9 @@ World LoadWorld(const std::string& scene, const std::vector<std::string>& doors)
   return {std::make_shared<sim::SceneWorld>(sim::LoadSceneWorld(scene, doors))};
 }
 
+// A start argument (x m, y m, yaw deg) in the world.
+Pose2 PoseOf(const std::array<double, 3>& p) { return Pose2{p[0], p[1], DegToRad(p[2])}; }
+
 template <class T>
 py::array_t<T> Array(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
   py::array_t<T> a(shape);
@@ -154,7 +157,7 @@ class Robot {
     params_.seed = seed;
     Pose2 X_WB;
     if (start) {
-      X_WB = Pose2{(*start)[0], (*start)[1], DegToRad((*start)[2])};
+      X_WB = PoseOf(*start);
     } else {
       X_WB = scenes::ChooseStart(world_->world->scene(), *world_->truth,
                                  sim::FootprintOf(params_.body))
@@ -222,7 +225,7 @@ py::object Run(const std::string& out, const std::string& spec, const std::strin
                const std::string& keep, const py::object& log) {
   const runfolder::KeepLevel keep_level = runfolder::ParseKeepLevel(keep, "keep");
   const auto t_start = WallClock::now();
-  std::string dir = resume.empty() ? out : resume;
+  const std::string dir = resume.empty() ? out : resume;
   std::optional<mission::RunCheckpoint> ck;
   if (!resume.empty()) {
     ck = mission::RunCheckpoint::Open(resume);
@@ -236,10 +239,9 @@ py::object Run(const std::string& out, const std::string& spec, const std::strin
     r.seed = seed;
     r.step_deg = step_deg;
     r.rooms = rooms;
-    if (start) r.start_W = Pose2{(*start)[0], (*start)[1], DegToRad((*start)[2])};
+    if (start) r.start_W = PoseOf(*start);
     ck = mission::StartRun(r);
   }
-  bool finished = true;
   std::optional<py::error_already_set> interrupted;
   if (ck) {
     mission::RunHooks hooks;
@@ -261,11 +263,11 @@ py::object Run(const std::string& out, const std::string& spec, const std::strin
       return interrupted.has_value();
     };
     py::gil_scoped_release release;
-    finished = mission::RunFromCheckpoint(*ck, dir, hooks, t_start);
+    // False only when stop_requested said so, that is when `interrupted` holds the exception.
+    (void)mission::RunFromCheckpoint(*ck, dir, hooks, t_start);
   }
   runfolder::PruneRunFolder(dir, keep_level);
   if (interrupted) throw std::move(*interrupted);
-  if (!finished) throw std::runtime_error("the run stopped before all its rooms");
   const std::string summary = io::ReadTextFile(dir + "/summary.json");
   return py::module_::import("json").attr("loads")(summary);
 }
