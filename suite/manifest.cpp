@@ -71,9 +71,11 @@ Limits ParseLimits(const Ctx& c, const YAML::Node& n, Limits base) {
   return base;
 }
 
+// The stem of the last named element of `path` ("a/b.yaml" and "a/b/" give "b"); empty for
+// a root ("/"), whose parent is itself, so CheckName refuses it.
 std::string Stem(const std::string& path) {
   fs::path p(path);
-  while (!p.empty() && p.filename().empty()) p = p.parent_path();
+  while (p.has_relative_path() && p.filename().empty()) p = p.parent_path();
   return p.stem().string();
 }
 
@@ -148,6 +150,9 @@ void ParseScene(const Ctx& c, const YAML::Node& n, const Limits& suite_limits,
     return;
   }
   if (!given_name.empty()) e.name = given_name;
+  if (e.name.empty())
+    throw InputError(e.where, "the scene's path names no file or folder to call the scene after",
+                     "'" + e.path + "'", "a path below the root, or name:");
   out.push_back(e);
 }
 

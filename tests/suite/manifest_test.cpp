@@ -20,6 +20,22 @@ std::string ErrorOf(const std::string& text) {
   return "";
 }
 
+// A path that is the root (`/`, `/.`) names nothing to call the scene after; finding that out
+// must end (the parent of "/" is "/") in an input error.
+TEST(SuiteManifest, ASceneAtTheFilesystemRootWithoutANameIsRefused) {
+  for (const char* path : {"/", "/.", "//", "/./"}) {
+    SCOPED_TRACE(path);
+    const std::string e = ErrorOf(std::string("scenes:\n  - spec: ") + path + "\n");
+    EXPECT_NE(e.find("names no file or folder to call the scene after; got '/"),
+              std::string::npos)
+        << e;
+  }
+  EXPECT_EQ(ParseManifest("scenes:\n  - folder: floors/b/\n", "m.yaml").scenes.at(0).name, "b");
+  EXPECT_EQ(ParseManifest("scenes:\n  - spec: a.yaml\n", "dir/m.yaml").name, "m");
+  EXPECT_EQ(ParseManifest("scenes:\n  - folder: /\n    name: all\n", "m.yaml").scenes.at(0).name,
+            "all");
+}
+
 TEST(SuiteManifest, RandomFloorsOfAFamilyAreNamedByIt) {
   const Manifest m =
       ParseManifest("scenes:\n  - random: {seeds: 3, rooms: 4, family: hall}\n  - random: "
