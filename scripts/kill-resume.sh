@@ -15,8 +15,11 @@
 # uninterrupted run's wall time, in steps of 1 %. The same moments every time the script runs on
 # the same machine; what state each kill meets depends on the machine's speed.
 # The binary is copied to OUT_DIR first: a rebuild cannot change the binary a resume must match.
-# Exit code 0 when every kill ends with every JSON parsing, a finished resume and no differing
-# file; 1 otherwise; 2 when the binary is missing.
+# A kill before the run recorded itself (checkpoint `none`: no folder yet, or no manifest) has
+# nothing to resume: --resume must refuse it (exit 2, "nothing to resume") and the same command
+# run again must give the uninterrupted run's files ("refused; rerun exit 0").
+# Exit code 0 when every kill ends with every JSON parsing, a finished resume (or refusal and
+# rerun) and no differing file; 1 otherwise; 2 when the binary is missing.
 set -uo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -92,6 +95,18 @@ for k in $(seq 1 "$kills"); do
   "$mopad" run -q --resume "$run" > "$out/kill$k.resume.log" 2>&1
   rrc=$?
   resume="exit $rrc, $(elapsed "$t1" "$(now)") s"
+  if [ "$state" = none ]; then
+    # Killed before the run recorded itself (no checkpoint/manifest.json): there is nothing to
+    # resume, and --resume must refuse in one line with exit 2. What a user then does, the same
+    # command again, must start the run afresh whatever the kill left, and give the same files.
+    if [ $rrc -eq 2 ] && grep -q "error: nothing to resume" "$out/kill$k.resume.log"; then
+      "$mopad" "${args[@]}" -o "$run" >> "$out/kill$k.resume.log" 2>&1
+      rrc=$?
+      resume="refused; rerun exit $rrc, $(elapsed "$t1" "$(now)") s"
+    else
+      rrc=1
+    fi
+  fi
   read -r nref ncmp nloose nbad nmod nmodcmp <<< "$(python3 "$here/scripts/compare-runs.py" "$out/uninterrupted" "$run")"
   mv "$run.cmp" "$out/kill$k.cmp"
   read -r after _ <<< "$(jsons "$run" 2>> "$out/kill$k.unparsable")"
