@@ -72,7 +72,7 @@ Limits ParseLimits(const Ctx& c, const YAML::Node& n, Limits base) {
 }
 
 // The stem of the last named element of `path` ("a/b.yaml" and "a/b/" give "b"); empty for
-// a root ("/"), whose parent is itself, so CheckName refuses it.
+// a root ("/", "//"), which names nothing (and is its own parent).
 std::string Stem(const std::string& path) {
   fs::path p(path);
   while (p.has_relative_path() && p.filename().empty()) p = p.parent_path();
