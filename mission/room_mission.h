@@ -12,25 +12,29 @@
 #include "mission/drive_mission.h"
 #include "mission/faults.h"
 #include "mission/robot_session.h"
+#include "sim/realism.h"
 
 namespace mopad::mission {
 
 /// The room loop's params and the simulated robot's. YAML keys: the room loop's at the top
 /// level (autonomy::RoomScanParams), the robot's under `drive`, the world's injected faults
-/// under `faults` (mission/faults.h; all off by default).
+/// under `faults` (mission/faults.h; all off by default), how far the world departs from an ideal
+/// one under `realism` (sim/realism.h; ideal by default).
 struct RoomMissionParams {
   autonomy::RoomScanParams scan{};
   /// Inside one room every NBS candidate lies in mapped free space: no scan-and-go stops (they
   /// would be scans the room model never sees), and no registration by the navigator (the room
   /// loop registers against its own S(t-1)).
   DriveParams drive{.navigator = {.max_scans = 1, .register_scans = false}};
-  FaultParams faults{};  ///< world side: the robot never reads them
+  FaultParams faults{};          ///< world side: the robot never reads them
+  sim::RealismParams realism{};  ///< world side: the robot never reads it
 
   template <class V>
   void Visit(V& v) {
     scan.Visit(v);
     v("drive", drive);
     v("faults", faults);
+    v("realism", realism);
   }
 };
 

@@ -13,6 +13,7 @@
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "scenes/scene_summary.h"
+#include "sim/realism.h"
 #include "sim/scene_world.h"
 
 namespace mopad::mission {
@@ -56,6 +57,7 @@ RunCheckpoint StartRun(const RunRequest& r) {
   if (!r.config.empty()) in.params = LoadParamsFile<FloorMissionParams>(r.config);
   if (r.step_deg) in.params.room.scan.scan_step_deg = *r.step_deg;
   if (r.seed) in.params.room.drive.seed = *r.seed;
+  if (r.realism) in.params.room.realism = sim::RealismProfile(*r.realism);
   ValidateParams(in.params, "room.");
   in.rooms = r.rooms;
   in.start_W = r.start_W;
@@ -104,8 +106,8 @@ bool RunFromCheckpoint(RunCheckpoint& ck, const std::string& run_dir, const RunH
                 std::to_string(summary.walls) + " walls, " + std::to_string(summary.doors) +
                 " doors, " + std::to_string(summary.windows) + " windows, " +
                 std::to_string(summary.bsc_total) + " service components, " +
-                std::to_string(summary.triangles) + " triangles (" +
-                FormatFixed(o.t_generate, 2) + " s)");
+                std::to_string(summary.triangles) + " triangles (" + FormatFixed(o.t_generate, 2) +
+                " s)");
   o.progress = hooks.progress;
   o.print = hooks.print;
   o.stop_requested = hooks.stop_requested;

@@ -25,10 +25,11 @@ struct RunRequest {
   std::string spec_path;
   std::string scene_dir;  ///< a scene folder with its truth (excludes `spec_path`)
   std::string config;     ///< YAML overriding FloorMissionParams fields; empty: the defaults
-  std::optional<std::uint64_t> seed;  ///< overrides room.drive.seed (run seed)
-  std::optional<double> step_deg;     ///< overrides room.scan.scan_step_deg (deg, 0.02-5)
-  std::vector<std::string> rooms;     ///< per-room mode in these rooms; empty: the floor mission
-  std::optional<Pose2> start_W;       ///< floor mission start (world); default: a free spot
+  std::optional<std::uint64_t> seed;   ///< overrides room.drive.seed (run seed)
+  std::optional<double> step_deg;      ///< overrides room.scan.scan_step_deg (deg, 0.02-5)
+  std::optional<std::string> realism;  ///< replaces room.realism by this profile (sim/realism.h)
+  std::vector<std::string> rooms;      ///< per-room mode in these rooms; empty: the floor mission
+  std::optional<Pose2> start_W;        ///< floor mission start (world); default: a free spot
 };
 
 /// Reads and checks the request (InputError, before any work, for a bad config, spec, field

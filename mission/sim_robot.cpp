@@ -65,9 +65,11 @@ struct SimRobot::Impl {
   double tls_time = 0.0, tls_wall = 0.0;
 
   Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s,
-       const FaultParams& f, const std::optional<DoorFaultWorld>& d)
+       const FaultParams& f, const std::optional<DoorFaultWorld>& d,
+       const sim::RealismParams& realism)
       : world(w), params(p), seed(s), faults(f), door(d) {
     ValidateParams(params, "drive.");
+    ValidateParams(realism, "realism.");
     ValidateParams(faults, "faults.");
     faults.Validate();
     if (door && door->world != &world)
@@ -94,7 +96,8 @@ struct SimRobot::Impl {
                     X_WB_start.y);
       throw InputError(buf);
     }
-    sim::TlsParams tls_params = sim::TlsProfile(params.tls_profile);
+    sim::TlsParams tls_params =
+        sim::RealisticTls(sim::TlsProfile(params.tls_profile), realism.scanner, seed);
     tls_params.step_deg = params.navigator.tls_step_deg;
     tls.emplace(world, tls_params);
     for (const auto& lp : sim::PaperLrfRig(params.lrf_profile)) {
@@ -316,8 +319,8 @@ struct SimRobot::Impl {
 
 SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params,
                    const Pose2& X_WB_start, std::uint64_t seed, const FaultParams& faults,
-                   const std::optional<DoorFaultWorld>& door)
-    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed, faults, door)) {}
+                   const std::optional<DoorFaultWorld>& door, const sim::RealismParams& realism)
+    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed, faults, door, realism)) {}
 SimRobot::~SimRobot() = default;
 
 double SimRobot::Time() const { return impl_->t; }

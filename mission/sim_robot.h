@@ -23,6 +23,7 @@
 #include "interfaces/robot_platform.h"
 #include "mission/drive_mission.h"
 #include "mission/faults.h"
+#include "sim/realism.h"
 #include "sim/tls_truth.h"
 
 namespace mopad::mission {
@@ -33,10 +34,12 @@ class SimRobot final : public interfaces::RobotPlatform {
   /// pose in collision with the scene (door leaves as the world has them). `faults`: the
   /// world's faults (default: none); `door`: the world and door of the door fault
   /// (DoorFaultOf; its world must be `world`), which the robot then opens to the scene's angle
-  /// for its start and closes at the fault's time.
+  /// for its start and closes at the fault's time. `realism`: the world's departure from ideal
+  /// (sim/realism.h): the scanner is RealisticTls of the profile for `seed`.
   SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
            std::uint64_t seed, const FaultParams& faults = {},
-           const std::optional<DoorFaultWorld>& door = std::nullopt);
+           const std::optional<DoorFaultWorld>& door = std::nullopt,
+           const sim::RealismParams& realism = {});
   ~SimRobot() override;
   SimRobot(const SimRobot&) = delete;
   SimRobot& operator=(const SimRobot&) = delete;

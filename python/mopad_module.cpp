@@ -222,7 +222,8 @@ py::object Run(const std::string& out, const std::string& spec, const std::strin
                const std::string& config, std::optional<std::uint64_t> seed,
                std::optional<double> step_deg, const std::vector<std::string>& rooms,
                std::optional<std::array<double, 3>> start, const std::string& resume,
-               const std::string& keep, const py::object& log) {
+               const std::string& keep, const std::optional<std::string>& realism,
+               const py::object& log) {
   const runfolder::KeepLevel keep_level = runfolder::ParseKeepLevel(keep, "keep");
   const auto t_start = WallClock::now();
   const std::string dir = resume.empty() ? out : resume;
@@ -238,6 +239,7 @@ py::object Run(const std::string& out, const std::string& spec, const std::strin
     r.config = config;
     r.seed = seed;
     r.step_deg = step_deg;
+    r.realism = realism;
     r.rooms = rooms;
     if (start) r.start_W = PoseOf(*start);
     ck = mission::StartRun(r);
@@ -334,10 +336,11 @@ PYBIND11_MODULE(_mopad, m) {
         py::arg("scene") = "", py::arg("config") = "", py::arg("seed") = py::none(),
         py::arg("step_deg") = py::none(), py::arg("rooms") = std::vector<std::string>{},
         py::arg("start") = py::none(), py::arg("resume") = "", py::arg("keep") = "all",
-        py::arg("log") = py::none(),
+        py::arg("realism") = py::none(), py::arg("log") = py::none(),
         "`mopad run`: the main job on the default scene (or spec=YAML, or scene=FOLDER) into "
         "out, or resume=DIR to finish a killed run; start=(x, y, yaw_deg), rooms=[...] for the "
-        "per-room mode, keep='summary'|'models'|'all', log=callable(str) for its lines. "
+        "per-room mode, keep='summary'|'models'|'all', realism='ideal'|'typical'|'hard' (the "
+        "config's otherwise), log=callable(str) for its lines. "
         "Returns summary.json; the run folder holds the same bytes as `mopad run`'s.");
 
   m.def("evaluate", &Evaluate, py::arg("run_dir"), py::arg("truth") = "", py::arg("out") = "",

@@ -1,5 +1,7 @@
 #include "sim/sensor_jobs.h"
 
+#include "sim/realism.h"
+
 // The sensor simulator on the command line: `mopad scan`, `mopad lrf`, `mopad bench raycast`
 // (sim/sensor_jobs.h).
 #include <sys/resource.h>
@@ -136,7 +138,8 @@ void RunScan(const ScanOptions& o) {
     throw InputError(o.truth, "truth sidecar must be a .ply file", "", "e.g. scan.truth.ply");
   }
   const TlsParams params =
-      TlsParamsFromOptions(o.profile, o.profile_file, o.step_deg, o.footprint_rays);
+      RealisticTls(TlsParamsFromOptions(o.profile, o.profile_file, o.step_deg, o.footprint_rays),
+                   RealismProfile(o.realism).scanner, o.seed);
   ScanRequest req;
   req.seed = o.seed;
   req.scan_id = o.scan_id;

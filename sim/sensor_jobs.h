@@ -12,6 +12,7 @@ namespace mopad::sim {
 
 struct ScanOptions {
   std::string scene, pose, profile = "riegl_vz400", profile_file, output, ptx, truth;
+  std::string realism = "ideal";      ///< realism profile (sim/realism.h), drawn for `seed`
   std::optional<double> step_deg;     ///< deg; not given: the profile's
   std::optional<int> footprint_rays;  ///< sub-rays per pulse; not given: the profile's
   std::uint64_t seed = 1, scan_id = 0;

@@ -75,6 +75,26 @@ struct TlsParams {
   /// deg, per-pulse beam-direction jitter, 1 sigma, [0, 1]. Not in the data sheet (0.0005 deg
   /// is its angular *resolution*, which would move points < 0.1 mm at 10 m); off by default.
   double angle_noise_deg = 0.0;
+  /// deg, the instrument's residual axis errors after calibration (Lichti 2007, docs/realism.md):
+  /// the beam is not perpendicular to the trunnion axis (collimation c: horizontal angle error
+  /// c / cos(el)), the trunnion axis is not perpendicular to the vertical axis (i: i tan(el)),
+  /// the elevation encoder's zero is off (vertical index v: el + v). The true beam carries them;
+  /// points are reported along the encoder angles. [-1, 1] each; 0: an ideal instrument.
+  double collimation_error_deg = 0.0;
+  double trunnion_axis_error_deg = 0.0;
+  double vertical_index_error_deg = 0.0;
+  /// ppm, range-proportional error (distance-meter scale), [-1000, 1000]
+  double range_scale_ppm = 0.0;
+  /// m, extra range of a return at intensity 0, falling linearly to 0 at
+  /// `low_signal_intensity`: the range walk of weak echoes (dark surfaces, grazing incidence;
+  /// Zamecnikova et al. 2014). [-0.1, 0.1]
+  double low_signal_range_bias = 0.0;
+  double low_signal_intensity = 0.5;  ///< intensity at and above which there is none, (0, 1]
+  /// Colour camera, per scan: exposure error, 1 sigma in stops (log2 of a gain on all three
+  /// channels), and white balance, 1 sigma of the natural log of the red and blue gains (green
+  /// fixed). Applied in linear light to the reported colour. [0, 4] and [0, 1]; 0: off.
+  double exposure_sigma_stops = 0.0;
+  double white_balance_sigma = 0.0;
   std::vector<double> mount_xyz = {0.0, 0.0, 1.4};      ///< m, scanner centre in base_link (X_BS)
   std::vector<double> mount_rpy_deg = {0.0, 0.0, 0.0};  ///< deg, X_BS rotation (roll, pitch, yaw)
 
@@ -115,6 +135,14 @@ struct TlsParams {
     v("camera_offset", camera_offset, Bounds{-10, 10});
     v("tilt_sigma_deg", tilt_sigma_deg, Bounds{0, 10});
     v("angle_noise_deg", angle_noise_deg, Bounds{0, 1});
+    v("collimation_error_deg", collimation_error_deg, Bounds{-1, 1});
+    v("trunnion_axis_error_deg", trunnion_axis_error_deg, Bounds{-1, 1});
+    v("vertical_index_error_deg", vertical_index_error_deg, Bounds{-1, 1});
+    v("range_scale_ppm", range_scale_ppm, Bounds{-1000, 1000});
+    v("low_signal_range_bias", low_signal_range_bias, Bounds{-0.1, 0.1});
+    v("low_signal_intensity", low_signal_intensity, Bounds{1e-3, 1});
+    v("exposure_sigma_stops", exposure_sigma_stops, Bounds{0, 4});
+    v("white_balance_sigma", white_balance_sigma, Bounds{0, 1});
     v("mount_xyz", mount_xyz, Bounds{-100, 100});
     v("mount_rpy_deg", mount_rpy_deg, Bounds{-360, 360});
   }
@@ -122,7 +150,8 @@ struct TlsParams {
   /// Bounds plus cross-field rules; throws InputError naming the field.
   void Validate() const;
   /// The same parameters with every stochastic effect off (noise, bias, tilt, jitter,
-  /// dropouts, intensity and colour noise). Glass still transmits with its probability.
+  /// dropouts, intensity and colour noise, exposure and white balance). Glass still transmits
+  /// with its probability; the instrument's fixed errors (axes, scale, range walk) stay.
   TlsParams NoiseFree() const;
 };
 

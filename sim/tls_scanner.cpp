@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -51,6 +52,7 @@ TlsParams TlsParams::NoiseFree() const {
   p.range_precision = p.range_accuracy = p.range_offset = 0.0;
   p.intensity_noise = p.colour_noise = 0.0;
   p.tilt_sigma_deg = p.angle_noise_deg = 0.0;
+  p.exposure_sigma_stops = p.white_balance_sigma = 0.0;
   return p;
 }
 
@@ -124,6 +126,7 @@ std::uint64_t ScanKey(const ScanRequest& r) {
 struct ScanDraws {
   double bias = 0.0;
   double roll = 0.0, pitch = 0.0;
+  std::array<double, 3> colour_gain{1.0, 1.0, 1.0};  ///< exposure x white balance, linear RGB
 };
 
 ScanDraws DrawScan(const TlsParams& p, const ScanRequest& r) {
@@ -134,6 +137,12 @@ ScanDraws DrawScan(const TlsParams& p, const ScanRequest& r) {
   d.bias = p.range_offset + sys * rng.Normal();
   d.roll = DegToRad(p.tilt_sigma_deg) * rng.Normal();
   d.pitch = DegToRad(p.tilt_sigma_deg) * rng.Normal();
+  // Drawn whatever the sigmas, so that turning one on does not move the other draws; a zero
+  // sigma gives a gain of exactly 1.
+  const double exposure = std::exp2(p.exposure_sigma_stops * rng.Normal());
+  const double red = std::exp(p.white_balance_sigma * rng.Normal());
+  const double blue = std::exp(p.white_balance_sigma * rng.Normal());
+  d.colour_gain = {exposure * red, exposure, exposure * blue};
   return d;
 }
 
@@ -156,6 +165,16 @@ struct ScanContext {
   bool use_kernel = false;    // the vectorised single-ray path applies (sim/pulse_kernel.h)
   PulseKernelConstants kernel;
   int max_transmissions = 0;
+  // The instrument's axis errors (TlsParams::collimation_error_deg ...): per row, the true beam
+  // is true_a A + true_c C + true_b B in the column's basis (A horizontal at the encoder
+  // azimuth, C its left normal, B the scanner's z axis). Off: the encoder angles are the beam's.
+  bool axis_errors = false;
+  std::vector<float> true_a, true_b, true_c;
+  // Errors applied to each reported point after the model (ApplyInstrumentErrors): range scale
+  // and low-signal range walk, and the camera's per-scan gains as one table per channel.
+  bool range_errors = false, colour_gains = false;
+  float range_scale = 1.0f, low_signal_bias = 0.0f, low_signal_intensity = 1.0f;
+  std::array<std::array<std::uint8_t, 256>, 3> colour_table{};
   // Flat per-part tables for resolving hits 16 at a time (ResolveStaticLanes).
   std::vector<std::int32_t> part_simple, part_rho_offset;
   std::vector<float> part_base;
@@ -348,10 +367,22 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           valid[j] = j < n ? -1 : 0;
         }
         const float ax = A.x(), ay = A.y(), az = A.z(), bx = B.x(), by = B.y(), bz = B.z();
+        if (ctx.axis_errors) {
+          for (int j = 0; j < 16; ++j) {
+            const std::uint32_t r = r0 + static_cast<std::uint32_t>(j < n ? j : n - 1);
+            const Eigen::Vector3f d = ctx.true_a[r] * A + ctx.true_c[r] * C + ctx.true_b[r] * B;
+            rh.ray.dir_x[j] = d.x();
+            rh.ray.dir_y[j] = d.y();
+            rh.ray.dir_z[j] = d.z();
+          }
+        } else {
+          for (int j = 0; j < 16; ++j) {
+            rh.ray.dir_x[j] = cel_l[j] * ax + sel_l[j] * bx;
+            rh.ray.dir_y[j] = cel_l[j] * ay + sel_l[j] * by;
+            rh.ray.dir_z[j] = cel_l[j] * az + sel_l[j] * bz;
+          }
+        }
         for (int j = 0; j < 16; ++j) {
-          rh.ray.dir_x[j] = cel_l[j] * ax + sel_l[j] * bx;
-          rh.ray.dir_y[j] = cel_l[j] * ay + sel_l[j] * by;
-          rh.ray.dir_z[j] = cel_l[j] * az + sel_l[j] * bz;
           rh.ray.org_x[j] = ox;
           rh.ray.org_y[j] = oy;
           rh.ray.org_z[j] = oz;
@@ -364,7 +395,10 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
         for (int j = 0; j < 16; ++j) {
           const std::uint32_t r = r0 + static_cast<std::uint32_t>(std::min(j, n - 1));
           const float sel = ctx.sin_el[r], cel = ctx.cos_el[r];
-          d_true[j] = cel * A + sel * B;
+          d_true[j] =
+              ctx.axis_errors
+                  ? Eigen::Vector3f(ctx.true_a[r] * A + ctx.true_c[r] * C + ctx.true_b[r] * B)
+                  : Eigen::Vector3f(cel * A + sel * B);
           pulse[j] = static_cast<std::uint64_t>(c) * rows + r;
           valid[j] = j < n ? -1 : 0;
           if (need_basis) {
@@ -622,6 +656,76 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
   }
 }
 
+// The instrument's errors that act on a reported point, not on the beam: the range scale, the
+// low-signal range walk (from the return's own intensity, as the instrument's amplitude), the
+// camera's exposure and white balance. The point moves along its nominal direction.
+void ApplyInstrumentErrors(const ScanContext& ctx, ScanBlock& block) {
+  if (!ctx.range_errors && !ctx.colour_gains) return;
+  for (interfaces::TlsPoint& pt : block.points) {
+    if (!pt.valid()) continue;
+    if (ctx.range_errors) {
+      const float weak = std::max(0.0f, 1.0f - pt.intensity / ctx.low_signal_intensity);
+      const float range = std::max(1e-6f, pt.range * ctx.range_scale + ctx.low_signal_bias * weak);
+      const float k = range / pt.range;
+      pt.x *= k;
+      pt.y *= k;
+      pt.z *= k;
+      pt.range = range;
+    }
+    if (ctx.colour_gains) {
+      pt.r = ctx.colour_table[0][pt.r];
+      pt.g = ctx.colour_table[1][pt.g];
+      pt.b = ctx.colour_table[2][pt.b];
+    }
+  }
+}
+
+// The instrument's errors beyond the data sheet's noise (TlsParams::collimation_error_deg ...):
+// the true beams of the rows, the point errors and the colour tables of this scan.
+void SetInstrumentErrors(const TlsParams& p, const ScanDraws& draws, double el0, double vstep,
+                         ScanContext& ctx) {
+  const std::uint32_t rows = ctx.rows;
+  ctx.axis_errors = p.collimation_error_deg != 0.0 || p.trunnion_axis_error_deg != 0.0 ||
+                    p.vertical_index_error_deg != 0.0;
+  if (ctx.axis_errors) {
+    // Horizontal angle error c / cos(el) + i tan(el), elevation error v (the standard model of
+    // a panoramic scanner's axis errors, Lichti 2007; docs/realism.md); cos(el) kept off 0 at the
+    // pole, where the azimuth has no meaning.
+    const double c_err = DegToRad(p.collimation_error_deg),
+                 i_err = DegToRad(p.trunnion_axis_error_deg),
+                 v_err = DegToRad(p.vertical_index_error_deg);
+    ctx.true_a.resize(rows);
+    ctx.true_b.resize(rows);
+    ctx.true_c.resize(rows);
+    for (std::uint32_t r = 0; r < rows; ++r) {
+      const double e = el0 - r * vstep;
+      const double ce = std::max(std::cos(e), 1e-6);
+      const double d_az = c_err / ce + i_err * std::sin(e) / ce;
+      const double e_true = e + v_err;
+      ctx.true_a[r] = static_cast<float>(std::cos(e_true) * std::cos(d_az));
+      ctx.true_c[r] = static_cast<float>(std::cos(e_true) * std::sin(d_az));
+      ctx.true_b[r] = static_cast<float>(std::sin(e_true));
+    }
+  }
+  ctx.range_errors = p.range_scale_ppm != 0.0 || p.low_signal_range_bias != 0.0;
+  ctx.range_scale = static_cast<float>(1.0 + 1e-6 * p.range_scale_ppm);
+  ctx.low_signal_bias = static_cast<float>(p.low_signal_range_bias);
+  ctx.low_signal_intensity = static_cast<float>(p.low_signal_intensity);
+  ctx.colour_gains = draws.colour_gain != std::array<double, 3>{1.0, 1.0, 1.0};
+  if (ctx.colour_gains) {
+    // The gain acts on the sensor's linear signal; the table maps each reported 8-bit sRGB level.
+    const SrgbTables& srgb = SrgbTables::Get();
+    for (int ch = 0; ch < 3; ++ch) {
+      for (int v = 0; v < 256; ++v) {
+        const double lin = std::min(1.0, draws.colour_gain[static_cast<std::size_t>(ch)] *
+                                             srgb.Decode(static_cast<std::uint8_t>(v)));
+        ctx.colour_table[static_cast<std::size_t>(ch)][static_cast<std::size_t>(v)] =
+            static_cast<std::uint8_t>(std::lround(255.0 * SrgbTables::EncodeExact(lin)));
+      }
+    }
+  }
+}
+
 ScanContext MakeContext(const EmbreeWorld& world, const SurfaceTable& surfaces, const TlsParams& p,
                         std::uint32_t rows, std::uint32_t columns, const ScanRequest& req) {
   ScanContext ctx;
@@ -665,6 +769,7 @@ ScanContext MakeContext(const EmbreeWorld& world, const SurfaceTable& surfaces, 
   ctx.jitter_sigma = static_cast<float>(DegToRad(p.angle_noise_deg));
   ctx.max_transmissions = p.max_transmissions;
   ctx.beam.set_range_bias(draws.bias);
+  SetInstrumentErrors(p, draws, el0, vstep, ctx);
   // The pulse kernel implements the single-ray model for sigma = precision / cos(a)^k with
   // k in {0, 1}; other settings use the general path everywhere.
   ctx.use_kernel = p.footprint_rays == 1 &&
@@ -806,6 +911,7 @@ void TlsScanner::ScanStreamed(const ScanRequest& request, ScanSink& sink) const 
           tbb::make_filter<ScanBlock*, ScanBlock*>(tbb::filter_mode::parallel,
                                                    [&](ScanBlock* b) {
                                                      TraceBlock(ctx, *b);
+                                                     ApplyInstrumentErrors(ctx, *b);
                                                      sink.Process(*b);
                                                      return b;
                                                    }) &

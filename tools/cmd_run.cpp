@@ -49,7 +49,7 @@ std::function<void(const std::string&)> ProgressPrinter(bool quiet, WallClock::t
 
 // What `mopad run` was given on the command line.
 struct RunArgs {
-  std::string out = "out/run", spec_path, scene_dir, config, start, resume, keep = "all";
+  std::string out = "out/run", spec_path, scene_dir, config, start, resume, keep = "all", realism;
   std::uint64_t seed = 1;
   double step = 0.2;
   std::vector<std::string> rooms;
@@ -75,6 +75,10 @@ void AddRunOptions(CLI::App* cmd, RunArgs& a) {
                    ->check(CLI::Range(0.02, 5.0));
   auto* config_opt =
       cmd->add_option("--config", a.config, "YAML overriding FloorMissionParams fields");
+  auto* realism_opt = cmd->add_option(
+      "--realism", a.realism,
+      "Realism profile of the world: ideal, typical, hard (docs/realism.md; default: the "
+      "config's realism, else ideal)");
   auto* rooms_opt = cmd->add_option(
       "--room", a.rooms,
       "Per-room mode: a fresh robot placed in each of these rooms (default: the floor mission)");
@@ -86,9 +90,9 @@ void AddRunOptions(CLI::App* cmd, RunArgs& a) {
                   "Finish the run in DIR after its process was killed: the job runs again from "
                   "DIR/checkpoint/ (its scene, config, seed, start) and writes the files an "
                   "uninterrupted run writes (docs/floor-mission.md, Resume); no other run option "
-                 "but --keep")
+                  "but --keep")
       ->excludes(out_opt, spec_opt, scene_opt, a.seed_opt, a.step_opt, config_opt, rooms_opt,
-                 start_opt);
+                 start_opt, realism_opt);
   cmd->add_option("--keep", a.keep,
                   "What the finished run folder keeps: summary (JSON, YAML, reports), models (+ "
                   "glTF, IFC, images, trajectories) or all (+ the point clouds; docs/suites.md)")
@@ -127,6 +131,7 @@ std::optional<mission::RunCheckpoint> CheckpointOf(const RunArgs& a, fs::path& d
   r.config = a.config;
   if (a.seed_opt->count() > 0) r.seed = a.seed;
   if (a.step_opt->count() > 0) r.step_deg = a.step;
+  if (!a.realism.empty()) r.realism = a.realism;
   r.rooms = a.rooms;
   if (!a.start.empty()) r.start_W = ParsePoseArg("--start", a.start);
   return mission::StartRun(r);

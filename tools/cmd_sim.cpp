@@ -32,6 +32,10 @@ void RegisterSimCommands(CLI::App& app) {
                                     "sub-rays per pulse (1, or >= 3 for mixed pixels; default: "
                                     "the profile's)");
   scan->add_option("--seed", so->seed, "run seed");
+  scan->add_option("--realism", so->realism,
+                   "realism profile: ideal, typical, hard (docs/realism.md); the seed draws the "
+                   "instrument's errors")
+      ->default_val("ideal");
   scan->add_option("--scan-id", so->scan_id, "scan number (keys the noise)");
   scan->add_option("--threads", so->threads,
                    "worker threads (0 = all); results do not depend on it");

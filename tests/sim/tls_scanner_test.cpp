@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "io/scan_io.h"
+#include "sim/realism.h"
 #include "sim/scan_writer.h"
 #include "sim/threads.h"
 #include "tests/sim/test_scenes.h"
@@ -522,8 +523,11 @@ TEST(TlsScanner, OutputIsByteIdenticalWithOneAndTwoThreads) {
   p.step_deg = 0.3;
   p.footprint_rays = 7;
   p.camera_offset = {0.0, 0.05, 0.1};
+  // And the instrument's errors of the hard realism profile (axes, range walk, colour gains).
+  TlsParams realistic = RealisticTls(TlsParams{}, RealismProfile("hard").scanner, 1234);
+  realistic.step_deg = 0.2;
   ScanRequest req = At(3, 3, 0, 1234, 5);
-  for (const TlsParams& params : {single, p}) {
+  for (const TlsParams& params : {single, p, realistic}) {
     TlsScanner scanner(world, params);
     auto run = [&](int threads, const std::string& tag) {
       const ScanOutputPaths paths{TempPath(tag + ".ply"), TempPath(tag + ".ptx"),

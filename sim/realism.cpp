@@ -1,0 +1,60 @@
+#include "sim/realism.h"
+
+#include "common/error.h"
+#include "common/rng.h"
+
+namespace mopad::sim {
+
+RealismParams RealismProfile(const std::string& name) {
+  RealismParams p;
+  p.profile = name;
+  if (name == "ideal") return p;
+  ScannerRealism& s = p.scanner;
+  if (name == "typical") {
+    // A calibrated instrument in an office: docs/realism.md, "Scanner".
+    s.axis_error_sigma_deg = 0.005;
+    s.range_scale_sigma_ppm = 20.0;
+    s.low_signal_range_bias = 0.002;
+    s.exposure_sigma_stops = 0.3;
+    s.white_balance_sigma = 0.05;
+    return p;
+  }
+  if (name == "hard") {
+    // An instrument due for calibration, mixed daylight and lamps.
+    s.axis_error_sigma_deg = 0.02;
+    s.range_scale_sigma_ppm = 100.0;
+    s.low_signal_range_bias = 0.005;
+    s.exposure_sigma_stops = 0.7;
+    s.white_balance_sigma = 0.12;
+    return p;
+  }
+  std::string known;
+  for (const std::string& n : RealismProfileNames()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("", "parameter 'realism.profile' unknown", "'" + name + "'", "one of " + known);
+}
+
+std::vector<std::string> RealismProfileNames() { return {"ideal", "typical", "hard"}; }
+
+void RealismParams::StartFromProfile() { *this = RealismProfile(profile); }
+
+void RealismParams::Validate() const { (void)RealismProfile(profile); }
+
+TlsParams RealisticTls(const TlsParams& base, const ScannerRealism& r, std::uint64_t seed) {
+  TlsParams p = base;
+  // One stream per run: every draw is taken whatever the sigmas, so that one factor's sigma
+  // does not move another's value.
+  CounterRng rng(seed, "sim/instrument");
+  const double c = rng.Normal(), i = rng.Normal(), v = rng.Normal(), scale = rng.Normal();
+  if (r.axis_error_sigma_deg > 0.0) {
+    p.collimation_error_deg += r.axis_error_sigma_deg * c;
+    p.trunnion_axis_error_deg += r.axis_error_sigma_deg * i;
+    p.vertical_index_error_deg += r.axis_error_sigma_deg * v;
+  }
+  if (r.range_scale_sigma_ppm > 0.0) p.range_scale_ppm += r.range_scale_sigma_ppm * scale;
+  if (r.low_signal_range_bias != 0.0) p.low_signal_range_bias = r.low_signal_range_bias;
+  if (r.exposure_sigma_stops > 0.0) p.exposure_sigma_stops = r.exposure_sigma_stops;
+  if (r.white_balance_sigma > 0.0) p.white_balance_sigma = r.white_balance_sigma;
+  return p;
+}
+
+}  // namespace mopad::sim
