@@ -32,6 +32,7 @@
 #include "common/params.h"
 #include "interfaces/tls_scan.h"
 #include "io/scan_io.h"
+#include "modelling/colour_alignment.h"
 #include "modelling/roi.h"
 #include "modelling/voxel_space.h"
 
@@ -327,6 +328,7 @@ struct RoomModelParams {
   int ray_stride = 2;            ///< every n-th row and column is ray-cast into voxels, [1, 64]
   HeightSearchParams heights;    ///< the floor and ceiling heights
   CeilingOutlineParams outline;  ///< each scan's ceiling outline
+  ColourAlignmentParams colour_alignment;  ///< each scan's colours brought to the room's
 
   template <class V>
   void Visit(V& v) {
@@ -358,6 +360,7 @@ struct RoomModelParams {
     v("voxel_margin", voxel_margin, Bounds{0.0, 5.0});
     v("voxel_growth", voxel_growth, Bounds{0.0, 10.0});
     v("structure_tolerance", structure_tolerance, Bounds{0.0, 0.45});
+    v("colour_alignment", colour_alignment);
     v("ray_stride", ray_stride, Bounds{1, 64});
     v("heights", heights);
     v("outline", outline);
@@ -458,7 +461,11 @@ class RoomModel {
   // Full-resolution cloud (every valid return of every scan, map frame, scan order).
   std::size_t PointCount() const { return points_.size(); }
   const std::vector<Eigen::Vector3f>& Points() const { return points_; }
+  /// Colours as aligned to the room's first scan (modelling/colour_alignment.h).
   const std::vector<std::array<std::uint8_t, 3>>& Colours() const { return colours_; }
+  /// The gains (linear light, per channel) each scan's colours were multiplied by; one per
+  /// AddScan.
+  const std::vector<std::array<double, 3>>& ColourGains() const { return colour_gains_; }
   const std::vector<float>& Intensities() const { return intensity_; }
   const std::vector<std::uint16_t>& ScanIndices() const { return scan_index_; }
   const std::vector<PointLabel>& Labels() const { return labels_; }
@@ -514,6 +521,8 @@ class RoomModel {
   // Full resolution (structure of arrays).
   std::vector<Eigen::Vector3f> points_;
   std::vector<std::array<std::uint8_t, 3>> colours_;
+  ColourReference colour_reference_;
+  std::vector<std::array<double, 3>> colour_gains_;
   std::vector<float> intensity_;
   std::vector<std::uint16_t> scan_index_;
   std::vector<std::uint32_t> column_index_;  // azimuth column of each point in its scan

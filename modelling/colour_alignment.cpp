@@ -1,0 +1,110 @@
+#include "modelling/colour_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/srgb.h"
+
+namespace mopad::modelling {
+namespace {
+
+// sRGB level -> linear light, once.
+const std::array<float, 256>& LinearTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int v = 0; v < 256; ++v)
+      t[static_cast<std::size_t>(v)] = static_cast<float>(SrgbToLinear(v / 255.0));
+    return t;
+  }();
+  return table;
+}
+
+// The median of `v` (not empty); reorders it.
+double Median(std::vector<double>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+ColourReference::ColourReference(ColourAlignmentParams params) : params_(params) {}
+
+std::int64_t ColourReference::Key(const Eigen::Vector3f& p) const {
+  const double inv = 1.0 / params_.voxel;
+  const auto i = static_cast<std::int64_t>(std::floor(p.x() * inv)) & 0x1FFFFF;
+  const auto j = static_cast<std::int64_t>(std::floor(p.y() * inv)) & 0x1FFFFF;
+  const auto k = static_cast<std::int64_t>(std::floor(p.z() * inv)) & 0x1FFFFF;
+  return (i << 42) | (j << 21) | k;
+}
+
+std::array<double, 3> ColourReference::Gains(const std::vector<Eigen::Vector3f>& points,
+                                             const std::vector<Rgb8>& colours, std::size_t begin,
+                                             std::size_t end, int* shared) const {
+  if (shared) *shared = 0;
+  const std::array<double, 3> none{1.0, 1.0, 1.0};
+  if (!params_.enabled || cells_.empty()) return none;
+  const auto& lin = LinearTable();
+  std::unordered_map<std::int64_t, Cell> scan;
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::int64_t key = Key(points[i]);
+    if (cells_.find(key) == cells_.end()) continue;
+    Cell& c = scan[key];
+    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
+    ++c.n;
+  }
+  // Per channel the median of the cells' ratios: robust to cells on a depth edge or a colour
+  // boundary, where the two scans see different things.
+  std::array<std::vector<double>, 3> ratios;
+  const auto min_n = static_cast<std::uint32_t>(params_.min_voxel_points);
+  for (const auto& [key, c] : scan) {
+    const Cell& ref = cells_.at(key);
+    if (c.n < min_n || ref.n < min_n) continue;
+    std::array<double, 3> a{}, b{};
+    bool ok = true;
+    for (std::size_t ch = 0; ch < 3; ++ch) {
+      a[ch] = ref.sum[ch] / ref.n;
+      b[ch] = c.sum[ch] / c.n;
+      ok = ok && a[ch] >= params_.min_linear && b[ch] >= params_.min_linear &&
+           a[ch] <= params_.max_linear && b[ch] <= params_.max_linear;
+    }
+    if (!ok) continue;
+    for (std::size_t ch = 0; ch < 3; ++ch) ratios[ch].push_back(a[ch] / b[ch]);
+  }
+  const int n = static_cast<int>(ratios[0].size());
+  if (shared) *shared = n;
+  if (n < params_.min_voxels) return none;
+  std::array<double, 3> g{};
+  bool outside = false;
+  for (std::size_t ch = 0; ch < 3; ++ch) {
+    g[ch] = Median(ratios[ch]);
+    outside = outside || std::abs(std::log(g[ch])) > params_.deadband;
+  }
+  return outside ? g : none;
+}
+
+void ColourReference::Add(const std::vector<Eigen::Vector3f>& points,
+                          const std::vector<Rgb8>& colours, std::size_t begin, std::size_t end) {
+  if (!params_.enabled) return;
+  const auto& lin = LinearTable();
+  for (std::size_t i = begin; i < end; ++i) {
+    Cell& c = cells_[Key(points[i])];
+    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
+    ++c.n;
+  }
+}
+
+void ApplyColourGains(const std::array<double, 3>& gains, std::vector<Rgb8>& colours,
+                      std::size_t begin, std::size_t end) {
+  if (gains == std::array<double, 3>{1.0, 1.0, 1.0}) return;
+  std::array<std::array<std::uint8_t, 256>, 3> table{};
+  const auto& lin = LinearTable();
+  for (std::size_t ch = 0; ch < 3; ++ch)
+    for (int v = 0; v < 256; ++v)
+      table[ch][static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(
+          std::lround(255.0 * LinearToSrgb(gains[ch] * lin[static_cast<std::size_t>(v)])));
+  for (std::size_t i = begin; i < end; ++i)
+    for (std::size_t ch = 0; ch < 3; ++ch) colours[i][ch] = table[ch][colours[i][ch]];
+}
+
+}  // namespace mopad::modelling
