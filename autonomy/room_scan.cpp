@@ -208,6 +208,7 @@ void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::
     if (used) {
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);  // data only: the structure is frozen (above)
+      log.colour_gain = model.ColourGains().back();
       steps_rad.push_back(c.step_rad);
       modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
                                  res.no_return, params.sm4.orthoimage);
@@ -322,6 +323,7 @@ RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
       // Preprocessing, RoI, voxels, coverage (steps (3)-(5)).
       t0 = Clock::now();
       model.AddScan(scan, log.X_MS);
+      log.colour_gain = model.ColourGains().back();
       steps_rad.push_back(DegToRad(params.scan_step_deg));
       modelling::AddNoReturnRays(scan, log.X_MS, static_cast<std::uint16_t>(model.ScanCount() - 1),
                                  res.no_return, params.sm4.orthoimage);

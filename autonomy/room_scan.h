@@ -13,6 +13,7 @@
 // Robot side only: it drives an autonomy::Navigator and sees nothing of the world.
 // Deterministic: same platform behaviour + params -> same outputs (timings aside).
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -139,7 +140,10 @@ struct RoomScanLog {
   /// the registration's where it constrains the pose, the localiser's elsewhere; zero for a
   /// scan not registered
   Mat6 covariance = Mat6::Zero();
-  perception::RangeBiasEstimate range_bias;     ///< the scan's range offset (removed when ok)
+  perception::RangeBiasEstimate range_bias;  ///< the scan's range offset (removed when ok)
+  /// The gains (linear light, R G B) its colours were aligned to the room's by
+  /// (RoomModel::ColourGains); 1, 1, 1 when left as scanned.
+  std::array<double, 3> colour_gain{1.0, 1.0, 1.0};
   modelling::CoverageFigures coverage;
   std::string stop_message;  ///< the stopping rule's verdict after this scan
   // Next best scan chosen after this scan (none after the last one).

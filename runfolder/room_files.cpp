@@ -67,6 +67,8 @@ nlohmann::ordered_json ScanJson(const autonomy::RoomScanLog& s) {
                      {"bias_m", s.range_bias.bias},
                      {"sigma_m", s.range_bias.sigma},
                      {"message", s.range_bias.message}};
+  // Only when the room model changed the scan's colours (modelling/colour_alignment.h).
+  if (s.colour_gain != std::array<double, 3>{1.0, 1.0, 1.0}) j["colour_gain"] = s.colour_gain;
   j["coverage"] = {{"ratio", s.coverage.ratio},
                    {"observable_ratio", s.coverage.observable_ratio},
                    {"hidden_area", s.coverage.hidden_area},
