@@ -45,20 +45,28 @@ std::array<double, 3> ColourReference::Gains(const std::vector<Eigen::Vector3f>&
   const std::array<double, 3> none{1.0, 1.0, 1.0};
   if (!params_.enabled || cells_.empty()) return none;
   const auto& lin = LinearTable();
-  std::unordered_map<std::int64_t, Cell> scan;
+  // The scan's points in cells the room holds, each beside the room's cell (one lookup a point).
+  struct Shared {
+    Cell scan;
+    const Cell* room = nullptr;
+  };
+  std::unordered_map<std::int64_t, Shared> shared_cells;
   for (std::size_t i = begin; i < end; ++i) {
     const std::int64_t key = Key(points[i]);
-    if (cells_.find(key) == cells_.end()) continue;
-    Cell& c = scan[key];
-    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
-    ++c.n;
+    const auto room = cells_.find(key);
+    if (room == cells_.end()) continue;
+    Shared& s = shared_cells[key];
+    s.room = &room->second;
+    for (std::size_t ch = 0; ch < 3; ++ch) s.scan.sum[ch] += lin[colours[i][ch]];
+    ++s.scan.n;
   }
   // Per channel the median of the cells' ratios: robust to cells on a depth edge or a colour
   // boundary, where the two scans see different things.
   std::array<std::vector<double>, 3> ratios;
   const auto min_n = static_cast<std::uint32_t>(params_.min_voxel_points);
-  for (const auto& [key, c] : scan) {
-    const Cell& ref = cells_.at(key);
+  for (const auto& [key, s] : shared_cells) {
+    const Cell& c = s.scan;
+    const Cell& ref = *s.room;
     if (c.n < min_n || ref.n < min_n) continue;
     std::array<double, 3> a{}, b{};
     bool ok = true;
