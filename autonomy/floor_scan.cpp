@@ -21,6 +21,8 @@ double YawOf(const Vec2& d) { return std::atan2(d.y(), d.x()); }
 
 constexpr double kOnWall = 0.3;     // m, an opening this near a gap's wall line lies on it
 constexpr double kGapHeight = 2.0;  // m, nominal top of a gap's door record
+// The reason of the doors not entered when the robot is shut in a room, before its name.
+const std::string kShutIn = "not entered: the robot is shut in ";
 
 class FloorMission {
  public:
@@ -42,7 +44,15 @@ class FloorMission {
               "done: no door of a visited room leads to unexplored space" + NotEnteredSummary();
           break;
         }
-        ReturnToParent(current);
+        const std::string shut = ReturnToParent(current);
+        if (!shut.empty()) {
+          for (const TraversalNode& n : res_.tree.Nodes())
+            if (n.state == NodeState::kUnvisited)
+              res_.tree.MarkSeenNotEntered(n.id, kShutIn + res_.tree.Node(current).room);
+          res_.end_reason =
+              "stop: shut in " + res_.tree.Node(current).room + ": " + shut + NotEnteredSummary();
+          break;
+        }
         current = res_.tree.Node(current).parent;
         continue;
       }
@@ -166,18 +176,21 @@ class FloorMission {
 
   // "; K doors not entered (closed: a, too narrow: b, unreachable: c)" or "".
   std::string NotEnteredSummary() const {
-    int closed = 0, narrow = 0, unreachable = 0;
+    int closed = 0, narrow = 0, unreachable = 0, shut_in = 0;
     for (const TraversalNode& n : res_.tree.Nodes()) {
       if (n.state == NodeState::kUnreachable) ++unreachable;
       if (n.state != NodeState::kSeenNotEntered) continue;
       if (n.reason.rfind("door closed", 0) == 0) ++closed;
       if (n.reason.rfind("door too narrow", 0) == 0) ++narrow;
+      if (n.reason.rfind(kShutIn, 0) == 0) ++shut_in;
     }
-    if (closed + narrow + unreachable == 0) return "";
-    return "; " + std::to_string(closed + narrow + unreachable) +
+    if (closed + narrow + unreachable + shut_in == 0) return "";
+    return "; " + std::to_string(closed + narrow + unreachable + shut_in) +
            " doors to unexplored space not entered (closed: " + std::to_string(closed) +
            ", too narrow: " + std::to_string(narrow) +
-           ", unreachable: " + std::to_string(unreachable) + "; dtt.json gives each reason)";
+           ", unreachable: " + std::to_string(unreachable) +
+           (shut_in > 0 ? ", left when shut in: " + std::to_string(shut_in) : std::string()) +
+           "; dtt.json gives each reason)";
   }
 
   // The visited room whose perimeter holds `p`, or "".
@@ -194,8 +207,9 @@ class FloorMission {
   void AddChildren(int node, const FloorRoom& room) {
     for (const modelling::DetectedOpening& o : room.sm4.openings) {
       if (o.type != modelling::OpeningType::kDoor) continue;
-      const DoorRecord d = DoorOf(o, room.room);
+      DoorRecord d = DoorOf(o, room.room);
       if (!VisitedRoomAt(Beyond(d)).empty() || KnownDoor(d)) continue;
+      d.map_clear_width_m = MapClearWidth(d);
       const bool sm4_passable =
           o.state != modelling::DoorState::kClosed && o.clear_width_m >= p_.min_clear_width;
       // The map's own evidence: a route through known free space from in front of the door to
@@ -222,8 +236,9 @@ class FloorMission {
     int k = 0;
     for (const WallGap& g : WallGaps(nav_.Map(), room.perimeter, p_.gaps)) {
       if (OverlapsOpening(g, room.sm4)) continue;
-      const DoorRecord d = GapRecord(g, room.room, ++k);
+      DoorRecord d = GapRecord(g, room.room, ++k);
       if (!VisitedRoomAt(Beyond(d)).empty() || KnownDoor(d)) continue;
+      d.map_clear_width_m = MapClearWidth(d);
       const std::string what = FormatNumbers(
           "no SM4 opening here: a %.2f m gap in the wall that the scans saw through", d.width);
       if (d.width >= p_.min_clear_width)
@@ -298,6 +313,26 @@ class FloorMission {
 
   Vec2 Approach(const DoorRecord& d) const { return d.centre + p_.door_approach * d.inward; }
 
+  // m, the clear width of the door's doorway in the robot's map now (autonomy/doorway.h).
+  double MapClearWidth(const DoorRecord& d) const {
+    return DoorwayClearWidth(nav_.Map(), d.corners[0].head<2>(), d.corners[1].head<2>(), d.inward,
+                             p_.doorway);
+  }
+
+  // When the map showed the door's doorway passable when the door was found and shows it
+  // narrower than the robot needs and than doorway.shut_ratio of that now: why (its widths then
+  // and now, the time), else "". The door was closed since it was mapped (someone shut it), or
+  // something stands in it.
+  std::string ClosedSinceMapped(const DoorRecord& d) const {
+    if (d.map_clear_width_m < p_.min_clear_width) return "";
+    const double now = MapClearWidth(d);
+    if (now >= p_.min_clear_width || now >= p_.doorway.shut_ratio * d.map_clear_width_m) return "";
+    return FormatNumbers("its doorway was %.2f m clear in the map when ", d.map_clear_width_m) +
+           d.room +
+           FormatNumbers(" found it, %.2f m at %.1f s (< %.2f m)", now, nav_.Time(),
+                         p_.min_clear_width);
+  }
+
   // The unvisited child whose door the robot reaches by the shortest route in its map (ties
   // and unreachable ones: in the order they were added).
   int NearestChild(const std::vector<int>& kids) const {
@@ -355,25 +390,49 @@ class FloorMission {
                   reg.X_MS.translation());
     before = DoorScan{nav_.ScanCount() - 1, nav_.Time(), scan.X_MS_estimate, d.room};
     res_.door_scans.push_back(before);
+    // The door scan is in the map now: a door shut since the room found it open is seen here.
+    if (const std::string shut = ClosedSinceMapped(d); !shut.empty()) {
+      DoorClosed(kid, "door closed since it was mapped: " + shut + ", after the door scan");
+      return false;
+    }
     why = DriveNear(d, -d.inward, p_.door_exit, yaw, "space beyond the door");
     if (!why.empty()) {
       const Pose2 at = nav_.EstimatedPose();
       const double depth = (Vec2(at.x, at.y) - d.centre).dot(-d.inward);
       if (depth < 0.5 * p_.door_exit) {
-        res_.tree.MarkUnreachable(kid, why);
+        if (const std::string shut = ClosedSinceMapped(d); !shut.empty())
+          DoorClosed(kid, "door closed while the robot passed it: " + shut + "; " + why);
+        else
+          res_.tree.MarkUnreachable(kid, why);
         return false;
       }
     }
     return true;
   }
 
-  void ReturnToParent(int node) {
+  // The door of `kid` found closed since it was mapped: a leaf, not entered, with `why`; one
+  // line of the mission's events.
+  void DoorClosed(int kid, const std::string& why) {
+    const DoorRecord& d = res_.tree.Node(kid).entry_door;
+    res_.tree.MarkSeenNotEntered(kid, why);
+    res_.events.push_back(d.room + ": " + d.opening + ": " + why);
+  }
+
+  // Back through the entry door of `node` to its parent's side. "" when the robot got there or
+  // failed for a reason the map does not show (an event, the mission goes on); the reason when
+  // the door was shut behind the robot: then it is shut in.
+  std::string ReturnToParent(int node) {
     const TraversalNode& n = res_.tree.Node(node);
     const DoorRecord& d = n.entry_door;
     Progress(n.room + " done; back through " + d.opening + " to " + d.room);
     const std::string why =
         DriveNear(d, d.inward, p_.door_approach, YawOf(d.inward), "parent's side of the door");
-    if (!why.empty()) res_.events.push_back(n.room + ": return to " + d.room + ": " + why);
+    if (why.empty()) return "";
+    res_.events.push_back(n.room + ": return to " + d.room + ": " + why);
+    const std::string shut = ClosedSinceMapped(d);
+    if (shut.empty()) return "";
+    return "the door it came through (" + d.opening + " of " + d.room +
+           ") was closed behind it: " + shut;
   }
 
   Navigator& nav_;

@@ -11,6 +11,13 @@
 //         -> room loop there (its first scan is door scan 2) -> SM3, SM4 -> children
 //         none left: drive back through the entry door to the parent; at the root: done.
 //
+// Doors change while the robot works (someone shuts one): each door's doorway is measured in
+// the obstacle map when the door is found (autonomy/doorway.h) and again after the door scan,
+// when a drive through it fails, and when the way back fails. A doorway the map showed passable
+// that is blocked now is a door closed since it was mapped: not entered, explained, and the
+// robot goes on with the other doors; shut behind it, the robot is shut in and the mission ends
+// there, explained.
+//
 // One navigator throughout (one map frame, no teleports). Every scan the mission uses is
 // registered against all earlier ones (the floor's S(t-1)): the door scan in front of the frame
 // as a scan of the room it stands in, the room's first scan beyond it as a door scan
@@ -24,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "autonomy/doorway.h"
 #include "autonomy/navigator.h"
 #include "autonomy/room_scan.h"
 #include "autonomy/traversal_tree.h"
@@ -53,6 +61,10 @@ struct FloorScanParams {
   int max_rooms = 64;  ///< rooms visited at most (the mission ends there, explained), [1, 10000]
   /// Doorways SM4 did not model: gaps in the room's walls its map saw through (wall_gaps.h)
   WallGapParams gaps;
+  /// A doorway's clear width in the obstacle map (doorway.h): a door whose doorway the map
+  /// showed at least min_clear_width wide when it was found, and narrower when the robot comes
+  /// to pass it, was closed since it was mapped
+  DoorwayParams doorway;
 
   template <class V>
   void Visit(V& v) {
@@ -64,6 +76,7 @@ struct FloorScanParams {
     v("beyond_probe", beyond_probe, Bounds{0.1, 5.0});
     v("max_rooms", max_rooms, Bounds{1, 10000});
     v("gaps", gaps);
+    v("doorway", doorway);
   }
 };
 
@@ -133,9 +146,11 @@ struct FloorScanResult {
   TraversalTree tree;
   std::vector<FloorRoom> rooms;  ///< in visit order
   std::vector<DoorScan> door_scans;
-  std::vector<std::string> events;  ///< drives that failed outside a room loop, one line each
-  std::string end_reason;           ///< why the mission ended
-  int scans = 0;                    ///< TLS scans of the whole mission
+  /// Drives that failed outside a room loop and doors found closed since they were mapped,
+  /// one line each
+  std::vector<std::string> events;
+  std::string end_reason;  ///< why the mission ended
+  int scans = 0;           ///< TLS scans of the whole mission
   double sim_time = 0.0, wall_time = 0.0;
 };
 

@@ -32,6 +32,9 @@ struct DoorRecord {
   Vec2 inward = Vec2::UnitX();    ///< unit, plan normal into the room that found it
   double width = 0.0;             ///< m, the hole's width
   std::array<Vec3, 4> corners{};  ///< map frame, SM4's rectangle
+  /// m, the doorway's clear width in the robot's obstacle map when the door was found
+  /// (autonomy/doorway.h); -1: not measured
+  double map_clear_width_m = -1.0;
 };
 
 struct TraversalNode {

@@ -45,6 +45,7 @@ nlohmann::ordered_json DoorJson(const autonomy::DoorRecord& d) {
           {"state", d.state},
           {"opening_angle_deg", d.opening_angle_deg},
           {"clear_width_m", d.clear_width_m},
+          {"map_clear_width_m", d.map_clear_width_m},
           {"centre", {d.centre.x(), d.centre.y()}},
           {"corners", c}};
 }

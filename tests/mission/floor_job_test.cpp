@@ -14,6 +14,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "mission/main_job.h"
@@ -104,6 +105,70 @@ TEST(FloorJob, AClosedDoorIsSeenNotEnteredAndTheMissionFinishes) {
         (n.entry_door.centre - Vec2(3.6, 0.0)).norm() < 0.15)
       closed_leaf = true;
   EXPECT_TRUE(closed_leaf) << "no closed door recorded as seen, not entered";
+  fs::remove_all(dir);
+}
+
+// Someone shuts D1 after R1 found it open (the world's door fault; the robot is not told). The
+// times come from the same mission with the door left open: shut as the robot leaves R1 for the
+// door, it is seen closed since it was mapped, not entered, and the mission ends done; shut as
+// the robot leaves R2 for the way back, the robot is shut in R2 and the mission stops there.
+// Each outcome is explained in the tree, the events and dtt.json.
+TEST(FloorJob, ADoorShutAfterItWasMappedOpenIsNoticedRecordedAndExplained) {
+  const sim::SceneWorld mw = sim::LoadSceneWorld(Spec());
+  const std::string dir =
+      (fs::temp_directory_path() / ("mopad_floor_shut_" + std::to_string(::getpid()))).string();
+  fs::remove_all(dir);
+  std::vector<double> room_ends;
+  const FloorJob open =
+      RunFloorJob(mw, Params(), Pose2{1.5, 2.0, 0.0}, dir, false, {}, {},
+                  [&](const RoomBoundary& b) { room_ends.push_back(b.sim_time); });
+  ASSERT_EQ(open.rooms.size(), 2u) << open.mission.end_reason;
+  ASSERT_EQ(room_ends.size(), 2u);
+  const auto& open_door = open.mission.tree.Node(open.mission.tree.Node(0).children.front());
+  EXPECT_GT(open_door.entry_door.map_clear_width_m, 0.7);  // found open: most of its doorway clear
+
+  auto shut_at = [&](double t) {
+    FloorMissionParams p = Params();
+    p.room.faults.door_close_id = "D1";
+    p.room.faults.door_close_at = t;
+    fs::remove_all(dir);
+    return RunFloorJob(mw, p, Pose2{1.5, 2.0, 0.0}, dir, false);
+  };
+  {
+    const FloorJob job = shut_at(room_ends[0] + 0.5);
+    ASSERT_EQ(job.rooms.size(), 1u) << job.mission.end_reason;
+    EXPECT_EQ(job.mission.end_reason.rfind("done", 0), 0u) << job.mission.end_reason;
+    EXPECT_NE(job.mission.end_reason.find("closed: 1"), std::string::npos)
+        << job.mission.end_reason;
+    const auto& n = job.mission.tree.Node(job.mission.tree.Node(0).children.front());
+    EXPECT_EQ(n.state, autonomy::NodeState::kSeenNotEntered);
+    EXPECT_EQ(n.reason.rfind("door closed since it was mapped: its doorway was ", 0), 0u)
+        << n.reason;
+    EXPECT_NE(n.reason.find("after the door scan"), std::string::npos) << n.reason;
+    EXPECT_EQ(job.mission.door_scans.size(), 1u);  // it looked before it drove into the leaf
+    ASSERT_EQ(job.mission.events.size(), 1u);
+    EXPECT_NE(job.mission.events[0].find(n.reason), std::string::npos);
+    EXPECT_EQ(job.drive.contacts, 0);
+    const nlohmann::json dtt = nlohmann::json::parse(std::ifstream(fs::path(dir) / "dtt.json"));
+    EXPECT_EQ(dtt["events"].size(), 1u);
+    EXPECT_GT(dtt["nodes"][1]["entry_door"]["map_clear_width_m"].get<double>(), 0.7);
+  }
+  {
+    const FloorJob job = shut_at(room_ends[1] + 0.2);
+    ASSERT_EQ(job.rooms.size(), 2u) << job.mission.end_reason;
+    EXPECT_EQ(job.mission.end_reason.rfind("stop: shut in room_2: the door it came through (", 0),
+              0u)
+        << job.mission.end_reason;
+    EXPECT_NE(job.mission.end_reason.find("was closed behind it: its doorway was "),
+              std::string::npos)
+        << job.mission.end_reason;
+    EXPECT_EQ(job.drive.contacts, 0);
+    for (const auto& n : job.mission.tree.Nodes())
+      EXPECT_NE(n.state, autonomy::NodeState::kUnvisited) << n.id;
+    ASSERT_FALSE(job.mission.events.empty());
+    EXPECT_NE(job.mission.events.back().find("room_2: return to room_1: "), std::string::npos)
+        << job.mission.events.back();
+  }
   fs::remove_all(dir);
 }
 
