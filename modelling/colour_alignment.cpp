@@ -42,29 +42,68 @@ std::array<double, 3> ColourReference::Gains(const std::vector<Eigen::Vector3f>&
                                              const std::vector<Rgb8>& colours, std::size_t begin,
                                              std::size_t end, int* shared) const {
   if (shared) *shared = 0;
-  const std::array<double, 3> none{1.0, 1.0, 1.0};
-  if (!params_.enabled || cells_.empty()) return none;
+  if (!params_.enabled || cells_.empty()) return {1.0, 1.0, 1.0};
   const auto& lin = LinearTable();
-  // The scan's points in cells the room holds, each beside the room's cell (one lookup a point).
-  struct Shared {
-    Cell scan;
-    const Cell* room = nullptr;
-  };
-  std::unordered_map<std::int64_t, Shared> shared_cells;
+  // The scan's points in cells the room holds, in the order the scan first meets them.
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  std::vector<Shared> cells;
   for (std::size_t i = begin; i < end; ++i) {
     const std::int64_t key = Key(points[i]);
     const auto room = cells_.find(key);
     if (room == cells_.end()) continue;
-    Shared& s = shared_cells[key];
-    s.room = &room->second;
-    for (std::size_t ch = 0; ch < 3; ++ch) s.scan.sum[ch] += lin[colours[i][ch]];
-    ++s.scan.n;
+    const auto [it, added] = slot.try_emplace(key, cells.size());
+    if (added) cells.push_back({&room->second, {}});
+    Cell& c = cells[it->second].scan;
+    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
+    ++c.n;
   }
+  return GainsOf(cells, shared);
+}
+
+std::array<double, 3> ColourReference::Align(const std::vector<Eigen::Vector3f>& points,
+                                             std::vector<Rgb8>& colours, std::size_t begin,
+                                             std::size_t end, int* shared) {
+  if (shared) *shared = 0;
+  const std::array<double, 3> none{1.0, 1.0, 1.0};
+  if (!params_.enabled) return none;
+  const auto& lin = LinearTable();
+  const bool first = cells_.empty();
+  // Each point's cell of the room, made when new (node addresses stay put); the scan's sums
+  // beside each cell it meets, in the order it first meets them.
+  std::vector<Shared> cells;
+  std::vector<Cell*> cell_of(end - begin);
+  for (std::size_t i = begin; i < end; ++i) {
+    Cell* room = &cells_[Key(points[i])];
+    cell_of[i - begin] = room;
+    if (first) continue;
+    if (room->slot == kNoSlot) {
+      room->slot = static_cast<std::uint32_t>(cells.size());
+      cells.push_back({room, {}});
+    }
+    Cell& c = cells[room->slot].scan;
+    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
+    ++c.n;
+  }
+  for (Cell* c : cell_of) c->slot = kNoSlot;
+  const std::array<double, 3> g = first ? none : GainsOf(cells, shared);
+  ApplyColourGains(g, colours, begin, end);
+  for (std::size_t i = begin; i < end; ++i) {
+    Cell& c = *cell_of[i - begin];
+    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
+    ++c.n;
+  }
+  return g;
+}
+
+std::array<double, 3> ColourReference::GainsOf(const std::vector<Shared>& cells,
+                                               int* shared) const {
+  const std::array<double, 3> none{1.0, 1.0, 1.0};
   // Per channel the median of the cells' ratios: robust to cells on a depth edge or a colour
-  // boundary, where the two scans see different things.
+  // boundary, where the two scans see different things. Cells the room did not hold before
+  // this scan (n = 0) compare nothing.
   std::array<std::vector<double>, 3> ratios;
   const auto min_n = static_cast<std::uint32_t>(params_.min_voxel_points);
-  for (const auto& [key, s] : shared_cells) {
+  for (const Shared& s : cells) {
     const Cell& c = s.scan;
     const Cell& ref = *s.room;
     if (c.n < min_n || ref.n < min_n) continue;
@@ -89,17 +128,6 @@ std::array<double, 3> ColourReference::Gains(const std::vector<Eigen::Vector3f>&
     outside = outside || std::abs(std::log(g[ch])) > params_.deadband;
   }
   return outside ? g : none;
-}
-
-void ColourReference::Add(const std::vector<Eigen::Vector3f>& points,
-                          const std::vector<Rgb8>& colours, std::size_t begin, std::size_t end) {
-  if (!params_.enabled) return;
-  const auto& lin = LinearTable();
-  for (std::size_t i = begin; i < end; ++i) {
-    Cell& c = cells_[Key(points[i])];
-    for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
-    ++c.n;
-  }
 }
 
 void ApplyColourGains(const std::array<double, 3>& gains, std::vector<Rgb8>& colours,

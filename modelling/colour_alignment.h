@@ -56,16 +56,28 @@ class ColourReference {
   std::array<double, 3> Gains(const std::vector<Eigen::Vector3f>& points,
                               const std::vector<Rgb8>& colours, std::size_t begin, std::size_t end,
                               int* shared = nullptr) const;
-  /// Adds points [begin, end) (already aligned) to the room's cells.
-  void Add(const std::vector<Eigen::Vector3f>& points, const std::vector<Rgb8>& colours,
-           std::size_t begin, std::size_t end);
+  /// The room model's step for a new scan: its gains (as Gains), applied to colours
+  /// [begin, end) (ApplyColourGains), and the aligned points added to the room's cells. One
+  /// cell lookup a point. Returns the gains.
+  std::array<double, 3> Align(const std::vector<Eigen::Vector3f>& points,
+                              std::vector<Rgb8>& colours, std::size_t begin, std::size_t end,
+                              int* shared = nullptr);
 
  private:
   struct Cell {
     std::array<float, 3> sum{0.0f, 0.0f, 0.0f};  // linear light
     std::uint32_t n = 0;
+    std::uint32_t slot = kNoSlot;  // Align's scratch: the cell's index among the scan's, or none
+  };
+  static constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
+  // A cell of the room (n = 0: new with this scan) beside the scan's own sums in it.
+  struct Shared {
+    const Cell* room = nullptr;
+    Cell scan;
   };
   std::int64_t Key(const Eigen::Vector3f& p) const;
+  // Per channel the median of the shared cells' ratios (see Gains).
+  std::array<double, 3> GainsOf(const std::vector<Shared>& cells, int* shared) const;
   ColourAlignmentParams params_;
   std::unordered_map<std::int64_t, Cell> cells_;
 };

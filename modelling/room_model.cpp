@@ -104,9 +104,7 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   }
   rec.end = points_.size();
   if (rec.end == rec.begin) throw InputError(where, "scan has no valid return");
-  colour_gains_.push_back(colour_reference_.Gains(points_, colours_, rec.begin, rec.end));
-  ApplyColourGains(colour_gains_.back(), colours_, rec.begin, rec.end);
-  colour_reference_.Add(points_, colours_, rec.begin, rec.end);
+  colour_gains_.push_back(colour_reference_.Align(points_, colours_, rec.begin, rec.end));
   rec.columns = scan.columns;
   rec.azimuth_min = scan.azimuth_min;
   rec.azimuth_step = scan.azimuth_step;

@@ -60,7 +60,7 @@ TEST(ColourAlignment, AScansGainsAreFoundAndUndone) {
   TwoScans t = MakeTwoScans(gains);
   ColourReference ref;
   EXPECT_EQ(ref.Gains(t.points, t.colours, 0, t.split), (std::array<double, 3>{1, 1, 1}));
-  ref.Add(t.points, t.colours, 0, t.split);
+  ref.Align(t.points, t.colours, 0, t.split);
   int shared = 0;
   const auto g = ref.Gains(t.points, t.colours, t.split, t.points.size(), &shared);
   EXPECT_GT(shared, 2000);
@@ -78,11 +78,34 @@ TEST(ColourAlignment, AScansGainsAreFoundAndUndone) {
   for (std::size_t ch = 0; ch < 3; ++ch) EXPECT_LT(std::abs(mean_difference(ch)), 0.5) << ch;
 }
 
+// The room model's step: the gains Gains finds, applied as ApplyColourGains applies them, and
+// the aligned colours added (a third scan like the second is found off by the same gains).
+TEST(ColourAlignment, AlignIsTheGainsAppliedAndTheAlignedScanAdded) {
+  const std::array<double, 3> gains{1.3, 0.9, 1.12};
+  TwoScans t = MakeTwoScans(gains);
+  const std::vector<Rgb8> scanned = t.colours;
+  ColourReference ref;
+  EXPECT_EQ(ref.Align(t.points, t.colours, 0, t.split), (std::array<double, 3>{1, 1, 1}));
+  EXPECT_EQ(t.colours, scanned);  // the first scan is the reference, as scanned
+  const auto query = ref.Gains(t.points, t.colours, t.split, t.points.size());
+  int shared = 0;
+  const auto g = ref.Align(t.points, t.colours, t.split, t.points.size(), &shared);
+  EXPECT_EQ(g, query);
+  EXPECT_GT(shared, 2000);
+  std::vector<Rgb8> expected = scanned;
+  ApplyColourGains(query, expected, t.split, t.points.size());
+  EXPECT_EQ(t.colours, expected);
+  // The room now holds both scans at the first one's colours.
+  std::vector<Rgb8> again = scanned;
+  const auto third = ref.Gains(t.points, again, t.split, t.points.size());
+  for (std::size_t ch = 0; ch < 3; ++ch) EXPECT_NEAR(third[ch], 1.0 / gains[ch], 0.01) << ch;
+}
+
 TEST(ColourAlignment, NoGainWithoutOverlapOrWithinTheDeadband) {
   // The same camera: nothing to undo, and colours stay bit for bit.
   TwoScans same = MakeTwoScans({1.0, 1.0, 1.0});
   ColourReference ref;
-  ref.Add(same.points, same.colours, 0, same.split);
+  ref.Align(same.points, same.colours, 0, same.split);
   EXPECT_EQ(ref.Gains(same.points, same.colours, same.split, same.points.size()),
             (std::array<double, 3>{1, 1, 1}));
   // A gain within the deadband (1 %) is left alone.
@@ -93,7 +116,7 @@ TEST(ColourAlignment, NoGainWithoutOverlapOrWithinTheDeadband) {
   TwoScans t = MakeTwoScans({1.5, 1.5, 1.5});
   for (std::size_t i = t.split; i < t.points.size(); ++i) t.points[i].y() += 1.0f;
   ColourReference ref2;
-  ref2.Add(t.points, t.colours, 0, t.split);
+  ref2.Align(t.points, t.colours, 0, t.split);
   EXPECT_EQ(ref2.Gains(t.points, t.colours, t.split, t.points.size()),
             (std::array<double, 3>{1, 1, 1}));
   // Disabled.
@@ -101,7 +124,7 @@ TEST(ColourAlignment, NoGainWithoutOverlapOrWithinTheDeadband) {
   off.enabled = false;
   ColourReference ref3(off);
   TwoScans u = MakeTwoScans({1.5, 1.5, 1.5});
-  ref3.Add(u.points, u.colours, 0, u.split);
+  ref3.Align(u.points, u.colours, 0, u.split);
   EXPECT_EQ(ref3.Gains(u.points, u.colours, u.split, u.points.size()),
             (std::array<double, 3>{1, 1, 1}));
 }
