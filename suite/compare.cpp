@@ -27,6 +27,8 @@ SuiteCase ReadCase(const io::JsonFields& f, const json& c, const std::string& fi
   out.id = f.String(f.Get(c, "id", field + ".id"), field + ".id");
   out.group = f.String(f.Get(c, "group", field + ".group"), field + ".group");
   out.verdict = f.String(f.Get(c, "verdict", field + ".verdict"), field + ".verdict");
+  if (c.contains("scene")) out.scene = f.String(c["scene"], field + ".scene");
+  if (c.contains("config")) out.config = f.String(c["config"], field + ".config");
   if (!kVerdicts.count(out.verdict))
     f.Fail(field + ".verdict", "unknown verdict", "'" + out.verdict + "'",
            "passed, failed, error, timeout or crashed");
@@ -223,6 +225,40 @@ int Comparison::Count(Change c) const {
 int Comparison::BrokenCases() const {
   return static_cast<int>(
       std::count_if(flips.begin(), flips.end(), [](const auto& f) { return f.broke; }));
+}
+
+SuiteResults SelectConfig(const SuiteResults& s, const std::string& config,
+                          const std::string& label) {
+  SuiteResults out = s;
+  out.cases.clear();
+  out.totals.clear();
+  for (const char* k : {"cases", "passed", "failed", "error", "timeout", "crashed"})
+    out.totals[k] = 0;
+  std::set<std::string> configs;
+  for (const SuiteCase& c : s.cases) {
+    configs.insert(c.config);
+    if (c.config != config) continue;
+    const std::string prefix = c.scene + "/" + config;
+    const bool named = !config.empty() && c.group.compare(0, prefix.size(), prefix) == 0 &&
+                       (c.group.size() == prefix.size() || c.group[prefix.size()] == '/');
+    if (!named)
+      throw InputError(s.path,
+                       "case '" + c.id + "': its group does not begin with its scene and config",
+                       "'" + c.group + "'", "'" + prefix + "...'");
+    SuiteCase k = c;
+    k.group = c.scene + "/" + label + c.group.substr(prefix.size());
+    k.id = k.group + c.id.substr(c.group.size());
+    ++out.totals["cases"];
+    ++out.totals[k.verdict];
+    out.cases.push_back(std::move(k));
+  }
+  if (out.cases.empty()) {
+    std::string names;
+    for (const std::string& n : configs) names += (names.empty() ? "" : ", ") + ("'" + n + "'");
+    throw InputError(s.path, "no case was run with config '" + config + "'", "",
+                     "one of its configs: " + names);
+  }
+  return out;
 }
 
 Comparison CompareSuites(const SuiteResults& base, const SuiteResults& next,

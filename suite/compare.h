@@ -58,6 +58,8 @@ struct CompareParams {
 struct SuiteCase {
   std::string id;                         ///< "<group>/seed-<n>"
   std::string group;                      ///< the seeds' common part of the id
+  std::string scene;                      ///< the scene's name ("" when suite.json has none)
+  std::string config;                     ///< the manifest's config name ("" without configs)
   std::string verdict;                    ///< passed | failed | error | timeout | crashed
   std::map<std::string, double> figures;  ///< finite figures only (null ones are left out)
 };
@@ -80,6 +82,14 @@ struct SuiteResults {
 /// Reads `folder`/suite.json (or `folder` itself when it is a file). InputError naming the file
 /// and the field when it is missing, not JSON, of another format or version, or malformed.
 SuiteResults ReadSuiteResults(const std::string& folder);
+
+/// The cases of `s` run with config `config`, their groups (and ids) renamed from
+/// "<scene>/<config>..." to "<scene>/<label>...", so that one config of a suite can be compared
+/// with another config of the same or another suite (`mopad suite compare --base-config
+/// --new-config`); totals counted over those cases. InputError naming the suite.json and the
+/// configs it has when no case has `config`.
+SuiteResults SelectConfig(const SuiteResults& s, const std::string& config,
+                          const std::string& label);
 
 /// What a figure's comparison concluded.
 enum class Change {

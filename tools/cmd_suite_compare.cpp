@@ -27,7 +27,7 @@ void RegisterCompare(CLI::App& suite) {
   auto* cmd = suite.add_subcommand(
       "compare", "Compare two suites' figures per scene group, against seed-to-seed noise");
   struct Args {
-    std::string base, next, out, config;
+    std::string base, next, out, config, base_config, new_config;
     suite::CompareParams params;
   };
   auto a = std::make_shared<Args>();
@@ -42,6 +42,10 @@ void RegisterCompare(CLI::App& suite) {
                       "Smallest change that counts, as a fraction of |BASE mean| (default 0.01)");
   auto* figures = cmd->add_option("--figure", a->params.figures,
                                   "Compare only this figure (repeatable; default: all)");
+  cmd->add_option("--base-config", a->base_config,
+                  "Only BASE's cases of this config, against NEW's of --new-config (BASE and NEW "
+                  "may be one folder): their groups meet as <scene>/<base>-><new>");
+  cmd->add_option("--new-config", a->new_config, "Only NEW's cases of this config");
   cmd->footer(
       "Exit 0: no regression beyond noise; 1: a figure regressed beyond noise or a case no "
       "longer completes; 2: bad input.");
@@ -52,8 +56,15 @@ void RegisterCompare(CLI::App& suite) {
     OverrideIfGiven(min_effect, a->params.min_relative_effect, params.min_relative_effect);
     OverrideIfGiven(figures, a->params.figures, params.figures);
     ValidateParams(params);
-    const suite::SuiteResults base = suite::ReadSuiteResults(a->base);
-    const suite::SuiteResults next = suite::ReadSuiteResults(a->next);
+    if (a->base_config.empty() != a->new_config.empty())
+      throw InputError("--base-config/--new-config", "give both or neither");
+    suite::SuiteResults base = suite::ReadSuiteResults(a->base);
+    suite::SuiteResults next = suite::ReadSuiteResults(a->next);
+    if (!a->base_config.empty()) {
+      const std::string label = a->base_config + "->" + a->new_config;
+      base = suite::SelectConfig(base, a->base_config, label);
+      next = suite::SelectConfig(next, a->new_config, label);
+    }
     const suite::Comparison c = suite::CompareSuites(base, next, params);
     const std::string md = suite::CompareMarkdown(c);
     if (!a->out.empty()) {

@@ -305,3 +305,40 @@ TEST(ReadSuiteResults, BadFilesNameTheFileAndTheField) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two configs of one suite, compared as BASE and NEW: the groups meet under one label, the
+// shift of the one config is found, a config no case ran is refused naming the ones there are.
+TEST(SelectConfig, OneConfigOfASuiteIsComparedWithAnother) {
+  std::vector<json> a = Group("office/a", 1, 10, 0.80, 0.004);
+  std::vector<json> b = Group("office/b", 1, 10, 0.90, 0.004);
+  for (json& c : a) c["scene"] = "office", c["config"] = "a";
+  for (json& c : b) c["scene"] = "office", c["config"] = "b";
+  b[3]["verdict"] = "failed";
+  const auto s = ReadSuiteResults(Write("configs", Suite({a, b})));
+  const auto base = mopad::suite::SelectConfig(s, "a", "a->b");
+  const auto next = mopad::suite::SelectConfig(s, "b", "a->b");
+  ASSERT_EQ(base.cases.size(), 10u);
+  EXPECT_EQ(base.cases[0].group, "office/a->b");
+  EXPECT_EQ(base.cases[0].id, "office/a->b/seed-1");
+  EXPECT_EQ(next.totals.at("cases"), 10);
+  EXPECT_EQ(next.totals.at("failed"), 1);
+  EXPECT_EQ(next.totals.at("passed"), 9);
+  const Comparison c = CompareSuites(base, next, CompareParams{});
+  EXPECT_EQ(Find(c, "office/a->b", "sm5_tp").change, Change::kImprovement);
+  EXPECT_EQ(Find(c, "office/a->b", "d_h_mean").change, Change::kWithinNoise);
+  ASSERT_EQ(c.flips.size(), 1u);
+  EXPECT_EQ(c.flips[0].id, "office/a->b/seed-4");
+  EXPECT_TRUE(c.groups_only_in_base.empty());
+  try {
+    mopad::suite::SelectConfig(s, "c", "a->c");
+    ADD_FAILURE() << "config 'c' accepted";
+  } catch (const mopad::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no case was run with config 'c'"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("'a', 'b'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
