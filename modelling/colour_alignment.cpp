@@ -71,6 +71,7 @@ std::array<double, 3> ColourReference::Align(const std::vector<Eigen::Vector3f>&
   // Each point's cell of the room, made when new (node addresses stay put); the scan's sums
   // beside each cell it meets, in the order it first meets them.
   std::vector<Shared> cells;
+  std::vector<Cell*> met;  // the cells of `cells`, writable: their slots are reset after
   std::vector<Cell*> cell_of(end - begin);
   for (std::size_t i = begin; i < end; ++i) {
     Cell* room = &cells_[Key(points[i])];
@@ -79,12 +80,13 @@ std::array<double, 3> ColourReference::Align(const std::vector<Eigen::Vector3f>&
     if (room->slot == kNoSlot) {
       room->slot = static_cast<std::uint32_t>(cells.size());
       cells.push_back({room, {}});
+      met.push_back(room);
     }
     Cell& c = cells[room->slot].scan;
     for (std::size_t ch = 0; ch < 3; ++ch) c.sum[ch] += lin[colours[i][ch]];
     ++c.n;
   }
-  for (Cell* c : cell_of) c->slot = kNoSlot;
+  for (Cell* c : met) c->slot = kNoSlot;
   const std::array<double, 3> g = first ? none : GainsOf(cells, shared);
   ApplyColourGains(g, colours, begin, end);
   for (std::size_t i = begin; i < end; ++i) {
