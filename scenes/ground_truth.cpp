@@ -118,6 +118,14 @@ Json ToJson(const GroundTruth& t) {
   for (const auto& c : t.connections)
     conns.push_back({{"door", c.door}, {"room_a", c.room_a}, {"room_b", c.room_b}});
   j["connections"] = conns;
+  if (t.as_built.Enabled()) {
+    const AsBuiltParams& a = t.as_built;
+    j["as_built"] = {{"flatness_mm", a.flatness_mm},
+                     {"lean_sigma_deg", a.lean_sigma_deg},
+                     {"wavelength", a.wavelength},
+                     {"mesh_spacing", a.mesh_spacing},
+                     {"seed", a.seed}};
+  }
   return j;
 }
 
@@ -439,7 +447,7 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
   GroundTruth t;
   r.Known(j, "",
           {"format_version", "scene_name", "units", "up_axis", "storeys", "rooms", "elements",
-           "openings", "service_components", "furniture", "connections"});
+           "openings", "service_components", "furniture", "connections", "as_built"});
   const Json& ver = r.Field(j, "", "format_version");
   if (!ver.is_number_integer() ||
       (ver.get<int>() != kTruthFormatVersion && ver.get<int>() != kTruthFormatVersionPassages)) {
@@ -462,6 +470,23 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
   ReadServiceComponents(j, r, &ids, &t);
   ReadFurniture(j, r, &ids, &t);
   ReadConnections(j, r, &t);
+  if (j.contains("as_built")) {
+    const Json& a = j["as_built"];
+    r.Known(a, "as_built", {"flatness_mm", "lean_sigma_deg", "wavelength", "mesh_spacing", "seed"});
+    t.as_built.flatness_mm = r.Num(a, "as_built", "flatness_mm");
+    t.as_built.lean_sigma_deg = r.Num(a, "as_built", "lean_sigma_deg");
+    t.as_built.wavelength = r.Num(a, "as_built", "wavelength");
+    t.as_built.mesh_spacing = r.Num(a, "as_built", "mesh_spacing");
+    const Json& seed = r.Field(a, "as_built", "seed");
+    if (!seed.is_number_unsigned())
+      r.Fail("as_built.seed", "not a non-negative integer", seed.dump());
+    t.as_built.seed = seed.get<std::uint64_t>();
+    try {
+      ValidateParams(t.as_built, "as_built.");
+    } catch (const InputError& e) {
+      r.Fail("as_built", e.what());
+    }
+  }
   CheckReferences(t, r);
   return t;
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/door_state.h"
+#include "scenes/as_built_params.h"
 #include "scenes/element_class.h"
 
 namespace mopad::scenes {
@@ -113,6 +114,9 @@ struct GroundTruth {
   std::vector<ServiceComponent> service_components;
   std::vector<FurnitureItem> furniture;
   std::vector<RoomConnection> connections;
+  /// The building as built departs from the design above by this field (scenes/as_built.h);
+  /// written as `as_built` only when enabled. Everything above is the design.
+  AsBuiltParams as_built;
 
   const Room* FindRoom(const std::string& id) const;
   const StructuralElement* FindElement(const std::string& id) const;

@@ -196,6 +196,8 @@ void ReadTop(const YAML::Node& root, const std::string& file, SceneSpec* s) {
   top.Num("ceiling_height", &s->ceiling_height, 2.0, 10.0);
   top.Num("wall_thickness", &s->wall_thickness, 0.05, 1.0);
   ReadMaterials(top, &s->materials);
+  if (const YAML::Node a = top.Node("as_built"); a)
+    s->as_built = LoadParams<AsBuiltParams>(a, file);
   for (const char* k : {"rooms", "doors", "windows", "columns", "furniture", "bscs"}) top.Node(k);
   top.Finish();
 }
@@ -712,6 +714,15 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
   EmitColumns(e, s.columns);
   EmitFurniture(e, s.furniture);
   EmitBscs(e, s.bscs);
+  if (s.as_built.Enabled()) {
+    e << YAML::Key << "as_built" << YAML::Value << YAML::BeginMap;
+    EmitNum(e, "flatness_mm", s.as_built.flatness_mm);
+    EmitNum(e, "lean_sigma_deg", s.as_built.lean_sigma_deg);
+    EmitNum(e, "wavelength", s.as_built.wavelength);
+    EmitNum(e, "mesh_spacing", s.as_built.mesh_spacing);
+    e << YAML::Key << "seed" << YAML::Value << s.as_built.seed;
+    e << YAML::EndMap;
+  }
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "scenes/as_built_params.h"
+
 namespace YAML {
 class Node;
 }
@@ -153,6 +155,8 @@ struct SceneSpec {
   std::vector<ColumnSpec> columns;
   std::vector<FurnitureSpec> furniture;
   std::vector<BscSpecEntry> bscs;
+  /// The building as built departs from this design (scenes/as_built.h); off by default.
+  AsBuiltParams as_built;
   std::string source;  ///< file it came from (for messages), or a generator name
 
   const RoomSpec* FindRoom(const std::string& id) const;

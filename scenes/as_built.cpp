@@ -1,0 +1,238 @@
+#include "scenes/as_built.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "common/polygon.h"
+#include "common/rng.h"
+
+namespace mopad::scenes {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kFlatTerms = 12;
+constexpr int kLeanTerms = 6;
+constexpr double kSampleSpacing = 0.1;  // m, grid on which surfaces are measured and fitted
+
+Vector3d UnitVector(CounterRng& rng) {
+  const double z = rng.Uniform(-1.0, 1.0), a = rng.Uniform(0.0, 2.0 * kPi);
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {r * std::cos(a), r * std::sin(a), z};
+}
+
+// Points of a planar polygon on a grid of `spacing` in its plane (the polygon's vertices when
+// it is smaller than one cell), with the polygon's frame.
+std::vector<Vector3d> SurfaceSamples(const std::vector<Vector3d>& poly, double spacing) {
+  std::vector<Vector3d> out;
+  if (poly.size() < 3) return poly;
+  Vector3d n = Vector3d::Zero();
+  for (std::size_t i = 0; i < poly.size(); ++i)
+    n += (poly[i] - poly[0]).cross(poly[(i + 1) % poly.size()] - poly[0]);
+  if (n.norm() < 1e-12) return poly;
+  n.normalize();
+  Vector3d u = (poly[1] - poly[0]);
+  u = (u - u.dot(n) * n).normalized();
+  const Vector3d w = n.cross(u);
+  std::vector<Vector2d> p2;
+  Vector2d lo = Vector2d::Constant(1e300), hi = Vector2d::Constant(-1e300);
+  for (const auto& p : poly) {
+    p2.emplace_back((p - poly[0]).dot(u), (p - poly[0]).dot(w));
+    lo = lo.cwiseMin(p2.back());
+    hi = hi.cwiseMax(p2.back());
+  }
+  const int nu = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / spacing)));
+  const int nw = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / spacing)));
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nw; ++j) {
+      const Vector2d q(lo.x() + (i + 0.5) * (hi.x() - lo.x()) / nu,
+                       lo.y() + (j + 0.5) * (hi.y() - lo.y()) / nw);
+      if (PointInPolygon(q, p2)) out.push_back(poly[0] + q.x() * u + q.y() * w);
+    }
+  if (out.size() < 3) return poly;
+  return out;
+}
+
+// Least-squares plane through points: (unit normal oriented like `towards`, centroid).
+std::pair<Vector3d, Vector3d> FitPlane(const std::vector<Vector3d>& pts, const Vector3d& towards) {
+  Vector3d c = Vector3d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Vector3d n = es.eigenvectors().col(0);
+  if (n.dot(towards) < 0.0) n = -n;
+  return {n, c};
+}
+
+double AngleDeg(const Vector3d& a, const Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
+}
+
+}  // namespace
+
+AsBuiltField::AsBuiltField(const AsBuiltParams& params) {
+  CounterRng rng(params.seed, "scenes/as_built");
+  // Every draw is taken whatever the sigmas, so one factor's value does not move another's.
+  const double a_sigma = 1e-3 * params.flatness_mm * std::sqrt(2.0 / kFlatTerms);
+  for (int k = 0; k < kFlatTerms; ++k) {
+    Term t;
+    const double lambda = params.wavelength * rng.Uniform(1.0, 3.0);
+    t.omega = UnitVector(rng) * (2.0 * kPi / lambda);
+    t.phase = rng.Uniform(0.0, 2.0 * kPi);
+    t.amplitude = Vector3d(rng.Normal(), rng.Normal(), rng.Normal()) * a_sigma;
+    flat_.push_back(t);
+  }
+  const double g_sigma =
+      std::tan(params.lean_sigma_deg * kPi / 180.0) * std::sqrt(2.0 / kLeanTerms);
+  for (int j = 0; j < kLeanTerms; ++j) {
+    Term t;
+    const double lambda = params.wavelength * rng.Uniform(2.0, 6.0);
+    const double a = rng.Uniform(0.0, 2.0 * kPi);
+    t.omega = Vector3d(std::cos(a), std::sin(a), 0.0) * (2.0 * kPi / lambda);
+    t.phase = rng.Uniform(0.0, 2.0 * kPi);
+    t.amplitude = Vector3d(rng.Normal(), rng.Normal(), 0.0) * g_sigma;
+    lean_.push_back(t);
+  }
+}
+
+Vector3d AsBuiltField::Displacement(const Vector3d& p) const {
+  Vector3d d = Vector3d::Zero();
+  for (const Term& t : flat_) d += t.amplitude * std::sin(t.omega.dot(p) + t.phase);
+  Vector3d slope = Vector3d::Zero();
+  for (const Term& t : lean_) slope += t.amplitude * std::sin(t.omega.dot(p) + t.phase);
+  return d + p.z() * slope;
+}
+
+void ApplyAsBuilt(const AsBuiltParams& params, Scene* scene) {
+  if (!params.Enabled()) return;
+  const AsBuiltField field(params);
+  for (MeshPart& part : scene->parts) {
+    const bool has_uv = part.uvs.size() == part.positions.size() && !part.uvs.empty();
+    std::vector<Eigen::Vector3f> pos = part.positions;
+    std::vector<Eigen::Vector2f> uvs = part.uvs;
+    std::vector<Eigen::Vector3i> tris;
+    tris.reserve(part.triangles.size());
+    // A point on an edge is keyed by the edge's ordered end indices, its subdivision count and
+    // its step from the lower end, so two triangles that split a shared edge alike share it.
+    std::map<std::tuple<int, int, int, int>, int> edge_points;
+    for (const Eigen::Vector3i& t : part.triangles) {
+      const Eigen::Vector3f a = part.positions[t[0]], b = part.positions[t[1]],
+                            c = part.positions[t[2]];
+      const float longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+      const int n = std::max(1, static_cast<int>(std::ceil(longest / params.mesh_spacing)));
+      if (n == 1) {
+        tris.push_back(t);
+        continue;
+      }
+      // Barycentric grid: point (i, j) = a + (b - a) i / n + (c - a) j / n, i + j <= n.
+      auto vertex = [&](int i, int j) -> int {
+        if (i == 0 && j == 0) return t[0];
+        if (i == n && j == 0) return t[1];
+        if (i == 0 && j == n) return t[2];
+        int e0 = -1, e1 = -1, step = 0;  // edge end indices and step from e0
+        if (j == 0)
+          e0 = t[0], e1 = t[1], step = i;
+        else if (i == 0)
+          e0 = t[0], e1 = t[2], step = j;
+        else if (i + j == n)
+          e0 = t[1], e1 = t[2], step = j;
+        auto make = [&]() {
+          const float fi = static_cast<float>(i) / static_cast<float>(n);
+          const float fj = static_cast<float>(j) / static_cast<float>(n);
+          pos.push_back(a + (b - a) * fi + (c - a) * fj);
+          if (has_uv) {
+            const Eigen::Vector2f ua = part.uvs[t[0]], ub = part.uvs[t[1]], uc = part.uvs[t[2]];
+            uvs.push_back(ua + (ub - ua) * fi + (uc - ua) * fj);
+          }
+          return static_cast<int>(pos.size()) - 1;
+        };
+        if (e0 < 0) return make();
+        if (e0 > e1) std::swap(e0, e1), step = n - step;
+        const auto key = std::make_tuple(e0, e1, n, step);
+        auto it = edge_points.find(key);
+        if (it != edge_points.end()) return it->second;
+        const int id = make();
+        edge_points.emplace(key, id);
+        return id;
+      };
+      std::vector<std::vector<int>> grid(static_cast<std::size_t>(n + 1));
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) grid[i].push_back(vertex(i, j));
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; i + j < n; ++j) {
+          tris.emplace_back(grid[i][j], grid[i + 1][j], grid[i][j + 1]);
+          if (i + j + 2 <= n) tris.emplace_back(grid[i + 1][j], grid[i + 1][j + 1], grid[i][j + 1]);
+        }
+    }
+    for (Eigen::Vector3f& p : pos) p = field.Moved(p.cast<double>()).cast<float>();
+    part.positions = std::move(pos);
+    if (has_uv) part.uvs = std::move(uvs);
+    part.triangles = std::move(tris);
+  }
+}
+
+SurfaceDeviation MeasureDeviation(const StructuralElement& e, const AsBuiltField& field) {
+  SurfaceDeviation d;
+  std::vector<Vector3d> moved;
+  double sum2 = 0.0;
+  std::size_t count = 0;
+  for (const auto& poly : e.polygons)
+    for (const Vector3d& p : SurfaceSamples(poly, kSampleSpacing)) {
+      const double dn = 1e3 * field.Displacement(p).dot(e.normal);
+      sum2 += dn * dn;
+      d.max_mm = std::max(d.max_mm, std::abs(dn));
+      ++count;
+      moved.push_back(field.Moved(p));
+    }
+  if (count == 0) return d;
+  d.rms_mm = std::sqrt(sum2 / static_cast<double>(count));
+  if (e.polygons.size() == 1) d.tilt_deg = AngleDeg(e.normal, FitPlane(moved, e.normal).first);
+  return d;
+}
+
+GroundTruth AsBuiltTruth(const GroundTruth& design, const AsBuiltParams& params) {
+  if (!params.Enabled()) return design;
+  const AsBuiltField field(params);
+  GroundTruth t = design;
+  for (StructuralElement& e : t.elements) {
+    for (auto& poly : e.polygons) {
+      std::vector<Vector3d> moved;
+      Vector3d n0 = Vector3d::Zero();
+      for (std::size_t i = 0; i < poly.size(); ++i)
+        n0 += (poly[i] - poly[0]).cross(poly[(i + 1) % poly.size()] - poly[0]);
+      for (const Vector3d& p : SurfaceSamples(poly, kSampleSpacing))
+        moved.push_back(field.Moved(p));
+      const auto [n, c] = FitPlane(moved, n0);
+      for (Vector3d& p : poly) {
+        p = field.Moved(p);
+        p -= (p - c).dot(n) * n;
+      }
+      if (e.polygons.size() == 1) e.normal = e.normal.dot(n) < 0.0 ? Vector3d(-n) : n;
+    }
+    if (e.element_class == ElementClass::kWall && e.polygons.size() == 1 &&
+        e.polygons[0].size() == 4) {
+      // The design polygon runs (0,0), (0,h), (L,h), (L,0) in the wall's (u, v).
+      const auto& q = e.polygons[0];
+      e.origin = q[0];
+      e.u_axis = (q[3] - q[0]).normalized();
+      e.length = (q[3] - q[0]).norm();
+      e.height = (q[1] - q[0]).norm();
+    }
+  }
+  for (Opening& o : t.openings) {
+    for (Vector3d& p : o.corners) p = field.Moved(p);
+    o.hinge_point = field.Moved(o.hinge_point);
+  }
+  for (ServiceComponent& s : t.service_components) s.centre = field.Moved(s.centre);
+  for (FurnitureItem& f : t.furniture) f.centre = field.Moved(f.centre);
+  return t;
+}
+
+}  // namespace mopad::scenes
