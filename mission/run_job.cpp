@@ -50,6 +50,14 @@ report::ReportTable SceneTable(const scenes::SceneSummary& s) {
 
 }  // namespace
 
+scenes::SceneSpec RunSceneSpec(const RunInputs& in) {
+  scenes::SceneSpec spec = scenes::ParseSceneSpec(in.spec_text, in.spec_name);
+  const sim::RealismParams& realism = in.params.room.realism;
+  if (realism.geometry.Enabled())
+    spec.as_built = sim::RunGeometry(realism, in.params.room.drive.seed);
+  return spec;
+}
+
 RunCheckpoint StartRun(const RunRequest& r) {
   if (!r.spec_path.empty() && !r.scene_dir.empty())
     throw InputError("a run takes a scene spec or a scene folder, not both");
@@ -84,10 +92,13 @@ bool RunFromCheckpoint(RunCheckpoint& ck, const std::string& run_dir, const RunH
   o.rooms = in.rooms;
   o.start_W = in.start_W;
   if (in.scene_folder.empty()) {
-    const scenes::SceneSpec spec = scenes::ParseSceneSpec(in.spec_text, in.spec_name);
+    const scenes::SceneSpec spec = RunSceneSpec(in);
     scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
     o.scene_name = spec.name;
     o.scene_source = in.scene_source;
+  } else if (in.params.room.realism.geometry.Enabled() && hooks.print) {
+    hooks.print("realism: the as-built geometry applies to generated scenes; the scene folder " +
+                in.scene_folder + " is used as it is");
   }
   const std::string scene_folder =
       in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;

@@ -15,8 +15,14 @@
 
 #include "common/wall_clock.h"
 #include "mission/run_checkpoint.h"
+#include "scenes/scene_spec.h"
 
 namespace mopad::mission {
+
+/// The scene spec a run generates its world from: the inputs' spec with the run's as-built
+/// geometry (sim::RunGeometry: realism.geometry, drawn from the run seed) when it has one.
+/// Precondition: the inputs name a spec, not a scene folder.
+scenes::SceneSpec RunSceneSpec(const RunInputs& inputs);
 
 /// What a caller asks of the main job (the options of `mopad run` but --resume and --keep).
 struct RunRequest {

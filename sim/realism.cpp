@@ -17,6 +17,9 @@ RealismParams RealismProfile(const std::string& name) {
     s.low_signal_range_bias = 0.002;
     s.exposure_sigma_stops = 0.3;
     s.white_balance_sigma = 0.05;
+    // Finished walls and ceilings within DIN 18202 table 3 line 6: docs/realism.md, "As built".
+    p.geometry.flatness_mm = 2.0;
+    p.geometry.lean_sigma_deg = 0.05;
     return p;
   }
   if (name == "hard") {
@@ -26,6 +29,9 @@ RealismParams RealismProfile(const std::string& name) {
     s.low_signal_range_bias = 0.005;
     s.exposure_sigma_stops = 0.7;
     s.white_balance_sigma = 0.12;
+    // Unfinished walls and slab undersides, DIN 18202 table 3 line 5.
+    p.geometry.flatness_mm = 4.0;
+    p.geometry.lean_sigma_deg = 0.1;
     return p;
   }
   std::string known;
@@ -36,6 +42,12 @@ RealismParams RealismProfile(const std::string& name) {
 std::vector<std::string> RealismProfileNames() { return {"ideal", "typical", "hard"}; }
 
 void RealismParams::StartFromProfile() { *this = RealismProfile(profile); }
+
+scenes::AsBuiltParams RunGeometry(const RealismParams& realism, std::uint64_t run_seed) {
+  scenes::AsBuiltParams g = realism.geometry;
+  if (g.seed == 0) g.seed = run_seed;
+  return g;
+}
 
 void RealismParams::Validate() const { (void)RealismProfile(profile); }
 

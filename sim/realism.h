@@ -4,16 +4,18 @@
 // `ideal` is the world as the instrument profiles describe it, byte for byte; `typical` and
 // `hard` add what real buildings and real scanners do. World side: the robot never reads it.
 //
-// Today a profile holds the scanner's errors beyond its data-sheet noise: the instrument's
-// residual calibration errors (drawn once per run from the run's seed: one run, one
-// instrument) and the camera's per-scan exposure and white balance. As-built geometry and
-// people walking through rooms are the next sections; a profile keeps one name for all.
+// A profile holds the scanner's errors beyond its data-sheet noise (the instrument's residual
+// calibration errors, drawn once per run from the run's seed: one run, one instrument; the
+// camera's per-scan exposure and white balance) and the building's as-built geometry (applied
+// by the scene generator to a generated scene: scenes/as_built.h). People walking through
+// rooms are the next section; a profile keeps one name for all.
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "common/params.h"
+#include "scenes/as_built_params.h"
 #include "sim/tls_params.h"
 
 namespace mopad::sim {
@@ -45,6 +47,9 @@ struct ScannerRealism {
 struct RealismParams {
   std::string profile = "ideal";  ///< ideal | typical | hard
   ScannerRealism scanner;
+  /// The building as built, applied to a generated scene before the run (a scene folder is
+  /// used as it is). `seed` 0 draws the building from the run seed: one run, one building.
+  scenes::AsBuiltParams geometry = NoGeometry();
 
   template <class V>
   void Visit(V& v) {
@@ -52,13 +57,23 @@ struct RealismParams {
     v("profile", profile);
     if (profile != named) StartFromProfile();
     v("scanner", scanner);
+    v("geometry", geometry);
   }
   /// InputError when `profile` names no profile.
   void Validate() const;
 
  private:
   void StartFromProfile();  ///< this = RealismProfile(profile)
+  static scenes::AsBuiltParams NoGeometry() {
+    scenes::AsBuiltParams g;
+    g.seed = 0;
+    return g;
+  }
 };
+
+/// The as-built parameters a run applies to its generated scene: `realism.geometry` with seed
+/// 0 replaced by the run seed.
+scenes::AsBuiltParams RunGeometry(const RealismParams& realism, std::uint64_t run_seed);
 
 /// The built-in profile of that name; InputError naming the known ones otherwise.
 RealismParams RealismProfile(const std::string& name);

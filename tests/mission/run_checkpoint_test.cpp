@@ -16,6 +16,8 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "io/text_file.h"
+#include "mission/run_job.h"
+#include "sim/realism.h"
 #include "sim/scene_world.h"
 #include "tests/input_error_of.h"
 
@@ -107,6 +109,18 @@ TEST(RunCheckpoint, KeepsTheInputsBitForBit) {
   EXPECT_EQ(back.spec_name, in.spec_name);
   EXPECT_FALSE(fs::exists(fs::path(dir) / "checkpoint" / "manifest.json.tmp"));
   fs::remove_all(dir);
+}
+
+TEST(RunCheckpoint, ARunGeneratesItsBuildingAsBuiltFromItsSeedWhenTheRealismSaysSo) {
+  RunInputs in = Inputs();
+  EXPECT_FALSE(RunSceneSpec(in).as_built.Enabled());  // ideal: the design
+  in.params.room.realism = sim::RealismProfile("typical");
+  const scenes::SceneSpec spec = RunSceneSpec(in);
+  EXPECT_TRUE(spec.as_built.Enabled());
+  EXPECT_EQ(spec.as_built.flatness_mm, in.params.room.realism.geometry.flatness_mm);
+  EXPECT_EQ(spec.as_built.seed, 3u);          // the run seed: one run, one building
+  in.params.room.realism.geometry.seed = 11;  // a building of its own
+  EXPECT_EQ(RunSceneSpec(in).as_built.seed, 11u);
 }
 
 TEST(RunCheckpoint, ResumeWithoutACheckpointIsRefusedWithOneLine) {

@@ -85,6 +85,26 @@ TEST(Realism, AConfigNamingAProfileStartsFromItsValues) {
   }
 }
 
+TEST(Realism, TheProfilesBuildOffTheDesignAsTheirTolerancesSay) {
+  // ideal is the design; typical and hard depart from it (their values' DIN 18202 check is
+  // AsBuilt.*, tests/scenes/as_built_test.cpp); seed 0 is the run's.
+  EXPECT_FALSE(RealismProfile("ideal").geometry.Enabled());
+  const RealismParams typical = RealismProfile("typical"), hard = RealismProfile("hard");
+  EXPECT_TRUE(typical.geometry.Enabled());
+  EXPECT_LT(typical.geometry.flatness_mm, hard.geometry.flatness_mm);
+  EXPECT_LT(typical.geometry.lean_sigma_deg, hard.geometry.lean_sigma_deg);
+  EXPECT_EQ(RunGeometry(typical, 42).seed, 42u);
+  RealismParams own = typical;
+  own.geometry.seed = 5;
+  EXPECT_EQ(RunGeometry(own, 42).seed, 5u);
+  // A config may switch the geometry off and keep the scanner's errors.
+  const auto p = LoadParams<RealismParams>(
+      LoadYamlString("profile: typical\ngeometry: {flatness_mm: 0, lean_sigma_deg: 0}\n", "g.yaml"),
+      "g.yaml");
+  EXPECT_FALSE(p.geometry.Enabled());
+  EXPECT_EQ(p.scanner.exposure_sigma_stops, typical.scanner.exposure_sigma_stops);
+}
+
 // A box room, the scanner at its centre, its errors alone (noise off).
 struct BoxScan {
   TlsParams params;
