@@ -31,6 +31,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <utility>
 
@@ -51,6 +52,7 @@
 #include "modelling/sm5_io.h"
 #include "runfolder/layout.h"
 #include "runfolder/run_record.h"
+#include "scenes/as_built.h"
 #include "scenes/ground_truth.h"
 #include "sim/scene_world.h"
 
@@ -189,6 +191,12 @@ void ScoreSm3(const std::vector<Patch>& model, const RoomInput& in, const std::s
     r.columns = EvaluateColumns(GroupModelColumns(model), TruthColumns(*in.truth, in.truth_room),
                                 params.columns, params.patches);
     r.isprs = EvaluateIsprs(model, truth_patches, params.isprs);
+    if (in.truth->as_built.Enabled()) {
+      const scenes::GroundTruth built = scenes::AsBuiltTruth(*in.truth, in.truth->as_built);
+      r.patches_as_built =
+          EvaluatePatches(WithoutColumns(model), WithoutColumns(TruthPatches(built, in.truth_room)),
+                          params.patches);
+    }
   } catch (const InputError& e) {
     throw InputError(sm3_file + ": " + e.what());
   }
@@ -313,20 +321,56 @@ void AddDetection(const ClassDetection& s, ClassDetection& d) {
 }
 
 // Walls, floors and ceilings of all rooms; the column row is the rooms' column objects.
-PatchEvaluation PoolPatches(const std::vector<RoomResult>& rooms) {
+// `of` picks a room's evaluation (the design's or the as-built one; rooms without are skipped).
+template <class Of>
+PatchEvaluation PoolPatches(const std::vector<RoomResult>& rooms, Of of) {
   PatchEvaluation pooled;
   for (const auto& r : rooms) {
+    const PatchEvaluation* e = of(r);
+    if (!e) continue;
     for (int c = 0; c < kNumSurfaceClasses; ++c) {
-      AddDetection(r.patches.detection[c], pooled.detection[c]);
-      pooled.accuracy[c].d_v.Merge(r.patches.accuracy[c].d_v);
-      pooled.accuracy[c].d_h.Merge(r.patches.accuracy[c].d_h);
-      pooled.accuracy[c].phi_deg.Merge(r.patches.accuracy[c].phi_deg);
+      AddDetection(e->detection[c], pooled.detection[c]);
+      pooled.accuracy[c].d_v.Merge(e->accuracy[c].d_v);
+      pooled.accuracy[c].d_h.Merge(e->accuracy[c].d_h);
+      pooled.accuracy[c].phi_deg.Merge(e->accuracy[c].phi_deg);
     }
-    pooled.d_v.Merge(r.patches.d_v);
-    pooled.d_h.Merge(r.patches.d_h);
-    pooled.phi_deg.Merge(r.patches.phi_deg);
+    pooled.d_v.Merge(e->d_v);
+    pooled.d_h.Merge(e->d_h);
+    pooled.phi_deg.Merge(e->phi_deg);
   }
   return pooled;
+}
+
+// The models against the as-built truth, and the truth's departure from its design over the
+// elements of the scored rooms; none when the scene is its design.
+std::optional<AsBuiltFigures> PoolAsBuilt(const std::vector<RoomResult>& rooms) {
+  if (rooms.empty() || !rooms.front().truth->as_built.Enabled()) return std::nullopt;
+  AsBuiltFigures f;
+  f.patches = PoolPatches(rooms, [](const RoomResult& r) {
+    return r.patches_as_built ? &*r.patches_as_built : nullptr;
+  });
+  const scenes::GroundTruth& truth = *rooms.front().truth;
+  const scenes::AsBuiltField field(truth.as_built);
+  std::set<std::string> scored;
+  for (const auto& r : rooms) scored.insert(r.truth_room);
+  for (const auto& e : truth.elements) {
+    AsBuiltFigures::Deviation* d = e.element_class == scenes::ElementClass::kWall      ? &f.wall
+                                   : e.element_class == scenes::ElementClass::kFloor   ? &f.floor
+                                   : e.element_class == scenes::ElementClass::kCeiling ? &f.ceiling
+                                                                                       : nullptr;
+    const bool in_scored = std::any_of(e.rooms.begin(), e.rooms.end(),
+                                       [&](const auto& id) { return scored.count(id); });
+    if (!d || !in_scored) continue;
+    const scenes::SurfaceDeviation s = scenes::MeasureDeviation(e, field);
+    ++d->elements;
+    d->rms_mm += s.rms_mm;
+    d->max_mm = std::max(d->max_mm, s.max_mm);
+    d->tilt_mean_deg += s.tilt_deg;
+    d->tilt_max_deg = std::max(d->tilt_max_deg, s.tilt_deg);
+  }
+  for (AsBuiltFigures::Deviation* d : {&f.wall, &f.floor, &f.ceiling})
+    if (d->elements > 0) d->rms_mm /= d->elements, d->tilt_mean_deg /= d->elements;
+  return f;
 }
 
 ColumnEvaluation PoolColumns(const std::vector<RoomResult>& rooms) {
@@ -387,7 +431,8 @@ PooledFigures Pool(const std::string& run_dir, const std::vector<RoomResult>& ro
   PooledFigures p;
   p.floorplan = PoolFloorplan(rooms, params.floorplan);
   p.floor = ScoreFloorModel(run_dir, rooms, params.floor);
-  p.patches = PoolPatches(rooms);
+  p.patches = PoolPatches(rooms, [](const RoomResult& r) { return &r.patches; });
+  p.as_built = PoolAsBuilt(rooms);
   p.columns = PoolColumns(rooms);
   p.patches.detection[static_cast<int>(SurfaceClass::kColumn)] = p.columns.detection;
   std::vector<std::uint8_t> all_truth, all_pred;

@@ -154,6 +154,27 @@ ojson FloorSummaryJson(const FloorEvaluation& floor) {
           {"door_side_offset_m", Ord(ToJson(floor.door_side_offset))}};
 }
 
+// The as-built block: the same SM3 figures against the as-built surfaces, and the truth's own
+// departure from its design per class.
+ojson AsBuiltJson(const AsBuiltFigures& a) {
+  ojson j;
+  j["d_v"] = Ord(ToJson(a.patches.d_v));
+  j["d_h"] = Ord(ToJson(a.patches.d_h));
+  j["phi_deg"] = Ord(ToJson(a.patches.phi_deg));
+  ojson dev;
+  for (const auto& [name, d] :
+       {std::pair<const char*, const AsBuiltFigures::Deviation&>{"wall", a.wall},
+        {"floor", a.floor},
+        {"ceiling", a.ceiling}})
+    dev[name] = {{"elements", d.elements},
+                 {"rms_mm", Num<ojson>(d.rms_mm)},
+                 {"max_mm", Num<ojson>(d.max_mm)},
+                 {"tilt_mean_deg", Num<ojson>(d.tilt_mean_deg)},
+                 {"tilt_max_deg", Num<ojson>(d.tilt_max_deg)}};
+  j["truth_deviation"] = dev;
+  return j;
+}
+
 // evaluation.json's "summary": the pooled figures (the pairs of SM5 stay per room).
 ojson SummaryJson(const EvalParams& params, const std::vector<RoomResult>& rooms,
                   const PooledFigures& p, const std::vector<std::string>& truth_notes) {
@@ -184,6 +205,7 @@ ojson SummaryJson(const EvalParams& params, const std::vector<RoomResult>& rooms
     summary["components"] = nullptr;
   }
   summary["floor"] = p.floor ? FloorSummaryJson(*p.floor) : ojson(nullptr);
+  if (p.as_built) summary["as_built"] = AsBuiltJson(*p.as_built);
   if (!truth_notes.empty()) summary["truth_notes"] = truth_notes;
   return summary;
 }
@@ -245,6 +267,19 @@ std::string RoomsMarkdownTable(const EvalParams& params, const std::vector<RoomR
      << " | " << FormatFixed(p.isprs_completeness, 4) << " | "
      << FormatFixed(p.isprs_correctness, 4) << " | "
      << (p.any_dsm3 ? FormatFixed(p.dsm3.iou[kStructure], 4) : std::string("-")) << " |\n\n";
+  if (p.as_built) {
+    const AsBuiltFigures& a = *p.as_built;
+    md << "The building stands off its design (as-built geometry, docs/realism.md): the figures "
+          "above are against the design; against the as-built surfaces d_v "
+       << FormatFixed(a.patches.d_v.mean * 100, 2) << " cm, d_h "
+       << FormatFixed(a.patches.d_h.mean * 100, 2) << " cm, Phi "
+       << FormatFixed(a.patches.phi_deg.mean, 4) << " deg. The truth's walls depart from their "
+       << "design planes by " << FormatFixed(a.wall.rms_mm, 1) << " mm rms (max "
+       << FormatFixed(a.wall.max_mm, 1) << " mm) and tilt " << FormatFixed(a.wall.tilt_mean_deg, 3)
+       << " deg (max " << FormatFixed(a.wall.tilt_max_deg, 3) << "); floors "
+       << FormatFixed(a.floor.rms_mm, 1) << " mm rms, ceilings " << FormatFixed(a.ceiling.rms_mm, 1)
+       << " mm rms.\n\n";
+  }
   return md.str();
 }
 

@@ -63,6 +63,9 @@ struct RoomResult {
   /// Walls, floors, ceilings patch by patch; the column row of `detection` counts the column
   /// objects of `columns`.
   PatchEvaluation patches;
+  /// The same patches against the as-built truth (scenes::AsBuiltTruth), when the scene's
+  /// truth records an as-built field; none otherwise.
+  std::optional<PatchEvaluation> patches_as_built;
   ColumnEvaluation columns;
   IsprsResult isprs;
   std::optional<Room> floor;  ///< the largest SM3 floor in the world plan; none: no floor
@@ -74,6 +77,20 @@ struct RoomResult {
   std::optional<nlohmann::ordered_json> mission;  ///< the run's own evaluation.json
   std::optional<OpeningEvaluation> openings;      ///< SM4, when the run wrote sm4.json
   std::optional<ComponentEvaluation> components;  ///< SM5, when the run wrote sm5.json
+};
+
+/// A scene built off its design (scenes/as_built.h): the models scored against the as-built
+/// surfaces, and how far the truth's surfaces depart from their design planes.
+struct AsBuiltFigures {
+  PatchEvaluation patches;  ///< walls, floors, ceilings against the as-built truth
+  struct Deviation {
+    int elements = 0;
+    double rms_mm = 0.0;         ///< mm, mean over the elements of each one's rms normal offset
+    double max_mm = 0.0;         ///< mm, largest normal offset of any element
+    double tilt_mean_deg = 0.0;  ///< deg, best-fit plane against the design plane
+    double tilt_max_deg = 0.0;
+  };
+  Deviation wall, floor, ceiling;  ///< over the truth's elements of the scored rooms
 };
 
 /// The missions' own figures (per-pulse truth during the run) pooled over the rooms; NaN where
@@ -100,6 +117,7 @@ struct PooledFigures {
   MissionFigures mission;
   std::optional<OpeningEvaluation> openings;      ///< none: no room has SM4
   std::optional<ComponentEvaluation> components;  ///< none: no room has SM5
+  std::optional<AsBuiltFigures> as_built;         ///< none: the scene is its design
 };
 
 /// `mission`[key] (or [key][sub]) as a number; NaN when absent or not a number.

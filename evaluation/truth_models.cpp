@@ -45,13 +45,21 @@ struct TruthSurface {
   Patch patch;
   bool wall = false;
   Vec3 origin = Vec3::Zero(), u_axis = Vec3::UnitX();
+  Vec3 v_axis = Vec3::UnitZ();  // up in the wall's plane (+z for a plumb wall)
   double length = 0.0, height = 0.0;
   std::vector<Rect> openings;
 };
 
-std::vector<Vec3> WallRect(const Vec3& o, const Vec3& u, double u0, double u1, double v0,
-                           double v1) {
+// Up in the plane of a wall with normal n and axis u: +z for a plumb wall (exactly, when n and u
+// are horizontal), the in-plane up of a leaning one (an as-built truth, scenes/as_built.h).
+Vec3 WallUp(const Vec3& n, const Vec3& u) {
   const Vec3 z = Vec3::UnitZ();
+  if (n.z() == 0.0 && u.z() == 0.0) return z;
+  return (z - z.dot(n) * n - z.dot(u) * u).normalized();
+}
+
+std::vector<Vec3> WallRect(const Vec3& o, const Vec3& u, double u0, double u1, double v0, double v1,
+                           const Vec3& z = Vec3::UnitZ()) {
   return {o + u0 * u + v0 * z, o + u1 * u + v0 * z, o + u1 * u + v1 * z, o + u0 * u + v1 * z};
 }
 
@@ -67,12 +75,13 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
         s.wall = true;
         s.origin = e.origin;
         s.u_axis = e.u_axis.normalized();
+        s.v_axis = WallUp(e.normal.normalized(), s.u_axis);
         s.length = e.length;
         s.height = e.height;
         s.patch.id = e.id;
         s.patch.cls = SurfaceClass::kWall;
         s.patch.normal = e.normal.normalized();
-        s.patch.polygon = WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height);
+        s.patch.polygon = WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height, s.v_axis);
         OrientTo(s.patch.polygon, s.patch.normal);
         for (const auto& o : truth.openings) {
           if (std::find(o.host_walls.begin(), o.host_walls.end(), e.id) == o.host_walls.end())
@@ -80,7 +89,7 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
           if (o.corners.empty()) continue;
           Rect r{o.id, 1e300, -1e300, 1e300, -1e300};
           for (const auto& c : o.corners) {
-            const double u = s.u_axis.dot(c - s.origin), v = c.z() - s.origin.z();
+            const double u = s.u_axis.dot(c - s.origin), v = s.v_axis.dot(c - s.origin);
             r.u0 = std::min(r.u0, u), r.u1 = std::max(r.u1, u);
             r.v0 = std::min(r.v0, v), r.v1 = std::max(r.v1, v);
           }
@@ -94,7 +103,11 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
       case ElementClass::kFloor:
       case ElementClass::kCeiling: {
         const bool floor = e.element_class == ElementClass::kFloor;
-        const Vec3 n = floor ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ());
+        // Level (+-z); an as-built slab (scenes/as_built.h) has its own fitted normal.
+        const Vec3 level = floor ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ());
+        const Vec3 n = truth.as_built.Enabled() && e.normal.dot(level) > 0.99
+                           ? Vec3(e.normal.normalized())
+                           : level;
         std::vector<std::vector<Vec3>> polys = e.polygons;
         if (polys.empty()) {
           std::vector<Vec3> p;
@@ -420,7 +433,7 @@ std::vector<Patch> TruthOpeningPatches(const scenes::GroundTruth& truth, const s
       p.id = r.id + "@" + s.patch.id;
       p.cls = SurfaceClass::kWall;
       p.normal = s.patch.normal;
-      p.polygon = WallRect(s.origin, s.u_axis, r.u0, r.u1, r.v0, r.v1);
+      p.polygon = WallRect(s.origin, s.u_axis, r.u0, r.u1, r.v0, r.v1, s.v_axis);
       OrientTo(p.polygon, p.normal);
       out.push_back(std::move(p));
     }
@@ -555,7 +568,7 @@ std::vector<SurfaceSample> SampleSurfaces(const std::vector<TruthSurface>& surfa
     for (const Vec3& p : pts) {
       bool in_opening = false;
       if (surf.wall) {
-        const double u = surf.u_axis.dot(p - surf.origin), v = p.z() - surf.origin.z();
+        const double u = surf.u_axis.dot(p - surf.origin), v = surf.v_axis.dot(p - surf.origin);
         for (const auto& r : surf.openings)
           if (u >= r.u0 && u <= r.u1 && v >= r.v0 && v <= r.v1) in_opening = true;
       }
