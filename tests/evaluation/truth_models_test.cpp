@@ -22,6 +22,7 @@
 #include "evaluation/metrics_patches.h"
 #include "evaluation/metrics_voxels.h"
 #include "evaluation/model_files.h"
+#include "scenes/as_built.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
@@ -707,6 +708,45 @@ HandRun WriteHandRun(const std::string& name) {
 }
 
 #ifndef MOPAD_BINARY
+TEST(TruthModels, AsBuiltWallsLieInTheirOwnPlanesAndTheDesignScoresAsBefore) {
+  scenes::SceneSpec spec =
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml");
+  const auto design = scenes::Generate(spec);
+  spec.as_built.flatness_mm = 2.0;
+  spec.as_built.lean_sigma_deg = 0.5;  // leaning walls, so the tilt is plain to see
+  spec.as_built.seed = 4;
+  const auto g = scenes::Generate(spec);
+  // The design truth's patches are what they were without the field, bit for bit.
+  const auto before = TruthPatches(design.truth, "R1"), now = TruthPatches(g.truth, "R1");
+  ASSERT_EQ(before.size(), now.size());
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    EXPECT_EQ(before[i].polygon, now[i].polygon);
+    EXPECT_EQ(before[i].normal, now[i].normal);
+  }
+  // The as-built truth: planar patches (the evaluator checks planarity) and openings on their
+  // walls' planes; a model equal to it scores zero against it and its tilt against the design.
+  const scenes::GroundTruth built = scenes::AsBuiltTruth(g.truth, g.truth.as_built);
+  std::vector<Patch> model;
+  ASSERT_NO_THROW(model = TruthPatches(built, "R1"));
+  const PatchEvaluation own = EvaluatePatches(model, model);
+  EXPECT_NEAR(own.phi_deg.max, 0.0, 1e-6);
+  EXPECT_NEAR(own.d_v.max, 0.0, 1e-9);
+  const PatchEvaluation against_design = EvaluatePatches(model, now);
+  EXPECT_EQ(against_design.detection[int(SurfaceClass::kWall)].tp, 4);
+  EXPECT_GT(against_design.phi_deg.max, 0.05);
+  EXPECT_LT(against_design.phi_deg.max, 3.0);
+  const auto openings = TruthOpeningPatches(built, "R1");
+  ASSERT_FALSE(openings.empty());
+  for (const Patch& o : openings) {
+    const std::string wall = o.id.substr(o.id.find('@') + 1);
+    const auto it = std::find_if(model.begin(), model.end(),
+                                 [&](const Patch& p) { return p.id == wall; });
+    ASSERT_NE(it, model.end()) << o.id;
+    for (const Vec3& v : o.polygon)
+      EXPECT_LT(std::abs(it->normal.dot(v - it->polygon[0])), 1e-6) << o.id;
+  }
+}
+
 TEST(EvalEndToEnd, HandWrittenRunEqualToTheTruthScoresPerfectly) {
   const HandRun h = WriteHandRun("lib");
   const RunInfo run = runfolder::ReadRunJson((h.dir / "run.json").string());
