@@ -739,8 +739,8 @@ TEST(TruthModels, AsBuiltWallsLieInTheirOwnPlanesAndTheDesignScoresAsBefore) {
   ASSERT_FALSE(openings.empty());
   for (const Patch& o : openings) {
     const std::string wall = o.id.substr(o.id.find('@') + 1);
-    const auto it = std::find_if(model.begin(), model.end(),
-                                 [&](const Patch& p) { return p.id == wall; });
+    const auto it =
+        std::find_if(model.begin(), model.end(), [&](const Patch& p) { return p.id == wall; });
     ASSERT_NE(it, model.end()) << o.id;
     for (const Vec3& v : o.polygon)
       EXPECT_LT(std::abs(it->normal.dot(v - it->polygon[0])), 1e-6) << o.id;
