@@ -73,6 +73,13 @@ RunCheckpoint StartRun(const RunRequest& r) {
     in.spec_name = r.spec_path.empty() ? kDefaultSceneSpecName : r.spec_path;
     in.spec_text = r.spec_path.empty() ? kDefaultSceneSpec : io::ReadTextFile(r.spec_path);
     in.scene_source = in.spec_name;
+  } else if (const fs::path spec = fs::path(r.scene_dir) / "spec.effective.yaml";
+             in.params.room.realism.geometry.Enabled() && fs::exists(spec)) {
+    // A generated scene folder carries the spec it was made from; the building as built is
+    // made from that spec (the design's files are the same bytes, scenes/generator.h).
+    in.spec_name = spec.string();
+    in.spec_text = io::ReadTextFile(spec.string());
+    in.scene_source = r.scene_dir;
   } else {
     in.scene_folder = fs::absolute(r.scene_dir).string();
     in.scene_source = r.scene_dir;
@@ -98,7 +105,7 @@ bool RunFromCheckpoint(RunCheckpoint& ck, const std::string& run_dir, const RunH
     o.scene_source = in.scene_source;
   } else if (in.params.room.realism.geometry.Enabled() && hooks.print) {
     hooks.print("realism: the as-built geometry applies to generated scenes; the scene folder " +
-                in.scene_folder + " is used as it is");
+                in.scene_folder + " has no spec.effective.yaml and is used as it is");
   }
   const std::string scene_folder =
       in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;

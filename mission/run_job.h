@@ -29,7 +29,9 @@ struct RunRequest {
   std::string out = "out/run";  ///< the run folder
   /// Scene spec YAML; with `scene_dir` also empty, the embedded office_5rooms spec.
   std::string spec_path;
-  std::string scene_dir;  ///< a scene folder with its truth (excludes `spec_path`)
+  /// A scene folder with its truth (excludes `spec_path`). With the realism's as-built geometry
+  /// on, a generated folder's spec.effective.yaml is what the run generates from.
+  std::string scene_dir;
   std::string config;     ///< YAML overriding FloorMissionParams fields; empty: the defaults
   std::optional<std::uint64_t> seed;   ///< overrides room.drive.seed (run seed)
   std::optional<double> step_deg;      ///< overrides room.scan.scan_step_deg (deg, 0.02-5)

@@ -17,6 +17,7 @@
 #include "common/params.h"
 #include "io/text_file.h"
 #include "mission/run_job.h"
+#include "scenes/generator.h"
 #include "sim/realism.h"
 #include "sim/scene_world.h"
 #include "tests/input_error_of.h"
@@ -121,6 +122,27 @@ TEST(RunCheckpoint, ARunGeneratesItsBuildingAsBuiltFromItsSeedWhenTheRealismSays
   EXPECT_EQ(spec.as_built.seed, 3u);          // the run seed: one run, one building
   in.params.room.realism.geometry.seed = 11;  // a building of its own
   EXPECT_EQ(RunSceneSpec(in).as_built.seed, 11u);
+
+  // A generated scene folder is built off its design from the spec it carries; without the
+  // geometry, or without a spec (an imported storey), the folder is used as it is.
+  const std::string dir = TempDir("as_built");
+  scenes::WriteGeneratedScene(scenes::Generate(scenes::LoadSceneSpec(Spec())), dir + "/scene");
+  RunRequest r;
+  r.scene_dir = dir + "/scene";
+  r.out = dir + "/typical";
+  r.realism = "typical";
+  const RunCheckpoint typical = StartRun(r);
+  EXPECT_TRUE(typical.Inputs().scene_folder.empty());
+  EXPECT_EQ(typical.Inputs().spec_text, Slurp(dir + "/scene/spec.effective.yaml"));
+  EXPECT_TRUE(RunSceneSpec(typical.Inputs()).as_built.Enabled());
+  r.out = dir + "/ideal";
+  r.realism = "ideal";
+  EXPECT_FALSE(StartRun(r).Inputs().scene_folder.empty());
+  fs::remove(dir + "/scene/spec.effective.yaml");
+  r.out = dir + "/typical_no_spec";
+  r.realism = "typical";
+  EXPECT_FALSE(StartRun(r).Inputs().scene_folder.empty());
+  fs::remove_all(dir);
 }
 
 TEST(RunCheckpoint, ResumeWithoutACheckpointIsRefusedWithOneLine) {
