@@ -75,7 +75,10 @@ struct StructuralSurfaces {
 };
 
 /// Samples room `room`'s structural surfaces. InputError for an unknown room or a room without
-/// structural geometry.
+/// structural geometry. A scene built off its design (truth `as_built`, scenes/as_built.h) is
+/// sampled on its design surfaces: each vertex taken back through the field (p - D(p), to
+/// micrometres), so a wall is one plane of cells as in the design; the as-built surfaces lie
+/// within millimetres of them, inside the coverage's distance tolerance.
 StructuralSurfaces SampleStructuralSurfaces(const scenes::Scene& scene,
                                             const scenes::GroundTruth& truth,
                                             const std::string& room,
