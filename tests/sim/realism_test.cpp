@@ -87,7 +87,7 @@ TEST(Realism, AConfigNamingAProfileStartsFromItsValues) {
 
 TEST(Realism, TheProfilesBuildOffTheDesignAsTheirTolerancesSay) {
   // ideal is the design; typical and hard depart from it (their values' DIN 18202 check is
-  // AsBuilt.*, tests/scenes/as_built_test.cpp); seed 0 is the run's.
+  // AsBuilt.*, tests/scenes/as_built_test.cpp); a zero geometry seed means the run's.
   EXPECT_FALSE(RealismProfile("ideal").geometry.Enabled());
   const RealismParams typical = RealismProfile("typical"), hard = RealismProfile("hard");
   EXPECT_TRUE(typical.geometry.Enabled());
