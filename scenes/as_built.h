@@ -13,7 +13,9 @@
 // [wavelength, 3 wavelength]) and vector amplitudes A_k (each component's stationary 1 sigma is
 // `flatness_mm`); j < 6 lean terms with horizontal q_j (lambda in [2, 6] x wavelength) and
 // horizontal g_j (each component's 1 sigma is `lean_sigma_deg`, as a slope). Corners off
-// square follow from the field's horizontal variation of horizontal displacement.
+// square follow from the field's horizontal variation of horizontal displacement. z is world z,
+// the height above the generated storey's floor (at 0); a building of several storeys, each
+// built plumb on the one below within its own tolerance, needs the lean per storey.
 //
 // The surfaces are subdivided first (every triangle to edges <= mesh_spacing), so the field's
 // curvature shows. Where two surfaces meet without shared vertices (a wall's edge against a
