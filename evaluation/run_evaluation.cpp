@@ -82,6 +82,9 @@ struct LoadedRun {
   std::optional<scenes::GroundTruth> truth_override;  // --truth; none: each scene's sidecar
   std::map<std::string, sim::SceneWorld> worlds;      // by scene key
   std::map<std::string, OpenPlanTruth> open_plan;     // the same keys ("" = --truth)
+  // The merged truth as built (scenes::AsBuiltTruth), the same keys, for a scene whose truth
+  // records an as-built field.
+  std::map<std::string, scenes::GroundTruth> as_built;
   std::vector<std::string> truth_notes;               // the open-plan notes, each once
 };
 
@@ -91,6 +94,7 @@ struct RoomInput {
   std::string where;  // its run.json, for messages
   const sim::SceneWorld* world = nullptr;
   const scenes::GroundTruth* truth = nullptr;  // open-plan rooms merged
+  const scenes::GroundTruth* truth_as_built = nullptr;  // *truth as built; none: the design
   std::string truth_room;                      // run->room's room in *truth
   std::vector<std::string> joined;             // the sidecar rooms it stands for, when merged
 };
@@ -158,9 +162,13 @@ RoomInput LoadRoom(const RunInfo& run, LoadedRun& loaded) {
       if (std::find(loaded.truth_notes.begin(), loaded.truth_notes.end(), note) ==
           loaded.truth_notes.end())
         loaded.truth_notes.push_back(note);
+    const scenes::GroundTruth& merged = loaded.open_plan.at(truth_key).truth;
+    if (merged.as_built.Enabled())
+      loaded.as_built.emplace(truth_key, scenes::AsBuiltTruth(merged, merged.as_built));
   }
   const OpenPlanTruth& op = loaded.open_plan.at(truth_key);
   in.truth = &op.truth;
+  if (loaded.as_built.count(truth_key)) in.truth_as_built = &loaded.as_built.at(truth_key);
   if (!sidecar->FindRoom(run.room)) {
     std::string ids;
     for (const auto& x : sidecar->rooms) ids += (ids.empty() ? "" : ", ") + x.id;
@@ -191,12 +199,10 @@ void ScoreSm3(const std::vector<Patch>& model, const RoomInput& in, const std::s
     r.columns = EvaluateColumns(GroupModelColumns(model), TruthColumns(*in.truth, in.truth_room),
                                 params.columns, params.patches);
     r.isprs = EvaluateIsprs(model, truth_patches, params.isprs);
-    if (in.truth->as_built.Enabled()) {
-      const scenes::GroundTruth built = scenes::AsBuiltTruth(*in.truth, in.truth->as_built);
-      r.patches_as_built =
-          EvaluatePatches(WithoutColumns(model), WithoutColumns(TruthPatches(built, in.truth_room)),
-                          params.patches);
-    }
+    if (in.truth_as_built)
+      r.patches_as_built = EvaluatePatches(
+          WithoutColumns(model), WithoutColumns(TruthPatches(*in.truth_as_built, in.truth_room)),
+          params.patches);
   } catch (const InputError& e) {
     throw InputError(sm3_file + ": " + e.what());
   }

@@ -6,6 +6,7 @@
 #include <map>
 #include <tuple>
 
+#include "common/frames.h"
 #include "common/polygon.h"
 #include "common/rng.h"
 
@@ -15,7 +16,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kFlatTerms = 12;
 constexpr int kLeanTerms = 6;
 constexpr double kSampleSpacing = 0.1;  // m, grid on which surfaces are measured and fitted
@@ -31,9 +31,7 @@ Vector3d UnitVector(CounterRng& rng) {
 std::vector<Vector3d> SurfaceSamples(const std::vector<Vector3d>& poly, double spacing) {
   std::vector<Vector3d> out;
   if (poly.size() < 3) return poly;
-  Vector3d n = Vector3d::Zero();
-  for (std::size_t i = 0; i < poly.size(); ++i)
-    n += (poly[i] - poly[0]).cross(poly[(i + 1) % poly.size()] - poly[0]);
+  Vector3d n = NewellVector(poly);
   if (n.norm() < 1e-12) return poly;
   n.normalize();
   Vector3d u = (poly[1] - poly[0]);
@@ -72,7 +70,7 @@ std::pair<Vector3d, Vector3d> FitPlane(const std::vector<Vector3d>& pts, const V
 }
 
 double AngleDeg(const Vector3d& a, const Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
+  return RadToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
 }
 
 }  // namespace
@@ -89,8 +87,7 @@ AsBuiltField::AsBuiltField(const AsBuiltParams& params) {
     t.amplitude = Vector3d(rng.Normal(), rng.Normal(), rng.Normal()) * a_sigma;
     flat_.push_back(t);
   }
-  const double g_sigma =
-      std::tan(params.lean_sigma_deg * kPi / 180.0) * std::sqrt(2.0 / kLeanTerms);
+  const double g_sigma = std::tan(DegToRad(params.lean_sigma_deg)) * std::sqrt(2.0 / kLeanTerms);
   for (int j = 0; j < kLeanTerms; ++j) {
     Term t;
     const double lambda = params.wavelength * rng.Uniform(2.0, 6.0);
@@ -204,12 +201,9 @@ GroundTruth AsBuiltTruth(const GroundTruth& design, const AsBuiltParams& params)
   for (StructuralElement& e : t.elements) {
     for (auto& poly : e.polygons) {
       std::vector<Vector3d> moved;
-      Vector3d n0 = Vector3d::Zero();
-      for (std::size_t i = 0; i < poly.size(); ++i)
-        n0 += (poly[i] - poly[0]).cross(poly[(i + 1) % poly.size()] - poly[0]);
       for (const Vector3d& p : SurfaceSamples(poly, kSampleSpacing))
         moved.push_back(field.Moved(p));
-      const auto [n, c] = FitPlane(moved, n0);
+      const auto [n, c] = FitPlane(moved, NewellVector(poly));
       for (Vector3d& p : poly) {
         p = field.Moved(p);
         p -= (p - c).dot(n) * n;
