@@ -55,6 +55,7 @@ scenes::SceneSpec RunSceneSpec(const RunInputs& in) {
   const sim::RealismParams& realism = in.params.room.realism;
   if (realism.geometry.Enabled())
     spec.as_built = sim::RunGeometry(realism, in.params.room.drive.seed);
+  if (realism.details.Enabled()) spec.details = sim::RunDetails(realism, in.params.room.drive.seed);
   return spec;
 }
 
@@ -74,7 +75,7 @@ RunCheckpoint StartRun(const RunRequest& r) {
     in.spec_text = r.spec_path.empty() ? kDefaultSceneSpec : io::ReadTextFile(r.spec_path);
     in.scene_source = in.spec_name;
   } else if (const fs::path spec = fs::path(r.scene_dir) / "spec.effective.yaml";
-             in.params.room.realism.geometry.Enabled() && fs::exists(spec)) {
+             in.params.room.realism.ChangesTheBuilding() && fs::exists(spec)) {
     // A generated scene folder carries the spec it was made from; the building as built is
     // made from that spec (the design's files are the same bytes, scenes/generator.h).
     in.spec_name = spec.string();
@@ -103,9 +104,11 @@ bool RunFromCheckpoint(RunCheckpoint& ck, const std::string& run_dir, const RunH
     scenes::WriteGeneratedScene(scenes::Generate(spec), (dir / "scene").string());
     o.scene_name = spec.name;
     o.scene_source = in.scene_source;
-  } else if (in.params.room.realism.geometry.Enabled() && hooks.print) {
-    hooks.print("realism: the as-built geometry applies to generated scenes; the scene folder " +
-                in.scene_folder + " has no spec.effective.yaml and is used as it is");
+  } else if (in.params.room.realism.ChangesTheBuilding() && hooks.print) {
+    hooks.print(
+        "realism: the as-built geometry and details apply to generated scenes; the scene "
+        "folder " +
+        in.scene_folder + " has no spec.effective.yaml and is used as it is");
   }
   const std::string scene_folder =
       in.scene_folder.empty() ? (dir / "scene").string() : in.scene_folder;

@@ -20,7 +20,8 @@
 namespace mopad::mission {
 
 /// The scene spec a run generates its world from: the inputs' spec with the run's as-built
-/// geometry (sim::RunGeometry: realism.geometry, drawn from the run seed) when it has one.
+/// geometry and details (sim::RunGeometry, sim::RunDetails: realism.geometry and
+/// realism.details, drawn from the run seed) when it has them.
 /// Precondition: the inputs name a spec, not a scene folder.
 scenes::SceneSpec RunSceneSpec(const RunInputs& inputs);
 

@@ -226,6 +226,7 @@ GroundTruth AsBuiltTruth(const GroundTruth& design, const AsBuiltParams& params)
   }
   for (ServiceComponent& s : t.service_components) s.centre = field.Moved(s.centre);
   for (FurnitureItem& f : t.furniture) f.centre = field.Moved(f.centre);
+  for (FurnitureItem& f : t.details) f.centre = field.Moved(f.centre);
   return t;
 }
 

@@ -58,6 +58,7 @@ GeneratedScene Generator::Run() {
   EmitWindows();
   PlaceBscs();
   PlaceFurniture();
+  PlaceDetails();
   Finish();
   // The building as built: every vertex moved by one smooth field, the truth's design kept
   // and the field recorded beside it.

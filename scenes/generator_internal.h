@@ -122,6 +122,12 @@ Polygon2 OrientedRect(const Vector2d& c, double yaw, double w, double d);
 double DistanceToConvex(const Vector2d& p, const Polygon2& poly);
 /// Index drawn with probability proportional to its weight (one draw from `rng`).
 std::size_t PickWeighted(CounterRng& rng, const std::vector<double>& w);
+/// Oriented box: lo/hi in the frame (o; ex, ey, ez); a left-handed frame is mirrored so the
+/// faces still point outward. `skip` as PartBuilder::AddBox.
+void AddOrientedBox(PartBuilder& pb, const Vector3d& o, Vector3d ex, const Vector3d& ey,
+                    const Vector3d& ez, Vector3d lo, Vector3d hi, int skip = 0);
+/// Appends "_<v>", 3 decimals: material names tell overridden colours and transmissions apart.
+void AppendNumber(double v, std::string* name);
 
 /// One generation: Run() takes the steps in order, each reading what the earlier ones made.
 class Generator {
@@ -150,6 +156,16 @@ class Generator {
   };
   struct FurnitureShape {
     double w, d, h;
+  };
+  /// How a door looks beyond its spec (the spec's details): frame_shade > 0 paints its frame
+  /// in the wall's colour times that shade; glazed puts a pane in its leaf.
+  struct DoorLook {
+    double frame_shade = 0.0;
+    bool glazed = false;
+  };
+  /// A glazed leaf's pane: a in [a0, a1] along the leaf's width, z in [z0, z1], `pane` thick.
+  struct Glazing {
+    double a0, a1, z0, z1, pane;
   };
 
   // ---- materials and parts (generator.cpp) ----
@@ -242,6 +258,29 @@ class Generator {
                  std::vector<Spot>* second) const;
   bool TakeRuleSpot(const BscSpec& cat, const Spot& s);
 
+  // ---- building details (generator_details.cpp) ----
+  /// One draw per door from the details' seed and the door's id (the same door looks the same
+  /// whatever else the spec holds).
+  DoorLook LookOfDoor(const DoorSpec& ds) const;
+  static Glazing GlazingOf(double leaf_width, double leaf_top);
+  /// Skirting boards, ceiling trims, ducts, pipes and posters, after the furniture (they keep
+  /// clear of openings, components, door swings and the furniture standing at the walls).
+  void PlaceDetails();
+  /// Adds one detail: a part of class clutter and its truth box (centre, yaw, size in the
+  /// frame of face `f`: u along the face, w into the room, v up).
+  void AddDetail(const std::string& type, const Face& f, const Vector3d& lo, const Vector3d& hi,
+                 int material, int skip = 0);
+  void AddSkirtingAndTrims();
+  void AddDucts(CounterRng& rng);
+  void AddPipes(CounterRng& rng);
+  void AddPosters(CounterRng& rng);
+  /// Longest stretch [u0, u1] of face `f` at heights [v0, v1] clear of its keep-out zones (by
+  /// `margin`), or {0, 0}.
+  std::pair<double, double> FreeStretch(const Face& f, double v0, double v1, double margin) const;
+  /// Pieces of [0, length] of face `f` at heights [v0, v1] clear of keep-out zones.
+  std::vector<std::pair<double, double>> FreePieces(const Face& f, double v0, double v1,
+                                                    double margin) const;
+
   // ---- furniture (generator_furniture.cpp) ----
   static FurnitureShape ShapeOf(const std::string& type, CounterRng& rng);
   void BuildFurnitureMesh(MeshPart* part, const std::string& type, const FurnitureShape& s,
@@ -269,6 +308,7 @@ class Generator {
   std::map<std::string, int> materials_;
   std::map<std::string, Scene> bsc_models_;
   std::map<std::string, int> bsc_counts_;
+  std::map<std::string, int> detail_counts_;
 };
 
 }  // namespace mopad::scenes::gen

@@ -10,12 +10,9 @@
 #include "scenes/generator_internal.h"
 
 namespace mopad::scenes::gen {
-namespace {
 
-/// Oriented box: lo/hi in the frame (o; ex, ey, ez); a left-handed frame is mirrored so the
-/// faces still point outward.
 void AddOrientedBox(PartBuilder& pb, const Vector3d& o, Vector3d ex, const Vector3d& ey,
-                    const Vector3d& ez, Vector3d lo, Vector3d hi, int skip = 0) {
+                    const Vector3d& ez, Vector3d lo, Vector3d hi, int skip) {
   if (ex.cross(ey).dot(ez) < 0.0) {
     ex = -ex;
     const double l = lo.x(), h = hi.x();
@@ -31,11 +28,12 @@ void AddOrientedBox(PartBuilder& pb, const Vector3d& o, Vector3d ex, const Vecto
   pb.AddBox(X, lo, hi, skip);
 }
 
-// Appends "_<v>", 3 decimals: material names tell overridden colours and transmissions apart.
 void AppendNumber(double v, std::string* name) {
   *name += '_';
   *name += FormatFixed(v, 3);
 }
+
+namespace {
 
 void AddQuadFacing(PartBuilder& pb, const Vector3d& a, const Vector3d& b, const Vector3d& c,
                    const Vector3d& d, const Vector3d& n) {
@@ -294,11 +292,19 @@ void Generator::EmitDoors() {
     const Face& f = faces_[d.face];
     const RoomData& ra = rooms_[f.room];
     const std::string room_b = d.other >= 0 ? rooms_[faces_[d.other].room].id : "";
+    const DoorLook look = LookOfDoor(ds);
     MaterialSpec fm = spec_.materials.door_frame;
     std::string fm_name = "door_frame";
     if (ds.has_frame_colour) {
       fm.colour = ds.frame_colour;
       for (double c : fm.colour) AppendNumber(c, &fm_name);
+    } else if (look.frame_shade > 0.0) {
+      // Painted in the wall's paint, a shade off and satin.
+      for (int k = 0; k < 3; ++k) fm.colour[k] = look.frame_shade * spec_.materials.wall.colour[k];
+      fm.roughness = 0.5;
+      fm.metallic = 0.0;
+      fm_name = "door_frame_wall";
+      AppendNumber(look.frame_shade, &fm_name);
     }
     MaterialSpec lm = spec_.materials.door_leaf;
     std::string lm_name = "door_leaf";
@@ -320,8 +326,26 @@ void Generator::EmitDoors() {
     MeshPart leaf = NewPart(ds.id + "/leaf", ds.id, ElementClass::kDoorLeaf, "door",
                             d.swing_into_a ? ra.id : room_b, Mat(lm_name, lm));
     PartBuilder lb(&leaf);
-    AddOrientedBox(lb, l.hinge, l.rd, l.rn, Vector3d::UnitZ(), {0.0, -l.thickness, 0.01},
-                   {l.width, 0.0, ds.height - kLeafGap});
+    const double top = ds.height - kLeafGap;
+    if (!look.glazed) {
+      AddOrientedBox(lb, l.hinge, l.rd, l.rn, Vector3d::UnitZ(), {0.0, -l.thickness, 0.01},
+                     {l.width, 0.0, top});
+    } else {
+      // Stiles and rails round a pane in the leaf's middle plane.
+      const Glazing g = GlazingOf(l.width, top);
+      const Vector3d o = l.hinge, z = Vector3d::UnitZ();
+      AddOrientedBox(lb, o, l.rd, l.rn, z, {0.0, -l.thickness, 0.01}, {g.a0, 0.0, top});
+      AddOrientedBox(lb, o, l.rd, l.rn, z, {g.a1, -l.thickness, 0.01}, {l.width, 0.0, top});
+      AddOrientedBox(lb, o, l.rd, l.rn, z, {g.a0, -l.thickness, 0.01}, {g.a1, 0.0, g.z0}, 1 | 2);
+      AddOrientedBox(lb, o, l.rd, l.rn, z, {g.a0, -l.thickness, g.z1}, {g.a1, 0.0, top}, 1 | 2);
+      MeshPart pane = NewPart(ds.id + "/glass", ds.id, ElementClass::kDoorLeaf, "door", leaf.room,
+                              Mat("glass", spec_.materials.glass));
+      PartBuilder gb(&pane);
+      const double bc = -0.5 * l.thickness;
+      AddOrientedBox(gb, o, l.rd, l.rn, z, {g.a0, bc - 0.5 * g.pane, g.z0},
+                     {g.a1, bc + 0.5 * g.pane, g.z1}, 1 | 2 | 16 | 32);
+      Push(std::move(pane));
+    }
     Push(std::move(leaf));
 
     Opening o;

@@ -31,6 +31,19 @@ Json Strings(const std::vector<std::string>& s) {
   for (const auto& x : s) a.push_back(x);
   return a;
 }
+// Furniture and details: labelled boxes.
+Json BoxItems(const std::vector<FurnitureItem>& items) {
+  Json a = Json::array();
+  for (const auto& f : items) {
+    a.push_back({{"id", f.id},
+                 {"type", f.type},
+                 {"room", f.room},
+                 {"centre", V3(f.centre)},
+                 {"yaw_deg", RadToDeg(f.yaw)},
+                 {"size", V3(f.size)}});
+  }
+  return a;
+}
 
 Json ToJson(const GroundTruth& t) {
   Json j;
@@ -104,16 +117,8 @@ Json ToJson(const GroundTruth& t) {
                     {"size", V3(b.size)}});
   }
   j["service_components"] = bscs;
-  Json furniture = Json::array();
-  for (const auto& f : t.furniture) {
-    furniture.push_back({{"id", f.id},
-                         {"type", f.type},
-                         {"room", f.room},
-                         {"centre", V3(f.centre)},
-                         {"yaw_deg", RadToDeg(f.yaw)},
-                         {"size", V3(f.size)}});
-  }
-  j["furniture"] = furniture;
+  j["furniture"] = BoxItems(t.furniture);
+  if (!t.details.empty()) j["details"] = BoxItems(t.details);
   Json conns = Json::array();
   for (const auto& c : t.connections)
     conns.push_back({{"door", c.door}, {"room_a", c.room_a}, {"room_b", c.room_b}});
@@ -369,20 +374,22 @@ void ReadServiceComponents(const Json& j, const Reader& r, std::set<std::string>
   }
 }
 
-void ReadFurniture(const Json& j, const Reader& r, std::set<std::string>* ids, GroundTruth* t) {
-  const Json& furniture = r.Arr(j, "", "furniture");
-  for (std::size_t i = 0; i < furniture.size(); ++i) {
-    const std::string c = At("furniture", i);
-    r.Known(furniture[i], c, {"id", "type", "room", "centre", "yaw_deg", "size"});
+// The boxed items under `key` (furniture, details).
+void ReadBoxItems(const Json& j, const Reader& r, const char* key, std::set<std::string>* ids,
+                  std::vector<FurnitureItem>* out) {
+  const Json& items = r.Arr(j, "", key);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string c = At(key, i);
+    r.Known(items[i], c, {"id", "type", "room", "centre", "yaw_deg", "size"});
     FurnitureItem f;
-    f.id = r.Str(furniture[i], c, "id");
+    f.id = r.Str(items[i], c, "id");
     CheckUnique(r, ids, c, f.id);
-    f.type = r.Str(furniture[i], c, "type");
-    f.room = r.Str(furniture[i], c, "room");
-    f.centre = r.Vec3(furniture[i], c, "centre");
-    f.yaw = DegToRad(r.Num(furniture[i], c, "yaw_deg"));
-    f.size = r.Vec3(furniture[i], c, "size");
-    t->furniture.push_back(f);
+    f.type = r.Str(items[i], c, "type");
+    f.room = r.Str(items[i], c, "room");
+    f.centre = r.Vec3(items[i], c, "centre");
+    f.yaw = DegToRad(r.Num(items[i], c, "yaw_deg"));
+    f.size = r.Vec3(items[i], c, "size");
+    out->push_back(f);
   }
 }
 
@@ -429,6 +436,8 @@ void CheckReferences(const GroundTruth& t, const Reader& r) {
   }
   for (std::size_t i = 0; i < t.furniture.size(); ++i)
     need_room(At("furniture", i) + ".room", t.furniture[i].room, true);
+  for (std::size_t i = 0; i < t.details.size(); ++i)
+    need_room(At("details", i) + ".room", t.details[i].room, true);
   for (std::size_t i = 0; i < t.connections.size(); ++i) {
     const auto& cn = t.connections[i];
     const Opening* o = t.FindOpening(cn.door);
@@ -447,7 +456,7 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
   GroundTruth t;
   r.Known(j, "",
           {"format_version", "scene_name", "units", "up_axis", "storeys", "rooms", "elements",
-           "openings", "service_components", "furniture", "connections", "as_built"});
+           "openings", "service_components", "furniture", "details", "connections", "as_built"});
   const Json& ver = r.Field(j, "", "format_version");
   if (!ver.is_number_integer() ||
       (ver.get<int>() != kTruthFormatVersion && ver.get<int>() != kTruthFormatVersionPassages)) {
@@ -468,7 +477,8 @@ GroundTruth FromJson(const Json& j, const Reader& r) {
   ReadElements(j, r, &ids, &t);
   ReadOpenings(j, r, &ids, &t);
   ReadServiceComponents(j, r, &ids, &t);
-  ReadFurniture(j, r, &ids, &t);
+  ReadBoxItems(j, r, "furniture", &ids, &t.furniture);
+  if (j.contains("details")) ReadBoxItems(j, r, "details", &ids, &t.details);
   ReadConnections(j, r, &t);
   if (j.contains("as_built")) {
     const Json& a = j["as_built"];

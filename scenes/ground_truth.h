@@ -87,9 +87,10 @@ struct ServiceComponent {
   Eigen::Vector3d size = Eigen::Vector3d::Zero();     ///< m: width (along host u), height, depth
 };
 
+/// A labelled box: a piece of furniture, or a building detail.
 struct FurnitureItem {
   std::string id;
-  std::string type;  ///< desk, cabinet, shelf, chair, ...
+  std::string type;  ///< desk, cabinet, shelf, chair, ...; skirting, duct, poster, ...
   std::string room;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< m, centre of the bounding box
   double yaw = 0.0;                                  ///< rad
@@ -113,6 +114,9 @@ struct GroundTruth {
   std::vector<Opening> openings;
   std::vector<ServiceComponent> service_components;
   std::vector<FurnitureItem> furniture;
+  /// Skirting boards, trims, ducts, pipes, posters, whiteboards (scenes/details_params.h): their
+  /// parts are clutter; neither scored nor structure. Written as `details` only when present.
+  std::vector<FurnitureItem> details;
   std::vector<RoomConnection> connections;
   /// The building as built departs from the design above by this field (scenes/as_built.h);
   /// written as `as_built` only when enabled. Everything above is the design.

@@ -91,7 +91,7 @@ void CountTruth(const Scene& scene, const GroundTruth& t, CheckReport* rep) {
 // 1. Ids both ways, and classes. Fills `parts_of` (truth id -> its parts).
 void CheckIds(const Scene& scene, const GroundTruth& t, PartsOf* parts_of,
               std::vector<std::string>* errors) {
-  enum class Kind { kElement, kOpening, kBsc, kFurniture };
+  enum class Kind { kElement, kOpening, kBsc, kFurniture, kDetail };
   std::map<std::string, std::pair<Kind, std::size_t>> truth_ids;
   for (std::size_t i = 0; i < t.elements.size(); ++i)
     truth_ids[t.elements[i].id] = {Kind::kElement, i};
@@ -101,6 +101,8 @@ void CheckIds(const Scene& scene, const GroundTruth& t, PartsOf* parts_of,
     truth_ids[t.service_components[i].id] = {Kind::kBsc, i};
   for (std::size_t i = 0; i < t.furniture.size(); ++i)
     truth_ids[t.furniture[i].id] = {Kind::kFurniture, i};
+  for (std::size_t i = 0; i < t.details.size(); ++i)
+    truth_ids[t.details[i].id] = {Kind::kDetail, i};
   for (const MeshPart& p : scene.parts) {
     if (p.triangles.empty()) continue;
     if (p.element_id.empty()) {
@@ -132,6 +134,9 @@ void CheckIds(const Scene& scene, const GroundTruth& t, PartsOf* parts_of,
         break;
       case Kind::kFurniture:
         ok = c == ElementClass::kFurniture && p.subclass == t.furniture[idx].type;
+        break;
+      case Kind::kDetail:
+        ok = c == ElementClass::kClutter && p.subclass == t.details[idx].type;
         break;
     }
     if (!ok)

@@ -198,6 +198,7 @@ void ReadTop(const YAML::Node& root, const std::string& file, SceneSpec* s) {
   ReadMaterials(top, &s->materials);
   if (const YAML::Node a = top.Node("as_built"); a)
     s->as_built = LoadParams<AsBuiltParams>(a, file);
+  if (const YAML::Node d = top.Node("details"); d) s->details = LoadParams<DetailsParams>(d, file);
   for (const char* k : {"rooms", "doors", "windows", "columns", "furniture", "bscs"}) top.Node(k);
   top.Finish();
 }
@@ -721,6 +722,21 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
     EmitNum(e, "wavelength", s.as_built.wavelength);
     EmitNum(e, "mesh_spacing", s.as_built.mesh_spacing);
     e << YAML::Key << "seed" << YAML::Value << s.as_built.seed;
+    e << YAML::EndMap;
+  }
+  if (s.details.Enabled()) {
+    const DetailsParams& d = s.details;
+    e << YAML::Key << "details" << YAML::Value << YAML::BeginMap;
+    EmitNum(e, "skirting_height", d.skirting_height);
+    EmitNum(e, "skirting_depth", d.skirting_depth);
+    EmitNum(e, "ceiling_trim_height", d.ceiling_trim_height);
+    EmitNum(e, "ceiling_trim_depth", d.ceiling_trim_depth);
+    EmitNum(e, "ducts_per_room", d.ducts_per_room);
+    EmitNum(e, "pipes_per_room", d.pipes_per_room);
+    EmitNum(e, "posters_per_room", d.posters_per_room);
+    EmitNum(e, "frames_in_wall_colour", d.frames_in_wall_colour);
+    EmitNum(e, "glazed_doors", d.glazed_doors);
+    e << YAML::Key << "seed" << YAML::Value << d.seed;
     e << YAML::EndMap;
   }
   e << YAML::EndMap;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "scenes/as_built_params.h"
+#include "scenes/details_params.h"
 
 namespace YAML {
 class Node;
@@ -157,6 +158,9 @@ struct SceneSpec {
   std::vector<BscSpecEntry> bscs;
   /// The building as built departs from this design (scenes/as_built.h); off by default.
   AsBuiltParams as_built;
+  /// Skirting, trims, ducts, pipes, posters, frames in the wall's colour, glazed doors
+  /// (scenes/details_params.h); none by default.
+  DetailsParams details;
   std::string source;  ///< file it came from (for messages), or a generator name
 
   const RoomSpec* FindRoom(const std::string& id) const;

@@ -20,6 +20,13 @@ RealismParams RealismProfile(const std::string& name) {
     // Finished walls and ceilings within DIN 18202 table 3 line 6: docs/realism.md, "As built".
     p.geometry.flatness_mm = 2.0;
     p.geometry.lean_sigma_deg = 0.05;
+    // A furnished office: docs/realism.md, "Building details".
+    p.details.skirting_height = 0.06;
+    p.details.ducts_per_room = 0.5;
+    p.details.pipes_per_room = 0.3;
+    p.details.posters_per_room = 2.0;
+    p.details.frames_in_wall_colour = 0.3;
+    p.details.glazed_doors = 0.2;
     return p;
   }
   if (name == "hard") {
@@ -32,6 +39,14 @@ RealismParams RealismProfile(const std::string& name) {
     // Unfinished walls and slab undersides, DIN 18202 table 3 line 5.
     p.geometry.flatness_mm = 4.0;
     p.geometry.lean_sigma_deg = 0.1;
+    // Every detail, more often; most frames painted with the walls.
+    p.details.skirting_height = 0.08;
+    p.details.ceiling_trim_height = 0.05;
+    p.details.ducts_per_room = 1.0;
+    p.details.pipes_per_room = 1.0;
+    p.details.posters_per_room = 4.0;
+    p.details.frames_in_wall_colour = 0.6;
+    p.details.glazed_doors = 0.4;
     return p;
   }
   std::string known;
@@ -47,6 +62,12 @@ scenes::AsBuiltParams RunGeometry(const RealismParams& realism, std::uint64_t ru
   scenes::AsBuiltParams g = realism.geometry;
   if (g.seed == 0) g.seed = run_seed;
   return g;
+}
+
+scenes::DetailsParams RunDetails(const RealismParams& realism, std::uint64_t run_seed) {
+  scenes::DetailsParams d = realism.details;
+  if (d.seed == 0) d.seed = run_seed;
+  return d;
 }
 
 void RealismParams::Validate() const { (void)RealismProfile(profile); }

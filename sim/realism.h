@@ -7,7 +7,8 @@
 // A profile holds the scanner's errors beyond its data-sheet noise (the instrument's residual
 // calibration errors, drawn once per run from the run's seed: one run, one instrument; the
 // camera's per-scan exposure and white balance) and the building's as-built geometry (applied
-// by the scene generator to a generated scene: scenes/as_built.h). People walking through
+// by the scene generator to a generated scene: scenes/as_built.h) and its details
+// (scenes/details_params.h). People walking through
 // rooms are the next section; a profile keeps one name for all.
 
 #include <cstdint>
@@ -16,6 +17,7 @@
 
 #include "common/params.h"
 #include "scenes/as_built_params.h"
+#include "scenes/details_params.h"
 #include "sim/tls_params.h"
 
 namespace mopad::sim {
@@ -50,6 +52,9 @@ struct RealismParams {
   /// The building as built, applied to a generated scene before the run (a scene folder is
   /// used as it is). `seed` 0 draws the building from the run seed: one run, one building.
   scenes::AsBuiltParams geometry = NoGeometry();
+  /// The building's details (skirting, trims, ducts, pipes, posters, door frames in the wall's
+  /// colour, glazed doors), added to a generated scene like the geometry; `seed` 0 = the run's.
+  scenes::DetailsParams details = NoDetails();
 
   template <class V>
   void Visit(V& v) {
@@ -58,9 +63,13 @@ struct RealismParams {
     if (profile != named) StartFromProfile();
     v("scanner", scanner);
     v("geometry", geometry);
+    v("details", details);
   }
   /// InputError when `profile` names no profile.
   void Validate() const;
+  /// True when the profile changes the building (as-built geometry or details), which a run
+  /// can do only to a scene it generates.
+  bool ChangesTheBuilding() const { return geometry.Enabled() || details.Enabled(); }
 
  private:
   void StartFromProfile();  ///< this = RealismProfile(profile)
@@ -69,11 +78,18 @@ struct RealismParams {
     g.seed = 0;
     return g;
   }
+  static scenes::DetailsParams NoDetails() {
+    scenes::DetailsParams d;
+    d.seed = 0;
+    return d;
+  }
 };
 
 /// The as-built parameters a run applies to its generated scene: `realism.geometry` with seed
 /// 0 replaced by the run seed.
 scenes::AsBuiltParams RunGeometry(const RealismParams& realism, std::uint64_t run_seed);
+/// The details a run adds to its generated scene: `realism.details`, seed 0 = the run seed.
+scenes::DetailsParams RunDetails(const RealismParams& realism, std::uint64_t run_seed);
 
 /// The built-in profile of that name; InputError naming the known ones otherwise.
 RealismParams RealismProfile(const std::string& name);

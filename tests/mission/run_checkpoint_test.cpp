@@ -115,11 +115,15 @@ TEST(RunCheckpoint, KeepsTheInputsBitForBit) {
 TEST(RunCheckpoint, ARunGeneratesItsBuildingAsBuiltFromItsSeedWhenTheRealismSaysSo) {
   RunInputs in = Inputs();
   EXPECT_FALSE(RunSceneSpec(in).as_built.Enabled());  // ideal: the design
+  EXPECT_FALSE(RunSceneSpec(in).details.Enabled());
   in.params.room.realism = sim::RealismProfile("typical");
   const scenes::SceneSpec spec = RunSceneSpec(in);
   EXPECT_TRUE(spec.as_built.Enabled());
   EXPECT_EQ(spec.as_built.flatness_mm, in.params.room.realism.geometry.flatness_mm);
   EXPECT_EQ(spec.as_built.seed, 3u);          // the run seed: one run, one building
+  EXPECT_TRUE(spec.details.Enabled());        // and its details, from the same seed
+  EXPECT_EQ(spec.details.seed, 3u);
+  EXPECT_EQ(spec.details.posters_per_room, in.params.room.realism.details.posters_per_room);
   in.params.room.realism.geometry.seed = 11;  // a building of its own
   EXPECT_EQ(RunSceneSpec(in).as_built.seed, 11u);
 

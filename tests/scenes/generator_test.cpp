@@ -331,7 +331,7 @@ rooms:
 TEST(SceneSpec, UnknownKeyNamesFileAndLine) {
   EXPECT_EQ(SpecError(std::string(kTwoRooms) + "doorz: []\n", "s.yaml"),
             "s.yaml:7: error: unknown key 'doorz'; expected one of: as_built, bscs, "
-            "ceiling_height, columns, doors, furniture, materials, name, rooms, seed, "
+            "ceiling_height, columns, details, doors, furniture, materials, name, rooms, seed, "
             "storey_height, wall_thickness, windows");
   const std::string m = SpecError(
       std::string(kTwoRooms) + "doors:\n  - {id: D, between: [A, B], at: [4.1, 1], widht: 1}\n",

@@ -105,6 +105,28 @@ TEST(Realism, TheProfilesBuildOffTheDesignAsTheirTolerancesSay) {
   EXPECT_EQ(p.scanner.exposure_sigma_stops, typical.scanner.exposure_sigma_stops);
 }
 
+TEST(Realism, TheProfilesFurnishTheBuildingWithDetailsIdealDoesNot) {
+  // Their placement is Details.* (tests/scenes/details_test.cpp); here what each profile holds.
+  EXPECT_FALSE(RealismProfile("ideal").details.Enabled());
+  EXPECT_FALSE(RealismProfile("ideal").ChangesTheBuilding());
+  const RealismParams typical = RealismProfile("typical"), hard = RealismProfile("hard");
+  EXPECT_TRUE(typical.details.Enabled());
+  EXPECT_GT(typical.details.skirting_height, 0.0);
+  EXPECT_LT(typical.details.posters_per_room, hard.details.posters_per_room);
+  EXPECT_LT(typical.details.glazed_doors, hard.details.glazed_doors);
+  EXPECT_LT(typical.details.frames_in_wall_colour, hard.details.frames_in_wall_colour);
+  EXPECT_EQ(RunDetails(typical, 42).seed, 42u);
+  // A config may take the details out and keep the rest of the profile.
+  const auto p = LoadParams<RealismParams>(
+      LoadYamlString("profile: typical\ndetails: {skirting_height: 0, ducts_per_room: 0, "
+                     "pipes_per_room: 0, posters_per_room: 0, frames_in_wall_colour: 0, "
+                     "glazed_doors: 0}\n",
+                     "d.yaml"),
+      "d.yaml");
+  EXPECT_FALSE(p.details.Enabled());
+  EXPECT_TRUE(p.ChangesTheBuilding());  // its as-built geometry stays
+}
+
 // A box room, the scanner at its centre, its errors alone (noise off).
 struct BoxScan {
   TlsParams params;
