@@ -116,57 +116,55 @@ void ApplyAsBuilt(const AsBuiltParams& params, Scene* scene) {
     std::vector<Eigen::Vector2f> uvs = part.uvs;
     std::vector<Eigen::Vector3i> tris;
     tris.reserve(part.triangles.size());
-    // A point on an edge is keyed by the edge's ordered end indices, its subdivision count and
-    // its step from the lower end, so two triangles that split a shared edge alike share it.
-    std::map<std::tuple<int, int, int, int>, int> edge_points;
-    for (const Eigen::Vector3i& t : part.triangles) {
-      const Eigen::Vector3f a = part.positions[t[0]], b = part.positions[t[1]],
-                            c = part.positions[t[2]];
-      const float longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-      const int n = std::max(1, static_cast<int>(std::ceil(longest / params.mesh_spacing)));
-      if (n == 1) {
-        tris.push_back(t);
-        continue;
+    // Conforming refinement: a triangle bisects its longest edge until no edge is longer than
+    // the spacing, and where an edge is split depends on that edge alone (its end vertices):
+    // ceil(n/2) of n = ceil(length / spacing) equal pieces from its lower-index end. Two
+    // triangles that share an edge split it at the same points, whatever their sizes, so the
+    // moved surface has no cracks along it (a split shared by only one side would open by the
+    // field's departure from linear over the edge).
+    const float spacing2 = static_cast<float>(params.mesh_spacing * params.mesh_spacing);
+    std::map<std::pair<int, int>, int> split_at;
+    auto length2 = [&](int p, int q) {
+      return (pos[std::max(p, q)] - pos[std::min(p, q)]).squaredNorm();
+    };
+    auto split = [&](int p, int q) {
+      const int lo = std::min(p, q), hi = std::max(p, q);
+      const auto it = split_at.find({lo, hi});
+      if (it != split_at.end()) return it->second;
+      const Eigen::Vector3f a = pos[lo], b = pos[hi];
+      const int n = std::max(
+          2, static_cast<int>(std::ceil((b - a).norm() / static_cast<float>(params.mesh_spacing))));
+      const float f = static_cast<float>(n - n / 2) / static_cast<float>(n);
+      pos.push_back(a + (b - a) * f);
+      if (has_uv) {
+        const Eigen::Vector2f ua = uvs[lo], ub = uvs[hi];
+        uvs.push_back(ua + (ub - ua) * f);
       }
-      // Barycentric grid: point (i, j) = a + (b - a) i / n + (c - a) j / n, i + j <= n.
-      auto vertex = [&](int i, int j) -> int {
-        if (i == 0 && j == 0) return t[0];
-        if (i == n && j == 0) return t[1];
-        if (i == 0 && j == n) return t[2];
-        int e0 = -1, e1 = -1, step = 0;  // edge end indices and step from e0
-        if (j == 0)
-          e0 = t[0], e1 = t[1], step = i;
-        else if (i == 0)
-          e0 = t[0], e1 = t[2], step = j;
-        else if (i + j == n)
-          e0 = t[1], e1 = t[2], step = j;
-        auto make = [&]() {
-          const float fi = static_cast<float>(i) / static_cast<float>(n);
-          const float fj = static_cast<float>(j) / static_cast<float>(n);
-          pos.push_back(a + (b - a) * fi + (c - a) * fj);
-          if (has_uv) {
-            const Eigen::Vector2f ua = part.uvs[t[0]], ub = part.uvs[t[1]], uc = part.uvs[t[2]];
-            uvs.push_back(ua + (ub - ua) * fi + (uc - ua) * fj);
-          }
-          return static_cast<int>(pos.size()) - 1;
-        };
-        if (e0 < 0) return make();
-        if (e0 > e1) std::swap(e0, e1), step = n - step;
-        const auto key = std::make_tuple(e0, e1, n, step);
-        auto it = edge_points.find(key);
-        if (it != edge_points.end()) return it->second;
-        const int id = make();
-        edge_points.emplace(key, id);
-        return id;
-      };
-      std::vector<std::vector<int>> grid(static_cast<std::size_t>(n + 1));
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) grid[i].push_back(vertex(i, j));
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; i + j < n; ++j) {
-          tris.emplace_back(grid[i][j], grid[i + 1][j], grid[i][j + 1]);
-          if (i + j + 2 <= n) tris.emplace_back(grid[i + 1][j], grid[i + 1][j + 1], grid[i][j + 1]);
+      const int id = static_cast<int>(pos.size()) - 1;
+      split_at.emplace(std::make_pair(lo, hi), id);
+      return id;
+    };
+    std::vector<Eigen::Vector3i> todo;
+    for (const Eigen::Vector3i& t : part.triangles) {
+      todo.push_back(t);
+      while (!todo.empty()) {
+        const Eigen::Vector3i tri = todo.back();
+        todo.pop_back();
+        int k = 0;  // the longest edge is (tri[k], tri[k + 1])
+        float longest = -1.0f;
+        for (int e = 0; e < 3; ++e) {
+          const float l2 = length2(tri[e], tri[(e + 1) % 3]);
+          if (l2 > longest) longest = l2, k = e;
         }
+        if (longest <= spacing2) {
+          tris.push_back(tri);
+          continue;
+        }
+        const int v0 = tri[k], v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3];
+        const int m = split(v0, v1);
+        todo.emplace_back(m, v1, v2);
+        todo.emplace_back(v0, m, v2);
+      }
     }
     for (Eigen::Vector3f& p : pos) p = field.Moved(p.cast<double>()).cast<float>();
     part.positions = std::move(pos);

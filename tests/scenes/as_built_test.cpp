@@ -132,12 +132,14 @@ TEST(AsBuilt, TheFieldIsAPureFunctionOfItsParameters) {
 }
 
 TEST(AsBuilt, SubdivisionKeepsAPartClosedAndMovesEveryVertexByTheField) {
-  // A 4 x 3 m wall of two triangles and a 0.1 m square (a socket's face) beside it.
+  // A 4 x 3 m wall of two triangles under a 0.2 m gable: the gable's triangle shares the
+  // wall's 4 m top edge but is smaller than the wall's triangles (whose longest edge is the
+  // 5 m diagonal), so the two must split their shared edge alike without being alike.
   Scene scene;
   MeshPart wall;
-  wall.positions = {{0, 0, 0}, {4, 0, 0}, {4, 0, 3}, {0, 0, 3}};
-  wall.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  wall.triangles = {{0, 1, 2}, {0, 2, 3}};
+  wall.positions = {{0, 0, 0}, {4, 0, 0}, {4, 0, 3}, {0, 0, 3}, {2, 0, 3.2f}};
+  wall.uvs = {{0, 0}, {1, 0}, {1, 3 / 3.2f}, {0, 3 / 3.2f}, {0.5f, 1}};
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 4}};
   scene.parts.push_back(wall);
   const AsBuiltParams p = Params(2.0, 0.1, 3);
   Scene design = scene;
@@ -145,7 +147,7 @@ TEST(AsBuilt, SubdivisionKeepsAPartClosedAndMovesEveryVertexByTheField) {
   const MeshPart& out = scene.parts[0];
   ASSERT_EQ(out.uvs.size(), out.positions.size());
   // Every edge is used by at most two triangles, and the only edges used once are on the
-  // quad's border: the diagonal the two triangles share was split alike on both sides.
+  // wall's border: the diagonal and the gable's base were split alike on both sides.
   std::map<std::pair<int, int>, int> uses;
   double area = 0.0;
   for (const auto& t : out.triangles) {
@@ -163,25 +165,30 @@ TEST(AsBuilt, SubdivisionKeepsAPartClosedAndMovesEveryVertexByTheField) {
   for (const auto& [edge, n] : uses) {
     EXPECT_LE(n, 2);
     if (n == 1) {
-      // A border edge lies on the moved border of the design quad: its ends' design
+      // A border edge lies on the moved border of the design wall: its ends' design
       // positions (found back through the uv, which maps 1:1 here) are on the border.
       for (int v : {edge.first, edge.second}) {
         const Eigen::Vector2f uv = out.uvs[v];
-        EXPECT_TRUE(uv.x() < 1e-5f || uv.x() > 1 - 1e-5f || uv.y() < 1e-5f || uv.y() > 1 - 1e-5f)
-            << uv.transpose();
+        const float x = 4 * uv.x(), z = 3.2f * uv.y();
+        const float gable = 3.0f + 0.1f * std::min(x, 4 - x);  // the gable's edges
+        EXPECT_TRUE(z < 1e-4f || x < 1e-4f || x > 4 - 1e-4f || std::abs(z - gable) < 1e-4f)
+            << x << " " << z;
       }
     }
   }
-  EXPECT_NEAR(area, 12.0, 0.1);  // stretched by the field's strain (~1e-3), nothing lost
+  EXPECT_NEAR(area, 12.4, 0.1);  // stretched by the field's strain (~1e-3), nothing lost
   // Each vertex is the design point its uv names, moved by the field.
   for (std::size_t i = 0; i < out.positions.size(); ++i) {
-    const Vector3d design_p(4.0 * out.uvs[i].x(), 0.0, 3.0 * out.uvs[i].y());
+    const Vector3d design_p(4.0 * out.uvs[i].x(), 0.0, 3.2 * out.uvs[i].y());
     EXPECT_LT((out.positions[i].cast<double>() - f.Moved(design_p)).norm(), 1e-5) << i;
   }
-  // Edges no longer than the mesh spacing before the move (plus what the field stretches).
+  // Edges no longer than the mesh spacing before the move (the design points, from the uvs).
+  auto design_of = [&](int v) {
+    return Eigen::Vector2f(4 * out.uvs[v].x(), 3.2f * out.uvs[v].y());
+  };
   for (const auto& t : out.triangles)
     for (int k = 0; k < 3; ++k)
-      EXPECT_LE((out.positions[t[k]] - out.positions[t[(k + 1) % 3]]).norm(), 0.25f + 1e-3f);
+      EXPECT_LE((design_of(t[k]) - design_of(t[(k + 1) % 3])).norm(), 0.25f + 1e-5f);
   EXPECT_GT(out.positions.size(), 150u);
   // Disabled: nothing changes.
   ApplyAsBuilt(AsBuiltParams{}, &design);
