@@ -87,6 +87,8 @@ TlsParams RealisticTls(const TlsParams& base, const ScannerRealism& r, std::uint
   if (r.low_signal_range_bias != 0.0) p.low_signal_range_bias = r.low_signal_range_bias;
   if (r.exposure_sigma_stops > 0.0) p.exposure_sigma_stops = r.exposure_sigma_stops;
   if (r.white_balance_sigma > 0.0) p.white_balance_sigma = r.white_balance_sigma;
+  if (r.window_light > 0.0) p.window_light = r.window_light;
+  if (r.window_light_sigma_stops > 0.0) p.window_light_sigma_stops = r.window_light_sigma_stops;
   return p;
 }
 

@@ -32,6 +32,10 @@ struct ScannerRealism {
   double low_signal_range_bias = 0.0;
   double exposure_sigma_stops = 0.0;  ///< stops, 1 sigma per scan, [0, 4]
   double white_balance_sigma = 0.0;   ///< 1 sigma of ln(red, blue gain) per scan, [0, 1]
+  /// Daylight through the windows (TlsParams::window_light), in the units of the scene's
+  /// ambient light, [0, 20]; and its change from scan to scan, stops, [0, 4]
+  double window_light = 0.0;
+  double window_light_sigma_stops = 0.0;
 
   template <class V>
   void Visit(V& v) {
@@ -40,6 +44,8 @@ struct ScannerRealism {
     v("low_signal_range_bias", low_signal_range_bias, Bounds{-0.1, 0.1});
     v("exposure_sigma_stops", exposure_sigma_stops, Bounds{0, 4});
     v("white_balance_sigma", white_balance_sigma, Bounds{0, 1});
+    v("window_light", window_light, Bounds{0, 20});
+    v("window_light_sigma_stops", window_light_sigma_stops, Bounds{0, 4});
   }
 };
 

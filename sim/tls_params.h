@@ -95,6 +95,14 @@ struct TlsParams {
   /// fixed). Applied in linear light to the reported colour. [0, 4] and [0, 1]; 0: off.
   double exposure_sigma_stops = 0.0;
   double white_balance_sigma = 0.0;
+  /// Daylight through the windows, in the units of ambient_light: a window of area A at
+  /// distance r adds window_light A cos(a_w) cos(a_p) / (pi r^2) to a surface's light (a_w, a_p:
+  /// the angles of the line between them to the window's and the surface's normals; the form
+  /// factor of a small area), from the windows of the surface's own room and without shadows.
+  /// [0, 20]; 0: off.
+  double window_light = 0.0;
+  /// stops, 1 sigma of the daylight's change from scan to scan (clouds, the time of day), [0, 4]
+  double window_light_sigma_stops = 0.0;
   std::vector<double> mount_xyz = {0.0, 0.0, 1.4};      ///< m, scanner centre in base_link (X_BS)
   std::vector<double> mount_rpy_deg = {0.0, 0.0, 0.0};  ///< deg, X_BS rotation (roll, pitch, yaw)
 
@@ -143,6 +151,8 @@ struct TlsParams {
     v("low_signal_intensity", low_signal_intensity, Bounds{1e-3, 1});
     v("exposure_sigma_stops", exposure_sigma_stops, Bounds{0, 4});
     v("white_balance_sigma", white_balance_sigma, Bounds{0, 1});
+    v("window_light", window_light, Bounds{0, 20});
+    v("window_light_sigma_stops", window_light_sigma_stops, Bounds{0, 4});
     v("mount_xyz", mount_xyz, Bounds{-100, 100});
     v("mount_rpy_deg", mount_rpy_deg, Bounds{-360, 360});
   }

@@ -16,8 +16,8 @@ namespace mopad::sim {
 namespace {
 
 // Points of a fine scan from R1 of two_rooms_door (R1 [0, 5] x [0, 4], R2 beyond the 0.2 m wall
-// at x = 5, door D1 at y 1.55-2.45) that lie in R2 although their ray met the wall's plane away
-// from the doorway and its frame.
+// at x = 5, door D1 at y 1.55-2.45) that lie beyond R1's face of the wall although their ray met
+// that face away from the doorway and its frame.
 int RaysThroughTheWall(const scenes::AsBuiltParams& as_built) {
   scenes::SceneSpec spec =
       scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml");
