@@ -70,6 +70,12 @@ Generator::Glazing Generator::GlazingOf(double leaf_width, double leaf_top) {
   return {stile, leaf_width - stile, 0.3, std::max(0.31, leaf_top - 0.2), 0.008};
 }
 
+Face& Generator::WallOfRoom(CounterRng& rng, const RoomData& r) {
+  std::vector<double> length;
+  for (int fi : r.faces) length.push_back(faces_[fi].length);
+  return faces_[r.faces[PickWeighted(rng, length)]];
+}
+
 std::vector<std::pair<double, double>> Generator::FreePieces(const Face& f, double v0, double v1,
                                                              double margin) const {
   std::vector<std::pair<double, double>> cuts;
@@ -149,9 +155,7 @@ void Generator::AddDucts(CounterRng& rng) {
     const int n = CountOf(rng, p.ducts_per_room);
     for (int k = 0; k < n; ++k)
       for (int a = 0; a < kDetailAttempts; ++a) {
-        std::vector<double> w;
-        for (int fi : r.faces) w.push_back(faces_[fi].length);
-        Face& f = faces_[r.faces[PickWeighted(rng, w)]];
+        Face& f = WallOfRoom(rng, r);
         // Under the ceiling (and its trim), along the longest free stretch of the wall.
         const double v1 = f.height() - std::max(p.ceiling_trim_height, 0.0) - 0.08;
         const double v0 = v1 - kDuctHeight;
@@ -237,9 +241,7 @@ void Generator::AddPosters(CounterRng& rng) {
     const int n = CountOf(rng, p.posters_per_room);
     for (int k = 0; k < n; ++k)
       for (int a = 0; a < kDetailAttempts; ++a) {
-        std::vector<double> w;
-        for (int fi : r.faces) w.push_back(faces_[fi].length);
-        Face& f = faces_[r.faces[PickWeighted(rng, w)]];
+        Face& f = WallOfRoom(rng, r);
         // Poster (A1 or A0 upright), framed picture (landscape) or whiteboard.
         const double kind = rng.Uniform();
         const bool board = kind >= 0.85, picture = !board && kind >= 0.6;

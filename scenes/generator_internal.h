@@ -270,6 +270,8 @@ class Generator {
   /// frame of face `f`: u along the face, w into the room, v up).
   void AddDetail(const std::string& type, const Face& f, const Vector3d& lo, const Vector3d& hi,
                  int material, int skip = 0);
+  /// One of the room's wall faces, drawn with probability proportional to its length.
+  Face& WallOfRoom(CounterRng& rng, const RoomData& r);
   void AddSkirtingAndTrims();
   void AddDucts(CounterRng& rng);
   void AddPipes(CounterRng& rng);

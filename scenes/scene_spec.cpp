@@ -547,6 +547,22 @@ void EmitVec(YAML::Emitter& e, const char* key, const std::vector<double>& v) {
   for (double x : v) e << FormatShortest(x);
   e << YAML::EndSeq;
 }
+// A parameter struct's fields in its Visit order: numbers as EmitNum, seeds as integers.
+struct ParamsEmitter {
+  YAML::Emitter& e;
+  void operator()(const char* key, const double& v, Bounds = {}) { EmitNum(e, key, v); }
+  void operator()(const char* key, const std::uint64_t& v, Bounds = {}) {
+    e << YAML::Key << key << YAML::Value << v;
+  }
+};
+template <class T>
+void EmitParams(YAML::Emitter& e, const char* key, T params) {
+  e << YAML::Key << key << YAML::Value << YAML::BeginMap;
+  ParamsEmitter emit{e};
+  params.Visit(emit);
+  e << YAML::EndMap;
+}
+
 void EmitMaterial(YAML::Emitter& e, const char* key, const MaterialSpec& m) {
   e << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
   EmitVec(e, "colour", {m.colour[0], m.colour[1], m.colour[2]});
@@ -715,30 +731,8 @@ std::string SceneSpecToYaml(const SceneSpec& s) {
   EmitColumns(e, s.columns);
   EmitFurniture(e, s.furniture);
   EmitBscs(e, s.bscs);
-  if (s.as_built.Enabled()) {
-    e << YAML::Key << "as_built" << YAML::Value << YAML::BeginMap;
-    EmitNum(e, "flatness_mm", s.as_built.flatness_mm);
-    EmitNum(e, "lean_sigma_deg", s.as_built.lean_sigma_deg);
-    EmitNum(e, "wavelength", s.as_built.wavelength);
-    EmitNum(e, "mesh_spacing", s.as_built.mesh_spacing);
-    e << YAML::Key << "seed" << YAML::Value << s.as_built.seed;
-    e << YAML::EndMap;
-  }
-  if (s.details.Enabled()) {
-    const DetailsParams& d = s.details;
-    e << YAML::Key << "details" << YAML::Value << YAML::BeginMap;
-    EmitNum(e, "skirting_height", d.skirting_height);
-    EmitNum(e, "skirting_depth", d.skirting_depth);
-    EmitNum(e, "ceiling_trim_height", d.ceiling_trim_height);
-    EmitNum(e, "ceiling_trim_depth", d.ceiling_trim_depth);
-    EmitNum(e, "ducts_per_room", d.ducts_per_room);
-    EmitNum(e, "pipes_per_room", d.pipes_per_room);
-    EmitNum(e, "posters_per_room", d.posters_per_room);
-    EmitNum(e, "frames_in_wall_colour", d.frames_in_wall_colour);
-    EmitNum(e, "glazed_doors", d.glazed_doors);
-    e << YAML::Key << "seed" << YAML::Value << d.seed;
-    e << YAML::EndMap;
-  }
+  if (s.as_built.Enabled()) EmitParams(e, "as_built", s.as_built);
+  if (s.details.Enabled()) EmitParams(e, "details", s.details);
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }
