@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <tuple>
+#include <vector>
 
 #include "common/frames.h"
 #include "common/polygon.h"
@@ -107,41 +109,120 @@ Vector3d AsBuiltField::Displacement(const Vector3d& p) const {
   return d + p.z() * slope;
 }
 
+namespace {
+
+// Every vertex of the scene, found by position: the seams where two parts meet without sharing
+// vertices (a wall's top edge and a ceiling's, two walls at a corner, a hole and its lining).
+class VertexIndex {
+ public:
+  explicit VertexIndex(const Scene& scene) {
+    for (const MeshPart& part : scene.parts)
+      for (const Eigen::Vector3f& p : part.positions) {
+        auto& cell = cells_[Key(p)];
+        if (std::find(cell.begin(), cell.end(), p) == cell.end()) cell.push_back(p);
+      }
+  }
+  /// A vertex strictly inside segment a-b (within kOnEdge of it), or nullopt.
+  std::optional<Eigen::Vector3f> OnSegment(const Eigen::Vector3f& a,
+                                           const Eigen::Vector3f& b) const {
+    const Eigen::Vector3f d = b - a;
+    const float len2 = d.squaredNorm();
+    if (len2 <= 0.0f) return std::nullopt;
+    const Eigen::Vector3f lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+    const Eigen::Vector3i c0 = Cell(lo), c1 = Cell(hi);
+    std::optional<Eigen::Vector3f> best;
+    float best_t = 2.0f;
+    const float margin = kOnEdge / std::sqrt(len2);
+    for (int x = c0.x() - 1; x <= c1.x() + 1; ++x)
+      for (int y = c0.y() - 1; y <= c1.y() + 1; ++y)
+        for (int z = c0.z() - 1; z <= c1.z() + 1; ++z) {
+          const auto it = cells_.find({x, y, z});
+          if (it == cells_.end()) continue;
+          for (const Eigen::Vector3f& p : it->second) {
+            const float t = (p - a).dot(d) / len2;
+            if (t <= margin || t >= 1.0f - margin) continue;
+            if ((a + t * d - p).squaredNorm() > kOnEdge * kOnEdge) continue;
+            // The first along the edge, so that splitting is the same from either end.
+            if (t < best_t) best_t = t, best = p;
+          }
+        }
+    return best;
+  }
+
+ private:
+  static constexpr float kCell = 0.5f;     // m
+  static constexpr float kOnEdge = 1e-5f;  // m, a vertex this close to an edge lies on it
+  static Eigen::Vector3i Cell(const Eigen::Vector3f& p) {
+    return {static_cast<int>(std::floor(p.x() / kCell)),
+            static_cast<int>(std::floor(p.y() / kCell)),
+            static_cast<int>(std::floor(p.z() / kCell))};
+  }
+  static std::tuple<int, int, int> Key(const Eigen::Vector3f& p) {
+    const Eigen::Vector3i c = Cell(p);
+    return {c.x(), c.y(), c.z()};
+  }
+  std::map<std::tuple<int, int, int>, std::vector<Eigen::Vector3f>> cells_;
+};
+
+// Whether p comes before q in a fixed order of positions (the end an edge is split from).
+bool PositionBefore(const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
+  return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+}
+
+}  // namespace
+
 void ApplyAsBuilt(const AsBuiltParams& params, Scene* scene) {
   if (!params.Enabled()) return;
   const AsBuiltField field(params);
+  const VertexIndex seams(*scene);
   for (MeshPart& part : scene->parts) {
     const bool has_uv = part.uvs.size() == part.positions.size() && !part.uvs.empty();
     std::vector<Eigen::Vector3f> pos = part.positions;
     std::vector<Eigen::Vector2f> uvs = part.uvs;
     std::vector<Eigen::Vector3i> tris;
     tris.reserve(part.triangles.size());
-    // Conforming refinement: a triangle bisects its longest edge until no edge is longer than
-    // the spacing, and where an edge is split depends on that edge alone (its end vertices):
-    // ceil(n/2) of n = ceil(length / spacing) equal pieces from its lower-index end. Two
-    // triangles that share an edge split it at the same points, whatever their sizes, so the
-    // moved surface has no cracks along it (a split shared by only one side would open by the
-    // field's departure from linear over the edge).
-    const float spacing2 = static_cast<float>(params.mesh_spacing * params.mesh_spacing);
-    std::map<std::pair<int, int>, int> split_at;
-    auto length2 = [&](int p, int q) {
-      return (pos[std::max(p, q)] - pos[std::min(p, q)]).squaredNorm();
-    };
-    auto split = [&](int p, int q) {
-      const int lo = std::min(p, q), hi = std::max(p, q);
-      const auto it = split_at.find({lo, hi});
-      if (it != split_at.end()) return it->second;
+    // Conforming refinement, within a part and across parts. First every edge is split where
+    // a vertex of any part lies on it (a seam where two parts meet without shared vertices),
+    // then a triangle bisects its longest edge until no edge is longer than the spacing, each
+    // edge split at a point that depends on its end positions alone: ceil(n/2) of n =
+    // ceil(length / spacing) equal pieces from the end that comes first in PositionBefore.
+    // Two triangles, of one part or two, that meet along an edge thus split it at the same
+    // points whatever their sizes, and the moved surfaces have no cracks along it (a split on
+    // one side only would open by the field's departure from linear over the edge).
+    const float spacing = static_cast<float>(params.mesh_spacing);
+    // Split points already made, by edge (its end indices, lower first): at seam vertices (-1:
+    // the edge has none) and at bisection points.
+    std::map<std::pair<int, int>, int> seam_at, bisect_at;
+    auto add_vertex = [&](int lo, int hi, const Eigen::Vector3f& p) {
       const Eigen::Vector3f a = pos[lo], b = pos[hi];
-      const int n = std::max(
-          2, static_cast<int>(std::ceil((b - a).norm() / static_cast<float>(params.mesh_spacing))));
-      const float f = static_cast<float>(n - n / 2) / static_cast<float>(n);
-      pos.push_back(a + (b - a) * f);
+      pos.push_back(p);
       if (has_uv) {
+        const float t = (p - a).dot(b - a) / (b - a).squaredNorm();
         const Eigen::Vector2f ua = uvs[lo], ub = uvs[hi];
-        uvs.push_back(ua + (ub - ua) * f);
+        uvs.push_back(ua + (ub - ua) * t);
       }
-      const int id = static_cast<int>(pos.size()) - 1;
-      split_at.emplace(std::make_pair(lo, hi), id);
+      return static_cast<int>(pos.size()) - 1;
+    };
+    // Edge p-q's seam vertex (-1: none) and its bisection point.
+    auto seam = [&](int p, int q) {
+      const auto key = std::make_pair(std::min(p, q), std::max(p, q));
+      const auto it = seam_at.find(key);
+      if (it != seam_at.end()) return it->second;
+      const auto on = seams.OnSegment(pos[p], pos[q]);
+      const int id = on ? add_vertex(p, q, *on) : -1;
+      seam_at.emplace(key, id);
+      return id;
+    };
+    auto bisect = [&](int p, int q) {
+      const auto key = std::make_pair(std::min(p, q), std::max(p, q));
+      const auto it = bisect_at.find(key);
+      if (it != bisect_at.end()) return it->second;
+      const int lo = PositionBefore(pos[p], pos[q]) ? p : q, hi = lo == p ? q : p;
+      const Eigen::Vector3f a = pos[lo], b = pos[hi];
+      const int n = std::max(2, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+      const float f = static_cast<float>(n - n / 2) / static_cast<float>(n);
+      const int id = add_vertex(lo, hi, a + (b - a) * f);
+      bisect_at.emplace(key, id);
       return id;
     };
     std::vector<Eigen::Vector3i> todo;
@@ -150,18 +231,25 @@ void ApplyAsBuilt(const AsBuiltParams& params, Scene* scene) {
       while (!todo.empty()) {
         const Eigen::Vector3i tri = todo.back();
         todo.pop_back();
-        int k = 0;  // the longest edge is (tri[k], tri[k + 1])
-        float longest = -1.0f;
-        for (int e = 0; e < 3; ++e) {
-          const float l2 = length2(tri[e], tri[(e + 1) % 3]);
-          if (l2 > longest) longest = l2, k = e;
+        // A seam vertex on any edge first; else the longest edge if longer than the spacing.
+        int k = -1, m = -1;
+        for (int e = 0; e < 3 && m < 0; ++e) {
+          m = seam(tri[e], tri[(e + 1) % 3]);
+          if (m >= 0) k = e;
         }
-        if (longest <= spacing2) {
+        if (m < 0) {
+          float longest = -1.0f;
+          for (int e = 0; e < 3; ++e) {
+            const float l2 = (pos[tri[(e + 1) % 3]] - pos[tri[e]]).squaredNorm();
+            if (l2 > longest) longest = l2, k = e;
+          }
+          if (longest > spacing * spacing) m = bisect(tri[k], tri[(k + 1) % 3]);
+        }
+        if (m < 0) {
           tris.push_back(tri);
           continue;
         }
         const int v0 = tri[k], v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3];
-        const int m = split(v0, v1);
         todo.emplace_back(m, v1, v2);
         todo.emplace_back(v0, m, v2);
       }

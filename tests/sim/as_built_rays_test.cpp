@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "scenes/as_built.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
@@ -58,6 +59,54 @@ TEST(AsBuiltRays, AScanReachesTheNextRoomOnlyThroughTheDoorway) {
   // 1 and 4 rays through these walls; Embree's ray-triangle test is not watertight on arbitrary
   // float edges either, so a stray ray in tens of millions is allowed.
   EXPECT_LE(through, 2);
+}
+
+// Two parts that meet without sharing vertices, as a room's wall and its ceiling do: a 4 m wall
+// (two triangles) and a ceiling whose edge along the wall's top has a vertex at 1.7 m (a
+// T-junction of the design, closed there because the three vertices are collinear).
+scenes::Scene WallUnderCeiling() {
+  scenes::Scene s;
+  s.source = "seam";
+  s.materials.push_back(scenes::Material{});
+  scenes::MeshPart wall, ceiling;
+  wall.name = wall.element_id = "wall";
+  wall.element_class = scenes::ElementClass::kWall;
+  wall.positions = {{0, 0, 0}, {4, 0, 0}, {4, 0, 2.8f}, {0, 0, 2.8f}};
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}};
+  ceiling.name = ceiling.element_id = "ceiling";
+  ceiling.element_class = scenes::ElementClass::kCeiling;
+  ceiling.positions = {{0, 0, 2.8f}, {1.7f, 0, 2.8f}, {4, 0, 2.8f}, {4, 3, 2.8f}, {0, 3, 2.8f}};
+  ceiling.triangles = {{0, 4, 1}, {1, 4, 3}, {1, 3, 2}};
+  s.parts = {wall, ceiling};
+  return s;
+}
+
+TEST(AsBuiltRays, TwoPartsThatMeetWithoutSharedVerticesStayClosedAlongTheirSeam) {
+  scenes::AsBuiltParams hard;
+  hard.flatness_mm = 4.0;
+  hard.lean_sigma_deg = 0.1;
+  int through = 0, rays = 0;
+  for (std::uint64_t seed : {1, 2, 3}) {
+    hard.seed = seed;
+    scenes::Scene s = WallUnderCeiling();
+    scenes::ApplyAsBuilt(hard, &s);
+    const EmbreeWorld world(std::move(s));
+    const scenes::AsBuiltField field(hard);
+    // From inside the corner, at the seam as built: every 2 mm along it, a fan of rays 0.05 mm
+    // apart across it.
+    const Eigen::Vector3f eye(2.0f, 1.5f, 1.4f);
+    for (double x = 0.05; x < 3.95; x += 0.002) {
+      const Eigen::Vector3f at = field.Moved(Eigen::Vector3d(x, 0.0, 2.8)).cast<float>();
+      for (int k = -10; k <= 10; ++k) {
+        const Eigen::Vector3f target = at + Eigen::Vector3f(0.0f, -1.0f, 1.0f) * (5e-5f * k);
+        const Eigen::Vector3f dir = (target - eye).normalized();
+        ++rays;
+        if (!world.Intersect(eye, dir, 0.0f, 100.0f).hit()) ++through;
+      }
+    }
+  }
+  EXPECT_GT(rays, 40000);
+  EXPECT_EQ(through, 0) << "of " << rays;
 }
 
 }  // namespace
