@@ -13,8 +13,8 @@
 #include <string>
 
 #include "common/error.h"
-#include "common/frames.h"
 #include "common/rng.h"
+#include "sim/daylight.h"
 #include "sim/embree_world_impl.h"
 #include "sim/pulse_kernel.h"
 #include "sim/scan_model.h"
@@ -180,17 +180,7 @@ struct ScanContext {
   bool range_errors = false, colour_gains = false;
   float range_scale = 1.0f, low_signal_bias = 0.0f, low_signal_intensity = 1.0f;
   std::array<std::array<std::uint8_t, 256>, 3> colour_table{};
-  // Daylight (TlsParams::window_light): this scan's level, the windows (centre, unit normal,
-  // area, room) and each part's room; off: no window, and the colour is as without.
-  struct WindowLight {
-    Eigen::Vector3f centre, normal;
-    float area = 0.0f;
-    std::int32_t room = -1;
-  };
-  bool daylight = false;
-  float window_light = 0.0f, ambient = 1.0f, top_light = 0.0f;
-  std::vector<WindowLight> windows;
-  std::vector<std::int32_t> part_room;
+  Daylight daylight;  // TlsParams::window_light; off: the colour is as without
   // Flat per-part tables for resolving hits 16 at a time (ResolveStaticLanes).
   std::vector<std::int32_t> part_simple, part_rho_offset;
   std::vector<float> part_base;
@@ -199,36 +189,14 @@ struct ScanContext {
   ResolveTables resolve;
 };
 
-// What daylight does to the colour of a surface point q, with unit normal n turned to the
-// viewer, on part `part`: its light with the daylight over its light without
-// (TlsParams::window_light; the scene's own light is ambient + top light on up-facing surfaces).
-float DaylightFactor(const ScanContext& ctx, const Eigen::Vector3f& q, const Eigen::Vector3f& n,
-                     std::int32_t part) {
-  const std::int32_t room = ctx.part_room[static_cast<std::size_t>(part)];
-  if (room < 0) return 1.0f;
-  float e = 0.0f;
-  for (const ScanContext::WindowLight& w : ctx.windows) {
-    if (w.room != room) continue;
-    const Eigen::Vector3f d = w.centre - q;
-    const float cos_p = n.dot(d);  // times |d|, as the next
-    if (cos_p <= 0.0f) continue;
-    const float cos_w = std::abs(w.normal.dot(d));
-    // A cos cos / (pi r^2), r kept at least the window's size (the small-area form factor).
-    const float r2 = std::max(d.squaredNorm(), w.area);
-    e += w.area * cos_p * cos_w / (r2 * r2);
-  }
-  const float base = ctx.ambient + ctx.top_light * std::max(0.0f, n.z());
-  return base > 0.0f ? 1.0f + ctx.window_light * e / (static_cast<float>(kPi) * base) : 1.0f;
-}
-
 // The colour of `hit`, seen along `dir` from `origin`, with daylight when the scan has it.
 std::array<std::uint8_t, 3> ColourAt(const ScanContext& ctx, const RayHit& hit,
                                      const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
                                      const float noise[3]) {
-  if (!ctx.daylight || hit.part < 0)
+  if (!ctx.daylight.on() || hit.part < 0)
     return ctx.beam.Colour(*ctx.world_api, *ctx.surfaces, hit, dir, noise);
   const Eigen::Vector3f n = hit.normal.dot(dir) > 0.0f ? -hit.normal : hit.normal;
-  const float f = DaylightFactor(ctx, origin + hit.t * dir, n, hit.part);
+  const float f = ctx.daylight.Factor(origin + hit.t * dir, n, hit.part);
   return ctx.beam.ColourOf(ctx.surfaces->Albedo(*ctx.world_api, hit) * f, n.z(), noise);
 }
 
@@ -591,10 +559,10 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           h.v = rh.hit.v[j];
           albedo = ctx.surfaces->Albedo(*ctx.world_api, h);
         }
-        if (ctx.daylight) {
+        if (ctx.daylight.on()) {
           const Eigen::Vector3f dir(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
           const Eigen::Vector3f org(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
-          albedo *= DaylightFactor(ctx, org + t * dir, dot > 0.0f ? -nrm : nrm, part);
+          albedo *= ctx.daylight.Factor(org + t * dir, dot > 0.0f ? -nrm : nrm, part);
         }
         lanes.albedo[0][j] = albedo.x();
         lanes.albedo[1][j] = albedo.y();
@@ -602,7 +570,7 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
         lanes.active[j] = 1;
       }
       // Daylight on the lanes resolved 16 at a time (their parts are static).
-      if (ctx.daylight)
+      if (ctx.daylight.on())
         for (int j = 0; j < n; ++j) {
           if (!(((fast & ~fast_close) >> j) & 1u)) continue;
           const std::int32_t part = lane_part[j];
@@ -611,7 +579,7 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           const Eigen::Vector3f dir(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
           const Eigen::Vector3f org(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
           const float f =
-              DaylightFactor(ctx, org + lanes.t[j] * dir, nrm.dot(dir) > 0.0f ? -nrm : nrm, part);
+              ctx.daylight.Factor(org + lanes.t[j] * dir, nrm.dot(dir) > 0.0f ? -nrm : nrm, part);
           for (int ch = 0; ch < 3; ++ch) lanes.albedo[ch][j] *= f;
         }
       RunPulseKernel(ctx.kernel, lanes);
@@ -747,39 +715,6 @@ void ApplyInstrumentErrors(const ScanContext& ctx, ScanBlock& block) {
   }
 }
 
-// The scan's daylight: its level and the scene's windows (each glass part: the centre, normal
-// and area of its triangles), the parts' rooms numbered. Glass without a room lights nothing.
-void SetDaylight(const TlsParams& p, const ScanDraws& draws, ScanContext& ctx) {
-  ctx.daylight = draws.window_light > 0.0;
-  if (!ctx.daylight) return;
-  ctx.window_light = static_cast<float>(draws.window_light);
-  ctx.ambient = static_cast<float>(p.ambient_light);
-  ctx.top_light = static_cast<float>(p.top_light);
-  const auto& parts = ctx.world->scene.parts;
-  std::map<std::string, std::int32_t> rooms;
-  ctx.part_room.assign(parts.size(), -1);
-  for (std::size_t i = 0; i < parts.size(); ++i)
-    if (!parts[i].room.empty())
-      ctx.part_room[i] =
-          rooms.emplace(parts[i].room, static_cast<std::int32_t>(rooms.size())).first->second;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    const scenes::MeshPart& part = parts[i];
-    if (part.element_class != scenes::ElementClass::kWindowGlass || ctx.part_room[i] < 0) continue;
-    Eigen::Vector3f centre = Eigen::Vector3f::Zero(), normal = Eigen::Vector3f::Zero();
-    float area2 = 0.0f;  // twice the area
-    for (const Eigen::Vector3i& t : part.triangles) {
-      const Eigen::Vector3f a = part.positions[t[0]], b = part.positions[t[1]],
-                            c = part.positions[t[2]];
-      const Eigen::Vector3f cr = (b - a).cross(c - a);
-      centre += cr.norm() * (a + b + c) / 3.0f;
-      normal += cr;
-      area2 += cr.norm();
-    }
-    if (area2 <= 0.0f || normal.norm() <= 0.0f) continue;
-    ctx.windows.push_back({centre / area2, normal.normalized(), 0.5f * area2, ctx.part_room[i]});
-  }
-}
-
 // The instrument's errors beyond the data sheet's noise (TlsParams::collimation_error_deg ...):
 // the true beams of the rows, the point errors and the colour tables of this scan.
 void SetInstrumentErrors(const TlsParams& p, const ScanDraws& draws, double el0, double vstep,
@@ -870,7 +805,8 @@ ScanContext MakeContext(const EmbreeWorld& world, const SurfaceTable& surfaces, 
   ctx.max_transmissions = p.max_transmissions;
   ctx.beam.set_range_bias(draws.bias);
   SetInstrumentErrors(p, draws, el0, vstep, ctx);
-  SetDaylight(p, draws, ctx);
+  ctx.daylight = Daylight(ctx.world->scene, static_cast<float>(draws.window_light),
+                          static_cast<float>(p.ambient_light), static_cast<float>(p.top_light));
   // The pulse kernel implements the single-ray model for sigma = precision / cos(a)^k with
   // k in {0, 1}; other settings use the general path everywhere.
   ctx.use_kernel = p.footprint_rays == 1 &&

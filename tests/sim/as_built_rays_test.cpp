@@ -55,9 +55,9 @@ TEST(AsBuiltRays, AScanReachesTheNextRoomOnlyThroughTheDoorway) {
     hard.seed = seed;
     through += RaysThroughTheWall(hard);
   }
-  // A subdivision that split the shared edges of unlike triangles at different points let 13,
-  // 1 and 4 rays through these walls; Embree's ray-triangle test is not watertight on arbitrary
-  // float edges either, so a stray ray in tens of millions is allowed.
+  // A crack along an edge that unlike triangles split at different points lets rays through by
+  // the dozen; Embree's ray-triangle test is not watertight on arbitrary float edges either, so
+  // a stray ray in tens of millions is allowed.
   EXPECT_LE(through, 2);
 }
 
