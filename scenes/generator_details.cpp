@@ -1,8 +1,8 @@
 // The generator's building details (scenes/details_params.h): skirting boards and ceiling trims
 // along every wall, cable ducts under the ceiling, pipes in corners, posters, pictures and
 // whiteboards on the walls, and how a door looks (a frame in the wall's paint, a glazed leaf).
-// Every draw comes from the details' own seed, so a spec without details is generated exactly
-// as before (scenes/generator_internal.h).
+// Every draw comes from the details' own seed, so the rest of a scene does not depend on whether
+// it has details (scenes/generator_internal.h).
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -94,7 +94,8 @@ struct RealismParams {
 /// The as-built parameters a run applies to its generated scene: `realism.geometry` with seed
 /// 0 replaced by the run seed.
 scenes::AsBuiltParams RunGeometry(const RealismParams& realism, std::uint64_t run_seed);
-/// The details a run adds to its generated scene: `realism.details`, seed 0 = the run seed.
+/// The details a run adds to its generated scene: `realism.details`, a zero seed replaced by the
+/// run seed.
 scenes::DetailsParams RunDetails(const RealismParams& realism, std::uint64_t run_seed);
 
 /// The built-in profile of that name; InputError naming the known ones otherwise.

@@ -2,7 +2,7 @@
 // along the walls but never across a doorway, posters and ducts clear of openings and
 // components, pipes in corners outside door swings — on the committed office and on random
 // floors of every family; a glazed leaf that the base LRF still sees; a spec without details
-// generated exactly as before; the truth's `details` read back.
+// generated as if the step did not exist; the truth's `details` read back.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
