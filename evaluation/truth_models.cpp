@@ -354,9 +354,9 @@ JoinedWalls JoinContinuingWalls(std::vector<scenes::StructuralElement>& elements
   return j;
 }
 
-// Openings, service components, furniture and connections of out.truth moved to the merged
-// rooms and joined walls (an opening's u shifted along its new wall); the open passages inside
-// a merged room are dropped. `connections` are the sidecar's.
+// Openings, service components, furniture, details and connections of out.truth moved to the
+// merged rooms and joined walls (an opening's u shifted along its new wall); the open passages
+// inside a merged room are dropped. `connections` are the sidecar's.
 void MapRoomAndWallReferences(const std::vector<scenes::RoomConnection>& connections,
                               const JoinedWalls& walls, OpenPlanTruth& out) {
   for (auto& o : out.truth.openings) {
@@ -375,6 +375,7 @@ void MapRoomAndWallReferences(const std::vector<scenes::RoomConnection>& connect
     if (walls.wall_of.count(c.host)) c.host = walls.wall_of.at(c.host);
   }
   for (auto& f : out.truth.furniture) MapRoom(out.room_of, f.room);
+  for (auto& f : out.truth.details) MapRoom(out.room_of, f.room);
   std::vector<scenes::RoomConnection> kept;
   for (auto c : connections) {
     MapRoom(out.room_of, c.room_a);
