@@ -114,6 +114,7 @@ void Generator::Finish() {
   for (const auto& o : out_.truth.openings) add(o.id);
   for (const auto& b : out_.truth.service_components) add(b.id);
   for (const auto& f : out_.truth.furniture) add(f.id);
+  for (const auto& d : out_.truth.details) add(d.id);
   for (const RoomData& r : rooms_) {
     Room room;
     room.id = r.id;

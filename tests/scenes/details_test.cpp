@@ -202,5 +202,21 @@ TEST(Details, ASpecWithoutDetailsIsGeneratedAsBeforeAndTheDetailsAreSeeded) {
                InputError);
 }
 
+TEST(Details, AGeneratedIdThatClashesWithASpecIdIsRefused) {
+  SceneSpec spec = Office();
+  ASSERT_FALSE(spec.columns.empty());
+  spec.columns[0].id = "skirting_1";
+  EXPECT_NO_THROW(Generate(spec));  // no details, no clash
+  spec.details = Lots(3);
+  try {
+    Generate(spec);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("generated id 'skirting_1' is not unique"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace mopad::scenes
