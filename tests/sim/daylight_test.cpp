@@ -1,6 +1,6 @@
 // Daylight (TlsParams::window_light): surfaces near a room's windows are brighter and the light
-// falls off into the room; a room without windows is lit as before; the single-ray kernel and
-// the general path colour a point alike; off, the scan is as before.
+// falls off into the room; a room without windows keeps its colours; ranges do not change; the
+// single-ray kernel and the general path colour a point alike.
 
 #include <gtest/gtest.h>
 
