@@ -22,6 +22,7 @@
 // Determinism: same world + params + request (seed) -> same trajectories (bytes).
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,12 @@ struct DriveResult : autonomy::NavigatorLog {
   int teleports = 0;           ///< kidnappings applied (world side)
   /// The world's injected faults that acted (mission/faults.h), one line each, in time order.
   std::vector<std::string> fault_events;
+  /// People walking (sim/people.h): how many, how often the base touched one (episodes: the
+  /// body's footprint within a person's 0.25 m), and the closest the footprint came (m).
+  int people = 0;
+  int person_contacts = 0;
+  std::vector<std::string> person_contact_events;  ///< "12.34 s: the base touched person_2 at .."
+  double person_closest = std::numeric_limits<double>::infinity();
   double tls_time = 0.0;       ///< s of simulation time spent standing for TLS scans
   double tls_wall_time = 0.0;  ///< s of wall time spent simulating TLS scans (reporting only)
   double RealTimeFactor() const { return wall_time > 0 ? sim_time / wall_time : 0.0; }

@@ -239,7 +239,8 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": error: cannot create the output folder; " + ec.message());
   RobotSession session(*mw.world, params.room.drive, job.start_W, params.room.faults,
-                       DoorFaultOf(mw, params.room.faults), params.room.realism);
+                       DoorFaultOf(mw, params.room.faults), params.room.realism,
+                       PeopleOf(mw, params.room.realism));
   FloorWorld world(mw, params, session, dir, evaluate, room_boundary);
   autonomy::FloorScanHooks hooks = world.Hooks(progress);
   hooks.stop_requested = stop_requested;

@@ -169,6 +169,12 @@ nlohmann::ordered_json MissionJson(const FloorJob& job) {
   j["localisation_max_m"] = d.loc_max;
   j["max_true_step_m"] = job.max_true_step;
   if (!d.fault_events.empty()) j["faults"] = d.fault_events;  // the world's injected faults
+  if (d.people > 0) {                                         // people walking (realism.people)
+    j["people"] = {{"count", d.people},
+                   {"contacts", d.person_contacts},
+                   {"closest_m", d.person_closest},
+                   {"contact_events", d.person_contact_events}};
+  }
   j["sim_time_s"] = m.sim_time;
   j["wall_time_s"] = m.wall_time;
   j["files"] = {{"dtt", runfolder::kDtt},

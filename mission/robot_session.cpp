@@ -5,9 +5,10 @@ namespace mopad::mission {
 RobotSession::RobotSession(const sim::EmbreeWorld& world, const DriveParams& params,
                            const Pose2& X_WB_start, const FaultParams& faults,
                            const std::optional<DoorFaultWorld>& door,
-                           const sim::RealismParams& realism)
+                           const sim::RealismParams& realism,
+                           const std::optional<PeopleWorld>& people)
     : params_(params),
-      world_robot_(world, params, X_WB_start, params.seed, faults, door, realism),
+      world_robot_(world, params, X_WB_start, params.seed, faults, door, realism, people),
       navigator_(world_robot_, params.navigator, params.seed) {}
 
 DriveStatus RobotSession::NavigateTo(const Pose2& goal_M, std::string* message) {

@@ -27,11 +27,13 @@ class RobotSession {
   /// Places the body at `X_WB_start` (world); params.seed seeds both sides. `faults`: the
   /// world's (mission/faults.h; default none), `door` the door fault's world (SimRobot). Throws
   /// InputError for invalid params or a start pose in collision with the scene. `realism`: the
-  /// world's departure from ideal (sim/realism.h; default ideal).
+  /// world's departure from ideal (sim/realism.h; default ideal), its people walking in
+  /// `people` (PeopleOf).
   RobotSession(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
                const FaultParams& faults = {},
                const std::optional<DoorFaultWorld>& door = std::nullopt,
-               const sim::RealismParams& realism = {});
+               const sim::RealismParams& realism = {},
+               const std::optional<PeopleWorld>& people = std::nullopt);
   RobotSession(const RobotSession&) = delete;
   RobotSession& operator=(const RobotSession&) = delete;
 

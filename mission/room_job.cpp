@@ -100,7 +100,8 @@ RoomJob RunRoomJob(const sim::SceneWorld& mw, const std::string& room,
   job.start_W = start_W ? scenes::CheckStart(mw.world->scene(), *mw.truth, body, *start_W).X_WB
                         : scenes::StartInRoom(mw.world->scene(), *mw.truth, body, room).X_WB;
   RobotSession session(*mw.world, params.drive, job.start_W, params.faults,
-                       DoorFaultOf(mw, params.faults), params.realism);
+                       DoorFaultOf(mw, params.faults), params.realism,
+                       PeopleOf(mw, params.realism));
   modelling::RoomModel model(params.scan.model);
   // The truth side scores an open-plan room (spaces joined by open passages) as the robot
   // meets it: one room (evaluation/truth_models.h, MergeOpenPlanRooms).

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -13,14 +14,28 @@
 #include "common/rng.h"
 #include "perception/point_cloud_ops.h"
 #include "sim/lrf.h"
+#include "sim/people.h"
+#include "sim/scene_world.h"
 #include "sim/tls_scanner.h"
 
 namespace mopad::mission {
+
+std::optional<PeopleWorld> PeopleOf(const sim::SceneWorld& mw, const sim::RealismParams& realism) {
+  if (!realism.people.Enabled()) return std::nullopt;
+  if (!mw.truth)
+    throw InputError(mw.source, "realism.people needs the scene's truth (people walk in its rooms)",
+                     "a scene without scene.truth.json", "a generated or imported scene");
+  return PeopleWorld{mw.world.get(), &*mw.truth};
+}
+
 namespace {
 
 using perception::Compose;
 using perception::Inverse;
 using Clock = std::chrono::steady_clock;
+
+// Poses per person over a TLS scan (Embree's most): at the robot's 0.2 deg, 3 s, one per 23 ms.
+constexpr int kMoverKnots = 129;
 
 }  // namespace
 
@@ -49,6 +64,13 @@ struct SimRobot::Impl {
   int leaf = -1;
   Eigen::Isometry3d X_WD_open = Eigen::Isometry3d::Identity();
   bool door_closed = false, door_waiting = false;
+  // People walking: movers of `people_world` (the robot's world), stepped with the body.
+  std::optional<sim::People> people;
+  sim::EmbreeWorld* people_world = nullptr;
+  std::vector<bool> touching;  // per person: the base touches them now
+  int person_contacts = 0;
+  std::vector<std::string> person_events;
+  double person_closest = std::numeric_limits<double>::infinity();
 
   double t = 0.0;
   std::uint64_t steps = 0, scans = 0;
@@ -66,7 +88,7 @@ struct SimRobot::Impl {
 
   Impl(const sim::EmbreeWorld& w, const DriveParams& p, const Pose2& X_WB_start, std::uint64_t s,
        const FaultParams& f, const std::optional<DoorFaultWorld>& d,
-       const sim::RealismParams& realism)
+       const sim::RealismParams& realism, const std::optional<PeopleWorld>& pw)
       : world(w), params(p), seed(s), faults(f), door(d) {
     ValidateParams(params, "drive.");
     ValidateParams(realism, "realism.");
@@ -96,6 +118,7 @@ struct SimRobot::Impl {
                     X_WB_start.y);
       throw InputError(buf);
     }
+    if (realism.people.Enabled() && pw) AddPeople(*pw, realism.people, X_WB_start);
     sim::TlsParams tls_params =
         sim::RealisticTls(sim::TlsProfile(params.tls_profile), realism.scanner, seed);
     tls_params.step_deg = params.navigator.tls_step_deg;
@@ -109,6 +132,52 @@ struct SimRobot::Impl {
     top_period = 1.0 / lrf_top->params().rate_hz;
     X_MW = Inverse(X_WB_start);
     last_true = X_WB_start;
+  }
+
+  // People in the robot's world, before its sensors are made (they read the world's parts).
+  void AddPeople(const PeopleWorld& pw, const sim::PeopleParams& p, const Pose2& start) {
+    if (pw.world != &world || !pw.truth)
+      throw std::logic_error("SimRobot: the people's world is not the robot's");
+    people.emplace(world, *pw.truth, p, p.seed ? p.seed : seed, Vec2(start.x, start.y));
+    if (people->size() == 0) return;
+    people_world = pw.world;
+    people_world->AddMovers(people->Models());
+    touching.assign(people->size(), false);
+    PlacePeople();
+  }
+
+  // Everybody standing where they are now, for the sweeps of this step.
+  void PlacePeople() {
+    std::vector<std::vector<sim::MoverPose>> now;
+    for (const sim::MoverPose& p : people->Poses()) now.push_back({p});
+    people_world->SetMoverTrack(t, t, now);
+  }
+
+  // People walk on a step; the base touching one (its footprint within 0.25 m of a person's
+  // centre) counts once per episode.
+  void StepPeople() {
+    const Pose2 X_WB = body->TruePose();
+    people->Step(params.control_dt, Vec2(X_WB.x, X_WB.y));
+    PlacePeople();
+    const auto& fp = params.body;
+    const std::vector<sim::MoverPose> poses = people->Poses();
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const Vec2 d(poses[i].x - X_WB.x, poses[i].y - X_WB.y);
+      const double c = std::cos(X_WB.yaw), s = std::sin(X_WB.yaw);
+      const Vec2 q(c * d.x() + s * d.y() - fp.footprint_offset_x, -s * d.x() + c * d.y());
+      const Vec2 outside(std::max(0.0, std::abs(q.x()) - 0.5 * fp.footprint_length),
+                         std::max(0.0, std::abs(q.y()) - 0.5 * fp.footprint_width));
+      const double gap = outside.norm() - 0.25;
+      person_closest = std::min(person_closest, std::max(0.0, gap));
+      const bool touch = gap <= 0.0;
+      if (touch && !touching[i]) {
+        ++person_contacts;
+        person_events.push_back(FormatNumbers("%.2f s: the base touched ", t) + "person_" +
+                                std::to_string(i + 1) +
+                                FormatNumbers(" at (%.2f, %.2f)", poses[i].x, poses[i].y));
+      }
+      touching[i] = touch;
+    }
   }
 
   // The door fault's leaf as a box (its vertices' bounding box along their main horizontal
@@ -259,6 +328,7 @@ struct SimRobot::Impl {
     if (faults.slip_at >= 0.0) UpdateOdometry();
     if (faults.kidnap_at >= 0.0 && !kidnapped && t + 1e-9 >= faults.kidnap_at) Kidnap();
     if (door && !door_closed && t + 1e-9 >= faults.door_close_at) CloseDoor();
+    if (people_world) StepPeople();
     if (teleport && t + 1e-9 >= teleport->first) {
       body->Teleport(teleport->second);  // kidnapping: odometry does not see it
       last_true = teleport->second;
@@ -295,7 +365,17 @@ struct SimRobot::Impl {
     req.X_WB = body->TruePose().To3d();
     req.X_MS_estimate = Eigen::Isometry3d::Identity();  // the platform knows no map pose
     sim::TlsTruth scan_truth;
+    const double duration = static_cast<double>(scanner.pulses()) / scanner.params().pulse_rate_hz;
+    if (people_world) {
+      // Where everybody walks while the head turns (the base stands still), as the steps after
+      // the scan will walk them.
+      const Pose2 X_WB = body->TruePose();
+      people_world->SetMoverTrack(
+          t, t + duration,
+          people->Track(duration, params.control_dt, kMoverKnots, Vec2(X_WB.x, X_WB.y)));
+    }
     interfaces::TlsScan scan = scanner.Scan(req, keep_truths ? &scan_truth : nullptr);
+    if (people_world) PlacePeople();
     if (const ScanFault fault = ScanFaultOf(faults, scans); fault != ScanFault::kNone) {
       const std::size_t lost = ApplyScanFault(fault, faults.tls_partial_fraction, scan,
                                               keep_truths ? &scan_truth : nullptr);
@@ -310,7 +390,6 @@ struct SimRobot::Impl {
     tls_wall += std::chrono::duration<double>(Clock::now() - wall0).count();
     ++scans;
     if (first) RecordTruth();
-    const double duration = static_cast<double>(scanner.pulses()) / scanner.params().pulse_rate_hz;
     tls_time += duration;
     if (still_for) *still_for = params.tls_scan_takes_time ? duration : 0.0;
     return scan;
@@ -319,8 +398,10 @@ struct SimRobot::Impl {
 
 SimRobot::SimRobot(const sim::EmbreeWorld& world, const DriveParams& params,
                    const Pose2& X_WB_start, std::uint64_t seed, const FaultParams& faults,
-                   const std::optional<DoorFaultWorld>& door, const sim::RealismParams& realism)
-    : impl_(std::make_unique<Impl>(world, params, X_WB_start, seed, faults, door, realism)) {}
+                   const std::optional<DoorFaultWorld>& door, const sim::RealismParams& realism,
+                   const std::optional<PeopleWorld>& people)
+    : impl_(
+          std::make_unique<Impl>(world, params, X_WB_start, seed, faults, door, realism, people)) {}
 SimRobot::~SimRobot() = default;
 
 double SimRobot::Time() const { return impl_->t; }
@@ -381,6 +462,10 @@ void SimRobot::FillResult(DriveResult& res) const {
   res.lrf_sweeps = m.lrf_sweeps;
   res.teleports = m.teleports;
   res.fault_events = m.fault_events;
+  res.people = m.people ? static_cast<int>(m.people->size()) : 0;
+  res.person_contacts = m.person_contacts;
+  res.person_contact_events = m.person_events;
+  res.person_closest = m.person_closest;
   res.tls_time = m.tls_time;
   res.tls_wall_time = m.tls_wall;
   res.wall_time = std::chrono::duration<double>(Clock::now() - m.wall_start).count();

@@ -26,7 +26,22 @@
 #include "sim/realism.h"
 #include "sim/tls_truth.h"
 
+namespace mopad::sim {
+struct SceneWorld;
+}
+
 namespace mopad::mission {
+
+/// The world side of people walking (sim/people.h): the world they walk in (the robot's, which
+/// gains them as movers) and the truth whose rooms they walk in.
+struct PeopleWorld {
+  sim::EmbreeWorld* world = nullptr;
+  const scenes::GroundTruth* truth = nullptr;
+};
+
+/// The people's world in `mw` for `realism`, or none when the realism has no people. InputError
+/// when it has people and the scene no truth (people walk in the truth's rooms).
+std::optional<PeopleWorld> PeopleOf(const sim::SceneWorld& mw, const sim::RealismParams& realism);
 
 class SimRobot final : public interfaces::RobotPlatform {
  public:
@@ -35,11 +50,14 @@ class SimRobot final : public interfaces::RobotPlatform {
   /// world's faults (default: none); `door`: the world and door of the door fault
   /// (DoorFaultOf; its world must be `world`), which the robot then opens to the scene's angle
   /// for its start and closes at the fault's time. `realism`: the world's departure from ideal
-  /// (sim/realism.h): the scanner is RealisticTls of the profile for `seed`.
+  /// (sim/realism.h): the scanner is RealisticTls of the profile for `seed`, and its people
+  /// (`realism.people`) walk in `people` (PeopleOf; its world must be `world`), from the people's
+  /// seed or else `seed`.
   SimRobot(const sim::EmbreeWorld& world, const DriveParams& params, const Pose2& X_WB_start,
            std::uint64_t seed, const FaultParams& faults = {},
            const std::optional<DoorFaultWorld>& door = std::nullopt,
-           const sim::RealismParams& realism = {});
+           const sim::RealismParams& realism = {},
+           const std::optional<PeopleWorld>& people = std::nullopt);
   ~SimRobot() override;
   SimRobot(const SimRobot&) = delete;
   SimRobot& operator=(const SimRobot&) = delete;

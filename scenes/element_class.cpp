@@ -8,7 +8,7 @@
 namespace mopad::scenes {
 namespace {
 
-constexpr std::array<std::pair<ElementClass, std::string_view>, 21> kNames{{
+constexpr std::array<std::pair<ElementClass, std::string_view>, 22> kNames{{
     {ElementClass::kUnknown, "unknown"},
     {ElementClass::kWall, "wall"},
     {ElementClass::kFloor, "floor"},
@@ -29,6 +29,7 @@ constexpr std::array<std::pair<ElementClass, std::string_view>, 21> kNames{{
     {ElementClass::kSite, "site"},
     {ElementClass::kSpace, "space"},
     {ElementClass::kOther, "other"},
+    {ElementClass::kPerson, "person"},
     {ElementClass::kUnknown, "unknown"},
 }};
 

@@ -25,9 +25,10 @@ enum class ElementClass {
   kRoof,
   kStair,
   kRailing,
-  kSite,   ///< terrain
-  kSpace,  ///< IfcSpace volumes (only when imported on purpose)
-  kOther,  ///< known element of a class we do not model (e.g. IfcBuildingElementProxy)
+  kSite,    ///< terrain
+  kSpace,   ///< IfcSpace volumes (only when imported on purpose)
+  kOther,   ///< known element of a class we do not model (e.g. IfcBuildingElementProxy)
+  kPerson,  ///< a person walking during a mission (sim/people.h): never in a scene or its truth
 };
 
 /// Stable lower-case names used in files: "wall", "door_leaf", "service_component", ...

@@ -40,6 +40,7 @@ Daylight::Daylight(const scenes::Scene& scene, float level, float ambient, float
 
 float Daylight::Factor(const Eigen::Vector3f& q, const Eigen::Vector3f& n,
                        std::int32_t part) const {
+  if (part < 0 || static_cast<std::size_t>(part) >= part_room_.size()) return 1.0f;  // a mover
   const std::int32_t room = part_room_[static_cast<std::size_t>(part)];
   if (room < 0) return 1.0f;
   float e = 0.0f;

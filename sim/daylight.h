@@ -21,7 +21,7 @@ class Daylight {
 
   bool on() const { return level_ > 0.0f; }
   /// The light of a surface point q with the daylight over its light without; n is its unit
-  /// normal turned to the viewer, `part` its scene part. 1 for a part without a room.
+  /// normal turned to the viewer, `part` its part. 1 for a part without a room (and a mover's).
   float Factor(const Eigen::Vector3f& q, const Eigen::Vector3f& n, std::int32_t part) const;
 
  private:

@@ -19,10 +19,10 @@ void ErrorCallback(void* user, RTCError code, const char* str) {
       "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (str ? str : "") + "; ";
 }
 
-void ValidatePart(const scenes::Scene& scene, std::size_t index) {
-  const scenes::MeshPart& p = scene.parts[index];
-  const std::string where = scene.source.empty() ? "scene" : scene.source;
-  const std::string what = "part " + std::to_string(index) + " ('" + p.name + "')";
+}  // namespace
+
+void ValidatePart(const scenes::MeshPart& p, std::size_t materials, const std::string& where,
+                  const std::string& what) {
   for (const auto& v : p.positions) {
     if (!v.allFinite()) throw InputError(where, what + " has a non-finite vertex");
   }
@@ -38,9 +38,9 @@ void ValidatePart(const scenes::Scene& scene, std::size_t index) {
     throw InputError(where, what + " has a UV count different from its vertex count",
                      std::to_string(p.uvs.size()), std::to_string(p.positions.size()));
   }
-  if (p.material < -1 || p.material >= static_cast<int>(scene.materials.size())) {
+  if (p.material < -1 || p.material >= static_cast<int>(materials)) {
     throw InputError(where, what + " has a material index out of range", std::to_string(p.material),
-                     "-1 or [0, " + std::to_string(scene.materials.size()) + ")");
+                     "-1 or [0, " + std::to_string(materials) + ")");
   }
 }
 
@@ -60,12 +60,27 @@ RTCGeometry MakeTriangleGeometry(RTCDevice device, const scenes::MeshPart& p) {
   return g;
 }
 
-}  // namespace
+void AppendNormals(const scenes::MeshPart& p, EmbreeWorld::Impl* w) {
+  w->first_triangle.push_back(static_cast<std::uint32_t>(w->normals.size()));
+  for (const auto& tri : p.triangles) {
+    const Eigen::Vector3f& a = p.positions[tri[0]];
+    const Eigen::Vector3f& b = p.positions[tri[1]];
+    const Eigen::Vector3f& c = p.positions[tri[2]];
+    const Eigen::Vector3d n = (b - a).cast<double>().cross((c - a).cast<double>());
+    const double len = n.norm();
+    w->normals.push_back(len > 0 ? Eigen::Vector3f((n / len).cast<float>())
+                                 : Eigen::Vector3f::UnitZ());
+  }
+}
 
 EmbreeWorld::Impl::~Impl() {
   for (auto& d : doors) {
     if (d.child) rtcReleaseScene(d.child);
   }
+  for (auto& m : mover_list) {
+    if (m.child) rtcReleaseScene(m.child);
+  }
+  if (movers) rtcReleaseScene(movers);
   if (robust) rtcReleaseScene(robust);
   if (top) rtcReleaseScene(top);
   if (device) rtcReleaseDevice(device);
@@ -147,23 +162,9 @@ void IndexElements(EmbreeWorld::Impl* w) {
   }
 }
 
-// Unit normal of every triangle (+z for a degenerate one), flattened part by part.
+// Unit normal of every triangle, flattened part by part.
 void ComputeNormals(EmbreeWorld::Impl* w) {
-  const auto& parts = w->scene.parts;
-  w->first_triangle.resize(parts.size());
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    const auto& p = parts[i];
-    w->first_triangle[i] = static_cast<std::uint32_t>(w->normals.size());
-    for (const auto& tri : p.triangles) {
-      const Eigen::Vector3f& a = p.positions[tri[0]];
-      const Eigen::Vector3f& b = p.positions[tri[1]];
-      const Eigen::Vector3f& c = p.positions[tri[2]];
-      const Eigen::Vector3d n = (b - a).cast<double>().cross((c - a).cast<double>());
-      const double len = n.norm();
-      w->normals.push_back(len > 0 ? Eigen::Vector3f((n / len).cast<float>())
-                                   : Eigen::Vector3f::UnitZ());
-    }
-  }
+  for (const auto& p : w->scene.parts) AppendNormals(p, w);
 }
 
 // The device (errors recorded by ErrorCallback), the top scene and, when misses are re-traced,
@@ -273,7 +274,10 @@ EmbreeWorld::EmbreeWorld(scenes::Scene scene, const scenes::GroundTruth* truth,
     : impl_(std::make_unique<Impl>()) {
   Impl& w = *impl_;
   w.scene = std::move(scene);
-  for (std::size_t i = 0; i < w.scene.parts.size(); ++i) ValidatePart(w.scene, i);
+  const std::string where = w.scene.source.empty() ? "scene" : w.scene.source;
+  for (std::size_t i = 0; i < w.scene.parts.size(); ++i)
+    ValidatePart(w.scene.parts[i], w.scene.materials.size(), where,
+                 "part " + std::to_string(i) + " ('" + w.scene.parts[i].name + "')");
   IndexElements(&w);
   ComputeNormals(&w);
   CreateScenes(options, &w);
@@ -320,7 +324,7 @@ double EmbreeWorld::DoorAngle(const std::string& id) const {
 }
 
 RayHit EmbreeWorld::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
-                              float t_near, float t_far) const {
+                              float t_near, float t_far, double time) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh = MakeRayHit(origin, direction, t_near, t_far);
@@ -332,12 +336,21 @@ RayHit EmbreeWorld::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector
   } else if (impl_->robust) {
     impl_->RetraceMiss(origin, direction, t_near, t_far, &out);
   }
+  if (impl_->movers) {
+    RTCRayHit m = MakeRayHit(origin, direction, t_near, out.hit() ? out.t : t_far);
+    m.ray.time = TrackTime(time);
+    impl_->TraceMovers1(&m);
+    if (m.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+      impl_->Resolve(m.hit.geomID, m.hit.primID, m.hit.instID[0], m.ray.tfar, m.hit.u, m.hit.v,
+                     &out, m.ray.time);
+    }
+  }
   return out;
 }
 
 void EmbreeWorld::IntersectMany(std::span<const Eigen::Vector3f> origins,
                                 std::span<const Eigen::Vector3f> directions, float t_near,
-                                float t_far, std::span<RayHit> hits) const {
+                                float t_far, std::span<RayHit> hits, double time) const {
   if (origins.size() != directions.size() || origins.size() != hits.size()) {
     throw std::invalid_argument("EmbreeWorld::IntersectMany: span sizes differ");
   }
@@ -345,6 +358,7 @@ void EmbreeWorld::IntersectMany(std::span<const Eigen::Vector3f> origins,
   InitCoherentContext(&ctx);
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
+  const float mover_time = impl_->movers ? TrackTime(time) : 0.0f;
   for (std::size_t i0 = 0; i0 < origins.size(); i0 += 16) {
     const std::size_t n = std::min<std::size_t>(16, origins.size() - i0);
     for (std::size_t k = 0; k < 16; ++k) {
@@ -358,7 +372,7 @@ void EmbreeWorld::IntersectMany(std::span<const Eigen::Vector3f> origins,
       rh.ray.dir_z[k] = directions[i].z();
       rh.ray.tnear[k] = t_near;
       rh.ray.tfar[k] = t_far;
-      rh.ray.time[k] = 0.0f;
+      rh.ray.time[k] = mover_time;
       rh.ray.mask[k] = 0xFFFFFFFFu;
       rh.ray.id[k] = static_cast<unsigned>(k);
       rh.ray.flags[k] = 0;
@@ -374,7 +388,16 @@ void EmbreeWorld::IntersectMany(std::span<const Eigen::Vector3f> origins,
                        rh.hit.u[k], rh.hit.v[k], &out);
       } else if (impl_->robust) {
         impl_->RetraceMiss(origins[i0 + k], directions[i0 + k], t_near, t_far, &out);
+        if (out.hit()) rh.ray.tfar[k] = out.t;
       }
+    }
+    if (!impl_->movers) continue;
+    impl_->TraceMovers16(valid, &ctx, &rh);
+    for (std::size_t k = 0; k < n; ++k) {
+      const unsigned inst = rh.hit.instID[0][k];
+      if (inst == RTC_INVALID_GEOMETRY_ID || inst < kMoverInst) continue;
+      impl_->Resolve(rh.hit.geomID[k], rh.hit.primID[k], rh.hit.instID[0][k], rh.ray.tfar[k],
+                     rh.hit.u[k], rh.hit.v[k], &hits[i0 + k], mover_time);
     }
   }
 }

@@ -1,6 +1,7 @@
 #include "sim/lrf.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "common/rng.h"
@@ -109,6 +110,8 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
   cfg.incidence_exponent = p.incidence_noise_exponent;
   BeamModel beam(cfg);
   const SurfaceTable& surfaces = *surfaces_;
+  if (surfaces.size() != static_cast<std::size_t>(world_.PartCount()))
+    throw std::logic_error("LrfSimulator: the world gained movers after the LRF was made");
 
   const std::uint64_t sweep_key =
       DeriveKey(DeriveKey(DeriveKey(Mix64(seed), HashName("sim/lrf")), HashName(p.frame)), seq);
@@ -138,7 +141,8 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
     }
   }
   std::vector<RayHit> hits(n_rays);
-  world_.IntersectMany(origins, dirs, 0.0f, std::numeric_limits<float>::infinity(), hits);
+  world_.IntersectMany(origins, dirs, 0.0f, std::numeric_limits<float>::infinity(), hits,
+                       timestamp);
 
   interfaces::LrfScan scan;
   scan.frame = p.frame;
@@ -160,6 +164,7 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
       s.hit = hits[idx];
       s.origin = origins[idx];
       s.dir = dirs[idx];
+      s.time = timestamp;
       ContinueThroughGlass(world_, surfaces, p.max_transmissions, glass_key,
                            static_cast<std::uint64_t>(i) * 64 + static_cast<std::uint64_t>(k), &s);
     }

@@ -8,8 +8,8 @@
 // calibration errors, drawn once per run from the run's seed: one run, one instrument; the
 // camera's per-scan exposure and white balance) and the building's as-built geometry (applied
 // by the scene generator to a generated scene: scenes/as_built.h) and its details
-// (scenes/details_params.h). People walking through
-// rooms are the next section; a profile keeps one name for all.
+// (scenes/details_params.h), and the people walking through its rooms during a mission
+// (sim/people.h); a profile keeps one name for all.
 
 #include <cstdint>
 #include <string>
@@ -18,6 +18,7 @@
 #include "common/params.h"
 #include "scenes/as_built_params.h"
 #include "scenes/details_params.h"
+#include "sim/people.h"
 #include "sim/tls_params.h"
 
 namespace mopad::sim {
@@ -61,6 +62,9 @@ struct RealismParams {
   /// The building's details (skirting, trims, ducts, pipes, posters, door frames in the wall's
   /// colour, glazed doors), added to a generated scene like the geometry; `seed` 0 = the run's.
   scenes::DetailsParams details = NoDetails();
+  /// People walking through the rooms during a mission (moving occluders, never in the truth);
+  /// `seed` 0 = the run's.
+  PeopleParams people;
 
   template <class V>
   void Visit(V& v) {
@@ -70,6 +74,7 @@ struct RealismParams {
     v("scanner", scanner);
     v("geometry", geometry);
     v("details", details);
+    v("people", people);
   }
   /// InputError when `profile` names no profile.
   void Validate() const;

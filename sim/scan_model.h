@@ -110,6 +110,8 @@ struct SubHit {
   Eigen::Vector3f origin = Eigen::Vector3f::Zero();
   Eigen::Vector3f dir = Eigen::Vector3f::UnitX();
   bool transmitted = false;
+  /// s, when the ray went (places the world's movers); the default: the movers' track start
+  double time = -std::numeric_limits<double>::infinity();
 };
 
 /// Lets a sub-ray pass up to `max_layers` transmitting surfaces (glass): at each, it continues
@@ -125,7 +127,8 @@ inline void ContinueThroughGlass(const EmbreeWorld& world, const SurfaceTable& s
     if (tr <= 0.0f || !(rng.Uniform() < tr)) return;
     s->transmitted = true;
     // Restart just beyond the surface along the same ray (same origin: no drift).
-    s->hit = world.Intersect(s->origin, s->dir, s->hit.t + 1e-4f);
+    s->hit = world.Intersect(s->origin, s->dir, s->hit.t + 1e-4f,
+                             std::numeric_limits<float>::infinity(), s->time);
   }
 }
 

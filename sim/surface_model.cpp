@@ -40,14 +40,30 @@ Eigen::Vector3f MeanLinear(const scenes::Texture& t) {
 SurfaceTable::SurfaceTable(const EmbreeWorld& world) {
   const scenes::Scene& scene = world.scene();
   const scenes::Material default_material;
-  std::vector<SurfaceProps> by_material(scene.materials.size() + 1);
-  for (std::size_t m = 0; m <= scene.materials.size(); ++m) {
-    const scenes::Material& mat =
-        m < scene.materials.size() ? scene.materials[m] : default_material;
+  // The scene's materials, the default, then the movers' (untextured: textures are the scene's).
+  std::vector<const scenes::Material*> materials;
+  for (const auto& m : scene.materials) materials.push_back(&m);
+  materials.push_back(&default_material);
+  std::vector<std::size_t> material_of_part(static_cast<std::size_t>(world.PartCount()));
+  for (std::int32_t p = 0; p < world.PartCount(); ++p) {
+    const scenes::Material* m = world.MaterialOf(p);
+    std::size_t index = scene.materials.size();
+    if (m && p < static_cast<std::int32_t>(scene.parts.size())) {
+      index = static_cast<std::size_t>(scene.parts[static_cast<std::size_t>(p)].material);
+    } else if (m) {
+      index = materials.size();
+      materials.push_back(m);
+    }
+    material_of_part[static_cast<std::size_t>(p)] = index;
+  }
+  std::vector<SurfaceProps> by_material(materials.size());
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    const scenes::Material& mat = *materials[m];
+    const bool own = m < scene.materials.size();
     SurfaceProps s;
     s.base_linear = mat.base_color.head<3>().cwiseMax(0.f).cwiseMin(1.f);
     Eigen::Vector3f albedo = s.base_linear;
-    if (mat.base_color_texture >= 0 &&
+    if (own && mat.base_color_texture >= 0 &&
         mat.base_color_texture < static_cast<int>(scene.textures.size())) {
       const scenes::Texture& t = scene.textures[static_cast<std::size_t>(mat.base_color_texture)];
       if (t.width > 0 && t.height > 0 &&
@@ -82,18 +98,18 @@ SurfaceTable::SurfaceTable(const EmbreeWorld& world) {
     by_material[m].rho_table = t;
     by_material[m].rho_offset = static_cast<std::int32_t>(m * stride);
   }
-  parts_.resize(scene.parts.size());
-  for (std::size_t p = 0; p < scene.parts.size(); ++p) {
-    const int m = scene.parts[p].material;
-    parts_[p] = by_material[m >= 0 ? static_cast<std::size_t>(m) : scene.materials.size()];
-    parts_[p].element = world.ElementIndex(static_cast<std::int32_t>(p));
-    parts_[p].element_class = static_cast<std::uint8_t>(scene.parts[p].element_class);
+  parts_.resize(material_of_part.size());
+  for (std::size_t p = 0; p < parts_.size(); ++p) {
+    const auto part = static_cast<std::int32_t>(p);
+    parts_[p] = by_material[material_of_part[p]];
+    parts_[p].element = world.ElementIndex(part);
+    parts_[p].element_class = static_cast<std::uint8_t>(world.Part(part).element_class);
   }
 }
 
 Eigen::Vector3f SurfaceTable::Textured(const EmbreeWorld& world, const RayHit& hit,
                                        const SurfaceProps& s) const {
-  const scenes::MeshPart& mp = world.scene().parts[static_cast<std::size_t>(hit.part)];
+  const scenes::MeshPart& mp = world.Part(hit.part);
   if (mp.uvs.empty()) return s.base_linear;
   const Eigen::Vector3i& tri = mp.triangles[hit.triangle];
   const Eigen::Vector2f uv =

@@ -93,6 +93,7 @@ class SurfaceTable {
  public:
   explicit SurfaceTable(const EmbreeWorld& world);
   const SurfaceProps& part(std::int32_t p) const { return parts_[static_cast<std::size_t>(p)]; }
+  std::size_t size() const { return parts_.size(); }  ///< the world's parts when it was made
   /// Linear RGB of the surface at a hit: base colour x texture (bilinear, wrap per texture).
   Eigen::Vector3f Albedo(const EmbreeWorld& world, const RayHit& hit) const {
     const SurfaceProps& s = part(hit.part);

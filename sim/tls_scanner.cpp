@@ -237,7 +237,8 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
     const Eigen::Vector3f to = p_true - ctx.p_WC;
     const float dist = to.norm();
     const Eigen::Vector3f dir = to / dist;
-    const RayHit occ = ctx.world_api->Intersect(ctx.p_WC, dir, 0.0f, dist * (1.0f - 1e-4f) - 1e-3f);
+    const RayHit occ =
+        ctx.world_api->Intersect(ctx.p_WC, dir, 0.0f, dist * (1.0f - 1e-4f) - 1e-3f, pt.timestamp);
     rgb = occ.hit() ? ColourAt(ctx, occ, ctx.p_WC, dir, echo.colour_noise)
                     : ColourAt(ctx, dom.hit, dom.origin, dom.dir, echo.colour_noise);
   } else {
@@ -248,18 +249,26 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
   pt.b = rgb[2];
 }
 
-// Completes a sub-ray from Embree's packet result (misses already re-traced watertight): resolve,
-// pass glass.
-void CompleteSubHit(const ScanContext& ctx, const RTCRayHit16& rh, int j, std::uint64_t pulse,
-                    int k, SubHit* s) {
-  s->transmitted = false;
+// A single-ray packet lane as a SubHit (after PassGlassInPackets).
+void SubHitFromPacket(const ScanContext& ctx, const RTCRayHit16& rh, int j, bool transmitted,
+                      SubHit* s) {
+  s->transmitted = transmitted;
   s->origin = Eigen::Vector3f(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
   s->dir = Eigen::Vector3f(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
   s->hit = RayHit{};
   if (rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID) {
     ctx.world->Resolve(rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.ray.tfar[j],
-                       rh.hit.u[j], rh.hit.v[j], &s->hit);
+                       rh.hit.u[j], rh.hit.v[j], &s->hit, rh.ray.time[j]);
   }
+}
+
+// Completes a sub-ray from Embree's packet result (misses already re-traced watertight): resolve,
+// pass glass.
+void CompleteSubHit(const ScanContext& ctx, const RTCRayHit16& rh, int j, std::uint64_t pulse,
+                    int k, SubHit* s) {
+  SubHitFromPacket(ctx, rh, j, false, s);
+  s->time =
+      ctx.start_time + static_cast<double>(static_cast<std::int64_t>(pulse)) * ctx.pulse_period;
   if (s->hit.hit() && ctx.surfaces->part(s->hit.part).transmission > 0.0f) {
     ContinueThroughGlass(*ctx.world_api, *ctx.surfaces, ctx.max_transmissions, ctx.glass_key,
                          pulse * 64 + static_cast<std::uint64_t>(k), s);
@@ -284,19 +293,6 @@ void RetraceMissesWatertight(const EmbreeWorld::Impl& w, const int* valid,
   rtcIntersect16(miss, w.robust, rctx, rh);
 }
 
-// A single-ray packet lane as a SubHit (after PassGlassInPackets).
-void SubHitFromPacket(const ScanContext& ctx, const RTCRayHit16& rh, int j, bool transmitted,
-                      SubHit* s) {
-  s->transmitted = transmitted;
-  s->origin = Eigen::Vector3f(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
-  s->dir = Eigen::Vector3f(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
-  s->hit = RayHit{};
-  if (rh.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID) {
-    ctx.world->Resolve(rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.ray.tfar[j],
-                       rh.hit.u[j], rh.hit.v[j], &s->hit);
-  }
-}
-
 // Glass for single-ray packets: lanes that hit a transmitting surface continue with its
 // transmission probability (draw `layer` of the stream (glass_key, 64 pulse), as
 // ContinueThroughGlass draws), re-traced together as one packet per layer.
@@ -311,11 +307,8 @@ void PassGlassInPackets(const ScanContext& ctx, const std::uint64_t* pulse, cons
       go[j] = 0;
       const unsigned geom = rh->hit.geomID[j];
       if (!valid[j] || geom == RTC_INVALID_GEOMETRY_ID) continue;
-      const unsigned inst = rh->hit.instID[0][j];
-      const std::int32_t part =
-          inst == RTC_INVALID_GEOMETRY_ID
-              ? w.geom_to_part[geom]
-              : w.doors[static_cast<std::size_t>(w.geom_to_door[inst])].child_geom_to_part[geom];
+      std::int32_t door;
+      const std::int32_t part = w.PartOfHit(geom, rh->hit.instID[0][j], &door);
       const float tr = ctx.surfaces->part(part).transmission;
       if (tr <= 0.0f) continue;
       const std::uint64_t bits = Mix64(ctx.glass_key + ((pulse[j] * 64) * PulseStream::kSlots +
@@ -333,7 +326,23 @@ void PassGlassInPackets(const ScanContext& ctx, const std::uint64_t* pulse, cons
     if (!any) return;
     rtcIntersect16(go, w.top, rctx, rh);
     if (w.robust) RetraceMissesWatertight(w, go, rctx, rh);
+    w.TraceMovers16(go, rctx, rh);
   }
+}
+
+// One packet in the world: the building (misses re-traced watertight), then the movers where
+// the scan's pulse times place them.
+void TracePacket(const ScanContext& ctx, const std::uint64_t* pulse, const int* valid,
+                 RTCIntersectContext* rctx, RTCRayHit16* rh) {
+  const EmbreeWorld::Impl& w = *ctx.world;
+  rtcIntersect16(valid, w.top, rctx, rh);
+  if (w.robust) RetraceMissesWatertight(w, valid, rctx, rh);
+  if (!w.movers) return;
+  for (int j = 0; j < 16; ++j)
+    rh->ray.time[j] = ctx.world_api->TrackTime(
+        ctx.start_time +
+        static_cast<double>(static_cast<std::int64_t>(pulse[j])) * ctx.pulse_period);
+  w.TraceMovers16(valid, rctx, rh);
 }
 
 void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
@@ -405,8 +414,7 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           rh.ray.org_z[j] = oz;
           ResetLane(&rh, j);
         }
-        rtcIntersect16(valid, w.top, &rctx, &rh);
-        if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
+        TracePacket(ctx, pulse, valid, &rctx, &rh);
         PassGlassInPackets(ctx, pulse, valid, &rctx, &rh, transmitted);
       } else {
         for (int j = 0; j < 16; ++j) {
@@ -458,8 +466,7 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
             rh.ray.dir_z[j] = d.z();
             ResetLane(&rh, j);
           }
-          rtcIntersect16(valid, w.top, &rctx, &rh);
-          if (w.robust) RetraceMissesWatertight(w, valid, &rctx, &rh);
+          TracePacket(ctx, pulse, valid, &rctx, &rh);
           if (K == 1) PassGlassInPackets(ctx, pulse, valid, &rctx, &rh, transmitted);
           if (K > 1) {
             for (int j = 0; j < n; ++j)
@@ -522,20 +529,13 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           continue;
         }
         const unsigned inst = rh.hit.instID[0][j];
-        std::int32_t part;
-        if (inst == RTC_INVALID_GEOMETRY_ID) {
-          part = w.geom_to_part[geom];
-        } else {
-          lane_door[j] = w.geom_to_door[inst];
-          part = w.doors[static_cast<std::size_t>(lane_door[j])].child_geom_to_part[geom];
-        }
+        const std::int32_t part = w.PartOfHit(geom, inst, &lane_door[j]);
         const SurfaceProps& sp = ctx.surfaces->part(part);
         // Camera parallax, or a transmitting surface reached after max_transmissions (it
         // reflects): the general path.
         if (ctx.camera || sp.transmission > 0.0f) continue;
         const unsigned prim = rh.hit.primID[j];
-        Eigen::Vector3f nrm = w.normals[w.first_triangle[static_cast<std::size_t>(part)] + prim];
-        if (lane_door[j] >= 0) nrm = w.doors[static_cast<std::size_t>(lane_door[j])].rotation * nrm;
+        const Eigen::Vector3f nrm = w.NormalOfHit(part, prim, inst, lane_door[j], rh.ray.time[j]);
         const float t = rh.ray.tfar[j];
         lane_part[j] = part;
         lanes.t[j] = t;
@@ -915,6 +915,7 @@ TlsTruth TlsScanner::MakeTruthHeader(const ScanRequest& req) const {
   t.tilt_roll = d.roll;
   t.tilt_pitch = d.pitch;
   t.element_ids = world_.ElementIds();
+  t.movers = world_.MoverCount() > 0;
   return t;
 }
 

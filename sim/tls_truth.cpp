@@ -21,7 +21,8 @@ std::vector<std::string> TruthComments(const TlsTruth& t) {
       "mopad_range_bias " + FormatShortest(t.range_bias),
       "mopad_tilt " + FormatShortest(t.tilt_roll) + " " + FormatShortest(t.tilt_pitch),
       "mopad_flags 1=transmitted 2=mixed 4=dropped 8=too_close"};
-  for (int v = 0; v <= static_cast<int>(scenes::ElementClass::kOther); ++v) {
+  const auto last = t.movers ? scenes::ElementClass::kPerson : scenes::ElementClass::kOther;
+  for (int v = 0; v <= static_cast<int>(last); ++v) {
     c.push_back("mopad_class " + std::to_string(v) + " " +
                 std::string(scenes::ToString(static_cast<scenes::ElementClass>(v))));
   }

@@ -40,6 +40,7 @@ struct TlsTruth {
   double range_bias = 0.0;         ///< m, this scan's systematic range error (incl. offset)
   double tilt_roll = 0.0, tilt_pitch = 0.0;  ///< rad, drawn levelling error
   std::vector<std::string> element_ids;      ///< EmbreeWorld::ElementIds()
+  bool movers = false;  ///< the world had movers (people): the classes listed include kPerson
   std::vector<TlsPointTruth> points;         ///< rows * columns, row-major like TlsScan
   const TlsPointTruth& at(std::uint32_t r, std::uint32_t c) const {
     return points[static_cast<std::size_t>(r) * columns + c];
