@@ -299,14 +299,9 @@ void People::StepPerson(Person& person, double dt, const Vec2& robot) const {
   if (std::abs(turn) > 0.5) return;  // turning on the spot first
   const Vec2 next = person.p + d * (std::min(person.speed * dt, dist) / dist);
   if ((next - robot).norm() < params_.clearance && (next - robot).norm() < to_robot) {
-    person.waited += dt;
-    if (person.waited >= kGiveUp) {
-      person.waited = 0.0;
-      NextGoal(person, robot);
-    }
+    NextGoal(person, robot);  // step aside: somewhere away from the robot, or stand
     return;
   }
-  person.waited = 0.0;
   person.p = next;
 }
 

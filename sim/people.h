@@ -11,7 +11,8 @@
 // from the ceiling reaches without touching furniture or anything else, `kRadius` clear of all
 // of it.
 // People give way to the robot: a person does not step closer than `clearance` to the robot's
-// centre (they stop, and after kGiveUp of waiting choose another spot).
+// centre; whoever would, walking or standing, turns to a spot away from it (or stands, when
+// there is none).
 //
 // Frames and units: world frame W (Z-up), metres, seconds, radians. Deterministic: the same
 // world, truth, params, seed and robot positions at each step give the same walks.
@@ -50,7 +51,6 @@ class People {
  public:
   static constexpr double kRadius = 0.3;    ///< m, a person's clearance from anything solid
   static constexpr double kTurnRate = 4.0;  ///< rad/s
-  static constexpr double kGiveUp = 3.0;    ///< s, waiting for the robot before a new spot
   static constexpr double kCell = 0.1;      ///< m, the free-spot grid
 
   /// People in the rooms of `truth` with enough free floor, drawn from `seed`, none within
@@ -91,7 +91,7 @@ class People {
     std::string room;
     int room_index = 0;
     Vec2 p = Vec2::Zero(), goal = Vec2::Zero();
-    double yaw = 0.0, speed = 1.2, pause = 0.0, waited = 0.0;
+    double yaw = 0.0, speed = 1.2, pause = 0.0;
     double height = 1.75;
     CounterRng rng{0};           ///< the person's own stream of draws
     int colours[3] = {0, 0, 0};  ///< palette indices: trousers, top, skin

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "common/error.h"
 #include "common/params.h"
@@ -284,6 +285,46 @@ TEST(RobotSession, ScansNavigatesTwiceAndCorrectsTheLastScanPose) {
   EXPECT_EQ(r.scan_registration_messages.size(), static_cast<std::size_t>(r.tls_scans - 1));
   EXPECT_EQ(r.scan_registrations_ok + r.scan_registrations_degenerate + r.scan_registrations_failed,
             r.tls_scans - 1);
+}
+
+// People walking (realism.people) in the robot's world: its scan sees the person walking in its
+// room as points of class kPerson, the result counts them and the base's contacts with them,
+// the same seed gives the same scan, and without the people's world nobody walks.
+TEST(RobotSession, PeopleWalkThroughItsSensorsAndItsResultCountsThem) {
+  scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml"));
+  sim::RealismParams realism;
+  realism.people.count = 2;  // one in each room
+  realism.people.pause_mean = 1.0;
+  auto run = [&](bool with_people) {
+    sim::EmbreeWorld world(scenes::Scene(g.scene), &g.truth);
+    std::optional<PeopleWorld> people;
+    if (with_people) people = PeopleWorld{&world, &g.truth};
+    RobotSession s(world, Params(3), Pose2{1.5, 2.0, 0.0}, {}, std::nullopt, realism, people);
+    const interfaces::TlsScan scan = s.TakeScan(0.5);
+    std::string msg;
+    s.NavigateTo(Pose2{2.0, 1.0, 0.0}, &msg);
+    int person = 0;
+    for (const auto& t : s.ScanTruths().front().points)
+      person += t.element_class == static_cast<std::uint8_t>(scenes::ElementClass::kPerson);
+    return std::make_tuple(scan, person, s.Result(), world.MoverCount());
+  };
+  const auto [scan, person, result, movers] = run(true);
+  EXPECT_EQ(movers, 2u);
+  EXPECT_GT(person, 20);
+  EXPECT_EQ(result.people, 2);
+  EXPECT_EQ(result.person_contacts, 0);
+  EXPECT_GT(result.person_closest, 0.0);
+  EXPECT_EQ(result.contacts, 0);
+  const auto [again, person_again, result_again, movers_again] = run(true);
+  EXPECT_EQ(person_again, person);
+  ASSERT_EQ(again.points.size(), scan.points.size());
+  for (std::size_t i = 0; i < scan.points.size(); ++i)
+    ASSERT_EQ(again.points[i].range, scan.points[i].range) << i;
+  const auto [alone, nobody, result_alone, no_movers] = run(false);
+  EXPECT_EQ(no_movers, 0u);
+  EXPECT_EQ(nobody, 0);
+  EXPECT_EQ(result_alone.people, 0);
 }
 
 // Scan registration in the session: a scan taken after an unseen 6 cm jump of the body (the
