@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "common/format.h"
 #include "perception/point_cloud_ops.h"
+#include "perception/range_image.h"
 
 namespace mopad::autonomy {
 namespace {
@@ -170,6 +171,37 @@ struct Navigator::Impl {
     return perception::OccupancyGrid::Evidence(params.grid, pts, &o);
   }
 
+  // Robot side: what the last scan (taken at X_MS) saw through is gone from the map: the band
+  // cells of the earlier clouds whose lowest and highest band points it saw through and the
+  // obstacles mapped while driving. The newest look wins: what a scan sees now is there now (a
+  // door shut since is an obstacle), what it sees through is gone (a person who walked on).
+  void MarkTransients(const Pose3& X_MS) {
+    if (!params.transient_points) return;
+    const perception::RangeImage image(last_scan, X_MS);
+    const double margin = params.transient_margin;
+    for (std::size_t i = 0; i + 1 < clouds.size(); ++i)
+      for (auto& pc : clouds[i].cells) {
+        if (pc.band == 0 || pc.transient) continue;
+        // Both of the cell's surfaces it keeps, lowest and highest, gone.
+        pc.transient = image.SeesThrough(Eigen::Vector3d(pc.lo[0], pc.lo[1], pc.lo[2]), margin) &&
+                       image.SeesThrough(Eigen::Vector3d(pc.hi[0], pc.hi[1], pc.hi[2]), margin);
+      }
+    // The sweeps mapped while driving: an obstacle there that the scan saw through at the
+    // heights of both LRFs is gone; the scans' own evidence decides the cell again.
+    if (!driving) return;
+    const double z_base = platform.BaseSweep().X_BL.translation().z();
+    const double z_top = platform.TopSweep().X_BL.translation().z();
+    for (int j = 0; j < driving->Height(); ++j)
+      for (int i = 0; i < driving->Width(); ++i) {
+        const perception::Cell c{i, j};
+        if (driving->State(c) != perception::CellState::kOccupied) continue;
+        const Vec2 q = driving->CentreOf(c);
+        if (image.SeesThrough(Eigen::Vector3d(q.x(), q.y(), z_base), margin) &&
+            image.SeesThrough(Eigen::Vector3d(q.x(), q.y(), z_top), margin))
+          driving->SetState(c, perception::CellState::kUnknown);
+      }
+  }
+
   // Robot side: one turn on the spot, mapping the LRF sweeps. The LRFs see 270 deg and the TLS
   // nothing within its minimum range (1.5 m for the VZ-400), so a wall close behind the base
   // stays unknown at a scan position, and an optimistic route can leave the room through it
@@ -296,6 +328,7 @@ struct Navigator::Impl {
     looked_around = false;
     log.scan_poses.push_back(X_MB_est);
     clouds.push_back(CloudOf(last_scan, last_scan.X_MS_estimate));
+    MarkTransients(last_scan.X_MS_estimate);
     map_sweeps.push_back({platform.BaseSweep(), X_MB_est});
     map_sweeps.push_back({platform.TopSweep(), X_MB_est});
     RebuildMap();
@@ -350,6 +383,7 @@ struct Navigator::Impl {
     const Pose2 X_MB_scan = Pose2Of(X_MS * last_scan.X_BS.inverse());
     last_scan.X_MS_estimate = X_MS;
     clouds.back() = CloudOf(last_scan, X_MS);
+    MarkTransients(X_MS);
     const Pose2 old = log.scan_poses.back();
     log.scan_poses.back() = X_MB_scan;
     for (std::size_t k = map_sweeps.size() - 2; k < map_sweeps.size(); ++k)

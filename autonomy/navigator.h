@@ -81,6 +81,13 @@ struct NavigatorParams {
   /// door leaf) appear before the base reaches them. [0, 100]
   double map_lrf_period = 0.5;
   double map_lrf_range = 4.0;  ///< m, (0, 100]
+  /// Transient points: a scan's obstacle evidence in a map cell that a later scan saw through
+  /// (its beams ran on more than `transient_margin` beyond the cell's lowest and highest band
+  /// points), and the obstacles the driving sweeps mapped there, are dropped: someone walked
+  /// on, or a door swung (perception/range_image.h). Off by default: with people walking it
+  /// has not yet shown a gain beyond the seeds' spread (docs/navigation.md).
+  bool transient_points = false;
+  double transient_margin = 0.2;  ///< m, [0.01, 5]
   /// A leg that ends blocked or unreachable is planned again this many times per NavigateTo
   /// (first with a TLS scan there when the pose is new and the localisation matches). [0, 20]
   int max_relegs = 3;
@@ -182,6 +189,8 @@ struct NavigatorParams {
     v("max_points_per_scan", max_points_per_scan, Bounds{1.0, 1e9});
     v("map_lrf_period", map_lrf_period, Bounds{0.0, 100.0});
     v("map_lrf_range", map_lrf_range, Bounds{1e-3, 100.0});
+    v("transient_points", transient_points);
+    v("transient_margin", transient_margin, Bounds{0.01, 5.0});
     v("max_relegs", max_relegs, Bounds{0, 20});
     v("stall_time", stall_time, Bounds{0.0, 1e5});
     v("register_scans", register_scans);

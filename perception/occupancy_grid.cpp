@@ -199,6 +199,10 @@ CloudEvidence OccupancyGrid::Evidence(const OccupancyGridParams& params,
     if (fresh) e.cells.push_back({i, j});
     CloudEvidence::PointCell& c = e.cells[it->second];
     if (band) {
+      const float q[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()),
+                          static_cast<float>(p.z())};
+      if (c.band == 0 || q[2] < c.lo[2]) std::copy(q, q + 3, c.lo);
+      if (c.band == 0 || q[2] > c.hi[2]) std::copy(q, q + 3, c.hi);
       ++c.band;
       const double dx = p.x() - (i + 0.5) * res, dy = p.y() - (j + 0.5) * res;
       c.dx += static_cast<float>(dx);
@@ -297,6 +301,10 @@ void OccupancyGrid::InsertPoints(const CloudEvidence& e) {
     const Cell c{pc.i - o.i, pc.j - o.j};
     if (!Contains(c)) continue;
     const std::size_t k = Index(c);
+    if (pc.transient) {  // what was there is gone: its floor, if any, is what remains
+      if (pc.floor > 0 && !(cloud_obstacle_[k] & 1)) Add(c, params_.cloud_log_odds_floor);
+      continue;
+    }
     if (pc.band > 0) {
       return_dx_[k] += pc.dx;
       return_dy_[k] += pc.dy;

@@ -99,6 +99,11 @@ struct CloudEvidence {
     std::uint32_t band = 0, floor = 0;     ///< band and floor points in the cell
     float dx = 0, dy = 0;                  ///< sums of band point offsets from the centre, m
     float xx = 0, xy = 0, yy = 0;          ///< sums of their products, m^2
+    /// The lowest and the highest band point (map frame, m): two of the surfaces it saw.
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    /// Its band points were seen through by another scan (perception/range_image.h): gone
+    /// when that scan looked, so no evidence of an obstacle (set by the map's owner).
+    bool transient = false;
   };
   std::vector<PointCell> cells;                  ///< cells with band or floor points
   std::vector<std::pair<int, int>> crossed;      ///< cells the beams clear (no repeats)
