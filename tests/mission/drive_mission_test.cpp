@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -16,6 +17,7 @@
 #include "mission/floor_job.h"
 #include "mission/robot_session.h"
 #include "mission/room_mission.h"
+#include "perception/range_image.h"
 #include "scenes/generator.h"
 #include "scenes/scene_spec.h"
 #include "sim/embree_world.h"
@@ -325,6 +327,65 @@ TEST(RobotSession, PeopleWalkThroughItsSensorsAndItsResultCountsThem) {
   EXPECT_EQ(no_movers, 0u);
   EXPECT_EQ(nobody, 0);
   EXPECT_EQ(result_alone.people, 0);
+}
+
+// Transient points (navigator transient_points, perception/range_image.h): of the map cells a
+// walking person filled in one scan, those the next scan from the same pose saw through (every
+// point of the person there, by more than 0.3 m) leave the map; with the option off they stay.
+TEST(RobotSession, WithTransientPointsAPersonWhoWalkedOnLeavesTheMap) {
+  scenes::GeneratedScene g = scenes::Generate(
+      scenes::LoadSceneSpec(std::string(MOPAD_SOURCE_DIR) + "/scenes/two_rooms_door.yaml"));
+  sim::RealismParams realism;
+  realism.people.count = 2;
+  realism.people.pause_mean = 0.5;
+  const auto kPerson = static_cast<std::uint8_t>(scenes::ElementClass::kPerson);
+  // Of the cells the people left: how many, and how many the map still holds.
+  auto left_behind = [&](bool transient_points) {
+    sim::EmbreeWorld world(scenes::Scene(g.scene), &g.truth);
+    DriveParams p = Params(3);
+    p.navigator.transient_points = transient_points;
+    RobotSession s(world, p, Pose2{1.5, 2.0, 0.0}, {}, std::nullopt, realism,
+                   PeopleWorld{&world, &g.truth});
+    const interfaces::TlsScan first = s.TakeScan(0.2);
+    const sim::TlsTruth first_truth = s.ScanTruths().back();
+    const interfaces::TlsScan second = s.TakeScan(0.2);
+    const sim::TlsTruth& second_truth = s.ScanTruths().back();
+    auto people_points = [&](const interfaces::TlsScan& scan, const sim::TlsTruth& truth) {
+      std::vector<Eigen::Vector3d> out;
+      for (std::size_t k = 0; k < scan.points.size(); ++k) {
+        const auto& q = scan.points[k];
+        if (truth.points[k].element_class != kPerson || !q.valid()) continue;
+        const Eigen::Vector3d m = scan.X_MS_estimate * Eigen::Vector3d(q.x, q.y, q.z);
+        if (m.z() >= 0.1 && m.z() <= 1.8) out.push_back(m);
+      }
+      return out;
+    };
+    const std::vector<Eigen::Vector3d> then = people_points(first, first_truth);
+    const std::vector<Eigen::Vector3d> now = people_points(second, second_truth);
+    const perception::RangeImage image(second, second.X_MS_estimate);
+    std::map<std::pair<int, int>, bool> cells;  // cell -> every person point there seen through
+    for (const Eigen::Vector3d& q : then) {
+      const perception::Cell c = s.Map().CellOf(q.head<2>());
+      auto [it, fresh] = cells.try_emplace({c.i, c.j}, true);
+      it->second = it->second && image.SeesThrough(q, 0.3);
+      for (const Eigen::Vector3d& r : now)
+        if ((r - q).head<2>().norm() < 0.5) it->second = false;
+    }
+    int left = 0, held = 0;
+    for (const auto& [cell, seen_through] : cells) {
+      if (!seen_through) continue;
+      ++left;
+      held += s.Map().State(perception::Cell{cell.first, cell.second}) ==
+              perception::CellState::kOccupied;
+    }
+    return std::make_pair(left, held);
+  };
+  const auto [left_on, held_on] = left_behind(true);
+  const auto [left_off, held_off] = left_behind(false);
+  EXPECT_GT(left_on, 10);
+  EXPECT_EQ(left_off, left_on);
+  EXPECT_LE(held_on, left_on / 10);
+  EXPECT_GT(held_off, left_off / 2);
 }
 
 // Scan registration in the session: a scan taken after an unseen 6 cm jump of the body (the
