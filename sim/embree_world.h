@@ -17,7 +17,7 @@
 // and their ids element indices after the scene's; they are in no truth of the building. A
 // track (SetMoverTrack) places them over a time span with up to 129 poses each, which Embree
 // interpolates per ray by the ray's time (motion blur): a query at time t sees each mover where
-// the track puts it at t. Without movers, every query is as before, bit for bit.
+// the track puts it at t. Without movers, a query traces the building alone.
 //
 // Embree stays behind a pimpl (no Embree header here). Its error callback only records; the
 // constructor and SetDoorAngle check after every commit and throw std::runtime_error.
