@@ -89,6 +89,12 @@ TlsParams RealisticTls(const TlsParams& base, const ScannerRealism& r, std::uint
   if (r.white_balance_sigma > 0.0) p.white_balance_sigma = r.white_balance_sigma;
   if (r.window_light > 0.0) p.window_light = r.window_light;
   if (r.window_light_sigma_stops > 0.0) p.window_light_sigma_stops = r.window_light_sigma_stops;
+  const double roll = rng.Normal(), pitch = rng.Normal(), yaw = rng.Normal();
+  if (r.camera_misalignment_sigma_deg > 0.0) {
+    p.camera_rpy_deg[0] += r.camera_misalignment_sigma_deg * roll;
+    p.camera_rpy_deg[1] += r.camera_misalignment_sigma_deg * pitch;
+    p.camera_rpy_deg[2] += r.camera_misalignment_sigma_deg * yaw;
+  }
   return p;
 }
 

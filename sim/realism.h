@@ -37,6 +37,9 @@ struct ScannerRealism {
   /// ambient light, [0, 20]; and its change from scan to scan, stops, [0, 4]
   double window_light = 0.0;
   double window_light_sigma_stops = 0.0;
+  /// deg, 1 sigma of each of the camera's roll, pitch and yaw from its calibration
+  /// (TlsParams::camera_rpy_deg), drawn once per run, [0, 2]
+  double camera_misalignment_sigma_deg = 0.0;
 
   template <class V>
   void Visit(V& v) {
@@ -47,6 +50,7 @@ struct ScannerRealism {
     v("white_balance_sigma", white_balance_sigma, Bounds{0, 1});
     v("window_light", window_light, Bounds{0, 20});
     v("window_light_sigma_stops", window_light_sigma_stops, Bounds{0, 4});
+    v("camera_misalignment_sigma_deg", camera_misalignment_sigma_deg, Bounds{0, 2});
   }
 };
 

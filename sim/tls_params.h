@@ -69,6 +69,11 @@ struct TlsParams {
   /// m, camera centre in the scanner frame; non-zero: colour comes from what the camera sees
   /// (parallax at occlusion edges, one extra ray per point).
   std::vector<double> camera_offset = {0.0, 0.0, 0.0};
+  /// deg, the camera's rotation from its calibration (roll, pitch, yaw about the scanner's
+  /// axes, each [-5, 5]): the colour of a point is what the camera sees along the calibrated
+  /// direction turned by it (a residual of the camera-to-scanner calibration, or a bumped rig).
+  /// Non-zero: one extra ray per point, as camera_offset.
+  std::vector<double> camera_rpy_deg = {0.0, 0.0, 0.0};
 
   // ---- axes and mount
   double tilt_sigma_deg = 0.008;  ///< deg, per-scan levelling error, roll and pitch, [0, 10]
@@ -98,7 +103,8 @@ struct TlsParams {
   /// Daylight through the windows, in the units of ambient_light: a window of area A at
   /// distance r adds window_light A cos(a_w) cos(a_p) / (pi r^2) to a surface's light (a_w, a_p:
   /// the angles of the line between them to the window's and the surface's normals; the form
-  /// factor of a small area), from the windows of the surface's own room and without shadows.
+  /// factor of a small area), from the windows of the surface's own room, each as far as it is
+  /// visible from the surface (soft shadows: one ray per window to a random point of its pane).
   /// [0, 20]; 0: off.
   double window_light = 0.0;
   /// stops, 1 sigma of the daylight's change from scan to scan (clouds, the time of day), [0, 4]
@@ -141,6 +147,7 @@ struct TlsParams {
     v("top_light", top_light, Bounds{0, 4});
     v("colour_noise", colour_noise, Bounds{0, 255});
     v("camera_offset", camera_offset, Bounds{-10, 10});
+    v("camera_rpy_deg", camera_rpy_deg, Bounds{-5, 5});
     v("tilt_sigma_deg", tilt_sigma_deg, Bounds{0, 10});
     v("angle_noise_deg", angle_noise_deg, Bounds{0, 1});
     v("collimation_error_deg", collimation_error_deg, Bounds{-1, 1});

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 
 #include "common/error.h"
@@ -42,10 +44,11 @@ void TlsParams::Validate() const {
   if (footprint_rays == 2) {
     throw InputError("", "parameter 'tls.footprint_rays' must be 1 or >= 3", "2", "1 or 3..64");
   }
-  if (camera_offset.size() != 3 || mount_xyz.size() != 3 || mount_rpy_deg.size() != 3) {
-    throw InputError(
-        "",
-        "parameters 'tls.camera_offset', 'tls.mount_xyz' and 'tls.mount_rpy_deg' need 3 values");
+  if (camera_offset.size() != 3 || camera_rpy_deg.size() != 3 || mount_xyz.size() != 3 ||
+      mount_rpy_deg.size() != 3) {
+    throw InputError("",
+                     "parameters 'tls.camera_offset', 'tls.camera_rpy_deg', 'tls.mount_xyz' and "
+                     "'tls.mount_rpy_deg' need 3 values");
   }
 }
 
@@ -161,8 +164,10 @@ struct ScanContext {
   std::vector<float> sin_az, cos_az, sin_el, cos_el;
   Eigen::Matrix3f R_WS;
   Eigen::Vector3f p_WS;
-  bool camera = false;
+  bool camera = false;  // colour from the camera's own ray: camera_offset or camera_rpy_deg
   Eigen::Vector3f p_WC;
+  bool camera_turned = false;  // camera_rpy_deg: R_cam turns a calibrated direction (world)
+  Eigen::Matrix3f R_cam = Eigen::Matrix3f::Identity();
   // Stream keys per purpose; the item index is the pulse index (glass: pulse * 64 + sub-ray).
   std::uint64_t noise_key = 0, jitter_key = 0, glass_key = 0;
   double start_time = 0.0, pulse_period = 0.0;
@@ -181,6 +186,7 @@ struct ScanContext {
   float range_scale = 1.0f, low_signal_bias = 0.0f, low_signal_intensity = 1.0f;
   std::array<std::array<std::uint8_t, 256>, 3> colour_table{};
   Daylight daylight;  // TlsParams::window_light; off: the colour is as without
+  std::uint64_t shadow_key = 0;  // daylight's shadow rays: pulse index, two uniforms per window
   // Flat per-part tables for resolving hits 16 at a time (ResolveStaticLanes).
   std::vector<std::int32_t> part_simple, part_rho_offset;
   std::vector<float> part_base;
@@ -189,14 +195,106 @@ struct ScanContext {
   ResolveTables resolve;
 };
 
-// The colour of `hit`, seen along `dir` from `origin`, with daylight when the scan has it.
+// A shadow ray from the surface point q (unit normal n, turned to the viewer) to a random point
+// of window w's pane; false when the pane does not face q. The ray starts 1 mm off the surface
+// and ends 2 cm short of the pane (a pane modelled as a slab does not shade itself).
+bool ShadowRay(const Daylight& day, std::int32_t w, const Eigen::Vector3f& q,
+               const Eigen::Vector3f& n, float u, float v, Eigen::Vector3f* org,
+               Eigen::Vector3f* dir, float* tfar) {
+  if (!day.Faces(w, q, n)) return false;
+  *org = q + 1e-3f * n;
+  const Eigen::Vector3f to = day.PanePoint(w, u, v) - *org;
+  const float dist = to.norm();
+  if (dist <= 0.03f) return false;
+  *dir = to / dist;
+  *tfar = dist - 0.02f;
+  return true;
+}
+
+// Daylight::Factor's `lit` for a surface point q of `part` at pulse `pulse`: one shadow ray per
+// window of its room to a random point of the pane (the pulse's own stream, two uniforms per
+// window whether or not it faces q). The building occludes; people (movers) do not.
+std::uint32_t LitWindows(const ScanContext& ctx, const Eigen::Vector3f& q, const Eigen::Vector3f& n,
+                         std::int32_t part, std::uint64_t pulse) {
+  const std::span<const std::int32_t> windows = ctx.daylight.WindowsOf(part);
+  PulseStream rng(ctx.shadow_key, pulse);
+  std::uint32_t lit = 0;
+  RTCIntersectContext rctx;
+  rtcInitIntersectContext(&rctx);
+  for (std::size_t k = 0; k < windows.size(); ++k) {
+    const float u = static_cast<float>(rng.Uniform()), v = static_cast<float>(rng.Uniform());
+    Eigen::Vector3f org, dir;
+    float tfar = 0.0f;
+    if (!ShadowRay(ctx.daylight, windows[k], q, n, u, v, &org, &dir, &tfar)) continue;
+    RTCRay ray{};
+    ray.org_x = org.x(), ray.org_y = org.y(), ray.org_z = org.z();
+    ray.dir_x = dir.x(), ray.dir_y = dir.y(), ray.dir_z = dir.z();
+    ray.tnear = 0.0f;
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+    rtcOccluded1(ctx.world->top, &rctx, &ray);
+    if (ray.tfar >= 0.0f) lit |= 1u << k;
+  }
+  return lit;
+}
+
+// LitWindows for the lanes of `mask`, 16 shadow rays at a time (one window slot per packet).
+void LitWindows16(const ScanContext& ctx, std::uint32_t mask, const Eigen::Vector3f* q,
+                  const Eigen::Vector3f* n, const std::int32_t* part, const std::uint64_t* pulse,
+                  std::uint32_t* lit) {
+  std::span<const std::int32_t> windows[16];
+  float uv[16][2 * Daylight::kMaxWindows];
+  std::size_t slots = 0;
+  for (int j = 0; j < 16; ++j) {
+    lit[j] = 0;
+    if (!((mask >> j) & 1u)) continue;
+    windows[j] = ctx.daylight.WindowsOf(part[j]);
+    PulseStream rng(ctx.shadow_key, pulse[j]);
+    for (std::size_t k = 0; k < 2 * windows[j].size(); ++k)
+      uv[j][k] = static_cast<float>(rng.Uniform());
+    slots = std::max(slots, windows[j].size());
+  }
+  RTCIntersectContext rctx;
+  rtcInitIntersectContext(&rctx);
+  for (std::size_t k = 0; k < slots; ++k) {
+    alignas(64) RTCRay16 ray;
+    alignas(64) int valid[16];
+    bool any = false;
+    for (int j = 0; j < 16; ++j) {
+      Eigen::Vector3f org = Eigen::Vector3f::Zero(), dir = Eigen::Vector3f::UnitZ();
+      float tfar = 0.0f;
+      valid[j] = ((mask >> j) & 1u) && k < windows[j].size() &&
+                         ShadowRay(ctx.daylight, windows[j][k], q[j], n[j], uv[j][2 * k],
+                                   uv[j][2 * k + 1], &org, &dir, &tfar)
+                     ? -1
+                     : 0;
+      any |= valid[j] != 0;
+      ray.org_x[j] = org.x(), ray.org_y[j] = org.y(), ray.org_z[j] = org.z();
+      ray.dir_x[j] = dir.x(), ray.dir_y[j] = dir.y(), ray.dir_z[j] = dir.z();
+      ray.tnear[j] = 0.0f;
+      ray.tfar[j] = tfar;
+      ray.time[j] = 0.0f;
+      ray.mask[j] = 0xFFFFFFFFu;
+      ray.id[j] = 0;
+      ray.flags[j] = 0;
+    }
+    if (!any) continue;
+    rtcOccluded16(valid, ctx.world->top, &rctx, &ray);
+    for (int j = 0; j < 16; ++j)
+      if (valid[j] && ray.tfar[j] >= 0.0f) lit[j] |= 1u << k;
+  }
+}
+
+// The colour of `hit`, seen along `dir` from `origin` at pulse `pulse`, with daylight (and its
+// shadows) when the scan has it.
 std::array<std::uint8_t, 3> ColourAt(const ScanContext& ctx, const RayHit& hit,
                                      const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                                     const float noise[3]) {
+                                     std::uint64_t pulse, const float noise[3]) {
   if (!ctx.daylight.on() || hit.part < 0)
     return ctx.beam.Colour(*ctx.world_api, *ctx.surfaces, hit, dir, noise);
   const Eigen::Vector3f n = hit.normal.dot(dir) > 0.0f ? -hit.normal : hit.normal;
-  const float f = ctx.daylight.Factor(origin + hit.t * dir, n, hit.part);
+  const Eigen::Vector3f q = origin + hit.t * dir;
+  const float f = ctx.daylight.Factor(q, n, hit.part, LitWindows(ctx, q, n, hit.part, pulse));
   return ctx.beam.ColourOf(ctx.surfaces->Albedo(*ctx.world_api, hit) * f, n.z(), noise);
 }
 
@@ -232,17 +330,26 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
   // Colour: what the camera sees at the true surface point.
   const SubHit& dom = *echo.dominant;
   std::array<std::uint8_t, 3> rgb;
-  if (ctx.camera) {
+  if (ctx.camera && ctx.camera_turned) {
+    // The pixel the calibration gives the point looks along the calibrated direction turned by
+    // the camera's rotation: its colour is the first surface on that ray.
+    const Eigen::Vector3f p_true = dom.origin + dom.hit.t * dom.dir;
+    const Eigen::Vector3f dir = ctx.R_cam * (p_true - ctx.p_WC).normalized();
+    const RayHit seen = ctx.world_api->Intersect(
+        ctx.p_WC, dir, 0.0f, std::numeric_limits<float>::infinity(), pt.timestamp);
+    rgb = seen.hit() ? ColourAt(ctx, seen, ctx.p_WC, dir, pulse, echo.colour_noise)
+                     : ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
+  } else if (ctx.camera) {
     const Eigen::Vector3f p_true = dom.origin + dom.hit.t * dom.dir;
     const Eigen::Vector3f to = p_true - ctx.p_WC;
     const float dist = to.norm();
     const Eigen::Vector3f dir = to / dist;
     const RayHit occ =
         ctx.world_api->Intersect(ctx.p_WC, dir, 0.0f, dist * (1.0f - 1e-4f) - 1e-3f, pt.timestamp);
-    rgb = occ.hit() ? ColourAt(ctx, occ, ctx.p_WC, dir, echo.colour_noise)
-                    : ColourAt(ctx, dom.hit, dom.origin, dom.dir, echo.colour_noise);
+    rgb = occ.hit() ? ColourAt(ctx, occ, ctx.p_WC, dir, pulse, echo.colour_noise)
+                    : ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
   } else {
-    rgb = ColourAt(ctx, dom.hit, dom.origin, dom.dir, echo.colour_noise);
+    rgb = ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
   }
   pt.r = rgb[0];
   pt.g = rgb[1];
@@ -498,6 +605,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
       alignas(64) PulseLanes lanes;
       alignas(64) std::int32_t lane_part[16], lane_door[16];
       bool too_close[16], lane_miss[16];
+      Eigen::Vector3f day_q[16], day_n[16];  // daylight: each lit lane's surface point, normal
+      std::uint32_t day = 0;                 // lanes that daylight lights
       for (int j = 0; j < 16; ++j) {
         lanes.active[j] = 0;
         too_close[j] = false;
@@ -562,15 +671,18 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
         if (ctx.daylight.on()) {
           const Eigen::Vector3f dir(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
           const Eigen::Vector3f org(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
-          albedo *= ctx.daylight.Factor(org + t * dir, dot > 0.0f ? -nrm : nrm, part);
+          day_q[j] = org + t * dir;
+          day_n[j] = dot > 0.0f ? -nrm : nrm;
+          day |= 1u << j;
         }
         lanes.albedo[0][j] = albedo.x();
         lanes.albedo[1][j] = albedo.y();
         lanes.albedo[2][j] = albedo.z();
         lanes.active[j] = 1;
       }
-      // Daylight on the lanes resolved 16 at a time (their parts are static).
-      if (ctx.daylight.on())
+      // Daylight on every lane with a surface (the lanes resolved 16 at a time have static
+      // parts), its shadow rays 16 at a time.
+      if (ctx.daylight.on()) {
         for (int j = 0; j < n; ++j) {
           if (!(((fast & ~fast_close) >> j) & 1u)) continue;
           const std::int32_t part = lane_part[j];
@@ -578,10 +690,18 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
               w.normals[w.first_triangle[static_cast<std::size_t>(part)] + rh.hit.primID[j]];
           const Eigen::Vector3f dir(rh.ray.dir_x[j], rh.ray.dir_y[j], rh.ray.dir_z[j]);
           const Eigen::Vector3f org(rh.ray.org_x[j], rh.ray.org_y[j], rh.ray.org_z[j]);
-          const float f =
-              ctx.daylight.Factor(org + lanes.t[j] * dir, nrm.dot(dir) > 0.0f ? -nrm : nrm, part);
+          day_q[j] = org + lanes.t[j] * dir;
+          day_n[j] = nrm.dot(dir) > 0.0f ? -nrm : nrm;
+          day |= 1u << j;
+        }
+        std::uint32_t lit[16];
+        LitWindows16(ctx, day, day_q, day_n, lane_part, pulse, lit);
+        for (int j = 0; j < n; ++j) {
+          if (!((day >> j) & 1u)) continue;
+          const float f = ctx.daylight.Factor(day_q[j], day_n[j], lane_part[j], lit[j]);
           for (int ch = 0; ch < 3; ++ch) lanes.albedo[ch][j] *= f;
         }
+      }
       RunPulseKernel(ctx.kernel, lanes);
       for (int j = 0; j < n; ++j) {
         const std::uint32_t r = r0 + static_cast<std::uint32_t>(j);
@@ -794,11 +914,19 @@ ScanContext MakeContext(const EmbreeWorld& world, const SurfaceTable& surfaces, 
   ctx.R_WS = X_WS.linear().cast<float>();
   ctx.p_WS = X_WS.translation().cast<float>();
   const Eigen::Vector3d cam(p.camera_offset[0], p.camera_offset[1], p.camera_offset[2]);
-  ctx.camera = cam.squaredNorm() > 0.0;
+  ctx.camera_turned =
+      p.camera_rpy_deg[0] != 0.0 || p.camera_rpy_deg[1] != 0.0 || p.camera_rpy_deg[2] != 0.0;
+  ctx.camera = cam.squaredNorm() > 0.0 || ctx.camera_turned;
   ctx.p_WC = (X_WS * cam).cast<float>();
+  ctx.R_cam = (X_WS.linear() *
+               Rpy(DegToRad(p.camera_rpy_deg[0]), DegToRad(p.camera_rpy_deg[1]),
+                   DegToRad(p.camera_rpy_deg[2])) *
+               X_WS.linear().transpose())
+                  .cast<float>();
   ctx.noise_key = DeriveKey(ScanKey(req), HashName("noise"));
   ctx.jitter_key = DeriveKey(ScanKey(req), HashName("jitter"));
   ctx.glass_key = DeriveKey(ScanKey(req), HashName("glass"));
+  ctx.shadow_key = DeriveKey(ScanKey(req), HashName("shadow"));
   ctx.start_time = req.start_time;
   ctx.pulse_period = 1.0 / p.pulse_rate_hz;
   ctx.jitter_sigma = static_cast<float>(DegToRad(p.angle_noise_deg));
