@@ -36,6 +36,9 @@ RealismParams RealismProfile(const std::string& name) {
     s.low_signal_range_bias = 0.005;
     s.exposure_sigma_stops = 0.7;
     s.white_balance_sigma = 0.12;
+    s.window_light = 6.0;
+    s.window_light_sigma_stops = 0.5;
+    s.camera_misalignment_sigma_deg = 0.15;
     // Unfinished walls and slab undersides, DIN 18202 table 3 line 5.
     p.geometry.flatness_mm = 4.0;
     p.geometry.lean_sigma_deg = 0.1;
