@@ -1,11 +1,11 @@
-#include "sim/daylight.h"
-
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
 
 #include "common/frames.h"
+#include "sim/daylight_internal.h"
+#include "sim/scan_model.h"
 
 namespace mopad::sim {
 
@@ -91,6 +91,97 @@ float Daylight::Factor(const Eigen::Vector3f& q, const Eigen::Vector3f& n, std::
   }
   const float base = ambient_ + top_light_ * std::max(0.0f, n.z());
   return base > 0.0f ? 1.0f + level_ * e / (static_cast<float>(kPi) * base) : 1.0f;
+}
+
+// A shadow ray from the surface point q (unit normal n, turned to the viewer) to a random point
+// of window w's pane; false when the pane does not face q. The ray starts 1 mm off the surface
+// and ends 2 cm short of the pane (a pane modelled as a slab does not shade itself).
+namespace {
+
+bool ShadowRay(const Daylight& day, std::int32_t w, const Eigen::Vector3f& q,
+               const Eigen::Vector3f& n, float u, float v, Eigen::Vector3f* org,
+               Eigen::Vector3f* dir, float* tfar) {
+  if (!day.Faces(w, q, n)) return false;
+  *org = q + 1e-3f * n;
+  const Eigen::Vector3f to = day.PanePoint(w, u, v) - *org;
+  const float dist = to.norm();
+  if (dist <= 0.03f) return false;
+  *dir = to / dist;
+  *tfar = dist - 0.02f;
+  return true;
+}
+
+}  // namespace
+
+std::uint32_t LitWindows(const Daylight& day, RTCScene scene, std::uint64_t key,
+                         const Eigen::Vector3f& q, const Eigen::Vector3f& n, std::int32_t part,
+                         std::uint64_t pulse) {
+  const std::span<const std::int32_t> windows = day.WindowsOf(part);
+  PulseStream rng(key, pulse);
+  std::uint32_t lit = 0;
+  RTCIntersectContext rctx;
+  rtcInitIntersectContext(&rctx);
+  for (std::size_t k = 0; k < windows.size(); ++k) {
+    const float u = static_cast<float>(rng.Uniform()), v = static_cast<float>(rng.Uniform());
+    Eigen::Vector3f org, dir;
+    float tfar = 0.0f;
+    if (!ShadowRay(day, windows[k], q, n, u, v, &org, &dir, &tfar)) continue;
+    RTCRay ray{};
+    ray.org_x = org.x(), ray.org_y = org.y(), ray.org_z = org.z();
+    ray.dir_x = dir.x(), ray.dir_y = dir.y(), ray.dir_z = dir.z();
+    ray.tnear = 0.0f;
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+    rtcOccluded1(scene, &rctx, &ray);
+    if (ray.tfar >= 0.0f) lit |= 1u << k;
+  }
+  return lit;
+}
+
+void LitWindows16(const Daylight& day, RTCScene scene, std::uint64_t key, std::uint32_t mask,
+                  const Eigen::Vector3f* q, const Eigen::Vector3f* n, const std::int32_t* part,
+                  const std::uint64_t* pulse, std::uint32_t* lit) {
+  std::span<const std::int32_t> windows[16];
+  float uv[16][2 * Daylight::kMaxWindows];
+  std::size_t slots = 0;
+  for (int j = 0; j < 16; ++j) {
+    lit[j] = 0;
+    if (!((mask >> j) & 1u)) continue;
+    windows[j] = day.WindowsOf(part[j]);
+    PulseStream rng(key, pulse[j]);
+    for (std::size_t k = 0; k < 2 * windows[j].size(); ++k)
+      uv[j][k] = static_cast<float>(rng.Uniform());
+    slots = std::max(slots, windows[j].size());
+  }
+  RTCIntersectContext rctx;
+  rtcInitIntersectContext(&rctx);
+  for (std::size_t k = 0; k < slots; ++k) {
+    alignas(64) RTCRay16 ray;
+    alignas(64) int valid[16];
+    bool any = false;
+    for (int j = 0; j < 16; ++j) {
+      Eigen::Vector3f org = Eigen::Vector3f::Zero(), dir = Eigen::Vector3f::UnitZ();
+      float tfar = 0.0f;
+      valid[j] = ((mask >> j) & 1u) && k < windows[j].size() &&
+                         ShadowRay(day, windows[j][k], q[j], n[j], uv[j][2 * k], uv[j][2 * k + 1],
+                                   &org, &dir, &tfar)
+                     ? -1
+                     : 0;
+      any |= valid[j] != 0;
+      ray.org_x[j] = org.x(), ray.org_y[j] = org.y(), ray.org_z[j] = org.z();
+      ray.dir_x[j] = dir.x(), ray.dir_y[j] = dir.y(), ray.dir_z[j] = dir.z();
+      ray.tnear[j] = 0.0f;
+      ray.tfar[j] = tfar;
+      ray.time[j] = 0.0f;
+      ray.mask[j] = 0xFFFFFFFFu;
+      ray.id[j] = 0;
+      ray.flags[j] = 0;
+    }
+    if (!any) continue;
+    rtcOccluded16(valid, scene, &rctx, &ray);
+    for (int j = 0; j < 16; ++j)
+      if (valid[j] && ray.tfar[j] >= 0.0f) lit[j] |= 1u << k;
+  }
 }
 
 }  // namespace mopad::sim

@@ -11,74 +11,16 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <span>
 #include <string>
 
-#include "common/error.h"
 #include "common/rng.h"
-#include "sim/daylight.h"
+#include "sim/daylight_internal.h"
 #include "sim/embree_world_impl.h"
 #include "sim/pulse_kernel.h"
 #include "sim/scan_model.h"
 #include "sim/surface_model.h"
 
 namespace mopad::sim {
-
-// ------------------------------------------------------------------ params
-
-void TlsParams::Validate() const {
-  ValidateParams(*this, "tls.");
-  if (elevation_min_deg >= elevation_max_deg) {
-    throw InputError("", "parameter 'tls.elevation_min_deg' must be below elevation_max_deg",
-                     std::to_string(elevation_min_deg), "< " + std::to_string(elevation_max_deg));
-  }
-  if (range_accuracy < range_precision) {
-    throw InputError(
-        "", "parameter 'tls.range_accuracy' is the total error and must be >= range_precision",
-        std::to_string(range_accuracy), ">= " + std::to_string(range_precision));
-  }
-  if (echo_mode != "first" && echo_mode != "strongest" && echo_mode != "last") {
-    throw InputError("", "parameter 'tls.echo_mode' unknown", "'" + echo_mode + "'",
-                     "first, strongest or last");
-  }
-  if (footprint_rays == 2) {
-    throw InputError("", "parameter 'tls.footprint_rays' must be 1 or >= 3", "2", "1 or 3..64");
-  }
-  if (camera_offset.size() != 3 || camera_rpy_deg.size() != 3 || mount_xyz.size() != 3 ||
-      mount_rpy_deg.size() != 3) {
-    throw InputError("",
-                     "parameters 'tls.camera_offset', 'tls.camera_rpy_deg', 'tls.mount_xyz' and "
-                     "'tls.mount_rpy_deg' need 3 values");
-  }
-}
-
-TlsParams TlsParams::NoiseFree() const {
-  TlsParams p = *this;
-  p.dropouts = false;
-  p.range_precision = p.range_accuracy = p.range_offset = 0.0;
-  p.intensity_noise = p.colour_noise = 0.0;
-  p.tilt_sigma_deg = p.angle_noise_deg = 0.0;
-  p.exposure_sigma_stops = p.white_balance_sigma = p.window_light_sigma_stops = 0.0;
-  return p;
-}
-
-TlsParams TlsProfile(const std::string& name) {
-  TlsParams p;
-  if (name == "riegl_vz400") return p;
-  if (name == "riegl_vz400_long_range") {
-    // Data sheet, 100 kHz "long range" mode: 350 m at 20 %, 600 m at 90 %.
-    p.name = name;
-    p.pulse_rate_hz = 100000.0;
-    p.range_ref = 350.0;
-    p.reflectance_exponent = 0.358;  // ln(600/350) / ln(0.9/0.2)
-    return p;
-  }
-  std::string known;
-  for (const auto& n : TlsProfileNames()) known += (known.empty() ? "" : ", ") + n;
-  throw InputError("", "unknown TLS profile", "'" + name + "'", known);
-}
-
-std::vector<std::string> TlsProfileNames() { return {"riegl_vz400", "riegl_vz400_long_range"}; }
 
 // ------------------------------------------------------------------ scanner
 
@@ -195,96 +137,6 @@ struct ScanContext {
   ResolveTables resolve;
 };
 
-// A shadow ray from the surface point q (unit normal n, turned to the viewer) to a random point
-// of window w's pane; false when the pane does not face q. The ray starts 1 mm off the surface
-// and ends 2 cm short of the pane (a pane modelled as a slab does not shade itself).
-bool ShadowRay(const Daylight& day, std::int32_t w, const Eigen::Vector3f& q,
-               const Eigen::Vector3f& n, float u, float v, Eigen::Vector3f* org,
-               Eigen::Vector3f* dir, float* tfar) {
-  if (!day.Faces(w, q, n)) return false;
-  *org = q + 1e-3f * n;
-  const Eigen::Vector3f to = day.PanePoint(w, u, v) - *org;
-  const float dist = to.norm();
-  if (dist <= 0.03f) return false;
-  *dir = to / dist;
-  *tfar = dist - 0.02f;
-  return true;
-}
-
-// Daylight::Factor's `lit` for a surface point q of `part` at pulse `pulse`: one shadow ray per
-// window of its room to a random point of the pane (the pulse's own stream, two uniforms per
-// window whether or not it faces q). The building occludes; people (movers) do not.
-std::uint32_t LitWindows(const ScanContext& ctx, const Eigen::Vector3f& q, const Eigen::Vector3f& n,
-                         std::int32_t part, std::uint64_t pulse) {
-  const std::span<const std::int32_t> windows = ctx.daylight.WindowsOf(part);
-  PulseStream rng(ctx.shadow_key, pulse);
-  std::uint32_t lit = 0;
-  RTCIntersectContext rctx;
-  rtcInitIntersectContext(&rctx);
-  for (std::size_t k = 0; k < windows.size(); ++k) {
-    const float u = static_cast<float>(rng.Uniform()), v = static_cast<float>(rng.Uniform());
-    Eigen::Vector3f org, dir;
-    float tfar = 0.0f;
-    if (!ShadowRay(ctx.daylight, windows[k], q, n, u, v, &org, &dir, &tfar)) continue;
-    RTCRay ray{};
-    ray.org_x = org.x(), ray.org_y = org.y(), ray.org_z = org.z();
-    ray.dir_x = dir.x(), ray.dir_y = dir.y(), ray.dir_z = dir.z();
-    ray.tnear = 0.0f;
-    ray.tfar = tfar;
-    ray.mask = 0xFFFFFFFFu;
-    rtcOccluded1(ctx.world->top, &rctx, &ray);
-    if (ray.tfar >= 0.0f) lit |= 1u << k;
-  }
-  return lit;
-}
-
-// LitWindows for the lanes of `mask`, 16 shadow rays at a time (one window slot per packet).
-void LitWindows16(const ScanContext& ctx, std::uint32_t mask, const Eigen::Vector3f* q,
-                  const Eigen::Vector3f* n, const std::int32_t* part, const std::uint64_t* pulse,
-                  std::uint32_t* lit) {
-  std::span<const std::int32_t> windows[16];
-  float uv[16][2 * Daylight::kMaxWindows];
-  std::size_t slots = 0;
-  for (int j = 0; j < 16; ++j) {
-    lit[j] = 0;
-    if (!((mask >> j) & 1u)) continue;
-    windows[j] = ctx.daylight.WindowsOf(part[j]);
-    PulseStream rng(ctx.shadow_key, pulse[j]);
-    for (std::size_t k = 0; k < 2 * windows[j].size(); ++k)
-      uv[j][k] = static_cast<float>(rng.Uniform());
-    slots = std::max(slots, windows[j].size());
-  }
-  RTCIntersectContext rctx;
-  rtcInitIntersectContext(&rctx);
-  for (std::size_t k = 0; k < slots; ++k) {
-    alignas(64) RTCRay16 ray;
-    alignas(64) int valid[16];
-    bool any = false;
-    for (int j = 0; j < 16; ++j) {
-      Eigen::Vector3f org = Eigen::Vector3f::Zero(), dir = Eigen::Vector3f::UnitZ();
-      float tfar = 0.0f;
-      valid[j] = ((mask >> j) & 1u) && k < windows[j].size() &&
-                         ShadowRay(ctx.daylight, windows[j][k], q[j], n[j], uv[j][2 * k],
-                                   uv[j][2 * k + 1], &org, &dir, &tfar)
-                     ? -1
-                     : 0;
-      any |= valid[j] != 0;
-      ray.org_x[j] = org.x(), ray.org_y[j] = org.y(), ray.org_z[j] = org.z();
-      ray.dir_x[j] = dir.x(), ray.dir_y[j] = dir.y(), ray.dir_z[j] = dir.z();
-      ray.tnear[j] = 0.0f;
-      ray.tfar[j] = tfar;
-      ray.time[j] = 0.0f;
-      ray.mask[j] = 0xFFFFFFFFu;
-      ray.id[j] = 0;
-      ray.flags[j] = 0;
-    }
-    if (!any) continue;
-    rtcOccluded16(valid, ctx.world->top, &rctx, &ray);
-    for (int j = 0; j < 16; ++j)
-      if (valid[j] && ray.tfar[j] >= 0.0f) lit[j] |= 1u << k;
-  }
-}
-
 // The colour of `hit`, seen along `dir` from `origin` at pulse `pulse`, with daylight (and its
 // shadows) when the scan has it.
 std::array<std::uint8_t, 3> ColourAt(const ScanContext& ctx, const RayHit& hit,
@@ -294,7 +146,9 @@ std::array<std::uint8_t, 3> ColourAt(const ScanContext& ctx, const RayHit& hit,
     return ctx.beam.Colour(*ctx.world_api, *ctx.surfaces, hit, dir, noise);
   const Eigen::Vector3f n = hit.normal.dot(dir) > 0.0f ? -hit.normal : hit.normal;
   const Eigen::Vector3f q = origin + hit.t * dir;
-  const float f = ctx.daylight.Factor(q, n, hit.part, LitWindows(ctx, q, n, hit.part, pulse));
+  const float f = ctx.daylight.Factor(
+      q, n, hit.part,
+      LitWindows(ctx.daylight, ctx.world->top, ctx.shadow_key, q, n, hit.part, pulse));
   return ctx.beam.ColourOf(ctx.surfaces->Albedo(*ctx.world_api, hit) * f, n.z(), noise);
 }
 
@@ -695,7 +549,8 @@ void TraceBlock(const ScanContext& ctx, ScanBlock& block) {
           day |= 1u << j;
         }
         std::uint32_t lit[16];
-        LitWindows16(ctx, day, day_q, day_n, lane_part, pulse, lit);
+        LitWindows16(ctx.daylight, ctx.world->top, ctx.shadow_key, day, day_q, day_n, lane_part,
+                     pulse, lit);
         for (int j = 0; j < n; ++j) {
           if (!((day >> j) & 1u)) continue;
           const float f = ctx.daylight.Factor(day_q[j], day_n[j], lane_part[j], lit[j]);
