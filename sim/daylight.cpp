@@ -93,11 +93,11 @@ float Daylight::Factor(const Eigen::Vector3f& q, const Eigen::Vector3f& n, std::
   return base > 0.0f ? 1.0f + level_ * e / (static_cast<float>(kPi) * base) : 1.0f;
 }
 
+namespace {
+
 // A shadow ray from the surface point q (unit normal n, turned to the viewer) to a random point
 // of window w's pane; false when the pane does not face q. The ray starts 1 mm off the surface
 // and ends 2 cm short of the pane (a pane modelled as a slab does not shade itself).
-namespace {
-
 bool ShadowRay(const Daylight& day, std::int32_t w, const Eigen::Vector3f& q,
                const Eigen::Vector3f& n, float u, float v, Eigen::Vector3f* org,
                Eigen::Vector3f* dir, float* tfar) {

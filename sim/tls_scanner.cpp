@@ -184,24 +184,19 @@ void EmitPulse(const ScanContext& ctx, const SubHit* subs, std::uint64_t pulse, 
   // Colour: what the camera sees at the true surface point.
   const SubHit& dom = *echo.dominant;
   std::array<std::uint8_t, 3> rgb;
-  if (ctx.camera && ctx.camera_turned) {
-    // The pixel the calibration gives the point looks along the calibrated direction turned by
-    // the camera's rotation: its colour is the first surface on that ray.
-    const Eigen::Vector3f p_true = dom.origin + dom.hit.t * dom.dir;
-    const Eigen::Vector3f dir = ctx.R_cam * (p_true - ctx.p_WC).normalized();
-    const RayHit seen = ctx.world_api->Intersect(
-        ctx.p_WC, dir, 0.0f, std::numeric_limits<float>::infinity(), pt.timestamp);
-    rgb = seen.hit() ? ColourAt(ctx, seen, ctx.p_WC, dir, pulse, echo.colour_noise)
-                     : ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
-  } else if (ctx.camera) {
+  if (ctx.camera) {
+    // The camera's own ray to the true point: occluders in front of it paint the point. A
+    // camera turned from its calibration looks along that ray turned, at whatever is first.
     const Eigen::Vector3f p_true = dom.origin + dom.hit.t * dom.dir;
     const Eigen::Vector3f to = p_true - ctx.p_WC;
     const float dist = to.norm();
-    const Eigen::Vector3f dir = to / dist;
-    const RayHit occ =
-        ctx.world_api->Intersect(ctx.p_WC, dir, 0.0f, dist * (1.0f - 1e-4f) - 1e-3f, pt.timestamp);
-    rgb = occ.hit() ? ColourAt(ctx, occ, ctx.p_WC, dir, pulse, echo.colour_noise)
-                    : ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
+    const Eigen::Vector3f dir =
+        ctx.camera_turned ? Eigen::Vector3f(ctx.R_cam * (to / dist)) : Eigen::Vector3f(to / dist);
+    const float tfar =
+        ctx.camera_turned ? std::numeric_limits<float>::infinity() : dist * (1.0f - 1e-4f) - 1e-3f;
+    const RayHit seen = ctx.world_api->Intersect(ctx.p_WC, dir, 0.0f, tfar, pt.timestamp);
+    rgb = seen.hit() ? ColourAt(ctx, seen, ctx.p_WC, dir, pulse, echo.colour_noise)
+                     : ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
   } else {
     rgb = ColourAt(ctx, dom.hit, dom.origin, dom.dir, pulse, echo.colour_noise);
   }
