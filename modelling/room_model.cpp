@@ -112,8 +112,15 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   if (!scan.X_BS.isApprox(Eigen::Isometry3d::Identity()))
     rec.base_z = (X_MS * scan.X_BS.inverse()).translation().z();
   rec.min_range = std::numeric_limits<double>::infinity();
-  for (const auto& p : scan.points)
-    if (p.valid()) rec.min_range = std::min(rec.min_range, static_cast<double>(p.range));
+  double up_slope = 0.0;
+  for (const auto& p : scan.points) {
+    if (!p.valid()) continue;
+    rec.min_range = std::min(rec.min_range, static_cast<double>(p.range));
+    const double h = std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
+    if (p.z > 0.0f)
+      up_slope = h > 0.0 ? std::max(up_slope, p.z / h) : std::numeric_limits<double>::infinity();
+  }
+  rec.max_up_slope = up_slope > 0.0 ? up_slope : std::numeric_limits<double>::infinity();
   labels_.resize(points_.size(), PointLabel::kNone);
   scans_.push_back(rec);
   scan_poses_.push_back(X_MS);
@@ -225,7 +232,8 @@ void RoomModel::EstimateHeights() {
     for (const auto& s : scans_) {
       const double dz = c - s.origin.z();
       const double rmin = std::isfinite(s.min_range) ? s.min_range : 0.0;
-      const double blind = std::sqrt(std::max(0.0, rmin * rmin - dz * dz));
+      const double blind = std::max(std::sqrt(std::max(0.0, rmin * rmin - dz * dz)),
+                                    dz > 0.0 ? dz / s.max_up_slope : 0.0);
       const double reach = blind + H.ceiling_over_scanner;
       for (const auto& p : work_points_) {
         if (std::abs(p.z() - c) > H.refine_bins * bin) continue;

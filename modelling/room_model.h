@@ -58,9 +58,11 @@ struct HeightSearchParams {
   /// [0, 10]
   double fallback_offset = 1.4;
   /// m, the ceiling is the highest strong peak over the scanners: one whose working points
-  /// come within this of the disc around a scanner that its minimum range hides (radius
-  /// sqrt(range_min^2 - (z - scanner z)^2)). A higher ceiling seen only through a door (the
-  /// next room's) starts beyond the wall; a room's own ceiling starts at that disc's edge.
+  /// come within this of the disc around a scanner that it cannot see: the larger of what its
+  /// minimum range hides (radius sqrt(range_min^2 - (z - scanner z)^2)) and what lies above
+  /// the top of its field of view (radius (z - scanner z) / tan(top elevation), from the scan's
+  /// steepest return). A higher ceiling seen only through a door (the next room's) starts well
+  /// beyond the wall, under the door's head; a room's own ceiling starts at that disc's edge.
   /// [0, 100]
   double ceiling_over_scanner = 0.5;
   /// m, the floor is the strong peak within this of the floor the robot stands on (the base's
@@ -492,6 +494,9 @@ class RoomModel {
     Vec3 origin = Vec3::Zero();      // scanner centre, map
     std::vector<Vec2> outline;       // plan outline of its ceiling view (map)
     double min_range = 0.0;          // m, the shortest return of the scan (its minimum range)
+    /// the steepest return above the scanner's horizon, as z / horizontal distance in the
+    /// scanner frame (the top of its field of view); infinite when a return is straight above
+    double max_up_slope = std::numeric_limits<double>::infinity();
     /// m, map z of the floor under the scanner's base (X_MS X_BS^-1); NaN without a mount
     double base_z = std::numeric_limits<double>::quiet_NaN();
     std::uint32_t columns = 0;       // azimuth columns of the scan

@@ -110,6 +110,29 @@ TEST(RoomModel, TheCeilingIsTheOneOverTheScannerNotTheNextRoomsSeenThroughADoor)
   EXPECT_NEAR(ceiling[1], 2.65, 0.01);
 }
 
+// A small office under a 2.9 m ceiling (1.5 m above the scanner centre: beyond its minimum
+// range everywhere, but above the top of its field of view, 60 deg, within 0.87 m of it) beside
+// a deep hall under 3.9 m, seen through a 2.3 m high door 1.1 m away: the office's ceiling is
+// over the scanner although no return of it lies within 0.5 m of the minimum range's (empty)
+// disc; the hall's is seen from 3 m on, under the door's head. (The rooms of a random hall
+// floor took the hall's ceiling for theirs and traced their perimeter at its height.)
+TEST(RoomModel, TheCeilingOverTheScannerStartsWhereItsFieldOfViewEnds) {
+  const sim::EmbreeWorld world(
+      testing::RoomWithDoorScene(3.0f, 3.2f, 2.9f, 1.0f, 2.2f, 2.3f, 3.9f, 16.0f));
+  ASSERT_NEAR(TestTls().elevation_max_deg, 60.0, 1e-9);
+  const SimScan s = TakeScan(world, TestTls(), 1.9, 1.6, 0);
+  double ceiling[2] = {0, 0};
+  for (const int variant : {0, 1}) {
+    RoomModelParams p;
+    if (variant == 0) p.heights.ceiling_over_scanner = 100.0;  // any peak counts as over it
+    RoomModel model(p);
+    model.AddScan(s.scan, s.X_MS);
+    ceiling[variant] = model.CeilingZ();
+  }
+  EXPECT_NEAR(ceiling[0], 3.9, 0.01);  // the hall's is the highest strong peak
+  EXPECT_NEAR(ceiling[1], 2.9, 0.01);
+}
+
 // A 1.6 m x 2.4 m washroom with a bathtub (top 0.44 m) along its far wall: the floor lies
 // outside the scanner's -40 deg field of view up to 1.7 m from it and under the tub beyond, so
 // the lowest strong height peak is the tub's top (the KIT Jasmin-Sun house's WC and shower:

@@ -40,10 +40,10 @@ inline void AddBox(scenes::Scene& s, const V3& lo, const V3& hi, ElementClass cl
 /// A room [0,W]x[0,D]x[0,H] (parts of room "R") whose east wall (x = W) has a door opening
 /// y in [oy0, oy1], z in [0, door_h], inside a larger hall (room "out") so that beams through
 /// the door hit something: a desk-sized box in the room, a cabinet in the hall. The hall's
-/// ceiling is at `hall_h` (default: the room's).
+/// ceiling is at `hall_h` (default: the room's); it reaches `hall_depth` m beyond the room.
 inline scenes::Scene RoomWithDoorScene(float W = 6, float D = 4, float H = 2.7f, float oy0 = 1.5f,
-                                       float oy1 = 2.4f, float door_h = 2.1f,
-                                       float hall_h = -1.0f) {
+                                       float oy1 = 2.4f, float door_h = 2.1f, float hall_h = -1.0f,
+                                       float hall_depth = 5.0f) {
   scenes::Scene s;
   sim::testing::AddRoomWithOpening(s, W, D, H, oy0, oy1, 0.0f, door_h);
   const std::string room_id = "R";
@@ -51,7 +51,7 @@ inline scenes::Scene RoomWithDoorScene(float W = 6, float D = 4, float H = 2.7f,
   const std::size_t hall = s.parts.size();
   // 1 mm below the floor and above the ceiling: the room's own floor and ceiling win inside it.
   sim::testing::AddRoomBox(s, V3(-0.2f, -3.0f, -0.001f),
-                           V3(W + 5.0f, D + 3.0f, hall_h > 0.0f ? hall_h : H + 0.001f), -1,
+                           V3(W + hall_depth, D + 3.0f, hall_h > 0.0f ? hall_h : H + 0.001f), -1,
                            "hall_");
   for (std::size_t i = hall; i < s.parts.size(); ++i) s.parts[i].room = "out";
   // The room's walls are 0.2 m thick: outer faces of the south, north and east walls.
