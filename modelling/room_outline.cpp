@@ -72,7 +72,10 @@ double WalkColumn(const std::vector<Eigen::Vector3f>& points,
       continue;
     }
     if (dz > 0 && rho < last_rho - P.occluder_margin) continue;  // an occluder before the ceiling
-    if (!any && p.z() > origin.z()) {                            // a wall right beside the scanner
+    // A wall right beside the scanner: the first return, above the scanner and below the
+    // ceiling. A first return above the ceiling is beyond this room (the next room's higher
+    // ceiling seen under a lintel too close to return): it ends the walk without a vertex.
+    if (!any && p.z() > origin.z() && dz > 0) {
       vertex = q;
       best_rho = rho;
     }

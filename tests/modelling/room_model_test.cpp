@@ -178,6 +178,25 @@ TEST(RoomModel, PerimeterDoesNotLeakThroughADoorBesideTheScanner) {
   }
 }
 
+// A corridor under 2.55 m, 0.68 m from its door wall: the whole lintel (2.1-2.55 m) lies inside
+// the 1.5 m minimum range, and in the door's columns the first return is the next room's ceiling
+// 6 cm higher, beyond the ceiling tolerance (5 cm). Above the ceiling, it is not a wall beside
+// the scanner: the outline must not follow it into the next room (a random corridor floor's
+// corridor grew a 0.9 m notch through an open door, hid that door and never entered its room).
+TEST(RoomModel, PerimeterDoesNotTakeTheNextRoomsHigherCeilingForAWallBesideTheScanner) {
+  const sim::EmbreeWorld world(
+      testing::RoomWithDoorScene(6.0f, 2.35f, 2.55f, 0.7f, 1.6f, 2.1f, 2.61f));
+  ASSERT_GE(TestTls().range_min, 1.5);
+  for (const double y : {1.0, 1.15, 1.3}) {
+    const SimScan s = TakeScan(world, TestTls(0.2), 6.0 - 0.68, y, 0);
+    RoomModel model;
+    model.AddScan(s.scan, s.X_MS);
+    double xmax = -1e300;
+    for (const auto& v : model.Perimeter()) xmax = std::max(xmax, v.x());
+    EXPECT_LT(xmax, 6.05) << "y " << y << ": " << model.FiguresJson();
+  }
+}
+
 TEST(RoomModel, PointsThroughTheDoorAreOutliersAndTheDeskIsClutter) {
   const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
   RoomModel model;
