@@ -1,5 +1,6 @@
 #include "mission/main_job.h"
 
+#include <tbb/task_group.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -324,33 +325,36 @@ ScoredRun ScoreAndExport(const MainJobOptions& o, const JobTables& t) {
   ScoredRun s;
   s.modelled = std::any_of(t.rooms_json.begin(), t.rooms_json.end(),
                            [](const nlohmann::ordered_json& r) { return r.contains("dir"); });
-  auto t0 = WallClock::now();
   if (!s.modelled) {
     if (o.print) o.print(std::string("models against the truth: skipped; ") + kNothingModelled);
-  } else {
-    if (o.print) o.print("models against the truth (mopad eval):");
-    try {
-      s.eval = evaluation::EvaluateRun(o.dir, "", "", runfolder::Join(o.dir, runfolder::kEvalDir));
-      if (o.print) o.print(s.eval.tables);
-    } catch (const std::exception& e) {
-      s.defect = std::string("the models could not be evaluated: ") + e.what();
-      s.eval.summary = {{"error", s.defect}};
-      if (o.print) o.print(s.defect);
-    }
+    return s;
   }
-  s.t_eval = SecondsSince(t0);
-  t0 = WallClock::now();
-  if (s.modelled) {
+  if (o.print) o.print("models against the truth (mopad eval):");
+  // The evaluation and the deliverables read the run folder's files and write folders of their
+  // own (eval/, export/): they run side by side; what they print comes in the order below.
+  std::string export_summary;
+  tbb::task_group exports;
+  exports.run([&] {
+    const auto t0 = WallClock::now();
     try {
-      const exports::ExportResult exported = exports::WriteAllExports(o.dir);
-      if (o.print) o.print(exported.summary);
+      export_summary = exports::WriteAllExports(o.dir).summary;
     } catch (const std::exception& e) {
       s.exports_error = std::string("the deliverables could not be written: ") + e.what();
-      if (s.defect.empty()) s.defect = s.exports_error;
-      if (o.print) o.print(s.exports_error);
     }
+    s.t_export = SecondsSince(t0);
+  });
+  const auto t0 = WallClock::now();
+  try {
+    s.eval = evaluation::EvaluateRun(o.dir, "", "", runfolder::Join(o.dir, runfolder::kEvalDir));
+  } catch (const std::exception& e) {
+    s.defect = std::string("the models could not be evaluated: ") + e.what();
+    s.eval.summary = {{"error", s.defect}};
   }
-  s.t_export = SecondsSince(t0);
+  s.t_eval = SecondsSince(t0);
+  exports.wait();
+  if (o.print) o.print(s.defect.empty() ? s.eval.tables : s.defect);
+  if (s.defect.empty()) s.defect = s.exports_error;
+  if (o.print) o.print(s.exports_error.empty() ? export_summary : s.exports_error);
   return s;
 }
 
