@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <optional>
 
@@ -27,8 +28,14 @@ const std::string kShutIn = "not entered: the robot is shut in ";
 class FloorMission {
  public:
   FloorMission(Navigator& nav, const RoomScanParams& rp, const FloorScanParams& p,
-               const FloorScanHooks& hooks, const modelling::ComponentRecogniser* recogniser)
-      : nav_(nav), rp_(rp), p_(p), hooks_(hooks), recogniser_(recogniser), target_(rp.icp) {}
+               const FloorScanHooks& hooks, const RecogniserSource& recogniser)
+      : nav_(nav),
+        rp_(rp),
+        p_(p),
+        hooks_(hooks),
+        with_sm5_(static_cast<bool>(recogniser)),
+        sm5_(recogniser, rp.sm5),
+        target_(rp.icp) {}
 
   FloorScanResult Run() {
     const auto t0 = WallClock::now();
@@ -74,6 +81,7 @@ class FloorMission {
       VisitRoom(kid, before);
       current = kid;
     }
+    CollectSm5();
     DoorsFromLaterRooms();
     res_.scans = nav_.ScanCount();
     res_.sim_time = nav_.Time();
@@ -102,7 +110,8 @@ class FloorMission {
       res_.tree.Node(node).door_scan_before = before.index;
     }
     if (hooks_.room_started) hooks_.room_started(v.room);
-    modelling::RoomModel model(rp_.model);
+    auto owned = std::make_unique<modelling::RoomModel>(rp_.model);
+    modelling::RoomModel& model = *owned;
     const ScanHook on_scan = [&](int index, const interfaces::TlsScan& scan) {
       if (res_.tree.Node(node).door_scan_after < 0 && node != 0)
         res_.tree.Node(node).door_scan_after = index;
@@ -118,11 +127,13 @@ class FloorMission {
       for (const FloorRoom& r : res_.rooms)
         if (r.error.empty()) neighbours.push_back(r.sm4);
       v.models = modelling::BuildRoomModels(model, std::move(v.scan.no_return), rp_.sm3, rp_.sm4,
-                                            rp_.sm5, v.room, &v.images, recogniser_, neighbours);
+                                            rp_.sm5, v.room, &v.images, nullptr, neighbours);
     } catch (const std::exception& e) {
       v.error = e.what();
     }
     v.model = &model;
+    // The last room's SM5 is done by now, as a rule (it ran while this room was scanned).
+    CollectSm5();
     if (hooks_.room_done) hooks_.room_done(v);
     FloorRoom r;
     r.node = node;
@@ -131,9 +142,9 @@ class FloorMission {
     r.stop_reason = v.error.empty() ? v.scan.stop_reason : "failed: " + v.error;
     if (!v.scan.scans.empty()) r.coverage = v.scan.scans.back().coverage.observable_ratio;
     if (model.ScanCount() > 0) r.perimeter = model.Perimeter();
-    r.sm3 = std::move(v.models.sm3);
-    r.sm4 = std::move(v.models.sm4);
-    r.sm5 = std::move(v.models.sm5);
+    r.sm3 = v.models.sm3;
+    r.sm4 = v.models.sm4;
+    r.sm5 = v.models.sm5;  // its room named; the detection follows
     r.error = v.error;
     if (r.error.empty()) {
       const modelling::OpeningParams& op = rp_.sm4;
@@ -143,7 +154,21 @@ class FloorMission {
     }
     res_.tree.Node(node).reason = r.stop_reason;
     res_.rooms.push_back(std::move(r));
+    // SM5 while the robot goes on; it keeps the room model (SM5's points) until it is done.
+    if (res_.rooms.back().error.empty() && with_sm5_)
+      sm5_.Start(res_.rooms.size() - 1, std::move(owned), std::move(v.models.sm3),
+                 std::move(v.models.sm4), std::move(v.models.ortho));
     if (res_.rooms.back().error.empty()) AddChildren(node, res_.rooms.back());
+  }
+
+  // The SM5 of the room started last, into its FloorRoom.
+  void CollectSm5() {
+    std::optional<BackgroundSm5::Result> done = sm5_.Finish();
+    if (!done) return;
+    FloorRoom& r = res_.rooms.at(done->key);
+    r.sm5 = std::move(done->sm5);
+    r.sm5_seconds = done->seconds;
+    r.sm5_error = std::move(done->error);
   }
 
   // A door a later room found on a wall it shares with an earlier room that did not show it
@@ -439,7 +464,8 @@ class FloorMission {
   const RoomScanParams& rp_;
   const FloorScanParams& p_;
   const FloorScanHooks& hooks_;
-  const modelling::ComponentRecogniser* recogniser_;
+  bool with_sm5_;
+  BackgroundSm5 sm5_;  // the SM5 of the room left last, beside the robot's next steps
   FloorScanResult res_;
   perception::PointMap target_;  // every registered scan of the mission (the floor's S(t-1))
 };
@@ -464,7 +490,7 @@ DoorRecord DoorOf(const modelling::DetectedOpening& o, const std::string& room) 
 
 FloorScanResult RunFloorScan(Navigator& navigator, const RoomScanParams& room_params,
                              const FloorScanParams& params, const FloorScanHooks& hooks,
-                             const modelling::ComponentRecogniser* recogniser) {
+                             const RecogniserSource& recogniser) {
   ValidateParams(params, "floor.");
   return FloorMission(navigator, room_params, params, hooks, recogniser).Run();
 }

@@ -24,6 +24,10 @@
 // (RoomScanParams::entry_icp), so each room is tied to the rooms before it through the doors. A
 // room whose modelling fails is recorded with its reason and the mission goes on.
 //
+// A room's SM5 runs beside the robot's next steps (autonomy/background_sm5.h): the robot
+// decides nothing from it. It is in FloorScanResult::rooms when RunFloorScan returns, not yet
+// in the RoomVisit handed to FloorScanHooks::room_done.
+//
 // Robot side only: it drives an autonomy::Navigator and sees nothing of the world.
 // Deterministic: same platform behaviour + params -> same decisions and outputs.
 
@@ -31,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "autonomy/background_sm5.h"
 #include "autonomy/doorway.h"
 #include "autonomy/navigator.h"
 #include "autonomy/room_scan.h"
@@ -97,7 +102,7 @@ struct RoomVisit {
   DoorScan door_scan_before;  ///< index -1 for the start room
   RoomScanResult scan;        ///< the room loop's log (its first scan is door scan 2)
   const modelling::RoomModel* model = nullptr;
-  modelling::RoomModels models;                                       ///< SM3, SM4, SM5, DSM3
+  modelling::RoomModels models;  ///< SM3, SM4, DSM3 (SM5 follows: FloorRoom::sm5)
   std::vector<std::pair<std::string, modelling::Orthoimage>> images;  ///< wall orthoimages
   std::string error;  ///< non-empty: modelling failed; the room has no models
 };
@@ -130,8 +135,11 @@ struct FloorRoom {
   std::vector<Vec2> perimeter;  ///< map frame plan polygon (empty when modelling failed)
   modelling::StructuralModel sm3;
   modelling::Sm4Model sm4;
-  modelling::Sm5Model sm5;  ///< empty without a recogniser
+  modelling::Sm5Model sm5;   ///< empty without a recogniser or when sm5_error is set
+  double sm5_seconds = 0.0;  ///< s of wall time of SM5 (reporting only)
   std::string error;
+  /// Non-empty: SM5 failed with this message (the room keeps SM3 and SM4 and its doors)
+  std::string sm5_error;
   /// Doors added to sm4 at the mission's end from rooms modelled after this one
   /// (modelling::AddDoorsFromNeighbours).
   int doors_from_later_rooms = 0;
@@ -154,10 +162,11 @@ struct FloorScanResult {
   double sim_time = 0.0, wall_time = 0.0;
 };
 
-/// `recogniser` (optional): SM5's, trained from the robot's catalogue of object models.
+/// `recogniser` (optional): SM5's, trained from the robot's catalogue of object models; asked
+/// for when the first room's SM5 starts, on the thread that runs it.
 FloorScanResult RunFloorScan(Navigator& navigator, const RoomScanParams& room_params,
                              const FloorScanParams& params, const FloorScanHooks& hooks = {},
-                             const modelling::ComponentRecogniser* recogniser = nullptr);
+                             const RecogniserSource& recogniser = {});
 
 /// The door of `o` (a door of SM4) as the floor mission uses it.
 DoorRecord DoorOf(const modelling::DetectedOpening& o, const std::string& room);

@@ -192,9 +192,7 @@ class FloorWorld {
         ScanFilesOf(mw_, session_, params_.room, v.scan, model, v.models, v.images, room_, window,
                     r.evaluation ? evaluation::ToJson(*r.evaluation) : nlohmann::ordered_json()));
     r.openings = v.models.sm4.openings.size();
-    r.components = v.models.sm5.components.size();
     r.sm4_seconds = v.models.sm4_seconds;
-    r.sm5_seconds = v.models.sm5_seconds;
     const auto& truths = session_.ScanTruths();
     if (v.door_scan_before.index >= 0)
       r.door_scan_positions_W.push_back(
@@ -244,9 +242,18 @@ FloorJob RunFloorJob(const sim::SceneWorld& mw, const FloorMissionParams& params
   FloorWorld world(mw, params, session, dir, evaluate, room_boundary);
   autonomy::FloorScanHooks hooks = world.Hooks(progress);
   hooks.stop_requested = stop_requested;
+  // The recogniser trains on first use, beside the robot (with the first room's SM5).
   job.mission = autonomy::RunFloorScan(session.Robot(), params.room.scan, params.floor, hooks,
-                                       &RobotComponentRecogniser());
+                                       [] { return &RobotComponentRecogniser(); });
   job.rooms = std::move(world.Rooms());
+  // SM5 came after each room's files (autonomy/background_sm5.h).
+  for (FloorRoomJob& rj : job.rooms)
+    for (const autonomy::FloorRoom& r : job.mission.rooms) {
+      if (r.room != rj.robot_room || rj.dir.empty()) continue;
+      rj.components = r.sm5.components.size();
+      rj.sm5_seconds = r.sm5_seconds;
+      if (!r.sm5_error.empty()) rj.reason += "; SM5 failed: " + r.sm5_error;
+    }
   job.drive = session.Result();
   job.X_WM = session.X_MW().To3d().inverse();
   for (std::size_t k = 1; k < job.drive.truth.size(); ++k) {

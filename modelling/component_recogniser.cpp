@@ -11,19 +11,6 @@
 namespace mopad::modelling {
 namespace {
 
-// OpenCV's training may sum over parallel ranges; one thread keeps the sum order and so the
-// weights identical from run to run. Restores the caller's thread count.
-class SingleThreadedOpenCv {
- public:
-  SingleThreadedOpenCv() : saved_(cv::getNumThreads()) { cv::setNumThreads(1); }
-  ~SingleThreadedOpenCv() { cv::setNumThreads(saved_); }
-  SingleThreadedOpenCv(const SingleThreadedOpenCv&) = delete;
-  SingleThreadedOpenCv& operator=(const SingleThreadedOpenCv&) = delete;
-
- private:
-  int saved_;
-};
-
 // Samples of every class then "none" (label = class count): stream (seed, stream, class).
 void MakeSamples(const interfaces::ObjectModelCatalogue& cat, const ComponentTrainingParams& p,
                  int per_class, std::uint64_t seed, const char* stream,
@@ -111,7 +98,10 @@ ComponentRecogniser ComponentRecogniser::Train(const interfaces::ObjectModelCata
     targets.at<float>(
         i, yi == none ? r.impl_->groups : r.impl_->group[static_cast<std::size_t>(yi)]) = 1.0f;
   }
-  SingleThreadedOpenCv one_thread;
+  // On-line back-propagation runs on the calling thread alone in OpenCV 4.6 (only RPROP sums
+  // over parallel ranges), its initial weights from that thread's cv::theRNG(): the weights
+  // are the same on any thread and while other threads use OpenCV. (The global thread count
+  // is left alone: setting it from one thread races with the others' parallel loops.)
   cv::theRNG().state = Mix64(params.seed ^ HashName("sm5_mlp_init"));
   auto mlp = cv::ml::ANN_MLP::create();
   mlp->setLayerSizes(std::vector<int>{kPatternSize, params.hidden, classes});

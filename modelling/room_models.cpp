@@ -1,6 +1,7 @@
 #include "modelling/room_models.h"
 
 #include <chrono>
+#include <utility>
 
 namespace mopad::modelling {
 namespace {
@@ -52,6 +53,7 @@ RoomModels BuildRoomModels(const RoomModel& model, OrthoPoints no_return, const 
   }
   out.dsm3 = model.Voxels();
   MarkOpeningVoxels(out.sm4.openings, out.dsm3);
+  out.ortho = std::move(ortho);
   return out;
 }
 

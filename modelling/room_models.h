@@ -31,12 +31,16 @@ struct RoomModels {
   VoxelSpace dsm3;           ///< the RoomModel's voxels, SM4's openings marked
   double sm4_seconds = 0.0;  ///< s of wall time of SM4 (reporting only)
   double sm5_seconds = 0.0;  ///< s of wall time of SM5 (reporting only)
+  /// SM4's input and SM5's: the RoomModel's points, colours and scan indices (pointers, valid
+  /// while it lives), its scans' origins and the rays without a return SM4 kept
+  OrthoPoints ortho;
 };
 
 /// The models of `model`'s room named `room`. `no_return`: the accepted scans' rays without a
 /// return (its points, colours and scan indices are taken from `model`). `images` receives each
 /// wall's orthoimage when given. `neighbours`: SM4 of rooms modelled before (their doors on this
-/// room's walls are hints).
+/// room's walls are hints). Without a recogniser, SM5 can follow later from the result's sm3,
+/// sm4 and ortho (DetectComponents), as long as `model` lives.
 RoomModels BuildRoomModels(const RoomModel& model, OrthoPoints no_return, const Sm3Params& sm3,
                            const OpeningParams& sm4, const ComponentParams& sm5,
                            const std::string& room,
