@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace mopad::modelling {
@@ -65,12 +66,14 @@ std::array<std::int64_t, kVoxelLabelCount> VoxelSpace::LabelCounts() const {
 
 namespace {
 
-// Amanatides & Woo traversal of the grid from a to b. Calls visit(index, t_enter) for each
-// voxel in order, with t in metres from a; stops when visit returns false, at b's voxel
-// (not visited unless `include_last`), or when the ray leaves the grid.
+// Amanatides & Woo traversal of the grid from a to b. Calls visit(index) for each voxel in
+// order; stops when visit returns false, at b's voxel (not visited), when the ray leaves the
+// grid, or before a voxel entered farther than `t_limit` (m from a) along the segment. The
+// voxel's flat index is stepped with the voxel (a stride per axis), b's voxel compared by its
+// index: the inner loop is a compare, a load and a step.
 template <class Visit>
 void Traverse(const Vec3& origin, double size, int nx, int ny, int nz, const Vec3& a, const Vec3& b,
-              Visit&& visit) {
+              double t_limit, Visit&& visit) {
   const Vec3 d = b - a;
   const double len = d.norm();
   if (!(len > 1e-9)) return;
@@ -88,16 +91,22 @@ void Traverse(const Vec3& origin, double size, int nx, int ny, int nz, const Vec
       t1 = std::min(t1, tb);
     }
   }
-  if (t0 > t1) return;
+  if (t0 > t1 || t0 > t_limit) return;
+  const double t_end = std::min(t1, t_limit);
   const Vec3 start = a + dir * (t0 + 1e-9);
-  int v[3], n[3] = {nx, ny, nz}, step[3];
+  int v[3], step[3];
+  const int n[3] = {nx, ny, nz};
+  const std::ptrdiff_t stride[3] = {1, nx, static_cast<std::ptrdiff_t>(nx) * ny};
+  std::ptrdiff_t index_step[3];
   double tmax[3], tdelta[3];
-  // The voxel of b (so it can be excluded).
+  // The voxel of b (so it can be excluded); none when it lies outside the grid.
   int vb[3];
+  bool b_inside = true;
   for (int ax = 0; ax < 3; ++ax) {
     v[ax] = static_cast<int>(std::floor((start[ax] - origin[ax]) / size));
     v[ax] = std::min(std::max(v[ax], 0), n[ax] - 1);
     vb[ax] = static_cast<int>(std::floor((b[ax] - origin[ax]) / size));
+    b_inside = b_inside && vb[ax] >= 0 && vb[ax] < n[ax];
     if (dir[ax] > 0) {
       step[ax] = 1;
       tmax[ax] = (origin[ax] + (v[ax] + 1) * size - a[ax]) / dir[ax];
@@ -111,19 +120,21 @@ void Traverse(const Vec3& origin, double size, int nx, int ny, int nz, const Vec
       tmax[ax] = std::numeric_limits<double>::infinity();
       tdelta[ax] = std::numeric_limits<double>::infinity();
     }
+    index_step[ax] = step[ax] * stride[ax];
   }
-  double t = t0;
+  std::size_t index = (static_cast<std::size_t>(v[2]) * ny + v[1]) * nx + v[0];
+  const std::size_t index_b = b_inside ? (static_cast<std::size_t>(vb[2]) * ny + vb[1]) * nx + vb[0]
+                                       : std::numeric_limits<std::size_t>::max();
   while (true) {
-    if (v[0] == vb[0] && v[1] == vb[1] && v[2] == vb[2]) return;
-    const std::size_t index = (static_cast<std::size_t>(v[2]) * ny + v[1]) * nx + v[0];
-    if (!visit(index, t)) return;
+    if (index == index_b) return;
+    if (!visit(index)) return;
     int ax = 0;
     if (tmax[1] < tmax[ax]) ax = 1;
     if (tmax[2] < tmax[ax]) ax = 2;
-    t = tmax[ax];
-    if (t > t1) return;
+    if (tmax[ax] > t_end) return;
     v[ax] += step[ax];
     if (v[ax] < 0 || v[ax] >= n[ax]) return;
+    index += index_step[ax];
     tmax[ax] += tdelta[ax];
   }
 }
@@ -132,26 +143,24 @@ void Traverse(const Vec3& origin, double size, int nx, int ny, int nz, const Vec
 
 void VoxelSpace::MarkPassed(const Vec3& a, const Vec3& b) {
   std::uint8_t* data = flags_.data();
-  Traverse(origin_, size_, nx_, ny_, nz_, a, b, [data](std::size_t index, double) {
-    std::atomic_ref<std::uint8_t> f(data[index]);
-    if (!(f.load(std::memory_order_relaxed) & kPassed))
-      f.fetch_or(kPassed, std::memory_order_relaxed);
-    return true;
-  });
+  Traverse(origin_, size_, nx_, ny_, nz_, a, b, std::numeric_limits<double>::infinity(),
+           [data](std::size_t index) {
+             std::atomic_ref<std::uint8_t> f(data[index]);
+             if (!(f.load(std::memory_order_relaxed) & kPassed))
+               f.fetch_or(kPassed, std::memory_order_relaxed);
+             return true;
+           });
 }
 
 bool VoxelSpace::SegmentFree(const Vec3& a, const Vec3& b, double stop_short) const {
-  const double limit = (b - a).norm() - stop_short;
   bool free = true;
   const std::uint8_t* data = flags_.data();
-  Traverse(origin_, size_, nx_, ny_, nz_, a, b, [&](std::size_t index, double t) {
-    if (t > limit) return false;
-    if (data[index] & kOccupied) {
-      free = false;
-      return false;
-    }
-    return true;
-  });
+  Traverse(origin_, size_, nx_, ny_, nz_, a, b, (b - a).norm() - stop_short,
+           [&](std::size_t index) {
+             if (!(data[index] & kOccupied)) return true;
+             free = false;
+             return false;
+           });
   return free;
 }
 
