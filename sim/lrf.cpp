@@ -1,6 +1,12 @@
 #include "sim/lrf.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <span>
 #include <stdexcept>
 
 #include "common/error.h"
@@ -9,6 +15,13 @@
 #include "sim/surface_model.h"
 
 namespace mopad::sim {
+namespace {
+
+// Work per task of a sweep (a 1081-beam sweep in a few tasks: TBB's overhead stays small).
+constexpr std::size_t kPacketsPerTask = 16;
+constexpr int kBeamsPerTask = 256;
+
+}  // namespace
 
 void LrfParams::Validate() const {
   ValidateParams(*this, "lrf.");
@@ -140,9 +153,19 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
       dirs[idx] = R * (K > 1 ? (d + beam.half_divergence() * off).normalized() : d);
     }
   }
+  // The sweep's rays in the same 16-ray packets as one serial call, split between threads at
+  // packet boundaries; each beam's echo from its own random stream: the same bytes on any
+  // number of threads.
   std::vector<RayHit> hits(n_rays);
-  world_.IntersectMany(origins, dirs, 0.0f, std::numeric_limits<float>::infinity(), hits,
-                       timestamp);
+  const std::size_t packets = (n_rays + 15) / 16;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, packets, kPacketsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      const std::size_t a = 16 * r.begin(), b = std::min(n_rays, 16 * r.end());
+                      world_.IntersectMany(std::span(origins).subspan(a, b - a),
+                                           std::span(dirs).subspan(a, b - a), 0.0f,
+                                           std::numeric_limits<float>::infinity(),
+                                           std::span(hits).subspan(a, b - a), timestamp);
+                    });
 
   interfaces::LrfScan scan;
   scan.frame = p.frame;
@@ -155,26 +178,29 @@ interfaces::LrfScan LrfSimulator::Scan(const Pose3& X_WB, std::uint64_t seed, st
   scan.X_BL = p.X_BL();
   scan.ranges.assign(static_cast<std::size_t>(beams_), static_cast<float>(p.range_max));
   scan.intensities.assign(static_cast<std::size_t>(beams_), 0.0f);
-  std::vector<SubHit> subs(static_cast<std::size_t>(K));
-  for (int i = 0; i < beams_; ++i) {
-    for (int k = 0; k < K; ++k) {
-      const std::size_t idx = static_cast<std::size_t>(k) * beams_ + i;
-      SubHit& s = subs[static_cast<std::size_t>(k)];
-      s = SubHit{};
-      s.hit = hits[idx];
-      s.origin = origins[idx];
-      s.dir = dirs[idx];
-      s.time = timestamp;
-      ContinueThroughGlass(world_, surfaces, p.max_transmissions, glass_key,
-                           static_cast<std::uint64_t>(i) * 64 + static_cast<std::uint64_t>(k), &s);
+  tbb::parallel_for(tbb::blocked_range<int>(0, beams_, kBeamsPerTask), [&](const auto& range) {
+    std::vector<SubHit> subs(static_cast<std::size_t>(K));
+    for (int i = range.begin(); i < range.end(); ++i) {
+      for (int k = 0; k < K; ++k) {
+        const std::size_t idx = static_cast<std::size_t>(k) * beams_ + i;
+        SubHit& s = subs[static_cast<std::size_t>(k)];
+        s = SubHit{};
+        s.hit = hits[idx];
+        s.origin = origins[idx];
+        s.dir = dirs[idx];
+        s.time = timestamp;
+        ContinueThroughGlass(world_, surfaces, p.max_transmissions, glass_key,
+                             static_cast<std::uint64_t>(i) * 64 + static_cast<std::uint64_t>(k),
+                             &s);
+      }
+      EchoResult echo;
+      beam.Measure(world_, surfaces, subs.data(), noise_key, static_cast<std::uint64_t>(i), &echo);
+      if (echo.returned && echo.range < p.range_max) {
+        scan.ranges[static_cast<std::size_t>(i)] = echo.range;
+        scan.intensities[static_cast<std::size_t>(i)] = echo.intensity;
+      }
     }
-    EchoResult echo;
-    beam.Measure(world_, surfaces, subs.data(), noise_key, static_cast<std::uint64_t>(i), &echo);
-    if (echo.returned && echo.range < p.range_max) {
-      scan.ranges[static_cast<std::size_t>(i)] = echo.range;
-      scan.intensities[static_cast<std::size_t>(i)] = echo.intensity;
-    }
-  }
+  });
   return scan;
 }
 

@@ -1,6 +1,7 @@
 #include "sim/lrf.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 
@@ -97,6 +98,30 @@ TEST(Lrf, SickFootprintStillMeasuresAFlatWall) {
   const auto scan = LrfSimulator(world, p).Scan(Pose3::Identity(), 1, 0, 0.0);
   const std::size_t ahead = scan.ranges.size() / 2;  // angle 0: the east wall at 4 m
   EXPECT_NEAR(scan.ranges[ahead], 4.0, 2e-3);
+}
+
+// A sweep is traced and measured in parallel (packets and beams split between threads): the
+// same bytes on one thread and on two, with a footprint of 7 sub-rays and with one ray, in a
+// room with an opening (misses) and a pillar (mixed footprints).
+TEST(Lrf, TheSameBytesOnOneThreadAndOnTwo) {
+  scenes::Scene s;
+  AddMaterial(s, "white", 0.8f, 0.8f, 0.8f);
+  testing::AddRoomWithOpening(s, 6, 5, 3, 1.5f, 3.0f, 0.0f, 2.0f, 0);
+  AddRoomBox(s, V(2.0f, 3.0f, 0), V(2.3f, 3.3f, 3), 0);  // a pillar
+  EmbreeWorld world(std::move(s));
+  for (const char* profile : {"sick_lms111", "hokuyo_utm30lx"}) {
+    const LrfSimulator lrf(world, LrfProfile(profile));
+    const Pose3 X_WB = Pose3(Eigen::Translation3d(1.5, 2.0, 0.0));
+    interfaces::LrfScan one, two;
+    tbb::task_arena(1).execute([&] { one = lrf.Scan(X_WB, 7, 11, 0.0); });
+    tbb::task_arena(2).execute([&] { two = lrf.Scan(X_WB, 7, 11, 0.0); });
+    EXPECT_EQ(one.ranges, two.ranges) << profile;
+    EXPECT_EQ(one.intensities, two.intensities) << profile;
+    int returns = 0;
+    for (float r : one.ranges) returns += r < one.range_max;
+    EXPECT_GT(returns, 100) << profile;
+    EXPECT_LT(returns, static_cast<int>(one.ranges.size())) << profile;  // the opening
+  }
 }
 
 }  // namespace
