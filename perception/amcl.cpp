@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "common/error.h"
@@ -61,6 +62,8 @@ const char* ToString(LocalisationStatus s) {
 namespace {
 
 constexpr double kSqrt2Pi = 2.5066282746310002;
+// Beams per task of the refinement's matching (a 1080-beam sweep in a few tasks).
+constexpr std::size_t kRefineBeamsPerTask = 256;
 
 /// Low-variance (systematic) resampling (Probabilistic Robotics Table 4.4): `m` indices drawn
 /// with one uniform offset `u0` in [0, 1).
@@ -457,36 +460,47 @@ bool Amcl::Refine(const interfaces::LrfScan& scan, Pose2* X_MB) const {
   std::vector<std::uint8_t> excluded(beams.size(), 0);
   const double cos_max_normal_angle = std::cos(DegToRad(p.refine_max_normal_angle_deg));
   bool first = true;
-  // Matched beams at X (rows, in beam order).
+  // Matched beams at X (rows, in beam order). The beams are matched in parallel, each into its
+  // own slot, and the rows gathered in beam order: the sums below see the same order on any
+  // number of threads.
+  std::vector<std::optional<Row>> slots(beams.size());
   auto match = [&](const Pose2& X) {
-    rows.clear();
     const double c = std::cos(X.yaw), s = std::sin(X.yaw);
-    for (std::size_t k = 0; k < beams.size(); ++k) {
-      if (excluded[k]) continue;
-      const Vec2& b = beams[k];
-      const Vec2 lever(c * b.x() - s * b.y(), s * b.x() + c * b.y());  // e - t
-      const Vec2 e(X.x + lever.x(), X.y + lever.y());
-      const DistanceField::Nearest near = m.likelihood.NearestReturn(e);
-      // A beam ending in unknown space matches only when it ends on a return.
-      const bool on_return = near.found && near.distance <= m.resolution;
-      if (!m.Known(e) && !on_return) {
-        if (first) excluded[k] = 1;
-        continue;
-      }
-      if (!near.found || near.distance > p.refine_gate) continue;
-      // Without a surface normal (a corner, a lone return) the beam stays out: towards the
-      // nearest return it would pull along a wall whose returns end there.
-      const Vec2& nb = normals_B[k];
-      if (nb.squaredNorm() == 0.0) continue;
-      const Vec2 n(c * nb.x() - s * nb.y(), s * nb.x() + c * nb.y());
-      // A surface the map did not see (a reveal across the wall whose returns are nearest)
-      // is no correspondence: its normal crosses the mapped surface's.
-      if (near.surface_normal.squaredNorm() > 0.0 &&
-          std::abs(n.dot(near.surface_normal)) < cos_max_normal_angle)
-        continue;
-      const double r = near.distance * n.dot(near.normal);  // n . (e - nearest return)
-      rows.push_back({Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()), r, k});
-    }
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, beams.size(), kRefineBeamsPerTask),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t k = range.begin(); k < range.end(); ++k) {
+            slots[k].reset();
+            if (excluded[k]) continue;
+            const Vec2& b = beams[k];
+            const Vec2 lever(c * b.x() - s * b.y(), s * b.x() + c * b.y());  // e - t
+            const Vec2 e(X.x + lever.x(), X.y + lever.y());
+            const DistanceField::Nearest near = m.likelihood.NearestReturn(e);
+            // A beam ending in unknown space matches only when it ends on a return.
+            const bool on_return = near.found && near.distance <= m.resolution;
+            if (!m.Known(e) && !on_return) {
+              if (first) excluded[k] = 1;
+              continue;
+            }
+            if (!near.found || near.distance > p.refine_gate) continue;
+            // Without a surface normal (a corner, a lone return) the beam stays out: towards
+            // the nearest return it would pull along a wall whose returns end there.
+            const Vec2& nb = normals_B[k];
+            if (nb.squaredNorm() == 0.0) continue;
+            const Vec2 n(c * nb.x() - s * nb.y(), s * nb.x() + c * nb.y());
+            // A surface the map did not see (a reveal across the wall whose returns are
+            // nearest) is no correspondence: its normal crosses the mapped surface's.
+            if (near.surface_normal.squaredNorm() > 0.0 &&
+                std::abs(n.dot(near.surface_normal)) < cos_max_normal_angle)
+              continue;
+            const double r = near.distance * n.dot(near.normal);  // n . (e - nearest return)
+            slots[k] =
+                Row{Eigen::Vector3d(n.x(), n.y(), n.x() * -lever.y() + n.y() * lever.x()), r, k};
+          }
+        });
+    rows.clear();
+    for (const std::optional<Row>& slot : slots)
+      if (slot) rows.push_back(*slot);
   };
   const auto huber = [&](double r) {
     const double k = p.refine_huber, a = std::abs(r);
