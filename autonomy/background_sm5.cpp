@@ -38,8 +38,20 @@ BackgroundSm5::BackgroundSm5(RecogniserSource recogniser, const modelling::Compo
   impl_->params = params;
 }
 
-BackgroundSm5::~BackgroundSm5() {
-  if (impl_->job) impl_->Wait();
+BackgroundSm5::~BackgroundSm5() { impl_->Wait(); }
+
+void BackgroundSm5::Prepare() {
+  Impl& m = *impl_;
+  if (!m.recogniser) return;
+  m.arena.execute([&m] {
+    m.group.run([&m] {
+      try {
+        m.recogniser();
+      } catch (const std::exception&) {
+        // The room's detection asks again and reports it.
+      }
+    });
+  });
 }
 
 void BackgroundSm5::Start(std::size_t key, std::unique_ptr<const modelling::RoomModel> model,

@@ -43,10 +43,13 @@ class BackgroundSm5 {
   };
 
   BackgroundSm5(RecogniserSource recogniser, const modelling::ComponentParams& params);
-  ~BackgroundSm5();  ///< waits for a room still running (its result is dropped)
+  ~BackgroundSm5();  ///< waits for what still runs (a room's result is dropped)
   BackgroundSm5(const BackgroundSm5&) = delete;
   BackgroundSm5& operator=(const BackgroundSm5&) = delete;
 
+  /// Asks for the recogniser now, beside the owner (one trained on first use trains while the
+  /// first room is scanned, not when its SM5 is due). Optional; once, before the first Start.
+  void Prepare();
   /// Starts SM5 of the room `key` (sm3.room names it) from `points` (SM4's input, pointing into
   /// `model`). A room still running must have been collected with Finish first
   /// (std::logic_error otherwise).

@@ -40,6 +40,7 @@ class FloorMission {
   FloorScanResult Run() {
     const auto t0 = WallClock::now();
     res_.tree.AddRoot("room_1");
+    if (with_sm5_) sm5_.Prepare();
     VisitRoom(0, DoorScan{});
     int current = 0;
     while (true) {

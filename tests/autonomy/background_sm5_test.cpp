@@ -58,7 +58,8 @@ TEST(BackgroundSm5, GivesTheBytesOfTheDetectionInPlace) {
   ASSERT_NE(in_place.find("\"class\""), std::string::npos) << "no component found: " << in_place;
 
   BackgroundSm5 sm5([] { return &Recogniser(); }, {});
-  EXPECT_FALSE(sm5.Finish().has_value());  // nothing started
+  sm5.Prepare();                           // the recogniser asked for beside the caller
+  EXPECT_FALSE(sm5.Finish().has_value());  // no room started
   sm5.Start(7, std::move(room.model), m.sm3, m.sm4, m.ortho);
   // One room at a time: the next one starts after the last one is collected.
   EXPECT_THROW(sm5.Start(8, nullptr, m.sm3, m.sm4, m.ortho), std::logic_error);
