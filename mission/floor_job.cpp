@@ -1,5 +1,7 @@
 #include "mission/floor_job.h"
 
+#include <tbb/task_group.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -182,15 +184,25 @@ class FloorWorld {
     window.t_begin = t_begin_;
     window.t_end = session_.SimTime();
     const Pose3 X_WM = session_.X_MW().To3d().inverse();
-    if (evaluate_)
-      r.evaluation = evaluation::EvaluateRoom(
-          *mw_.world, open_plan_->truth, open_plan_->room_of.at(room_), X_WM, LoggedScans(v.scan),
-          session_.ScanTruths(), model, labels_->Labels());
-    // The models follow once the floor has settled each door's state (RunFloorJob).
-    runfolder::WriteRoomScanFiles(
-        dir,
-        ScanFilesOf(mw_, session_, params_.room, v.scan, model, v.models, v.images, room_, window,
-                    r.evaluation ? evaluation::ToJson(*r.evaluation) : nlohmann::ordered_json()));
+    // The scan files are written while the room is scored (both only read the room, the
+    // session and the truth); its scores follow. The models follow once the floor has settled
+    // each door's state (RunFloorJob).
+    const runfolder::RoomScanFiles files = ScanFilesOf(mw_, session_, params_.room, v.scan, model,
+                                                       v.models, v.images, room_, window, {});
+    tbb::task_group writing;
+    writing.run([&] { runfolder::WriteRoomScanFiles(dir, files); });
+    try {
+      if (evaluate_)
+        r.evaluation = evaluation::EvaluateRoom(
+            *mw_.world, open_plan_->truth, open_plan_->room_of.at(room_), X_WM, LoggedScans(v.scan),
+            session_.ScanTruths(), model, labels_->Labels());
+    } catch (...) {
+      writing.wait();
+      throw;
+    }
+    writing.wait();
+    if (r.evaluation)
+      runfolder::WriteRoomEvaluation(dir, evaluation::ToJson(*r.evaluation).dump(2));
     r.openings = v.models.sm4.openings.size();
     r.sm4_seconds = v.models.sm4_seconds;
     const auto& truths = session_.ScanTruths();

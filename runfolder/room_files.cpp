@@ -151,7 +151,11 @@ void WriteRoomScanFiles(const std::string& dir, const RoomScanFiles& f) {
   io::WriteTextFile(Join(dir, kEffectiveConfig), f.effective_config_yaml);
   io::WriteTextFile(Join(dir, kScansLog), ScanLogJson(*f.log).dump(2));
   WriteRunJson(dir, f.run);
-  if (!f.evaluation_json.empty()) io::WriteTextFile(Join(dir, kRoomEvaluation), f.evaluation_json);
+  if (!f.evaluation_json.empty()) WriteRoomEvaluation(dir, f.evaluation_json);
+}
+
+void WriteRoomEvaluation(const std::string& dir, const std::string& evaluation_json) {
+  io::WriteTextFile(Join(dir, kRoomEvaluation), evaluation_json);
 }
 
 void WriteRoomModelFiles(const std::string& dir, const RoomModelFiles& f) {

@@ -64,6 +64,10 @@ struct RoomModelFiles {
 /// Writes the scan files into `dir` (created when missing). InputError naming the file or the
 /// folder that cannot be written.
 void WriteRoomScanFiles(const std::string& dir, const RoomScanFiles& files);
+/// Writes the truth side's scores of the room (evaluation.json, as RoomScanFiles's
+/// evaluation_json) into `dir` (which must exist): for an owner that writes the scan files
+/// while the scores are still being computed.
+void WriteRoomEvaluation(const std::string& dir, const std::string& evaluation_json);
 /// Writes sm3.json, sm4.json, sm5.json and models.glb into `dir` (which must exist).
 void WriteRoomModelFiles(const std::string& dir, const RoomModelFiles& files);
 /// Both, for a room whose models are final when it ends.
