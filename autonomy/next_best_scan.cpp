@@ -1,5 +1,6 @@
 #include "autonomy/next_best_scan.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -459,11 +460,24 @@ HiddenArea EstimateHiddenArea(const modelling::RoomModel& model,
       patches.end());
   const Visibility visible = VisibilityOf(model, P, 1.0);
   std::vector<std::uint8_t> hidden(patches.size(), 0);
-  tbb::parallel_for(std::size_t{0}, patches.size(), [&](std::size_t i) {
-    for (const Vec3& c : centres)
-      if (visible.InView(c, patches[i])) return;
-    hidden[i] = 1;
-  });
+  // A patch is hidden when no centre sees it: the answer does not depend on the order the
+  // centres are tried in. Neighbouring patches (in face order) are mostly seen from the same
+  // centre, so the one that saw the last patch is tried first: a visible patch then costs one
+  // line of sight instead of ~50 (office_5rooms), a hidden one the same as before.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::size_t last = 0;
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        if (!centres.empty() && visible.InView(centres[last], patches[i])) continue;
+                        bool seen = false;
+                        for (std::size_t k = 0; k < centres.size() && !seen; ++k)
+                          if (k != last && visible.InView(centres[k], patches[i])) {
+                            seen = true;
+                            last = k;
+                          }
+                        if (!seen) hidden[i] = 1;
+                      }
+                    });
   for (std::size_t i = 0; i < patches.size(); ++i) {  // fixed order
     if (hidden[i]) {
       out.area += patches[i].area;
