@@ -51,8 +51,8 @@ class BackgroundSm5 {
   /// first room is scanned, not when its SM5 is due). Optional; once, before the first Start.
   void Prepare();
   /// Starts SM5 of the room `key` (sm3.room names it) from `points` (SM4's input, pointing into
-  /// `model`). A room still running must have been collected with Finish first
-  /// (std::logic_error otherwise).
+  /// `model`, which is kept until the detection ends; null when they point elsewhere). A room
+  /// still running must have been collected with Finish first (std::logic_error otherwise).
   void Start(std::size_t key, std::unique_ptr<const modelling::RoomModel> model,
              modelling::StructuralModel sm3, modelling::Sm4Model sm4,
              modelling::OrthoPoints points);
