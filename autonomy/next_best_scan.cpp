@@ -462,8 +462,8 @@ HiddenArea EstimateHiddenArea(const modelling::RoomModel& model,
   std::vector<std::uint8_t> hidden(patches.size(), 0);
   // A patch is hidden when no centre sees it: the answer does not depend on the order the
   // centres are tried in. Neighbouring patches (in face order) are mostly seen from the same
-  // centre, so the one that saw the last patch is tried first: a visible patch then costs one
-  // line of sight instead of ~50 (office_5rooms), a hidden one the same as before.
+  // centre, so the one that saw the last patch is tried first: a visible patch then mostly
+  // costs one line of sight, a hidden one all of them in any order.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size()),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       std::size_t last = 0;
