@@ -84,6 +84,16 @@ TEST(RoomModel, PerimeterUnderACeilingInsideTheMinimumRange) {
   EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
 }
 
+// A room model of one scan, with the default rule for the ceiling over the scanner or with any
+// strong peak counting as over it (the rule switched off).
+RoomModel ModelOfOneScan(const SimScan& s, bool any_peak_over_scanner) {
+  RoomModelParams p;
+  if (any_peak_over_scanner) p.heights.ceiling_over_scanner = 100.0;
+  RoomModel model(p);
+  model.AddScan(s.scan, s.X_MS);
+  return model;
+}
+
 // A narrow corridor under a low ceiling (2.65 m, 1.25 m above the scanner centre: inside the
 // 1.5 m minimum range within 0.83 m of it) beside a hall under a higher one (2.75 m) seen
 // through a 1.6 m door 0.6 m away: the hall's ceiling is the highest strong peak of the heights
@@ -92,22 +102,14 @@ TEST(RoomModel, PerimeterUnderACeilingInsideTheMinimumRange) {
 TEST(RoomModel, TheCeilingIsTheOneOverTheScannerNotTheNextRoomsSeenThroughADoor) {
   const sim::EmbreeWorld world(testing::RoomWithDoorScene(6, 2.2f, 2.65f, 0.3f, 1.9f, 2.1f, 2.75f));
   const SimScan s = TakeScan(world, TestTls(), 5.4, 1.1, 0);
-  double ceiling[2] = {0, 0};
-  for (const int variant : {0, 1}) {
-    RoomModelParams p;
-    if (variant == 0) p.heights.ceiling_over_scanner = 100.0;  // any peak counts as over it
-    RoomModel model(p);
-    model.AddScan(s.scan, s.X_MS);
-    ceiling[variant] = model.CeilingZ();
-    // The outline is traced at the ceiling's height: at the hall's, the corridor has none.
-    if (variant == 1) {
-      EXPECT_GE(model.Perimeter().size(), 3u) << model.FiguresJson();
-    }
-  }
-  std::printf("[ HEIGHTS  ] ceiling %.3f m with any peak, %.3f m over the scanner\n", ceiling[0],
-              ceiling[1]);
-  EXPECT_NEAR(ceiling[0], 2.75, 0.01);  // the case the rule is for
-  EXPECT_NEAR(ceiling[1], 2.65, 0.01);
+  const RoomModel any_peak = ModelOfOneScan(s, /*any_peak_over_scanner=*/true);
+  const RoomModel model = ModelOfOneScan(s, false);
+  // The outline is traced at the ceiling's height: at the hall's, the corridor has none.
+  EXPECT_GE(model.Perimeter().size(), 3u) << model.FiguresJson();
+  std::printf("[ HEIGHTS  ] ceiling %.3f m with any peak, %.3f m over the scanner\n",
+              any_peak.CeilingZ(), model.CeilingZ());
+  EXPECT_NEAR(any_peak.CeilingZ(), 2.75, 0.01);  // the case the rule is for
+  EXPECT_NEAR(model.CeilingZ(), 2.65, 0.01);
 }
 
 // A small office under a 2.9 m ceiling (1.5 m above the scanner centre: beyond its minimum
@@ -121,16 +123,9 @@ TEST(RoomModel, TheCeilingOverTheScannerStartsWhereItsFieldOfViewEnds) {
       testing::RoomWithDoorScene(3.0f, 3.2f, 2.9f, 1.0f, 2.2f, 2.3f, 3.9f, 16.0f));
   ASSERT_NEAR(TestTls().elevation_max_deg, 60.0, 1e-9);
   const SimScan s = TakeScan(world, TestTls(), 1.9, 1.6, 0);
-  double ceiling[2] = {0, 0};
-  for (const int variant : {0, 1}) {
-    RoomModelParams p;
-    if (variant == 0) p.heights.ceiling_over_scanner = 100.0;  // any peak counts as over it
-    RoomModel model(p);
-    model.AddScan(s.scan, s.X_MS);
-    ceiling[variant] = model.CeilingZ();
-  }
-  EXPECT_NEAR(ceiling[0], 3.9, 0.01);  // the hall's is the highest strong peak
-  EXPECT_NEAR(ceiling[1], 2.9, 0.01);
+  // The hall's is the highest strong peak.
+  EXPECT_NEAR(ModelOfOneScan(s, /*any_peak_over_scanner=*/true).CeilingZ(), 3.9, 0.01);
+  EXPECT_NEAR(ModelOfOneScan(s, false).CeilingZ(), 2.9, 0.01);
 }
 
 // A 1.6 m x 2.4 m washroom with a bathtub (top 0.44 m) along its far wall: the floor lies
