@@ -411,9 +411,8 @@ class FloorMission {
     // In the room it leaves: registered as that room's scans are, and then part of the target
     // the next room's first scan is registered against.
     perception::RegistrationResult reg;
-    if (RegisterLastScan(nav_, target_, rp_.icp, rp_.acceptance, reg))
-      target_.Add(perception::Transform(perception::ScanPoints(scan), reg.X_MS),
-                  reg.X_MS.translation());
+    if (RegisterLastScan(nav_, target_.Map(), rp_.icp, rp_.acceptance, reg))
+      target_.Add(perception::ScanPoints(scan), reg.X_MS);
     before = DoorScan{nav_.ScanCount() - 1, nav_.Time(), scan.X_MS_estimate, d.room};
     res_.door_scans.push_back(before);
     // The door scan is in the map now: a door shut since the room found it open is seen here.
@@ -468,7 +467,7 @@ class FloorMission {
   bool with_sm5_;
   BackgroundSm5 sm5_;  // the SM5 of the room left last, beside the robot's next steps
   FloorScanResult res_;
-  perception::PointMap target_;  // every registered scan of the mission (the floor's S(t-1))
+  RegistrationTarget target_;  // every registered scan of the mission (the floor's S(t-1))
 };
 
 }  // namespace

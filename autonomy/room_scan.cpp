@@ -44,11 +44,11 @@ modelling::CoverageFigures CoverageOf(const modelling::RoomModel& model, Navigat
 }
 
 bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
-                      const interfaces::TlsScan& scan, bool first, perception::PointMap& target,
+                      const interfaces::TlsScan& scan, bool first, RegistrationTarget& target,
                       RoomScanLog& log, bool allow_prior = true) {
-  if (!target.empty()) {
+  if (!target.Map().empty()) {
     const bool used =
-        RegisterLastScan(navigator, target, first ? params.entry_icp : params.icp,
+        RegisterLastScan(navigator, target.Map(), first ? params.entry_icp : params.icp,
                          first ? params.entry_acceptance : params.acceptance, log.registration,
                          &log.covariance);
     log.registered = used || first;
@@ -59,16 +59,14 @@ bool RegisterRoomScan(Navigator& navigator, const RoomScanParams& params,
           log.X_MS_prior);
       std::string why;
       log.at_prior = RefusedScanUsable(params, navigator.Localisation().covariance,
-                                       target.FreeSpaceViolation(at_prior), &why);
+                                       target.Map().FreeSpaceViolation(at_prior), &why);
       log.registration.message += "; " + why;
       if (log.at_prior) log.X_MS = log.X_MS_prior;
     }
   }
   // A scan at its prior stays out of the target: later scans register against what was
   // registered.
-  if (log.registered)
-    target.Add(perception::Transform(perception::ScanPoints(scan), log.X_MS),
-               log.X_MS.translation());
+  if (log.registered) target.Add(perception::ScanPoints(scan), log.X_MS);
   return log.registered || log.at_prior;
 }
 
@@ -122,7 +120,7 @@ bool DriveToNextBestScan(Navigator& navigator, const RoomScanParams& params, con
 // `steps_rad` holds the angular step of every scan of the model (one is appended per scan the
 // model accepts); `scan_seconds` is the platform time of one scan at the room step.
 void RunDetailPass(Navigator& session, const RoomScanParams& params, modelling::RoomModel& model,
-                   const ScanHook& on_scan, perception::PointMap& target,
+                   const ScanHook& on_scan, RegistrationTarget& target,
                    std::vector<double>& steps_rad, double scan_seconds, RoomScanResult& res) {
   const DetailPassParams& P = params.detail;
   const auto wall0 = Clock::now();
@@ -288,14 +286,14 @@ bool RegisterLastScan(Navigator& navigator, const perception::PointMap& target,
 
 RoomScanResult RunRoomScan(Navigator& session, const RoomScanParams& params,
                            modelling::RoomModel& model, const ScanHook& on_scan,
-                           perception::PointMap* floor_target) {
+                           RegistrationTarget* floor_target) {
   ValidateParams(params, "room.");
   params.icp.Validate();
   params.entry_icp.Validate();
   const auto wall0 = Clock::now();
   RoomScanResult res;
-  perception::PointMap own_target(params.icp);
-  perception::PointMap& target = floor_target ? *floor_target : own_target;
+  RegistrationTarget own_target(params.icp);
+  RegistrationTarget& target = floor_target ? *floor_target : own_target;
   std::vector<Vec2> failed_scans;  // base positions whose scan could not be registered
   std::vector<double> steps_rad;   // angular step of each scan of the model
   double scan_seconds = 0.0;       // platform seconds of one scan at the room step

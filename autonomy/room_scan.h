@@ -20,6 +20,7 @@
 
 #include "autonomy/detail_pass.h"
 #include "autonomy/navigator.h"
+#include "autonomy/registration_target.h"
 #include "autonomy/next_best_scan.h"
 #include "common/frames.h"
 #include "common/params.h"
@@ -180,7 +181,7 @@ struct RoomScanResult {
 using ScanHook = std::function<void(int index, const interfaces::TlsScan& scan)>;
 RoomScanResult RunRoomScan(Navigator& navigator, const RoomScanParams& params,
                            modelling::RoomModel& model, const ScanHook& on_scan = {},
-                           perception::PointMap* floor_target = nullptr);
+                           RegistrationTarget* floor_target = nullptr);
 
 /// Whether a refused scan may join the room model at its prior (RoomScanParams::
 /// refused_scan_max_sigma): `loc_cov` is the localiser's (x, y, yaw) covariance (m^2, rad^2),
