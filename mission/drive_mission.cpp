@@ -11,12 +11,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "io/image_codec.h"
 #include "io/tum.h"
 #include "mission/robot_session.h"
 #include "sim/lrf.h"
@@ -121,10 +121,8 @@ void WriteDriveOutputs(const DriveResult& r, const DriveParams& params, const Dr
   poly(es, {0, 0, 220});
   for (const auto& s : r.scan_poses) cv::circle(img, px(s), 5, {0, 140, 255}, 2);
   cv::circle(img, px(r.goal_M), 5, {255, 0, 255}, 2);
-  std::vector<unsigned char> png;
-  if (!cv::imencode(".png", img, png))
-    throw InputError((dir / "map_path.png").string() + ": error: cannot encode the image");
-  WriteWholeFile((dir / "map_path.png").string(), std::string(png.begin(), png.end()));
+  WriteWholeFile((dir / "map_path.png").string(),
+                 io::EncodePng({img.data, img.cols, img.rows, img.channels(), 8, img.step}));
 
   nlohmann::ordered_json j;
   j["status"] = ToString(r.status);

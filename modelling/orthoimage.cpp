@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/statistics.h"
+#include "io/image_codec.h"
 
 namespace mopad::modelling {
 
@@ -438,15 +438,14 @@ void WriteOrthoimagePngs(const Orthoimage& img, const std::string& stem) {
   for (const auto& [path, mat] :
        {std::pair<std::string, const cv::Mat*>{stem + "_colour.png", &colour},
         {stem + "_depth.png", &depth}}) {
-    std::vector<unsigned char> png;
-    bool ok = false;
+    std::string png;
     try {
-      ok = cv::imencode(".png", *mat, png);
-    } catch (const cv::Exception& e) {
+      png = io::EncodePng({mat->data, mat->cols, mat->rows, mat->channels(),
+                           mat->depth() == CV_16U ? 16 : 8, mat->step});
+    } catch (const std::exception& e) {
       throw InputError(path, "cannot write the image", e.what());
     }
-    if (!ok) throw InputError(path, "cannot write the image");
-    WriteWholeFile(path, std::string(png.begin(), png.end()));
+    WriteWholeFile(path, png);
   }
 }
 

@@ -9,7 +9,6 @@
 #include <iomanip>
 #include <limits>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <unordered_map>
@@ -17,6 +16,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/format.h"
+#include "io/image_codec.h"
 
 namespace mopad::perception {
 
@@ -691,15 +691,13 @@ void WriteMap(const OccupancyGrid& grid, const std::string& yaml_path) {
       img.at<std::uint8_t>(grid.Height() - 1 - j, i) = v;  // top row = highest y
     }
   }
-  std::vector<unsigned char> encoded;
-  bool ok = false;
+  std::string encoded;
   try {
-    ok = cv::imencode(".png", img, encoded);
-  } catch (const cv::Exception& e) {
+    encoded = io::EncodePng({img.data, img.cols, img.rows, 1, 8, img.step});
+  } catch (const std::exception& e) {
     throw InputError(png.string(), "cannot write map image", e.what());
   }
-  if (!ok) throw InputError(png.string(), "cannot write map image");
-  WriteWholeFile(png.string(), std::string(encoded.begin(), encoded.end()));
+  WriteWholeFile(png.string(), encoded);
   std::ostringstream out;
   const auto& p = grid.Params();
   out << std::setprecision(17);
@@ -776,17 +774,17 @@ OccupancyGrid ReadMap(const std::string& yaml_path, const OccupancyGridParams& p
   fs::path png(image.as<std::string>(""));
   if (png.empty()) throw InputError(YamlWhere(yaml_path, image), "'image' must be a file name");
   if (png.is_relative()) png = fs::path(yaml_path).parent_path() / png;
-  const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
+  const io::Image8 img = io::ReadImage8(png.string(), 1);
   if (img.empty()) {
     throw InputError(YamlWhere(yaml_path, image), "cannot read map image", png.string(),
                      "a readable PNG/PGM");
   }
-  OccupancyGrid grid(p, Vec2(o[0], o[1]), img.cols, img.rows);
-  for (int r = 0; r < img.rows; ++r) {
-    for (int i = 0; i < img.cols; ++i) {
-      const double v = img.at<std::uint8_t>(r, i);
+  OccupancyGrid grid(p, Vec2(o[0], o[1]), img.width, img.height);
+  for (int r = 0; r < img.height; ++r) {
+    for (int i = 0; i < img.width; ++i) {
+      const double v = img.pixels[static_cast<std::size_t>(r) * img.width + i];
       const double occ = negate != 0.0 ? v / 255.0 : (255.0 - v) / 255.0;
-      const Cell c{i, img.rows - 1 - r};
+      const Cell c{i, img.height - 1 - r};
       if (occ > p.occupied_thresh) {
         grid.SetState(c, CellState::kOccupied);
       } else if (occ < p.free_thresh) {

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <vector>
 
 #include "common/error.h"
 #include "common/format.h"
+#include "io/image_codec.h"
 #include "modelling/model_io.h"
 #include "modelling/orthoimage.h"
 #include "modelling/sm5_io.h"
@@ -21,18 +21,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Base64(const std::vector<unsigned char>& in) {
+std::string Base64(const std::string& bytes) {
+  const auto* in = reinterpret_cast<const unsigned char*>(bytes.data());
+  const std::size_t n = bytes.size();
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
-  out.reserve((in.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < in.size(); i += 3) {
+  out.reserve((n + 2) / 3 * 4);
+  for (std::size_t i = 0; i < n; i += 3) {
     const std::uint32_t b = (std::uint32_t{in[i]} << 16) |
-                            (i + 1 < in.size() ? std::uint32_t{in[i + 1]} << 8 : 0) |
-                            (i + 2 < in.size() ? std::uint32_t{in[i + 2]} : 0);
+                            (i + 1 < n ? std::uint32_t{in[i + 1]} << 8 : 0) |
+                            (i + 2 < n ? std::uint32_t{in[i + 2]} : 0);
     out += k[(b >> 18) & 63];
     out += k[(b >> 12) & 63];
-    out += i + 1 < in.size() ? k[(b >> 6) & 63] : '=';
-    out += i + 2 < in.size() ? k[b & 63] : '=';
+    out += i + 1 < n ? k[(b >> 6) & 63] : '=';
+    out += i + 2 < n ? k[b & 63] : '=';
   }
   return out;
 }
@@ -67,8 +69,9 @@ std::string WallFigure(const std::string& room, const modelling::StructuralPatch
                        const modelling::Sm5Model& sm5, std::size_t& bytes) {
   std::error_code ec;
   if (!fs::is_regular_file(png, ec)) return "";  // a wall imaged by no scan
-  const cv::Mat image = cv::imread(png.string(), cv::IMREAD_COLOR);
-  if (image.empty()) return "";
+  io::Image8 decoded = io::ReadImage8(png.string(), 3);
+  if (decoded.empty()) return "";
+  const cv::Mat image(decoded.height, decoded.width, CV_8UC3, decoded.pixels.data());
   const modelling::PatchFrame frame = modelling::PatchFrame::Of(wall);
   const double pixel = PixelOf(frame.width, frame.height, image.cols, image.rows);
   const int rows = std::min(kWallImageRows, image.rows);
@@ -76,8 +79,8 @@ std::string WallFigure(const std::string& room, const modelling::StructuralPatch
       std::max(1, static_cast<int>(std::lround(image.cols * double(rows) / image.rows)));
   cv::Mat small;
   cv::resize(image, small, cv::Size(cols, rows), 0, 0, cv::INTER_AREA);
-  std::vector<unsigned char> jpeg;
-  cv::imencode(".jpg", small, jpeg, {cv::IMWRITE_JPEG_QUALITY, kWallImageJpegQuality});
+  const std::string jpeg =
+      io::EncodeJpeg({small.data, small.cols, small.rows, 3, 8, small.step}, kWallImageJpegQuality);
   bytes += jpeg.size();
   // SVG pixels per metre; v up in the wall, y down in the SVG.
   const double s = rows / (image.rows * pixel);

@@ -17,6 +17,9 @@ packages=(
   libeigen3-dev libembree-dev libbullet-dev libopencv-dev libompl-dev liboctomap-dev
   libtinygltf-dev libassimp-dev libyaml-cpp-dev libtbb-dev libcli11-dev libspdlog-dev
   nlohmann-json3-dev libnanoflann-dev libgtest-dev
+  # Images (io/image_codec.h): PNG and JPEG without OpenCV's imgcodecs, which would load GDAL,
+  # GDCM, HDF5 and PROJ into every process.
+  libpng-dev libjpeg62-turbo-dev
   libjs-three  # three.js r111, inlined into report.html's 3D view (report/report_viewer.h)
   # IfcPlusPlus (IFC4 reader, carve tessellation: scenes/ifc4_loader.h); its headers include
   # Boost headers the package does not declare.
