@@ -20,8 +20,8 @@
 
 #include "autonomy/detail_pass.h"
 #include "autonomy/navigator.h"
-#include "autonomy/registration_target.h"
 #include "autonomy/next_best_scan.h"
+#include "autonomy/registration_target.h"
 #include "common/frames.h"
 #include "common/params.h"
 #include "modelling/components.h"
