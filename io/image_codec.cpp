@@ -71,8 +71,7 @@ bool ReadPng(png_structp png, png_infop info, std::FILE* f, int channels, PngRea
   png_init_io(png, f);
   png_set_user_limits(png, kMaxSide, kMaxSide);
   png_read_info(png, info);
-  int interlace = 0;
-  png_get_IHDR(png, info, &head->width, &head->height, &head->bit_depth, &head->colour, &interlace,
+  png_get_IHDR(png, info, &head->width, &head->height, &head->bit_depth, &head->colour, nullptr,
                nullptr, nullptr);
   if (head->bit_depth == 16) png_set_strip_16(png);
   png_set_strip_alpha(png);
