@@ -83,7 +83,12 @@ std::vector<Eigen::Vector2d> MergeCollinear(std::vector<Eigen::Vector2d> loop, d
       const auto& q = loop[i];
       const auto& r = loop[(i + 1) % loop.size()];
       const Eigen::Vector2d u = q - p, v = r - q;
-      if (u.norm() < 1e-9 || v.norm() < 1e-9 || u.normalized().dot(v.normalized()) > cos_max) {
+      // A vertex on a straight run is no corner; one where the outline turns back on itself is
+      // the tip of a spike, two faces on one line that enclose no floor (a trace that ran out
+      // along a wall and back).
+      const double c =
+          u.norm() < 1e-9 || v.norm() < 1e-9 ? 1.0 : u.normalized().dot(v.normalized());
+      if (c > cos_max || c < -cos_max) {
         loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
         changed = true;
         break;

@@ -191,6 +191,30 @@ TEST(StructuralModel, AnUnsupportedChamferAcrossAnInnerCornerCollapsesIntoTheCor
   EXPECT_EQ(walls, 6);
 }
 
+// A perimeter with a spike: the trace ran 0.8 m out from the east wall and back along the same
+// line. The two faces of a spike enclose no floor; its tip goes, and the model is the L's 6 walls,
+// each polygon on its plane (what mopad eval requires: within 1 mm).
+TEST(StructuralModel, ASpikeInThePerimeterIsNoWall) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  in.perimeter = {{0, 0}, {6, 0}, {6, 1.5}, {6.8, 1.5}, {6, 1.51}, {6, 3}, {3, 3}, {3, 5}, {0, 5}};
+  const StructuralModel m = BuildStructuralModel(in, {});
+  int walls = 0;
+  for (const auto& p : m.patches) {
+    for (const auto& v : p.polygon) EXPECT_LT(std::abs(p.plane.Distance(v)), 0.001) << p.id;
+    if (p.patch_class != PatchClass::kWall) continue;
+    ++walls;
+    for (const auto& v : p.polygon) {
+      double best = 1e9;
+      for (const auto& c : room.outline) best = std::min(best, (v.head<2>() - c).norm());
+      EXPECT_LT(best, 0.01) << p.id << " vertex " << v.transpose();
+    }
+  }
+  EXPECT_EQ(walls, 6);
+}
+
 // The map frame is levelled: a ceiling whose points tilt 0.1 deg (range noise, clutter) is
 // horizontal, so every wall's vertical edges are the room's height; a ceiling sloped 3 deg
 // (beyond level_tolerance_deg) keeps its slope.
