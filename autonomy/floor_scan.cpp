@@ -24,6 +24,7 @@ constexpr double kOnWall = 0.3;     // m, an opening this near a gap's wall line
 constexpr double kGapHeight = 2.0;  // m, nominal top of a gap's door record
 // The reason of the doors not entered when the robot is shut in a room, before its name.
 const std::string kShutIn = "not entered: the robot is shut in ";
+const std::string kOutside = "leads outside: ";
 
 class FloorMission {
  public:
@@ -202,16 +203,21 @@ class FloorMission {
 
   // "; K doors not entered (closed: a, too narrow: b, unreachable: c)" or "".
   std::string NotEnteredSummary() const {
-    int closed = 0, narrow = 0, unreachable = 0, shut_in = 0;
+    int closed = 0, narrow = 0, unreachable = 0, shut_in = 0, outside = 0;
     for (const TraversalNode& n : res_.tree.Nodes()) {
       if (n.state == NodeState::kUnreachable) ++unreachable;
       if (n.state != NodeState::kSeenNotEntered) continue;
+      if (n.reason.rfind(kOutside, 0) == 0) ++outside;
       if (n.reason.rfind("door closed", 0) == 0) ++closed;
       if (n.reason.rfind("door too narrow", 0) == 0) ++narrow;
       if (n.reason.rfind(kShutIn, 0) == 0) ++shut_in;
     }
-    if (closed + narrow + unreachable + shut_in == 0) return "";
-    return "; " + std::to_string(closed + narrow + unreachable + shut_in) +
+    const std::string out = outside > 0
+                                ? "; " + std::to_string(outside) + " door" +
+                                      (outside > 1 ? "s" : "") + " to the outside not entered"
+                                : std::string();
+    if (closed + narrow + unreachable + shut_in == 0) return out;
+    return out + "; " + std::to_string(closed + narrow + unreachable + shut_in) +
            " doors to unexplored space not entered (closed: " + std::to_string(closed) +
            ", too narrow: " + std::to_string(narrow) +
            ", unreachable: " + std::to_string(unreachable) +
@@ -241,6 +247,16 @@ class FloorMission {
       // The map's own evidence: a route through known free space from in front of the door to
       // beyond it, as wide as the robot needs (the scans saw through the door).
       const bool map_passable = MapPassage(d);
+      // Rays that rose through an open door came back from a room's walls and ceiling; from the
+      // outside (the sky, or a storey standing in nothing) they do not: the mission explores
+      // the building, not its surroundings. (A closed door's dark leaf returns nothing either.)
+      if ((sm4_passable || map_passable) && o.sky_share >= p_.outside_sky_share) {
+        res_.tree.AddChild(
+            node, d, NodeState::kSeenNotEntered,
+            kOutside + FormatNumbers("%.2f of the rays that rose through it returned nothing",
+                                     o.sky_share));
+        continue;
+      }
       if (sm4_passable || map_passable) {
         res_.tree.AddChild(node, d, NodeState::kUnvisited,
                            sm4_passable

@@ -64,6 +64,10 @@ struct FloorScanParams {
   /// a visited room's perimeter, [0.1, 5]
   double beyond_probe = 0.6;
   int max_rooms = 64;  ///< rooms visited at most (the mission ends there, explained), [1, 10000]
+  /// A door through which at least this share of the rays that rose through it returned
+  /// nothing (SM4's sky_share: no ceiling or walls above its far side) leads outside and is not
+  /// entered, [0, 1]; indoors the share is near 0, outdoors near 1
+  double outside_sky_share = 0.5;
   /// Doorways SM4 did not model: gaps in the room's walls its map saw through (wall_gaps.h)
   WallGapParams gaps;
   /// A doorway's clear width in the obstacle map (doorway.h): a door whose doorway the map
@@ -80,6 +84,7 @@ struct FloorScanParams {
     v("min_clear_width", min_clear_width, Bounds{0.0, 5.0});
     v("beyond_probe", beyond_probe, Bounds{0.1, 5.0});
     v("max_rooms", max_rooms, Bounds{1, 10000});
+    v("outside_sky_share", outside_sky_share, Bounds{0.0, 1.0});
     v("gaps", gaps);
     v("doorway", doorway);
   }

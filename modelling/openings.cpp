@@ -202,6 +202,43 @@ bool StandsInFront(const DetectedOpening& o, const PatchFrame& f, const WallPoin
   return std::abs(a - o.u0) <= p.casing_max && std::abs(b - o.u1) <= p.casing_max;
 }
 
+// DetectedOpening::sky_share of the hole [u0, u1] x [v0, v1] of frame f: the rays that crossed
+// it rising, from the points beyond the wall (further than `wall` behind its plane: the hole's
+// reveals and lintel are the wall's, not its far side) and the rays without a return, traced
+// as BuildOrthoimage traces them.
+double SkyShare(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in, double wall) {
+  if (in.points == nullptr || in.scan_index == nullptr) return std::nan("");
+  std::vector<double> origin_depth;
+  for (const Vec3& c : in.scan_origins) origin_depth.push_back(f.Depth(c));
+  std::size_t rising = 0, none = 0;
+  const auto cross = [&](const Vec3& c, const Vec3& x) {
+    if (x.z() <= c.z()) return false;
+    const Vec2 uv = f.ToUv(x);
+    return uv.x() >= o.u0 && uv.x() <= o.u1 && uv.y() >= o.v0 && uv.y() <= o.v1;
+  };
+  const auto& pts = *in.points;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const std::size_t s = (*in.scan_index)[i];
+    const double dc = origin_depth[s];
+    if (dc <= 0.0) continue;
+    const Vec3 p = pts[i].cast<double>();
+    const double dp = f.Depth(p);
+    if (dp >= -wall) continue;
+    const Vec3& c = in.scan_origins[s];
+    rising += cross(c, c + dc / (dc - dp) * (p - c));
+  }
+  for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
+    const std::size_t s = in.no_return_scan[i];
+    const double dc = origin_depth[s];
+    const Vec3 dir = in.no_return_dirs[i].cast<double>();
+    const double nd = f.n.dot(dir);
+    if (dc <= 0.0 || nd >= -1e-9) continue;
+    const Vec3& c = in.scan_origins[s];
+    if (cross(c, c + dc / -nd * dir)) ++rising, ++none;
+  }
+  return rising > 0 ? static_cast<double>(none) / static_cast<double>(rising) : std::nan("");
+}
+
 }  // namespace
 
 bool StandsInFrontOfTheWall(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
@@ -241,6 +278,9 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
                 out.begin(), out.end(),
                 [&](const DetectedOpening& o) { return StandsInFront(o, img.Frame(), points, p); }),
             out.end());
+  for (DetectedOpening& o : out)
+    if (o.type == OpeningType::kDoor)
+      o.sky_share = SkyShare(o, img.Frame(), room_points, p.max_wall_thickness);
   return out;
 }
 

@@ -276,6 +276,11 @@ struct DetectedOpening {
   /// of the wall (DetectOpenings' neighbours) and whose leaf this room's points measured: that
   /// room's name; the state, angle and clear width are this room's. Empty otherwise.
   std::string hole_from;
+  /// Doors: the share of the rays that crossed the hole rising (above their scanner's centre)
+  /// and returned nothing. About 1 where nothing stands above the far side (the outside: the
+  /// sky, or a storey standing in nothing), near 0 where a room's walls and ceiling return them;
+  /// NaN where no ray rose through the hole. Not in sm4.json.
+  double sky_share = std::numeric_limits<double>::quiet_NaN();
   // Diagnostics (not in sm4.json): shares of the interior.
   double known_share = 0.0, evidence_share = 0.0, through_share = 0.0, side_support = 0.0;
   int leaf_points = 0;  ///< inliers of the leaf fit (0: none)

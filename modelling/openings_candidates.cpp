@@ -36,7 +36,8 @@ void Score(Candidate& k, const Masks& m, const OpeningParams& p, double px, int 
   const double area = double(c1 - c0) * (r1 - r0);
   if (area <= 0) return;
   k.known = m.known.Sum(c0, c1, r0, r1) / area;
-  const Integral& ev = k.type == OpeningType::kDoor ? m.ev_door : m.ev_window;
+  const Integral& ev =
+      k.type == OpeningType::kDoor ? (k.needs_leaf ? m.ev_hole : m.ev_door) : m.ev_window;
   const double known_px = m.known.Sum(c0, c1, r0, r1);
   k.evidence = known_px > 0 ? ev.Sum(c0, c1, r0, r1) / known_px : 0.0;
   k.through = m.through.Sum(c0, c1, r0, r1) / area;
@@ -205,8 +206,18 @@ std::vector<Candidate> RectangleCandidates(const std::vector<Line>& vert,
             dh <= p.door_max_height) {
           Candidate k;
           k.type = OpeningType::kDoor, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = floor_row;
-          if (interior_lines(cl, cr, rt, floor_row) <= p.max_interior_lines)
+          if (interior_lines(cl, cr, rt, floor_row) <= p.max_interior_lines) {
             Score(k, m, p, px, floor_row);
+            if (!k.valid) {
+              // A doorway whose far side returned nothing (a door to the outside of a storey
+              // standing in nothing, or under the sky): a door only if its leaf says so.
+              Candidate q;
+              q.type = k.type, q.cl = cl, q.cr = cr, q.rt = rt, q.rb = floor_row;
+              q.needs_leaf = true;
+              Score(q, m, p, px, floor_row);
+              if (q.valid) k = q;
+            }
+          }
           if (k.valid) cands.push_back(k);
         }
         if (width < p.window_min_width || width > p.window_max_width) continue;
@@ -310,6 +321,8 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
     if (o.type == OpeningType::kDoor) {
       const DetectedOpening rect = o;
       FitDoor(o, vert, img, points, p, static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
+      if (k.needs_leaf && !(o.leaf_points > 0 && o.opening_angle_deg >= p.closed_below_deg))
+        continue;
       // A side that is an occlusion boundary: the doorway with that side moved out to where the
       // wall resumes, taken when the occluder is the door's own leaf (a leaf hinged at the
       // moved side is found).

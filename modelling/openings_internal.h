@@ -45,11 +45,17 @@ struct Candidate {
   int cl = 0, cr = 0, rt = 0, rb = 0;  // side lines: columns cl < cr, rows rt < rb (rb: bottom)
   double score = 0, known = 0, evidence = 0, through = 0, support = 0;
   bool valid = false;
+  /// A door whose evidence counts the seen-through pixels that returned nothing (Masks::ev_hole):
+  /// kept only where a leaf hinged at it, opened out of the wall's plane, is found (ToOpenings).
+  bool needs_leaf = false;
 };
 
 struct Masks {
   Integral known, ev_door, ev_window, through, wall, edge_v, edge_h, hidden_v, hidden_h, flush,
       hidden;
+  /// ev_door with the seen-through pixels whose rays returned nothing (a door open onto nothing
+  /// a scanner sees: no ground or building beyond it, or the sky)
+  Integral ev_hole;
 };
 
 // The room's points as one wall's door steps read them: OrthoPoints and, optionally, each

@@ -235,6 +235,7 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
   }
   cv::Mat ev_door = ClassMask(
       area, cols, rows, {OrthoClass::kOffColour, OrthoClass::kRecessed, OrthoClass::kThrough});
+  const cv::Mat ev_hole = ev_door.clone();
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c)
       if (area.through_no_return[img.Index(c, r)]) ev_door.at<std::uint8_t>(r, c) = 0;
@@ -271,7 +272,7 @@ WallEdges BuildWallEdges(const Orthoimage& img, const WallArea& area, const Open
   hid_h = hid_dh & (1 - edge_h);
   const Masks m{Integral(known), Integral(ev_door), Integral(ev_window), Integral(through),
                 Integral(wall),  Integral(edge_v),  Integral(edge_h),    Integral(hid_v),
-                Integral(hid_h), Integral(flush),   Integral(hidden)};
+                Integral(hid_h), Integral(flush),   Integral(hidden),    Integral(ev_hole)};
   cv::Mat grad[2];
   for (int axis = 0; axis < 2; ++axis) {
     grad[axis] = cv::Mat::zeros(rows, cols, CV_32F);

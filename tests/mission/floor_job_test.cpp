@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include "common/error.h"
 #include "mission/main_job.h"
 #include "modelling/model_io.h"
+#include "scenes/bim_import.h"
 #include "sim/scene_world.h"
 #include "tests/input_error_of.h"
 
@@ -229,6 +231,49 @@ TEST(FloorJob, AMissionThatModelsNoRoomEndsWithAnExplainedStatus) {
   std::ifstream md(fs::path(o.dir) / "report.md");
   const std::string report((std::istreambuf_iterator<char>(md)), {});
   EXPECT_NE(report.find("no room was modelled"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// The KIT Jasmin-Sun house's ground floor (../shared/testdata/external; skipped without it),
+// imported with every repair and its doors at 90 deg. Its two exterior doors open onto nothing
+// (an imported storey has no ground or building around it): the robot finds them by their
+// leaves and does not take them, since the rays that rose through them returned nothing (no
+// ceiling beyond); it visits the house's four rooms and ends done. (The hall's door D2 is found
+// with the glazed side light beside it as one hole: a door holds the truth door's centre within
+// half its width.)
+TEST(FloorJob, AnImportedStoreysDoorsToTheOutsideAreFoundAndNotEntered) {
+  const fs::path ifc = fs::path(MOPAD_SOURCE_DIR) / ".." / "shared" / "testdata" / "external" /
+                       "kit_jasmin_sun" / "AC90R1-Jasmin-Sun-105-2x3.ifc";
+  if (!fs::exists(ifc)) GTEST_SKIP() << "no Jasmin-Sun house at " << ifc;
+  const fs::path dir =
+      fs::temp_directory_path() / ("mopad_floor_outside_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  scenes::BimImportParams ip;
+  ip.storey = "Erdgeschoss";
+  ip.repair = true;
+  scenes::WriteBimImport(scenes::ImportBim(ifc.string(), ip), (dir / "scene").string());
+  const sim::SceneWorld mw = sim::LoadSceneWorld((dir / "scene").string());
+  const FloorJob job = RunFloorJob(mw, Params(), std::nullopt, (dir / "run").string(), false);
+  EXPECT_EQ(job.rooms.size(), 4u) << job.mission.end_reason;
+  EXPECT_EQ(job.mission.end_reason.rfind("done", 0), 0u) << job.mission.end_reason;
+  std::string seen;  // the tree's leaves, for the failure message
+  for (const auto& n : job.mission.tree.Nodes())
+    seen += n.entry_door.room + " " + n.entry_door.opening + " " + n.reason + "\n";
+  int exterior = 0;
+  for (const scenes::Opening& d : mw.truth->openings) {
+    if (d.type != scenes::OpeningType::kDoor || d.rooms.size() != 1) continue;
+    ++exterior;
+    Eigen::Vector3d c_W = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& c : d.corners) c_W += 0.25 * c;
+    const Vec3 c_M = job.X_WM.inverse() * c_W;
+    int outside = 0;
+    for (const auto& n : job.mission.tree.Nodes())
+      outside += n.state == autonomy::NodeState::kSeenNotEntered &&
+                 n.reason.rfind("leads outside", 0) == 0 &&
+                 (n.entry_door.centre - c_M.head<2>()).norm() < 0.5 * n.entry_door.width;
+    EXPECT_EQ(outside, 1) << d.id << " is not one door to the outside in the tree:\n" << seen;
+  }
+  EXPECT_EQ(exterior, 2);
   fs::remove_all(dir);
 }
 

@@ -2,8 +2,10 @@
 // Small scenes for the SM4 tests, built in code from coloured oriented boxes and
 // scanned by an analytic ray caster: a room x in [0, 5], y in [0, 4], z in [0, 2.7] whose south
 // wall (y in [-0.2, 0]) holds the opening under test, a second room behind it (y down to -4) so
-// that rays through an opening return, and whatever furniture a test adds. Glass boxes let rays
-// pass with their transmission probability, keyed by ray index (deterministic). Range noise is
+// that rays through an opening return (or nothing behind it: a door of a storey standing in
+// nothing, whose rays through the opening return nothing), and whatever furniture a test adds.
+// Glass boxes let rays pass with their transmission probability, keyed by ray index
+// (deterministic). Range noise is
 // +-2 mm uniform along the ray (counter-based, not std:: distributions). The robot-side code
 // sees only the points, colours and scanner centres, as from a real scanner.
 
@@ -75,9 +77,12 @@ struct Cloud {
   std::vector<Rgb> colours;
   std::vector<std::uint16_t> scan_index;
   std::vector<Vec3> origins;
+  std::vector<Eigen::Vector3f> no_return_dirs;  ///< rays that met nothing, unit
+  std::vector<std::uint16_t> no_return_scan;
   OrthoPoints View() const {
     OrthoPoints v;
     v.points = &points, v.colours = &colours, v.scan_index = &scan_index, v.scan_origins = origins;
+    v.no_return_dirs = no_return_dirs, v.no_return_scan = no_return_scan;
     return v;
   }
 };
@@ -99,6 +104,7 @@ inline void Scan(const Scene& s, const Eigen::Vector3d& origin, double az0, doub
       }
       std::sort(hits.begin(), hits.end());
       CounterRng rng(seed, "ray", ray * 64 + k);
+      bool returned = false;
       for (const auto& [t, i] : hits) {
         const Box& b = s.boxes[i];
         if (b.transmission > 0.0 && rng.Uniform() < b.transmission) continue;
@@ -106,7 +112,12 @@ inline void Scan(const Scene& s, const Eigen::Vector3d& origin, double az0, doub
         out.points.push_back((origin + r * d).cast<float>());
         out.colours.push_back(b.rgb);
         out.scan_index.push_back(k);
+        returned = true;
         break;
+      }
+      if (!returned) {
+        out.no_return_dirs.push_back(d.cast<float>());
+        out.no_return_scan.push_back(k);
       }
     }
 }
@@ -124,6 +135,8 @@ struct HoleSpec {
   bool flush_leaf = false;  ///< a leaf filling the hole at y in [-0.04, 0] (no hinge, closed)
   // Window: glass pane in the middle of the wall.
   bool glass = false;
+  /// No room behind the wall: nothing there returns a ray (no floor, walls or ceiling beyond).
+  bool nothing_behind = false;
 };
 
 /// The room, the wall with its hole (if x1 > x0), the room behind and the hole's contents.
@@ -131,12 +144,14 @@ inline Scene RoomScene(const HoleSpec& h, bool with_hole = true) {
   Scene s;
   using V = Eigen::Vector3d;
   const double H = 2.7, t = 0.2;
-  s.boxes.push_back(AxisBox(V(-0.3, -4.3, -0.1), V(5.3, 4.3, 0.0), kFloorRgb));       // floor
-  s.boxes.push_back(AxisBox(V(-0.3, -4.3, H), V(5.3, 4.3, H + 0.1), kCeilingRgb));    // ceiling
-  s.boxes.push_back(AxisBox(V(-0.2, -4.2, 0), V(0, 4.2, H), kWallRgb));               // west
-  s.boxes.push_back(AxisBox(V(5.0, -4.2, 0), V(5.2, 4.2, H), kWallRgb));              // east
-  s.boxes.push_back(AxisBox(V(-0.2, 4.0, 0), V(5.2, 4.2, H), kWallRgb));              // north
-  s.boxes.push_back(AxisBox(V(-0.2, -4.2, 0), V(5.2, -4.0, H), Rgb{180, 200, 170}));  // far
+  const double y0 = h.nothing_behind ? -t : -4.3;  // the south end of floor, ceiling and walls
+  s.boxes.push_back(AxisBox(V(-0.3, y0, -0.1), V(5.3, 4.3, 0.0), kFloorRgb));           // floor
+  s.boxes.push_back(AxisBox(V(-0.3, y0, H), V(5.3, 4.3, H + 0.1), kCeilingRgb));        // ceiling
+  s.boxes.push_back(AxisBox(V(-0.2, std::max(y0, -4.2), 0), V(0, 4.2, H), kWallRgb));   // west
+  s.boxes.push_back(AxisBox(V(5.0, std::max(y0, -4.2), 0), V(5.2, 4.2, H), kWallRgb));  // east
+  s.boxes.push_back(AxisBox(V(-0.2, 4.0, 0), V(5.2, 4.2, H), kWallRgb));                // north
+  if (!h.nothing_behind)
+    s.boxes.push_back(AxisBox(V(-0.2, -4.2, 0), V(5.2, -4.0, H), Rgb{180, 200, 170}));  // far
   if (!with_hole) {
     s.boxes.push_back(AxisBox(V(0, -t, 0), V(5, 0, H), kWallRgb));
     return s;

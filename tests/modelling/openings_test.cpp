@@ -491,8 +491,39 @@ TEST_P(NinetyDegreeDoor, AngleWithinThreeDegreesAndStateOpen) {
   EXPECT_NEAR(o.u1, 5.0 - h.x0, 0.02);
   EXPECT_NEAR(o.opening_angle_deg, 90.0, 3.0);
   EXPECT_EQ(o.state, DoorState::kOpen);
+  // The room behind returns the rays that rose through the door (its walls and ceiling).
+  EXPECT_LT(o.sky_share, 0.05);
 }
 INSTANTIATE_TEST_SUITE_P(SwingIntoRoom, NinetyDegreeDoor, ::testing::Bool());
+
+// A door of a storey standing in nothing (an imported storey has no ground or building around
+// it): every ray through the hole returns nothing, as a dark cabinet's would. Its leaf, opened
+// into the room at the hole's jamb, makes it a door; the rays that rose through it all returned
+// nothing (sky_share 1: the floor mission does not take it into a room).
+TEST(Openings, ADoorOpenOntoNothingIsFoundByItsLeafAndSeesNoCeilingBeyond) {
+  HoleSpec h;
+  h.lambda_deg = 90.0;
+  h.nothing_behind = true;
+  const Found f = Detect(testing::RoomScene(h));
+  SCOPED_TRACE(Describe(f.sm4));
+  ASSERT_EQ(f.sm4.openings.size(), 1u);
+  const auto& o = f.on_wall1.at(0);
+  EXPECT_EQ(o.type, OpeningType::kDoor);
+  ExpectHole(o, h, 0.02);
+  EXPECT_NEAR(o.opening_angle_deg, 90.0, 3.0);
+  EXPECT_EQ(o.state, DoorState::kOpen);
+  EXPECT_GT(o.sky_share, 0.95);
+}
+
+// The same hole without a leaf: rays that return nothing alone are no door (a black cabinet's
+// front returns nothing either).
+TEST(Openings, AHoleOntoNothingWithoutALeafIsNoDoor) {
+  HoleSpec h;
+  h.leaf = false;
+  h.nothing_behind = true;
+  const Found f = Detect(testing::RoomScene(h));
+  for (const auto& o : f.sm4.openings) EXPECT_NE(o.type, OpeningType::kDoor) << Describe(f.sm4);
+}
 
 // Seen through the hole only part of the leaf shows; past 90 deg is told by the line's
 // direction from the hinge, which stands on the wall's far face (the reveals' depth).
