@@ -242,8 +242,12 @@ std::vector<Candidate> KeepHoles(const std::vector<Candidate>& cands, const Mask
                                  const OpeningParams& p, double px) {
   std::vector<std::size_t> order(cands.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t x, std::size_t y) { return cands[x].score > cands[y].score; });
+  // Best first; a door its leaf must confirm (needs_leaf) after every hole the images show
+  // alone, so that it never displaces one and is then dropped for want of a leaf.
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    if (cands[x].needs_leaf != cands[y].needs_leaf) return cands[y].needs_leaf;
+    return cands[x].score > cands[y].score;
+  });
   std::vector<Candidate> kept;
   for (std::size_t oi : order) {
     const Candidate& k = cands[oi];

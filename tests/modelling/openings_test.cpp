@@ -515,6 +515,20 @@ TEST(Openings, ADoorOpenOntoNothingIsFoundByItsLeafAndSeesNoCeilingBeyond) {
   EXPECT_GT(o.sky_share, 0.95);
 }
 
+// A window onto nothing stays a window (no leaf makes it a door).
+TEST(Openings, AWindowOntoNothingIsAWindow) {
+  HoleSpec h;
+  h.x0 = 1.5, h.x1 = 3.3, h.z0 = 0.9, h.z1 = 2.1;
+  h.leaf = false;
+  h.glass = true;
+  h.casing_rgb = {235, 235, 235};
+  h.nothing_behind = true;
+  const Found f = Detect(testing::RoomScene(h));
+  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
+  EXPECT_EQ(f.on_wall1.at(0).type, OpeningType::kWindow);
+  ExpectHole(f.on_wall1.at(0), h);
+}
+
 // The same hole without a leaf: rays that return nothing alone are no door (a black cabinet's
 // front returns nothing either).
 TEST(Openings, AHoleOntoNothingWithoutALeafIsNoDoor) {
