@@ -515,20 +515,6 @@ TEST(Openings, ADoorOpenOntoNothingIsFoundByItsLeafAndSeesNoCeilingBeyond) {
   EXPECT_GT(o.sky_share, 0.95);
 }
 
-// A window onto nothing stays a window (no leaf makes it a door).
-TEST(Openings, AWindowOntoNothingIsAWindow) {
-  HoleSpec h;
-  h.x0 = 1.5, h.x1 = 3.3, h.z0 = 0.9, h.z1 = 2.1;
-  h.leaf = false;
-  h.glass = true;
-  h.casing_rgb = {235, 235, 235};
-  h.nothing_behind = true;
-  const Found f = Detect(testing::RoomScene(h));
-  ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
-  EXPECT_EQ(f.on_wall1.at(0).type, OpeningType::kWindow);
-  ExpectHole(f.on_wall1.at(0), h);
-}
-
 // The same hole without a leaf: rays that return nothing alone are no door (a black cabinet's
 // front returns nothing either).
 TEST(Openings, AHoleOntoNothingWithoutALeafIsNoDoor) {
@@ -721,18 +707,24 @@ TEST(Openings, TwoDoorRectanglesOnOneHoleBecomeOneDoorWithoutItsCasing) {
   EXPECT_EQ(two.size(), 2u);
 }
 
-TEST(Openings, WindowWithGlassIsFoundFromTheRaysThatPassedIt) {
+// With a room behind, and onto nothing (a storey standing in nothing: its rays return nothing,
+// and no leaf makes the hole a door).
+class WindowWithGlass : public ::testing::TestWithParam<bool> {};
+
+TEST_P(WindowWithGlass, IsFoundFromTheRaysThatPassedIt) {
   HoleSpec h;
   h.x0 = 1.5, h.x1 = 2.7, h.z0 = 0.9, h.z1 = 2.1;
   h.leaf = false;
   h.glass = true;
   h.casing_rgb = {235, 235, 235};
+  h.nothing_behind = GetParam();
   const Found f = Detect(testing::RoomScene(h));
   ASSERT_EQ(f.sm4.openings.size(), 1u) << Describe(f.sm4);
   const auto& o = f.on_wall1.at(0);
   EXPECT_EQ(o.type, OpeningType::kWindow);
   ExpectHole(o, h);
 }
+INSTANTIATE_TEST_SUITE_P(NothingBehind, WindowWithGlass, ::testing::Bool());
 
 TEST(Openings, TallCabinetAgainstTheWallIsNotAnOpening) {
   testing::Scene s = testing::RoomScene({}, /*with_hole=*/false);
