@@ -83,12 +83,7 @@ std::vector<Eigen::Vector2d> MergeCollinear(std::vector<Eigen::Vector2d> loop, d
       const auto& q = loop[i];
       const auto& r = loop[(i + 1) % loop.size()];
       const Eigen::Vector2d u = q - p, v = r - q;
-      // A vertex on a straight run is no corner; one where the outline turns back on itself is
-      // the tip of a spike, two faces on one line that enclose no floor (a trace that ran out
-      // along a wall and back).
-      const double c =
-          u.norm() < 1e-9 || v.norm() < 1e-9 ? 1.0 : u.normalized().dot(v.normalized());
-      if (c > cos_max || c < -cos_max) {
+      if (u.norm() < 1e-9 || v.norm() < 1e-9 || u.normalized().dot(v.normalized()) > cos_max) {
         loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
         changed = true;
         break;
@@ -202,6 +197,11 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
       if (a.n.dot(b.n) > cos_max && std::abs(a.Distance(mid) - b.Distance(mid)) < prm.plane_band) {
         return refit(i, i, loop[i]);
       }
+      // Consecutive faces on one surface facing opposite ways are a spike or a thin wedge (the
+      // trace ran out along that surface and back): no floor between them, and no corner for
+      // the ring. The vertex between them goes.
+      if (a.n.dot(b.n) < -cos_max && std::abs(a.Distance(mid) + b.Distance(mid)) < prm.plane_band)
+        return refit(i, i, loop[i]);
     }
     // A face its own points do not fit (too few, or they belong to another face), between two
     // fitted faces that turn (not parallel) and meet within its length of its middle, is no

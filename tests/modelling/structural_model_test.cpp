@@ -215,6 +215,24 @@ TEST(StructuralModel, ASpikeInThePerimeterIsNoWall) {
   EXPECT_EQ(walls, 6);
 }
 
+// A thin wedge in the perimeter along the south wall (the trace ran 2 m along the wall and back,
+// 10-30 cm inside it, at 8 deg): both its faces fit the south wall's points, facing opposite
+// ways. Such faces enclose no floor; the wedge's tip goes, and every polygon lies on its plane.
+TEST(StructuralModel, AWedgeAlongAWallIsNoWall) {
+  LRoom room;
+  Sm3Input in;
+  in.room = "A";
+  in.points = &room.pts;
+  in.perimeter = {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 5}, {0, 5}, {0, 0.3}, {2.0, 0.03}, {0, 0.15}};
+  const StructuralModel m = BuildStructuralModel(in, {});
+  int walls = 0;
+  for (const auto& p : m.patches) {
+    for (const auto& v : p.polygon) EXPECT_LT(std::abs(p.plane.Distance(v)), 0.001) << p.id;
+    walls += p.patch_class == PatchClass::kWall;
+  }
+  EXPECT_EQ(walls, 6);
+}
+
 // The map frame is levelled: a ceiling whose points tilt 0.1 deg (range noise, clutter) is
 // horizontal, so every wall's vertical edges are the room's height; a ceiling sloped 3 deg
 // (beyond level_tolerance_deg) keeps its slope.
