@@ -107,7 +107,7 @@ TEST(StructuralModel, FloorAndCeilingFromTheZHistogram) {
 TEST(StructuralModel, TheRoomModelsFloorWinsOverABathtubsTop) {
   std::vector<Eigen::Vector3d> pts;
   CounterRng rng(5, "sm3-washroom");
-  AddRect(pts, rng, {0, 0, 0}, {1.6, 0, 0}, {0, 0.2, 0}, 6000);        // floor strip
+  AddRect(pts, rng, {0, 0, 0}, {1.6, 0, 0}, {0, 0.2, 0}, 6000);         // floor strip
   AddRect(pts, rng, {0, 1.65, 0.44}, {1.6, 0, 0}, {0, 0.75, 0}, 8000);  // tub top
   AddRect(pts, rng, {0, 0, 2.6}, {1.6, 0, 0}, {0, 2.4, 0}, 20000);      // ceiling
   const std::vector<Eigen::Vector2d> sq = {{0, 0}, {1.6, 0}, {1.6, 2.4}, {0, 2.4}};
@@ -191,15 +191,24 @@ TEST(StructuralModel, AnUnsupportedChamferAcrossAnInnerCornerCollapsesIntoTheCor
   EXPECT_EQ(walls, 6);
 }
 
-// A perimeter with a spike: the trace ran 0.8 m out from the east wall and back along the same
-// line. The two faces of a spike enclose no floor; its tip goes, and the model is the L's 6 walls,
-// each polygon on its plane (what mopad eval requires: within 1 mm).
-TEST(StructuralModel, ASpikeInThePerimeterIsNoWall) {
+// A perimeter that runs out along a surface and back: a spike 0.8 m out from the east wall along
+// one line, or a thin wedge along the south wall (2 m along it and back, 10-30 cm inside it, at
+// 8 deg), whose two faces both fit the south wall's points, facing opposite ways. Such faces
+// enclose no floor; the tip goes, and the model is the L's 6 walls, on its true corners, each
+// polygon on its plane (what mopad eval requires: within 1 mm).
+struct OutAndBack {
+  const char* name;
+  std::vector<Eigen::Vector2d> perimeter;
+};
+void PrintTo(const OutAndBack& c, std::ostream* os) { *os << c.name; }
+class PerimeterOutAndBack : public ::testing::TestWithParam<OutAndBack> {};
+
+TEST_P(PerimeterOutAndBack, IsNoWall) {
   LRoom room;
   Sm3Input in;
   in.room = "A";
   in.points = &room.pts;
-  in.perimeter = {{0, 0}, {6, 0}, {6, 1.5}, {6.8, 1.5}, {6, 1.51}, {6, 3}, {3, 3}, {3, 5}, {0, 5}};
+  in.perimeter = GetParam().perimeter;
   const StructuralModel m = BuildStructuralModel(in, {});
   int walls = 0;
   for (const auto& p : m.patches) {
@@ -214,24 +223,15 @@ TEST(StructuralModel, ASpikeInThePerimeterIsNoWall) {
   }
   EXPECT_EQ(walls, 6);
 }
-
-// A thin wedge in the perimeter along the south wall (the trace ran 2 m along the wall and back,
-// 10-30 cm inside it, at 8 deg): both its faces fit the south wall's points, facing opposite
-// ways. Such faces enclose no floor; the wedge's tip goes, and every polygon lies on its plane.
-TEST(StructuralModel, AWedgeAlongAWallIsNoWall) {
-  LRoom room;
-  Sm3Input in;
-  in.room = "A";
-  in.points = &room.pts;
-  in.perimeter = {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 5}, {0, 5}, {0, 0.3}, {2.0, 0.03}, {0, 0.15}};
-  const StructuralModel m = BuildStructuralModel(in, {});
-  int walls = 0;
-  for (const auto& p : m.patches) {
-    for (const auto& v : p.polygon) EXPECT_LT(std::abs(p.plane.Distance(v)), 0.001) << p.id;
-    walls += p.patch_class == PatchClass::kWall;
-  }
-  EXPECT_EQ(walls, 6);
-}
+INSTANTIATE_TEST_SUITE_P(
+    SpikeOrWedge, PerimeterOutAndBack,
+    ::testing::Values(
+        OutAndBack{
+            "spike",
+            {{0, 0}, {6, 0}, {6, 1.5}, {6.8, 1.5}, {6, 1.51}, {6, 3}, {3, 3}, {3, 5}, {0, 5}}},
+        OutAndBack{
+            "wedge",
+            {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 5}, {0, 5}, {0, 0.3}, {2.0, 0.03}, {0, 0.15}}}));
 
 // The map frame is levelled: a ceiling whose points tilt 0.1 deg (range noise, clutter) is
 // horizontal, so every wall's vertical edges are the room's height; a ceiling sloped 3 deg
