@@ -203,10 +203,12 @@ bool StandsInFront(const DetectedOpening& o, const PatchFrame& f, const WallPoin
 }
 
 // DetectedOpening::sky_share of the hole [u0, u1] x [v0, v1] of frame f: the rays that crossed
-// it rising, from the points beyond the wall (further than `wall` behind its plane: the hole's
-// reveals and lintel are the wall's, not its far side) and the rays without a return, traced
-// as BuildOrthoimage traces them.
-double SkyShare(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in, double wall) {
+// it rising, from the points beyond the wall (further than p.max_wall_thickness behind its
+// plane: the hole's reveals and lintel are the wall's, not its far side) and the rays without
+// a return where BuildOrthoimage counts them passed (NoReturnRule).
+double SkyShare(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints& in,
+                const OpeningParams& p) {
+  const double wall = p.max_wall_thickness;
   if (in.points == nullptr || in.scan_index == nullptr) return std::nan("");
   std::vector<double> origin_depth;
   for (const Vec3& c : in.scan_origins) origin_depth.push_back(f.Depth(c));
@@ -227,14 +229,15 @@ double SkyShare(const DetectedOpening& o, const PatchFrame& f, const OrthoPoints
     const Vec3& c = in.scan_origins[s];
     rising += cross(c, c + dc / (dc - dp) * (p - c));
   }
+  const NoReturnRule rule(p.orthoimage);
   for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
     const std::size_t s = in.no_return_scan[i];
-    const double dc = origin_depth[s];
-    const Vec3 dir = in.no_return_dirs[i].cast<double>();
-    const double nd = f.n.dot(dir);
-    if (dc <= 0.0 || nd >= -1e-9) continue;
     const Vec3& c = in.scan_origins[s];
-    if (cross(c, c + dc / -nd * dir)) ++rising, ++none;
+    Vec3 x;
+    if (rule.Crossing(c, origin_depth[s], in.no_return_dirs[i].cast<double>().normalized(), f,
+                      &x) &&
+        cross(c, x))
+      ++rising, ++none;
   }
   return rising > 0 ? static_cast<double>(none) / static_cast<double>(rising) : std::nan("");
 }
@@ -279,8 +282,7 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
                 [&](const DetectedOpening& o) { return StandsInFront(o, img.Frame(), points, p); }),
             out.end());
   for (DetectedOpening& o : out)
-    if (o.type == OpeningType::kDoor)
-      o.sky_share = SkyShare(o, img.Frame(), room_points, p.max_wall_thickness);
+    if (o.type == OpeningType::kDoor) o.sky_share = SkyShare(o, img.Frame(), room_points, p);
   return out;
 }
 

@@ -267,23 +267,33 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
       img.AddBlocked(uv.x(), uv.y());
     }
   }
-  // A ray without a return meets the plane at |nd| = cos(incidence) (unit directions).
-  const double min_cos = std::cos(DegToRad(params.no_return_max_incidence_deg));
+  const NoReturnRule rule(params);
   for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
     const std::size_t s = in.no_return_scan[i];
-    const double dc = origin_depth[s];
-    const Vec3 dir = in.no_return_dirs[i].cast<double>().normalized();
-    const double nd = frame.n.dot(dir);
-    if (dc <= 0.0 || nd >= -1e-9) continue;  // behind the plane, or heading away from it
-    if (-nd < min_cos) continue;             // grazing: the plane may not have echoed
-    const double t = dc / -nd;
-    if (t < params.no_return_min_range) continue;
-    const Vec3 x = in.scan_origins[s] + t * dir;
+    Vec3 x;
+    if (!rule.Crossing(in.scan_origins[s], origin_depth[s],
+                       in.no_return_dirs[i].cast<double>().normalized(), frame, &x))
+      continue;
     const Vec2 uv = frame.ToUv(x);
     img.AddPassedNoReturn(uv.x(), uv.y());
   }
   img.FinishMeans();
   return img;
+}
+
+NoReturnRule::NoReturnRule(const OrthoimageParams& params)
+    : min_cos_(std::cos(DegToRad(params.no_return_max_incidence_deg))),
+      min_range_(params.no_return_min_range) {}
+
+bool NoReturnRule::Crossing(const Vec3& origin, double origin_depth, const Vec3& dir,
+                            const PatchFrame& frame, Vec3* crossing) const {
+  const double nd = frame.n.dot(dir);
+  if (origin_depth <= 0.0 || nd >= -1e-9) return false;  // behind the plane, or heading away
+  if (-nd < min_cos_) return false;  // grazing (a unit ray meets the plane at |nd| = cos)
+  const double t = origin_depth / -nd;
+  if (t < min_range_) return false;
+  *crossing = origin + t * dir;
+  return true;
 }
 
 void AddNoReturnRays(const interfaces::TlsScan& scan, const Pose3& X_MS, std::uint16_t scan_index,

@@ -227,6 +227,21 @@ void CheckOrthoPoints(const OrthoPoints& in);
 double ChoosePixelSize(const OrthoPoints& points, const PatchFrame& frame,
                        const OrthoimageParams& params);
 
+/// BuildOrthoimage's rule for a ray without a return: from `origin` (`origin_depth` in front of
+/// the plane of `frame`) along the unit `dir`, it counts as passing the plane where it meets it
+/// when it heads for it, within no_return_max_incidence_deg of its normal (at a grazing angle the
+/// plane may not have echoed) and no_return_min_range or more from the scanner (nearer, the
+/// plane may lie inside the minimum range). Crossing() is false when the ray says nothing.
+class NoReturnRule {
+ public:
+  explicit NoReturnRule(const OrthoimageParams& params);
+  bool Crossing(const Vec3& origin, double origin_depth, const Vec3& dir, const PatchFrame& frame,
+                Vec3* crossing) const;
+
+ private:
+  double min_cos_ = 0.0, min_range_ = 0.0;
+};
+
 /// Builds J_CD of one patch (see the file comment). `pixel` <= 0 chooses it with
 /// ChoosePixelSize. InputError for missing or mismatched point arrays, bad params, or an image
 /// over max_pixels.
