@@ -91,7 +91,7 @@ DetectedOpening DoorOnHint(const HoleHint& h, const std::vector<Line>& vert, con
   FitDoor(o, vert, img, points, p,
           static_cast<std::uint64_t>(std::max(0L, std::lround(h.u0 / px))) * 100003u +
               static_cast<std::uint64_t>(std::max(0L, std::lround(h.v1 / px))) + 11u);
-  if (!(o.opening_angle_deg >= p.closed_below_deg)) o.leaf_points = 0;
+  if (!detail::LeafOpenedOut(o, p)) o.leaf_points = 0;
   return o;
 }
 

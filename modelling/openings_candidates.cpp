@@ -325,8 +325,7 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
     if (o.type == OpeningType::kDoor) {
       const DetectedOpening rect = o;
       FitDoor(o, vert, img, points, p, static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
-      if (k.needs_leaf && !(o.leaf_points > 0 && o.opening_angle_deg >= p.closed_below_deg))
-        continue;
+      if (k.needs_leaf && !LeafOpenedOut(o, p)) continue;
       // A side that is an occlusion boundary: the doorway with that side moved out to where the
       // wall resumes, taken when the occluder is the door's own leaf (a leaf hinged at the
       // moved side is found).

@@ -144,4 +144,10 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
 LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoimage& img,
                 const WallPoints& points, const OpeningParams& p, std::uint64_t index);
 
+// After FitDoor: a leaf opened out of the wall's plane was found (lambda >= closed_below_deg).
+// A closed leaf's fit takes any flat wall's surface layer, which is no evidence of a door.
+inline bool LeafOpenedOut(const DetectedOpening& o, const OpeningParams& p) {
+  return o.leaf_points > 0 && o.opening_angle_deg >= p.closed_below_deg;
+}
+
 }  // namespace mopad::modelling::detail
