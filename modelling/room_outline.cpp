@@ -16,9 +16,9 @@ using detail::Plan;
 
 namespace {
 
-// One azimuth column after its walk: no return at all (empty), or the vertex of its walk (has).
+// One azimuth column after its walk: the vertex of its walk, if it accepted a point (has).
 struct OutlineColumn {
-  bool empty = true, has = false;
+  bool has = false;
   Vec2 vertex = Vec2::Zero();
 };
 
@@ -120,17 +120,19 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
     Vec2 vertex;
     const double best_rho = WalkColumn(points_, column_index_, i, j, rec.origin, rec.min_range,
                                        roi_.ceiling_z, params_, vertex);
-    if (col < cols.size()) {
-      cols[col].empty = false;
-      if (best_rho > 0.0) cols[col] = {false, true, vertex};
-    }
+    if (col < cols.size() && best_rho > 0.0) cols[col] = {true, vertex};
     i = j;
   }
-  // Columns without a vertex are bridged by the edge between their neighbours' vertices. A
-  // column without any return saw something inside the minimum range (a wall's end right
-  // beside the scanner): where the bridge passes beyond that range, it would claim space the
-  // column says is blocked nearer, so those columns keep to the scanner's surroundings instead.
-  // (A wall along the scanner closer than the minimum range is bridged by its own far parts.)
+  // Columns without a vertex are bridged by the edge between their neighbours' vertices. Such a
+  // column shows no ceiling beyond the minimum range: without any return, something inside the
+  // range stopped it (a wall's end right beside the scanner); with returns but none accepted,
+  // its upper rays returned nothing (a lintel or a beam inside the range, or nothing at all)
+  // before what lies past them, or its first return lay above the ceiling. Where the bridge
+  // passes beyond that range, it would claim space the column does not show, so those columns
+  // keep to the scanner's surroundings instead and the other scans' outlines claim what lies
+  // beyond (a wall ending 1.55 m from a scanner under the beam that continues its line,
+  // `RoomModel.AWallEndingUnderABeamBesideTheScannerStaysOutOfTheOutline`). A wall along the
+  // scanner closer than the minimum range is bridged by its own far parts.
   std::vector<std::uint32_t> with;
   for (std::uint32_t c = 0; c < rec.columns; ++c)
     if (cols[c].has) with.push_back(c);
@@ -148,7 +150,6 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
     bool beyond = false;
     for (std::uint32_t m = 1; m <= n_between && !beyond; ++m) {
       const std::uint32_t c = (a + m) % rec.columns;
-      if (!cols[c].empty) continue;
       // Where the column's ray meets the bridge A-B (none: taken as beyond).
       const Vec2 d = direction(c), w = A - o;
       const double den = d.x() * AB.y() - d.y() * AB.x();
@@ -159,7 +160,7 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
     if (!beyond) continue;
     for (std::uint32_t m = 1; m <= n_between; ++m) {
       const std::uint32_t c = (a + m) % rec.columns;
-      if (cols[c].empty) rec.outline.push_back(o + params_.outline.blind_radius * direction(c));
+      rec.outline.push_back(o + params_.outline.blind_radius * direction(c));
     }
   }
   if (rec.outline.size() < 3) return;
