@@ -33,8 +33,9 @@
 //     boundary is no frame): the hole, not the casing. After step 4, one opening per hole:
 //     door rectangles that overlap or nearly touch (door_merge_gap) and together are no wider
 //     than a door (an opened leaf splits a doorway into a part seen through and a part behind
-//     the leaf) become their union, and its door step runs again; other overlapping openings
-//     keep the more confident.
+//     the leaf) become their union, and its door step runs again; so do two window
+//     rectangles that share columns over most of their rows (a window's casements either side
+//     of its mullion); other overlapping openings keep the more confident.
 //  4. Doors: the leaf is a vertical plane through a jamb; its plan line (u, depth) is fitted to
 //     the points in front of and behind the opening (either side of the wall) by a seeded
 //     RANSAC and least squares (the fitted line, not only the hypotheses, passes a jamb), the
@@ -344,8 +345,11 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& image, const s
 /// One opening per hole (the last part of step 3, after step 4; DetectWallOpenings calls it):
 /// door rectangles of one wall that overlap or lie closer than door_merge_gap and together are
 /// no wider than door_max_width become their union, whose door step (leaf, reveals, state) runs
-/// again on `points`; any other pair overlapping by more than max_overlap of the smaller keeps
-/// the more confident. All of `openings` on `image`'s wall (u, v in its frame). Ordered by u0.
+/// again on `points`; two window rectangles that share columns over at least half the rows of
+/// the shorter one and together are no wider than window_max_width (the casements either side of
+/// a mullion) become their union; any other pair overlapping by more than max_overlap of the
+/// smaller keeps the more confident. All of `openings` on `image`'s wall (u, v in its frame).
+/// Ordered by u0.
 /// (Called here, a widened door's sides are not snapped to the image's lines.)
 std::vector<DetectedOpening> OneOpeningPerHole(std::vector<DetectedOpening> openings,
                                                const Orthoimage& image, const OrthoPoints& points,

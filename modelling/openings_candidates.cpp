@@ -360,10 +360,18 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
     for (std::size_t i = 0; i < in.size() && !merged; ++i)
       for (std::size_t j = i + 1; j < in.size() && !merged; ++j) {
         const DetectedOpening &a = in[i], &b = in[j];
-        if (a.type != OpeningType::kDoor || b.type != OpeningType::kDoor) continue;
+        const bool doors = a.type == OpeningType::kDoor && b.type == OpeningType::kDoor;
+        const bool windows = a.type == OpeningType::kWindow && b.type == OpeningType::kWindow;
+        if (!doors && !windows) continue;
         const double gap = std::max(a.u0, b.u0) - std::min(a.u1, b.u1);
         const double u0 = std::min(a.u0, b.u0), u1 = std::max(a.u1, b.u1);
-        if (gap >= p.door_merge_gap || u1 - u0 > p.door_max_width) continue;
+        if (doors && (gap >= p.door_merge_gap || u1 - u0 > p.door_max_width)) continue;
+        // Two windows that share columns over half or more of the rows of the shorter one: the
+        // casements of one window either side of its mullion.
+        const double rows = std::min(a.v1, b.v1) - std::max(a.v0, b.v0);
+        if (windows && (gap >= 0.0 || rows < 0.5 * std::min(a.Height(), b.Height()) ||
+                        u1 - u0 > p.window_max_width))
+          continue;
         DetectedOpening m = a.confidence >= b.confidence ? a : b;
         const double wa = area(a), wb = area(b), wsum = std::max(1e-12, wa + wb);
         m.u0 = u0, m.u1 = u1, m.v0 = std::min(a.v0, b.v0), m.v1 = std::max(a.v1, b.v1);
@@ -372,11 +380,17 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
         m.evidence_share = (wa * a.evidence_share + wb * b.evidence_share) / wsum;
         m.through_share = (wa * a.through_share + wb * b.through_share) / wsum;
         m.side_support = std::max(a.side_support, b.side_support);
-        InsetCasingSides(m, vert, masks, img, p);
-        const auto col = img.PixelOf(u0, m.v1);
-        FitDoor(m, vert, img, points, p,
-                static_cast<std::uint64_t>(std::max(0, col[0])) * 100003u +
-                    static_cast<std::uint64_t>(std::max(0, col[1])) + 7u);
+        if (windows) {
+          const PatchFrame& f = img.Frame();
+          m.corners = {f.ToMap(m.u0, m.v0), f.ToMap(m.u1, m.v0), f.ToMap(m.u1, m.v1),
+                       f.ToMap(m.u0, m.v1)};
+        } else {
+          InsetCasingSides(m, vert, masks, img, p);
+          const auto col = img.PixelOf(u0, m.v1);
+          FitDoor(m, vert, img, points, p,
+                  static_cast<std::uint64_t>(std::max(0, col[0])) * 100003u +
+                      static_cast<std::uint64_t>(std::max(0, col[1])) + 7u);
+        }
         in[i] = m;
         in.erase(in.begin() + static_cast<std::ptrdiff_t>(j));
         merged = true;

@@ -130,7 +130,9 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
 // the leaf, each with a frame of edges: two door rectangles on one wall that overlap or lie
 // closer than door_merge_gap (distinct doors are kept apart by their casings and a strip of
 // wall) and together are no wider than a door are parts of one hole; the door step runs again
-// on their union (its reveals give the sides). Any other pair overlapping by more than
+// on their union (its reveals give the sides). Two window rectangles that share columns over
+// at least half the rows of the shorter one, together no wider than a window, are the casements
+// either side of one window's mullion: their union. Any other pair overlapping by more than
 // max_overlap of the smaller keeps the more confident (ties: the first). Order by u0.
 std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpening> in,
                                                         const std::vector<Line>& vert,

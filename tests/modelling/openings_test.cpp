@@ -707,6 +707,49 @@ TEST(Openings, TwoDoorRectanglesOnOneHoleBecomeOneDoorWithoutItsCasing) {
   EXPECT_EQ(two.size(), 2u);
 }
 
+// A window of two casements either side of a mullion, seen as two window rectangles that share
+// the mullion's columns (the imported FZK-Haus: one 2.0 m window found as 1.03 m and 1.01 m
+// overlapping 0.13 m), is one window: their union, its corners on the wall. Windows apart (wall
+// between them) or sharing a corner but not their rows stay two.
+TEST(Openings, TwoWindowRectanglesSharingColumnsAreOneWindow) {
+  HoleSpec h;
+  h.x0 = 1.5, h.x1 = 3.5, h.z0 = 0.9, h.z1 = 2.1;
+  h.leaf = false;
+  const Cloud c = testing::ScanRoom(testing::RoomScene(h));
+  const OpeningParams p;
+  const Orthoimage img =
+      BuildOrthoimage(c.View(), PatchFrame::Of(testing::RoomSm3().patches[0]), p.orthoimage);
+  auto rect = [&](double u0, double u1, double v0, double v1, double conf) {
+    DetectedOpening o;
+    o.type = OpeningType::kWindow;
+    o.host = "wall_1", o.u0 = u0, o.u1 = u1, o.v0 = v0, o.v1 = v1, o.confidence = conf;
+    o.known_share = 0.5, o.through_share = 0.8, o.evidence_share = 1.0;
+    const PatchFrame& f = img.Frame();
+    o.corners = {f.ToMap(u0, v0), f.ToMap(u1, v0), f.ToMap(u1, v1), f.ToMap(u0, v1)};
+    return o;
+  };
+  const double u0 = 5.0 - h.x1, u1 = 5.0 - h.x0;
+  const auto one = OneOpeningPerHole(
+      {rect(u0, u0 + 1.03, 0.9, 2.1, 0.7), rect(u1 - 1.01, u1, 0.9, 2.107, 0.9)}, img, c.View(), p);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].type, OpeningType::kWindow);
+  EXPECT_DOUBLE_EQ(one[0].u0, u0);
+  EXPECT_DOUBLE_EQ(one[0].u1, u1);
+  EXPECT_DOUBLE_EQ(one[0].v0, 0.9);
+  EXPECT_DOUBLE_EQ(one[0].v1, 2.107);
+  EXPECT_DOUBLE_EQ(one[0].confidence, 0.9);
+  const PatchFrame& f = img.Frame();
+  EXPECT_LT((one[0].corners[0] - f.ToMap(u0, 0.9)).norm(), 1e-9);
+  EXPECT_LT((one[0].corners[2] - f.ToMap(u1, 2.107)).norm(), 1e-9);
+  EXPECT_NEAR((one[0].corners[1] - one[0].corners[0]).norm(), h.x1 - h.x0, 1e-9);
+  const auto apart = OneOpeningPerHole(
+      {rect(0.6, 1.5, 0.9, 2.1, 0.9), rect(1.6, 2.6, 0.9, 2.1, 0.6)}, img, c.View(), p);
+  EXPECT_EQ(apart.size(), 2u);
+  const auto other_rows = OneOpeningPerHole(
+      {rect(0.6, 1.5, 0.9, 2.1, 0.9), rect(1.45, 2.6, 1.9, 2.5, 0.6)}, img, c.View(), p);
+  EXPECT_EQ(other_rows.size(), 2u);
+}
+
 // With a room behind, and onto nothing (a storey standing in nothing: its rays return nothing,
 // and no leaf makes the hole a door).
 class WindowWithGlass : public ::testing::TestWithParam<bool> {};
