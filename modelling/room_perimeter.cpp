@@ -135,6 +135,61 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P,
   }
 }
 
+// Shadows: a run of edges between two fitted edges on one wall line (parallel within
+// parallel_deg, their offsets within twice the wall tolerance) that stays in front of that line
+// (no vertex more than the wall tolerance behind it) and goes on along it, where wall points lie
+// on the line behind the run (over seal.lintel_coverage of its 5 cm bins, the test of a lintel
+// over a view through an opening), is something standing in the room in front of a wall that
+// was seen going on behind it, under it or between its parts (a spiral stair, a hanging duct, a
+// bulkhead): it hides the ceiling from some scans, and no scan saw past it at the ceiling. The
+// run's vertices are dropped and the two edges become one, on the first's line (SM3's walls are
+// planes over their occluded parts, the paper's occluded structure). Something standing on the
+// floor against the wall (a pilaster, a cupboard, a wall standing into the room) hides the wall
+// behind it and stays; a run that passes behind the line is a view through an opening
+// (SealOpenings).
+void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
+                   const std::vector<Vec2>& band, const RoomModelParams& params) {
+  const double cos_par = std::cos(DegToRad(params.corners.parallel_deg));
+  const double tol = params.wall_tolerance;
+  bool changed = true;
+  while (changed && poly.size() >= 5) {
+    changed = false;
+    const std::size_t m = poly.size();
+    for (std::size_t a = 0; a < m && !changed; ++a) {
+      if (!lines[a].fitted) continue;
+      const Vec2 p = lines[a].p, t = lines[a].t, in(-t.y(), t.x());  // counter-clockwise
+      // The next fitted edge b on a's line, every vertex before it in front of the line; edges
+      // a + 1 .. b - 1 are the run.
+      std::size_t b = (a + 1) % m, run = 0;
+      bool found = false;
+      double depth = 0.0;  // how far the run stands into the room
+      while (b != a && (poly[b] - p).dot(in) >= -tol) {
+        if (run > 0 && lines[b].fitted && t.dot(lines[b].t) >= cos_par &&
+            std::abs((lines[b].p - p).dot(in)) <= 2 * tol) {
+          found = true;
+          break;
+        }
+        depth = std::max(depth, (poly[b] - p).dot(in));
+        b = (b + 1) % m, ++run;
+      }
+      if (!found || depth <= 2 * tol || m - run - 1 < 3) continue;
+      const Vec2 s0 = p + (poly[(a + 1) % m] - p).dot(t) * t, s1 = p + (poly[b] - p).dot(t) * t;
+      if ((s1 - s0).dot(t) <= 0.0 || !LintelSpans(s0, s1, band, params)) continue;
+      std::vector<Vec2> p2;
+      std::vector<PerimeterLine> l2;
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t off = (k + m - a) % m;  // 1 .. run + 1: vertices a + 1 .. b
+        if (off >= 1 && off <= run + 1) continue;
+        p2.push_back(poly[k]);
+        l2.push_back(lines[k]);
+      }
+      poly.swap(p2);
+      lines.swap(l2);
+      changed = true;
+    }
+  }
+}
+
 }  // namespace
 
 void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params,
@@ -359,6 +414,7 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly, const std::vector<Vec2>&
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     fits[i] = FitWallEdge(poly[i], poly[(i + 1) % n], band, high, params_);
   });
+  BridgeShadows(poly, fits, band, params_);
   poly = JoinPerimeterLines(poly, fits, params_);
 }
 
