@@ -354,6 +354,19 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
                                                         const WallPoints& points,
                                                         const OpeningParams& p) {
   const auto area = [](const DetectedOpening& o) { return o.Width() * o.Height(); };
+  // The strip between two windows side by side, over their common rows: most of what is seen of
+  // it is window evidence.
+  const auto MullionBetween = [&](const DetectedOpening& a, const DetectedOpening& b) {
+    const DetectedOpening& l = a.u0 <= b.u0 ? a : b;
+    const DetectedOpening& r = a.u0 <= b.u0 ? b : a;
+    const auto tl = img.PixelOf(l.u1, std::min(a.v1, b.v1));
+    const auto br = img.PixelOf(r.u0, std::max(a.v0, b.v0));
+    const int c0 = tl[0], c1 = std::max(br[0], c0 + 1), r0 = tl[1], r1 = br[1] + 1;
+    const double strip = double(c1 - c0) * std::max(0, r1 - r0);
+    const double known = masks.known.Sum(c0, c1, r0, r1);
+    return strip > 0.0 && known >= 0.2 * strip &&
+           masks.ev_window.Sum(c0, c1, r0, r1) >= 0.5 * known;
+  };
   bool merged = true;
   for (int round = 0; merged && round < 16; ++round) {
     merged = false;
@@ -366,11 +379,13 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
         const double gap = std::max(a.u0, b.u0) - std::min(a.u1, b.u1);
         const double u0 = std::min(a.u0, b.u0), u1 = std::max(a.u1, b.u1);
         if (doors && (gap >= p.door_merge_gap || u1 - u0 > p.door_max_width)) continue;
-        // Two windows that share columns over half or more of the rows of the shorter one: the
-        // casements of one window either side of its mullion.
+        // Two windows whose rows agree over half or more of the shorter one's, and that share
+        // columns or have window evidence (recessed or seen through) over most of what is seen
+        // of the strip between them: the casements of one window either side of its mullion (a
+        // pier between two windows is on the wall's surface).
         const double rows = std::min(a.v1, b.v1) - std::max(a.v0, b.v0);
-        if (windows && (gap >= 0.0 || rows < 0.5 * std::min(a.Height(), b.Height()) ||
-                        u1 - u0 > p.window_max_width))
+        if (windows && (rows < 0.5 * std::min(a.Height(), b.Height()) ||
+                        u1 - u0 > p.window_max_width || (gap >= 0.0 && !MullionBetween(a, b))))
           continue;
         DetectedOpening m = a.confidence >= b.confidence ? a : b;
         const double wa = area(a), wb = area(b), wsum = std::max(1e-12, wa + wb);
