@@ -356,7 +356,7 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
   const auto area = [](const DetectedOpening& o) { return o.Width() * o.Height(); };
   // The strip between two windows side by side, over their common rows: most of what is seen of
   // it is window evidence.
-  const auto MullionBetween = [&](const DetectedOpening& a, const DetectedOpening& b) {
+  const auto mullion_between = [&](const DetectedOpening& a, const DetectedOpening& b) {
     const DetectedOpening& l = a.u0 <= b.u0 ? a : b;
     const DetectedOpening& r = a.u0 <= b.u0 ? b : a;
     const auto tl = img.PixelOf(l.u1, std::min(a.v1, b.v1));
@@ -385,7 +385,7 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
         // pier between two windows is on the wall's surface).
         const double rows = std::min(a.v1, b.v1) - std::max(a.v0, b.v0);
         if (windows && (rows < 0.5 * std::min(a.Height(), b.Height()) ||
-                        u1 - u0 > p.window_max_width || (gap >= 0.0 && !MullionBetween(a, b))))
+                        u1 - u0 > p.window_max_width || (gap >= 0.0 && !mullion_between(a, b))))
           continue;
         DetectedOpening m = a.confidence >= b.confidence ? a : b;
         const double wa = area(a), wb = area(b), wsum = std::max(1e-12, wa + wb);
