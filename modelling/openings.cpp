@@ -28,6 +28,7 @@ using detail::KeepHoles;
 using detail::Line;
 using detail::OneOpeningPerHoleWithLines;
 using detail::RectangleCandidates;
+using detail::SetCorners;
 using detail::ToOpenings;
 using detail::WallEdges;
 using detail::WallLines;
@@ -85,7 +86,7 @@ DetectedOpening DoorOnHint(const HoleHint& h, const std::vector<Line>& vert, con
   if (!(h.u1 > h.u0) || !(h.v1 > floor_v)) return o;
   const PatchFrame& f = img.Frame();
   o.u0 = h.u0, o.u1 = h.u1, o.v0 = floor_v, o.v1 = h.v1;
-  o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+  SetCorners(o, f);
   o.confidence = h.confidence;
   const double px = img.Pixel();
   FitDoor(o, vert, img, points, p,

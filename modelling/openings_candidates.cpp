@@ -317,8 +317,7 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
     o.u0 = img.ColU(EdgeAt(vert, k.cl)), o.u1 = img.ColU(EdgeAt(vert, k.cr));
     o.v1 = img.RowV(EdgeAt(horz, k.rt));
     o.v0 = k.type == OpeningType::kDoor ? floor_v : img.RowV(EdgeAt(horz, k.rb));
-    o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1),
-                 f.ToMap(o.u0, o.v1)};
+    SetCorners(o, f);
     o.confidence = std::clamp(k.score, 0.0, 1.0);
     o.known_share = k.known, o.evidence_share = k.evidence, o.through_share = k.through;
     o.side_support = k.support;
@@ -396,9 +395,7 @@ std::vector<DetectedOpening> OneOpeningPerHoleWithLines(std::vector<DetectedOpen
         m.through_share = (wa * a.through_share + wb * b.through_share) / wsum;
         m.side_support = std::max(a.side_support, b.side_support);
         if (windows) {
-          const PatchFrame& f = img.Frame();
-          m.corners = {f.ToMap(m.u0, m.v0), f.ToMap(m.u1, m.v0), f.ToMap(m.u1, m.v1),
-                       f.ToMap(m.u0, m.v1)};
+          SetCorners(m, img.Frame());
         } else {
           InsetCasingSides(m, vert, masks, img, p);
           const auto col = img.PixelOf(u0, m.v1);

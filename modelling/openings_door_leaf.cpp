@@ -409,7 +409,7 @@ LeafFit FitDoor(DetectedOpening& o, const std::vector<Line>& vert, const Orthoim
     o.u0 = std::min(o.u0, std::min(hinge, latch));
     o.u1 = std::max(o.u1, std::max(hinge, latch));
   }
-  o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+  SetCorners(o, f);
   o.opening_angle_deg = std::numeric_limits<double>::quiet_NaN();
   if (leaf.inliers > 0) {
     o.opening_angle_deg = leaf.lambda_deg;

@@ -58,6 +58,12 @@ struct Masks {
   Integral ev_hole;
 };
 
+// The opening's corners in the map frame from its rectangle (u0..u1, v0..v1 on wall frame f):
+// lower left, lower right, upper right, upper left.
+inline void SetCorners(DetectedOpening& o, const PatchFrame& f) {
+  o.corners = {f.ToMap(o.u0, o.v0), f.ToMap(o.u1, o.v0), f.ToMap(o.u1, o.v1), f.ToMap(o.u0, o.v1)};
+}
+
 // The room's points as one wall's door steps read them: OrthoPoints and, optionally, each
 // point's u along the wall (float) for a quick range test, so that a door's leaf and front are
 // sought among the points beside it instead of all the room's. Without u every point is read.
