@@ -64,18 +64,19 @@ void Clean(std::vector<Vec2>& poly, double collinear_deg, double min_len, double
 // (within seal.on_line) ahead of the edge, where a parallel wall edge goes on, is replaced by the
 // straight wall. A detour that stays in the room (a pilaster, a cabinet) is kept: it never
 // passes behind. Deeper than seal_depth (up to seal.lintel_depth), the detour is cut across
-// only where a lintel spans its mouth (LintelSpans).
+// only where a lintel spans its mouth (WallSpans on the points above door heads).
 
-// Whether the wall's face goes on above the mouth b -> v on a wall line: `above_heads` points
-// within wall_tolerance of the line over at least seal.lintel_coverage of its 5 cm bins.
-bool LintelSpans(const Vec2& b, const Vec2& v, const std::vector<Vec2>& above_heads,
-                 const RoomModelParams& P) {
+// Whether the wall's face goes on across b -> v on a wall line: `points` (those above door heads
+// for a lintel over a mouth, every wall-band point for a wall behind a shadow) within
+// wall_tolerance of the line over at least seal.lintel_coverage of its 5 cm bins.
+bool WallSpans(const Vec2& b, const Vec2& v, const std::vector<Vec2>& points,
+               const RoomModelParams& P) {
   constexpr double kBin = 0.05;  // m, as the refit's support bins
   const double len = (v - b).norm();
-  if (len < 1e-9 || above_heads.empty()) return false;
+  if (len < 1e-9 || points.empty()) return false;
   const Vec2 t = (v - b) / len, nrm(t.y(), -t.x());
   std::vector<std::uint8_t> bins(static_cast<std::size_t>(std::ceil(len / kBin)), 0);
-  for (const Vec2& p : above_heads) {
+  for (const Vec2& p : points) {
     const double u = (p - b).dot(t);
     if (u < 0.0 || u >= len || std::abs((p - b).dot(nrm)) > P.wall_tolerance) continue;
     bins[std::min(bins.size() - 1, static_cast<std::size_t>(u / kBin))] = 1;
@@ -112,7 +113,7 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P,
         u_min = std::min(u_min, u);  // a reveal seen obliquely reaches back under the wall
         if (u - u_min > P.seal_width + S.on_line || d > max_depth || d < -P.seal_inward) break;
         if (s >= 2 && std::abs(d) <= S.on_line && u > 0.0 && behind > min_depth &&
-            (behind <= P.seal_depth || LintelSpans(b, v, above_heads, P))) {
+            (behind <= P.seal_depth || WallSpans(b, v, above_heads, P))) {
           const Vec2& w = poly[(i + s + 1) % n];
           const double lw = (w - v).norm();
           if (lw >= S.min_wall && (w - v).dot(t) >= lw * std::cos(DegToRad(S.parallel_deg))) {
@@ -174,7 +175,7 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
       }
       if (!found || depth <= 2 * tol || m - run - 1 < 3) continue;
       const Vec2 s0 = p + (poly[(a + 1) % m] - p).dot(t) * t, s1 = p + (poly[b] - p).dot(t) * t;
-      if ((s1 - s0).dot(t) <= 0.0 || !LintelSpans(s0, s1, band, params)) continue;
+      if ((s1 - s0).dot(t) <= 0.0 || !WallSpans(s0, s1, band, params)) continue;
       std::vector<Vec2> p2;
       std::vector<PerimeterLine> l2;
       for (std::size_t k = 0; k < m; ++k) {
