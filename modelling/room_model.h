@@ -307,6 +307,11 @@ struct RoomModelParams {
   /// which hides the wall beside the doorway), [0, 5]
   double seal_inward = 1.2;
   OpeningSealParams seal;     ///< the detour's shape
+  /// m, how far something without a wall face that hides a wall from every scan may stand
+  /// into the room and still be taken for clutter in front of it (the wall goes on behind it):
+  /// a spiral stair's diameter, a wardrobe's depth. A wall standing into the room shows a
+  /// face; its shadow from a single scan can lack one and reaches farther. [0, 10]
+  double shadow_depth = 2.0;
   double refit_band = 0.1;    ///< m, wall points gathered around an edge for its refit, [0.01, 1]
   int refit_min_points = 30;  ///< points an edge needs to be refit, [3, 100000]
   WallRefitParams refit;      ///< each edge moved onto its wall
@@ -349,6 +354,7 @@ struct RoomModelParams {
     v("seal_width", seal_width, Bounds{0.0, 10.0});
     v("seal_inward", seal_inward, Bounds{0.0, 5.0});
     v("seal", seal);
+    v("shadow_depth", shadow_depth, Bounds{0.0, 10.0});
     v("refit_band", refit_band, Bounds{0.01, 1.0});
     v("refit_min_points", refit_min_points, Bounds{3, 100000});
     v("refit", refit);
@@ -398,6 +404,32 @@ struct PerimeterLine {
 std::vector<Vec2> JoinPerimeterLines(const std::vector<Vec2>& poly,
                                      const std::vector<PerimeterLine>& lines,
                                      const RoomModelParams& params);
+
+/// The refit perimeter's shadows, dropped before JoinPerimeterLines (`lines[i]` for the edge
+/// poly[i] -> poly[i+1], `band` the plan points between the floor and ceiling bands, both kept
+/// in step): a run of edges between two fitted edges on one wall line (parallel within
+/// parallel_deg, their offsets within twice the wall tolerance) that stands in front of that
+/// line and goes on along it is something standing in the room in front of that wall: it hides
+/// the ceiling from some scans, and no scan saw past it at the ceiling. It is no part of the
+/// room's outline when
+/// - it stays in front of the line (no vertex more than the wall tolerance behind it) and wall
+///   points lie on the line behind it (over seal.lintel_coverage of its 5 cm bins, the test of a
+///   lintel over a view through an opening): the wall was seen going on behind it, under it or
+///   between its parts (a hanging duct, a bulkhead, a stair's open flights); or
+/// - none of its edges in front of the line has a wall face (none fitted), and it stands more
+///   than refit_band (the band a wall's own points fill; shallower jogs are the tracer's) and at
+///   most shadow_depth into the room: what stands there shows no vertical plane to the scanner
+///   (a spiral stair's steps at every depth and height), so it is clutter, and the wall is taken
+///   to go on along its line behind it (the continuation of occluded walls that room
+///   reconstruction from cluttered scans rests on; docs/room-scanning.md). A window's or door's
+///   reveal beside it (vertices up to seal_depth behind the line) is part of the run.
+/// The run's vertices are dropped and the two edges become one, on the first's line (SM3's walls
+/// are planes over their occluded parts, the paper's occluded structure). Something with a face
+/// standing against the wall and hiding it (a pilaster, a cupboard, a shaft, a wall standing
+/// into the room) stays; a run that only passes behind the line is a view through an opening
+/// (SealOpenings).
+void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
+                   const std::vector<Vec2>& band, const RoomModelParams& params);
 
 /// Coverage of the structural elements after a scan (areas in m^2).
 struct CoverageFigures {

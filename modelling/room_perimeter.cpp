@@ -136,18 +136,8 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P,
   }
 }
 
-// Shadows: a run of edges between two fitted edges on one wall line (parallel within
-// parallel_deg, their offsets within twice the wall tolerance) that stays in front of that line
-// (no vertex more than the wall tolerance behind it) and goes on along it, where wall points lie
-// on the line behind the run (over seal.lintel_coverage of its 5 cm bins, the test of a lintel
-// over a view through an opening), is something standing in the room in front of a wall that
-// was seen going on behind it, under it or between its parts (a spiral stair, a hanging duct, a
-// bulkhead): it hides the ceiling from some scans, and no scan saw past it at the ceiling. The
-// run's vertices are dropped and the two edges become one, on the first's line (SM3's walls are
-// planes over their occluded parts, the paper's occluded structure). Something standing on the
-// floor against the wall (a pilaster, a cupboard, a wall standing into the room) hides the wall
-// behind it and stays; a run that passes behind the line is a view through an opening
-// (SealOpenings).
+}  // namespace
+
 void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
                    const std::vector<Vec2>& band, const RoomModelParams& params) {
   const double cos_par = std::cos(DegToRad(params.corners.parallel_deg));
@@ -159,23 +149,28 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
     for (std::size_t a = 0; a < m && !changed; ++a) {
       if (!lines[a].fitted) continue;
       const Vec2 p = lines[a].p, t = lines[a].t, in(-t.y(), t.x());  // counter-clockwise
-      // The next fitted edge b on a's line, every vertex before it in front of the line; edges
-      // a + 1 .. b - 1 are the run.
+      // The next fitted edge b on a's line, no vertex before it more than seal_depth behind the
+      // line; edges a + 1 .. b - 1 are the run.
       std::size_t b = (a + 1) % m, run = 0;
-      bool found = false;
-      double depth = 0.0;  // how far the run stands into the room
-      while (b != a && (poly[b] - p).dot(in) >= -tol) {
+      bool found = false, faced = false;
+      double depth = 0.0, behind = 0.0;  // how far the run stands into the room, behind the line
+      while (b != a && (poly[b] - p).dot(in) >= -params.seal_depth) {
+        behind = std::max(behind, -(poly[b] - p).dot(in));
         if (run > 0 && lines[b].fitted && t.dot(lines[b].t) >= cos_par &&
             std::abs((lines[b].p - p).dot(in)) <= 2 * tol) {
           found = true;
           break;
         }
         depth = std::max(depth, (poly[b] - p).dot(in));
+        const Vec2 mid = 0.5 * (poly[b] + poly[(b + 1) % m]);
+        faced = faced || (lines[b].fitted && (mid - p).dot(in) > tol);  // not a reveal's side
         b = (b + 1) % m, ++run;
       }
       if (!found || depth <= 2 * tol || m - run - 1 < 3) continue;
       const Vec2 s0 = p + (poly[(a + 1) % m] - p).dot(t) * t, s1 = p + (poly[b] - p).dot(t) * t;
-      if ((s1 - s0).dot(t) <= 0.0 || !WallSpans(s0, s1, band, params)) continue;
+      if ((s1 - s0).dot(t) <= 0.0) continue;
+      const bool clutter = !faced && depth > params.refit_band && depth <= params.shadow_depth;
+      if (!clutter && (behind > tol || !WallSpans(s0, s1, band, params))) continue;
       std::vector<Vec2> p2;
       std::vector<PerimeterLine> l2;
       for (std::size_t k = 0; k < m; ++k) {
@@ -190,8 +185,6 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
     }
   }
 }
-
-}  // namespace
 
 void TidyPerimeter(std::vector<Vec2>& poly, const RoomModelParams& params,
                    const std::vector<Vec2>& above_heads) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -259,6 +260,73 @@ TEST(RoomModel, TheShadowOfSomethingStandingInTheRoomIsNoPartOfItsOutline) {
     } else {
       EXPECT_GT(model.Perimeter().size(), 4u) << model.FiguresJson();
       EXPECT_GT(OutlineDistance(model.Perimeter(), truth), 1.0) << model.FiguresJson();
+    }
+  }
+}
+
+// The imported FZK-Haus (IFC4) living room: its spiral stair stands against the south wall
+// beside the 2 m window, hides the wall at every height from every scan the robot made, and
+// shows no wall face (no edge of its detour was fitted: steps at every depth and height). The
+// outline ran around it (5 false walls, the wall split at the stair, d_h 4.2 m). Faceless
+// clutter more than refit_band and up to shadow_depth deep is bridged, the window's reveal
+// beside it part of the run. With a face fitted in front (a cupboard, a wall standing into the
+// room), deeper than shadow_depth (the single-scan shadow of a standing wall), or a jog within
+// refit_band, it stays, unless it stays in front of the line and wall points lie on the line
+// behind it.
+TEST(RoomModel, AFacelessShadowAgainstAWallIsBridged) {
+  const RoomModelParams params;
+  // The room 12 m x 6 m, its south wall y = 0, the stair's detour at x 7.4-8.7 m standing
+  // `depth` into the room, and with `reveal` the window's reveal 0.3 m deep at x 5-7 m. Every
+  // edge's line is fitted but the window's glass, the wall piece between window and stair and
+  // the detour's; with `face`, the detour's first edge into the room is fitted (a face).
+  struct Outline {
+    std::vector<Vec2> poly;
+    std::vector<PerimeterLine> lines;
+  };
+  auto room = [](double depth, bool reveal, bool face) {
+    Outline o;
+    std::vector<bool> fitted;
+    auto add = [&](const Vec2& v, bool fit) { o.poly.push_back(v), fitted.push_back(fit); };
+    add({0, 0}, true);
+    if (reveal) {
+      add({5, 0}, true), add({5, -0.3}, false), add({7, -0.3}, true), add({7, 0}, false);
+    } else {
+      add({5, 0}, true);
+    }
+    add({7.4, 0}, face), add({7.45, depth}, false);
+    for (const Vec2& v : {Vec2(8.7, 0), Vec2(12, 0), Vec2(12, 6), Vec2(0, 6)}) add(v, true);
+    for (std::size_t i = 0; i < o.poly.size(); ++i) {
+      const Vec2 a = o.poly[i], b = o.poly[(i + 1) % o.poly.size()], t = (b - a).normalized();
+      o.lines.push_back({0.5 * (a + b), t, fitted[i], t});
+    }
+    return o;
+  };
+  std::vector<Vec2> behind;  // the wall seen behind the stair, beside it, over the window
+  for (double x = 5.0; x <= 8.7; x += 0.01) behind.emplace_back(x, 0.003);
+  struct Case {
+    double depth;
+    bool reveal, face, wall_seen, bridged;
+    const char* what;
+  };
+  for (const Case& c : {Case{1.4, true, false, false, true, "faceless stair beside a window"},
+                        Case{1.4, false, false, false, true, "faceless stair"},
+                        Case{1.4, true, true, false, false, "a face in front"},
+                        Case{2.5, true, false, false, false, "deeper than shadow_depth"},
+                        Case{0.08, false, false, false, false, "a jog within refit_band"},
+                        Case{1.4, false, true, true, true, "a face, the wall seen behind"},
+                        Case{2.5, false, false, true, true, "deep, the wall seen behind"},
+                        Case{1.4, true, true, true, false, "a face, behind a window's reveal"}}) {
+    Outline o = room(c.depth, c.reveal, c.face);
+    std::vector<Vec2>& poly = o.poly;
+    const std::size_t n = poly.size();
+    BridgeShadows(poly, o.lines, c.wall_seen ? behind : std::vector<Vec2>{}, params);
+    ASSERT_EQ(poly.size(), o.lines.size()) << c.what;
+    if (c.bridged) {
+      const std::vector<Vec2> truth = {{0, 0}, {12, 0}, {12, 6}, {0, 6}};
+      ASSERT_EQ(poly.size(), 4u) << c.what;
+      for (std::size_t i = 0; i < 4; ++i) EXPECT_LT((poly[i] - truth[i]).norm(), 1e-9) << c.what;
+    } else {
+      EXPECT_EQ(poly.size(), n) << c.what;
     }
   }
 }
