@@ -5,6 +5,7 @@
 #include "modelling/room_model.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -226,20 +227,28 @@ void RoomModel::EstimateHeights() {
   }
   int bc = pick(std::min(n - 1, mid + guard), n, false);
   // The highest strong peak is the ceiling unless it is not over the scanners (another room's,
-  // seen through a door): then the highest strong peak that is.
+  // seen through a door): then the highest strong peak that is. Over a scanner: its points
+  // within reach of the scanner's blind disc lie in at least ceiling_sectors of the eight
+  // azimuth sectors around it (the next room's ceiling seen through a door beside the scanner
+  // is also within reach, but in the one or two sectors the door spans).
   const auto over_scanner = [&](int b) {
     const double c = lo + (b + 0.5) * bin;
+    constexpr double kSector = 2.0 * kPi / 8.0;
     for (const auto& s : scans_) {
       const double dz = c - s.origin.z();
       const double rmin = std::isfinite(s.min_range) ? s.min_range : 0.0;
       const double blind = std::max(std::sqrt(std::max(0.0, rmin * rmin - dz * dz)),
                                     dz > 0.0 ? dz / s.max_up_slope : 0.0);
       const double reach = blind + H.ceiling_over_scanner;
+      unsigned sectors = 0;
       for (const auto& p : work_points_) {
         if (std::abs(p.z() - c) > H.refine_bins * bin) continue;
         const double dx = p.x() - s.origin.x(), dy = p.y() - s.origin.y();
-        if (dx * dx + dy * dy <= reach * reach) return true;
+        if (dx * dx + dy * dy > reach * reach) continue;
+        const int k = static_cast<int>(std::floor((std::atan2(dy, dx) + kPi) / kSector));
+        sectors |= 1u << std::clamp(k, 0, 7);
       }
+      if (std::popcount(sectors) >= H.ceiling_sectors) return true;
     }
     return false;
   };

@@ -65,6 +65,11 @@ struct HeightSearchParams {
   /// beyond the wall, under the door's head; a room's own ceiling starts at that disc's edge.
   /// [0, 100]
   double ceiling_over_scanner = 0.5;
+  /// Of the eight 45 deg azimuth sectors around a scanner, those its ceiling's points within
+  /// that reach must lie in: a room's own ceiling surrounds the scanner (a corridor's too, along
+  /// it and across it), the next room's ceiling seen through a door beside it spans the one or
+  /// two sectors of the door. [1, 8]
+  int ceiling_sectors = 3;
   /// m, the floor is the strong peak within this of the floor the robot stands on (the base's
   /// height under the scanner, from the scan's calibrated mount: base_link lies on the floor),
   /// else that floor itself: the robot stands on it, whether or not the scanner sees it. In a
@@ -82,6 +87,7 @@ struct HeightSearchParams {
     v("refine_bins", refine_bins, Bounds{0.5, 10.0});
     v("fallback_offset", fallback_offset, Bounds{0.0, 10.0});
     v("ceiling_over_scanner", ceiling_over_scanner, Bounds{0.0, 100.0});
+    v("ceiling_sectors", ceiling_sectors, Bounds{1, 8});
     v("floor_from_base", floor_from_base, Bounds{0.0, 2.0});
   }
 };
