@@ -246,9 +246,9 @@ void RoomModel::EstimateHeights() {
         const double dx = p.x() - s.origin.x(), dy = p.y() - s.origin.y();
         if (dx * dx + dy * dy > reach * reach) continue;
         const int k = static_cast<int>(std::floor((std::atan2(dy, dx) + kPi) / kSector));
-        sectors |= 1u << std::clamp(k, 0, 7);
+        const unsigned bit = 1u << std::clamp(k, 0, 7);
+        if ((sectors & bit) == 0 && std::popcount(sectors |= bit) >= H.ceiling_sectors) return true;
       }
-      if (std::popcount(sectors) >= H.ceiling_sectors) return true;
     }
     return false;
   };
