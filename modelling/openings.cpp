@@ -265,7 +265,10 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
   // Rectangles, the kept holes, the openings.
   const int floor_row =
       std::clamp(static_cast<int>(std::lround(rows - (floor_v + img.Margin()) / px)), 0, rows);
-  const std::vector<Candidate> cands = RectangleCandidates(vert, horz, we.m, p, px, floor_row);
+  const int ceiling_row = std::clamp(
+      static_cast<int>(std::lround(rows - (img.Frame().height + img.Margin()) / px)), 0, rows);
+  const std::vector<Candidate> cands =
+      RectangleCandidates(vert, horz, we.m, p, px, floor_row, ceiling_row);
   std::vector<Candidate> kept = KeepHoles(cands, we.m, p, px);
   std::vector<DetectedOpening> out =
       OneOpeningPerHoleWithLines(ToOpenings(kept, vert, horz, we.m, img, host, points, p, floor_v),

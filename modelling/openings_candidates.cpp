@@ -167,7 +167,8 @@ void InsetCasingSides(DetectedOpening& o, const std::vector<Line>& vert, const M
 
 std::vector<Candidate> RectangleCandidates(const std::vector<Line>& vert,
                                            const std::vector<Line>& horz, const Masks& m,
-                                           const OpeningParams& p, double px, int floor_row) {
+                                           const OpeningParams& p, double px, int floor_row,
+                                           int ceiling_row) {
   std::vector<Candidate> cands;
   const int ring_px = std::max(1, static_cast<int>(std::lround(p.ring / px)));
   // Horizontal lines across at least half the width strictly inside (consistency, step 3).
@@ -200,10 +201,11 @@ std::vector<Candidate> RectangleCandidates(const std::vector<Line>& vert,
         // The top line spans at least half the width between the sides (its pieces together:
         // an opened leaf may hide its middle).
         if (row_cover(t.pos, cl, cr) < 0.5 * (cr - cl)) continue;
-        // Door: bottom at the floor.
+        // Door: bottom at the floor, its head under a lintel (the wall's top edge, a line along
+        // every wall, is no door's head).
         const double dh = (floor_row - rt) * px;
         if (width >= p.door_min_width && width <= p.door_max_width && dh >= p.door_min_height &&
-            dh <= p.door_max_height) {
+            dh <= p.door_max_height && (rt - ceiling_row) * px >= p.door_head_clearance) {
           Candidate k;
           k.type = OpeningType::kDoor, k.cl = cl, k.cr = cr, k.rt = rt, k.rb = floor_row;
           if (interior_lines(cl, cr, rt, floor_row) <= p.max_interior_lines) {

@@ -113,9 +113,11 @@ std::pair<std::vector<Line>, std::vector<Line>> WallLines(const WallEdges& we, d
 
 // Step 3: rectangles from pairs of vertical lines and one (door, down to the floor) or two
 // (window, with a sill) horizontal lines, within the typical sizes, scored (Score).
+// `floor_row` and `ceiling_row` are the image rows of the wall's bottom and top edges.
 std::vector<Candidate> RectangleCandidates(const std::vector<Line>& vert,
                                            const std::vector<Line>& horz, const Masks& m,
-                                           const OpeningParams& p, double px, int floor_row);
+                                           const OpeningParams& p, double px, int floor_row,
+                                           int ceiling_row);
 
 // Best first (ties: position), non-maximum suppression by overlap; then the hole, not the
 // casing, for each kept rectangle.

@@ -677,6 +677,46 @@ TEST_P(SparselySampledDoor, IsStillFound) {
 INSTANTIATE_TEST_SUITE_P(Scans, SparselySampledDoor,
                          ::testing::Values(SparseCase{4.8, 0.003}, SparseCase{0.2, 0.005}));
 
+// A scanner 0.6-0.9 m from a wall with a door beside it, under a real scanner's 1.5 m minimum
+// range (returns nearer are dropped, their rays kept as returning nothing): a disc of the wall
+// around the scanner's foot reads unseen, from the floor to the ceiling, beside the door's
+// jamb. The wall's top edge (the ceiling) is a line along the whole wall; a rectangle from the
+// jamb across the disc up to that edge was a door (random corridor floors: false doors up to
+// the ceiling on the corridor's walls, SM4 precision 0.63-0.69). A door's head lies under a
+// lintel, door_head_clearance below the wall's top: the only door is the real one.
+TEST(Openings, TheCeilingsEdgeIsNoDoorsHead) {
+  HoleSpec h;  // the hole u 2.1-3.0 m (x 2.0-2.9 m), its leaf opened 90 deg into the room
+  h.lambda_deg = 90.0;
+  const testing::Scene s = testing::RoomScene(h);
+  for (const double dist : {0.6, 0.9}) {
+    Cloud raw, c;
+    const Eigen::Vector3d origin(3.3, dist, 1.4);
+    testing::Scan(s, origin, -testing::kPi, testing::kPi, 0.004, raw);
+    c.origins = raw.origins;
+    c.no_return_dirs = raw.no_return_dirs, c.no_return_scan = raw.no_return_scan;
+    for (std::size_t i = 0; i < raw.points.size(); ++i) {
+      const Eigen::Vector3d d = raw.points[i].cast<double>() - origin;
+      if (d.norm() < 1.5) {  // inside the minimum range: no return
+        c.no_return_dirs.push_back(d.normalized().cast<float>());
+        c.no_return_scan.push_back(raw.scan_index[i]);
+        continue;
+      }
+      c.points.push_back(raw.points[i]);
+      c.colours.push_back(raw.colours[i]);
+      c.scan_index.push_back(raw.scan_index[i]);
+    }
+    const Sm4Model m = DetectOpenings(testing::RoomSm3(), c.View(), {});
+    SCOPED_TRACE(Describe(m));
+    std::vector<DetectedOpening> on_wall1;
+    for (const auto& o : m.openings)
+      if (o.host == "wall_1") on_wall1.push_back(o);
+    ASSERT_EQ(on_wall1.size(), 1u) << dist << " m from the wall";
+    EXPECT_LT(on_wall1[0].v1, 2.2) << dist << " m from the wall";
+    EXPECT_GT(on_wall1[0].u0, 2.0) << dist << " m from the wall";
+    EXPECT_LT(on_wall1[0].u1, 3.1) << dist << " m from the wall";
+  }
+}
+
 // Two door rectangles on one hole (a part seen through and a part behind the leaf, or a
 // casing's rectangle moved by the reveal step) are one door: the hole, not the casing, with
 // its leaf measured again.
