@@ -154,14 +154,16 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
       std::size_t b = (a + 1) % m, run = 0;
       bool found = false, faced = false;
       double depth = 0.0, behind = 0.0;  // how far the run stands into the room, behind the line
-      while (b != a && (poly[b] - p).dot(in) >= -params.seal_depth) {
-        behind = std::max(behind, -(poly[b] - p).dot(in));
+      while (b != a) {
+        const double d = (poly[b] - p).dot(in);  // how far vertex b stands into the room
+        if (d < -params.seal_depth) break;
+        behind = std::max(behind, -d);
         if (run > 0 && lines[b].fitted && t.dot(lines[b].t) >= cos_par &&
             std::abs((lines[b].p - p).dot(in)) <= 2 * tol) {
           found = true;
           break;
         }
-        depth = std::max(depth, (poly[b] - p).dot(in));
+        depth = std::max(depth, d);
         const Vec2 mid = 0.5 * (poly[b] + poly[(b + 1) % m]);
         faced = faced || (lines[b].fitted && (mid - p).dot(in) > tol);  // not a reveal's side
         b = (b + 1) % m, ++run;
