@@ -280,10 +280,15 @@ std::vector<DetectedOpening> DetectWallOpenings(const Orthoimage& img, const std
     }
   std::stable_sort(out.begin(), out.end(),
                    [](const DetectedOpening& a, const DetectedOpening& b) { return a.u0 < b.u0; });
-  // A door whose front is occupied by one object ending at its sides is that object's outline.
-  out.erase(std::remove_if(
-                out.begin(), out.end(),
-                [&](const DetectedOpening& o) { return StandsInFront(o, img.Frame(), points, p); }),
+  // A door whose front is occupied by one object ending at its sides is that object's outline;
+  // one whose head reaches the wall's top has no lintel (the rule of the candidates, for the
+  // head the leaf fit moved it to, door_head_clearance).
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const DetectedOpening& o) {
+                             return StandsInFront(o, img.Frame(), points, p) ||
+                                    (o.type == OpeningType::kDoor &&
+                                     o.v1 > img.Frame().height - p.door_head_clearance);
+                           }),
             out.end());
   for (DetectedOpening& o : out)
     if (o.type == OpeningType::kDoor) o.sky_share = SkyShare(o, img.Frame(), room_points, p);

@@ -327,6 +327,13 @@ std::vector<DetectedOpening> ToOpenings(const std::vector<Candidate>& kept,
       const DetectedOpening rect = o;
       FitDoor(o, vert, img, points, p, static_cast<std::uint64_t>(k.cl) * 100003u + k.rt);
       if (k.needs_leaf && !LeafOpenedOut(o, p)) continue;
+      // The rectangle its lines gave is an object's outline (a shelf against the wall, its
+      // side taken for a leaf that widened it): not a door, however wide the fit made it.
+      if (o.u0 < rect.u0 || o.u1 > rect.u1) {
+        DetectedOpening lines = o;
+        lines.u0 = rect.u0, lines.u1 = rect.u1;
+        if (StandsInFrontOfTheWall(lines, f, points.in, p)) continue;
+      }
       // A side that is an occlusion boundary: the doorway with that side moved out to where the
       // wall resumes, taken when the occluder is the door's own leaf (a leaf hinged at the
       // moved side is found).

@@ -165,6 +165,12 @@ void CheckOrthoPoints(const OrthoPoints& in) {
                          std::to_string((*in.scan_index)[i]),
                          "< " + std::to_string(in.scan_origins.size()));
   }
+  if (!in.scan_steps.empty() && in.scan_steps.size() != in.scan_origins.size())
+    throw InputError("", "orthoimage scan_steps and scan_origins differ in count",
+                     std::to_string(in.scan_steps.size()), std::to_string(in.scan_origins.size()));
+  for (const double step : in.scan_steps)
+    if (!(step >= 0.0 && step < 1.0))
+      throw InputError("", "orthoimage scan step out of range", std::to_string(step), "[0, 1) rad");
 }
 
 namespace {
@@ -219,6 +225,90 @@ double ChoosePixelSize(const OrthoPoints& in, const PatchFrame& frame,
   return PixelSizeOf(in, frame, params);
 }
 
+namespace {
+
+// What a sample says about the pixel it falls in (BuildOrthoimage).
+enum class SampleKind : std::uint8_t { kPoint, kPassed, kBlocked, kPassedNoReturn };
+
+// One sample of the plane: a point within the band, or where a ray crossed the plane. `index`
+// is the point's (or the no-return ray's), `scan` its scan, `range` the scanner's distance to
+// where it meets the plane (m) and `cos_incidence` the cosine of its angle to the normal.
+struct PlaneSample {
+  SampleKind kind = SampleKind::kPoint;
+  std::size_t index = 0, scan = 0;
+  Vec2 uv = Vec2::Zero();
+  double depth = 0.0;  ///< m, signed, points only
+  double range = 0.0, cos_incidence = 1.0;
+};
+
+// Calls f(PlaneSample) for every sample of `frame` in the order of the points, then of the
+// rays without a return (BuildOrthoimage's rules for each).
+template <class F>
+void ForEachSample(const OrthoPoints& in, const PatchFrame& frame, const OrthoimageParams& params,
+                   F&& f) {
+  std::vector<double> origin_depth;
+  for (const auto& o : in.scan_origins) origin_depth.push_back(frame.Depth(o));
+  PlaneSample s;
+  for (std::size_t i = 0; i < in.points->size(); ++i) {
+    const Vec3 p = (*in.points)[i].cast<double>();
+    const double dp = frame.Depth(p);
+    s.index = i;
+    const bool indexed = in.scan_index != nullptr;
+    s.scan = indexed ? (*in.scan_index)[i] : 0;
+    if (std::abs(dp) <= params.band) {
+      s.kind = SampleKind::kPoint, s.uv = frame.ToUv(p), s.depth = dp;
+      if (indexed) {
+        const Vec3 ray = p - in.scan_origins[s.scan];
+        s.range = ray.norm();
+        s.cos_incidence = s.range > 0.0 ? std::abs(frame.n.dot(ray)) / s.range : 1.0;
+      }
+      f(s);
+      continue;
+    }
+    if (!indexed) continue;
+    const double dc = origin_depth[s.scan];
+    if (dc <= 0.0) continue;  // the scanner is behind the plane: no evidence about it
+    if (dp >= dc) continue;   // heading away from the plane
+    // Below the band the ray crossed the plane on its way: seen through there; above it the
+    // ray stopped in front of the plane while heading for it: occluded there.
+    const Vec3& c = in.scan_origins[s.scan];
+    const Vec3 x = c + dc / (dc - dp) * (p - c);
+    s.kind = dp < -params.band ? SampleKind::kPassed : SampleKind::kBlocked;
+    s.uv = frame.ToUv(x), s.range = (x - c).norm();
+    s.cos_incidence = s.range > 0.0 ? dc / s.range : 1.0;
+    f(s);
+  }
+  const NoReturnRule rule(params);
+  for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
+    s.scan = in.no_return_scan[i], s.index = i;
+    const Vec3& c = in.scan_origins[s.scan];
+    Vec3 x;
+    if (!rule.Crossing(c, origin_depth[s.scan], in.no_return_dirs[i].cast<double>().normalized(),
+                       frame, &x))
+      continue;
+    s.kind = SampleKind::kPassedNoReturn, s.uv = frame.ToUv(x), s.range = (x - c).norm();
+    s.cos_incidence = s.range > 0.0 ? origin_depth[s.scan] / s.range : 1.0;
+    f(s);
+  }
+}
+
+// Guards the footprint's division at a grazing angle (84 deg); footprint_max bounds it anyway.
+constexpr double kMinFootprintCos = 0.1;
+
+// Half the side (m) of the square of plane one sample stands for: half the spacing of its
+// scan's neighbouring beams where they meet the plane, range * step / cos(incidence) (the surfel
+// of point-based fusion). 0 without the scan's step, and where that spacing exceeds
+// footprint_max: so sparse a sample says too little about what lies around it.
+double FootprintHalfSide(const PlaneSample& s, const OrthoPoints& in,
+                         const OrthoimageParams& params) {
+  if (in.scan_steps.empty() || params.footprint_max <= 0.0) return 0.0;
+  const double spacing =
+      s.range * in.scan_steps[s.scan] / std::max(s.cos_incidence, kMinFootprintCos);
+  return spacing <= params.footprint_max ? 0.5 * spacing : 0.0;
+}
+
+}  // namespace
+
 Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
                            const OrthoimageParams& params, double pixel) {
   params.Validate();
@@ -236,46 +326,66 @@ Orthoimage BuildOrthoimage(const OrthoPoints& in, const PatchFrame& frame,
                      "<= max_pixels " + std::to_string(params.max_pixels));
   Orthoimage img(frame, pixel, static_cast<int>(cols_d), static_cast<int>(rows_d));
   img.SetMargin(m);
-  const std::vector<double> origin_depth = [&] {
-    std::vector<double> d;
-    for (const auto& o : in.scan_origins) d.push_back(frame.Depth(o));
-    return d;
-  }();
-  for (std::size_t i = 0; i < in.points->size(); ++i) {
-    const Vec3 p = (*in.points)[i].cast<double>();
-    const double dp = frame.Depth(p);
-    if (std::abs(dp) <= params.band) {
-      const Vec2 uv = frame.ToUv(p);
-      const auto [c, r] = img.PixelOf(uv.x(), uv.y());
-      if (img.Inside(c, r)) img.AccumulatePoint(img.Index(c, r), dp, (*in.colours)[i]);
-      continue;
+  auto deposit = [&](const PlaneSample& s, std::size_t i) {
+    switch (s.kind) {
+      case SampleKind::kPoint:
+        img.AccumulatePoint(i, s.depth, (*in.colours)[s.index]);
+        break;
+      case SampleKind::kPassed:
+        ++img.passed_[i];
+        break;
+      case SampleKind::kBlocked:
+        ++img.blocked_[i];
+        break;
+      case SampleKind::kPassedNoReturn:
+        ++img.passed_[i], ++img.passed_no_return_[i];
+        break;
     }
-    if (in.scan_index == nullptr) continue;
-    const std::size_t s = (*in.scan_index)[i];
-    const double dc = origin_depth[s];
-    if (dc <= 0.0) continue;  // the scanner is behind the plane: no evidence about it
-    const Vec3& c = in.scan_origins[s];
-    if (dp < -params.band) {
-      // The ray crossed the plane on its way: the point where it did was seen through.
-      const double t = dc / (dc - dp);
-      const Vec2 uv = frame.ToUv(c + t * (p - c));
-      img.AddPassed(uv.x(), uv.y());
-    } else if (dp < dc) {
-      // The ray stopped in front of the plane while heading for it: occluded there.
-      const double t = dc / (dc - dp);
-      const Vec2 uv = frame.ToUv(c + t * (p - c));
-      img.AddBlocked(uv.x(), uv.y());
+  };
+  ForEachSample(in, frame, params, [&](const PlaneSample& s) {
+    const auto [c, r] = img.PixelOf(s.uv.x(), s.uv.y());
+    if (img.Inside(c, r)) deposit(s, img.Index(c, r));
+  });
+  // Sampling gaps: where the beams meet the plane farther apart than a pixel (far from the
+  // scanner, at an oblique angle), the pixels between two samples hold none. Each such pixel
+  // takes the sample nearest its centre among those whose footprint (the square of plane
+  // between its beam and the neighbouring beams) covers it, so a window seen every third pixel
+  // is a window, not unseen; a pixel no footprint reaches stays unseen.
+  if (!in.scan_steps.empty() && params.footprint_max > 0.0) {
+    const std::size_t n = img.count_.size();
+    std::vector<float> best(n, std::numeric_limits<float>::infinity());
+    struct Nearest {
+      SampleKind kind = SampleKind::kPoint;
+      std::uint32_t index = 0;
+      float depth = 0.0f;
+    };
+    std::vector<Nearest> nearest(n);
+    auto empty = [&](std::size_t i) {
+      return img.count_[i] == 0 && img.passed_[i] == 0 && img.blocked_[i] == 0;
+    };
+    ForEachSample(in, frame, params, [&](const PlaneSample& s) {
+      const double half = FootprintHalfSide(s, in, params);
+      if (half < 0.5 * pixel) return;
+      const auto [c0, r0] = img.PixelOf(s.uv.x() - half, s.uv.y() + half);
+      const auto [c1, r1] = img.PixelOf(s.uv.x() + half, s.uv.y() - half);
+      for (int r = std::max(r0, 0); r <= std::min(r1, img.Rows() - 1); ++r)
+        for (int c = std::max(c0, 0); c <= std::min(c1, img.Cols() - 1); ++c) {
+          const std::size_t i = img.Index(c, r);
+          if (!empty(i)) continue;
+          const Vec2 d = img.CentreUv(c, r) - s.uv;
+          if (std::abs(d.x()) > half || std::abs(d.y()) > half) continue;
+          const auto d2 = static_cast<float>(d.squaredNorm());
+          if (d2 >= best[i]) continue;
+          best[i] = d2;
+          nearest[i] = {s.kind, static_cast<std::uint32_t>(s.index), static_cast<float>(s.depth)};
+        }
+    });
+    PlaneSample s;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(best[i])) continue;
+      s.kind = nearest[i].kind, s.index = nearest[i].index, s.depth = nearest[i].depth;
+      deposit(s, i);
     }
-  }
-  const NoReturnRule rule(params);
-  for (std::size_t i = 0; i < in.no_return_dirs.size(); ++i) {
-    const std::size_t s = in.no_return_scan[i];
-    Vec3 x;
-    if (!rule.Crossing(in.scan_origins[s], origin_depth[s],
-                       in.no_return_dirs[i].cast<double>().normalized(), frame, &x))
-      continue;
-    const Vec2 uv = frame.ToUv(x);
-    img.AddPassedNoReturn(uv.x(), uv.y());
   }
   img.FinishMeans();
   return img;

@@ -66,6 +66,16 @@ struct OrthoimageParams {
   /// m, cell of the occupancy grid in which DropNoReturnRaysThroughSeenSurfaces looks for a
   /// surface the room's points show on a ray's way inside the minimum range, [0.005, 1]
   double no_return_blocker_cell = 0.05;
+  /// m, largest beam footprint a sample fills the pixels of. A point, or a ray's crossing of
+  /// the plane, stands for the square of plane around it that its beam covers: range x angular
+  /// step / cos(incidence) across (OrthoPoints::scan_steps), the surfel size of point-based
+  /// fusion (Keller et al., 3DV 2013). Where beams meet the plane farther apart than a pixel, a
+  /// pixel between samples takes the nearest one whose footprint covers it instead of reading
+  /// unseen (occluded) — a window seen obliquely every 2-3 pixels. A sample whose footprint is
+  /// larger fills nothing: at a grazing angle a 2 cm casing's shadow is wider than the spacing,
+  /// and what lies between two samples is not known. 0: pixels hold only what falls in them,
+  /// [0, 0.5]
+  double footprint_max = 0.05;
 
   template <class V>
   void Visit(V& v) {
@@ -80,6 +90,7 @@ struct OrthoimageParams {
     v("no_return_near_border_share", no_return_near_border_share, Bounds{0.0, 1.0});
     v("no_return_max_incidence_deg", no_return_max_incidence_deg, Bounds{1.0, 90.0});
     v("no_return_blocker_cell", no_return_blocker_cell, Bounds{0.005, 1.0});
+    v("footprint_max", footprint_max, Bounds{0.0, 0.5});
   }
   /// Bounds of every field and finest_pixel <= coarsest_pixel (InputError naming the field).
   void Validate() const;
@@ -118,6 +129,11 @@ struct OrthoPoints {
   /// window to the outside, an open door to far space) and counts as passed there.
   std::vector<Eigen::Vector3f> no_return_dirs;
   std::vector<std::uint16_t> no_return_scan;
+  /// Optional (needs scan_origins; empty, or one per scan): the angle between neighbouring
+  /// beams of each scan, rad (its azimuth and elevation steps, the larger). With them a pixel
+  /// that no sample falls in takes the nearest sample whose beam footprint covers it
+  /// (BuildOrthoimage, OrthoimageParams::footprint_max).
+  std::vector<double> scan_steps;
 };
 
 /// Appends the rays of `scan` without a return (range 0), directions from their grid indices

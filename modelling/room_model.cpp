@@ -125,6 +125,7 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   labels_.resize(points_.size(), PointLabel::kNone);
   scans_.push_back(rec);
   scan_poses_.push_back(X_MS);
+  scan_steps_.push_back(std::max(scan.azimuth_step, scan.elevation_step));
 
   UpdateWorkingCloud(rec.begin, rec.end);
   if (!structure_frozen_) {

@@ -484,6 +484,9 @@ class RoomModel {
   const RoomModelParams& Params() const { return params_; }
   int ScanCount() const { return static_cast<int>(scans_.size()); }
   const std::vector<Pose3>& ScanPoses() const { return scan_poses_; }
+  /// Per scan, the angle between its neighbouring beams (the larger of its azimuth and
+  /// elevation steps), rad.
+  const std::vector<double>& ScanAngularSteps() const { return scan_steps_; }
   double FloorZ() const { return roi_.floor_z; }
   double CeilingZ() const { return roi_.ceiling_z; }
   /// Simplified ceiling perimeter, CCW, map frame plan (m).
@@ -561,6 +564,7 @@ class RoomModel {
   RoomModelParams params_;
   std::vector<ScanRecord> scans_;
   std::vector<Pose3> scan_poses_;
+  std::vector<double> scan_steps_;  // rad, ScanAngularSteps()
   // Full resolution (structure of arrays).
   std::vector<Eigen::Vector3f> points_;
   std::vector<std::array<std::uint8_t, 3>> colours_;

@@ -34,6 +34,7 @@ RoomModels BuildRoomModels(const RoomModel& model, OrthoPoints no_return, const 
   ortho.scan_index = &model.ScanIndices();
   ortho.scan_origins.clear();
   for (const Pose3& X : model.ScanPoses()) ortho.scan_origins.push_back(X.translation());
+  ortho.scan_steps = model.ScanAngularSteps();
   const auto t0 = Clock::now();
   DropNoReturnRaysThroughSeenSurfaces(ortho, sm4.orthoimage);
   out.sm4 = DetectOpenings(out.sm3, ortho, sm4, images, neighbours);

@@ -79,10 +79,12 @@ struct Cloud {
   std::vector<Vec3> origins;
   std::vector<Eigen::Vector3f> no_return_dirs;  ///< rays that met nothing, unit
   std::vector<std::uint16_t> no_return_scan;
+  std::vector<double> steps;  ///< rad, each scan's angular step
   OrthoPoints View() const {
     OrthoPoints v;
     v.points = &points, v.colours = &colours, v.scan_index = &scan_index, v.scan_origins = origins;
     v.no_return_dirs = no_return_dirs, v.no_return_scan = no_return_scan;
+    v.scan_steps = steps;
     return v;
   }
 };
@@ -92,6 +94,7 @@ inline void Scan(const Scene& s, const Eigen::Vector3d& origin, double az0, doub
                  Cloud& out, std::uint64_t seed = 7) {
   const auto k = static_cast<std::uint16_t>(out.origins.size());
   out.origins.push_back(origin);
+  out.steps.push_back(step);
   std::uint64_t ray = 0;
   for (double el = -55.0 * kPi / 180; el <= 60.0 * kPi / 180; el += step)
     for (double az = az0; az <= az1; az += step, ++ray) {

@@ -296,6 +296,75 @@ TEST(Orthoimage, BuiltImageHasTheMeansOfAddingItsPointsOneByOne) {
   EXPECT_GT(multi, 300);
 }
 
+// A scan 4 m from a wall with a 1 x 0.8 m hole (x 2-3 m, z 0.8-1.6 m), its beams 0.01 rad
+// apart: they meet the wall 4-4.5 cm apart, four pixels of 1 cm. With the scan's step
+// known every pixel of the wall and of the hole takes the nearest sample whose footprint
+// covers it; without it most read unseen. Beyond the scan's field a pixel stays unseen.
+TEST(Orthoimage, ASampleStandsForItsBeamsFootprint) {
+  const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{5, 0, 0}, {0, 0, 0}, {0, 0, 2}, {5, 0, 2}});
+  const Vec3 scanner(2.5, 4.0, 1.0);
+  const double step = 0.01;
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<std::array<std::uint8_t, 3>> rgb;
+  std::vector<std::uint16_t> scan;
+  for (double az = -0.35; az <= 0.35; az += step)      // x 1.04-3.96 m on the wall
+    for (double el = -0.24; el <= 0.24; el += step) {  // z 0.02-1.98 m
+      const Vec3 dir(std::sin(az) * std::cos(el), -std::cos(az) * std::cos(el), std::sin(el));
+      const Vec3 on_wall = scanner + (scanner.y() / -dir.y()) * dir;
+      const bool hole =
+          on_wall.x() > 2.0 && on_wall.x() < 3.0 && on_wall.z() > 0.8 && on_wall.z() < 1.6;
+      const Vec3 p = hole ? Vec3(scanner + ((scanner.y() + 3.0) / -dir.y()) * dir) : on_wall;
+      pts.push_back(p.cast<float>());
+      rgb.push_back({200, 200, 200});
+      scan.push_back(0);
+    }
+  OrthoPoints in;
+  in.points = &pts, in.colours = &rgb, in.scan_index = &scan, in.scan_origins = {scanner};
+  const Orthoimage sparse = BuildOrthoimage(in, f, {}, 0.01);
+  in.scan_steps = {step};
+  const Orthoimage filled = BuildOrthoimage(in, f, {}, 0.01);
+  auto at = [](const Orthoimage& img, double x, double z) {
+    const auto px = img.PixelOf(5.0 - x, z);  // u = 5 - x
+    return img.Index(px[0], px[1]);
+  };
+  int unseen_before = 0, unseen_after = 0, wrong = 0, total = 0;
+  for (double x = 1.2; x < 3.8; x += 0.01)
+    for (double z = 0.1; z < 1.9; z += 0.01) {
+      const bool hole = x > 2.07 && x < 2.93 && z > 0.87 && z < 1.53;
+      const bool wall = x < 1.93 || x > 3.07 || z < 0.73 || z > 1.67;
+      if (!hole && !wall) continue;  // within a beam spacing of the hole's edge
+      ++total;
+      const std::size_t i = at(sparse, x, z);
+      unseen_before += sparse.Count(i) == 0 && sparse.Passed(i) == 0;
+      unseen_after += filled.Count(i) == 0 && filled.Passed(i) == 0;
+      wrong += hole ? filled.Count(i) > 0 || filled.Passed(i) == 0
+                    : filled.Count(i) == 0 || filled.Passed(i) > 0;
+    }
+  EXPECT_GT(unseen_before, total / 2);
+  EXPECT_EQ(unseen_after, 0);
+  EXPECT_EQ(wrong, 0);
+  // A sample lands in its own pixel as before: the pixels that had samples are unchanged.
+  for (std::size_t i = 0; i < static_cast<std::size_t>(sparse.Cols() * sparse.Rows()); ++i)
+    if (sparse.Count(i) > 0 || sparse.Passed(i) > 0) {
+      ASSERT_EQ(sparse.Count(i), filled.Count(i));
+      ASSERT_EQ(sparse.Passed(i), filled.Passed(i));
+    }
+  // Outside the scan's field (x < 1 m) and beyond footprint_max / 2 of its last beams: unseen.
+  const std::size_t out = at(filled, 0.9, 1.0);
+  EXPECT_EQ(filled.Count(out) + filled.Passed(out) + filled.Blocked(out), 0u);
+  // footprint_max 0, or below the beams' spacing (too sparse to say what lies between two
+  // samples: at a grazing angle a casing's shadow falls between them): the samples alone.
+  for (const double max : {0.0, 0.03}) {
+    OrthoimageParams off;
+    off.footprint_max = max;
+    const Orthoimage plain = BuildOrthoimage(in, f, off, 0.01);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(sparse.Cols() * sparse.Rows()); ++i)
+      ASSERT_EQ(plain.Count(i) + plain.Passed(i), sparse.Count(i) + sparse.Passed(i)) << max;
+  }
+  in.scan_steps = {step, step};
+  EXPECT_THROW(BuildOrthoimage(in, f, {}, 0.01), InputError);
+}
+
 TEST(Orthoimage, MismatchedInputIsAnInputError) {
   const PatchFrame f = PatchFrame::Of(Vec3::UnitY(), {{1, 0, 0}, {0, 0, 0}, {0, 0, 1}});
   std::vector<Eigen::Vector3f> pts = {{0.5f, 0.0f, 0.5f}};
@@ -692,7 +761,7 @@ TEST(Openings, TheCeilingsEdgeIsNoDoorsHead) {
     Cloud raw, c;
     const Eigen::Vector3d origin(3.3, dist, 1.4);
     testing::Scan(s, origin, -testing::kPi, testing::kPi, 0.004, raw);
-    c.origins = raw.origins;
+    c.origins = raw.origins, c.steps = raw.steps;
     c.no_return_dirs = raw.no_return_dirs, c.no_return_scan = raw.no_return_scan;
     for (std::size_t i = 0; i < raw.points.size(); ++i) {
       const Eigen::Vector3d d = raw.points[i].cast<double>() - origin;
@@ -715,6 +784,33 @@ TEST(Openings, TheCeilingsEdgeIsNoDoorsHead) {
     EXPECT_GT(on_wall1[0].u0, 2.0) << dist << " m from the wall";
     EXPECT_LT(on_wall1[0].u1, 3.1) << dist << " m from the wall";
   }
+}
+
+// A hole up to the ceiling has no lintel: with a leaf hinged in it (opened 30 or 90 deg) it is
+// no door, and a 2.5 m door keeps its head at its lintel, not at the ceiling 0.2 m above where
+// the leaf fit's reveal search may carry it (the stair hall of the Jasmin-Sun house: a 1 m
+// "door" to the ceiling across the stairwell's unfitted edge). door_head_clearance 0 finds
+// both.
+TEST(Openings, NoDoorsHeadAtTheCeilingWhereverItWasFound) {
+  const OpeningParams p;
+  OpeningParams none = p;
+  none.door_head_clearance = 0.0;
+  HoleSpec to_ceiling;
+  to_ceiling.z1 = 2.7, to_ceiling.casing = false, to_ceiling.lambda_deg = 30.0;
+  const Cloud a = testing::ScanRoom(testing::RoomScene(to_ceiling));
+  EXPECT_TRUE(DetectOpenings(testing::RoomSm3(), a.View(), p).openings.empty());
+  const Sm4Model without = DetectOpenings(testing::RoomSm3(), a.View(), none);
+  ASSERT_EQ(without.openings.size(), 1u) << Describe(without);
+  EXPECT_GT(without.openings[0].v1, 2.65);
+  HoleSpec tall = to_ceiling;
+  tall.z1 = 2.5;
+  const Cloud b = testing::ScanRoom(testing::RoomScene(tall));
+  const Sm4Model m = DetectOpenings(testing::RoomSm3(), b.View(), p);
+  ASSERT_EQ(m.openings.size(), 1u) << Describe(m);
+  EXPECT_NEAR(m.openings[0].v1, 2.5, 0.05) << Describe(m);
+  const Sm4Model lifted = DetectOpenings(testing::RoomSm3(), b.View(), none);
+  ASSERT_EQ(lifted.openings.size(), 1u) << Describe(lifted);
+  EXPECT_GT(lifted.openings[0].v1, 2.65) << Describe(lifted);
 }
 
 // Two door rectangles on one hole (a part seen through and a part behind the leaf, or a
