@@ -398,6 +398,55 @@ void RoomModel::WallBand(std::vector<Vec2>& band, std::vector<std::uint8_t>& hig
   }
 }
 
+namespace {
+
+// The end faces of walls standing into the room among the refit perimeter's edges (`lines[i]`
+// for poly[i] -> poly[i+1]). A short fitted edge between two antiparallel fitted walls is the
+// end face of a wall that stands into the room: walls are prisms, so it is square to them. Its
+// traced direction is poor (each end moved by up to perimeter_epsilon: tens of degrees on a
+// 0.2 m edge) and tilts its fit. The trace may also have cut one of its corners (a second short
+// edge): of the two the squarer is the end face, the other is a corner cut.
+struct WallEnds {
+  std::vector<Vec2> square;      ///< an end face's direction square to its walls, else zero
+  std::vector<bool> corner_cut;  ///< the second short edge beside an end face
+};
+
+WallEnds FindWallEnds(const std::vector<Vec2>& poly, const std::vector<PerimeterLine>& lines,
+                      const RoomModelParams& params) {
+  const std::size_t n = poly.size();
+  const PerimeterCornerParams& C = params.corners;
+  WallEnds out{std::vector<Vec2>(n, Vec2::Zero()), std::vector<bool>(n, false)};
+  std::vector<bool> fitted(n, false);
+  for (std::size_t i = 0; i < n; ++i) fitted[i] = lines[i].fitted;
+  auto length = [&](std::size_t k) { return (poly[(k + 1) % n] - poly[k]).norm(); };
+  for (std::size_t i = 0; i < n && n >= 6; ++i) {
+    if (!fitted[i] || length(i) >= C.wall_end_max) continue;
+    std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n, other = n;
+    if (length(pi) < C.chamfer_max)
+      other = pi, pi = (pi + n - 1) % n;
+    else if (length(ni) < C.chamfer_max)
+      other = ni, ni = (ni + 1) % n;
+    if (!fitted[pi] || !fitted[ni] || pi == ni) continue;
+    const Vec2 tp = out.square[pi] != Vec2::Zero() ? out.square[pi] : lines[pi].t;
+    const Vec2 tn = out.square[ni] != Vec2::Zero() ? out.square[ni] : lines[ni].t;
+    if (tp.dot(tn) > -std::cos(DegToRad(C.antiparallel_deg))) continue;
+    const Vec2 side = (tp - tn).normalized();
+    if (other < n && other != i && fitted[other]) {
+      // Of two short edges the squarer is the end face.
+      const Vec2 t_other = out.square[other] != Vec2::Zero() ? out.square[other] : lines[other].t;
+      if (std::abs(t_other.dot(side)) < std::abs(lines[i].t.dot(side))) continue;
+    }
+    if (other < n && length(i) + length(other) >= C.wall_end_max) continue;
+    const Vec2 square(-side.y(), side.x());
+    const Vec2 traced = poly[(i + 1) % n] - poly[i];
+    out.square[i] = square.dot(traced) >= 0.0 ? square : Vec2(-square);
+    if (other < n) fitted[other] = false, out.corner_cut[other] = true;
+  }
+  return out;
+}
+
+}  // namespace
+
 void RoomModel::RefitPerimeter(std::vector<Vec2>& poly, const std::vector<Vec2>& band,
                                const std::vector<std::uint8_t>& high) const {
   // Each edge is moved onto its wall: the densest offset of the wall points near it (walls are
@@ -410,6 +459,18 @@ void RoomModel::RefitPerimeter(std::vector<Vec2>& poly, const std::vector<Vec2>&
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     fits[i] = FitWallEdge(poly[i], poly[(i + 1) % n], band, high, params_);
   });
+  // A wall's end face traced askew spreads its points over the offsets across the traced edge,
+  // and its fit lands between them (FZK-Haus: 2.4 cm inside the end of the wall standing into
+  // the hall): it is fitted again across the edge squared to its walls, through the traced
+  // edge's middle.
+  const WallEnds ends = FindWallEnds(poly, fits, params_);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ends.square[i] == Vec2::Zero()) continue;
+    const Vec2 mid = 0.5 * (poly[i] + poly[(i + 1) % n]);
+    const Vec2 half = 0.5 * (poly[(i + 1) % n] - poly[i]).norm() * ends.square[i];
+    const PerimeterLine square = FitWallEdge(mid - half, mid + half, band, high, params_);
+    if (square.fitted) fits[i] = square;
+  }
   BridgeShadows(poly, fits, band, params_);
   poly = JoinPerimeterLines(poly, fits, params_);
 }
@@ -428,30 +489,11 @@ std::vector<Vec2> JoinPerimeterLines(const std::vector<Vec2>& poly,
     line_t[i] = lines[i].t;
     fitted[i] = lines[i].fitted;
   }
-  // A short fitted edge between two antiparallel fitted walls is the end face of a wall that
-  // stands into the room: walls are prisms, so it is square to them. Its traced direction is
-  // poor (each end moved by up to perimeter_epsilon: tens of degrees on a 0.2 m edge) and tilts
-  // its fit. The trace may also have cut one of its corners (a second short edge): of the two
-  // the squarer is the end face, the other is left unfitted and collapses below.
   auto length = [&](std::size_t k) { return (poly[(k + 1) % n] - poly[k]).norm(); };
-  for (std::size_t i = 0; i < n && n >= 6; ++i) {
-    if (!fitted[i] || length(i) >= wall_end_max) continue;
-    std::size_t pi = (i + n - 1) % n, ni = (i + 1) % n, other = n;
-    if (length(pi) < chamfer_max)
-      other = pi, pi = (pi + n - 1) % n;
-    else if (length(ni) < chamfer_max)
-      other = ni, ni = (ni + 1) % n;
-    if (!fitted[pi] || !fitted[ni] || pi == ni) continue;
-    if (line_t[pi].dot(line_t[ni]) > -std::cos(DegToRad(C.antiparallel_deg))) continue;
-    const Vec2 side = (line_t[pi] - line_t[ni]).normalized();
-    if (other < n && other != i && fitted[other] &&
-        std::abs(line_t[other].dot(side)) < std::abs(line_t[i].dot(side)))
-      continue;  // the other is the end face
-    if (other < n && length(i) + length(other) >= wall_end_max) continue;
-    const Vec2 square(-side.y(), side.x());
-    const Vec2 traced = poly[(i + 1) % n] - poly[i];
-    line_t[i] = square.dot(traced) >= 0.0 ? square : Vec2(-square);
-    if (other < n) fitted[other] = false;
+  const WallEnds ends = FindWallEnds(poly, lines, params);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ends.square[i] != Vec2::Zero()) line_t[i] = ends.square[i];
+    if (ends.corner_cut[i]) fitted[i] = false;
   }
   // A short fitted edge whose points run within on_wall_deg of a fitted neighbour's line and lie
   // on it (their mean within twice the wall tolerance: the band one wall's points fill) carries
