@@ -343,7 +343,7 @@ TEST(Orthoimage, ASampleStandsForItsBeamsFootprint) {
   EXPECT_GT(unseen_before, total / 2);
   EXPECT_EQ(unseen_after, 0);
   EXPECT_EQ(wrong, 0);
-  // A sample lands in its own pixel as before: the pixels that had samples are unchanged.
+  // A sample still lands in its own pixel: the pixels that had samples are unchanged.
   for (std::size_t i = 0; i < static_cast<std::size_t>(sparse.Cols() * sparse.Rows()); ++i)
     if (sparse.Count(i) > 0 || sparse.Passed(i) > 0) {
       ASSERT_EQ(sparse.Count(i), filled.Count(i));
