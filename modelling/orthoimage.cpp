@@ -124,21 +124,6 @@ void Orthoimage::FinishMeans() {
   for (std::size_t i = 0; i < count_.size(); ++i) SetMean(i);
 }
 
-void Orthoimage::AddPassed(double pu, double pv) {
-  const auto [c, r] = PixelOf(pu, pv);
-  if (Inside(c, r)) ++passed_[Index(c, r)];
-}
-
-void Orthoimage::AddPassedNoReturn(double pu, double pv) {
-  const auto [c, r] = PixelOf(pu, pv);
-  if (Inside(c, r)) ++passed_[Index(c, r)], ++passed_no_return_[Index(c, r)];
-}
-
-void Orthoimage::AddBlocked(double pu, double pv) {
-  const auto [c, r] = PixelOf(pu, pv);
-  if (Inside(c, r)) ++blocked_[Index(c, r)];
-}
-
 void CheckOrthoPoints(const OrthoPoints& in) {
   if (in.points == nullptr || in.colours == nullptr)
     throw InputError("", "orthoimage input has no points or no colours");

@@ -204,10 +204,6 @@ class Orthoimage {
 
   /// Adds one imaged point (depth within the band) at (u, v): running mean of colour and depth.
   void AddPoint(double pu, double pv, double depth, const std::array<std::uint8_t, 3>& rgb);
-  void AddPassed(double pu, double pv);
-  /// AddPassed for a ray without a return (counted in Passed and PassedNoReturn).
-  void AddPassedNoReturn(double pu, double pv);
-  void AddBlocked(double pu, double pv);
   /// Sets the margin (m) the pixel grid starts before the frame's origin.
   void SetMargin(double margin) { margin_ = margin; }
   double Margin() const { return margin_; }
