@@ -31,6 +31,35 @@ Plane PcaPlane(const std::vector<Eigen::Vector3d>& pts) {
   return pl;
 }
 
+// A fit's tilt from `nominal` (a wall's plumb or a floor's level normal) read from inliers that
+// span less than prm.min_tilt_extent along the slope is not observed: the plane is set to
+// `nominal` through their centroid. The span is taken between the 2nd and 98th percentiles.
+void KeepTiltOnlyWhereObserved(PlaneFit& f, const std::vector<Eigen::Vector3d>& points,
+                               Eigen::Vector3d nominal, const Sm3Params& prm) {
+  if (!f.fitted || prm.min_tilt_extent <= 0.0) return;
+  if (nominal.dot(f.plane.n) < 0.0) nominal = -nominal;
+  const Eigen::Vector3d slope = f.plane.n - f.plane.n.dot(nominal) * nominal;
+  if (slope.norm() < 1e-12) return;
+  const Eigen::Vector3d s = slope.normalized();
+  std::vector<double> along;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : points) {
+    if (std::abs(f.plane.Distance(p)) >= 3 * prm.mlesac_sigma) continue;
+    along.push_back(s.dot(p));
+    c += p;
+  }
+  if (along.size() < 3) return;
+  const auto at = [&](double q) {
+    const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(along.size() - 1));
+    std::nth_element(along.begin(), along.begin() + k, along.end());
+    return along[static_cast<std::size_t>(k)];
+  };
+  if (at(0.98) - at(0.02) >= prm.min_tilt_extent) return;
+  c /= static_cast<double>(along.size());
+  f.plane.n = nominal;
+  f.plane.d = -nominal.dot(c);
+}
+
 // Newell normal of a polygon (not normalised).
 Eigen::Vector3d Newell(const std::vector<Eigen::Vector3d>& poly) {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
@@ -178,6 +207,9 @@ Ring FitRing(const std::vector<Eigen::Vector2d>& loop, bool into_left,
   for (std::size_t i = 0; i < n; ++i) {
     PlaneFit f = fits[i];
     const Eigen::Vector3d in3(in[i].x(), in[i].y(), 0.0);
+    if (f.fitted && std::abs(f.plane.n.z()) < 0.9)
+      KeepTiltOnlyWhereObserved(
+          f, near[i], Eigen::Vector3d(f.plane.n.x(), f.plane.n.y(), 0.0).normalized(), prm);
     if (!f.fitted || std::abs(f.plane.n.dot(in3)) < 0.9) {  // no data or not this wall
       f.plane = VerticalPlaneThrough(loop[i], loop[(i + 1) % n], in[i]);
       f.fitted = false;
@@ -249,6 +281,8 @@ PlaneFit FitHorizontal(const std::vector<Eigen::Vector3d>& points, double z, boo
     if (std::abs(p.z() - z) < prm.plane_band) band.push_back(p);
   PlaneFit f;
   if (static_cast<int>(band.size()) >= prm.min_points) f = FitPlaneMlesac(band, prm, stream);
+  if (f.fitted && std::abs(f.plane.n.z()) >= 0.9)
+    KeepTiltOnlyWhereObserved(f, band, Eigen::Vector3d::UnitZ(), prm);
   if (!f.fitted || std::abs(f.plane.n.z()) < 0.9) {
     f.plane.n = Eigen::Vector3d::UnitZ();
     f.plane.d = -z;

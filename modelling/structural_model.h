@@ -60,6 +60,12 @@ struct Sm3Params {
   /// over the room's span (0.05 deg over a 15 m hall is 1.3 cm at its far walls' tops); a
   /// sloped ceiling tilts more and keeps its fit. 0: every fit kept, [0, 10]
   double level_tolerance_deg = 0.5;
+  /// m, a face's fitted tilt (a wall's from plumb, a floor's or ceiling's from level) is read
+  /// only from inliers spanning at least this along the slope; over a narrower strip (a wall
+  /// seen only in the band under its ceiling, a floor seen only along a far wall) a few mm of
+  /// systematic error is degrees of tilt, and the face is taken plumb or level through the
+  /// strip's centroid. 0: every tilt kept, [0, 10]
+  double min_tilt_extent = 0.5;
 
   template <class V>
   void Visit(V& v) {
@@ -80,6 +86,7 @@ struct Sm3Params {
     v("round_segments", round_segments, Bounds{3, 360});
     v("min_column_edge", min_column_edge, Bounds{0.0, 1.0});
     v("level_tolerance_deg", level_tolerance_deg, Bounds{0.0, 10.0});
+    v("min_tilt_extent", min_tilt_extent, Bounds{0.0, 10.0});
   }
 };
 

@@ -271,6 +271,58 @@ TEST(StructuralModel, ANearlyLevelCeilingIsLevelAndASlopedOneKeepsItsSlope) {
   }
 }
 
+// A tilt is read only from points spanning min_tilt_extent along the slope. The east wall seen
+// only in a 0.15 m band under the ceiling, its points leaning 8 deg there (a cornice, the
+// wall-ceiling joint), is plumb through them; so is the floor seen only in a 0.3 m strip along
+// the north wall, rising 2 deg across it. The west wall, leaning 2 deg over its whole height,
+// keeps its lean (Jasmin-Sun's 1.1 m wide WC: its door wall seen only under the ceiling came
+// out 8.8 deg off plumb, its floor seen along the far wall 2 deg off level).
+TEST(StructuralModel, ATiltIsReadOnlyFromPointsSpanningEnoughOfTheFace) {
+  CounterRng rng(7, "sm3-tilt");
+  std::vector<Eigen::Vector3d> pts;
+  const double t8 = std::tan(8.0 * kPi / 180.0), t2 = std::tan(2.0 * kPi / 180.0);
+  AddRect(pts, rng, {0, 4.7, 0}, {5, 0, 0}, {0, 0.3, 0.3 * t2}, 4000);     // floor strip
+  AddRect(pts, rng, {0, 0, 3}, {5, 0, 0}, {0, 5, 0}, 40000);               // ceiling
+  AddRect(pts, rng, {0, 0, 0}, {5, 0, 0}, {0, 0, 3}, 15000);               // south
+  AddRect(pts, rng, {5, 0, 2.7}, {0, 5, 0}, {-0.15 * t8, 0, 0.15}, 3000);  // east strip
+  AddRect(pts, rng, {0, 5, 0}, {5, 0, 0}, {0, 0, 3}, 15000);               // north
+  AddRect(pts, rng, {0, 0, 0}, {0, 5, 0}, {3 * t2, 0, 3}, 15000);          // west, leaning
+  Sm3Input in;
+  in.room = "T";
+  in.points = &pts;
+  in.perimeter = {{0, 0}, {5, 0}, {5, 5}, {0, 5}};
+  in.floor_z = 0.0;
+  in.ceiling_z = 3.0;
+  const StructuralModel m = BuildStructuralModel(in, {});
+  auto tilt_deg = [](const Eigen::Vector3d& n, const Eigen::Vector3d& nominal) {
+    return std::acos(std::min(1.0, std::abs(n.dot(nominal)))) * 180.0 / kPi;
+  };
+  int checked = 0;
+  for (const auto& p : m.patches) {
+    const Eigen::Vector3d n = p.plane.n;
+    if (p.patch_class == PatchClass::kFloor) {
+      ASSERT_TRUE(p.fitted);
+      EXPECT_EQ(tilt_deg(n, Eigen::Vector3d::UnitZ()), 0.0);
+      EXPECT_NEAR(-p.plane.d / n.z(), 0.15 * t2, 0.004);  // the strip (and the wall feet on it)
+      ++checked;
+    }
+    if (p.patch_class != PatchClass::kWall) continue;
+    const Eigen::Vector3d plumb = Eigen::Vector3d(n.x(), n.y(), 0.0).normalized();
+    if (std::abs(n.x()) > 0.9 && p.plane.Distance({2.5, 2.5, 1.5}) > 0.0) {
+      const double x = -(p.plane.d + n.z() * 1.5) / n.x();  // the wall at mid-height
+      if (x > 2.5) {                                        // east: plumb through its strip
+        ASSERT_TRUE(p.fitted);
+        EXPECT_EQ(tilt_deg(n, plumb), 0.0) << p.id;
+        EXPECT_NEAR(x, 5.0 - 0.075 * t8, 0.002) << p.id;
+      } else {  // west: its lean observed over 3 m
+        EXPECT_NEAR(tilt_deg(n, plumb), 2.0, 0.05) << p.id;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 3);
+}
+
 TEST(StructuralModel, WallNormalsPointIntoTheRoom) {
   LRoom room;
   Sm3Input in;
