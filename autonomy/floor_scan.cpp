@@ -364,11 +364,15 @@ class FloorMission {
   // When the map showed the door's doorway passable when the door was found and shows it
   // narrower than the robot needs and than doorway.shut_ratio of that now: why (its widths then
   // and now, the time), else "". The door was closed since it was mapped (someone shut it), or
-  // something stands in it.
-  std::string ClosedSinceMapped(const DoorRecord& d) const {
+  // something stands in it. The ratio tells a leaf swung across the doorway from a semi-open
+  // leaf seen better from in front than when it was mapped; a door the robot `drove_through`
+  // was passable, and narrower than the robot needs is closed since.
+  std::string ClosedSinceMapped(const DoorRecord& d, bool drove_through = false) const {
     if (d.map_clear_width_m < p_.min_clear_width) return "";
     const double now = MapClearWidth(d);
-    if (now >= p_.min_clear_width || now >= p_.doorway.shut_ratio * d.map_clear_width_m) return "";
+    if (now >= p_.min_clear_width ||
+        (!drove_through && now >= p_.doorway.shut_ratio * d.map_clear_width_m))
+      return "";
     return FormatNumbers("its doorway was %.2f m clear in the map when ", d.map_clear_width_m) +
            d.room +
            FormatNumbers(" found it, %.2f m at %.1f s (< %.2f m)", now, nav_.Time(),
@@ -470,7 +474,7 @@ class FloorMission {
         DriveNear(d, d.inward, p_.door_approach, YawOf(d.inward), "parent's side of the door");
     if (why.empty()) return "";
     res_.events.push_back(n.room + ": return to " + d.room + ": " + why);
-    const std::string shut = ClosedSinceMapped(d);
+    const std::string shut = ClosedSinceMapped(d, /*drove_through=*/true);
     if (shut.empty()) return "";
     return "the door it came through (" + d.opening + " of " + d.room +
            ") was closed behind it: " + shut;
