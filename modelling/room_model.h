@@ -433,7 +433,12 @@ std::vector<Vec2> JoinPerimeterLines(const std::vector<Vec2>& poly,
 /// are planes over their occluded parts, the paper's occluded structure). Something with a face
 /// standing against the wall and hiding it (a pilaster, a cupboard, a shaft, a wall standing
 /// into the room) stays; a run that only passes behind the line is a view through an opening
-/// (SealOpenings).
+/// (SealOpenings). In a corner, a run between two fitted walls that turn left (a convex corner,
+/// by at least corners.corner_min_deg) and whose lines meet behind it, more than refit_band
+/// beyond the end of each (both stop short of the corner), hides that corner when it
+/// stands in front of both walls and is faceless, more than refit_band out of the corner both
+/// ways and at most shadow_depth from either wall (a stair in the corner), or when both walls
+/// are seen going on behind it: its vertices go and the two walls meet at the corner.
 void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
                    const std::vector<Vec2>& band, const RoomModelParams& params);
 

@@ -136,6 +136,79 @@ void SealOpenings(std::vector<Vec2>& poly, const RoomModelParams& P,
   }
 }
 
+struct HiddenCorner {
+  Vec2 corner, end_a, start_b;  ///< the corner; a's end and b's start on their lines
+};
+
+// The corner of fitted walls a and b (lines[i] for poly[i] -> poly[i+1]) when they turn left (a
+// convex corner, counter-clockwise) by at least corners.corner_min_deg and meet more than
+// refit_band ahead of a's end and before b's start: both walls stop short of it.
+bool CornerAhead(const std::vector<Vec2>& poly, const std::vector<PerimeterLine>& lines,
+                 std::size_t a, std::size_t b, const RoomModelParams& params, HiddenCorner* c) {
+  const std::size_t m = poly.size();
+  const Vec2 ta = lines[a].t, tb = lines[b].t;
+  if (ta.x() * tb.y() - ta.y() * tb.x() < std::sin(DegToRad(params.corners.corner_min_deg)))
+    return false;
+  if (!IntersectLines(lines[a].p, ta, lines[b].p, tb, params.corners.parallel_deg, &c->corner))
+    return false;
+  c->end_a = lines[a].p + (poly[(a + 1) % m] - lines[a].p).dot(ta) * ta;
+  c->start_b = lines[b].p + (poly[b] - lines[b].p).dot(tb) * tb;
+  return (c->corner - c->end_a).dot(ta) > params.refit_band &&
+         (c->start_b - c->corner).dot(tb) > params.refit_band;
+}
+
+// Whether both ends of edge e stand more than the wall tolerance in front of the fitted walls
+// a and b that meet at `corner`.
+bool StandsInCorner(const std::vector<Vec2>& poly, const std::vector<PerimeterLine>& lines,
+                    std::size_t e, std::size_t a, std::size_t b, const Vec2& corner, double tol) {
+  const Vec2 in_a(-lines[a].t.y(), lines[a].t.x()), in_b(-lines[b].t.y(), lines[b].t.x());
+  for (const Vec2& v : {poly[e], poly[(e + 1) % poly.size()]})
+    if ((v - corner).dot(in_a) <= tol || (v - corner).dot(in_b) <= tol) return false;
+  return true;
+}
+
+// Whether the run poly[a + 1] .. poly[b] between fitted walls a and b hides their corner
+// (BridgeShadows' corner case); `corner` gets it. Of nested corners the outermost is the room's:
+// a or b that is itself a face standing in the corner of the fitted walls before a (after b)
+// is no wall of the room.
+bool HidesCorner(const std::vector<Vec2>& poly, const std::vector<PerimeterLine>& lines,
+                 std::size_t a, std::size_t b, const std::vector<Vec2>& band,
+                 const RoomModelParams& params, Vec2* corner) {
+  const std::size_t m = poly.size();
+  const double tol = params.wall_tolerance;
+  HiddenCorner c, outer;
+  if (!CornerAhead(poly, lines, a, b, params, &c)) return false;
+  const Vec2 x = c.corner;
+  std::size_t a0 = (a + m - 1) % m, b1 = (b + 1) % m;
+  while (a0 != b && !lines[a0].fitted) a0 = (a0 + m - 1) % m;
+  while (b1 != a && !lines[b1].fitted) b1 = (b1 + 1) % m;
+  if (a0 != b && CornerAhead(poly, lines, a0, b, params, &outer) &&
+      StandsInCorner(poly, lines, a, a0, b, outer.corner, tol))
+    return false;
+  if (b1 != a && CornerAhead(poly, lines, a, b1, params, &outer) &&
+      StandsInCorner(poly, lines, b, a, b1, outer.corner, tol))
+    return false;
+  const Vec2 ta = lines[a].t, tb = lines[b].t;
+  const Vec2 in_a(-ta.y(), ta.x()), in_b(-tb.y(), tb.x());
+  double deepest = 0.0, reach = 0.0;  // out of the corner (both ways), from either wall
+  bool faced = false;
+  for (std::size_t k = (a + 1) % m;; k = (k + 1) % m) {
+    const double da = (poly[k] - x).dot(in_a), db = (poly[k] - x).dot(in_b);
+    if (da < -tol || db < -tol) return false;  // it passes behind a wall: no shadow
+    deepest = std::max(deepest, std::min(da, db));
+    reach = std::max({reach, da, db});
+    if (k == b) break;
+    const Vec2 mid = 0.5 * (poly[k] + poly[(k + 1) % m]);
+    faced = faced || (lines[k].fitted && (mid - x).dot(in_a) > tol && (mid - x).dot(in_b) > tol);
+  }
+  if (deepest <= 2 * tol) return false;
+  const bool clutter = !faced && deepest > params.refit_band && reach <= params.shadow_depth;
+  if (!clutter && !(WallSpans(c.end_a, x, band, params) && WallSpans(x, c.start_b, band, params)))
+    return false;
+  *corner = x;
+  return true;
+}
+
 }  // namespace
 
 void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
@@ -143,6 +216,23 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
   const double cos_par = std::cos(DegToRad(params.corners.parallel_deg));
   const double tol = params.wall_tolerance;
   bool changed = true;
+  // Vertices a + 1 .. a + run go, and vertex a + run + 1 with them or, given `corner`, moved
+  // there.
+  auto splice = [&](std::size_t a, std::size_t run, const Vec2* corner) {
+    const std::size_t m = poly.size();
+    std::vector<Vec2> p2;
+    std::vector<PerimeterLine> l2;
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t off = (k + m - a) % m;
+      if (off >= 1 && off <= run) continue;
+      if (off == run + 1 && corner == nullptr) continue;
+      p2.push_back(off == run + 1 ? *corner : poly[k]);
+      l2.push_back(lines[k]);
+    }
+    poly.swap(p2);
+    lines.swap(l2);
+    changed = true;
+  };
   while (changed && poly.size() >= 5) {
     changed = false;
     const std::size_t m = poly.size();
@@ -154,7 +244,13 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
       std::size_t b = (a + 1) % m, run = 0;
       bool found = false, faced = false;
       double depth = 0.0, behind = 0.0;  // how far the run stands into the room, behind the line
+      Vec2 corner;
+      bool at_corner = false;
       while (b != a) {
+        if (run > 0 && lines[b].fitted && HidesCorner(poly, lines, a, b, band, params, &corner)) {
+          at_corner = true;
+          break;
+        }
         const double d = (poly[b] - p).dot(in);  // how far vertex b stands into the room
         if (d < -params.seal_depth) break;
         behind = std::max(behind, -d);
@@ -168,22 +264,16 @@ void BridgeShadows(std::vector<Vec2>& poly, std::vector<PerimeterLine>& lines,
         faced = faced || (lines[b].fitted && (mid - p).dot(in) > tol);  // not a reveal's side
         b = (b + 1) % m, ++run;
       }
+      if (at_corner && m - run >= 3) {  // vertices a + 1 .. b - 1 go, b moves to the corner
+        splice(a, run, &corner);
+        continue;
+      }
       if (!found || depth <= 2 * tol || m - run - 1 < 3) continue;
       const Vec2 s0 = p + (poly[(a + 1) % m] - p).dot(t) * t, s1 = p + (poly[b] - p).dot(t) * t;
       if ((s1 - s0).dot(t) <= 0.0) continue;
       const bool clutter = !faced && depth > params.refit_band && depth <= params.shadow_depth;
       if (!clutter && (behind > tol || !WallSpans(s0, s1, band, params))) continue;
-      std::vector<Vec2> p2;
-      std::vector<PerimeterLine> l2;
-      for (std::size_t k = 0; k < m; ++k) {
-        const std::size_t off = (k + m - a) % m;  // 1 .. run + 1: vertices a + 1 .. b
-        if (off >= 1 && off <= run + 1) continue;
-        p2.push_back(poly[k]);
-        l2.push_back(lines[k]);
-      }
-      poly.swap(p2);
-      lines.swap(l2);
-      changed = true;
+      splice(a, run, nullptr);  // vertices a + 1 .. b go: edge a runs on along its line
     }
   }
 }

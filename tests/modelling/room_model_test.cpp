@@ -353,6 +353,57 @@ TEST(RoomModel, AFacelessShadowAgainstAWallIsBridged) {
   }
 }
 
+// Jasmin-Sun's basement (the imported KIT house): the stair down from the ground floor stands
+// in the corner of its hall, 1.4 m x 1.3 m, hides both walls there at every height from every
+// scan and shows no wall face (steps). The outline ran around it (5 false walls, d_h 1.4 m).
+// A faceless run between two fitted walls that turn left by corner_min_deg or more, in front of
+// both and at most shadow_depth from each, hides their corner: the walls meet there. With a
+// face (a cupboard, a room's re-entrant corner) or deeper than shadow_depth it stays, unless
+// both walls are seen going on behind it.
+TEST(RoomModel, AFacelessShadowInACornerIsBridgedToTheCorner) {
+  const RoomModelParams params;
+  // The room 6 m x 4 m; the stair's detour from (4.6, 0) on the south wall to (6, depth) on the
+  // east wall; with `face` its second edge is fitted.
+  auto room = [](double depth, bool face, std::vector<PerimeterLine>* lines) {
+    std::vector<Vec2> poly = {
+        {0, 0}, {4.6, 0}, {5.0, 0.45 * depth}, {5.4, 0.55 * depth}, {5.0, 0.8 * depth}, {6, depth},
+        {6, 4}, {0, 4}};
+    const std::vector<bool> fitted = {true, false, face, false, false, true, true, true};
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()], t = (b - a).normalized();
+      lines->push_back({0.5 * (a + b), t, fitted[i], t});
+    }
+    return poly;
+  };
+  std::vector<Vec2> behind;  // both walls seen going on behind the stair
+  for (double x = 4.6; x <= 6.0; x += 0.01) behind.emplace_back(x, 0.003);
+  for (double y = 0.0; y <= 2.5; y += 0.01) behind.emplace_back(5.997, y);
+  struct Case {
+    double depth;
+    bool face, wall_seen, bridged;
+    const char* what;
+  };
+  for (const Case& c : {Case{1.3, false, false, true, "faceless stair in the corner"},
+                        Case{1.3, true, false, false, "a face in front"},
+                        Case{1.3, true, true, true, "a face, both walls seen behind"},
+                        Case{2.5, false, false, false, "deeper than shadow_depth"},
+                        Case{2.5, false, true, true, "deeper, the walls seen behind"}}) {
+    std::vector<PerimeterLine> lines;
+    std::vector<Vec2> poly = room(c.depth, c.face, &lines);
+    const std::size_t n = poly.size();
+    BridgeShadows(poly, lines, c.wall_seen ? behind : std::vector<Vec2>{}, params);
+    ASSERT_EQ(poly.size(), lines.size()) << c.what;
+    if (c.bridged) {
+      const std::vector<Vec2> truth = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+      ASSERT_EQ(poly.size(), 4u) << c.what;
+      for (std::size_t i = 0; i < 4; ++i) EXPECT_LT((poly[i] - truth[i]).norm(), 1e-9) << c.what;
+      EXPECT_TRUE(lines[0].fitted && lines[1].fitted) << c.what;
+    } else {
+      EXPECT_EQ(poly.size(), n) << c.what;
+    }
+  }
+}
+
 TEST(RoomModel, PointsThroughTheDoorAreOutliersAndTheDeskIsClutter) {
   const SimScan s = TakeScan(Door().world, TestTls(), 2.0, 1.8, 0);
   RoomModel model;
