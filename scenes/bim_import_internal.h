@@ -65,6 +65,16 @@ std::string ReadText(const std::string& path);
 std::string ReadIfcStepText(const std::string& path);
 /// The #ids an attribute references, in order ("(#12,#15)" -> 12, 15).
 std::vector<unsigned long> StepRefs(const std::string& attr);
+/// An IfcOpeningElement's body: the corners (m, the file's world frame) of its extruded
+/// rectangles or closed polylines under their placements; a body of anything else is only its
+/// placement's origin (`complete` false).
+struct OpeningBody {
+  std::string filling;  // GlobalId of the door or window filling it (IfcRelFillsElement), or ""
+  std::vector<Vector3d> corners;
+  bool complete = true;
+};
+/// Every IfcOpeningElement whose placement can be read (bim_opening_bodies.cpp).
+std::vector<OpeningBody> OpeningBodies(const StepIndex& step, double scale);
 
 // --- node names: `<IfcClass>_<Name without spaces>_<GlobalId>` (bim_reading.cpp) ---
 
@@ -256,6 +266,9 @@ class Importer {
   void AddLeaf(const Opening& o, const Swing& sw, double lambda, const std::string& swing_room);
   // Holes through a wall between two rooms that no door or window fills: leafless doorways.
   void Doorways();
+  // A hole the reader cut larger than the IfcOpeningElement it belongs to: the wall restored
+  // around the opening's body, the holes shrunk to it (a repair).
+  void ReconcileHole(const Element& e, bool door, std::vector<Hole>* holes);
   // Wall inside an opening's rectangle (a round window, a sill): the opening's frame.
   void FillHole(const Opening& o, const Hole& h, bool door);
   // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.
@@ -280,6 +293,7 @@ class Importer {
   std::map<std::string, std::string> type_class_;  // GlobalId -> "ifcoutlet" (its type object)
   std::map<std::string, std::string> type_guid_;   // GlobalId -> its type object's GlobalId
   std::map<std::string, std::vector<std::string>> storey_spaces_;  // storey -> space GlobalIds
+  std::vector<OpeningBody> opening_bodies_;  // of the model's IfcOpeningElements
   // storey GlobalId -> (element GlobalId, ENTITY) of IfcRelContainedInSpatialStructure
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> storey_contained_;
   std::set<std::size_t> merged_parts_, storey_parts_;

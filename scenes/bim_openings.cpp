@@ -136,7 +136,7 @@ void Importer::Openings() {
     const Element& e = elements_[ei];
     if (!e.in_storey || (e.role != Role::kDoor && e.role != Role::kWindow)) continue;
     const bool door = e.role == Role::kDoor;
-    const std::vector<Hole> holes = HolesAround(e);
+    std::vector<Hole> holes = HolesAround(e);
     if (holes.empty()) {
       for (std::size_t pi : e.parts) AllToLeftover(ei, pi);
       out_.report.push_back(NiceName(e.node) +
@@ -144,6 +144,7 @@ void Importer::Openings() {
                             "around it; kept as other");
       continue;
     }
+    ReconcileHole(e, door, &holes);
     ReportHoleShape(e, holes[0]);
     Opening o;
     o.id = door ? "D" + std::to_string(++doors_) : "W" + std::to_string(++windows);
@@ -160,6 +161,157 @@ void Importer::Openings() {
     else
       AddWindow(e, f0, &o);
     FillHole(o, holes[0], door);
+  }
+}
+
+// IfcRelFillsElement says the door or window fills its IfcOpeningElement; the STEP text gives
+// that opening's body. A reader's boolean cut larger than the body by more than kCutTolerance
+// (assimp 5.2.5 cuts FZK-Haus AC14's EG-Fenster-6, a 1.2 m window on a 0.8 m sill, down to the
+// floor) leaves a hole the building does not have: the wall is restored around the body on
+// every face the hole was found in, with the opening's sill, head and jambs and, where no room
+// lies behind, the wall's outside; the holes shrink to the body. The body is trusted only where
+// it holds the element and the cut holds it (a frame mismatch would put it elsewhere).
+void Importer::ReconcileHole(const Element& e, bool door, std::vector<Hole>* holes) {
+  constexpr double kCutTolerance = 0.03;  // m: a cut this much larger is the reader's
+  constexpr double kHoldMargin = 0.05;    // m: the element lies within its opening's body
+  constexpr double kContainTolerance = 0.01;  // m: the body lies within the cut
+  constexpr double kUnknownReach = 1.0;  // m: an unread body this near may be in the cut
+  const std::string guid = NodeGuid(e.node);
+  std::size_t own = opening_bodies_.size();
+  for (std::size_t k = 0; k < opening_bodies_.size(); ++k)
+    if (!guid.empty() && opening_bodies_[k].filling == guid) {
+      if (own != opening_bodies_.size()) return;  // two openings filled by one element
+      own = k;
+    }
+  if (own == opening_bodies_.size() || !opening_bodies_[own].complete || holes->empty()) return;
+  std::vector<Vector3d> body = opening_bodies_[own].corners;
+  for (Vector3d& c : body) c.z() -= z0_;
+  const Face& f0 = faces_[(*holes)[0].face];
+  double ou0 = 1e300, ou1 = -1e300, ov0 = 1e300, ov1 = -1e300, ow0 = 1e300;
+  for (const Vector3d& c : body) {
+    ou0 = std::min(ou0, f0.U(c));
+    ou1 = std::max(ou1, f0.U(c));
+    ov0 = std::min(ov0, c.z());
+    ov1 = std::max(ov1, c.z());
+    ow0 = std::min(ow0, f0.W(c));
+  }
+  const Vector3d ec = e.box.center();
+  if (f0.U(ec) < ou0 - kHoldMargin || f0.U(ec) > ou1 + kHoldMargin || ec.z() < ov0 - kHoldMargin ||
+      ec.z() > ov1 + kHoldMargin)
+    return;
+  // An over-cut holds the body: a body out of the cut anywhere is a frame that disagrees
+  // (georeferenced files, which assimp computes partly in float), not a cut too large.
+  const Hole& h0 = (*holes)[0];
+  if (ou0 < h0.u0 - kContainTolerance || ou1 > h0.u1 + kContainTolerance ||
+      ov0 < h0.v0 - kContainTolerance || ov1 > h0.v1 + kContainTolerance)
+    return;
+  // A stretch of the cut beyond the body is wall unless another opening's body is there (a
+  // door beside a window in one hole, an unfilled opening under a window) or may be there (a
+  // body not read, placed nearby).
+  auto no_other_body = [&](double ua, double ub, double va, double vb) {
+    for (std::size_t k = 0; k < opening_bodies_.size(); ++k) {
+      if (k == own) continue;
+      const OpeningBody& other = opening_bodies_[k];
+      const double m = other.complete ? 0.0 : kUnknownReach;
+      double b0 = 1e300, b1 = -1e300, c0 = 1e300, c1 = -1e300, w0 = 1e300, w1 = -1e300;
+      for (const Vector3d& c : other.corners) {
+        b0 = std::min(b0, f0.U(c));
+        b1 = std::max(b1, f0.U(c));
+        c0 = std::min(c0, c.z() - z0_);
+        c1 = std::max(c1, c.z() - z0_);
+        w0 = std::min(w0, f0.W(c));
+        w1 = std::max(w1, f0.W(c));
+      }
+      if (w1 < ow0 - kHoldMargin - m || w0 > f0.w + kHoldMargin + m) continue;  // another wall
+      if (b0 - m < ub - 1e-3 && b1 + m > ua + 1e-3 && c0 - m < vb - 1e-3 && c1 + m > va + 1e-3)
+        return false;
+    }
+    return true;
+  };
+  const bool below = h0.v0 < ov0 - kCutTolerance && no_other_body(h0.u0, h0.u1, h0.v0, ov0);
+  const bool above = h0.v1 > ov1 + kCutTolerance && no_other_body(h0.u0, h0.u1, ov1, h0.v1);
+  const bool left = h0.u0 < ou0 - kCutTolerance && no_other_body(h0.u0, ou0, ov0, ov1);
+  const bool right = h0.u1 > ou1 + kCutTolerance && no_other_body(ou1, h0.u1, ov0, ov1);
+  if (!below && !above && !left && !right) return;
+  Repair(door ? "door hole" : "window hole", NiceName(e.node) + " in " + f0.id,
+         "cut u " + Fmt(h0.u0 - f0.umin, 2) + " to " + Fmt(h0.u1 - f0.umin, 2) + " m, z " +
+             Fmt(h0.v0, 2) + " to " + Fmt(h0.v1, 2) + " m, its IfcOpeningElement u " +
+             Fmt(ou0 - f0.umin, 2) + " to " + Fmt(ou1 - f0.umin, 2) + " m, z " + Fmt(ov0, 2) +
+             " to " + Fmt(ov1, 2) + " m",
+         "the wall restored around the opening", p_.repair, "--repair");
+  if (!p_.repair) return;
+  const Vector3d z = Vector3d::UnitZ();
+  for (std::size_t k = 0; k < holes->size(); ++k) {
+    Hole& h = (*holes)[k];
+    Face& f = faces_[h.face];
+    // This face's frame: the body's extent along it, the wall's depth behind it.
+    double a0 = 1e300, a1 = -1e300, wmin = 1e300;
+    for (const Vector3d& c : body) {
+      a0 = std::min(a0, f.U(c));
+      a1 = std::max(a1, f.U(c));
+      wmin = std::min(wmin, f.W(c));
+    }
+    double depth = std::clamp(f.w - wmin, 0.0, kOpeningReach);
+    bool room_behind = false;
+    for (const Hole& g : *holes) {
+      const Face& b = faces_[g.face];
+      if (&b == &f || b.n.dot(f.n) > -kFacingCos) continue;
+      const double d = f.w - f.W(b.a + b.w * b.n);
+      if (d > 0.0 && d <= kOpeningReach) {
+        depth = d;
+        room_behind = true;
+      }
+    }
+    const bool reversed = f.dir.dot(f0.dir) < 0.0;  // the wall's other side runs the other way
+    const bool lo = reversed ? right : left, hi = reversed ? left : right;
+    const double u0 = lo ? std::max(h.u0, a0) : h.u0, u1 = hi ? std::min(h.u1, a1) : h.u1;
+    const double v0 = below ? std::max(h.v0, ov0) : h.v0, v1 = above ? std::min(h.v1, ov1) : h.v1;
+    if (!(u1 > u0 && v1 > v0)) continue;
+    const Vector3d base(f.a.x(), f.a.y(), 0.0);
+    // A point of the face frame: along the face u, height v, behind the face by `back`.
+    auto P = [&](double u, double v, double back) {
+      return Vector3d(base + u * f.dir + (f.w - back) * f.n + v * z);
+    };
+    // A rectangle [ua, ub] x [va, vb] of the face (room side, facing the room: n = z x dir)
+    // and, behind it, the wall's outside (facing away); sill, head and jambs face the opening.
+    std::vector<Poly3> face_pieces, other_pieces;
+    auto rect = [&](double ua, double ub, double va, double vb) {
+      if (ub - ua < 1e-4 || vb - va < 1e-4) return;
+      face_pieces.push_back({P(ua, va, 0), P(ua, vb, 0), P(ub, vb, 0), P(ub, va, 0)});
+      if (!room_behind)
+        other_pieces.push_back(
+            {P(ua, va, depth), P(ub, va, depth), P(ub, vb, depth), P(ua, vb, depth)});
+    };
+    if (h.v0 < v0 - kCutTolerance) {
+      rect(h.u0, h.u1, h.v0, v0);  // under the opening, and its sill
+      other_pieces.push_back({P(u0, v0, 0), P(u0, v0, depth), P(u1, v0, depth), P(u1, v0, 0)});
+    }
+    if (h.v1 > v1 + kCutTolerance) {
+      rect(h.u0, h.u1, v1, h.v1);  // over it, and its head
+      other_pieces.push_back({P(u0, v1, 0), P(u1, v1, 0), P(u1, v1, depth), P(u0, v1, depth)});
+    }
+    if (h.u0 < u0 - kCutTolerance) {
+      rect(h.u0, u0, v0, v1);  // beside it, and its jambs
+      other_pieces.push_back({P(u0, v0, 0), P(u0, v1, 0), P(u0, v1, depth), P(u0, v0, depth)});
+    }
+    if (h.u1 > u1 + kCutTolerance) {
+      rect(u1, h.u1, v0, v1);
+      other_pieces.push_back({P(u1, v0, 0), P(u1, v0, depth), P(u1, v1, depth), P(u1, v1, 0)});
+    }
+    if (f.pieces.empty()) continue;
+    const std::size_t wall = f.pieces.front().first;
+    const int material = f.materials.front();
+    const std::string room = rooms_[f.room].room.id;
+    for (Poly3& piece : face_pieces) {
+      out_bucket_.Get(f.id, ElementClass::kWall, "", room, material).pieces.push_back(piece);
+      f.pieces.emplace_back(wall, std::move(piece));
+      f.materials.push_back(material);
+    }
+    for (Poly3& piece : other_pieces) Leftover(wall, material, std::move(piece));
+    h.u0 = u0;
+    h.u1 = u1;
+    h.v0 = v0;
+    h.v1 = v1;
   }
 }
 

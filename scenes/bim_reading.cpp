@@ -348,7 +348,9 @@ void Importer::ReadStepInfo(const std::string& path) {
       while (*c == ',' || *c == ' ') ++c;
     }
   }
-  far *= FullLengthScale(text, step, path);
+  const double scale = FullLengthScale(text, step, path);
+  far *= scale;
+  if (path == path_) opening_bodies_ = OpeningBodies(step, scale);
   if (far > kFarFromOrigin)
     out_.report.push_back(path + ": coordinates reach " + Fmt(far / 1000.0, 1) +
                           " km from the origin (georeferenced); assimp 5.2.5 computes IFC "

@@ -431,6 +431,104 @@ TEST_F(BimImportTest, DoorHingedOpenTo30DegreesHasItsLeafThere) {
       << far.transpose();
 }
 
+// An IfcOpeningElement's body as ArchiCAD writes it: a rectangle profile on its own 2D
+// position (x turned to -x), an extrusion position whose axes are turned (extruding along the
+// wall's y), under the wall's placement (turned 90 deg about z) under the storey's (z = 3 m).
+// Worked by hand: in the wall's frame x [6.5, 8.5], y [-0.3, 0], z [0.8, 2.0]; in the world x
+// [2.0, 2.3], y [7.5, 9.5], z [3.8, 5.0]. An opening whose body is a boolean result is only its
+// placement's origin; the filling is named by its GlobalId.
+TEST(OpeningBodies, ReadTheBodyThroughEveryPlacementAndProfilePosition) {
+  const std::string text = R"(ISO-10303-21;
+HEADER;
+FILE_SCHEMA(('IFC2X3'));
+ENDSEC;
+DATA;
+#1=IFCCARTESIANPOINT((0.,0.,0.));
+#2=IFCDIRECTION((0.,0.,1.));
+#3=IFCDIRECTION((1.,0.,0.));
+#4=IFCDIRECTION((0.,1.,0.));
+#5=IFCDIRECTION((-1.,0.,0.));
+#6=IFCDIRECTION((-1.,0.));
+#10=IFCCARTESIANPOINT((0.,0.,3.));
+#11=IFCAXIS2PLACEMENT3D(#10,$,$);
+#12=IFCLOCALPLACEMENT($,#11);
+#20=IFCCARTESIANPOINT((2.,1.,0.));
+#21=IFCAXIS2PLACEMENT3D(#20,#2,#4);
+#22=IFCLOCALPLACEMENT(#12,#21);
+#30=IFCCARTESIANPOINT((7.5,-0.3,0.8));
+#31=IFCAXIS2PLACEMENT3D(#30,#2,#3);
+#32=IFCLOCALPLACEMENT(#22,#31);
+#40=IFCCARTESIANPOINT((0.,0.6));
+#41=IFCAXIS2PLACEMENT2D(#40,#6);
+#42=IFCRECTANGLEPROFILEDEF(.AREA.,'',#41,2.,1.2);
+#43=IFCAXIS2PLACEMENT3D(#1,#4,#5);
+#44=IFCEXTRUDEDAREASOLID(#42,#43,#2,0.3);
+#45=IFCSHAPEREPRESENTATION($,'Body','SweptSolid',(#44));
+#46=IFCPRODUCTDEFINITIONSHAPE($,$,(#45));
+#47=IFCOPENINGELEMENT('0000000000000000000047',$,$,$,'Opening',#32,#46,$);
+#48=IFCWINDOW('0000000000000000000048',$,'W',$,$,#32,$,$,1.2,2.);
+#49=IFCRELFILLSELEMENT('0000000000000000000049',$,$,$,#47,#48);
+#50=IFCBOOLEANCLIPPINGRESULT(.DIFFERENCE.,#44,#44);
+#51=IFCSHAPEREPRESENTATION($,'Body','Clipping',(#50));
+#52=IFCPRODUCTDEFINITIONSHAPE($,$,(#51));
+#53=IFCOPENINGELEMENT('0000000000000000000053',$,$,$,'Opening',#22,#52,$);
+ENDSEC;
+END-ISO-10303-21;
+)";
+  const std::vector<bim::OpeningBody> bodies = bim::OpeningBodies(bim::IndexStep(text), 1.0);
+  ASSERT_EQ(bodies.size(), 2u);
+  const bim::OpeningBody& w = bodies[0];
+  EXPECT_EQ(w.filling, "0000000000000000000048");
+  EXPECT_TRUE(w.complete);
+  ASSERT_EQ(w.corners.size(), 8u);
+  Eigen::AlignedBox3d box;
+  for (const Vector3d& c : w.corners) box.extend(c);
+  EXPECT_LT((box.min() - Vector3d(2.0, 7.5, 3.8)).norm(), 1e-9) << box.min().transpose();
+  EXPECT_LT((box.max() - Vector3d(2.3, 9.5, 5.0)).norm(), 1e-9) << box.max().transpose();
+  const bim::OpeningBody& b = bodies[1];
+  EXPECT_EQ(b.filling, "");
+  EXPECT_FALSE(b.complete);
+  ASSERT_EQ(b.corners.size(), 1u);
+  EXPECT_LT((b.corners[0] - Vector3d(2.0, 1.0, 3.0)).norm(), 1e-9);
+  // Millimetre files: the scale applies to every corner.
+  const std::vector<bim::OpeningBody> mm = bim::OpeningBodies(bim::IndexStep(text), 0.001);
+  EXPECT_LT((mm[0].corners[0] - 0.001 * w.corners[0]).norm(), 1e-12);
+}
+
+// The fixture's own openings (polyline profiles, feet, the building turned 45 deg): each door
+// and window body holds the element filling it, in metres.
+TEST_F(BimImportTest, OpeningBodiesOfTheFixtureHoldTheirFillingsInMetres) {
+  FixtureOptions o;
+  o.feet = true;
+  o.angle_deg = 45.0;
+  const std::string path = Fixture(o);
+  const std::string text = bim::ReadText(path);
+  const bim::StepIndex step = bim::IndexStep(text);
+  const auto bodies = bim::OpeningBodies(step, bim::FullLengthScale(text, step, path));
+  ASSERT_EQ(bodies.size(), 2u);
+  const double a = DegToRad(45.0);
+  // The door's: x [1, 1.9], y [-0.3, 0.1], z [0, 2]; the window's: x [3.9, 4.3], y [1, 2],
+  // z [0.9, 2.1] (before the turn).
+  const std::vector<std::pair<Vector2d, Vector2d>> plan{{{1.0, -0.3}, {1.9, 0.1}},
+                                                        {{3.9, 1.0}, {4.3, 2.0}}};
+  const std::vector<std::pair<double, double>> heights{{0.0, 2.0}, {0.9, 2.1}};
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_FALSE(bodies[k].filling.empty());
+    ASSERT_EQ(bodies[k].corners.size(), 10u);  // a closed polyline of 5 points, twice
+    for (const Vector3d& c : bodies[k].corners) {
+      const Vector2d back(std::cos(-a) * c.x() - std::sin(-a) * c.y(),
+                          std::sin(-a) * c.x() + std::cos(-a) * c.y());
+      EXPECT_GT(back.x(), plan[k].first.x() - 1e-6);
+      EXPECT_LT(back.x(), plan[k].second.x() + 1e-6);
+      EXPECT_GT(back.y(), plan[k].first.y() - 1e-6);
+      EXPECT_LT(back.y(), plan[k].second.y() + 1e-6);
+      EXPECT_TRUE(std::abs(c.z() - heights[k].first) < 1e-6 ||
+                  std::abs(c.z() - heights[k].second) < 1e-6)
+          << c.z();
+    }
+  }
+}
+
 TEST_F(BimImportTest, SpaceWithoutRepresentationIsReportedInOneLine) {
   FixtureOptions o;
   o.extra_space_without_representation = true;
