@@ -269,6 +269,11 @@ class Importer {
   // A hole the reader cut larger than the IfcOpeningElement it belongs to: the wall restored
   // around the opening's body, the holes shrunk to it (a repair).
   void ReconcileHole(const Element& e, bool door, std::vector<Hole>* holes);
+  struct Sides {
+    bool left, right, below, above;  // along the first hole's face: u down, u up, z down, z up
+  };
+  void RestoreAroundBody(const std::vector<Vector3d>& body, const Sides& sides,
+                         std::vector<Hole>* holes);
   // Wall inside an opening's rectangle (a round window, a sill): the opening's frame.
   void FillHole(const Opening& o, const Hole& h, bool door);
   // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.

@@ -164,6 +164,10 @@ void Importer::Openings() {
   }
 }
 
+namespace {
+constexpr double kCutTolerance = 0.03;  // m: a cut this much larger than its body is the reader's
+}  // namespace
+
 // IfcRelFillsElement says the door or window fills its IfcOpeningElement; the STEP text gives
 // that opening's body. A reader's boolean cut larger than the body by more than kCutTolerance
 // (assimp 5.2.5 cuts FZK-Haus AC14's EG-Fenster-6, a 1.2 m window on a 0.8 m sill, down to the
@@ -172,10 +176,9 @@ void Importer::Openings() {
 // lies behind, the wall's outside; the holes shrink to the body. The body is trusted only where
 // it holds the element and the cut holds it (a frame mismatch would put it elsewhere).
 void Importer::ReconcileHole(const Element& e, bool door, std::vector<Hole>* holes) {
-  constexpr double kCutTolerance = 0.03;  // m: a cut this much larger is the reader's
-  constexpr double kHoldMargin = 0.05;    // m: the element lies within its opening's body
+  constexpr double kHoldMargin = 0.05;        // m: the element lies within its opening's body
   constexpr double kContainTolerance = 0.01;  // m: the body lies within the cut
-  constexpr double kUnknownReach = 1.0;  // m: an unread body this near may be in the cut
+  constexpr double kUnknownReach = 1.0;       // m: an unread body this near may be in the cut
   const std::string guid = NodeGuid(e.node);
   std::size_t own = opening_bodies_.size();
   for (std::size_t k = 0; k < opening_bodies_.size(); ++k)
@@ -239,7 +242,20 @@ void Importer::ReconcileHole(const Element& e, bool door, std::vector<Hole>* hol
              Fmt(ou0 - f0.umin, 2) + " to " + Fmt(ou1 - f0.umin, 2) + " m, z " + Fmt(ov0, 2) +
              " to " + Fmt(ov1, 2) + " m",
          "the wall restored around the opening", p_.repair, "--repair");
-  if (!p_.repair) return;
+  if (p_.repair) RestoreAroundBody(body, {left, right, below, above}, holes);
+}
+
+// ReconcileHole's repair: on every face the hole was found in, the wall where the cut exceeds
+// the body on the given sides of the first face, and the hole shrunk to the body.
+void Importer::RestoreAroundBody(const std::vector<Vector3d>& body, const Sides& sides,
+                                 std::vector<Hole>* holes) {
+  const Face& f0 = faces_[(*holes)[0].face];
+  const bool left = sides.left, right = sides.right, below = sides.below, above = sides.above;
+  double ov0 = 1e300, ov1 = -1e300;
+  for (const Vector3d& c : body) {
+    ov0 = std::min(ov0, c.z());
+    ov1 = std::max(ov1, c.z());
+  }
   const Vector3d z = Vector3d::UnitZ();
   for (std::size_t k = 0; k < holes->size(); ++k) {
     Hole& h = (*holes)[k];
@@ -557,8 +573,8 @@ void Importer::Doorways() {
       if (taken) continue;
       const double um = 0.5 * (g0 + g1);
       double v0 = 0.0, v1 = 0.0;
-      if (!GapAround(Coverage(f, true, um), v, f.vmin, f.vmax, &v0, &v1) ||
-          v0 > f.z0 + 0.05 || v1 - v0 < kDoorwayHeight)
+      if (!GapAround(Coverage(f, true, um), v, f.vmin, f.vmax, &v0, &v1) || v0 > f.z0 + 0.05 ||
+          v1 - v0 < kDoorwayHeight)
         continue;
       // The other room's face behind it, with a gap there too.
       const Vector3d mid = f.a + um * f.dir + Vector3d(0, 0, v - f.a.z());
@@ -581,9 +597,8 @@ void Importer::Doorways() {
       g0 = std::max(g0, std::min(fa, fb));
       g1 = std::min(g1, std::max(fa, fb));
       double gv0 = 0.0, gv1 = 0.0;
-      if (g1 - g0 < kMinWidth ||
-          !GapAround(Coverage(g, true, g.U(f.a + 0.5 * (g0 + g1) * f.dir)), v, g.vmin, g.vmax,
-                     &gv0, &gv1))
+      if (g1 - g0 < kMinWidth || !GapAround(Coverage(g, true, g.U(f.a + 0.5 * (g0 + g1) * f.dir)),
+                                            v, g.vmin, g.vmax, &gv0, &gv1))
         continue;
       v1 = std::min(v1, gv1);
       Opening o;
