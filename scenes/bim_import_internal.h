@@ -274,6 +274,8 @@ class Importer {
   };
   void RestoreAroundBody(const std::vector<Vector3d>& body, const Sides& sides,
                          std::vector<Hole>* holes);
+  // Area of e's own triangles in the plane of the convex polygon `piece` and inside it, m^2.
+  double OwnCover(const Element& e, const Poly3& piece) const;
   // Wall inside an opening's rectangle (a round window, a sill): the opening's frame.
   void FillHole(const Opening& o, const Hole& h, bool door);
   // Rooms sharing a boundary stretch without a wall (open-plan spaces): open passages.

@@ -268,6 +268,20 @@ void Importer::RestoreAroundBody(const std::vector<Vector3d>& body, const Sides&
       wmin = std::min(wmin, f.W(c));
     }
     double depth = std::clamp(f.w - wmin, 0.0, kOpeningReach);
+    // The wall's own far face, where its mesh has one about the cut (the cut's corners lie on
+    // both faces): an opening's body may be drawn deeper than its wall.
+    if (!f.pieces.empty()) {
+      double far = 1e300;
+      for (std::size_t pi : elements_[f.pieces.front().first].parts)
+        for (const auto& v : scene_.parts[pi].positions) {
+          const Vector3d q = v.cast<double>();
+          const double u = f.U(q), w = f.W(q);
+          if (u >= h.u0 - 0.01 && u <= h.u1 + 0.01 && q.z() >= h.v0 - 0.01 &&
+              q.z() <= h.v1 + 0.01 && w < f.w - 0.01 && w >= f.w - kOpeningReach)
+            far = std::min(far, w);
+        }
+      if (far < 1e299) depth = f.w - far;
+    }
     bool room_behind = false;
     for (const Hole& g : *holes) {
       const Face& b = faces_[g.face];
@@ -323,12 +337,47 @@ void Importer::RestoreAroundBody(const std::vector<Vector3d>& body, const Sides&
       f.pieces.emplace_back(wall, std::move(piece));
       f.materials.push_back(material);
     }
-    for (Poly3& piece : other_pieces) Leftover(wall, material, std::move(piece));
+    // A reveal or outside the reader did make (assimp cuts the sill right, and the faces wrong)
+    // is not made twice: a piece half covered by the wall's own coplanar triangles is left out.
+    for (Poly3& piece : other_pieces)
+      if (OwnCover(elements_[wall], piece) < 0.5 * Area(piece))
+        Leftover(wall, material, std::move(piece));
     h.u0 = u0;
     h.u1 = u1;
     h.v0 = v0;
     h.v1 = v1;
   }
+}
+
+// The area of e's own triangles lying in the plane of the convex polygon `piece` (within
+// 1 mm) and inside it: how much of it the element's mesh already has.
+double Importer::OwnCover(const Element& e, const Poly3& piece) const {
+  constexpr double kOnPlane = 1e-3;  // m
+  const Vector3d n = NormalOf(piece);
+  if (n.isZero()) return 0.0;
+  const double d = n.dot(piece[0]);
+  double covered = 0.0;
+  for (std::size_t pi : e.parts) {
+    const MeshPart& part = scene_.parts[pi];
+    for (const auto& t : part.triangles) {
+      const Vector3d a = part.positions[t[0]].cast<double>(),
+                     b = part.positions[t[1]].cast<double>(),
+                     c = part.positions[t[2]].cast<double>();
+      if (std::abs(n.dot(a) - d) > kOnPlane || std::abs(n.dot(b) - d) > kOnPlane ||
+          std::abs(n.dot(c) - d) > kOnPlane)
+        continue;
+      Poly3 tri{a, b, c};
+      // Clipped by each side of the piece (its edges' inward half-spaces).
+      for (std::size_t k = 0; k < piece.size() && !tri.empty(); ++k) {
+        const Vector3d& p = piece[k];
+        const Vector3d& q = piece[(k + 1) % piece.size()];
+        const Vector3d in = n.cross(q - p).normalized();
+        tri = Clip(tri, -in, -in.dot(p));
+      }
+      covered += Area(tri);
+    }
+  }
+  return covered;
 }
 
 // An element that fills only part of its hole leaves the rest open (a window in an opening cut

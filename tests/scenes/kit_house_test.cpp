@@ -246,6 +246,46 @@ TEST_F(KitHouse, GroundFloorImportHoldsTheCountsOfTheStepText) {
       EXPECT_NEAR(o.v1 - o.v0, 1.2, 0.01) << o.id;
       EXPECT_GE(o.sill_height, 0.79) << o.id;
     }
+  // The restored wall under it (the west wall, x 0 to 0.3 m; the window y 6.495 to 8.495 m,
+  // z 0.8 to 2.0 m): its room face at x = 0.3 (class wall, 2.0 x 0.8 m), where assimp's face
+  // had the hole. assimp did make the outside at x = 0 and the sill at z = 0.8 (class other):
+  // they are there once (2.0 x 0.8 m, 2.0 x 0.3 m), not twice. Areas of the triangles lying in
+  // the plane `axis` = `at`, clipped to the stretch.
+  auto area_in = [&](ElementClass cls, int axis, double at, double z0, double z1) {
+    double a = 0.0;
+    const double lo[3] = {0.0, 6.495, z0}, hi[3] = {0.3, 8.495, z1};
+    for (const MeshPart& part : imp.scene.parts) {
+      if (part.element_class != cls) continue;
+      for (const auto& t : part.triangles) {
+        std::vector<Eigen::Vector3d> poly;
+        for (int k = 0; k < 3; ++k) poly.push_back(part.positions[t[k]].cast<double>());
+        bool on = true;
+        for (const auto& v : poly) on = on && std::abs(v[axis] - at) < 1e-3;
+        if (!on) continue;
+        for (int ax = 0; ax < 3; ++ax)
+          for (const double sign : {-1.0, 1.0}) {  // keep sign * (x - bound) <= 0
+            if (ax == axis) continue;
+            const double bound = sign < 0 ? lo[ax] : hi[ax];
+            std::vector<Eigen::Vector3d> out;
+            for (std::size_t i = 0; i < poly.size(); ++i) {
+              const auto& p = poly[i];
+              const auto& q = poly[(i + 1) % poly.size()];
+              const double dp = sign * (p[ax] - bound), dq = sign * (q[ax] - bound);
+              if (dp <= 1e-9) out.push_back(p);
+              if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0))
+                out.push_back(p + dp / (dp - dq) * (q - p));
+            }
+            poly = out;
+          }
+        for (std::size_t i = 1; i + 1 < poly.size(); ++i)
+          a += 0.5 * (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).norm();
+      }
+    }
+    return a;
+  };
+  EXPECT_NEAR(area_in(ElementClass::kWall, 0, 0.3, 0.0, 0.8), 1.6, 0.01);
+  EXPECT_NEAR(area_in(ElementClass::kOther, 0, 0.0, 0.0, 0.8), 1.6, 0.01);
+  EXPECT_NEAR(area_in(ElementClass::kOther, 2, 0.8, 0.8, 0.8), 0.6, 0.01);
   const CheckReport rep = CheckScene(imp.scene, imp.truth);
   EXPECT_TRUE(rep.ok()) << rep.Summary();
 }
