@@ -303,7 +303,9 @@ void Importer::RestoreAroundBody(const std::vector<Vector3d>& body, const Sides&
       return Vector3d(base + u * f.dir + (f.w - back) * f.n + v * z);
     };
     // A rectangle [ua, ub] x [va, vb] of the face (room side, facing the room: n = z x dir)
-    // and, behind it, the wall's outside (facing away); sill, head and jambs face the opening.
+    // and, behind it, the wall's outside (facing away); sill, head and jambs face the opening,
+    // across the wall's whole depth: made from the first face only (a wall between two rooms
+    // has the hole on both faces).
     std::vector<Poly3> face_pieces, other_pieces;
     auto rect = [&](double ua, double ub, double va, double vb) {
       if (ub - ua < 1e-4 || vb - va < 1e-4) return;
@@ -314,19 +316,23 @@ void Importer::RestoreAroundBody(const std::vector<Vector3d>& body, const Sides&
     };
     if (h.v0 < v0 - kCutTolerance) {
       rect(h.u0, h.u1, h.v0, v0);  // under the opening, and its sill
-      other_pieces.push_back({P(u0, v0, 0), P(u0, v0, depth), P(u1, v0, depth), P(u1, v0, 0)});
+      if (k == 0)
+        other_pieces.push_back({P(u0, v0, 0), P(u0, v0, depth), P(u1, v0, depth), P(u1, v0, 0)});
     }
     if (h.v1 > v1 + kCutTolerance) {
       rect(h.u0, h.u1, v1, h.v1);  // over it, and its head
-      other_pieces.push_back({P(u0, v1, 0), P(u1, v1, 0), P(u1, v1, depth), P(u0, v1, depth)});
+      if (k == 0)
+        other_pieces.push_back({P(u0, v1, 0), P(u1, v1, 0), P(u1, v1, depth), P(u0, v1, depth)});
     }
     if (h.u0 < u0 - kCutTolerance) {
       rect(h.u0, u0, v0, v1);  // beside it, and its jambs
-      other_pieces.push_back({P(u0, v0, 0), P(u0, v1, 0), P(u0, v1, depth), P(u0, v0, depth)});
+      if (k == 0)
+        other_pieces.push_back({P(u0, v0, 0), P(u0, v1, 0), P(u0, v1, depth), P(u0, v0, depth)});
     }
     if (h.u1 > u1 + kCutTolerance) {
       rect(u1, h.u1, v0, v1);
-      other_pieces.push_back({P(u1, v0, 0), P(u1, v0, depth), P(u1, v1, depth), P(u1, v1, 0)});
+      if (k == 0)
+        other_pieces.push_back({P(u1, v0, 0), P(u1, v0, depth), P(u1, v1, depth), P(u1, v1, 0)});
     }
     if (f.pieces.empty()) continue;
     const std::size_t wall = f.pieces.front().first;
