@@ -197,19 +197,19 @@ class BodyReader {
 }  // namespace
 
 std::vector<OpeningBody> OpeningBodies(const StepIndex& step, double scale) {
-  std::map<unsigned long, std::string> guid_of, filling_of;
-  for (const auto& [id, body] : step.bodies) {
-    const std::vector<std::string> a = Attributes(body);
-    if (!a.empty() && StepString(a[0]).size() == kGuidLength) guid_of[id] = StepString(a[0]);
-  }
+  std::map<unsigned long, std::string> filling_of;  // opening #id -> the filling's GlobalId
   for (const auto& [id, body] : step.bodies) {
     if (EntityOf(body) != "IFCRELFILLSELEMENT") continue;
     // (GlobalId, OwnerHistory, Name, Description, RelatingOpeningElement, RelatedBuildingElement)
     const std::vector<std::string> a = Attributes(body);
     if (a.size() < 6) continue;
     const std::vector<unsigned long> opening = StepRefs(a[4]), filling = StepRefs(a[5]);
-    if (opening.size() == 1 && filling.size() == 1 && guid_of.count(filling[0]))
-      filling_of[opening[0]] = guid_of[filling[0]];
+    if (opening.size() != 1 || filling.size() != 1) continue;
+    const auto it = step.bodies.find(filling[0]);
+    if (it == step.bodies.end()) continue;
+    const std::vector<std::string> fa = Attributes(it->second);
+    if (!fa.empty() && StepString(fa[0]).size() == kGuidLength)
+      filling_of[opening[0]] = StepString(fa[0]);
   }
   const BodyReader reader(step);
   std::vector<OpeningBody> out;
