@@ -34,6 +34,12 @@ bool InRoom(const scenes::StructuralElement& e, const std::string& room) {
   return std::find(e.rooms.begin(), e.rooms.end(), room) != e.rooms.end();
 }
 
+// A ceiling tilted from level by more than 8 deg (a roof's underside): its normal is its own.
+bool IsSloped(const scenes::StructuralElement& e) {
+  const double down = -e.normal.normalized().z();
+  return e.element_class == ElementClass::kCeiling && down > 0.0 && down <= 0.99;
+}
+
 // A wall's opening rectangle in its own (u, v) coordinates.
 struct Rect {
   std::string id;
@@ -81,7 +87,12 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
         s.patch.id = e.id;
         s.patch.cls = SurfaceClass::kWall;
         s.patch.normal = e.normal.normalized();
-        s.patch.polygon = WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height, s.v_axis);
+        // A face under a sloped ceiling (a gable, scenes/bim_sloped_ceilings.cpp) is its own
+        // polygon; every other wall its rectangle.
+        s.patch.polygon =
+            e.polygons.size() == 1 && e.polygons[0].size() != 4
+                ? e.polygons[0]
+                : WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height, s.v_axis);
         OrientTo(s.patch.polygon, s.patch.normal);
         for (const auto& o : truth.openings) {
           if (std::find(o.host_walls.begin(), o.host_walls.end(), e.id) == o.host_walls.end())
@@ -103,9 +114,11 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
       case ElementClass::kFloor:
       case ElementClass::kCeiling: {
         const bool floor = e.element_class == ElementClass::kFloor;
-        // Level (+-z); an as-built slab (scenes/as_built.h) has its own fitted normal.
+        // Level (+-z); an as-built slab (scenes/as_built.h) has its own fitted normal, and so
+        // has a sloped ceiling (a roof over an attic, tilted more than 8 deg).
         const Vec3 level = floor ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ());
-        const Vec3 n = truth.as_built.Enabled() && e.normal.dot(level) > 0.99
+        const double along = e.normal.normalized().dot(level);
+        const Vec3 n = (truth.as_built.Enabled() && along > 0.99) || IsSloped(e)
                            ? Vec3(e.normal.normalized())
                            : level;
         std::vector<std::vector<Vec3>> polys = e.polygons;
@@ -273,12 +286,12 @@ std::vector<scenes::StructuralElement> MapElements(const scenes::GroundTruth& tr
       }
     }
     MapRooms(out.room_of, e.rooms);
-    if (join_faces && flat && e.rooms.size() == 1 && out.members.count(e.rooms[0]) &&
-        !e.polygons.empty()) {
+    if (join_faces && flat && !IsSloped(e) && e.rooms.size() == 1 &&
+        out.members.count(e.rooms[0]) && !e.polygons.empty()) {
       const double z = e.polygons[0][0].z();
       auto same = std::find_if(elements.begin(), elements.end(), [&](const auto& x) {
-        return x.element_class == e.element_class && x.rooms == e.rooms && !x.polygons.empty() &&
-               std::abs(x.polygons[0][0].z() - z) <= 1e-3;
+        return x.element_class == e.element_class && !IsSloped(x) && x.rooms == e.rooms &&
+               !x.polygons.empty() && std::abs(x.polygons[0][0].z() - z) <= 1e-3;
       });
       if (same != elements.end()) {
         same->polygons.insert(same->polygons.end(), e.polygons.begin(), e.polygons.end());
@@ -312,6 +325,11 @@ void UnitePieces(std::vector<scenes::StructuralElement>& elements, const OpenPla
   }
 }
 
+// A wall face that is its rectangle (not one under a sloped ceiling).
+bool Rectangular(const scenes::StructuralElement& w) {
+  return w.polygons.size() != 1 || w.polygons[0].size() == 4;
+}
+
 // Where the walls a join removed went: the wall each joined, and its origin's u along it.
 struct JoinedWalls {
   std::map<std::string, std::string> wall_of;  // merged-away wall id -> the wall it joined
@@ -328,12 +346,12 @@ JoinedWalls JoinContinuingWalls(std::vector<scenes::StructuralElement>& elements
     joined = false;
     for (auto& w : elements) {
       if (w.element_class != ElementClass::kWall || w.rooms.size() != 1 ||
-          !out.members.count(w.rooms[0]) || w.length <= 0.0)
+          !out.members.count(w.rooms[0]) || w.length <= 0.0 || !Rectangular(w))
         continue;
       const Vec3 u = w.u_axis.normalized(), end = w.origin + w.length * u;
       auto next = std::find_if(elements.begin(), elements.end(), [&](const auto& x) {
-        return &x != &w && x.element_class == ElementClass::kWall && x.rooms == w.rooms &&
-               x.u_axis.normalized().dot(u) > std::cos(DegToRad(0.5)) &&
+        return &x != &w && x.element_class == ElementClass::kWall && Rectangular(x) &&
+               x.rooms == w.rooms && x.u_axis.normalized().dot(u) > std::cos(DegToRad(0.5)) &&
                x.normal.normalized().dot(w.normal.normalized()) > std::cos(DegToRad(0.5)) &&
                (x.origin - end).norm() <= 1e-3 && std::abs(x.height - w.height) <= 1e-3;
       });
@@ -614,13 +632,26 @@ void MarkSeenStructure(const sim::EmbreeWorld& world, const std::vector<Vec3>& s
 }
 
 // Flags the voxels whose centre lies in the room prism (plan polygon, floor_z..ceiling_z).
-void MarkInside(const scenes::Room& room, const VoxelGrid& grid,
-                const std::vector<std::array<int, 3>>& voxels, const Pose3& X_WM,
-                VoxelFlags& flags) {
+void MarkInside(const scenes::Room& room, const std::vector<TruthSurface>& surfaces,
+                const VoxelGrid& grid, const std::vector<std::array<int, 3>>& voxels,
+                const Pose3& X_WM, VoxelFlags& flags) {
+  // Sloped ceilings (normal facing down into the room), in plan: above one is outside.
+  std::vector<std::pair<const Patch*, std::vector<Vec2>>> slopes;
+  for (const auto& s : surfaces)
+    if (s.patch.cls == SurfaceClass::kCeiling && s.patch.normal.z() > -0.99 &&
+        s.patch.normal.z() < 0.0 && !s.patch.polygon.empty()) {
+      std::vector<Vec2> plan;
+      for (const auto& v : s.patch.polygon) plan.emplace_back(v.x(), v.y());
+      slopes.emplace_back(&s.patch, std::move(plan));
+    }
   for (std::size_t i = 0; i < voxels.size(); ++i) {
     const Vec3 c = X_WM * grid.Centre(voxels[i]);
-    flags.inside[i] = c.z() >= room.floor_z && c.z() <= room.ceiling_z &&
-                      PointInPolygon(Vec2(c.x(), c.y()), room.polygon);
+    bool inside = c.z() >= room.floor_z && c.z() <= room.ceiling_z &&
+                  PointInPolygon(Vec2(c.x(), c.y()), room.polygon);
+    for (const auto& [patch, plan] : slopes)
+      if (inside && PointInPolygon(Vec2(c.x(), c.y()), plan))
+        inside = patch->normal.dot(c - patch->polygon[0]) >= 0.0;
+    flags.inside[i] = inside;
   }
 }
 
@@ -721,7 +752,7 @@ std::vector<std::uint8_t> TruthDsm3(const sim::EmbreeWorld& world, const scenes:
   VoxelFlags flags(voxels.size());
   const std::vector<SurfaceSample> samples = SampleSurfaces(surfaces, index, X_MW, s, h, flags);
   MarkSeenStructure(world, scanners_W, samples, params, flags);
-  MarkInside(room, grid, voxels, X_WM, flags);
+  MarkInside(room, surfaces, grid, voxels, X_WM, flags);
   MarkClutter(world, room, index, X_MW, s, h, flags);
   MarkSeenEmpty(world, scanners_W, grid, voxels, index, X_WM, params, flags);
   return Labels(voxels, index, flags);

@@ -177,7 +177,8 @@ bool Importer::HostComponent(std::size_t ei, std::map<std::string, int>* counts)
       inside = inside && PointInPolygon(p.head<2>(), rooms_[r].poly);
     }
     const double d = rooms_[r].room.ceiling_z - top;
-    if (inside && std::abs(d) <= p_.component_snap && std::abs(d) < best) {
+    if (inside && std::abs(d) <= p_.component_snap && std::abs(d) < best && r < ceilings_.size() &&
+        !ceilings_[r].polygons.empty()) {
       best = std::abs(d);
       host = &ceilings_[r];
       gap = d;

@@ -90,6 +90,7 @@ BimImport Importer::Run() {
   DistributeStructure();
   FinishFaces();
   FloorsAndCeilings();
+  SlopedCeilings();
   Columns();
   Openings();
   Doorways();
@@ -136,7 +137,9 @@ void Importer::Finish() {
   for (const RoomData& r : rooms_) out_.truth.rooms.push_back(r.room);
   for (const auto& w : walls_) out_.truth.elements.push_back(w);
   for (const auto& f : floors_) out_.truth.elements.push_back(f);
-  for (const auto& c : ceilings_) out_.truth.elements.push_back(c);
+  for (const auto& c : ceilings_)
+    if (!c.polygons.empty()) out_.truth.elements.push_back(c);
+  for (const auto& c : sloped_ceilings_) out_.truth.elements.push_back(c);
   for (const auto& c : columns_) out_.truth.elements.push_back(c);
   std::set<std::string> emitted;
   for (const Bucket& b : out_bucket_.buckets()) {

@@ -31,6 +31,7 @@ constexpr double kFacingCos = 0.999;        // a face is parallel to a room plan
 constexpr double kOpeningReach = 0.8;       // m: an opening's centre lies this deep behind a face
 constexpr double kFarFromOrigin = 1e4;      // m: beyond this, float loses the millimetre
 constexpr double kFullCover = 0.995;        // share of a room a floor/ceiling must cover
+constexpr double kSlopedCeilingCos = 0.5;   // a face facing down within 60 deg of level: ceiling
 constexpr double kPassageTolerance = 0.01;  // m: two rooms' edges on one line
 constexpr std::size_t kGuidLength = 22;     // IFC GlobalId, base64 of 128 bits
 
@@ -163,6 +164,17 @@ struct RoomData {
   std::vector<Eigen::Vector3i> ears;
 };
 
+/// One plane of a room's sloped ceiling (a roof's underside over an attic), from the slab faces
+/// on it: inside the room n . x = c, n unit and facing down into the room.
+struct CeilingPlane {
+  Vector3d n;
+  double c = 0.0;
+  std::string id;              // truth element id, "ceiling_<room>_<k>"
+  std::vector<Vector2d> plan;  // the plan vertices of its pieces
+  double plan_area = 0.0;      // m^2, of its pieces seen from below
+  double ZAt(const Vector2d& p) const { return (c - n.x() * p.x() - n.y() * p.y()) / n.z(); }
+};
+
 struct Face {
   int room = -1;
   int edge = -1;
@@ -246,6 +258,15 @@ class Importer {
   void FloorsAndCeilings();
   int RepairMaterial(bool floor);
   int RoomAt(const Vector3d& p) const;
+
+  // --- sloped ceilings, roofs over attics (bim_sloped_ceilings.cpp) ---
+  // The parts of a slab's down-facing tilted `pieces` under a room's top: that room's ceiling
+  // on their plane (bucketed, counted in ceiling_area_ seen from below). Returns the rest.
+  std::vector<Poly3> SlopedCeilingPieces(int material, const Vector3d& n,
+                                         std::vector<Poly3> pieces);
+  // Each ceiling plane of a room with a sloped one, cut to where it is the lowest; the room's
+  // wall faces topped by them.
+  void SlopedCeilings();
   void Columns();
   void AllToLeftover(std::size_t ei, std::size_t pi);
 
@@ -315,6 +336,8 @@ class Importer {
   std::map<std::size_t, double> floor_area_, ceiling_area_;
   std::map<int, int> columns_in_;
   std::vector<StructuralElement> walls_, floors_, ceilings_, columns_;
+  std::map<std::size_t, std::vector<CeilingPlane>> slopes_;  // room -> its sloped ceiling planes
+  std::vector<StructuralElement> sloped_ceilings_;
   std::set<std::string> other_ids_;
   mutable std::set<std::string> used_door_keys_;
   std::vector<std::pair<std::string, std::string>> needed_;  // (repair line, option)

@@ -177,6 +177,8 @@ void Importer::DistributeStructure() {
             rest = std::move(next);
             if (rest.empty()) break;
           }
+        } else if (e.role == Role::kSlab && n.z() <= -kSlopedCeilingCos && n.z() > -kFacingCos) {
+          rest = SlopedCeilingPieces(part.material, n, std::move(rest));
         } else if (e.role == Role::kSlab) {
           for (std::size_t r = 0; r < rooms_.size() && !rest.empty(); ++r) {
             const RoomData& room = rooms_[r];

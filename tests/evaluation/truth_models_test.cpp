@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/polygon.h"
 #include "evaluation/metrics_isprs.h"
 #include "evaluation/metrics_patches.h"
 #include "evaluation/metrics_voxels.h"
@@ -494,6 +495,107 @@ TEST(TruthDsm3, LargestOfficeRoomAtFiveCentimetres) {
   EXPECT_GT(n[int(VoxelLabel::kStructure)], 5 * n[int(VoxelLabel::kOccludedStructure)]);
   EXPECT_GT(n[int(VoxelLabel::kEmpty)], n[int(VoxelLabel::kClutter)]);
   EXPECT_GT(n[int(VoxelLabel::kOpening)], 0);
+}
+
+// An attic, as the BIM import writes one (scenes/bim_sloped_ceilings.cpp): a 4 x 3 m room under
+// a gable roof, ridge along x at y = 1.5 m, 2.5 m up; knee walls 1 m; the roof planes at 45 deg.
+scenes::GroundTruth AtticTruth() {
+  scenes::GroundTruth t;
+  t.scene_name = "attic";
+  t.rooms.push_back({"R1", "", {{0, 0}, {4, 0}, {4, 3}, {0, 3}}, 0.0, 2.5});
+  auto wall = [&](const std::string& id, Vec3 o, Vec3 u, double length, Vec3 n,
+                  std::vector<Vec3> poly) {
+    scenes::StructuralElement e = Wall(id, o, u, length, n);
+    e.height = 2.5;
+    e.polygons = {std::move(poly)};
+    t.elements.push_back(e);
+  };
+  wall("knee_s", {0, 0, 0}, Vec3::UnitX(), 4.0, Vec3::UnitY(),
+       {{0, 0, 0}, {0, 0, 1}, {4, 0, 1}, {4, 0, 0}});
+  wall("gable_e", {4, 0, 0}, Vec3::UnitY(), 3.0, -Vec3::UnitX(),
+       {{4, 0, 0}, {4, 0, 1}, {4, 1.5, 2.5}, {4, 3, 1}, {4, 3, 0}});
+  wall("knee_n", {4, 3, 0}, -Vec3::UnitX(), 4.0, -Vec3::UnitY(),
+       {{4, 3, 0}, {4, 3, 1}, {0, 3, 1}, {0, 3, 0}});
+  wall("gable_w", {0, 3, 0}, -Vec3::UnitY(), 3.0, Vec3::UnitX(),
+       {{0, 3, 0}, {0, 3, 1}, {0, 1.5, 2.5}, {0, 0, 1}, {0, 0, 0}});
+  for (auto& e : t.elements) e.height = e.id.rfind("gable", 0) == 0 ? 2.5 : 1.0;
+  scenes::StructuralElement floor, south, north;
+  floor.id = "floor";
+  floor.element_class = scenes::ElementClass::kFloor;
+  floor.rooms = {"R1"};
+  floor.polygons = {{{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}}};
+  south.id = "ceiling_R1_1";
+  south.element_class = scenes::ElementClass::kCeiling;
+  south.rooms = {"R1"};
+  south.normal = Vec3(0, 1, -1).normalized();
+  south.polygons = {{{0, 0, 1}, {0, 1.5, 2.5}, {4, 1.5, 2.5}, {4, 0, 1}}};
+  north = south;
+  north.id = "ceiling_R1_2";
+  north.normal = Vec3(0, -1, -1).normalized();
+  north.polygons = {{{0, 1.5, 2.5}, {0, 3, 1}, {4, 3, 1}, {4, 1.5, 2.5}}};
+  t.elements.push_back(floor);
+  t.elements.push_back(south);
+  t.elements.push_back(north);
+  return t;
+}
+
+TEST(TruthModels, AnAtticsGablesArePentagonsAndItsRoofIsTwoSlopedCeilings) {
+  const scenes::GroundTruth t = AtticTruth();
+  const std::vector<Patch> patches = TruthPatches(t, "R1");
+  ASSERT_EQ(patches.size(), 7u);
+  for (const Patch& p : patches) {
+    EXPECT_NO_THROW(ValidatePatch(p, {}, p.id)) << p.id;
+    const double area = 0.5 * NewellVector(p.polygon).norm();
+    if (p.id.rfind("gable", 0) == 0) {
+      EXPECT_EQ(p.polygon.size(), 5u) << p.id;
+      EXPECT_NEAR(area, 3.0 + 0.5 * 3.0 * 1.5, 1e-9) << p.id;
+    } else if (p.id.rfind("knee", 0) == 0) {
+      EXPECT_NEAR(area, 4.0, 1e-9) << p.id;
+    } else if (p.cls == SurfaceClass::kCeiling) {
+      EXPECT_NEAR(area, 4.0 * 1.5 * std::sqrt(2.0), 1e-9) << p.id;
+      EXPECT_NEAR(p.normal.z(), -std::sqrt(0.5), 1e-9) << p.id;  // its own, not level
+      EXPECT_NEAR(std::abs(p.normal.y()), std::sqrt(0.5), 1e-9) << p.id;
+    }
+  }
+  // Scored against itself: every face found where it is, as it is.
+  const PatchEvaluation e = EvaluatePatches(patches, patches);
+  EXPECT_EQ(e.detection[int(SurfaceClass::kWall)].tp, 4);
+  EXPECT_EQ(e.detection[int(SurfaceClass::kCeiling)].tp, 2);
+  EXPECT_NEAR(e.d_v.max, 0.0, 1e-9);
+  EXPECT_NEAR(e.d_h.max, 0.0, 1e-9);
+  // A flat ceiling at the ridge is no match for either slope (45 deg off).
+  std::vector<Patch> flat = patches;
+  for (Patch& p : flat)
+    if (p.cls == SurfaceClass::kCeiling) {
+      p.normal = -Vec3::UnitZ();
+      for (Vec3& v : p.polygon) v.z() = 2.5;
+      if (NewellVector(p.polygon).dot(p.normal) < 0.0)
+        std::reverse(p.polygon.begin(), p.polygon.end());
+    }
+  EXPECT_EQ(EvaluatePatches(flat, patches).detection[int(SurfaceClass::kCeiling)].tp, 0);
+}
+
+TEST(TruthDsm3, NothingOverAnAtticsRoofIsTheRoomsEmptySpace) {
+  // The world is the 2.5 m box; the truth puts a roof inside it. Above the roof is not the
+  // room's, so nothing there is empty space of the room, however well a scanner sees it.
+  BoxRoom b = MakeBoxRoom(false);
+  b.truth = AtticTruth();
+  const sim::EmbreeWorld world(b.scene, nullptr);
+  VoxelGrid grid;
+  grid.voxel_size = 0.1;
+  grid.dims = {40, 30, 25};
+  const auto voxels = AllVoxels(40, 30, 25);
+  const auto labels = TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(),
+                                {Vec3(2.0, 1.5, 1.4)}, WideOpenScanner());
+  int empty_over = 0, empty_under = 0;
+  for (std::size_t n = 0; n < voxels.size(); ++n) {
+    if (labels[n] != int(VoxelLabel::kEmpty)) continue;
+    const Vec3 c = grid.Centre(voxels[n]);
+    const double roof = 2.5 - std::abs(c.y() - 1.5);
+    (c.z() > roof ? empty_over : empty_under)++;
+  }
+  EXPECT_EQ(empty_over, 0);
+  EXPECT_GT(empty_under, 38 * 28 * 9);  // at least the interior under the knee walls' 1 m
 }
 
 // ---- Readers ----
