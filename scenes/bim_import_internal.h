@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/ceiling_planes.h"
 #include "scenes/bim_import.h"
 #include "scenes/geometry.h"
 #include "scenes/ground_truth.h"
@@ -164,15 +165,13 @@ struct RoomData {
   std::vector<Eigen::Vector3i> ears;
 };
 
-/// One plane of a room's sloped ceiling (a roof's underside over an attic), from the slab faces
-/// on it: inside the room n . x = c, n unit and facing down into the room.
-struct CeilingPlane {
-  Vector3d n;
-  double c = 0.0;
+/// One plane of a room's sloped ceiling (a roof's underside over an attic) and the slab faces
+/// on it inside the room.
+struct CeilingFaces {
+  CeilingPlane plane;          // n unit, facing down into the room
   std::string id;              // truth element id, "ceiling_<room>_<k>"
   std::vector<Vector2d> plan;  // the plan vertices of its pieces
   double plan_area = 0.0;      // m^2, of its pieces seen from below
-  double ZAt(const Vector2d& p) const { return (c - n.x() * p.x() - n.y() * p.y()) / n.z(); }
 };
 
 struct Face {
@@ -336,7 +335,7 @@ class Importer {
   std::map<std::size_t, double> floor_area_, ceiling_area_;
   std::map<int, int> columns_in_;
   std::vector<StructuralElement> walls_, floors_, ceilings_, columns_;
-  std::map<std::size_t, std::vector<CeilingPlane>> slopes_;  // room -> its sloped ceiling planes
+  std::map<std::size_t, std::vector<CeilingFaces>> slopes_;  // room -> its sloped ceiling planes
   std::vector<StructuralElement> sloped_ceilings_;
   std::set<std::string> other_ids_;
   mutable std::set<std::string> used_door_keys_;
