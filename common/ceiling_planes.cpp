@@ -13,6 +13,8 @@ namespace {
 using Vec2 = Eigen::Vector2d;
 using Poly2 = std::vector<Vec2>;
 
+constexpr double kCornerReach = 0.05;  // m, see WallUnderCeilings
+
 // `poly` within the half-plane a . p <= d (Sutherland-Hodgman).
 Poly2 ClipHalfPlane(const Poly2& poly, const Vec2& a, double d) {
   Poly2 out;
@@ -103,6 +105,16 @@ std::vector<Vec2> WallUnderCeilings(const Vec2& foot, const Vec2& dir, const Vec
       if (regions[i].size() >= 3 && PointInPolygon(mid, regions[i]) &&
           (over == nullptr || planes[i].ZAt(mid) < over->ZAt(mid)))
         over = &planes[i];
+    // At a corner the probe 1 cm in from the foot can pass beyond the neighbouring wall, out of
+    // every region: the region within kCornerReach there holds it.
+    double nearest = kCornerReach;
+    const CeilingPlane* near = nullptr;
+    for (std::size_t i = 0; i < planes.size() && i < regions.size() && over == nullptr; ++i)
+      if (regions[i].size() >= 3 && DistanceToBoundary(mid, regions[i]) < nearest) {
+        nearest = DistanceToBoundary(mid, regions[i]);
+        near = &planes[i];
+      }
+    if (over == nullptr) over = near;
     for (double u : {cuts[k], cuts[k + 1]}) {
       double v = height;
       if (over != nullptr) v = std::clamp(over->ZAt(foot + u * dir) - z0, 0.0, height);

@@ -64,6 +64,18 @@ Vec3 WallUp(const Vec3& n, const Vec3& u) {
   return (z - z.dot(n) * n - z.dot(u) * u).normalized();
 }
 
+// A wall face that is its rectangle: no polygon, several, or four vertices each at its foot or
+// its top (a face under a sloped ceiling — a gable, a trapezoid — is not).
+bool Rectangular(const scenes::StructuralElement& w) {
+  if (w.polygons.size() != 1) return true;
+  const Vec3 up = WallUp(w.normal.normalized(), w.u_axis.normalized());
+  for (const auto& p : w.polygons[0]) {
+    const double v = up.dot(p - w.origin);
+    if (std::abs(v) > 1e-3 && std::abs(v - w.height) > 1e-3) return false;
+  }
+  return w.polygons[0].size() == 4;
+}
+
 std::vector<Vec3> WallRect(const Vec3& o, const Vec3& u, double u0, double u1, double v0, double v1,
                            const Vec3& z = Vec3::UnitZ()) {
   return {o + u0 * u + v0 * z, o + u1 * u + v0 * z, o + u1 * u + v1 * z, o + u0 * u + v1 * z};
@@ -89,10 +101,9 @@ std::vector<TruthSurface> RoomSurfaces(const scenes::GroundTruth& truth,
         s.patch.normal = e.normal.normalized();
         // A face under a sloped ceiling (a gable, scenes/bim_sloped_ceilings.cpp) is its own
         // polygon; every other wall its rectangle.
-        s.patch.polygon =
-            e.polygons.size() == 1 && e.polygons[0].size() != 4
-                ? e.polygons[0]
-                : WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height, s.v_axis);
+        s.patch.polygon = Rectangular(e)
+                              ? WallRect(s.origin, s.u_axis, 0.0, e.length, 0.0, e.height, s.v_axis)
+                              : e.polygons[0];
         OrientTo(s.patch.polygon, s.patch.normal);
         for (const auto& o : truth.openings) {
           if (std::find(o.host_walls.begin(), o.host_walls.end(), e.id) == o.host_walls.end())
@@ -323,11 +334,6 @@ void UnitePieces(std::vector<scenes::StructuralElement>& elements, const OpenPla
     for (const auto& q : *outline) p.emplace_back(q.x(), q.y(), z);
     e.polygons = {std::move(p)};
   }
-}
-
-// A wall face that is its rectangle (not one under a sloped ceiling).
-bool Rectangular(const scenes::StructuralElement& w) {
-  return w.polygons.size() != 1 || w.polygons[0].size() == 4;
 }
 
 // Where the walls a join removed went: the wall each joined, and its origin's u along it.

@@ -1,6 +1,8 @@
 #include "modelling/roi.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/polygon.h"
 
@@ -26,6 +28,13 @@ int RoiFace::CellIndexOf(const Vec3& p_M) const {
   const int iv = static_cast<int>(std::floor(d.dot(v_axis) / cell));
   if (iu < 0 || iv < 0 || iu >= nu || iv >= nv) return -1;
   return iv * nu + iu;
+}
+
+double Roi::CeilingAt(const Vec2& p) const {
+  if (slopes.empty()) return ceiling_z;
+  double z = level_ceiling ? ceiling_z : std::numeric_limits<double>::infinity();
+  for (const auto& s : slopes) z = std::min(z, s.ZAt(p));
+  return z;
 }
 
 bool Roi::ContainsPlan(const Vec2& p) const {

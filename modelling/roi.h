@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/ceiling_planes.h"
 #include "common/frames.h"
 #include "common/polygon.h"
 
@@ -65,6 +66,11 @@ struct RoiEdge {
 
 struct Roi {
   double floor_z = 0.0, ceiling_z = 0.0;   ///< m
+  /// Sloped ceilings under or beside the level one (an attic's roof, RoomModel::DetectSlopes),
+  /// and whether the level ceiling at ceiling_z is one (false: the roof is the whole ceiling,
+  /// ceiling_z its highest point seen).
+  std::vector<CeilingPlane> slopes;
+  bool level_ceiling = true;
   std::vector<Vec2> perimeter;             ///< plan polygon, CCW (interior wall faces)
   std::vector<std::vector<Vec2>> columns;  ///< column footprints, each CCW
   std::vector<Vec3> vertices;
@@ -73,6 +79,9 @@ struct Roi {
   std::vector<std::vector<int>> face_adjacency;  ///< per face, sorted neighbour face indices
 
   bool empty() const { return perimeter.size() < 3; }
+  /// m, the ceiling over plan point p: ceiling_z, or the lowest of the slopes (and the level
+  /// ceiling, when there is one) there.
+  double CeilingAt(const Vec2& p) const;
   /// True if the plan point lies inside the perimeter and outside every column.
   bool ContainsPlan(const Vec2& p) const;
   /// Volume (m^3) of the prism minus the column prisms.

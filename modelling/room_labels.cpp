@@ -37,7 +37,7 @@ static Classified ClassifyWith(const RoomModelParams& P, const Roi& roi,
                                const RoomModel::Boundary* bnd, const Vec3& p) {
   Classified out;
   if (roi.empty()) return out;
-  const double zf = roi.floor_z, zc = roi.ceiling_z;
+  const double zf = roi.floor_z, zc = roi.CeilingAt(p.head<2>());
   int seg = -1;
   const double sd = bnd->Lookup(p.head<2>(), &seg);
   const double dzf = std::abs(p.z() - zf), dzc = std::abs(p.z() - zc);

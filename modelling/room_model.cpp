@@ -131,7 +131,8 @@ void RoomModel::AddScan(const interfaces::TlsScan& scan, const Pose3& X_MS) {
   if (!structure_frozen_) {
     const double old_ceiling = roi_.ceiling_z;
     EstimateHeights();
-    const bool retrace = scans_.size() == 1 ||
+    const bool slopes_moved = DetectSlopes();
+    const bool retrace = scans_.size() == 1 || slopes_moved ||
                          std::abs(roi_.ceiling_z - old_ceiling) > params_.outline.retrace_change;
     for (std::size_t s = retrace ? 0 : scans_.size() - 1; s < scans_.size(); ++s) {
       TraceOutline(scans_[s]);

@@ -281,6 +281,36 @@ struct ColumnSearchParams {
   }
 };
 
+/// Sloped ceilings (a roof's underside over an attic): planes found in the top surface of the
+/// working cloud, its highest point per plan cell, where the cells' neighbourhoods fit tilted
+/// planes that join into one of at least `min_area` (docs/room-scanning.md, step 2). A stair's
+/// treads and risers fit no plane locally; a level ceiling is not tilted.
+struct SlopedCeilingParams {
+  double cell = 0.1;           ///< m, plan cell of the top surface, [0.02, 1]
+  double min_tilt_deg = 10.0;  ///< deg, least tilt from level, [1, 80]
+  double max_tilt_deg = 60.0;  ///< deg, most tilt from level, [1, 89]
+  /// m, rms of a cell's 3 x 3 neighbourhood about its local plane, [0.001, 0.1]
+  double local_rms = 0.01;
+  double max_turn_deg = 5.0;  ///< deg, a neighbour cell's local plane joins within this, [0.1, 45]
+  double tolerance = 0.03;    ///< m, a top point on the joined plane, [0.005, 0.2]
+  /// m^2, least plan area of a sloped ceiling; 0 = none is sought, [0, 1000]
+  double min_area = 2.0;
+  /// m, a top point this high over the floor at least counts (not the floor, a desk), [0, 3]
+  double min_height = 0.3;
+
+  template <class V>
+  void Visit(V& v) {
+    v("cell", cell, Bounds{0.02, 1.0});
+    v("min_tilt_deg", min_tilt_deg, Bounds{1.0, 80.0});
+    v("max_tilt_deg", max_tilt_deg, Bounds{1.0, 89.0});
+    v("local_rms", local_rms, Bounds{0.001, 0.1});
+    v("max_turn_deg", max_turn_deg, Bounds{0.1, 45.0});
+    v("tolerance", tolerance, Bounds{0.005, 0.2});
+    v("min_area", min_area, Bounds{0.0, 1000.0});
+    v("min_height", min_height, Bounds{0.0, 3.0});
+  }
+};
+
 struct RoomModelParams {
   double working_voxel = 0.02;  ///< m, working-cloud downsampling, [0.005, 0.2]
   double histogram_bin = 0.01;  ///< m, Z-histogram bin, [0.002, 0.1]
@@ -341,6 +371,7 @@ struct RoomModelParams {
   int ray_stride = 2;            ///< every n-th row and column is ray-cast into voxels, [1, 64]
   HeightSearchParams heights;    ///< the floor and ceiling heights
   CeilingOutlineParams outline;  ///< each scan's ceiling outline
+  SlopedCeilingParams slopes;    ///< sloped ceilings (attics)
   ColourAlignmentParams colour_alignment;  ///< each scan's colours brought to the room's
 
   template <class V>
@@ -378,6 +409,7 @@ struct RoomModelParams {
     v("ray_stride", ray_stride, Bounds{1, 64});
     v("heights", heights);
     v("outline", outline);
+    v("slopes", slopes);
   }
   void Validate() const { ValidateParams(*this, "room_model."); }
 };
@@ -552,6 +584,9 @@ class RoomModel {
 
   void UpdateWorkingCloud(std::size_t begin, std::size_t end);
   void EstimateHeights();
+  // roi_.slopes and roi_.level_ceiling from the working cloud (room_slopes.cpp); true when
+  // they changed.
+  bool DetectSlopes();
   void TraceOutline(ScanRecord& rec) const;
   void BuildPerimeter();
   /// The plan positions of the working points between the refit's floor and ceiling bands, and

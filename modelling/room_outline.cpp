@@ -26,14 +26,14 @@ struct OutlineColumn {
 // their column tags, of a scan from `origin` whose shortest return is `min_range`. Ceiling points
 // (and small things hanging just below it) continue the walk; the first point well below the
 // ceiling that is not closer than the ceiling seen so far (a wall, a lintel, a column) ends it.
+// The ceiling is the room's (Roi::CeilingAt: level, or sloped under a roof).
 // Returns the plan distance from the scanner of the farthest accepted point, `vertex` (negative
 // when none was accepted).
 double WalkColumn(const std::vector<Eigen::Vector3f>& points,
                   const std::vector<std::uint32_t>& tags, std::size_t begin, std::size_t end,
-                  const Vec3& origin, double min_range, double ceiling_z,
+                  const Vec3& origin, double min_range, const Roi& roi,
                   const RoomModelParams& params, Vec2& vertex) {
   const CeilingOutlineParams& P = params.outline;
-  const double ceil = ceiling_z;
   const double tol = params.ceiling_tolerance;
   const double hang = P.hang_depth;
   const Vec2 o = origin.head<2>();
@@ -44,7 +44,9 @@ double WalkColumn(const std::vector<Eigen::Vector3f>& points,
     const Eigen::Vector3f& p = points[k];
     const Vec2 q = Plan(p);
     const double rho = (q - o).norm();
-    const double dz = ceil - p.z();
+    // Under a sloped ceiling (an attic's roof) the ceiling over the point is the slope's there:
+    // the walk goes on down the roof to the wall under it.
+    const double dz = roi.CeilingAt(q) - p.z();
     const bool ceiling_like = std::abs(dz) <= tol || (dz > 0 && dz <= hang);
     // Rows without return before this point: what they looked at is unknown. After a wall
     // top (or before anything was seen) it is typically the rest of a wall too close to
@@ -118,8 +120,8 @@ void RoomModel::TraceOutline(ScanRecord& rec) const {
     std::size_t j = i;
     while (j < rec.end && (column_index_[j] & kColumnMask) == col) ++j;
     Vec2 vertex;
-    const double best_rho = WalkColumn(points_, column_index_, i, j, rec.origin, rec.min_range,
-                                       roi_.ceiling_z, params_, vertex);
+    const double best_rho =
+        WalkColumn(points_, column_index_, i, j, rec.origin, rec.min_range, roi_, params_, vertex);
     if (col < cols.size() && best_rho > 0.0) cols[col] = {true, vertex};
     i = j;
   }

@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "common/frames.h"
+#include "common/polygon.h"
 #include "common/rng.h"
 #include "modelling/room_model.h"
 
@@ -507,6 +508,133 @@ std::pair<double, double> FloorCeilingFromHistogram(const std::vector<Eigen::Vec
   return {std::min(a, b), std::max(a, b)};
 }
 
+namespace {
+
+// The sloped ceilings of a room (Sm3Input::slopes), each refit to the room's points on it, and
+// the top of the walls' ring: the level ceiling, or without one the roof's highest point along
+// the loop (the walls are ended under the slopes afterwards).
+struct Slopes {
+  std::vector<CeilingPlane> planes;  // the slopes, then the level ceiling when there is one
+  std::vector<PlaneFit> fits;        // of the slopes
+  std::size_t sloped = 0;            // how many of `planes` are slopes
+  Plane top_plane;
+  double top_z = 0.0;
+};
+
+Slopes FitSlopes(const Sm3Input& input, const std::vector<Eigen::Vector3d>& pts,
+                 const std::vector<Eigen::Vector2d>& loop, const Plane& ceiling, double ceiling_z,
+                 const Sm3Params& prm) {
+  Slopes out;
+  out.top_plane = ceiling;
+  out.top_z = ceiling_z;
+  if (input.slopes.empty()) return out;
+  for (std::size_t k = 0; k < input.slopes.size(); ++k) {
+    const CeilingPlane& s = input.slopes[k];
+    std::vector<Eigen::Vector3d> band;
+    for (const auto& p : pts)
+      if (std::abs(s.n.dot(p) - s.c) < prm.plane_band) band.push_back(p);
+    PlaneFit f;
+    if (static_cast<int>(band.size()) >= prm.min_points)
+      f = FitPlaneMlesac(band, prm, input.room + "/ceiling_" + std::to_string(k + 1));
+    if (f.fitted && f.plane.n.z() > 0.0) f.plane.n = -f.plane.n, f.plane.d = -f.plane.d;
+    CeilingPlane plane = s;
+    if (f.fitted && f.plane.n.dot(s.n) > std::cos(DegToRad(5.0))) {
+      plane.n = f.plane.n;
+      plane.c = -f.plane.d;
+    } else {
+      f.plane.n = s.n;
+      f.plane.d = -s.c;
+      f.fitted = false;
+    }
+    out.planes.push_back(plane);
+    out.fits.push_back(f);
+  }
+  out.sloped = out.planes.size();
+  if (input.level_ceiling) {
+    CeilingPlane level;
+    level.n = ceiling.n;
+    level.c = -ceiling.d;
+    out.planes.push_back(level);
+    return out;
+  }
+  // Every 5 cm along the loop, the lowest slope there: the walls' highest point.
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Eigen::Vector2d a = loop[i], b = loop[(i + 1) % loop.size()];
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.05)));
+    for (int j = 0; j <= n; ++j) {
+      const Eigen::Vector2d q = a + (b - a) * (static_cast<double>(j) / n);
+      double z = std::numeric_limits<double>::infinity();
+      for (const auto& p : out.planes) z = std::min(z, p.ZAt(q));
+      top = std::max(top, z);
+    }
+  }
+  if (!std::isfinite(top)) return out;
+  out.top_z = top;
+  out.top_plane.n = -Eigen::Vector3d::UnitZ();
+  out.top_plane.d = top;
+  return out;
+}
+
+// The ceiling patches of a room with sloped ceilings: `ceiling` (the level one, where it is the
+// lowest) and `ceiling_<k>` per slope, each cut to where it is the lowest in the walls' plan;
+// the walls ended under them. Returns the index of the first ceiling patch.
+int AddSlopedCeilings(const Slopes& slopes, const Ring& walls, const std::vector<int>& wall_ids,
+                      const PlaneFit& level, int floor_id, StructuralModel& m) {
+  std::vector<Eigen::Vector2d> plan;
+  for (const auto& v : walls.bottom) plan.push_back(v.head<2>());
+  if (SignedArea(plan) < 0.0) std::reverse(plan.begin(), plan.end());
+  const std::vector<std::vector<Eigen::Vector2d>> regions =
+      LowestCeilingRegions(plan, slopes.planes, nullptr, 0.05);
+  int first = -1;
+  std::vector<int> ids;
+  for (std::size_t i = 0; i < slopes.planes.size(); ++i) {
+    if (regions[i].empty()) continue;
+    const bool is_level = i >= slopes.sloped;
+    StructuralPatch c;
+    c.id = is_level ? "ceiling" : "ceiling_" + std::to_string(i + 1);
+    c.patch_class = PatchClass::kCeiling;
+    const PlaneFit& f = is_level ? level : slopes.fits[i];
+    c.plane.n = slopes.planes[i].n;
+    c.plane.d = -slopes.planes[i].c;
+    for (const auto& q : regions[i]) c.polygon.emplace_back(q.x(), q.y(), slopes.planes[i].ZAt(q));
+    if (Newell(c.polygon).dot(c.plane.n) < 0) std::reverse(c.polygon.begin(), c.polygon.end());
+    c.support = f.support, c.rms = f.rms, c.fitted = f.fitted;
+    m.patches.push_back(std::move(c));
+    ids.push_back(static_cast<int>(m.patches.size()) - 1);
+    if (first < 0) first = ids.back();
+  }
+  // Each wall ended under the ceilings over it: (u, v) on the face's quad, v up its side.
+  const std::size_t n = walls.bottom.size();
+  for (std::size_t i = 0; i < n && i < wall_ids.size(); ++i) {
+    const Eigen::Vector3d b0 = walls.bottom[i], b1 = walls.bottom[(i + 1) % n];
+    const Eigen::Vector3d t0 = walls.top[i], t1 = walls.top[(i + 1) % n];
+    const double length = (b1 - b0).head<2>().norm(), height = t0.z() - b0.z();
+    if (length <= 1e-6 || height <= 1e-6) continue;
+    const Eigen::Vector2d dir = (b1 - b0).head<2>() / length;
+    StructuralPatch& w = m.patches[wall_ids[i]];
+    const Eigen::Vector2d inward = w.plane.n.head<2>().normalized();
+    const std::vector<Eigen::Vector2d> outline = WallUnderCeilings(
+        b0.head<2>(), dir, inward, length, b0.z(), height, slopes.planes, regions);
+    if (outline.empty()) continue;
+    std::vector<Eigen::Vector3d> poly;
+    for (const auto& uv : outline) {
+      const double s = uv.x() / length, r = uv.y() / height;
+      const Eigen::Vector3d foot = b0 + s * (b1 - b0), head = t0 + s * (t1 - t0);
+      poly.push_back(foot + r * (head - foot));
+    }
+    if (Newell(poly).dot(w.plane.n) < 0) std::reverse(poly.begin(), poly.end());
+    w.polygon = std::move(poly);
+  }
+  for (int w : wall_ids) {
+    m.adjacency.emplace_back(w, floor_id);
+    for (int c : ids) m.adjacency.emplace_back(w, c);
+  }
+  return first;
+}
+
+}  // namespace
+
 StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm) {
   ValidateParams(prm, "sm3.");
   if (!input.points || input.points->empty())
@@ -531,8 +659,9 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
       });
 
   const std::vector<Eigen::Vector2d> loop = MergeCollinear(input.perimeter, prm.merge_angle_deg);
-  const Ring walls = FitRing(loop, /*into_left=*/true, pts, floor.plane, ceiling.plane, m.floor_z,
-                             m.ceiling_z, prm, input.room + "/walls", 0.0);
+  const Slopes slopes = FitSlopes(input, pts, loop, ceiling.plane, m.ceiling_z, prm);
+  const Ring walls = FitRing(loop, /*into_left=*/true, pts, floor.plane, slopes.top_plane,
+                             m.floor_z, slopes.top_z, prm, input.room + "/walls", 0.0);
   auto add = [&](StructuralPatch p) {
     if (Newell(p.polygon).dot(p.plane.n) < 0) std::reverse(p.polygon.begin(), p.polygon.end());
     m.patches.push_back(std::move(p));
@@ -564,15 +693,20 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   f.polygon = walls.bottom;
   f.support = floor.support, f.rms = floor.rms, f.fitted = floor.fitted;
   const int floor_id = add(std::move(f));
-  StructuralPatch c;
-  c.id = "ceiling";
-  c.patch_class = PatchClass::kCeiling;
-  c.plane = ceiling.plane;
-  c.polygon = walls.top;
-  c.support = ceiling.support, c.rms = ceiling.rms, c.fitted = ceiling.fitted;
-  const int ceiling_id = add(std::move(c));
-  for (int w : wall_ids)
-    m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
+  int ceiling_id = -1;
+  if (slopes.planes.empty()) {
+    StructuralPatch c;
+    c.id = "ceiling";
+    c.patch_class = PatchClass::kCeiling;
+    c.plane = ceiling.plane;
+    c.polygon = walls.top;
+    c.support = ceiling.support, c.rms = ceiling.rms, c.fitted = ceiling.fitted;
+    ceiling_id = add(std::move(c));
+    for (int w : wall_ids)
+      m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
+  } else {
+    ceiling_id = AddSlopedCeilings(slopes, walls, wall_ids, ceiling, floor_id, m);
+  }
 
   for (std::size_t k = 0; k < input.columns.size(); ++k) {
     const auto footprint =
@@ -616,8 +750,10 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
     }
     const auto ids =
         add_ring(ring, PatchClass::kColumn, "column_" + std::to_string(k + 1) + "_face_");
-    for (int id : ids)
-      m.adjacency.emplace_back(id, floor_id), m.adjacency.emplace_back(id, ceiling_id);
+    for (int id : ids) {
+      m.adjacency.emplace_back(id, floor_id);
+      if (ceiling_id >= 0) m.adjacency.emplace_back(id, ceiling_id);
+    }
   }
   return m;
 }
@@ -647,6 +783,8 @@ StructuralModel BuildRoomSm3(const RoomModel& model, const Sm3Params& params,
   input.columns = model.Columns();
   input.floor_z = model.FloorZ();
   input.ceiling_z = model.CeilingZ();
+  input.slopes = model.GetRoi().slopes;
+  input.level_ceiling = model.GetRoi().level_ceiling;
   return BuildStructuralModel(input, params);
 }
 

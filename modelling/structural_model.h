@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "common/ceiling_planes.h"
 #include "common/params.h"
 
 namespace mopad::modelling {
@@ -145,6 +146,11 @@ struct Sm3Input {
   /// washroom's points are its ceiling and a bathtub's top, not its floor.
   double floor_z = std::numeric_limits<double>::quiet_NaN();
   double ceiling_z = std::numeric_limits<double>::quiet_NaN();
+  /// Sloped ceilings (an attic's roof, RoomModel's Roi::slopes) and whether the level ceiling at
+  /// ceiling_z is one: each slope becomes a ceiling patch `ceiling_<k>` where it is the lowest,
+  /// and the walls end under them.
+  std::vector<CeilingPlane> slopes;
+  bool level_ceiling = true;
 };
 
 /// Floor and ceiling heights: the lowest and the highest strong maxima of the Z-histogram.

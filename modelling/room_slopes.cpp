@@ -1,0 +1,184 @@
+// Sloped ceilings of a room (RoomModel::DetectSlopes): an attic's roof seen from below. The top
+// surface of the working cloud (its highest point per plan cell) is, inside a room, its
+// ceiling; where neighbourhoods of that surface fit tilted planes that join into one large
+// enough, that plane is a sloped ceiling (docs/room-scanning.md, step 2).
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "modelling/room_model.h"
+#include "modelling/room_model_internal.h"
+
+namespace mopad::modelling {
+
+namespace {
+
+// Least-squares plane z = a x + b y + c through `pts` (about their mean): false when they
+// span no plane. rms: of the z residuals.
+bool FitHeightPlane(const std::vector<Vec3>& pts, Eigen::Vector3d* abc, double* rms) {
+  if (pts.size() < 3) return false;
+  Vec3 mean = Vec3::Zero();
+  for (const auto& p : pts) mean += p;
+  mean /= static_cast<double>(pts.size());
+  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d b = Eigen::Vector2d::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Vector2d q = (p - mean).head<2>();
+    A += q * q.transpose();
+    b += q * (p.z() - mean.z());
+  }
+  if (A.determinant() < 1e-12 * std::max(1.0, A.trace() * A.trace())) return false;
+  const Eigen::Vector2d g = A.ldlt().solve(b);
+  *abc = Eigen::Vector3d(g.x(), g.y(), mean.z() - g.dot(mean.head<2>()));
+  double ss = 0.0;
+  for (const auto& p : pts) {
+    const double r = p.z() - (abc->x() * p.x() + abc->y() * p.y() + abc->z());
+    ss += r * r;
+  }
+  *rms = std::sqrt(ss / static_cast<double>(pts.size()));
+  return true;
+}
+
+// The plane z = a x + b y + c as a ceiling plane facing down.
+CeilingPlane FromHeight(const Eigen::Vector3d& abc) {
+  CeilingPlane p;
+  const Vec3 n = Vec3(abc.x(), abc.y(), -1.0).normalized();
+  p.n = n;
+  p.c = n.dot(Vec3(0.0, 0.0, abc.z()));
+  return p;
+}
+
+}  // namespace
+
+bool RoomModel::DetectSlopes() {
+  const SlopedCeilingParams& P = params_.slopes;
+  std::vector<CeilingPlane> found;
+  bool level = true;
+  if (P.min_area > 0.0) {
+    // The top surface: per plan cell, the highest working point above min_height.
+    const double cell = P.cell;
+    auto key = [cell](const Eigen::Vector3f& p) {
+      return std::pair<std::int64_t, std::int64_t>(
+          static_cast<std::int64_t>(std::floor(p.x() / cell)),
+          static_cast<std::int64_t>(std::floor(p.y() / cell)));
+    };
+    std::map<std::pair<std::int64_t, std::int64_t>, Vec3> top;
+    for (const auto& p : work_points_) {
+      if (p.z() < roi_.floor_z + P.min_height) continue;
+      auto [it, inserted] = top.try_emplace(key(p), p.cast<double>());
+      if (!inserted && p.z() > it->second.z()) it->second = p.cast<double>();
+    }
+    // Each cell's local plane over its 3 x 3 neighbourhood, where it is tilted and fits.
+    const double tan_lo = std::tan(DegToRad(P.min_tilt_deg));
+    const double tan_hi = std::tan(DegToRad(P.max_tilt_deg));
+    std::map<std::pair<std::int64_t, std::int64_t>, Eigen::Vector3d> local;
+    for (const auto& [k, p] : top) {
+      std::vector<Vec3> nb;
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const auto it = top.find({k.first + dx, k.second + dy});
+          if (it != top.end()) nb.push_back(it->second);
+        }
+      Eigen::Vector3d abc;
+      double rms = 0.0;
+      if (nb.size() < 6 || !FitHeightPlane(nb, &abc, &rms) || rms > P.local_rms) continue;
+      const double slope = std::hypot(abc.x(), abc.y());
+      if (slope >= tan_lo && slope <= tan_hi) local.emplace(k, abc);
+    }
+    // Join neighbouring cells whose local planes agree (normal within max_turn_deg, the top
+    // point within tolerance of the seed's plane), in key order; keep the large joins.
+    const double cos_turn = std::cos(DegToRad(P.max_turn_deg));
+    std::map<std::pair<std::int64_t, std::int64_t>, int> region;
+    const double cell_area = cell * cell;
+    std::vector<std::vector<Vec3>> members;
+    for (const auto& [seed, abc] : local) {
+      if (region.count(seed)) continue;
+      const CeilingPlane sp = FromHeight(abc);
+      const int id = static_cast<int>(members.size());
+      members.emplace_back();
+      std::vector<std::pair<std::int64_t, std::int64_t>> queue{seed};
+      region[seed] = id;
+      for (std::size_t q = 0; q < queue.size(); ++q) {
+        const auto k = queue[q];
+        members[id].push_back(top.at(k));
+        for (const auto& d : {std::pair<int, int>{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+          const std::pair<std::int64_t, std::int64_t> m{k.first + d.first, k.second + d.second};
+          const auto it = local.find(m);
+          if (it == local.end() || region.count(m)) continue;
+          if (FromHeight(it->second).n.dot(sp.n) < cos_turn) continue;
+          const Vec3& p = top.at(m);
+          if (std::abs(sp.n.dot(p) - sp.c) > P.tolerance) continue;
+          region[m] = id;
+          queue.push_back(m);
+        }
+      }
+    }
+    // One plane may have grown from several seeds (each seed's local plane drifts from the
+    // whole): joins whose points lie on a kept join's plane are merged into it, largest first.
+    std::vector<std::size_t> order(members.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return members[a].size() > members[b].size();
+    });
+    std::vector<std::vector<Vec3>> kept;
+    std::vector<Eigen::Vector3d> kept_abc;
+    for (std::size_t i : order) {
+      const std::vector<Vec3>& pts = members[i];
+      Eigen::Vector3d abc;
+      double rms = 0.0;
+      if (pts.size() < 3 || !FitHeightPlane(pts, &abc, &rms)) continue;
+      const CeilingPlane plane = FromHeight(abc);
+      bool merged = false;
+      for (std::size_t k = 0; k < kept.size() && !merged; ++k) {
+        const CeilingPlane other = FromHeight(kept_abc[k]);
+        if (other.n.dot(plane.n) < cos_turn) continue;
+        double mean = 0.0;
+        for (const auto& p : pts) mean += other.n.dot(p) - other.c;
+        if (std::abs(mean / static_cast<double>(pts.size())) > P.tolerance) continue;
+        kept[k].insert(kept[k].end(), pts.begin(), pts.end());
+        FitHeightPlane(kept[k], &kept_abc[k], &rms);
+        merged = true;
+      }
+      if (!merged) {
+        kept.push_back(pts);
+        kept_abc.push_back(abc);
+      }
+    }
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      if (static_cast<double>(kept[k].size()) * cell_area < P.min_area) continue;
+      Eigen::Vector3d abc;
+      double rms = 0.0;
+      if (!FitHeightPlane(kept[k], &abc, &rms)) continue;
+      const CeilingPlane plane = FromHeight(abc);
+      const double slope = std::hypot(abc.x(), abc.y());
+      if (slope < tan_lo || slope > tan_hi || rms * std::abs(plane.n.z()) > P.tolerance) continue;
+      found.push_back(plane);
+    }
+    // With a sloped ceiling, the level one is a ceiling only where enough of the top surface
+    // lies on it and on none of the slopes (not a ridge beam, not the slopes' own band).
+    if (!found.empty()) {
+      double on_level = 0.0;
+      for (const auto& [k, p] : top) {
+        if (std::abs(p.z() - roi_.ceiling_z) > params_.ceiling_tolerance) continue;
+        bool on_slope = false;
+        for (const auto& s : found)
+          on_slope = on_slope || std::abs(s.n.dot(p) - s.c) <= P.tolerance;
+        if (!on_slope) on_level += cell_area;
+      }
+      level = on_level >= P.min_area;
+    }
+  }
+  const bool changed = found.size() != roi_.slopes.size() || level != roi_.level_ceiling;
+  bool moved = changed;
+  for (std::size_t i = 0; i < found.size() && !moved; ++i)
+    moved = found[i].n.dot(roi_.slopes[i].n) < std::cos(DegToRad(0.5)) ||
+            std::abs(found[i].c - roi_.slopes[i].c) > params_.outline.retrace_change;
+  roi_.slopes = std::move(found);
+  roi_.level_ceiling = level;
+  return moved;
+}
+
+}  // namespace mopad::modelling
