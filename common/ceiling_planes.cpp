@@ -14,6 +14,7 @@ using Vec2 = Eigen::Vector2d;
 using Poly2 = std::vector<Vec2>;
 
 constexpr double kCornerReach = 0.05;  // m, see WallUnderCeilings
+constexpr double kSameVertex = 1e-4;   // m, a wall outline's vertices closer than this are one
 
 // `poly` within the half-plane a . p <= d (Sutherland-Hodgman).
 Poly2 ClipHalfPlane(const Poly2& poly, const Vec2& a, double d) {
@@ -119,7 +120,8 @@ std::vector<Vec2> WallUnderCeilings(const Vec2& foot, const Vec2& dir, const Vec
       double v = height;
       if (over != nullptr) v = std::clamp(over->ZAt(foot + u * dir) - z0, 0.0, height);
       cut = cut || v < height - 1e-6;
-      if ((outline.back() - Vec2(u, v)).norm() > 1e-6) outline.emplace_back(u, v);
+      // Where two planes meet at a cut their heights agree to float rounding: one vertex.
+      if ((outline.back() - Vec2(u, v)).norm() > kSameVertex) outline.emplace_back(u, v);
     }
   }
   if (!cut) return {};

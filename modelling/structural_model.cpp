@@ -633,6 +633,25 @@ int AddSlopedCeilings(const Slopes& slopes, const Ring& walls, const std::vector
   return first;
 }
 
+// The ceiling patch `ceiling` over the walls' corners, or with sloped ceilings their patches
+// (AddSlopedCeilings); each wall adjacent to the floor and the ceilings. Returns the index of
+// the first ceiling patch, -1 when none.
+int AddCeilings(const Slopes& slopes, const Ring& walls, const std::vector<int>& wall_ids,
+                const PlaneFit& level, int floor_id, StructuralModel& m) {
+  if (!slopes.planes.empty()) return AddSlopedCeilings(slopes, walls, wall_ids, level, floor_id, m);
+  StructuralPatch c;
+  c.id = "ceiling";
+  c.patch_class = PatchClass::kCeiling;
+  c.plane = level.plane;
+  c.polygon = walls.top;
+  if (Newell(c.polygon).dot(c.plane.n) < 0) std::reverse(c.polygon.begin(), c.polygon.end());
+  c.support = level.support, c.rms = level.rms, c.fitted = level.fitted;
+  m.patches.push_back(std::move(c));
+  const int id = static_cast<int>(m.patches.size()) - 1;
+  for (int w : wall_ids) m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, id);
+  return id;
+}
+
 }  // namespace
 
 StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm) {
@@ -693,20 +712,7 @@ StructuralModel BuildStructuralModel(const Sm3Input& input, const Sm3Params& prm
   f.polygon = walls.bottom;
   f.support = floor.support, f.rms = floor.rms, f.fitted = floor.fitted;
   const int floor_id = add(std::move(f));
-  int ceiling_id = -1;
-  if (slopes.planes.empty()) {
-    StructuralPatch c;
-    c.id = "ceiling";
-    c.patch_class = PatchClass::kCeiling;
-    c.plane = ceiling.plane;
-    c.polygon = walls.top;
-    c.support = ceiling.support, c.rms = ceiling.rms, c.fitted = ceiling.fitted;
-    ceiling_id = add(std::move(c));
-    for (int w : wall_ids)
-      m.adjacency.emplace_back(w, floor_id), m.adjacency.emplace_back(w, ceiling_id);
-  } else {
-    ceiling_id = AddSlopedCeilings(slopes, walls, wall_ids, ceiling, floor_id, m);
-  }
+  const int ceiling_id = AddCeilings(slopes, walls, wall_ids, ceiling, floor_id, m);
 
   for (std::size_t k = 0; k < input.columns.size(); ++k) {
     const auto footprint =

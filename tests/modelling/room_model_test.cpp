@@ -74,68 +74,100 @@ TEST(RoomModel, FloorCeilingAndPerimeterOfABoxRoomWithAnOpenDoor) {
 }
 
 // An attic 8 m x 6 m under a gable roof: knee walls 1 m high along y = 0 and y = 6, the roof
-// rising 35 deg from them to the ridge at y = 3 (3.10 m), gables at x = 0 and x = 8; no level
-// ceiling. Two scans under the ridge. The roof is two sloped ceilings, the outline reaches the
-// knee walls, and SM3 has the two slopes for ceilings and pentagons for gables.
-TEST(RoomModel, AnAtticsRoofIsTwoSlopedCeilingsAndItsWallsEndUnderThem) {
-  using scenes::ElementClass;
-  using sim::testing::AddQuad;
-  using testing::V3;
-  const float W = 8.0f, D = 6.0f, knee = 1.0f;
-  const float ridge = knee + 0.5f * D * std::tan(static_cast<float>(DegToRad(35.0)));
+// rising 35 deg from them towards the ridge at y = 3 (3.10 m), gables at x = 0 and x = 8. With
+// `collar` > 0 a level ceiling at that height cuts the roof off (a collar-beam ceiling): the
+// slopes end where they reach it. Two scans along the middle.
+struct Attic {
+  float W = 8.0f, D = 6.0f, knee = 1.0f, ridge = 0.0f, top = 0.0f, y_collar = 0.0f;
   scenes::Scene scene;
-  AddQuad(scene, V3(0, 0, 0), V3(W, 0, 0), V3(W, D, 0), V3(0, D, 0), ElementClass::kFloor, "floor");
-  AddQuad(scene, V3(0, 0, knee), V3(0, D / 2, ridge), V3(W, D / 2, ridge), V3(W, 0, knee),
-          ElementClass::kCeiling, "roof_s");
-  AddQuad(scene, V3(0, D / 2, ridge), V3(0, D, knee), V3(W, D, knee), V3(W, D / 2, ridge),
-          ElementClass::kCeiling, "roof_n");
-  AddQuad(scene, V3(0, 0, 0), V3(0, 0, knee), V3(W, 0, knee), V3(W, 0, 0), ElementClass::kWall,
-          "knee_s");
-  AddQuad(scene, V3(W, D, 0), V3(W, D, knee), V3(0, D, knee), V3(0, D, 0), ElementClass::kWall,
-          "knee_n");
-  for (float x : {0.0f, W}) {
-    AddQuad(scene, V3(x, 0, 0), V3(x, D / 2, 0), V3(x, D / 2, ridge), V3(x, 0, knee),
-            ElementClass::kWall, x == 0.0f ? "gable_w" : "gable_e");
-    AddQuad(scene, V3(x, D / 2, 0), V3(x, D, 0), V3(x, D, knee), V3(x, D / 2, ridge),
-            ElementClass::kWall, x == 0.0f ? "gable_w" : "gable_e");
-  }
-  const sim::EmbreeWorld world(scene);
-  RoomModel model;
-  for (int k = 0; k < 2; ++k) {
-    const SimScan s = TakeScan(world, TestTls(), 2.5 + 3.0 * k, 3.0, k);
-    model.AddScan(s.scan, s.X_MS);
-  }
-  const Roi& roi = model.GetRoi();
-  ASSERT_EQ(roi.slopes.size(), 2u) << model.FiguresJson();
-  EXPECT_FALSE(roi.level_ceiling);
-  for (const auto& p : roi.slopes) {
-    EXPECT_NEAR(RadToDeg(std::acos(-p.n.z())), 35.0, 0.3);
-    EXPECT_NEAR(p.ZAt(Vec2(4.0, 3.0)), ridge, 0.02);
-  }
-  const std::vector<Vec2> truth = {{0, 0}, {W, 0}, {W, D}, {0, D}};
-  ASSERT_EQ(model.Perimeter().size(), 4u) << model.FiguresJson();
-  EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
-  const StructuralModel sm3 = BuildRoomSm3(model, Sm3Params{}, "attic");
-  int slopes = 0, pentagons = 0, knees = 0;
-  for (const auto& p : sm3.patches) {
-    if (p.patch_class == PatchClass::kCeiling) {
-      EXPECT_NE(p.id, "ceiling");  // no level ceiling
-      ++slopes;
-    }
-    if (p.patch_class != PatchClass::kWall) continue;
-    double top = 0.0;
-    for (const auto& v : p.polygon) top = std::max(top, v.z());
-    if (p.polygon.size() == 5) {
-      ++pentagons;
-      EXPECT_NEAR(top, ridge, 0.02) << p.id;
-    } else if (p.polygon.size() == 4) {
-      ++knees;
-      EXPECT_NEAR(top, knee, 0.02) << p.id;
+  explicit Attic(float collar) {
+    using scenes::ElementClass;
+    using sim::testing::AddQuad;
+    using testing::V3;
+    const float t = std::tan(static_cast<float>(DegToRad(35.0)));
+    ridge = knee + 0.5f * D * t;
+    top = collar > 0.0f ? collar : ridge;
+    y_collar = (top - knee) / t;  // where a slope reaches the top
+    const float y0 = y_collar, y1 = D - y_collar;
+    AddQuad(scene, V3(0, 0, 0), V3(W, 0, 0), V3(W, D, 0), V3(0, D, 0), ElementClass::kFloor,
+            "floor");
+    AddQuad(scene, V3(0, 0, knee), V3(0, y0, top), V3(W, y0, top), V3(W, 0, knee),
+            ElementClass::kCeiling, "roof_s");
+    AddQuad(scene, V3(0, y1, top), V3(0, D, knee), V3(W, D, knee), V3(W, y1, top),
+            ElementClass::kCeiling, "roof_n");
+    if (y1 > y0)
+      AddQuad(scene, V3(0, y0, top), V3(0, y1, top), V3(W, y1, top), V3(W, y0, top),
+              ElementClass::kCeiling, "collar");
+    AddQuad(scene, V3(0, 0, 0), V3(0, 0, knee), V3(W, 0, knee), V3(W, 0, 0), ElementClass::kWall,
+            "knee_s");
+    AddQuad(scene, V3(W, D, 0), V3(W, D, knee), V3(0, D, knee), V3(0, D, 0), ElementClass::kWall,
+            "knee_n");
+    for (float x : {0.0f, W}) {
+      const std::string id = x == 0.0f ? "gable_w" : "gable_e";
+      AddQuad(scene, V3(x, 0, 0), V3(x, y0, 0), V3(x, y0, top), V3(x, 0, knee), ElementClass::kWall,
+              id);
+      if (y1 > y0)
+        AddQuad(scene, V3(x, y0, 0), V3(x, y1, 0), V3(x, y1, top), V3(x, y0, top),
+                ElementClass::kWall, id);
+      AddQuad(scene, V3(x, y1, 0), V3(x, D, 0), V3(x, D, knee), V3(x, y1, top), ElementClass::kWall,
+              id);
     }
   }
-  EXPECT_EQ(slopes, 2);
-  EXPECT_EQ(pentagons, 2);
-  EXPECT_EQ(knees, 2);
+};
+
+// The roof is two sloped ceilings (and the collar a level one), the outline reaches the knee
+// walls, and SM3 has the slopes (and the collar) for ceilings and the gables ended under them:
+// pentagons under a ridge, hexagons under a collar.
+TEST(RoomModel, AnAtticsRoofIsTwoSlopedCeilingsAndItsWallsEndUnderThem) {
+  for (float collar : {0.0f, 2.5f}) {
+    const Attic a(collar);
+    const sim::EmbreeWorld world(a.scene);
+    RoomModel model;
+    for (int k = 0; k < 2; ++k) {
+      const SimScan s = TakeScan(world, TestTls(), 2.5 + 3.0 * k, 3.0, k);
+      model.AddScan(s.scan, s.X_MS);
+    }
+    const Roi& roi = model.GetRoi();
+    ASSERT_EQ(roi.slopes.size(), 2u) << collar << " " << model.FiguresJson();
+    EXPECT_EQ(roi.level_ceiling, collar > 0.0f) << collar;
+    for (const auto& p : roi.slopes) {
+      EXPECT_NEAR(RadToDeg(std::acos(-p.n.z())), 35.0, 0.3) << collar;
+      EXPECT_NEAR(p.ZAt(Vec2(4.0, 3.0)), a.ridge, 0.02) << collar;
+    }
+    const std::vector<Vec2> truth = {{0, 0}, {a.W, 0}, {a.W, a.D}, {0, a.D}};
+    ASSERT_EQ(model.Perimeter().size(), 4u) << collar << " " << model.FiguresJson();
+    EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
+    const StructuralModel sm3 = BuildRoomSm3(model, Sm3Params{}, "attic");
+    int slopes = 0, level = 0, gables = 0, knees = 0;
+    for (const auto& p : sm3.patches) {
+      if (p.patch_class == PatchClass::kCeiling) {
+        if (p.id == "ceiling") {
+          ++level;
+          double area = 0.0;
+          for (std::size_t i = 0; i < p.polygon.size(); ++i)
+            area += p.polygon[i].head<2>().x() * p.polygon[(i + 1) % p.polygon.size()].y() -
+                    p.polygon[(i + 1) % p.polygon.size()].x() * p.polygon[i].y();
+          EXPECT_NEAR(std::abs(area) / 2.0, a.W * (a.D - 2.0 * a.y_collar), 0.1) << collar;
+        } else {
+          ++slopes;
+        }
+      }
+      if (p.patch_class != PatchClass::kWall) continue;
+      double top = 0.0;
+      for (const auto& v : p.polygon) top = std::max(top, v.z());
+      if (p.polygon.size() == (collar > 0.0f ? 6u : 5u)) {
+        ++gables;
+        EXPECT_NEAR(top, a.top, 0.02) << collar << " " << p.id;
+      } else if (p.polygon.size() == 4) {
+        ++knees;
+        EXPECT_NEAR(top, a.knee, 0.02) << collar << " " << p.id;
+      }
+    }
+    EXPECT_EQ(slopes, 2) << collar;
+    EXPECT_EQ(level, collar > 0.0f ? 1 : 0) << collar;
+    EXPECT_EQ(gables, 2) << collar;
+    EXPECT_EQ(knees, 2) << collar;
+  }
 }
 
 // A low ceiling (2.5 m: 1.1 m above the scanner centre) lies inside the scanner's 1.5 m minimum

@@ -462,6 +462,24 @@ TEST_F(KitHouseIfc4, UpperFloorGivesTheSameRoomsWallsDoorsAndWindowsAsIfc2x3) {
   EXPECT_TRUE(Differing(c.walls, 0.01, "wall").empty());
   EXPECT_TRUE(Differing(c.openings, 0.02, "opening").empty());
   EXPECT_EQ(s.a.truth.connections.size(), s.b.truth.connections.size());
+  // The roof is the attic's ceiling from both readers: two slopes on the same planes, and
+  // the same pentagon gables.
+  auto of = [](const GroundTruth& t, ElementClass cls) {
+    std::map<std::string, std::vector<Eigen::Vector3d>> out;
+    for (const auto& e : t.elements)
+      if (e.element_class == cls && e.polygons.size() == 1) out[e.id] = e.polygons[0];
+    return out;
+  };
+  for (ElementClass cls : {ElementClass::kCeiling, ElementClass::kWall}) {
+    const auto a = of(s.a.truth, cls), b = of(s.b.truth, cls);
+    ASSERT_EQ(a.size(), b.size());
+    if (cls == ElementClass::kCeiling) EXPECT_EQ(a.size(), 2u);
+    for (const auto& [id, poly] : a) {
+      ASSERT_TRUE(b.count(id)) << id;
+      EXPECT_EQ(poly.size(), b.at(id).size()) << id;
+      EXPECT_LT(VertexSetDistance(poly, b.at(id)), 0.01) << id;
+    }
+  }
 }
 
 }  // namespace
