@@ -283,8 +283,9 @@ struct ColumnSearchParams {
 
 /// Sloped ceilings (a roof's underside over an attic): planes found in the top surface of the
 /// working cloud, its highest point per plan cell, where the cells' neighbourhoods fit tilted
-/// planes that join into one of at least `min_area` (docs/room-scanning.md, step 2). A stair's
-/// treads and risers fit no plane locally; a level ceiling is not tilted.
+/// planes that join into one of at least `min_area` and `min_width` (docs/room-scanning.md,
+/// step 2). A stair's treads and risers fit no plane locally, its flight's underside is too
+/// narrow; a level ceiling is not tilted.
 struct SlopedCeilingParams {
   double cell = 0.1;           ///< m, plan cell of the top surface, [0.02, 1]
   double min_tilt_deg = 10.0;  ///< deg, least tilt from level, [1, 80]
@@ -295,6 +296,9 @@ struct SlopedCeilingParams {
   double tolerance = 0.03;    ///< m, a top point on the joined plane, [0.005, 0.2]
   /// m^2, least plan area of a sloped ceiling; 0 = none is sought, [0, 1000]
   double min_area = 2.0;
+  /// m, least extent of a sloped ceiling across its slope (along its level lines): a roof
+  /// spans its room, a stair flight's underside is 0.8-1.3 m wide, [0, 100]
+  double min_width = 1.5;
   /// m, a top point this high over the floor at least counts (not the floor, a desk), [0, 3]
   double min_height = 0.3;
 
@@ -307,6 +311,7 @@ struct SlopedCeilingParams {
     v("max_turn_deg", max_turn_deg, Bounds{0.1, 45.0});
     v("tolerance", tolerance, Bounds{0.005, 0.2});
     v("min_area", min_area, Bounds{0.0, 1000.0});
+    v("min_width", min_width, Bounds{0.0, 100.0});
     v("min_height", min_height, Bounds{0.0, 3.0});
   }
 };

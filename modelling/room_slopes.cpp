@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -125,7 +126,7 @@ std::vector<std::vector<Vec3>> JoinCells(const TopSurface& top,
 
 // One plane may have grown from several seeds (each seed's local plane drifts from the whole):
 // joins whose points lie on a kept join's plane are merged into it, largest first. The merged
-// joins of at least min_area, refit and still tilted and flat, are the slopes.
+// joins of at least min_area and min_width, refit and still tilted and flat, are the slopes.
 std::vector<CeilingPlane> MergeJoins(const std::vector<std::vector<Vec3>>& members,
                                      const SlopedCeilingParams& P) {
   const double cos_turn = std::cos(DegToRad(P.max_turn_deg));
@@ -169,6 +170,14 @@ std::vector<CeilingPlane> MergeJoins(const std::vector<std::vector<Vec3>>& membe
     const CeilingPlane plane = FromHeight(abc);
     const double slope = std::hypot(abc.x(), abc.y());
     if (slope < tan_lo || slope > tan_hi || rms * std::abs(plane.n.z()) > P.tolerance) continue;
+    // Its width along its level lines (across the gradient (a, b)).
+    const Eigen::Vector2d along = Eigen::Vector2d(-abc.y(), abc.x()) / slope;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& p : kept[k]) {
+      lo = std::min(lo, along.dot(p.head<2>()));
+      hi = std::max(hi, along.dot(p.head<2>()));
+    }
+    if (hi - lo + P.cell < P.min_width) continue;
     found.push_back(plane);
   }
   return found;

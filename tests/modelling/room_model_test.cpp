@@ -170,6 +170,34 @@ TEST(RoomModel, AnAtticsRoofIsTwoSlopedCeilingsAndItsWallsEndUnderThem) {
   }
 }
 
+// A 6 x 4 m room under a level 2.7 m ceiling with a stair flight along its south wall: its
+// underside 1 m wide, rising 33 deg from 0.4 m at x = 1 to the ceiling at x = 4.5, and the
+// stairwell's wall standing on its edge (y = 1) up to the ceiling, so that nothing above the
+// underside is seen: the underside is the top surface there, tilted and 3.5 m2 in plan, but a
+// flight's width, no roof. Without the width rule it is taken for one.
+TEST(RoomModel, AStairFlightsUndersideIsNoSlopedCeiling) {
+  using scenes::ElementClass;
+  using sim::testing::AddQuad;
+  using testing::V3;
+  scenes::Scene scene;
+  sim::testing::AddRoomBox(scene, V3(0, 0, 0), V3(6, 4, 2.7f));
+  AddQuad(scene, V3(1, 0, 0.4f), V3(1, 1, 0.4f), V3(4.5f, 1, 2.7f), V3(4.5f, 0, 2.7f),
+          ElementClass::kOther, "flight");
+  AddQuad(scene, V3(1, 1, 0.4f), V3(1, 1, 2.7f), V3(4.5f, 1, 2.7f), V3(4.5f, 1, 2.7f),
+          ElementClass::kOther, "stairwell");
+  const sim::EmbreeWorld world(scene);
+  for (double width : {1.5, 0.0}) {
+    RoomModelParams p;
+    p.slopes.min_width = width;
+    RoomModel model(p);
+    for (int k = 0; k < 2; ++k) {
+      const SimScan s = TakeScan(world, TestTls(), 2.0 + 2.5 * k, 2.6, k);
+      model.AddScan(s.scan, s.X_MS);
+    }
+    EXPECT_EQ(model.GetRoi().slopes.size(), width > 0.0 ? 0u : 1u) << width;
+  }
+}
+
 // A low ceiling (2.5 m: 1.1 m above the scanner centre) lies inside the scanner's 1.5 m minimum
 // range in the top rows of every column, so each column's first return follows a gap. That gap
 // is the ceiling, not a wall too close to return: the outline must still be traced (random
