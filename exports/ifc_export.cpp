@@ -309,10 +309,14 @@ std::string IfcBuilder::Build(IfcCounts* counts) {
                   "$,.FLOOR.");
       ++counts_.slabs;
     } else if (e.kind == ElementKind::kCeiling) {
+      // A level ceiling is extruded up from its height; a sloped one (an attic's roof) away
+      // from the room, across its own plane.
       const double z = e.polygon.front().z();
-      p = Product("IfcCovering", e,
-                  Body(e.polygon, {Vec3(0, 0, z), Vec3::UnitX(), up}, params_.covering_thickness),
-                  "$,.CEILING.");
+      const Vec3 away = -e.normal.normalized();
+      const Frame f = away.z() > 0.999 || !away.allFinite()
+                          ? Frame{Vec3(0, 0, z), Vec3::UnitX(), up}
+                          : Frame{e.polygon.front(), HorizontalX(away), away};
+      p = Product("IfcCovering", e, Body(e.polygon, f, params_.covering_thickness), "$,.CEILING.");
       ++counts_.coverings;
     } else if (e.kind == ElementKind::kColumn) {
       p = Product(

@@ -228,6 +228,38 @@ TEST(ModelEvaluation, TheIfcThisProgramExportsFromTheTruthScoresAsTheTruth) {
   EXPECT_DOUBLE_EQ(Endpoints(s, 0)["f1"].get<double>(), 1.0);
 }
 
+// An attic (FZK-Haus's, imported with its roof as two sloped ceilings and pentagon gables):
+// exported as IFC from the truth's own patches, it scores as the truth — the sloped ceilings
+// are coverings across their own planes, not level slabs at a vertex's height.
+TEST(ModelEvaluation, AnAtticExportedAsIfcScoresAsTheTruth) {
+  const fs::path kit =
+      fs::path(MOPAD_SOURCE_DIR) / ".." / "shared" / "testdata" / "external" / "kit_fzk_haus";
+  if (!fs::exists(kit / "AC14-FZK-Haus.ifc")) GTEST_SKIP() << "no FZK-Haus at " << kit;
+  const fs::path dir = TempDir("attic");
+  scenes::BimImportParams params;
+  params.storey = "1. Dachgeschoss";
+  params.repair = true;
+  Fixture f;
+  f.truth = scenes::ImportBim((kit / "AC14-FZK-Haus.ifc").string(), params).truth;
+  f.truth_file = (dir / "scene.truth.json").string();
+  scenes::WriteGroundTruth(f.truth, f.truth_file);
+  const fs::path run = dir / "run";
+  for (const auto& r : f.truth.rooms) {
+    const std::vector<Patch> patches = TruthPatches(f.truth, r.id);
+    WriteText(run / "rooms" / r.id / "sm3.json", Sm3Text(r.id, patches, r.floor_z, r.ceiling_z));
+  }
+  exports::WriteExports(run.string(), {exports::ExportKind::kIfc});
+  const auto s = Evaluate(f, (run / "export" / "model.ifc").string(), dir / "out").summary;
+  EXPECT_EQ(s["detection"]["wall"]["tp"], 4);
+  EXPECT_EQ(s["detection"]["wall"]["fp"], 0);
+  EXPECT_EQ(s["detection"]["ceiling"]["n_truth"], 2);
+  EXPECT_EQ(s["detection"]["ceiling"]["tp"], 2);
+  EXPECT_EQ(s["detection"]["ceiling"]["fp"], 0);
+  EXPECT_LT(s["d_v"]["max"].get<double>(), 0.005);
+  EXPECT_LT(s["d_h"]["max"].get<double>(), 0.005);
+  EXPECT_LT(s["phi_deg"]["max"].get<double>(), 0.1);
+}
+
 // Two exports of one real building from one author's tool, years apart (ArchiCAD 14 as IFC 2x3,
 // ArchiCAD 20 as IFC4; ../shared/testdata/external): the IFC4 one scored against the IFC 2x3
 // one's import finds the same walls, rooms and wall endpoints.
