@@ -15,6 +15,10 @@ using Poly2 = std::vector<Vec2>;
 
 constexpr double kCornerReach = 0.05;  // m, see WallUnderCeilings
 constexpr double kSameVertex = 1e-4;   // m, a wall outline's vertices closer than this are one
+// m: a wall outline's vertex this close to the line of its neighbours goes. Where a hip line
+// meets a corner, the foot's first or last centimetre (the probe 1 cm into the room) lies
+// under the neighbouring plane, a millimetre off.
+constexpr double kJog = 0.005;
 
 // `poly` within the half-plane a . p <= d (Sutherland-Hodgman).
 Poly2 ClipHalfPlane(const Poly2& poly, const Vec2& a, double d) {
@@ -126,7 +130,7 @@ std::vector<Vec2> WallUnderCeilings(const Vec2& foot, const Vec2& dir, const Vec
   }
   if (!cut) return {};
   outline.emplace_back(length, 0.0);
-  RemoveShallowVertices(outline, 1e-6);
+  RemoveShallowVertices(outline, kJog);
   return outline;
 }
 

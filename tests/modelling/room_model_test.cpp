@@ -170,6 +170,51 @@ TEST(RoomModel, AnAtticsRoofIsTwoSlopedCeilingsAndItsWallsEndUnderThem) {
   }
 }
 
+// An 8 x 6 m room under a hip roof: knee walls 1 m high on all four sides, four planes rising
+// 35 deg from them to a 2 m ridge along x at y = 3 (3.10 m). Four sloped ceilings, no level one,
+// the outline the room's, and every wall a 1 m strip.
+TEST(RoomModel, AHipRoofIsFourSlopedCeilingsOverFourKneeWalls) {
+  using scenes::ElementClass;
+  using sim::testing::AddQuad;
+  using testing::V3;
+  const float W = 8.0f, D = 6.0f, k = 1.0f;
+  const float r = k + 3.0f * std::tan(static_cast<float>(DegToRad(35.0)));
+  scenes::Scene scene;
+  AddQuad(scene, V3(0, 0, 0), V3(W, 0, 0), V3(W, D, 0), V3(0, D, 0), ElementClass::kFloor, "floor");
+  AddQuad(scene, V3(0, 0, k), V3(3, 3, r), V3(5, 3, r), V3(W, 0, k), ElementClass::kCeiling, "s");
+  AddQuad(scene, V3(3, 3, r), V3(0, D, k), V3(W, D, k), V3(5, 3, r), ElementClass::kCeiling, "n");
+  AddQuad(scene, V3(0, 0, k), V3(0, D, k), V3(3, 3, r), V3(3, 3, r), ElementClass::kCeiling, "w");
+  AddQuad(scene, V3(W, 0, k), V3(5, 3, r), V3(5, 3, r), V3(W, D, k), ElementClass::kCeiling, "e");
+  AddQuad(scene, V3(0, 0, 0), V3(0, 0, k), V3(W, 0, k), V3(W, 0, 0), ElementClass::kWall, "ws");
+  AddQuad(scene, V3(W, 0, 0), V3(W, 0, k), V3(W, D, k), V3(W, D, 0), ElementClass::kWall, "we");
+  AddQuad(scene, V3(W, D, 0), V3(W, D, k), V3(0, D, k), V3(0, D, 0), ElementClass::kWall, "wn");
+  AddQuad(scene, V3(0, D, 0), V3(0, D, k), V3(0, 0, k), V3(0, 0, 0), ElementClass::kWall, "ww");
+  const sim::EmbreeWorld world(scene);
+  RoomModel model;
+  for (int i = 0; i < 2; ++i) {
+    const SimScan s = TakeScan(world, TestTls(), 2.5 + 3.0 * i, 3.0, i);
+    model.AddScan(s.scan, s.X_MS);
+  }
+  ASSERT_EQ(model.GetRoi().slopes.size(), 4u) << model.FiguresJson();
+  EXPECT_FALSE(model.GetRoi().level_ceiling);
+  const std::vector<Vec2> truth = {{0, 0}, {W, 0}, {W, D}, {0, D}};
+  ASSERT_EQ(model.Perimeter().size(), 4u) << model.FiguresJson();
+  EXPECT_LT(OutlineDistance(model.Perimeter(), truth), 0.03) << model.FiguresJson();
+  const StructuralModel sm3 = BuildRoomSm3(model, Sm3Params{}, "hip");
+  int ceilings = 0, strips = 0;
+  for (const auto& p : sm3.patches) {
+    ceilings += p.patch_class == PatchClass::kCeiling;
+    if (p.patch_class != PatchClass::kWall) continue;
+    double top = 0.0;
+    for (const auto& v : p.polygon) top = std::max(top, v.z());
+    EXPECT_EQ(p.polygon.size(), 4u) << p.id;
+    EXPECT_NEAR(top, k, 0.02) << p.id;
+    ++strips;
+  }
+  EXPECT_EQ(ceilings, 4);
+  EXPECT_EQ(strips, 4);
+}
+
 // A 6 x 4 m room under a level 2.7 m ceiling with a stair flight along its south wall: its
 // underside 1 m wide, rising 33 deg from 0.4 m at x = 1 to the ceiling at x = 4.5, and the
 // stairwell's wall standing on its edge (y = 1) up to the ceiling, so that nothing above the
