@@ -113,6 +113,12 @@ void Importer::SlopedCeilings() {
         continue;
       }
       if (poly.empty()) continue;
+      double lo = 1e300, hi = -1e300;
+      for (const auto& v : poly) lo = std::min(lo, v.z()), hi = std::max(hi, v.z());
+      out_.report.push_back("sloped ceiling " + faces[i].id + " of " + room.room.id + ": " +
+                            Fmt(std::acos(std::min(1.0, -planes[i].n.z())) * 180.0 / M_PI, 1) +
+                            " deg, " + Fmt(lo) + " to " + Fmt(hi) + " m, " +
+                            Fmt(std::abs(SignedArea(regions[i])), 2) + " m2 in plan");
       StructuralElement s;
       s.id = faces[i].id;
       s.element_class = ElementClass::kCeiling;

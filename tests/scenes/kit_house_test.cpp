@@ -403,6 +403,11 @@ TEST_F(KitHouse, AnAtticsCeilingIsItsRoofAndItsWallsEndUnderIt) {
   p.storey = "1. Dachgeschoss";
   p.repair = true;
   const BimImport imp = ImportBim(Ifc(), p);
+  std::string report;
+  for (const auto& l : imp.report) report += l + "\n";
+  EXPECT_NE(report.find("sloped ceiling ceiling_R1_1 of R1: 30.0 deg, 0.673 to 3.387 m, 53.58 m2"),
+            std::string::npos)
+      << report;
   for (const auto& e : imp.truth.elements) {
     if (e.element_class == ElementClass::kCeiling) {
       EXPECT_NEAR(std::acos(-e.normal.z()), 30.0 * M_PI / 180.0, 1e-4) << e.id;
