@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <vector>
 
 #include "modelling/room_model.h"
@@ -53,7 +54,14 @@ CeilingPlane FromHeight(const Eigen::Vector3d& abc) {
 }
 
 using Cell = std::pair<std::int64_t, std::int64_t>;
-using TopSurface = std::map<Cell, Vec3>;  // per plan cell, the highest point
+struct CellHash {
+  std::size_t operator()(const Cell& c) const {
+    return std::hash<std::int64_t>()(c.first * 73856093 ^ c.second * 19349663);
+  }
+};
+// Per plan cell, the highest point. Unordered: every pass over it either looks cells up or
+// gathers into ordered containers (the seeds join in key order), so its order is never seen.
+using TopSurface = std::unordered_map<Cell, Vec3, CellHash>;
 
 // The top surface of `points`: per plan cell, the highest point at least min_height over the
 // floor.
