@@ -382,12 +382,18 @@ TruthDsm3Params WideOpenScanner() {
 constexpr int kShell = 40 * 30 * 25 - 38 * 28 * 23;
 constexpr int kInterior = 38 * 28 * 23;
 
-TEST(TruthDsm3, EmptyBoxRoomWithWindowFromOneScanner) {
-  BoxRoom b = MakeBoxRoom(false);
-  const sim::EmbreeWorld world(b.scene, nullptr);
+// The box room's grid: 0.1 m voxels over its 4 x 3 x 2.5 m.
+VoxelGrid BoxRoomGrid() {
   VoxelGrid grid;
   grid.voxel_size = 0.1;
   grid.dims = {40, 30, 25};
+  return grid;
+}
+
+TEST(TruthDsm3, EmptyBoxRoomWithWindowFromOneScanner) {
+  BoxRoom b = MakeBoxRoom(false);
+  const sim::EmbreeWorld world(b.scene, nullptr);
+  const VoxelGrid grid = BoxRoomGrid();
   const auto voxels = AllVoxels(40, 30, 25);
   const auto labels = TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(),
                                 {Vec3(2.0, 1.5, 1.4)}, WideOpenScanner());
@@ -415,9 +421,7 @@ TEST(TruthDsm3, EmptyBoxRoomWithWindowFromOneScanner) {
 TEST(TruthDsm3, CabinetIsClutterAndHidesTheFloorUnderIt) {
   BoxRoom b = MakeBoxRoom(true);
   const sim::EmbreeWorld world(b.scene, nullptr);
-  VoxelGrid grid;
-  grid.voxel_size = 0.1;
-  grid.dims = {40, 30, 25};
+  const VoxelGrid grid = BoxRoomGrid();
   const auto voxels = AllVoxels(40, 30, 25);
   const std::vector<Vec3> scanners = {
       {2.0, 1.5, 1.4}, {0.5, 0.5, 1.4}, {3.5, 0.5, 1.4}, {0.5, 2.5, 1.4}, {3.5, 2.5, 1.4}};
@@ -581,9 +585,7 @@ TEST(TruthDsm3, NothingOverAnAtticsRoofIsTheRoomsEmptySpace) {
   BoxRoom b = MakeBoxRoom(false);
   b.truth = AtticTruth();
   const sim::EmbreeWorld world(b.scene, nullptr);
-  VoxelGrid grid;
-  grid.voxel_size = 0.1;
-  grid.dims = {40, 30, 25};
+  const VoxelGrid grid = BoxRoomGrid();
   const auto voxels = AllVoxels(40, 30, 25);
   const auto labels = TruthDsm3(world, b.truth, "R1", grid, voxels, Pose3::Identity(),
                                 {Vec3(2.0, 1.5, 1.4)}, WideOpenScanner());
