@@ -218,8 +218,7 @@ bool RoomModel::DetectSlopes() {
     if (!found.empty())
       level = LevelIsCeiling(top, found, roi_.ceiling_z, params_.ceiling_tolerance, P);
   }
-  const bool changed = found.size() != roi_.slopes.size() || level != roi_.level_ceiling;
-  bool moved = changed;
+  bool moved = found.size() != roi_.slopes.size() || level != roi_.level_ceiling;
   for (std::size_t i = 0; i < found.size() && !moved; ++i)
     moved = found[i].n.dot(roi_.slopes[i].n) < std::cos(DegToRad(0.5)) ||
             std::abs(found[i].c - roi_.slopes[i].c) > params_.outline.retrace_change;
