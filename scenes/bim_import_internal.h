@@ -121,6 +121,8 @@ void Split(const Poly3& poly, const std::vector<HalfSpace>& region, Poly3* insid
            std::vector<Poly3>* outside);
 /// Unit normal by the right-hand rule, zero for a degenerate polygon.
 Vector3d NormalOf(const Poly3& p);
+/// The plan prism of the CCW triangle `ear` of `poly`: left of each of its edges.
+std::vector<HalfSpace> EarRegion(const std::vector<Vector2d>& poly, const Eigen::Vector3i& ear);
 
 // --- the output: buckets of pieces, one MeshPart each, in order of creation (bim_import.cpp) ---
 

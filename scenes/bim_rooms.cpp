@@ -243,13 +243,7 @@ double Importer::SlabCover(std::size_t r, double z, bool up) const {
         for (const auto& q : tri) on = on && std::abs(q.z() - z) <= p_.plane_tolerance;
         if (!on) continue;
         for (const auto& ear : ears) {
-          std::vector<HalfSpace> region;
-          for (int k = 0; k < 3; ++k) {
-            const Vector2d& a = room.poly[ear[k]];
-            const Vector2d& b = room.poly[ear[(k + 1) % 3]];
-            const Vector3d nn(b.y() - a.y(), -(b.x() - a.x()), 0.0);
-            region.push_back({nn, nn.dot(Lift(a, 0.0))});
-          }
+          const std::vector<HalfSpace> region = EarRegion(room.poly, ear);
           Poly3 in;
           std::vector<Poly3> outside;
           Split(tri, region, &in, &outside);

@@ -15,13 +15,7 @@ std::vector<Poly3> Importer::SlopedCeilingPieces(int material, const Vector3d& n
   for (std::size_t r = 0; r < rooms_.size() && !pieces.empty(); ++r) {
     const RoomData& room = rooms_[r];
     for (const auto& ear : room.ears) {
-      std::vector<HalfSpace> region;
-      for (int k = 0; k < 3; ++k) {
-        const Vector2d& a = room.poly[ear[k]];
-        const Vector2d& b = room.poly[ear[(k + 1) % 3]];
-        const Vector3d nn(b.y() - a.y(), -(b.x() - a.x()), 0.0);  // inside a CCW ear
-        region.push_back({nn, nn.dot(Lift(a, 0.0))});
-      }
+      std::vector<HalfSpace> region = EarRegion(room.poly, ear);
       // Under the room's top (a roof over a flat ceiling is not the room's), over its floor.
       region.push_back({Vector3d::UnitZ(), room.room.ceiling_z + p_.plane_tolerance});
       region.push_back({-Vector3d::UnitZ(), -room.room.floor_z});

@@ -67,6 +67,18 @@ void Split(const Poly3& poly, const std::vector<HalfSpace>& region, Poly3* insid
   *inside = std::move(rest);
 }
 
+std::vector<HalfSpace> EarRegion(const std::vector<Vector2d>& poly, const Eigen::Vector3i& ear) {
+  std::vector<HalfSpace> region;
+  for (int k = 0; k < 3; ++k) {
+    const Vector2d& a = poly[ear[k]];
+    const Vector2d& b = poly[ear[(k + 1) % 3]];
+    // Inside a CCW ear: left of every edge, i.e. (b - a)^perp . (x - a) >= 0.
+    const Vector3d nn(b.y() - a.y(), -(b.x() - a.x()), 0.0);
+    region.push_back({nn, nn.dot(Lift(a, 0.0))});
+  }
+  return region;
+}
+
 Vector3d NormalOf(const Poly3& p) {
   const Vector3d s = NewellAboutFirst(p);
   const double n = s.norm();
@@ -189,14 +201,7 @@ void Importer::DistributeStructure() {
             for (const auto& p : rest[0]) on = on && std::abs(p.z() - z) <= p_.plane_tolerance;
             if (!on) continue;
             for (const auto& ear : room.ears) {
-              std::vector<HalfSpace> region;
-              for (int k = 0; k < 3; ++k) {
-                const Vector2d& a = room.poly[ear[k]];
-                const Vector2d& b = room.poly[ear[(k + 1) % 3]];
-                // Inside a CCW ear: left of every edge, i.e. (b - a)^perp . (x - a) >= 0.
-                const Vector3d nn(b.y() - a.y(), -(b.x() - a.x()), 0.0);
-                region.push_back({nn, nn.dot(Lift(a, 0.0))});
-              }
+              const std::vector<HalfSpace> region = EarRegion(room.poly, ear);
               std::vector<Poly3> next;
               for (const Poly3& piece : rest) {
                 Poly3 in;
