@@ -20,21 +20,6 @@ constexpr double kSameVertex = 1e-4;   // m, a wall outline's vertices closer th
 // under the neighbouring plane, a millimetre off.
 constexpr double kJog = 0.005;
 
-// `poly` within the half-plane a . p <= d (Sutherland-Hodgman).
-Poly2 ClipHalfPlane(const Poly2& poly, const Vec2& a, double d) {
-  Poly2 out;
-  const std::size_t k = poly.size();
-  for (std::size_t i = 0; i < k; ++i) {
-    const Vec2& p = poly[i];
-    const Vec2& q = poly[(i + 1) % k];
-    const double dp = a.dot(p) - d, dq = a.dot(q) - d;
-    if (dp <= 0.0) out.push_back(p);
-    if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0))
-      out.push_back(p + dp / (dp - dq) * (q - p));
-  }
-  return out;
-}
-
 // Where `p` is lower than or level with `q`: a . x <= d in plan. False when the two are
 // parallel in plan (they never cross).
 bool LowerHalfPlane(const CeilingPlane& p, const CeilingPlane& q, Vec2* a, double* d) {
@@ -73,14 +58,14 @@ std::vector<std::vector<Vec2>> LowestCeilingRegions(const Poly2& plan,
       for (std::size_t k = 0; k < hull.size() && !region.empty(); ++k) {
         const Vec2 e = hull[(k + 1) % hull.size()] - hull[k];
         const Vec2 out(e.y(), -e.x());  // right of a CCW edge is outside
-        region = ClipHalfPlane(region, out, out.dot(hull[k]));
+        region = ClipHalfSpace(region, out, out.dot(hull[k]));
       }
     }
     for (std::size_t j = 0; j < planes.size() && !region.empty(); ++j) {
       Vec2 a;
       double d = 0.0;
       if (j != i && LowerHalfPlane(planes[i], planes[j], &a, &d))
-        region = ClipHalfPlane(region, a, d);
+        region = ClipHalfSpace(region, a, d);
     }
     if (region.size() >= 3 && std::abs(SignedArea(region)) > min_area) regions[i] = region;
   }

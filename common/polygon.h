@@ -1,7 +1,8 @@
 #pragma once
 // Polygons, robot and world side alike: the one point-in-polygon test, the one point-to-segment
 // and point-to-boundary distance, the one triangulation, the one convex hull, the one union of
-// tiled polygons and the one area of a 3-D polygon of the tree.
+// tiled polygons, the one half-space clip (2-D or 3-D) and the one area of a 3-D polygon of
+// the tree.
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -80,6 +81,25 @@ double PolygonArea3d(const std::vector<Eigen::Vector3d>& poly);
 /// than 3 distinct points come back as they are (sorted, distinct).
 std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points,
                                         double tolerance = 0.0);
+
+/// The part of the closed polygon `poly` (2-D or 3-D, any winding) within the half-space
+/// a . x <= d (Sutherland-Hodgman): vertices inside kept, each edge crossing the boundary cut
+/// there. Empty when nothing of it is inside. (`a` is not deduced: an Eigen expression will do.)
+template <class V>
+std::vector<V> ClipHalfSpace(const std::vector<V>& poly,
+                             const typename std::vector<V>::value_type& a, double d) {
+  std::vector<V> out;
+  const std::size_t k = poly.size();
+  for (std::size_t i = 0; i < k; ++i) {
+    const V& p = poly[i];
+    const V& q = poly[(i + 1) % k];
+    const double dp = a.dot(p) - d, dq = a.dot(q) - d;
+    if (dp <= 0.0) out.push_back(p);
+    if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0))
+      out.push_back(p + dp / (dp - dq) * (q - p));
+  }
+  return out;
+}
 
 /// Removes, one at a time (the shallowest first) and keeping at least 3 vertices, every
 /// vertex of the closed polygon `poly` that lies within `tolerance` (m) of the segment joining

@@ -103,15 +103,14 @@ std::string ComponentClass(const std::string& ifc, const std::string& type_class
 bool IsComponentIfc(const std::string& ifc);
 Role RoleOf(const std::string& ifc, ElementClass cls);
 
-// --- convex polygon clipping in 3D: the pieces stay exactly on their original plane
-// (bim_surfaces.cpp) ---
+// --- convex polygon clipping in 3D (ClipHalfSpace, common/polygon.h): the pieces stay exactly
+// on their original plane (bim_surfaces.cpp) ---
 
 struct HalfSpace {
   Vector3d n;  // inside: n . x <= c
   double c;
 };
 
-Poly3 Clip(const Poly3& poly, const Vector3d& n, double c);
 /// Area (m^2) of a planar polygon, any winding; 0 for fewer than 3 vertices.
 double Area(const Poly3& p);
 /// A piece worth keeping: not a float-noise sliver (area or width under ~1 um).

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/frames.h"
+#include "common/polygon.h"
 #include "scenes/bim_import_internal.h"
 #include "scenes/scene_check.h"
 
@@ -378,7 +379,7 @@ double Importer::OwnCover(const Element& e, const Poly3& piece) const {
         const Vector3d& p = piece[k];
         const Vector3d& q = piece[(k + 1) % piece.size()];
         const Vector3d in = n.cross(q - p).normalized();
-        tri = Clip(tri, -in, -in.dot(p));
+        tri = ClipHalfSpace(tri, -in, -in.dot(p));
       }
       covered += Area(tri);
     }

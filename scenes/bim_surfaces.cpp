@@ -12,20 +12,6 @@
 
 namespace mopad::scenes::bim {
 
-Poly3 Clip(const Poly3& poly, const Vector3d& n, double c) {
-  Poly3 out;
-  const std::size_t k = poly.size();
-  for (std::size_t i = 0; i < k; ++i) {
-    const Vector3d& p = poly[i];
-    const Vector3d& q = poly[(i + 1) % k];
-    const double dp = n.dot(p) - c, dq = n.dot(q) - c;
-    if (dp <= 0.0) out.push_back(p);
-    if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0))
-      out.push_back(p + dp / (dp - dq) * (q - p));
-  }
-  return out;
-}
-
 namespace {
 
 // Newell's vector (common/polygon.h) of `p` taken about its first vertex, which makes it the sum
@@ -56,9 +42,9 @@ void Split(const Poly3& poly, const std::vector<HalfSpace>& region, Poly3* insid
            std::vector<Poly3>* outside) {
   Poly3 rest = poly;
   for (const HalfSpace& h : region) {
-    Poly3 out = Clip(rest, -h.n, -h.c);
+    Poly3 out = ClipHalfSpace(rest, -h.n, -h.c);
     if (Solid(out)) outside->push_back(std::move(out));
-    rest = Clip(rest, h.n, h.c);
+    rest = ClipHalfSpace(rest, h.n, h.c);
     if (!Solid(rest)) {
       inside->clear();
       return;
